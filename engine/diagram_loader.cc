@@ -1,0 +1,638 @@
+#include "engine/diagram_loader.h"
+
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "engine/execution_order.h"
+#include "engine/registry.h"
+
+namespace mb {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+DiagramError::DiagramError(const std::string& source, std::vector<std::string> problems)
+    : std::runtime_error([&] {
+        std::string msg = fmt::format("{}: {} problem{} in the diagram:", source, problems.size(),
+                                      problems.size() == 1 ? "" : "s");
+        for (const auto& p : problems) msg += "\n  " + p;
+        return msg;
+      }()),
+      problems_(std::move(problems)) {}
+
+ParameterOverride ParameterOverride::Parse(const std::string& text) {
+  const auto eq = text.find('=');
+  const auto dot = text.find('.');
+  if (eq == std::string::npos || dot == std::string::npos || dot > eq || dot == 0 || dot + 1 == eq) {
+    throw std::invalid_argument(
+        fmt::format("'{}': write a parameter override as block.parameter=value, e.g. plant.payload_mass=21", text));
+  }
+  ParameterOverride o;
+  // Block names may contain '/' (subsystems) but not '.', so the first '.' separates block and parameter.
+  o.block = text.substr(0, dot);
+  o.parameter = text.substr(dot + 1, eq - dot - 1);
+  const std::string value = text.substr(eq + 1);
+  o.value = json::parse(value, nullptr, /*allow_exceptions=*/false);
+  if (o.value.is_discarded()) o.value = value;
+  return o;
+}
+
+void ApplyOverrides(json* diagram, const std::vector<ParameterOverride>& overrides, const std::string& source) {
+  std::vector<std::string> problems;
+  for (const auto& o : overrides) {
+    bool found = false;
+    if (diagram->contains("elements") && (*diagram)["elements"].is_array()) {
+      for (auto& element : (*diagram)["elements"]) {
+        if (element.value("name", "") != o.block) continue;
+        found = true;
+        auto& params = element["parameters"];
+        if (params.is_null()) params = json::object();
+        auto& slot = params[o.parameter];
+        if (slot.is_object() && slot.contains("value")) {
+          slot["value"] = o.value;
+        } else {
+          slot = o.value;
+        }
+      }
+    }
+    if (!found) {
+      std::string names;
+      for (const auto& element : diagram->value("elements", json::array())) {
+        names += (names.empty() ? "" : ", ") + element.value("name", "?");
+      }
+      problems.push_back(fmt::format("--set {}.{}: no element named '{}'; the diagram has: {}", o.block, o.parameter,
+                                     o.block, names));
+    }
+  }
+  if (!problems.empty()) throw DiagramError(source, problems);
+}
+
+json ReadDiagramJson(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(fmt::format("{}: cannot open the diagram file (does it exist?)", path.string()));
+  try {
+    return json::parse(in, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
+  } catch (const json::parse_error& e) {
+    throw std::runtime_error(fmt::format("{}: not valid JSON: {}", path.string(), e.what()));
+  }
+}
+
+namespace {
+
+// ---- Subsystem expansion -------------------------------------------------------------------------------
+
+json ExpandSubsystemsImpl(const json& diagram, const fs::path& base, const std::string& source, int depth,
+                          std::vector<std::string>* problems) {
+  if (depth > 16) {
+    problems->push_back("subsystems nest deeper than 16 levels: is a diagram including itself?");
+    return diagram;
+  }
+  if (!diagram.contains("elements") || !diagram["elements"].is_array()) return diagram;
+  json out = diagram;
+  out["elements"] = json::array();
+  json connections = diagram.value("connections", json::array());  // the parent's, rewired below
+  json inner_connections = json::array();                          // element-to-element inside subsystems
+
+  for (std::size_t i = 0; i < diagram["elements"].size(); ++i) {
+    const json& element = diagram["elements"][i];
+    if (element.value("type", "") != "subsystem") {
+      out["elements"].push_back(element);
+      continue;
+    }
+    const std::string ptr = fmt::format("/elements/{}", i);
+    const std::string name = element.value("name", "");
+    json inner;
+    fs::path inner_base = base;
+    if (element.contains("diagram") && element["diagram"].is_string()) {
+      const fs::path file = base / element["diagram"].get<std::string>();
+      try {
+        inner = ReadDiagramJson(file);
+      } catch (const std::exception& e) {
+        problems->push_back(fmt::format("{}/diagram: {}", ptr, e.what()));
+        continue;
+      }
+      inner_base = file.parent_path();
+    } else if (element.contains("diagram") && element["diagram"].is_object()) {
+      inner = element["diagram"];
+    } else {
+      problems->push_back(fmt::format("{}: a subsystem needs \"diagram\": a file name or an inline diagram", ptr));
+      continue;
+    }
+    if (element.contains("parameters")) {
+      // Parameters of a subsystem element are overrides "inner_block.param": value.
+      std::vector<ParameterOverride> overrides;
+      for (const auto& [key, value] : element["parameters"].items()) {
+        try {
+          auto o = ParameterOverride::Parse(key + "=0");
+          o.value = value;
+          overrides.push_back(o);
+        } catch (const std::exception& e) {
+          problems->push_back(fmt::format("{}/parameters/{}: {}", ptr, key, e.what()));
+        }
+      }
+      try {
+        ApplyOverrides(&inner, overrides, source + ptr);
+      } catch (const DiagramError& e) {
+        for (const auto& p : e.problems()) problems->push_back(p);
+      }
+    }
+    inner = ExpandSubsystemsImpl(inner, inner_base, source, depth + 1, problems);
+    const std::string prefix = name + "/";
+    for (json e : inner.value("elements", json::array())) {
+      e["name"] = prefix + e.value("name", "");
+      out["elements"].push_back(e);
+    }
+    // Inner connections: internal ones get prefixed; those touching the inner diagram's own connectors are
+    // spliced into the parent's connections of the subsystem's ports.
+    std::vector<json> from_port;  // inner connector (input) → inner element
+    std::vector<json> to_port;    // inner element → inner connector (output)
+    for (const json& c : inner.value("connections", json::array())) {
+      const std::string se = c.value("startElement", "");
+      const std::string ee = c.value("endElement", "");
+      json p = c;
+      if (!se.empty()) p["startElement"] = prefix + se;
+      if (!ee.empty()) p["endElement"] = prefix + ee;
+      if (se.empty()) {
+        from_port.push_back(p);
+      } else if (ee.empty()) {
+        to_port.push_back(p);
+      } else {
+        inner_connections.push_back(p);
+      }
+    }
+    json rewired = json::array();
+    for (const json& c : connections) {
+      bool consumed = false;
+      if (c.value("endElement", "") == name) {
+        for (const json& f : from_port) {
+          if (f.value("startConnector", "") != c.value("endConnector", "")) continue;
+          json n = c;
+          n["endElement"] = f["endElement"];
+          n["endConnector"] = f.value("endConnector", "");
+          rewired.push_back(n);
+          consumed = true;
+        }
+        if (!consumed) {
+          problems->push_back(fmt::format("connection into subsystem '{}' port '{}': the subsystem has no input "
+                                          "connector of that name (or it is connected to nothing inside)",
+                                          name, c.value("endConnector", "")));
+          consumed = true;
+        }
+      }
+      if (c.value("startElement", "") == name) {
+        bool matched = false;
+        for (const json& t : to_port) {
+          if (t.value("endConnector", "") != c.value("startConnector", "")) continue;
+          json n = c;
+          n["startElement"] = t["startElement"];
+          n["startConnector"] = t.value("startConnector", "");
+          rewired.push_back(n);
+          matched = true;
+        }
+        if (!matched) {
+          problems->push_back(fmt::format("connection from subsystem '{}' port '{}': the subsystem has no output "
+                                          "connector of that name",
+                                          name, c.value("startConnector", "")));
+        }
+        consumed = true;
+      }
+      if (!consumed) rewired.push_back(c);
+    }
+    connections = rewired;
+    // Signals inside may be logged as "<subsystem>/<element>.<port>".
+    for (const json& s : inner.value("log", json::array())) {
+      if (s.is_string()) out["log"].push_back(prefix + s.get<std::string>());
+    }
+  }
+  out["connections"] = connections;
+  for (const auto& c : inner_connections) out["connections"].push_back(c);
+  return out;
+}
+
+// ---- Validation helpers --------------------------------------------------------------------------------
+
+double NumberOr(const json& j, const char* key, double fallback, const std::string& ptr,
+                std::vector<std::string>* problems) {
+  if (!j.contains(key)) return fallback;
+  if (!j[key].is_number()) {
+    problems->push_back(fmt::format("{}/{}: must be a number, got {}", ptr, key, j[key].dump()));
+    return fallback;
+  }
+  return j[key].get<double>();
+}
+
+std::optional<SampleTime> ParseSampleTime(const json& j, const std::string& ptr, std::vector<std::string>* problems) {
+  double period = 0.0, offset = 0.0;
+  if (j.is_number()) {
+    period = j.get<double>();
+  } else if (j.is_array() && (j.size() == 1 || j.size() == 2) && j[0].is_number() &&
+             (j.size() == 1 || j[1].is_number())) {
+    period = j[0].get<double>();
+    offset = j.size() == 2 ? j[1].get<double>() : 0.0;
+  } else {
+    problems->push_back(fmt::format("{}: sampleTime must be Ts or [Ts, offset] in seconds, got {}", ptr, j.dump()));
+    return std::nullopt;
+  }
+  try {
+    return SampleTime::Discrete(period, offset);
+  } catch (const std::exception& e) {
+    problems->push_back(fmt::format("{}: {}", ptr, e.what()));
+    return std::nullopt;
+  }
+}
+
+}  // namespace
+
+json ExpandSubsystems(const json& diagram, const fs::path& base_directory, const std::string& source) {
+  std::vector<std::string> problems;
+  json out = ExpandSubsystemsImpl(diagram, base_directory, source, 0, &problems);
+  if (!problems.empty()) throw DiagramError(source, problems);
+  return out;
+}
+
+/// Builds a Diagram step by step; each step appends problems instead of throwing so that the user sees them
+/// all at once.
+class DiagramBuilder {
+ public:
+  DiagramBuilder(const json& j, fs::path base, std::string source)
+      : j_(j), base_(std::move(base)), source_(std::move(source)) {}
+
+  Diagram Build() {
+    if (!j_.is_object()) throw DiagramError(source_, {"/: a diagram is a JSON object"});
+    CheckVersion();
+    d_.name_ = j_.value("name", fs::path(source_).stem().string());
+    d_.json_ = j_;
+    ReadExperiment();
+    ReadSolver();
+    ReadInputConnectors();
+    ReadElements();
+    if (!problems_.empty()) throw DiagramError(source_, problems_);  // connections need valid blocks
+    ReadConnections();
+    ReadOutputConnectors();
+    ReadLog();
+    ReadMetrics();
+    if (!problems_.empty()) throw DiagramError(source_, problems_);
+    Sort();
+    return std::move(d_);
+  }
+
+ private:
+  void Problem(std::string p) { problems_.push_back(std::move(p)); }
+
+  void CheckVersion() {
+    if (!j_.contains("schemaVersion")) {
+      Problem(fmt::format("/schemaVersion: missing; add \"schemaVersion\": \"{}\"", kDiagramSchemaVersion));
+    } else if (j_["schemaVersion"] != kDiagramSchemaVersion) {
+      Problem(fmt::format("/schemaVersion: this build reads version \"{}\", the file says {}", kDiagramSchemaVersion,
+                          j_["schemaVersion"].dump()));
+    }
+    static const std::set<std::string> kKnown = {"schemaVersion", "name",    "description", "defaultExperiment",
+                                                 "solver",        "connectors", "elements", "connections",
+                                                 "log",           "metrics", "experiment", "ui", "free", "$schema",
+                                                 "notes"};
+    for (const auto& [key, value] : j_.items()) {
+      if (!kKnown.count(key)) Problem(fmt::format("/{}: unknown top-level key '{}'", key, key));
+    }
+  }
+
+  void ReadExperiment() {
+    const json e = j_.value("defaultExperiment", json::object());
+    auto& x = d_.experiment_;
+    x.start_time = NumberOr(e, "startTime", 0.0, "/defaultExperiment", &problems_);
+    x.stop_time = NumberOr(e, "stopTime", 1.0, "/defaultExperiment", &problems_);
+    x.step_size = NumberOr(e, "stepSize", 0.0, "/defaultExperiment", &problems_);
+    if (!(x.stop_time > x.start_time)) {
+      Problem(fmt::format("/defaultExperiment: stopTime ({}) must be greater than startTime ({})", x.stop_time,
+                          x.start_time));
+    }
+    if (x.step_size < 0.0) Problem("/defaultExperiment/stepSize: must be >= 0 (0 = automatic)");
+  }
+
+  void ReadSolver() {
+    const json s = j_.value("solver", json::object());
+    auto& x = d_.solver_;
+    x.type = s.value("type", "rk4");
+    x.method = s.value("method", "bdf");
+    x.step = NumberOr(s, "step", 1e-4, "/solver", &problems_);
+    x.rtol = NumberOr(s, "rtol", 1e-6, "/solver", &problems_);
+    x.atol = NumberOr(s, "atol", 1e-9, "/solver", &problems_);
+    x.max_step = NumberOr(s, "maxStep", 0.0, "/solver", &problems_);
+    if (x.type != "euler" && x.type != "rk4" && x.type != "cvode") {
+      Problem(fmt::format("/solver/type: '{}' is not a solver; use \"euler\", \"rk4\" or \"cvode\"", x.type));
+    }
+    if (x.method != "bdf" && x.method != "adams") {
+      Problem(fmt::format("/solver/method: '{}': CVODE's methods are \"bdf\" (stiff) and \"adams\"", x.method));
+    }
+    if (!(x.step > 0.0)) Problem("/solver/step: must be > 0 s");
+    if (!(x.rtol > 0.0) || !(x.atol > 0.0)) Problem("/solver: rtol and atol must be > 0");
+  }
+
+  void ReadInputConnectors() {
+    const json cs = j_.value("connectors", json::array());
+    for (std::size_t i = 0; i < cs.size(); ++i) {
+      const std::string ptr = fmt::format("/connectors/{}", i);
+      const json& c = cs[i];
+      const std::string kind = c.value("kind", "");
+      if (kind != "input" && kind != "output") {
+        Problem(fmt::format("{}/kind: must be \"input\" or \"output\"", ptr));
+        continue;
+      }
+      if (!c.contains("name") || !c["name"].is_string()) {
+        Problem(fmt::format("{}/name: a connector needs a name", ptr));
+        continue;
+      }
+      if (kind != "input") continue;
+      ExternalInput in;
+      in.name = c["name"];
+      in.unit = c.value("unit", "");
+      in.measurement = c.value("measurement", in.name);
+      in.optional = c.value("optional", false);
+      in.default_value = NumberOr(c, "default", 0.0, ptr, &problems_);
+      d_.inputs_.push_back(in);
+    }
+  }
+
+  void ReadElements() {
+    if (!j_.contains("elements") || !j_["elements"].is_array() || j_["elements"].empty()) {
+      Problem("/elements: a diagram needs a non-empty array of elements");
+      return;
+    }
+    std::set<std::string> names;
+    const auto& registry = BlockRegistry::Global();
+    for (std::size_t i = 0; i < j_["elements"].size(); ++i) {
+      const json& e = j_["elements"][i];
+      const std::string ptr = fmt::format("/elements/{}", i);
+      const std::string name = e.value("name", "");
+      const std::string type = e.value("type", "");
+      if (name.empty() || name.find('.') != std::string::npos) {
+        Problem(fmt::format("{}/name: each element needs a name without '.'", ptr));
+        continue;
+      }
+      if (!names.insert(name).second) {
+        Problem(fmt::format("{}/name: the name '{}' is used twice; element names must be unique", ptr, name));
+      }
+      const BlockType* bt = registry.Find(type);
+      if (!bt) {
+        std::string hint;
+        for (const auto& s : registry.Suggest(type)) hint += (hint.empty() ? "" : ", ") + s;
+        Problem(fmt::format("{}/type: unknown block type '{}' in element '{}'{}; `motionblocks blocks` lists them",
+                            ptr, type, name, hint.empty() ? "" : "; did you mean: " + hint));
+        continue;
+      }
+      for (const auto& [key, value] : e.items()) {
+        if (key != "name" && key != "type" && key != "parameters" && key != "sampleTime" && key != "ui" &&
+            key != "description") {
+          Problem(fmt::format("{}/{}: unknown key '{}' in element '{}'", ptr, key, key, name));
+        }
+      }
+      std::vector<std::string> param_problems;
+      auto values = ValidateParameters(bt->parameters, e.value("parameters", json::object()), ptr + "/parameters",
+                                       &param_problems);
+      for (auto& p : param_problems) Problem(fmt::format("{} (element '{}', {})", p, name, type));
+      std::optional<SampleTime> st;
+      if (e.contains("sampleTime")) {
+        if (bt->sample_time_rule == SampleTimeRule::kNone) {
+          Problem(fmt::format("{}/sampleTime: block type '{}' is not sampled (it is continuous or inherits its rate); "
+                              "remove sampleTime or use the discrete variant",
+                              ptr, type));
+        } else {
+          st = ParseSampleTime(e["sampleTime"], ptr + "/sampleTime", &problems_);
+        }
+      } else if (bt->sample_time_rule == SampleTimeRule::kRequired) {
+        Problem(fmt::format("{}: element '{}' ({}) is discrete: add \"sampleTime\": [Ts, offset] in seconds", ptr,
+                            name, type));
+      }
+      if (!param_problems.empty()) continue;
+      try {
+        BlockConfig config{name, Parameters(name, std::move(values)), st, base_};
+        d_.blocks_.push_back(bt->factory(config));
+        element_pointer_.push_back(ptr);
+      } catch (const std::exception& ex) {
+        Problem(fmt::format("{}: element '{}' ({}): {}", ptr, name, type, ex.what()));
+      }
+    }
+  }
+
+  // Resolves the start of a connection to a signal; "" element = an input connector of the diagram.
+  std::optional<SignalRef> ResolveStart(const json& c, const std::string& ptr) {
+    const std::string element = c.value("startElement", "");
+    const std::string connector = c.value("startConnector", "");
+    if (element.empty()) {
+      for (std::size_t k = 0; k < d_.inputs_.size(); ++k) {
+        if (d_.inputs_[k].name == connector) return SignalRef{-1, static_cast<int>(k)};
+      }
+      Problem(fmt::format("{}/startConnector: the diagram has no input connector '{}'", ptr, connector));
+      return std::nullopt;
+    }
+    const int b = d_.FindBlock(element);
+    if (b < 0) {
+      Problem(fmt::format("{}/startElement: no element named '{}'", ptr, element));
+      return std::nullopt;
+    }
+    const Block& block = *d_.blocks_[static_cast<std::size_t>(b)];
+    int port = connector.empty() && block.output_ports().size() == 1 ? 0 : block.FindOutputPort(connector);
+    if (port < 0) {
+      std::string ports;
+      for (const auto& p : block.output_ports()) ports += (ports.empty() ? "" : ", ") + p.name;
+      Problem(fmt::format("{}/startConnector: element '{}' has no output '{}'; its outputs: {}", ptr, element,
+                          connector, ports.empty() ? "(none)" : ports));
+      return std::nullopt;
+    }
+    return SignalRef{b, port};
+  }
+
+  void ReadConnections() {
+    d_.sources_.resize(d_.blocks_.size());
+    for (std::size_t b = 0; b < d_.blocks_.size(); ++b) {
+      d_.sources_[b].assign(d_.blocks_[b]->input_ports().size(), SignalRef{-2, 0});  // -2: unconnected
+    }
+    const json cs = j_.value("connections", json::array());
+    for (std::size_t i = 0; i < cs.size(); ++i) {
+      const std::string ptr = fmt::format("/connections/{}", i);
+      const json& c = cs[i];
+      const std::string end_element = c.value("endElement", "");
+      if (end_element.empty()) continue;  // to an output connector: handled by ReadOutputConnectors
+      auto start = ResolveStart(c, ptr);
+      const int b = d_.FindBlock(end_element);
+      if (b < 0) {
+        Problem(fmt::format("{}/endElement: no element named '{}'", ptr, end_element));
+        continue;
+      }
+      const Block& block = *d_.blocks_[static_cast<std::size_t>(b)];
+      const std::string connector = c.value("endConnector", "");
+      const int port = connector.empty() && block.input_ports().size() == 1 ? 0 : block.FindInputPort(connector);
+      if (port < 0) {
+        std::string ports;
+        for (const auto& p : block.input_ports()) ports += (ports.empty() ? "" : ", ") + p.name;
+        Problem(fmt::format("{}/endConnector: element '{}' has no input '{}'; its inputs: {}", ptr, end_element,
+                            connector, ports.empty() ? "(none)" : ports));
+        continue;
+      }
+      if (!start) continue;
+      auto& slot = d_.sources_[static_cast<std::size_t>(b)][static_cast<std::size_t>(port)];
+      if (slot.block != -2) {
+        Problem(fmt::format("{}: input '{}.{}' is already connected; an input takes exactly one signal (use a sum "
+                            "block to add signals)",
+                            ptr, end_element, block.input_ports()[static_cast<std::size_t>(port)].name));
+        continue;
+      }
+      const PortSpec& in = block.input_ports()[static_cast<std::size_t>(port)];
+      const int width = d_.SignalWidth(*start);
+      if (width != in.width) {
+        Problem(fmt::format("{}: width mismatch: {} has width {}, input {}.{} expects {}", ptr,
+                            d_.SignalName(*start), width, end_element, in.name, in.width));
+        continue;
+      }
+      const std::string unit = SignalUnit(*start);
+      if (!unit.empty() && !in.unit.empty() && unit != in.unit) {
+        Problem(fmt::format("{}: unit mismatch: {} is in '{}', input {}.{} expects '{}' (insert a gain to convert)",
+                            ptr, d_.SignalName(*start), unit, end_element, in.name, in.unit));
+        continue;
+      }
+      slot = *start;
+    }
+    for (std::size_t b = 0; b < d_.blocks_.size(); ++b) {
+      for (std::size_t p = 0; p < d_.sources_[b].size(); ++p) {
+        if (d_.sources_[b][p].block == -2) {
+          Problem(fmt::format("{}: input '{}.{}' is not connected; connect it (a constant block gives a fixed value)",
+                              element_pointer_[b], d_.blocks_[b]->name(), d_.blocks_[b]->input_ports()[p].name));
+        }
+      }
+    }
+  }
+
+  std::string SignalUnit(const SignalRef& ref) const {
+    if (ref.is_external()) return d_.inputs_[static_cast<std::size_t>(ref.port)].unit;
+    return d_.blocks_[static_cast<std::size_t>(ref.block)]->output_ports()[static_cast<std::size_t>(ref.port)].unit;
+  }
+
+  void ReadOutputConnectors() {
+    const json cs = j_.value("connectors", json::array());
+    const json conns = j_.value("connections", json::array());
+    for (std::size_t i = 0; i < cs.size(); ++i) {
+      const json& c = cs[i];
+      if (c.value("kind", "") != "output" || !c.contains("name")) continue;
+      ExternalOutput out;
+      out.name = c["name"];
+      out.unit = c.value("unit", "");
+      out.measurement = c.value("measurement", out.name);
+      bool connected = false;
+      for (std::size_t k = 0; k < conns.size(); ++k) {
+        if (conns[k].value("endElement", "") != "" || conns[k].value("endConnector", "") != out.name) continue;
+        if (auto start = ResolveStart(conns[k], fmt::format("/connections/{}", k))) {
+          out.source = *start;
+          connected = true;
+        }
+      }
+      if (!connected) {
+        Problem(fmt::format("/connectors/{}: output connector '{}' is connected to nothing", i, out.name));
+        continue;
+      }
+      d_.outputs_.push_back(out);
+    }
+  }
+
+  void ReadLog() {
+    std::set<std::string> seen;
+    auto add = [&](const std::string& signal, const std::string& ptr) {
+      if (!seen.insert(signal).second) return;
+      try {
+        const SignalRef ref = d_.ResolveSignal(signal);
+        d_.logged_.push_back(LoggedSignal{signal, ref, d_.SignalWidth(ref)});
+      } catch (const std::exception& e) {
+        Problem(fmt::format("{}: {}", ptr, e.what()));
+      }
+    };
+    const json log = j_.value("log", json::array());
+    for (std::size_t i = 0; i < log.size(); ++i) {
+      if (!log[i].is_string()) {
+        Problem(fmt::format("/log/{}: a logged signal is a string \"block.port\"", i));
+        continue;
+      }
+      add(log[i].get<std::string>(), fmt::format("/log/{}", i));
+    }
+    // Diagram inputs and outputs are always logged (compare needs them).
+    for (const auto& in : d_.inputs_) add(in.name, "/connectors");
+    for (const auto& out : d_.outputs_) add(out.name, "/connectors");
+  }
+
+  void ReadMetrics() {
+    const json ms = j_.value("metrics", json::array());
+    static const std::set<std::string> kTypes = {"rmse", "max_abs", "mean", "final", "rms_difference"};
+    for (std::size_t i = 0; i < ms.size(); ++i) {
+      const std::string ptr = fmt::format("/metrics/{}", i);
+      const json& m = ms[i];
+      MetricSpec spec;
+      spec.name = m.value("name", "");
+      spec.type = m.value("type", "rmse");
+      spec.signal = m.value("signal", "");
+      spec.reference = m.value("reference", "");
+      spec.unit = m.value("unit", "");
+      spec.from = NumberOr(m, "from", -1e300, ptr, &problems_);
+      spec.to = NumberOr(m, "to", 1e300, ptr, &problems_);
+      if (spec.name.empty()) Problem(fmt::format("{}/name: a metric needs a name", ptr));
+      if (!kTypes.count(spec.type)) {
+        Problem(fmt::format("{}/type: '{}' is not a metric; use rmse, max_abs, mean, final or rms_difference", ptr,
+                            spec.type));
+      }
+      for (const auto* sig : {&spec.signal, &spec.reference}) {
+        if (sig->empty()) continue;
+        try {
+          d_.ResolveSignal(*sig);
+        } catch (const std::exception& e) {
+          Problem(fmt::format("{}: {}", ptr, e.what()));
+        }
+      }
+      if (spec.signal.empty()) Problem(fmt::format("{}/signal: a metric needs a signal", ptr));
+      if (spec.type == "rms_difference" && spec.reference.empty()) {
+        Problem(fmt::format("{}/reference: rms_difference needs a reference signal", ptr));
+      }
+      d_.metrics_.push_back(spec);
+    }
+  }
+
+  void Sort() {
+    std::vector<FeedthroughEdge> edges;
+    std::vector<std::string> names;
+    for (const auto& b : d_.blocks_) names.push_back(b->name());
+    for (std::size_t b = 0; b < d_.blocks_.size(); ++b) {
+      const auto& ports = d_.blocks_[b]->input_ports();
+      for (std::size_t p = 0; p < ports.size(); ++p) {
+        const SignalRef src = d_.sources_[b][p];
+        if (!ports[p].direct_feedthrough || src.is_external()) continue;
+        edges.push_back(FeedthroughEdge{src.block, static_cast<int>(b),
+                                        fmt::format("{} → {}.{} (direct feedthrough)", d_.SignalName(src),
+                                                    names[b], ports[p].name)});
+      }
+    }
+    try {
+      d_.execution_order_ = SortBlocks(static_cast<int>(d_.blocks_.size()), edges, names);
+    } catch (const AlgebraicLoopError& e) {
+      throw AlgebraicLoopError(fmt::format("{}: {}", source_, e.what()), e.cycle());
+    }
+  }
+
+  const json& j_;
+  fs::path base_;
+  std::string source_;
+  Diagram d_;
+  std::vector<std::string> problems_;
+  std::vector<std::string> element_pointer_;
+};
+
+Diagram BuildDiagram(const json& diagram, const fs::path& base_directory, const std::string& source) {
+  const json expanded = ExpandSubsystems(diagram, base_directory, source);
+  return DiagramBuilder(expanded, base_directory, source).Build();
+}
+
+Diagram LoadDiagram(const fs::path& path, const std::vector<ParameterOverride>& overrides) {
+  json j = ReadDiagramJson(path);
+  ApplyOverrides(&j, overrides, path.string());
+  Diagram d = BuildDiagram(j, path.parent_path(), path.string());
+  return d;
+}
+
+}  // namespace mb

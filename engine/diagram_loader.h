@@ -1,0 +1,60 @@
+#pragma once
+// Loading a diagram from JSON (schema: diagrams/schema.json; names from SSP, DESIGN.md): validate everything
+// first, collecting every problem with its JSON pointer, then build the blocks and sort them.
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/diagram.h"
+
+namespace mb {
+
+/// The schema version this build reads and writes.
+inline constexpr const char* kDiagramSchemaVersion = "1.0";
+
+/// Every problem found in a diagram, each "<file>: <json pointer>: <message and fix>".
+class DiagramError : public std::runtime_error {
+ public:
+  DiagramError(const std::string& source, std::vector<std::string> problems);
+  const std::vector<std::string>& problems() const { return problems_; }
+
+ private:
+  std::vector<std::string> problems_;
+};
+
+/// A parameter override `block.param=value` (value parsed as JSON when it parses, else taken as a string).
+struct ParameterOverride {
+  std::string block;
+  std::string parameter;
+  nlohmann::json value;
+  /// Parses "block.param=value". @throws std::invalid_argument on a malformed text.
+  static ParameterOverride Parse(const std::string& text);
+};
+
+/// Writes the overrides into the diagram JSON (`/elements/<i>/parameters/<param>`), keeping a unit written
+/// as {"value", "unit"}. @throws DiagramError if a block is unknown (listing the blocks).
+void ApplyOverrides(nlohmann::json* diagram, const std::vector<ParameterOverride>& overrides,
+                    const std::string& source);
+
+/// Reads the JSON file (clear error with line/column on a syntax error).
+nlohmann::json ReadDiagramJson(const std::filesystem::path& path);
+
+/// Expands `subsystem` elements (a nested diagram, in a file `"diagram": "plant.json"` relative to the parent,
+/// or inline under "diagram") into the parent: inner elements become "<subsystem>/<element>", connections to
+/// the subsystem's ports are rewired to the inner connectors' endpoints. Recursive. @throws DiagramError.
+nlohmann::json ExpandSubsystems(const nlohmann::json& diagram, const std::filesystem::path& base_directory,
+                                const std::string& source);
+
+/// Validates and builds a diagram from JSON. `base_directory` resolves relative file parameters;
+/// `source` names the file in messages. @throws DiagramError (all problems at once) or AlgebraicLoopError.
+Diagram BuildDiagram(const nlohmann::json& diagram, const std::filesystem::path& base_directory,
+                     const std::string& source);
+
+/// ReadDiagramJson + ApplyOverrides + BuildDiagram.
+Diagram LoadDiagram(const std::filesystem::path& path, const std::vector<ParameterOverride>& overrides = {});
+
+}  // namespace mb

@@ -1,0 +1,32 @@
+#pragma once
+// Fixed-step explicit solvers: forward Euler (order 1) and classical Runge–Kutta (order 4). Source: Hairer,
+// Nørsett, Wanner, "Solving Ordinary Differential Equations I", §II.1.
+
+#include <vector>
+
+#include "engine/solver.h"
+
+namespace mb {
+
+class FixedStepSolver final : public ContinuousSolver {
+ public:
+  enum class Method { kEuler, kRk4 };
+  /// step [s] > 0: the largest step; the last step before a stop time is shortened to land on it exactly.
+  FixedStepSolver(OdeSystem* system, Method method, double step);
+
+  void Reset(double t, const double* x) override;
+  double Integrate(double t_stop, double* x, bool* root_found) override;
+  const SolverStats& stats() const override { return stats_; }
+  std::string name() const override { return method_ == Method::kEuler ? "euler" : "rk4"; }
+
+ private:
+  void Step(double t, double h);
+  OdeSystem* system_;
+  Method method_;
+  double step_;
+  double t_ = 0.0;
+  std::vector<double> x_, k1_, k2_, k3_, k4_, tmp_, g_old_, g_new_;
+  SolverStats stats_;
+};
+
+}  // namespace mb

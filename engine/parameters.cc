@@ -1,0 +1,186 @@
+#include "engine/parameters.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace mb {
+
+const char* ToString(ParamType type) {
+  switch (type) {
+    case ParamType::kNumber: return "number";
+    case ParamType::kInteger: return "integer";
+    case ParamType::kBool: return "bool";
+    case ParamType::kString: return "string";
+    case ParamType::kVector: return "vector";
+  }
+  return "unknown";
+}
+
+ParamSpec Required(std::string name, std::string unit, std::string description, ParamType type) {
+  return ParamSpec{std::move(name), type, std::move(unit), std::nullopt, std::move(description), {}, {}};
+}
+
+ParamSpec Optional(std::string name, nlohmann::json default_value, std::string unit, std::string description,
+                   ParamType type) {
+  return ParamSpec{std::move(name), type, std::move(unit), std::move(default_value), std::move(description),
+                   {}, {}};
+}
+
+ParamSpec Bounded(std::string name, nlohmann::json default_value, std::string unit, std::string description,
+                  double min, double max) {
+  ParamSpec spec = Optional(std::move(name), std::move(default_value), std::move(unit), std::move(description));
+  spec.min = min;
+  spec.max = max;
+  return spec;
+}
+
+Parameters::Parameters(std::string block_name, std::map<std::string, nlohmann::json> values)
+    : block_name_(std::move(block_name)), values_(std::move(values)) {}
+
+const nlohmann::json& Parameters::Get(const std::string& name) const {
+  auto it = values_.find(name);
+  if (it == values_.end()) {
+    throw std::logic_error(fmt::format("block '{}' reads undeclared parameter '{}'", block_name_, name));
+  }
+  return it->second;
+}
+
+double Parameters::Number(const std::string& name) const {
+  const auto& v = Get(name);
+  if (!v.is_number()) throw std::logic_error(fmt::format("block '{}': parameter '{}' is not a number", block_name_, name));
+  return v.get<double>();
+}
+
+int Parameters::Integer(const std::string& name) const {
+  const auto& v = Get(name);
+  if (!v.is_number_integer()) {
+    throw std::logic_error(fmt::format("block '{}': parameter '{}' is not an integer", block_name_, name));
+  }
+  return v.get<int>();
+}
+
+bool Parameters::Bool(const std::string& name) const {
+  const auto& v = Get(name);
+  if (!v.is_boolean()) throw std::logic_error(fmt::format("block '{}': parameter '{}' is not a bool", block_name_, name));
+  return v.get<bool>();
+}
+
+const std::string& Parameters::String(const std::string& name) const {
+  const auto& v = Get(name);
+  if (!v.is_string()) throw std::logic_error(fmt::format("block '{}': parameter '{}' is not a string", block_name_, name));
+  return v.get_ref<const std::string&>();
+}
+
+Eigen::VectorXd Parameters::Vector(const std::string& name) const {
+  const auto& v = Get(name);
+  if (v.is_number()) return Eigen::VectorXd::Constant(1, v.get<double>());
+  if (!v.is_array()) throw std::logic_error(fmt::format("block '{}': parameter '{}' is not a vector", block_name_, name));
+  Eigen::VectorXd out(static_cast<Eigen::Index>(v.size()));
+  for (std::size_t i = 0; i < v.size(); ++i) out(static_cast<Eigen::Index>(i)) = v[i].get<double>();
+  return out;
+}
+
+namespace {
+
+bool IsFiniteNumber(const nlohmann::json& v) { return v.is_number() && std::isfinite(v.get<double>()); }
+
+std::string CheckValue(const ParamSpec& spec, const nlohmann::json& v) {
+  switch (spec.type) {
+    case ParamType::kNumber:
+      if (!v.is_number()) return fmt::format("must be a number [{}], got {}", spec.unit, v.dump());
+      if (!IsFiniteNumber(v)) return "must be finite";
+      break;
+    case ParamType::kInteger:
+      if (!v.is_number_integer()) return fmt::format("must be an integer, got {}", v.dump());
+      break;
+    case ParamType::kBool:
+      if (!v.is_boolean()) return fmt::format("must be true or false, got {}", v.dump());
+      break;
+    case ParamType::kString:
+      if (!v.is_string()) return fmt::format("must be a string, got {}", v.dump());
+      break;
+    case ParamType::kVector:
+      if (v.is_number()) break;
+      if (!v.is_array()) return fmt::format("must be an array of numbers [{}], got {}", spec.unit, v.dump());
+      for (const auto& e : v) {
+        if (!IsFiniteNumber(e)) return fmt::format("must be an array of finite numbers, got {}", v.dump());
+      }
+      break;
+  }
+  auto check_bounds = [&](double x) -> std::string {
+    if (spec.min && x < *spec.min) return fmt::format("must be >= {} [{}], got {}", *spec.min, spec.unit, x);
+    if (spec.max && x > *spec.max) return fmt::format("must be <= {} [{}], got {}", *spec.max, spec.unit, x);
+    return {};
+  };
+  if (v.is_number()) return check_bounds(v.get<double>());
+  if (v.is_array()) {
+    for (const auto& e : v) {
+      if (auto msg = check_bounds(e.get<double>()); !msg.empty()) return msg;
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
+std::map<std::string, nlohmann::json> ValidateParameters(const std::vector<ParamSpec>& specs,
+                                                         const nlohmann::json& raw,
+                                                         const std::string& json_pointer,
+                                                         std::vector<std::string>* errors) {
+  std::map<std::string, nlohmann::json> out;
+  const nlohmann::json empty = nlohmann::json::object();
+  const nlohmann::json& given = raw.is_null() ? empty : raw;
+  if (!given.is_object()) {
+    errors->push_back(fmt::format("{}: parameters must be an object {{\"name\": value}}", json_pointer));
+    return out;
+  }
+  for (const auto& [key, value] : given.items()) {
+    bool known = false;
+    for (const auto& s : specs) known = known || s.name == key;
+    if (!known) {
+      std::string names;
+      for (const auto& s : specs) names += (names.empty() ? "" : ", ") + s.name;
+      errors->push_back(fmt::format("{}/{}: unknown parameter '{}'; this block takes: {}", json_pointer, key, key,
+                                    names.empty() ? "(none)" : names));
+    }
+  }
+  for (const auto& spec : specs) {
+    const std::string ptr = json_pointer + "/" + spec.name;
+    nlohmann::json value;
+    if (given.contains(spec.name)) {
+      value = given.at(spec.name);
+      if (value.is_object()) {
+        if (!value.contains("value")) {
+          errors->push_back(fmt::format("{}: write a parameter as a value or as {{\"value\": …, \"unit\": \"{}\"}}",
+                                        ptr, spec.unit));
+          continue;
+        }
+        if (value.contains("unit")) {
+          const auto unit = value.at("unit").is_string() ? value.at("unit").get<std::string>() : std::string("?");
+          if (unit != spec.unit) {
+            errors->push_back(fmt::format("{}: unit mismatch: given '{}', this parameter is in '{}' (SI)", ptr, unit,
+                                          spec.unit));
+            continue;
+          }
+        }
+        value = nlohmann::json(value.at("value"));
+      }
+    } else if (spec.default_value) {
+      value = *spec.default_value;
+    } else {
+      errors->push_back(fmt::format("{}: missing required parameter '{}' [{}] ({})", ptr, spec.name, spec.unit,
+                                    spec.description));
+      continue;
+    }
+    if (auto msg = CheckValue(spec, value); !msg.empty()) {
+      errors->push_back(fmt::format("{}: {}", ptr, msg));
+      continue;
+    }
+    out[spec.name] = value;
+  }
+  return out;
+}
+
+}  // namespace mb

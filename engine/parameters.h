@@ -1,0 +1,73 @@
+#pragma once
+// Typed block parameters with units and defaults, read from a diagram's JSON and overridable from the
+// command line (`--set block.param=value`).
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+namespace mb {
+
+enum class ParamType { kNumber, kInteger, kBool, kString, kVector };
+
+/// "number", "integer", "bool", "string" or "vector".
+const char* ToString(ParamType type);
+
+/// Declaration of one block parameter: name, type, SI unit ("" for dimensionless), default value (absent:
+/// the parameter is required), and a one-line description for the block reference.
+struct ParamSpec {
+  std::string name;
+  ParamType type = ParamType::kNumber;
+  std::string unit;
+  std::optional<nlohmann::json> default_value;
+  std::string description;
+  /// Optional closed bounds for numbers/integers/vector entries (checked on load).
+  std::optional<double> min;
+  std::optional<double> max;
+};
+
+/// Builder helpers for readable block specs: Required("mass", "kg", "moving mass").
+ParamSpec Required(std::string name, std::string unit, std::string description,
+                   ParamType type = ParamType::kNumber);
+ParamSpec Optional(std::string name, nlohmann::json default_value, std::string unit, std::string description,
+                   ParamType type = ParamType::kNumber);
+/// Same as Optional with bounds [min, max] (use ±infinity for one-sided).
+ParamSpec Bounded(std::string name, nlohmann::json default_value, std::string unit, std::string description,
+                  double min, double max);
+
+/// The validated parameter values of one block instance. Access by name; the type was checked on load, so a
+/// wrong-type access is a programming error in the block and throws std::logic_error.
+class Parameters {
+ public:
+  Parameters() = default;
+  Parameters(std::string block_name, std::map<std::string, nlohmann::json> values);
+
+  double Number(const std::string& name) const;
+  int Integer(const std::string& name) const;
+  bool Bool(const std::string& name) const;
+  const std::string& String(const std::string& name) const;
+  /// A vector parameter; a scalar given where a vector is expected becomes a 1-vector.
+  Eigen::VectorXd Vector(const std::string& name) const;
+  bool Has(const std::string& name) const { return values_.count(name) != 0; }
+  const std::map<std::string, nlohmann::json>& values() const { return values_; }
+
+ private:
+  const nlohmann::json& Get(const std::string& name) const;
+  std::string block_name_;
+  std::map<std::string, nlohmann::json> values_;
+};
+
+/// Validates raw JSON parameter values against the specs: unknown (extra) names, missing required ones,
+/// wrong types, unit mismatch (a value may be written as {"value": 94, "unit": "kg"}; the unit must equal the
+/// declared one), bounds, NaN. Each problem is appended to `errors` as "<pointer>: <message>" where pointer is
+/// `json_pointer` + "/<param>". Returns the values with defaults filled in (and units stripped).
+std::map<std::string, nlohmann::json> ValidateParameters(const std::vector<ParamSpec>& specs,
+                                                         const nlohmann::json& raw,
+                                                         const std::string& json_pointer,
+                                                         std::vector<std::string>* errors);
+
+}  // namespace mb

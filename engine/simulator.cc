@@ -1,0 +1,410 @@
+#include "engine/simulator.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace mb {
+
+namespace {
+constexpr int kMaxEventIterations = 10;  // Modelica-style event iteration bound
+constexpr double kTimeTolerance = 1e-12;
+}  // namespace
+
+const std::vector<double>& SignalLog::Column(const std::string& name) const {
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (names[i] == name) return columns[i];
+  }
+  std::string list;
+  for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+  throw std::invalid_argument(fmt::format("signal '{}' is not logged; logged signals: {} (add it to the diagram's "
+                                          "\"log\" list)",
+                                          name, list));
+}
+
+bool SignalLog::Has(const std::string& name) const {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+Simulator::Simulator(const Diagram& diagram) : diagram_(diagram) {
+  const auto& blocks = diagram.blocks();
+  const std::size_t nb = blocks.size();
+  // Signal storage: every output port, then one slot per external input.
+  std::size_t offset = 0;
+  output_offset_.resize(nb);
+  for (std::size_t b = 0; b < nb; ++b) {
+    output_offset_[b] = offset;
+    for (const auto& p : blocks[b]->output_ports()) offset += static_cast<std::size_t>(p.width);
+  }
+  external_offset_ = offset;
+  signals_.assign(offset + diagram.inputs().size(), 0.0);
+
+  std::size_t nxc = 0, nxd = 0, nzc = 0;
+  for (const auto& b : blocks) {
+    nxc += static_cast<std::size_t>(b->num_continuous_states());
+    nxd += static_cast<std::size_t>(b->num_discrete_states());
+    nzc += static_cast<std::size_t>(b->num_zero_crossings());
+  }
+  xc_.assign(nxc, 0.0);
+  dxc_.assign(nxc, 0.0);
+  xd_.assign(nxd, 0.0);
+  zc_.assign(nzc, 0.0);
+  num_continuous_ = static_cast<int>(nxc);
+  num_roots_ = static_cast<int>(nzc);
+
+  contexts_.resize(nb);
+  hit_now_.assign(nb, 0);
+  std::size_t oc = 0, od = 0, oz = 0;
+  for (std::size_t b = 0; b < nb; ++b) {
+    const Block& block = *blocks[b];
+    BlockContext& c = contexts_[b];
+    for (std::size_t p = 0; p < block.input_ports().size(); ++p) {
+      const SignalRef src = diagram.sources()[b][p];
+      const std::size_t at = src.is_external()
+                                 ? external_offset_ + static_cast<std::size_t>(src.port)
+                                 : output_offset_[static_cast<std::size_t>(src.block)] + [&] {
+                                     std::size_t o = 0;
+                                     const auto& outs = blocks[static_cast<std::size_t>(src.block)]->output_ports();
+                                     for (int k = 0; k < src.port; ++k) o += static_cast<std::size_t>(outs[static_cast<std::size_t>(k)].width);
+                                     return o;
+                                   }();
+      c.inputs_.push_back(signals_.data() + at);
+      c.widths_in_.push_back(block.input_ports()[p].width);
+    }
+    std::size_t o = output_offset_[b];
+    for (const auto& p : block.output_ports()) {
+      c.outputs_.push_back(signals_.data() + o);
+      c.widths_out_.push_back(p.width);
+      o += static_cast<std::size_t>(p.width);
+    }
+    c.nxc_ = block.num_continuous_states();
+    c.nxd_ = block.num_discrete_states();
+    c.nzc_ = block.num_zero_crossings();
+    c.xc_ = xc_.data() + oc;
+    c.dxc_ = dxc_.data() + oc;
+    c.xd_ = xd_.data() + od;
+    c.zc_ = zc_.data() + oz;
+    oc += static_cast<std::size_t>(c.nxc_);
+    od += static_cast<std::size_t>(c.nxd_);
+    oz += static_cast<std::size_t>(c.nzc_);
+    if (block.sample_time().is_discrete()) discrete_blocks_.push_back(static_cast<int>(b));
+  }
+
+  input_series_.resize(diagram.inputs().size());
+  input_set_.assign(diagram.inputs().size(), 0);
+  input_cursor_.assign(diagram.inputs().size(), 0);
+
+  // Log grid: the experiment's step size, else the fastest discrete period, else 1000 intervals.
+  const auto& ex = diagram.experiment();
+  log_step_ = ex.step_size;
+  if (log_step_ <= 0.0) {
+    for (int b : discrete_blocks_) {
+      const double p = blocks[static_cast<std::size_t>(b)]->sample_time().period;
+      log_step_ = log_step_ <= 0.0 ? p : std::min(log_step_, p);
+    }
+  }
+  if (log_step_ <= 0.0) log_step_ = (ex.stop_time - ex.start_time) / 1000.0;
+
+  for (const auto& l : diagram.logged()) {
+    logged_refs_.emplace_back(l.source, l.width);
+    if (l.width == 1) {
+      log_.names.push_back(l.name);
+    } else {
+      for (int k = 0; k < l.width; ++k) log_.names.push_back(fmt::format("{}[{}]", l.name, k));
+    }
+  }
+  log_.columns.resize(log_.names.size());
+
+  if (num_continuous_ > 0) solver_ = MakeSolver(diagram.solver(), this);
+}
+
+Simulator::~Simulator() = default;
+
+void Simulator::SetInput(const std::string& name, InputSeries series) {
+  const auto& inputs = diagram_.inputs();
+  for (std::size_t k = 0; k < inputs.size(); ++k) {
+    if (inputs[k].name != name) continue;
+    if (series.time.size() != series.values.size() || series.time.empty()) {
+      throw std::invalid_argument(fmt::format("input '{}': time and values must have the same, non-zero length "
+                                              "({} vs {})",
+                                              name, series.time.size(), series.values.size()));
+    }
+    for (std::size_t i = 1; i < series.time.size(); ++i) {
+      if (!(series.time[i] > series.time[i - 1])) {
+        throw std::invalid_argument(
+            fmt::format("input '{}': time must increase strictly (row {}: {} after {})", name, i, series.time[i],
+                        series.time[i - 1]));
+      }
+    }
+    input_series_[k] = std::move(series);
+    input_set_[k] = 1;
+    input_cursor_[k] = 0;
+    return;
+  }
+  std::string names;
+  for (const auto& in : inputs) names += (names.empty() ? "" : ", ") + in.name;
+  throw std::invalid_argument(fmt::format("diagram '{}' has no input connector '{}'; its inputs: {}", diagram_.name(),
+                                          name, names.empty() ? "(none)" : names));
+}
+
+void Simulator::UpdateInputs(double t) {
+  for (std::size_t k = 0; k < input_series_.size(); ++k) {
+    double& slot = signals_[external_offset_ + k];
+    if (!input_set_[k]) {
+      slot = diagram_.inputs()[k].default_value;
+      continue;
+    }
+    const auto& ts = input_series_[k].time;
+    const auto& vs = input_series_[k].values;
+    if (t <= ts.front()) {
+      slot = vs.front();
+      continue;
+    }
+    if (t >= ts.back()) {
+      slot = vs.back();
+      continue;
+    }
+    // Time mostly moves forward: walk the cursor, fall back to bisection on a jump back.
+    std::size_t& i = input_cursor_[k];
+    if (i + 1 >= ts.size() || ts[i] > t) {
+      i = static_cast<std::size_t>(std::upper_bound(ts.begin(), ts.end(), t) - ts.begin()) - 1;
+    }
+    while (ts[i + 1] < t) ++i;
+    const double w = (t - ts[i]) / (ts[i + 1] - ts[i]);
+    slot = vs[i] + w * (vs[i + 1] - vs[i]);
+  }
+}
+
+void Simulator::ComputeOutputs(double t, bool major) {
+  const auto& blocks = diagram_.blocks();
+  for (int b : diagram_.execution_order()) {
+    const auto bi = static_cast<std::size_t>(b);
+    const Block& block = *blocks[bi];
+    if (block.sample_time().is_discrete() && !(major && hit_now_[bi])) continue;  // held between hits
+    contexts_[bi].time_ = t;
+    block.CalcOutput(contexts_[bi]);
+  }
+}
+
+bool Simulator::MakeModesConsistent(double t) {
+  bool any = false;
+  const auto& blocks = diagram_.blocks();
+  for (int iteration = 0; iteration < kMaxEventIterations; ++iteration) {
+    bool changed = false;
+    for (std::size_t b = 0; b < blocks.size(); ++b) {
+      if (blocks[b]->num_zero_crossings() == 0) continue;
+      contexts_[b].time_ = t;
+      changed = blocks[b]->UpdateModes(contexts_[b]) || changed;
+    }
+    if (!changed) break;
+    any = true;
+    ComputeOutputs(t, /*major=*/false);
+  }
+  return any;
+}
+
+void Simulator::Derivatives(double t, const double* x, double* dx) {
+  std::copy(x, x + num_continuous_, xc_.begin());
+  UpdateInputs(t);
+  ComputeOutputs(t, /*major=*/false);
+  const auto& blocks = diagram_.blocks();
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    if (blocks[b]->num_continuous_states() == 0) continue;
+    contexts_[b].time_ = t;
+    blocks[b]->CalcDerivatives(contexts_[b]);
+  }
+  std::copy(dxc_.begin(), dxc_.end(), dx);
+}
+
+void Simulator::Roots(double t, const double* x, double* g) {
+  std::copy(x, x + num_continuous_, xc_.begin());
+  UpdateInputs(t);
+  ComputeOutputs(t, /*major=*/false);
+  const auto& blocks = diagram_.blocks();
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    if (blocks[b]->num_zero_crossings() == 0) continue;
+    contexts_[b].time_ = t;
+    blocks[b]->CalcZeroCrossings(contexts_[b]);
+  }
+  std::copy(zc_.begin(), zc_.end(), g);
+}
+
+double Simulator::NextMajorTime(double t) const {
+  double next = start_time_ + static_cast<double>(next_log_index_) * log_step_;
+  if (next <= t + kTimeTolerance) next = start_time_ + static_cast<double>(next_log_index_ + 1) * log_step_;
+  for (int b : discrete_blocks_) {
+    const SampleTime& st = diagram_.blocks()[static_cast<std::size_t>(b)]->sample_time();
+    long long k = st.FirstHitIndexAtOrAfter(t);
+    if (st.HitTime(k) <= t + kTimeTolerance * std::max(1.0, std::abs(t))) ++k;
+    next = std::min(next, st.HitTime(k));
+  }
+  return next;
+}
+
+void Simulator::LogNow() {
+  log_.time.push_back(time_);
+  std::size_t col = 0;
+  for (const auto& [ref, width] : logged_refs_) {
+    const double* v = ref.is_external() ? &signals_[external_offset_ + static_cast<std::size_t>(ref.port)]
+                                        : contexts_[static_cast<std::size_t>(ref.block)].outputs_[static_cast<std::size_t>(ref.port)];
+    for (int k = 0; k < width; ++k) log_.columns[col++].push_back(v[k]);
+  }
+}
+
+void Simulator::Initialize() { Initialize(diagram_.experiment().start_time); }
+
+void Simulator::Initialize(double start_time) {
+  for (std::size_t k = 0; k < input_set_.size(); ++k) {
+    const auto& in = diagram_.inputs()[k];
+    if (!input_set_[k] && !in.optional) {
+      throw std::runtime_error(fmt::format("diagram '{}': input connector '{}' has no data; feed it from a "
+                                           "measurement (compare/fit map column '{}') or mark it optional",
+                                           diagram_.name(), in.name, in.measurement));
+    }
+  }
+  start_time_ = start_time;
+  time_ = start_time;
+  std::fill(xc_.begin(), xc_.end(), 0.0);
+  std::fill(xd_.begin(), xd_.end(), 0.0);
+  std::fill(signals_.begin(), signals_.end(), 0.0);
+  for (auto& c : input_cursor_) c = 0;
+  log_ = SignalLog{{}, log_.names, std::vector<std::vector<double>>(log_.names.size())};
+  const auto expected = static_cast<std::size_t>((diagram_.experiment().stop_time - start_time) / log_step_) + 2;
+  log_.time.reserve(expected);
+  for (auto& c : log_.columns) c.reserve(expected);
+  next_log_index_ = 0;
+
+  const auto& blocks = diagram_.blocks();
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    contexts_[b].time_ = start_time;
+    blocks[b]->Initialize(contexts_[b]);
+  }
+  // Every block computes an initial output (discrete ones from their initial state), then the hits at t0.
+  std::fill(hit_now_.begin(), hit_now_.end(), 1);
+  UpdateInputs(time_);
+  ComputeOutputs(time_, /*major=*/true);
+  for (int b : discrete_blocks_) {
+    hit_now_[static_cast<std::size_t>(b)] = blocks[static_cast<std::size_t>(b)]->sample_time().IsHit(time_) ? 1 : 0;
+  }
+  MakeModesConsistent(time_);
+  LogNow();
+  ++next_log_index_;
+  if (solver_) solver_->Reset(time_, xc_.data());
+  initialised_ = true;
+}
+
+void Simulator::AdvanceTo(double t_end) {
+  if (!initialised_) throw std::logic_error("Simulator::AdvanceTo before Initialize");
+  const auto& blocks = diagram_.blocks();
+  const double t_stop = diagram_.experiment().stop_time;
+  double next_progress = time_;
+  while (time_ < t_end - kTimeTolerance * std::max(1.0, std::abs(t_end))) {
+    // Finish the current major step: discrete updates of the blocks with a hit now.
+    bool need_reset = false;
+    for (int b : discrete_blocks_) {
+      const auto bi = static_cast<std::size_t>(b);
+      if (!hit_now_[bi]) continue;
+      contexts_[bi].time_ = time_;
+      blocks[bi]->UpdateDiscrete(contexts_[bi]);
+    }
+    const double t_next = std::min(NextMajorTime(time_), t_end);
+    // Integrate the continuous states to the next major time, stopping at zero crossings.
+    if (solver_) {
+      double t = time_;
+      while (t < t_next) {
+        bool root = false;
+        t = solver_->Integrate(t_next, xc_.data(), &root);
+        if (root && t < t_next) {
+          UpdateInputs(t);
+          ComputeOutputs(t, /*major=*/false);
+          MakeModesConsistent(t);
+          solver_->Reset(t, xc_.data());
+        } else if (root) {
+          need_reset = true;
+        }
+      }
+    }
+    time_ = t_next;
+    // Start the next major step: hits, outputs, modes, log.
+    bool any_hit = false;
+    for (int b : discrete_blocks_) {
+      const auto bi = static_cast<std::size_t>(b);
+      hit_now_[bi] = blocks[bi]->sample_time().IsHit(time_) ? 1 : 0;
+      any_hit = any_hit || hit_now_[bi];
+    }
+    UpdateInputs(time_);
+    ComputeOutputs(time_, /*major=*/true);
+    need_reset = MakeModesConsistent(time_) || need_reset || any_hit;
+    const double log_time = start_time_ + static_cast<double>(next_log_index_) * log_step_;
+    if (std::abs(time_ - log_time) <= 1e-9 * log_step_) {
+      LogNow();
+      ++next_log_index_;
+    }
+    if (solver_ && need_reset) solver_->Reset(time_, xc_.data());
+    if (progress_ && time_ >= next_progress) {
+      progress_(time_, t_stop);
+      next_progress = time_ + 0.02 * (t_stop - start_time_);
+    }
+  }
+}
+
+SimulationResult Simulator::Run() {
+  const auto start = std::chrono::steady_clock::now();
+  Initialize();
+  AdvanceTo(diagram_.experiment().stop_time);
+  SimulationResult result;
+  result.log = log_;
+  result.metrics = ComputeMetrics(diagram_, log_);
+  if (solver_) {
+    result.solver_stats = solver_->stats();
+    result.solver_name = solver_->name();
+  } else {
+    result.solver_name = "discrete";
+  }
+  result.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+double Simulator::SignalValue(const SignalRef& ref) const {
+  if (ref.is_external()) return signals_[external_offset_ + static_cast<std::size_t>(ref.port)];
+  return contexts_[static_cast<std::size_t>(ref.block)].outputs_[static_cast<std::size_t>(ref.port)][0];
+}
+
+const SolverStats& Simulator::solver_stats() const {
+  static const SolverStats kNone;
+  return solver_ ? solver_->stats() : kNone;
+}
+
+std::map<std::string, double> Simulator::ComputeMetrics(const Diagram& diagram, const SignalLog& log) {
+  std::map<std::string, double> out;
+  for (const auto& m : diagram.metrics()) {
+    const auto& v = log.Column(m.signal);
+    const std::vector<double>* ref = m.reference.empty() ? nullptr : &log.Column(m.reference);
+    double sum = 0.0, sum_sq = 0.0, max_abs = 0.0, last = std::numeric_limits<double>::quiet_NaN();
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < log.time.size(); ++i) {
+      if (log.time[i] < m.from || log.time[i] > m.to) continue;
+      const double x = ref ? v[i] - (*ref)[i] : v[i];
+      sum += x;
+      sum_sq += x * x;
+      max_abs = std::max(max_abs, std::abs(x));
+      last = x;
+      ++n;
+    }
+    if (n == 0) {
+      throw std::invalid_argument(fmt::format("metric '{}': no logged sample in the window [{}, {}] s", m.name, m.from, m.to));
+    }
+    const double nd = static_cast<double>(n);
+    if (m.type == "rmse" || m.type == "rms_difference") out[m.name] = std::sqrt(sum_sq / nd);
+    else if (m.type == "max_abs") out[m.name] = max_abs;
+    else if (m.type == "mean") out[m.name] = sum / nd;
+    else if (m.type == "final") out[m.name] = last;
+  }
+  return out;
+}
+
+}  // namespace mb

@@ -1,0 +1,111 @@
+#pragma once
+// Runs a Diagram: multi-rate scheduling of discrete blocks at their sample hits, continuous states integrated
+// between major steps by the diagram's solver, zero crossings located and modes updated, signals logged.
+// The order within a step is documented in engine/block.h and docs/engine.md.
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/diagram.h"
+#include "engine/solver.h"
+
+namespace mb {
+
+/// Logged signals on the log grid: time [s] and one column per logged scalar (a width-n signal gives columns
+/// "name[0]" … "name[n-1]").
+struct SignalLog {
+  std::vector<double> time;
+  std::vector<std::string> names;
+  std::vector<std::vector<double>> columns;
+  /// The column named `name`. @throws std::invalid_argument listing the logged names.
+  const std::vector<double>& Column(const std::string& name) const;
+  bool Has(const std::string& name) const;
+};
+
+struct SimulationResult {
+  SignalLog log;
+  std::map<std::string, double> metrics;  ///< name → value in SI units
+  SolverStats solver_stats;
+  std::string solver_name;
+  double wall_time_s = 0.0;
+};
+
+/// A time series fed to a diagram input connector: linear interpolation, held constant outside its range.
+struct InputSeries {
+  std::vector<double> time;    ///< strictly increasing [s]
+  std::vector<double> values;  ///< same length
+};
+
+class Simulator final : private OdeSystem {
+ public:
+  /// Lays out all signal and state storage (the only allocation). The diagram must outlive the simulator.
+  explicit Simulator(const Diagram& diagram);
+  ~Simulator() override;
+
+  /// Feeds diagram input connector `name`. @throws std::invalid_argument for an unknown name, mismatched lengths,
+  /// or non-increasing time. Inputs not set read their connector's default value (optional inputs) or throw at
+  /// Initialize (required ones).
+  void SetInput(const std::string& name, InputSeries series);
+
+  /// Called with (t, t_stop) roughly every 2 % of simulated time.
+  void SetProgressCallback(std::function<void(double, double)> callback) { progress_ = std::move(callback); }
+
+  /// Initialises states at the experiment's start time (or `start_time`), computes outputs, makes modes
+  /// consistent. @throws std::runtime_error if a required input is not set.
+  void Initialize();
+  void Initialize(double start_time);
+  /// Advances through major steps until `t` (logging on the log grid). Requires Initialize.
+  void AdvanceTo(double t);
+  /// Initialize + AdvanceTo(stop time) + metrics.
+  SimulationResult Run();
+
+  double time() const { return time_; }
+  /// Current value of a signal (first element for a wide signal).
+  double SignalValue(const SignalRef& ref) const;
+  const SignalLog& log() const { return log_; }
+  const SolverStats& solver_stats() const;
+
+  /// Computes the diagram's metrics from a log. @throws std::invalid_argument if a metric's signal is not logged.
+  static std::map<std::string, double> ComputeMetrics(const Diagram& diagram, const SignalLog& log);
+
+ private:
+  // OdeSystem
+  int num_states() const override { return num_continuous_; }
+  int num_roots() const override { return num_roots_; }
+  void Derivatives(double t, const double* x, double* dx) override;
+  void Roots(double t, const double* x, double* g) override;
+
+  void UpdateInputs(double t);
+  void ComputeOutputs(double t, bool major);
+  bool MakeModesConsistent(double t);
+  void LogNow();
+  double NextMajorTime(double t) const;
+
+  const Diagram& diagram_;
+  std::vector<BlockContext> contexts_;
+  std::vector<double> signals_;    // all output ports, then external inputs
+  std::vector<std::size_t> output_offset_;  // per block, offset of its first output
+  std::vector<double> xc_, dxc_, xd_, zc_;
+  std::vector<int> discrete_blocks_;
+  std::vector<char> hit_now_;       // per block: discrete hit at the current major time
+  std::vector<InputSeries> input_series_;
+  std::vector<char> input_set_;
+  std::vector<std::size_t> input_cursor_;
+  std::size_t external_offset_ = 0;
+  int num_continuous_ = 0;
+  int num_roots_ = 0;
+  std::unique_ptr<ContinuousSolver> solver_;
+  double time_ = 0.0;
+  double log_step_ = 0.0;
+  long long next_log_index_ = 0;
+  double start_time_ = 0.0;
+  SignalLog log_;
+  std::vector<std::pair<SignalRef, int>> logged_refs_;
+  std::function<void(double, double)> progress_;
+  bool initialised_ = false;
+};
+
+}  // namespace mb
