@@ -1,0 +1,124 @@
+#pragma once
+// A fitted TISO-GPR disturbance model d̂(x, ẋ) = mean(d) + ψ(x, ẋ)ᵀβ (eq. 22 + eq. 24 in weight
+// space), its posterior standard deviation (eq. 23), and the constants of the paper's stability
+// analysis: Lipschitz constants of the posterior mean (eq. 47) and the error bound b_μ
+// (Remark 1, eq. 50).
+
+#include <cstdint>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "models/gpr/basis.h"
+#include "models/gpr/kernels.h"
+#include "models/gpr/priors.h"
+
+namespace mb {
+
+/// Where a model came from (written to and read from the model file; informative only).
+struct GprProvenance {
+  std::string created_utc;      ///< ISO 8601, e.g. "2026-11-21T15:04:05Z"
+  std::string library_version;  ///< motionblocks version that fitted it
+  std::string solver;           ///< "exact" or "weight_space": which likelihood the MAP used
+  std::string source;           ///< free text given by the caller (e.g. the log's file name)
+  std::int64_t sample_count = 0;
+  double log_marginal_likelihood = 0.0;  ///< at the MAP, of the weight-space model
+  double log_posterior = 0.0;            ///< MAP objective (up to a constant)
+  double fit_seconds = 0.0;
+  double tolerance = 0.0;  ///< kernel truncation tolerance of the basis (relative to σ²)
+  bool period_estimated = false;
+  GprPriors priors{};
+};
+
+/// Everything a model file holds. Plain data; GprModel validates it.
+struct GprModelData {
+  GprKernel kernel = GprKernel::kPeriodicSe;
+  GprHyperparameters hyperparameters;
+  GprBasis basis;
+  double mean = 0.0;       ///< mean(d_g) of eq. 14, added back by eq. 24
+  GprRange x_range;        ///< trained position range [m]
+  GprRange xdot_range;     ///< trained velocity range [m/s]
+  Eigen::VectorXd weights;            ///< E[β] (M)
+  Eigen::MatrixXd weight_covariance;  ///< Cov β (M×M, symmetric positive semidefinite)
+  GprProvenance provenance;
+};
+
+/// Lipschitz constants of the posterior mean over all inputs (eq. 47):
+/// |μ(x1, ẋ1) − μ(x2, ẋ2)| ≤ position·|x1 − x2| + velocity·|ẋ1 − ẋ2|.
+/// Because μ = mean + μ_x(x) + μ_ẋ(ẋ) (the kernel is a sum) they are sup|μ_x'| and sup|μ_ẋ'|.
+struct GprLipschitzConstants {
+  double position = 0.0;  ///< L_x, rigorous upper bound [disturbance unit / m]
+  double velocity = 0.0;  ///< L_ẋ, rigorous upper bound [disturbance unit / (m/s)]
+  double position_sampled = 0.0;  ///< max |μ_x'| on the grid (a lower bound of the supremum)
+  double velocity_sampled = 0.0;  ///< max |μ_ẋ'| on the grid
+};
+
+/// The fitted model. Immutable; prediction is noexcept, allocation-free and O(M) for the mean.
+///
+/// Inputs outside the trained ranges:
+///  * ẋ is clamped to the trained velocity range [min ẋ, max ẋ] for the velocity (SE) part: the
+///    SE kernel carries no information beyond the data, and the paper requires the trained
+///    velocity range for reliable inference (§3.2); clamping keeps the output bounded and equal
+///    to the boundary value instead of decaying to the mean.
+///  * x is not clamped. "PS": the periodic part repeats with the period τ (the point of eq. 19,
+///    Fig. 6 d–f). "DS": the SE position part decays to 0 as in the exact GP (Fig. 6 a–c); it is
+///    exactly 0 beyond the Hilbert domain (the trained range plus a margin of ≥ 3 ℓ_x).
+///  * Non-finite x or ẋ: the mean returns `mean()` (the prior mean), the std the prior std.
+class GprModel final {
+ public:
+  /// Validates and takes `data`. Throws std::invalid_argument listing every problem found:
+  /// non-finite or non-positive hyperparameters, weights or covariance of the wrong size or
+  /// non-finite, an empty trained range, a basis with no or too many (> kMaxGprFeatures)
+  /// features, or a "PS" basis period that differs from the hyperparameter period.
+  explicit GprModel(GprModelData data);
+
+  /// Posterior mean d̂ = mean + ψ(x, clamp(ẋ))ᵀβ (eq. 22, 24) at position x [m], velocity ẋ [m/s].
+  double PredictPosteriorMean(double x, double xdot) const noexcept;
+
+  /// Posterior mean and the posterior standard deviation of the latent f (√ of eq. 23; add
+  /// noise_variance for a new observation). O(M²), no allocation. Either pointer may be null.
+  void Predict(double x, double xdot, double* mean, double* std) const noexcept;
+
+  /// Batch forms; all vectors of one length. Throw std::invalid_argument on a length mismatch.
+  void PredictPosteriorMean(const Eigen::Ref<const Eigen::VectorXd>& x,
+                            const Eigen::Ref<const Eigen::VectorXd>& xdot,
+                            Eigen::Ref<Eigen::VectorXd> mean) const;
+  void Predict(const Eigen::Ref<const Eigen::VectorXd>& x,
+               const Eigen::Ref<const Eigen::VectorXd>& xdot, Eigen::Ref<Eigen::VectorXd> mean,
+               Eigen::Ref<Eigen::VectorXd> std) const;
+
+  /// ∂μ/∂x and ∂μ/∂ẋ at (x, ẋ) (∂μ/∂ẋ = 0 outside the trained velocity range, where ẋ is clamped).
+  void PosteriorMeanGradient(double x, double xdot, double* dmu_dx,
+                             double* dmu_dxdot) const noexcept;
+
+  /// Lipschitz constants of eq. 47, global (all x, all ẋ). Each is the maximum of |μ'| on a grid
+  /// plus (h/2)·Σ_k |β_k| sup|ψ_k| ω_k² (a bound on |μ''| times half the spacing), hence a
+  /// rigorous upper bound. Position grid: one period ("PS", μ_x is τ-periodic) or the Hilbert
+  /// domain ("DS", μ_x is constant outside). Velocity grid: the trained velocity range.
+  /// `grid_points` ≥ 2 per axis (default keeps the correction below ~1 % for typical models).
+  GprLipschitzConstants LipschitzConstants(int grid_points = 8192) const;
+
+  /// sup σ(x, ẋ) over the compact domain X on a grid of grid_points² points: X = one period ×
+  /// trained ẋ range ("PS", σ is τ-periodic in x) or trained x range × trained ẋ range ("DS").
+  /// A sampled supremum (the posterior std is smooth; refine the grid to tighten).
+  double MaxPosteriorStd(int grid_points = 128) const;
+
+  /// b_μ of Remark 1, eq. 50: β_δ · sup_X σ(x, ẋ). β_δ > 0 is the caller's confidence scaling
+  /// (eq. 49; e.g. 2 or 3 for a pointwise 95 % / 99.7 % band, larger for a uniform bound, see
+  /// Lederer et al. 2019). Throws std::invalid_argument for β_δ ≤ 0 or grid_points < 2.
+  double PosteriorErrorBound(double beta_delta, int grid_points = 128) const;
+
+  const GprModelData& data() const noexcept { return data_; }
+  GprKernel kernel() const noexcept { return data_.kernel; }
+  const GprHyperparameters& hyperparameters() const noexcept { return data_.hyperparameters; }
+  double mean() const noexcept { return data_.mean; }
+  GprRange x_range() const noexcept { return data_.x_range; }
+  GprRange xdot_range() const noexcept { return data_.xdot_range; }
+  int feature_count() const noexcept { return GprFeatureCount(data_.basis); }
+
+ private:
+  double ClampXdot(double xdot) const noexcept;
+  GprModelData data_;
+};
+
+}  // namespace mb
