@@ -1,0 +1,499 @@
+#include "models/diagnosis/diagnosis.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+#include <fmt/format.h>
+
+namespace mb {
+namespace {
+
+// Per-block Gram matrices of the scaled regressor matrix, for fast contiguous-block cross-validation.
+class BlockGrams {
+ public:
+  BlockGrams(const Eigen::MatrixXd& x, const Eigen::VectorXd& r, Eigen::Index folds) {
+    const Eigen::Index n = x.rows();
+    for (Eigen::Index b = 0; b < folds; ++b) {
+      const Eigen::Index start = b * n / folds, end = (b + 1) * n / folds;
+      const auto xb = x.middleRows(start, end - start);
+      const auto rb = r.segment(start, end - start);
+      gram_.push_back(xb.transpose() * xb);
+      xty_.push_back(xb.transpose() * rb);
+      yty_.push_back(rb.squaredNorm());
+    }
+    total_gram_ = Eigen::MatrixXd::Zero(x.cols(), x.cols());
+    total_xty_ = Eigen::VectorXd::Zero(x.cols());
+    for (std::size_t b = 0; b < gram_.size(); ++b) {
+      total_gram_ += gram_[b];
+      total_xty_ += xty_[b];
+      total_yty_ += yty_[b];
+    }
+    n_ = static_cast<double>(n);
+  }
+
+  // Held-out mean squared error of the least-squares fit on the columns `idx`.
+  double HeldOutMse(const std::vector<Eigen::Index>& idx) const {
+    double sse = 0.0;
+    for (std::size_t b = 0; b < gram_.size(); ++b) {
+      if (idx.empty()) {
+        sse += yty_[b];
+        continue;
+      }
+      const Eigen::MatrixXd g = SubMatrix(total_gram_ - gram_[b], idx);
+      const Eigen::VectorXd h = SubVector(total_xty_ - xty_[b], idx);
+      const Eigen::VectorXd theta = Solve(g, h);
+      sse += yty_[b] - 2.0 * theta.dot(SubVector(xty_[b], idx)) + theta.dot(SubMatrix(gram_[b], idx) * theta);
+    }
+    return sse / n_;
+  }
+
+  // In-sample fit on all data: coefficients (scaled columns) and the residual sum of squares.
+  Eigen::VectorXd Fit(const std::vector<Eigen::Index>& idx, double* sse) const {
+    if (idx.empty()) {
+      *sse = total_yty_;
+      return {};
+    }
+    const Eigen::MatrixXd g = SubMatrix(total_gram_, idx);
+    const Eigen::VectorXd h = SubVector(total_xty_, idx);
+    const Eigen::VectorXd theta = Solve(g, h);
+    *sse = std::max(0.0, total_yty_ - 2.0 * theta.dot(h) + theta.dot(g * theta));
+    return theta;
+  }
+
+  Eigen::MatrixXd TotalGram(const std::vector<Eigen::Index>& idx) const { return SubMatrix(total_gram_, idx); }
+  double n() const { return n_; }
+
+ private:
+  static Eigen::MatrixXd SubMatrix(const Eigen::MatrixXd& m, const std::vector<Eigen::Index>& idx) {
+    Eigen::MatrixXd out(static_cast<Eigen::Index>(idx.size()), static_cast<Eigen::Index>(idx.size()));
+    for (std::size_t i = 0; i < idx.size(); ++i)
+      for (std::size_t j = 0; j < idx.size(); ++j)
+        out(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = m(idx[i], idx[j]);
+    return out;
+  }
+  static Eigen::VectorXd SubVector(const Eigen::VectorXd& v, const std::vector<Eigen::Index>& idx) {
+    Eigen::VectorXd out(static_cast<Eigen::Index>(idx.size()));
+    for (std::size_t i = 0; i < idx.size(); ++i) out(static_cast<Eigen::Index>(i)) = v(idx[i]);
+    return out;
+  }
+  // Columns have unit RMS, so a ridge of 1e-9·(mean diagonal) only matters for collinear columns.
+  static Eigen::VectorXd Solve(Eigen::MatrixXd g, const Eigen::VectorXd& h) {
+    const double ridge = 1e-9 * std::max(1.0, g.trace() / static_cast<double>(g.rows()));
+    g.diagonal().array() += ridge;
+    return g.ldlt().solve(h);
+  }
+
+  std::vector<Eigen::MatrixXd> gram_;
+  std::vector<Eigen::VectorXd> xty_;
+  std::vector<double> yty_;
+  Eigen::MatrixXd total_gram_;
+  Eigen::VectorXd total_xty_;
+  double total_yty_ = 0.0;
+  double n_ = 0.0;
+};
+
+double Percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  const auto k = static_cast<std::size_t>(std::clamp(q, 0.0, 1.0) * static_cast<double>(v.size() - 1));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+std::string FormatParameters(const std::map<std::string, double>& p) {
+  std::string out;
+  for (const auto& [k, v] : p) {
+    std::string item;
+    if (k == "period") item = fmt::format("period {:.4g} mm", v * 1e3);
+    else if (k == "delay") item = fmt::format("delay {:.4g} ms", v * 1e3);
+    else if (k == "frequency_hz") item = fmt::format("frequency {:.4g} Hz", v);
+    else if (k == "harmonics") item = fmt::format("{} harmonic(s)", static_cast<int>(v));
+    else if (k == "amplitude") item = fmt::format("amplitude {:.3g}", v);
+    else item = fmt::format("{} {:.4g}", k, v);
+    out += (out.empty() ? "" : ", ") + item;
+  }
+  return out;
+}
+
+AutocorrelationTest Whiteness(const Eigen::VectorXd& r) {
+  const Eigen::Index lag = std::min<Eigen::Index>(25, r.size() / 4);
+  if ((r.array() - r.mean()).matrix().squaredNorm() <= 0.0) return {};
+  return ResidualAutocorrelation(r, lag);
+}
+
+}  // namespace
+
+std::vector<EffectInstance> DiagnosisResult::chosen() const {
+  std::vector<EffectInstance> out;
+  for (const auto& e : effects) out.push_back({e.effect, e.parameters});
+  return out;
+}
+
+DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const BaseRegressors& base,
+                                       const DiagnosisOptions& options) {
+  signals.Validate();
+  const Eigen::Index n = signals.size();
+  const Eigen::Index p = base.columns.cols();
+  if ((p > 0 && base.columns.rows() != n) || static_cast<Eigen::Index>(base.names.size()) != p) {
+    throw std::invalid_argument(fmt::format(
+        "DiagnoseMissingEffects: base regressors are {}×{} with {} names; need {} rows and one name per column",
+        base.columns.rows(), p, base.names.size(), n));
+  }
+  if (p > 0 && !base.columns.allFinite()) {
+    throw std::invalid_argument("DiagnoseMissingEffects: the base regressors hold NaN or Inf");
+  }
+  if (options.folds < 2 || options.folds > n / 16) {
+    throw std::invalid_argument(fmt::format(
+        "DiagnoseMissingEffects: folds = {} must lie in 2..{} (N/16)", options.folds, n / 16));
+  }
+  if (!(options.min_gain >= 0.0 && options.min_gain < 1.0)) {
+    throw std::invalid_argument(fmt::format("DiagnoseMissingEffects: min_gain = {} must lie in [0, 1)", options.min_gain));
+  }
+  const Eigen::MatrixXd base_cols = p > 0 ? base.columns : Eigen::MatrixXd(n, 0);
+  const Eigen::VectorXd& r = signals.residual;
+
+  DiagnosisResult result;
+  result.base_names = base.names;
+  result.rmse_before = std::sqrt(r.squaredNorm() / static_cast<double>(n));
+
+  // 1. Base refit (in-sample) for the candidate search.
+  Eigen::VectorXd r0 = r;
+  if (p > 0) r0 -= base_cols * base_cols.colPivHouseholderQr().solve(r);
+  result.rmse_base_refit = std::sqrt(r0.squaredNorm() / static_cast<double>(n));
+
+  // 2. Candidates and their regressors.
+  const CandidateSearch search = ProposeCandidateEffects(signals, r0, base_cols, options.catalogue);
+  result.candidates = search.candidates;
+  result.position_peaks = search.position_periodogram.peaks;
+  result.time_peaks = search.time_periodogram.peaks;
+
+  struct Candidate {
+    EffectInstance effect;
+    EffectRegressors reg;
+    std::vector<Eigen::Index> idx;  // its columns in the full matrix
+  };
+  std::vector<Candidate> cands;
+  Eigen::Index total_cols = p;
+  for (const auto& e : search.candidates) {
+    Candidate c{e, BuildEffectRegressors(e, signals), {}};
+    if (c.reg.columns.cwiseAbs().maxCoeff() == 0.0) continue;  // nothing to fit (e.g. no positive motion)
+    total_cols += c.reg.columns.cols();
+    cands.push_back(std::move(c));
+  }
+  Eigen::MatrixXd x(n, total_cols);
+  if (p > 0) x.leftCols(p) = base_cols;
+  {
+    Eigen::Index col = p;
+    for (auto& c : cands) {
+      x.middleCols(col, c.reg.columns.cols()) = c.reg.columns;
+      for (Eigen::Index j = 0; j < c.reg.columns.cols(); ++j) c.idx.push_back(col + j);
+      col += c.reg.columns.cols();
+    }
+  }
+  Eigen::VectorXd scale(total_cols);
+  for (Eigen::Index j = 0; j < total_cols; ++j) {
+    const double rms = x.col(j).norm() / std::sqrt(static_cast<double>(n));
+    scale(j) = rms > 0.0 ? rms : 1.0;
+    x.col(j) /= scale(j);
+  }
+  const BlockGrams grams(x, r, options.folds);
+
+  // 3. Forward selection on the held-out error.
+  std::vector<Eigen::Index> selected;
+  for (Eigen::Index j = 0; j < p; ++j) selected.push_back(j);
+  const double mse_base = grams.HeldOutMse(selected);
+  double mse_prev = mse_base;
+  std::vector<bool> used(cands.size(), false);
+  std::vector<std::size_t> order;
+  std::vector<double> scores, cumulative;
+  const double log_n = std::log(grams.n());
+  for (Eigen::Index round = 0; round < options.max_effects; ++round) {
+    std::vector<double> mse(cands.size(), std::numeric_limits<double>::infinity());
+    double best_mse = std::numeric_limits<double>::infinity();
+    for (std::size_t c = 0; c < cands.size(); ++c) {
+      if (used[c]) continue;
+      std::vector<Eigen::Index> trial = selected;
+      trial.insert(trial.end(), cands[c].idx.begin(), cands[c].idx.end());
+      mse[c] = grams.HeldOutMse(trial);
+      best_mse = std::min(best_mse, mse[c]);
+    }
+    if (!std::isfinite(best_mse)) break;
+    // Near-ties (within 0.1 %) go to the lower BIC = N ln(SSE/N) + k ln N (in-sample).
+    std::size_t pick = cands.size();
+    double best_bic = std::numeric_limits<double>::infinity();
+    for (std::size_t c = 0; c < cands.size(); ++c) {
+      if (used[c] || mse[c] > best_mse * (1.0 + 1e-3)) continue;
+      std::vector<Eigen::Index> trial = selected;
+      trial.insert(trial.end(), cands[c].idx.begin(), cands[c].idx.end());
+      double sse = 0.0;
+      grams.Fit(trial, &sse);
+      const double bic = grams.n() * std::log(std::max(sse, 1e-300) / grams.n()) + static_cast<double>(trial.size()) * log_n;
+      if (bic < best_bic) { best_bic = bic; pick = c; }
+    }
+    const double gain = mse_prev > 0.0 ? 1.0 - mse[pick] / mse_prev : 0.0;
+    if (!(gain >= options.min_gain) || gain <= 0.0) break;
+    used[pick] = true;
+    order.push_back(pick);
+    selected.insert(selected.end(), cands[pick].idx.begin(), cands[pick].idx.end());
+    scores.push_back(gain);
+    cumulative.push_back(mse_base > 0.0 ? 1.0 - mse[pick] / mse_base : 0.0);
+    mse_prev = mse[pick];
+  }
+  result.heldout_rmse_base = std::sqrt(mse_base);
+  result.heldout_rmse_after = std::sqrt(mse_prev);
+  result.explained_share = mse_base > 0.0 ? 1.0 - mse_prev / mse_base : 0.0;
+
+  // 4. Final joint fit on all data.
+  double sse = 0.0;
+  const Eigen::VectorXd theta = grams.Fit(selected, &sse);
+  const Eigen::Index k = static_cast<Eigen::Index>(selected.size());
+  Eigen::VectorXd coef(k), coef_std(k);
+  Eigen::VectorXd fitted = Eigen::VectorXd::Zero(n);
+  if (k > 0) {
+    const Eigen::MatrixXd g = grams.TotalGram(selected);
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(g);
+    const double lmax = eig.eigenvalues().maxCoeff(), lmin = std::max(eig.eigenvalues().minCoeff(), 0.0);
+    result.condition_number = lmin > 0.0 ? std::sqrt(lmax / lmin) : std::numeric_limits<double>::infinity();
+    const double sigma2 = sse / std::max(1.0, grams.n() - static_cast<double>(k));
+    Eigen::MatrixXd g_reg = g;
+    g_reg.diagonal().array() += 1e-9 * std::max(1.0, g.trace() / static_cast<double>(k));
+    const Eigen::MatrixXd cov = sigma2 * g_reg.ldlt().solve(Eigen::MatrixXd::Identity(k, k));
+    for (Eigen::Index i = 0; i < k; ++i) {
+      const double s = scale(selected[static_cast<std::size_t>(i)]);
+      coef(i) = theta(i) / s;
+      coef_std(i) = std::sqrt(std::max(0.0, cov(i, i))) / s;
+      fitted += theta(i) * x.col(selected[static_cast<std::size_t>(i)]);
+    }
+  }
+  const Eigen::VectorXd r_after = r - fitted;
+  result.rmse_after = std::sqrt(r_after.squaredNorm() / static_cast<double>(n));
+  result.base_coefficients = coef.head(p);
+  result.base_coefficient_std = coef_std.head(p);
+  result.whiteness_before = Whiteness(r0);
+  result.whiteness_after = Whiteness(r_after);
+
+  // 5. Describe each chosen effect.
+  Eigen::Index offset = p;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    const Candidate& c = cands[order[i]];
+    const Eigen::Index kc = c.reg.columns.cols();
+    DiagnosedEffect d;
+    d.effect = c.effect.name;
+    d.score = scores[i];
+    d.cumulative_share = cumulative[i];
+    d.parameters = c.effect.parameters;
+    d.column_names = c.reg.column_names;
+    d.coefficients = coef.segment(offset, kc);
+    d.coefficient_std = coef_std.segment(offset, kc);
+    offset += kc;
+    if (d.effect == "position_periodic" || d.effect == "time_periodic" || d.effect == "velocity_dependent_ripple") {
+      d.parameters["amplitude"] = std::hypot(d.coefficients(0), d.coefficients(1));
+    }
+    const Eigen::VectorXd contribution = c.reg.columns * d.coefficients;
+    d.contribution_rms = std::sqrt(contribution.squaredNorm() / static_cast<double>(n));
+    const Eigen::VectorXd magnitude = contribution.cwiseAbs();
+    const double threshold = Percentile(std::vector<double>(magnitude.data(), magnitude.data() + n), 0.9);
+    std::vector<double> ts, xs, vs;
+    for (Eigen::Index j = 0; j < n; ++j) {
+      if (std::abs(contribution(j)) >= threshold) {
+        ts.push_back(signals.time(j));
+        xs.push_back(signals.position(j));
+        vs.push_back(signals.velocity(j));
+      }
+    }
+    d.time_range[0] = Percentile(ts, 0.05); d.time_range[1] = Percentile(ts, 0.95);
+    d.position_range[0] = Percentile(xs, 0.05); d.position_range[1] = Percentile(xs, 0.95);
+    d.velocity_range[0] = Percentile(vs, 0.05); d.velocity_range[1] = Percentile(vs, 0.95);
+    d.description = fmt::format(
+        "{}{}: explains {:.1f} % of the held-out residual energy left before it was added ({:.1f} % "
+        "cumulative); RMS contribution {:.3g}; largest for t in [{:.3g}, {:.3g}] s, x in [{:.4g}, {:.4g}] mm, "
+        "v in [{:.3g}, {:.3g}] m/s. {}",
+        d.effect, d.parameters.empty() ? "" : " (" + FormatParameters(d.parameters) + ")", 100.0 * d.score,
+        100.0 * d.cumulative_share, d.contribution_rms, d.time_range[0], d.time_range[1],
+        1e3 * d.position_range[0], 1e3 * d.position_range[1], d.velocity_range[0], d.velocity_range[1],
+        EffectPhysics(d.effect));
+    result.effects.push_back(std::move(d));
+  }
+  std::stable_sort(result.effects.begin(), result.effects.end(),
+                   [](const DiagnosedEffect& a, const DiagnosedEffect& b) { return a.score > b.score; });
+  result.missing_effect_found = !result.effects.empty();
+
+  // 6. Can position-periodic and time-periodic be told apart?
+  {
+    const double v_max = signals.velocity.cwiseAbs().maxCoeff();
+    std::vector<double> speeds;
+    for (Eigen::Index j = 0; j < n; ++j) {
+      const double s = std::abs(signals.velocity(j));
+      if (s > 0.1 * v_max) speeds.push_back(s);
+    }
+    const double median = Percentile(speeds, 0.5);
+    const double spread = median > 0.0 ? (Percentile(speeds, 0.75) - Percentile(speeds, 0.25)) / median : 0.0;
+    const bool one_speed = median > 0.0 && spread < options.single_speed_spread;
+    bool periodic = false;
+    for (const auto& e : result.effects) periodic = periodic || e.effect == "position_periodic" || e.effect == "time_periodic";
+    if (one_speed && periodic) {
+      result.position_time_indistinguishable = true;
+      result.notes.push_back(fmt::format(
+          "cannot tell position-periodic from time-periodic: the motion has essentially one speed (|v| ≈ {:.4g} "
+          "m/s, interquartile spread {:.1f} %), so a period P in position is a period P/|v| in time. Record "
+          "the motion at two or more speeds to tell them apart.",
+          median, 100.0 * spread));
+      for (auto& e : result.effects) {
+        if (e.effect == "position_periodic" || e.effect == "time_periodic") {
+          e.description += " (position-periodic vs time-periodic: cannot tell at one speed)";
+        }
+      }
+    }
+  }
+
+  // 7. Evidence and summary.
+  const auto& wb = result.whiteness_before;
+  result.notes.push_back(fmt::format("residual after the base refit: Ljung–Box Q = {:.4g}, p = {:.3g} ({})",
+                                     wb.ljung_box_q, wb.p_value, wb.white ? "white" : "not white"));
+  bool significant_peak = false;
+  if (!result.position_peaks.empty()) {
+    const auto& pk = result.position_peaks.front();
+    significant_peak = pk.significant;
+    result.notes.push_back(fmt::format(
+        "strongest position-periodogram peak: period {:.4g} mm, {:.1f} % of the variance, false-alarm "
+        "probability {:.2g} ({})",
+        pk.period * 1e3, 100.0 * pk.power, pk.false_alarm_probability, pk.significant ? "significant" : "not significant"));
+  }
+  if (result.missing_effect_found) {
+    const auto& top = result.effects.front();
+    result.summary = fmt::format(
+        "Missing: {}{} — explains {:.1f} % of the held-out residual energy. All chosen effects together "
+        "explain {:.1f} %; RMSE {:.4g} → {:.4g} (in-sample, base refit {:.4g}), held-out RMSE {:.4g} → {:.4g}.",
+        top.effect, top.parameters.empty() ? "" : " (" + FormatParameters(top.parameters) + ")",
+        100.0 * top.score, 100.0 * result.explained_share, result.rmse_before, result.rmse_after,
+        result.rmse_base_refit, result.heldout_rmse_base, result.heldout_rmse_after);
+    if (result.position_time_indistinguishable) result.summary += " " + result.notes.front();
+  } else if (wb.white && !significant_peak) {
+    result.summary = fmt::format(
+        "No missing effect: no candidate reduces the held-out error by {:.1f} % or more, the residual is "
+        "white (Ljung–Box p = {:.3g}) and no position-periodogram peak is significant. RMSE {:.4g}.",
+        100.0 * options.min_gain, wb.p_value, result.rmse_base_refit);
+  } else {
+    result.summary = fmt::format(
+        "No missing effect from the catalogue: no candidate reduces the held-out error by {:.1f} % or more, "
+        "but the residual is {}{}; the structure left is not one of the catalogue's effects (try the "
+        "non-parametric TISO-GPR component). RMSE {:.4g}.",
+        100.0 * options.min_gain, wb.white ? "white" : "not white", significant_peak ? " and has a significant position-periodic peak" : "",
+        result.rmse_base_refit);
+  }
+  return result;
+}
+
+Eigen::VectorXd PredictCorrection(const DiagnosisResult& result, const DiagnosisSignals& signals,
+                                  const BaseRegressors& base) {
+  signals.Validate();
+  const Eigen::Index n = signals.size();
+  const Eigen::Index p = result.base_coefficients.size();
+  if (base.columns.cols() != p || (p > 0 && base.columns.rows() != n)) {
+    throw std::invalid_argument(fmt::format(
+        "PredictCorrection: base regressors are {}×{}; the diagnosis used {} base columns on {} samples",
+        base.columns.rows(), base.columns.cols(), p, n));
+  }
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(n);
+  if (p > 0) out += base.columns * result.base_coefficients;
+  for (const auto& e : result.effects) {
+    const EffectRegressors reg = BuildEffectRegressors({e.effect, e.parameters}, signals);
+    out += reg.columns * e.coefficients;
+  }
+  return out;
+}
+
+BinnedResidual BinResidual(const Eigen::Ref<const Eigen::VectorXd>& abscissa,
+                           const Eigen::Ref<const Eigen::VectorXd>& residual, Eigen::Index bins) {
+  if (abscissa.size() != residual.size() || bins < 1) {
+    throw std::invalid_argument(fmt::format(
+        "BinResidual: abscissa ({}) and residual ({}) must be equally long and bins ({}) >= 1",
+        abscissa.size(), residual.size(), bins));
+  }
+  const double lo = abscissa.minCoeff(), hi = abscissa.maxCoeff();
+  if (!(hi > lo)) throw std::invalid_argument("BinResidual: the abscissa is constant, nothing to bin");
+  const double width = (hi - lo) / static_cast<double>(bins);
+  BinnedResidual out;
+  out.centers = Eigen::VectorXd::LinSpaced(bins, lo + 0.5 * width, hi - 0.5 * width);
+  out.mean = Eigen::VectorXd::Zero(bins);
+  out.std = Eigen::VectorXd::Zero(bins);
+  out.count = Eigen::VectorXi::Zero(bins);
+  Eigen::VectorXd sum_sq = Eigen::VectorXd::Zero(bins);
+  for (Eigen::Index i = 0; i < abscissa.size(); ++i) {
+    const auto b = std::min(bins - 1, static_cast<Eigen::Index>((abscissa(i) - lo) / width));
+    out.count(b) += 1;
+    out.mean(b) += residual(i);
+    sum_sq(b) += residual(i) * residual(i);
+  }
+  for (Eigen::Index b = 0; b < bins; ++b) {
+    if (out.count(b) == 0) continue;
+    const double c = static_cast<double>(out.count(b));
+    out.mean(b) /= c;
+    out.std(b) = std::sqrt(std::max(0.0, sum_sq(b) / c - out.mean(b) * out.mean(b)));
+  }
+  return out;
+}
+
+namespace {
+nlohmann::json ToJsonArray(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
+nlohmann::json PeaksJson(const std::vector<PeriodogramPeak>& peaks) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& p : peaks) {
+    out.push_back({{"period", p.period}, {"power", p.power}, {"amplitude", p.amplitude},
+                   {"false_alarm_probability", p.false_alarm_probability}, {"significant", p.significant},
+                   {"harmonic_of", p.harmonic_of}, {"harmonic_order", p.harmonic_order}});
+  }
+  return out;
+}
+nlohmann::json WhitenessJson(const AutocorrelationTest& a) {
+  return {{"ljung_box_q", a.ljung_box_q}, {"p_value", a.p_value}, {"white", a.white}, {"band99", a.band99},
+          {"autocorrelation", ToJsonArray(a.autocorrelation)}};
+}
+}  // namespace
+
+nlohmann::json DiagnosisResult::ToJson() const {
+  nlohmann::json j;
+  j["missing_effect_found"] = missing_effect_found;
+  j["position_time_indistinguishable"] = position_time_indistinguishable;
+  j["summary"] = summary;
+  j["notes"] = notes;
+  j["rmse_before"] = rmse_before;
+  j["rmse_base_refit"] = rmse_base_refit;
+  j["rmse_after"] = rmse_after;
+  j["heldout_rmse_base"] = heldout_rmse_base;
+  j["heldout_rmse_after"] = heldout_rmse_after;
+  j["explained_share"] = explained_share;
+  j["condition_number"] = std::isfinite(condition_number) ? nlohmann::json(condition_number) : nlohmann::json(nullptr);
+  nlohmann::json base = nlohmann::json::array();
+  for (std::size_t i = 0; i < base_names.size(); ++i) {
+    const auto ii = static_cast<Eigen::Index>(i);
+    base.push_back({{"name", base_names[i]}, {"correction", base_coefficients(ii)}, {"std", base_coefficient_std(ii)}});
+  }
+  j["base_parameters"] = base;
+  nlohmann::json effs = nlohmann::json::array();
+  for (const auto& e : effects) {
+    nlohmann::json coefs = nlohmann::json::array();
+    for (std::size_t i = 0; i < e.column_names.size(); ++i) {
+      const auto ii = static_cast<Eigen::Index>(i);
+      coefs.push_back({{"column", e.column_names[i]}, {"value", e.coefficients(ii)}, {"std", e.coefficient_std(ii)}});
+    }
+    effs.push_back({{"effect", e.effect}, {"score", e.score}, {"cumulative_share", e.cumulative_share},
+                    {"parameters", e.parameters}, {"coefficients", coefs}, {"contribution_rms", e.contribution_rms},
+                    {"time_range", {e.time_range[0], e.time_range[1]}},
+                    {"position_range", {e.position_range[0], e.position_range[1]}},
+                    {"velocity_range", {e.velocity_range[0], e.velocity_range[1]}}, {"description", e.description}});
+  }
+  j["effects"] = effs;
+  j["whiteness_before"] = WhitenessJson(whiteness_before);
+  j["whiteness_after"] = WhitenessJson(whiteness_after);
+  j["position_peaks"] = PeaksJson(position_peaks);
+  j["time_peaks"] = PeaksJson(time_peaks);
+  nlohmann::json cands = nlohmann::json::array();
+  for (const auto& c : candidates) cands.push_back({{"effect", c.name}, {"parameters", c.parameters}});
+  j["candidates"] = cands;
+  return j;
+}
+
+}  // namespace mb

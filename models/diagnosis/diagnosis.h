@@ -1,0 +1,123 @@
+// Naming the missing physical effect (DIAGNOSIS.md): rank the catalogue's candidate effects by how much
+// of the held-out residual they explain when fitted jointly with the base model's free parameters.
+//
+// Algorithm (forward selection, SINDy-like; Brunton, Proctor & Kutz 2016):
+//  1. Refit the base model's free-parameter regressors X_b (e.g. a, v, sign(v), 1 for a rigid body)
+//     to the residual by least squares: the base parameters are biased while an effect is missing.
+//  2. Propose candidates with their nonlinear parameters from the refit residual
+//     (ProposeCandidateEffects: periodograms, Welch spectrum, delay search, ...).
+//  3. Split the record into k = 5 CONTIGUOUS time blocks. For a set S of regressors, the held-out error
+//     MSE(S) = Σ_blocks ‖r_b − X_b(S)·θ_{−b}‖²/N, θ_{−b} fitted by least squares on the other blocks
+//     (columns scaled to unit RMS, ridge 1e-9 for collinear columns; computed from per-block Gram
+//     matrices, so each fit costs O(p³)).
+//  4. Each round adds the candidate with the lowest MSE(S ∪ {c}) (ties within 0.1 % go to the lower BIC);
+//     its score = 1 − MSE(S ∪ {c})/MSE(S), the share of the held-out residual energy left by the previous
+//     round that it explains. Stop when the best score < min_gain (default 1 %).
+//  5. Final coefficients: one joint least-squares fit of base + chosen effects on all data.
+// Nothing passing: "no missing effect" (with the residual's whiteness and the periodogram's
+// significance as supporting evidence). A position-periodic and a time-periodic effect cannot be told
+// apart when the motion has essentially one speed: then position_time_indistinguishable is set.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "models/diagnosis/effect_catalogue.h"
+#include "models/diagnosis/periodogram.h"
+#include "models/diagnosis/signal_processing.h"
+
+namespace mb {
+
+// The base model's free-parameter regressors (N × p) with a name per column, such that the base model's
+// output is columns·θ (+ fixed parts). p = 0 is allowed (nothing is refit).
+struct BaseRegressors {
+  Eigen::MatrixXd columns;
+  std::vector<std::string> names;
+};
+
+struct DiagnosisOptions {
+  Eigen::Index folds = 5;          // contiguous cross-validation blocks, >= 2
+  double min_gain = 0.01;          // stop when the best held-out gain is below this share
+  Eigen::Index max_effects = 6;    // rounds of forward selection at most
+  // Motion with (IQR of |v|)/(median |v|) below this, over the samples moving faster than 10 % of
+  // max |v|, has "one speed": position- and time-periodic effects cannot be told apart.
+  double single_speed_spread = 0.1;
+  CatalogueOptions catalogue{};
+};
+
+// One effect the ranking chose.
+struct DiagnosedEffect {
+  std::string effect;                        // stable catalogue name
+  double score = 0.0;                        // share of the remaining held-out residual energy explained, 0..1
+  double cumulative_share = 0.0;             // share of the base's held-out residual energy explained so far
+  std::map<std::string, double> parameters;  // SI; periodic effects also get "amplitude" (first harmonic)
+  std::vector<std::string> column_names;
+  Eigen::VectorXd coefficients;              // from the final joint fit, unit of residual per unit of column
+  Eigen::VectorXd coefficient_std;           // their standard deviations (σ²(XᵀX)⁻¹)
+  // Where the effect's fitted contribution is largest: 5–95 % ranges of t, x, v over the 10 % of samples
+  // where |contribution| is largest, and its RMS.
+  double contribution_rms = 0.0;
+  double time_range[2] = {0.0, 0.0}, position_range[2] = {0.0, 0.0}, velocity_range[2] = {0.0, 0.0};
+  std::string description;                   // in words, with the figures above
+};
+
+struct DiagnosisResult {
+  std::vector<DiagnosedEffect> effects;      // sorted by score, highest first
+  bool missing_effect_found = false;
+  bool position_time_indistinguishable = false;
+  std::string summary;                       // one paragraph for users
+  std::vector<std::string> notes;            // supporting evidence and caveats
+
+  double rmse_before = 0.0;                  // RMSE of the residual as given
+  double rmse_base_refit = 0.0;              // after refitting the base regressors (in-sample)
+  double rmse_after = 0.0;                   // after the joint fit of base + chosen effects (in-sample)
+  double heldout_rmse_base = 0.0;            // cross-validated, base regressors only
+  double heldout_rmse_after = 0.0;           // cross-validated, base + chosen effects
+  double explained_share = 0.0;              // 1 − heldout_mse_after/heldout_mse_base
+
+  std::vector<std::string> base_names;
+  Eigen::VectorXd base_coefficients;         // corrections to the base parameters (joint fit)
+  Eigen::VectorXd base_coefficient_std;
+  double condition_number = 0.0;             // of the final (unit-RMS-scaled) regressor matrix
+
+  AutocorrelationTest whiteness_before;      // of the base-refit residual
+  AutocorrelationTest whiteness_after;       // after the chosen effects
+  std::vector<PeriodogramPeak> position_peaks;  // position periodogram of the base-refit residual [m]
+  std::vector<PeriodogramPeak> time_peaks;      // time periodogram [s]
+  std::vector<EffectInstance> candidates;       // everything that was tried
+
+  // The chosen effects as instances (to rebuild regressors on new data).
+  std::vector<EffectInstance> chosen() const;
+  // JSON for reports: every field above (Eigen vectors as arrays).
+  nlohmann::json ToJson() const;
+};
+
+// Runs the ranking. signals.residual = measured − model; base as described above.
+// Throws std::invalid_argument as DiagnosisSignals::Validate, when base.columns has the wrong number of
+// rows or names, or when options are out of range (folds < 2 or > N/16, min_gain not in [0, 1)).
+DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const BaseRegressors& base,
+                                       const DiagnosisOptions& options = {});
+
+// The correction the diagnosis fitted (base-parameter corrections + chosen effects), evaluated on other
+// signals (e.g. a validation record): subtract it from that record's residual to see the error fall.
+// base must hold the same regressors (same order) built on the new signals.
+// Throws std::invalid_argument as BuildEffectRegressors, or on a size mismatch.
+Eigen::VectorXd PredictCorrection(const DiagnosisResult& result, const DiagnosisSignals& signals,
+                                  const BaseRegressors& base);
+
+// Residual binned against an abscissa (friction shape vs velocity, ripple vs position): per uniform bin
+// over [min, max], the bin centre, count, mean and standard deviation of the residual (NaN-free: empty
+// bins have count 0, mean 0, std 0). Throws std::invalid_argument on a size mismatch, bins < 1, or a
+// constant abscissa.
+struct BinnedResidual {
+  Eigen::VectorXd centers, mean, std;
+  Eigen::VectorXi count;
+};
+BinnedResidual BinResidual(const Eigen::Ref<const Eigen::VectorXd>& abscissa,
+                           const Eigen::Ref<const Eigen::VectorXd>& residual, Eigen::Index bins = 40);
+
+}  // namespace mb

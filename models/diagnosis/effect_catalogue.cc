@@ -1,0 +1,398 @@
+#include "models/diagnosis/effect_catalogue.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+#include <fmt/format.h>
+
+#include "models/diagnosis/signal_processing.h"
+
+namespace mb {
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+void CheckLength(const Eigen::VectorXd& v, Eigen::Index n, const char* name, bool optional) {
+  if (optional && v.size() == 0) return;
+  if (v.size() != n) {
+    throw std::invalid_argument(fmt::format(
+        "DiagnosisSignals: '{}' has {} samples but 'time' has {}; all signals must be equally long{}", name,
+        v.size(), n, optional ? " (or empty when absent)" : ""));
+  }
+  if (!v.allFinite()) {
+    Eigen::Index i = 0;
+    while (i < v.size() && std::isfinite(v(i))) ++i;
+    throw std::invalid_argument(
+        fmt::format("DiagnosisSignals: '{}' holds NaN or Inf at sample {}; clean the data first", name, i));
+  }
+}
+
+double Param(const EffectInstance& e, const char* key) {
+  const auto it = e.parameters.find(key);
+  if (it == e.parameters.end() || !std::isfinite(it->second)) {
+    throw std::invalid_argument(fmt::format(
+        "effect '{}': parameter '{}' is missing or not finite; set it (SI units)", e.name, key));
+  }
+  return it->second;
+}
+
+double PositiveParam(const EffectInstance& e, const char* key) {
+  const double v = Param(e, key);
+  if (!(v > 0.0)) {
+    throw std::invalid_argument(fmt::format("effect '{}': parameter '{}' = {} must be positive", e.name, key, v));
+  }
+  return v;
+}
+
+int HarmonicsParam(const EffectInstance& e) {
+  const auto it = e.parameters.find("harmonics");
+  if (it == e.parameters.end()) return 1;
+  const double h = it->second;
+  if (!(h >= 1.0 && h <= 50.0) || h != std::round(h)) {
+    throw std::invalid_argument(fmt::format(
+        "effect '{}': parameter 'harmonics' = {} must be an integer in 1..50", e.name, h));
+  }
+  return static_cast<int>(h);
+}
+
+const Eigen::VectorXd& NeedModelOutput(const EffectInstance& e, const DiagnosisSignals& s) {
+  if (s.model_output.size() == 0) {
+    throw std::invalid_argument(fmt::format(
+        "effect '{}' needs the model output ŷ (DiagnosisSignals::model_output), which is absent", e.name));
+  }
+  return s.model_output;
+}
+
+Eigen::VectorXd SignDeadBand(const Eigen::VectorXd& v, double dead_band) {
+  return v.unaryExpr([dead_band](double x) { return std::abs(x) <= dead_band ? 0.0 : (x > 0.0 ? 1.0 : -1.0); });
+}
+
+// Columns cos(2πk·z/period), sin(2πk·z/period), k = 1..harmonics, optionally scaled by `scale`.
+void FillPeriodic(const Eigen::VectorXd& z, double period, int harmonics, const std::string& prefix,
+                  EffectRegressors* out, const Eigen::VectorXd* scale = nullptr) {
+  const Eigen::Index n = z.size();
+  out->columns.resize(n, 2 * harmonics);
+  for (int k = 1; k <= harmonics; ++k) {
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double th = kTwoPi * static_cast<double>(k) * z(i) / period;
+      const double g = scale ? (*scale)(i) : 1.0;
+      out->columns(i, 2 * (k - 1)) = g * std::cos(th);
+      out->columns(i, 2 * (k - 1) + 1) = g * std::sin(th);
+    }
+    out->column_names.push_back(fmt::format("{}.cos{}", prefix, k));
+    out->column_names.push_back(fmt::format("{}.sin{}", prefix, k));
+  }
+}
+
+// ŷ(t − d) by linear interpolation on the time grid, held constant beyond the ends.
+Eigen::VectorXd Shifted(const Eigen::VectorXd& t, const Eigen::VectorXd& y, double delay) {
+  const Eigen::Index n = t.size();
+  Eigen::VectorXd out(n);
+  Eigen::Index j = 0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double tq = t(i) - delay;
+    if (tq <= t(0)) { out(i) = y(0); continue; }
+    if (tq >= t(n - 1)) { out(i) = y(n - 1); continue; }
+    j = std::clamp<Eigen::Index>(j, 0, n - 2);
+    while (j > 0 && t(j) > tq) --j;
+    while (j + 1 < n - 1 && t(j + 1) < tq) ++j;
+    const double w = (tq - t(j)) / (t(j + 1) - t(j));
+    out(i) = (1.0 - w) * y(j) + w * y(j + 1);
+  }
+  return out;
+}
+
+// Resonant low-pass ω²/(s² + 2ζωs + ω²), bilinear transform pre-warped at ω, zero initial state.
+Eigen::VectorXd ResonantFilter(const Eigen::VectorXd& u, double ts, double f_hz, double zeta) {
+  const double w = kTwoPi * f_hz;
+  const double k = w / std::tan(0.5 * w * ts);
+  const double a0 = k * k + 2.0 * zeta * w * k + w * w;
+  const double a1 = (2.0 * w * w - 2.0 * k * k) / a0, a2 = (k * k - 2.0 * zeta * w * k + w * w) / a0;
+  const double b0 = w * w / a0, b1 = 2.0 * b0, b2 = b0;
+  Eigen::VectorXd y(u.size());
+  double z1 = 0.0, z2 = 0.0;
+  for (Eigen::Index i = 0; i < u.size(); ++i) {
+    const double out = b0 * u(i) + z1;
+    z1 = b1 * u(i) - a1 * out + z2;
+    z2 = b2 * u(i) - a2 * out;
+    y(i) = out;
+  }
+  return y;
+}
+
+// Least-squares residual sum of squares of r on [base, extra].
+double ResidualSumOfSquares(const Eigen::MatrixXd& base, const Eigen::VectorXd& extra, const Eigen::VectorXd& r) {
+  Eigen::MatrixXd x(r.size(), base.cols() + 1);
+  x << base, extra;
+  const Eigen::VectorXd beta = x.colPivHouseholderQr().solve(r);
+  return (r - x * beta).squaredNorm();
+}
+
+// Harmonics of a periodogram peak: 1 + the highest positive harmonic order flagged against it.
+int HarmonicCount(const Periodogram& pg, std::size_t index, int max_harmonics) {
+  int h = 1;
+  for (const auto& p : pg.peaks) {
+    if (p.harmonic_of == static_cast<int>(index) && p.harmonic_order > 0) h = std::max(h, p.harmonic_order);
+  }
+  return std::min(h, max_harmonics);
+}
+
+}  // namespace
+
+void DiagnosisSignals::Validate() const {
+  const Eigen::Index n = time.size();
+  if (n < 64) {
+    throw std::invalid_argument(fmt::format("DiagnosisSignals: {} samples, at least 64 are needed", n));
+  }
+  CheckLength(time, n, "time", false);
+  CheckLength(position, n, "position", false);
+  CheckLength(velocity, n, "velocity", false);
+  CheckLength(acceleration, n, "acceleration", false);
+  CheckLength(residual, n, "residual", false);
+  CheckLength(model_output, n, "model_output", true);
+  CheckLength(input, n, "input", true);
+  for (Eigen::Index i = 1; i < n; ++i) {
+    if (!(time(i) > time(i - 1))) {
+      throw std::invalid_argument(fmt::format(
+          "DiagnosisSignals: time does not increase at sample {} (t = {} after {})", i, time(i), time(i - 1)));
+    }
+  }
+}
+
+const std::vector<std::string>& EffectNames() {
+  static const std::vector<std::string> kNames{
+      "position_periodic", "velocity_dependent_ripple", "viscous_friction", "coulomb_friction",
+      "stribeck_friction", "asymmetric_friction",       "mass_mismatch",    "time_delay",
+      "resonance",         "time_periodic",             "quantization",     "constant_offset"};
+  return kNames;
+}
+
+std::string EffectPhysics(std::string_view name) {
+  if (name == "position_periodic")
+    return "a force periodic in position (cogging, screw-lead or gear ripple); add a cogging/ripple block "
+           "with this period and its harmonics";
+  if (name == "velocity_dependent_ripple")
+    return "a position-periodic ripple whose amplitude grows with speed; add a ripple term scaled by |v|";
+  if (name == "viscous_friction") return "a force proportional to velocity; add or refit viscous friction";
+  if (name == "coulomb_friction")
+    return "a constant force opposing motion; add or refit Coulomb friction (friction mode, not sign(v))";
+  if (name == "stribeck_friction")
+    return "extra friction at low speed decaying with the Stribeck velocity; add a Stribeck term";
+  if (name == "asymmetric_friction")
+    return "friction that differs between the two directions of motion; use direction-dependent levels";
+  if (name == "mass_mismatch") return "a force proportional to acceleration; refit the moving mass (payload)";
+  if (name == "time_delay")
+    return "the measurement lags the model by a pure delay; add a delay block (transport or sampling delay)";
+  if (name == "resonance")
+    return "a lightly damped structural mode excited by the drive; add a two-mass or resonance block";
+  if (name == "time_periodic")
+    return "a vibration periodic in time, independent of position (external vibration, ripple of a supply)";
+  if (name == "quantization") return "the measured output is quantized; model the sensor or converter resolution";
+  if (name == "constant_offset") return "a constant bias (sensor offset, gravity on an incline, amplifier offset)";
+  throw std::invalid_argument(fmt::format("unknown effect '{}'", name));
+}
+
+EffectRegressors BuildEffectRegressors(const EffectInstance& effect, const DiagnosisSignals& s) {
+  const Eigen::Index n = s.size();
+  const std::string& name = effect.name;
+  EffectRegressors out;
+  auto single = [&](Eigen::VectorXd col) {
+    out.columns = std::move(col);
+    out.column_names = {name};
+  };
+  if (name == "constant_offset") {
+    single(Eigen::VectorXd::Ones(n));
+  } else if (name == "viscous_friction") {
+    single(s.velocity);
+  } else if (name == "coulomb_friction") {
+    single(SignDeadBand(s.velocity, Param(effect, "dead_band")));
+  } else if (name == "stribeck_friction") {
+    const double vs = PositiveParam(effect, "stribeck_velocity");
+    const Eigen::VectorXd sg = SignDeadBand(s.velocity, Param(effect, "dead_band"));
+    single((-(s.velocity.array() / vs).square()).exp() * sg.array());
+  } else if (name == "asymmetric_friction") {
+    const double db = Param(effect, "dead_band");
+    single(s.velocity.unaryExpr([db](double v) { return v > db ? 1.0 : 0.0; }));
+  } else if (name == "mass_mismatch") {
+    single(s.acceleration);
+  } else if (name == "position_periodic") {
+    FillPeriodic(s.position, PositiveParam(effect, "period"), HarmonicsParam(effect), name, &out);
+  } else if (name == "velocity_dependent_ripple") {
+    const Eigen::VectorXd speed = s.velocity.cwiseAbs();
+    FillPeriodic(s.position, PositiveParam(effect, "period"), 1, name, &out, &speed);
+  } else if (name == "time_periodic") {
+    FillPeriodic(s.time, 1.0 / PositiveParam(effect, "frequency_hz"), HarmonicsParam(effect), name, &out);
+  } else if (name == "resonance") {
+    const double f = PositiveParam(effect, "frequency_hz");
+    const double zeta = PositiveParam(effect, "damping_ratio");
+    const double ts = MedianTimeStep(s.time);
+    if (!(f < 0.5 / ts)) {
+      throw std::invalid_argument(fmt::format(
+          "effect 'resonance': frequency_hz = {} must be below the Nyquist frequency {} Hz", f, 0.5 / ts));
+    }
+    const Eigen::VectorXd& u = s.input.size() ? s.input : (s.model_output.size() ? s.model_output : s.acceleration);
+    const Eigen::VectorXd g = ResonantFilter(u.array() - u.mean(), ts, f, zeta);
+    out.columns.resize(n, 2);
+    out.columns.col(0) = g;
+    out.columns.col(1) = CentralDifference(s.time, g) / (kTwoPi * f);
+    out.column_names = {"resonance.response", "resonance.rate"};
+  } else if (name == "time_delay") {
+    const Eigen::VectorXd& y = NeedModelOutput(effect, s);
+    single(Shifted(s.time, y, Param(effect, "delay")) - y);
+  } else if (name == "quantization") {
+    const Eigen::VectorXd& y = NeedModelOutput(effect, s);
+    const double q = PositiveParam(effect, "step");
+    single(y.unaryExpr([q](double v) { return q * std::round(v / q) - v; }));
+  } else {
+    std::string known;
+    for (const auto& k : EffectNames()) known += (known.empty() ? "" : ", ") + k;
+    throw std::invalid_argument(fmt::format("unknown effect '{}'; the catalogue has: {}", name, known));
+  }
+  return out;
+}
+
+CandidateSearch ProposeCandidateEffects(const DiagnosisSignals& s, const Eigen::Ref<const Eigen::VectorXd>& residual,
+                                        const Eigen::Ref<const Eigen::MatrixXd>& base_columns,
+                                        const CatalogueOptions& options) {
+  s.Validate();
+  const Eigen::Index n = s.size();
+  if (residual.size() != n || base_columns.rows() != n) {
+    throw std::invalid_argument(fmt::format(
+        "ProposeCandidateEffects: residual has {} and base_columns {} rows, the signals {}", residual.size(),
+        base_columns.rows(), n));
+  }
+  const Eigen::VectorXd r = residual;
+  CandidateSearch out;
+  auto add = [&](std::string name, std::map<std::string, double> p = {}) {
+    out.candidates.push_back({std::move(name), std::move(p)});
+  };
+  const double v_max = s.velocity.cwiseAbs().maxCoeff();
+  const double dead_band = options.dead_band_fraction * v_max;
+
+  add("constant_offset");
+  if (v_max > 0.0) {
+    add("viscous_friction");
+    add("coulomb_friction", {{"dead_band", dead_band}});
+    add("asymmetric_friction", {{"dead_band", dead_band}});
+    // Stribeck velocity: the trial value whose regressor correlates best with the residual.
+    double best_vs = 0.0, best_corr = -1.0;
+    const Eigen::VectorXd sg = SignDeadBand(s.velocity, dead_band);
+    const Eigen::VectorXd rc = r.array() - r.mean();
+    for (double frac : options.stribeck_fractions) {
+      const double vs = frac * v_max;
+      Eigen::VectorXd col = (-(s.velocity.array() / vs).square()).exp() * sg.array();
+      col.array() -= col.mean();
+      const double denom = col.norm() * rc.norm();
+      const double corr = denom > 0.0 ? std::abs(col.dot(rc)) / denom : 0.0;
+      if (corr > best_corr) { best_corr = corr; best_vs = vs; }
+    }
+    if (best_vs > 0.0) add("stribeck_friction", {{"stribeck_velocity", best_vs}, {"dead_band", dead_band}});
+  }
+  if (s.acceleration.cwiseAbs().maxCoeff() > 0.0) add("mass_mismatch");
+
+  // Position-periodic effects from the position periodogram.
+  const double x_span = s.position.maxCoeff() - s.position.minCoeff();
+  if (x_span > 0.0) {
+    out.position_periodogram = PositionPeriodogram(s.position, r, options.position_periodogram);
+    const auto& pg = out.position_periodogram;
+    int proposed = 0;
+    for (std::size_t i = 0; i < pg.peaks.size() && proposed < options.max_position_periods; ++i) {
+      if (pg.peaks[i].harmonic_of >= 0) continue;
+      int sub = 1;  // a weaker peak at k·P (sub-harmonic) means the true period is k·P
+      for (const auto& p : pg.peaks) {
+        if (p.harmonic_of == static_cast<int>(i) && p.harmonic_order < 0) sub = std::max(sub, -p.harmonic_order);
+      }
+      const double period = pg.peaks[i].period * sub;
+      if (period > pg.max_period) continue;
+      const int harmonics = std::min(options.max_harmonics, sub * HarmonicCount(pg, i, options.max_harmonics));
+      add("position_periodic", {{"period", period}, {"harmonics", harmonics}});
+      if (proposed == 0 && v_max > 0.0) add("velocity_dependent_ripple", {{"period", period}});
+      ++proposed;
+    }
+  }
+
+  // Time-periodic vibration from the time periodogram.
+  out.time_periodogram = TimePeriodogram(s.time, r, options.time_periodogram);
+  {
+    const auto& pg = out.time_periodogram;
+    if (!pg.peaks.empty()) {
+      add("time_periodic", {{"frequency_hz", 1.0 / pg.best().period},
+                            {"harmonics", HarmonicCount(pg, 0, options.max_harmonics)}});
+    }
+  }
+
+  // Resonance: a prominent peak of the residual's Welch spectrum.
+  const double ts = MedianTimeStep(s.time);
+  {
+    const PowerSpectrum psd = WelchPowerSpectrum(r, ts, std::min(options.welch_segment, n));
+    const Eigen::Index m = psd.density.size();
+    if (m > 8) {
+      Eigen::Index k_best = 4;
+      for (Eigen::Index k = 4; k < m - 1; ++k) {
+        if (psd.density(k) > psd.density(k_best)) k_best = k;
+      }
+      std::vector<double> sorted(psd.density.data() + 4, psd.density.data() + m);
+      const auto mid = sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2);
+      std::nth_element(sorted.begin(), mid, sorted.end());
+      if (k_best < m - 1 && psd.density(k_best) > options.resonance_prominence * *mid) {
+        // Parabolic interpolation of the log density around the peak bin.
+        const double l0 = std::log(psd.density(k_best - 1)), l1 = std::log(psd.density(k_best)),
+                     l2 = std::log(psd.density(k_best + 1));
+        const double denom = l0 - 2.0 * l1 + l2;
+        const double shift = denom < 0.0 ? std::clamp(0.5 * (l0 - l2) / denom, -0.5, 0.5) : 0.0;
+        const double f = psd.frequency_hz(k_best) + shift * (psd.frequency_hz(1) - psd.frequency_hz(0));
+        add("resonance", {{"frequency_hz", f}, {"damping_ratio", options.resonance_damping_ratio}});
+      }
+    }
+  }
+
+  // Time delay: least squares of r on [base, 1, dŷ/dt] gives −d; refine d by golden section on the
+  // exact shift ŷ(t − d) − ŷ(t), refitting the base jointly.
+  if (s.model_output.size() == n) {
+    const Eigen::VectorXd& y = s.model_output;
+    Eigen::MatrixXd base(n, base_columns.cols() + 1);
+    base << base_columns, Eigen::VectorXd::Ones(n);
+    const Eigen::VectorXd dy = CentralDifference(s.time, y);
+    Eigen::MatrixXd x(n, base.cols() + 1);
+    x << base, dy;
+    const Eigen::VectorXd beta = x.colPivHouseholderQr().solve(r);
+    const double d0 = -beta(beta.size() - 1);
+    if (std::isfinite(d0) && std::abs(d0) > 1e-3 * ts) {
+      auto sse = [&](double d) { return ResidualSumOfSquares(base, Shifted(s.time, y, d) - y, r); };
+      double lo = d0 / 3.0, hi = 3.0 * d0;
+      if (lo > hi) std::swap(lo, hi);
+      const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+      double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
+      double e1 = sse(x1), e2 = sse(x2);
+      for (int it = 0; it < 30 && hi - lo > 1e-4 * std::abs(d0); ++it) {
+        if (e1 < e2) {
+          hi = x2; x2 = x1; e2 = e1; x1 = hi - g * (hi - lo); e1 = sse(x1);
+        } else {
+          lo = x1; x1 = x2; e1 = e2; x2 = lo + g * (hi - lo); e2 = sse(x2);
+        }
+      }
+      add("time_delay", {{"delay", 0.5 * (lo + hi)}});
+    }
+    // Quantization: the measured output y + r changes in integer multiples of its smallest step.
+    const Eigen::VectorXd measured = y + r;
+    std::vector<double> steps;
+    for (Eigen::Index i = 1; i < n; ++i) {
+      const double d = std::abs(measured(i) - measured(i - 1));
+      if (d > 1e-12 * (1.0 + std::abs(measured(i)))) steps.push_back(d);
+    }
+    if (steps.size() >= 32) {
+      const double q = *std::min_element(steps.begin(), steps.end());
+      std::size_t on_grid = 0;
+      for (double d : steps) on_grid += std::abs(d / q - std::round(d / q)) < 0.02 ? 1u : 0u;
+      if (static_cast<double>(on_grid) >= 0.95 * static_cast<double>(steps.size())) {
+        add("quantization", {{"step", q}});
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace mb

@@ -1,0 +1,118 @@
+// The catalogue of candidate missing physical effects (DIAGNOSIS.md step 3, SINDy's candidate library):
+// each effect, given its parameters, turns the measured signals into regressor columns; a linear
+// least-squares fit of the residual on those columns (jointly with the base model's regressors) says how
+// much of the residual the effect explains. ProposeCandidateEffects finds the effects' nonlinear
+// parameters (periods, frequencies, delay, ...) from the data: periodograms, spectrum, correlation.
+//
+// Stable effect names and their regressors (s_db(v) = sign(v), 0 inside the dead band |v| < v_db):
+//   constant_offset            1
+//   viscous_friction           v
+//   coulomb_friction           s_db(v)                                      {dead_band}
+//   stribeck_friction          exp(−(v/v_s)²)·s_db(v)                       {stribeck_velocity, dead_band}
+//   asymmetric_friction        1 where v > v_db, else 0 (an offset in the positive direction only;
+//                              with coulomb_friction and constant_offset: different levels per direction)
+//                                                                           {dead_band}
+//   mass_mismatch              a
+//   position_periodic          cos(2πkx/P), sin(2πkx/P), k = 1..K           {period, harmonics}
+//   velocity_dependent_ripple  |v|·cos(2πx/P), |v|·sin(2πx/P)               {period}
+//   time_periodic              cos(2πkft), sin(2πkft), k = 1..K             {frequency_hz, harmonics}
+//   resonance                  g and ġ/ω_r, g = the excitation (input u, else model output ŷ, else a)
+//                              through ω_r²/(s² + 2ζω_r s + ω_r²) (bilinear, pre-warped at f_r)
+//                                                                           {frequency_hz, damping_ratio}
+//   time_delay                 ŷ(t − d) − ŷ(t) (linear interpolation; ≈ −d·dŷ/dt for small d)  {delay}
+//   quantization               q·round(ŷ/q) − ŷ (the measured output is quantized with step q)  {step}
+// Units: SI (period [m], frequency_hz [Hz], delay [s], velocities [m/s], step [unit of the output]).
+#pragma once
+
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "models/diagnosis/periodogram.h"
+
+namespace mb {
+
+// The measured signals the diagnosis works on; all of length N (optional ones: length 0 = absent).
+struct DiagnosisSignals {
+  Eigen::VectorXd time;          // t [s], strictly increasing
+  Eigen::VectorXd position;      // x [m]
+  Eigen::VectorXd velocity;      // v [m/s]
+  Eigen::VectorXd acceleration;  // a [m/s²]
+  Eigen::VectorXd residual;      // r = measured − model output [unit of the output, e.g. N]
+  Eigen::VectorXd model_output;  // ŷ (optional; needed by time_delay and quantization)
+  Eigen::VectorXd input;         // u (optional; excitation of a resonance, input–residual correlation)
+
+  // Throws std::invalid_argument naming the signal when a length differs, N < 64, a value is NaN/Inf or
+  // time does not increase.
+  void Validate() const;
+  Eigen::Index size() const { return time.size(); }
+};
+
+// One effect with its parameters: enough to rebuild its regressors on new data.
+struct EffectInstance {
+  std::string name;                          // a stable name from the catalogue above
+  std::map<std::string, double> parameters;  // SI
+};
+
+// Regressor columns of one effect.
+struct EffectRegressors {
+  Eigen::MatrixXd columns;                // N × k
+  std::vector<std::string> column_names;  // k names, e.g. "position_periodic.cos1"
+};
+
+// The catalogue's effect names, in catalogue order.
+const std::vector<std::string>& EffectNames();
+
+// One sentence on the physics of an effect and how to add it to a model (for reports).
+// Throws std::invalid_argument for an unknown name.
+std::string EffectPhysics(std::string_view name);
+
+// The regressors of an effect on the signals. Throws std::invalid_argument for an unknown name (listing
+// the known ones), a missing or invalid parameter (naming it), or a needed optional signal that is absent.
+EffectRegressors BuildEffectRegressors(const EffectInstance& effect, const DiagnosisSignals& signals);
+
+struct CatalogueOptions {
+  // Dead band of sign(v) as a fraction of max |v|.
+  double dead_band_fraction = 0.01;
+  // Harmonics of a periodic effect: 1 + the highest harmonic order flagged in the periodogram, at most this.
+  int max_harmonics = 4;
+  // Distinct position periods proposed (strongest non-harmonic periodogram peaks).
+  int max_position_periods = 2;
+  // Stribeck velocities tried, as fractions of max |v|; the one best correlated with the residual wins.
+  std::vector<double> stribeck_fractions{0.02, 0.05, 0.1, 0.2, 0.4};
+  // Resonance: Welch segment length, damping ratio of the regressor filter, and how far the spectral
+  // peak must stand above the median density (factor) to be proposed; peaks below 4 frequency
+  // resolutions are ignored (they are drift, not a mode).
+  Eigen::Index welch_segment = 1024;
+  double resonance_damping_ratio = 0.05;
+  double resonance_prominence = 20.0;
+  // Periodogram settings for the position- and time-domain searches.
+  PeriodogramOptions position_periodogram{};
+  PeriodogramOptions time_periodogram{};
+};
+
+// What the proposal found on the way (for reports): the periodograms searched.
+struct CandidateSearch {
+  std::vector<EffectInstance> candidates;
+  Periodogram position_periodogram;
+  Periodogram time_periodogram;
+};
+
+// Proposes every applicable effect with parameters estimated from the signals and `residual` (pass the
+// residual after the base model's refit): position periods from PositionPeriodogram, the time-periodic
+// frequency from TimePeriodogram, the resonance from the residual's Welch spectrum, the delay from a
+// least-squares fit of the residual on dŷ/dt refined by a golden-section search of the shift, the
+// quantization step from the measured output's smallest level difference. Effects whose signals are
+// absent (time_delay and quantization without ŷ) or that have nothing to fit are left out.
+// Throws std::invalid_argument as DiagnosisSignals::Validate, or when residual or base_columns has the
+// wrong number of rows.
+// base_columns: the base model's regressors (N × p, p may be 0), refit jointly when the delay is estimated.
+CandidateSearch ProposeCandidateEffects(const DiagnosisSignals& signals,
+                                        const Eigen::Ref<const Eigen::VectorXd>& residual,
+                                        const Eigen::Ref<const Eigen::MatrixXd>& base_columns,
+                                        const CatalogueOptions& options = {});
+
+}  // namespace mb

@@ -1,0 +1,306 @@
+#include "models/diagnosis/periodogram.h"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+#include <fmt/format.h>
+#include <unsupported/Eigen/FFT>
+
+namespace mb {
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+// Least-squares fit of c0 + a cos θ + b sin θ to centred data from its weighted sums.
+// Returns the explained sum of squares; writes the coefficients when asked.
+double ExplainedSumOfSquares(double w, double c, double s, double c2, double s2, double y, double yc,
+                             double ys, Eigen::Vector3d* coef = nullptr) {
+  Eigen::Matrix3d g;
+  g << w, c, s, c, 0.5 * (w + c2), 0.5 * s2, s, 0.5 * s2, 0.5 * (w - c2);
+  const Eigen::Vector3d rhs(y, yc, ys);
+  // A period so long (or so short) that cos and sin are nearly constant makes g singular: LDLT with
+  // pivoting then gives the minimum-effort solution of the remaining directions.
+  const Eigen::Vector3d beta = g.ldlt().solve(rhs);
+  if (coef) *coef = beta;
+  const double ess = rhs.dot(beta);
+  return std::isfinite(ess) ? std::max(0.0, ess) : 0.0;
+}
+
+void CheckData(const Eigen::Ref<const Eigen::VectorXd>& x, const Eigen::Ref<const Eigen::VectorXd>& r,
+               const char* what) {
+  if (x.size() != r.size()) {
+    throw std::invalid_argument(fmt::format("{}: abscissa has {} samples but the residual {}; pass equally "
+                                            "long vectors", what, x.size(), r.size()));
+  }
+  if (x.size() < 16) {
+    throw std::invalid_argument(fmt::format("{}: {} samples, at least 16 are needed", what, x.size()));
+  }
+  if (!x.allFinite() || !r.allFinite()) {
+    throw std::invalid_argument(fmt::format("{}: the abscissa or the residual holds NaN or Inf", what));
+  }
+}
+
+// Residual averaged into uniform bins x_j = x_min + j·h (nearest bin centre).
+struct Bins {
+  double h = 0.0;
+  Eigen::VectorXd weight;  // sample count per bin
+  Eigen::VectorXd mean;    // mean centred residual per bin (0 where empty)
+};
+
+Bins MakeBins(const Eigen::Ref<const Eigen::VectorXd>& x, const Eigen::VectorXd& r_centred, double x_min,
+              double h, Eigen::Index m) {
+  Bins b;
+  b.h = h;
+  b.weight = Eigen::VectorXd::Zero(m);
+  b.mean = Eigen::VectorXd::Zero(m);
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    const auto j = std::clamp<Eigen::Index>(static_cast<Eigen::Index>(std::lround((x(i) - x_min) / h)), 0, m - 1);
+    b.weight(j) += 1.0;
+    b.mean(j) += r_centred(i);
+  }
+  for (Eigen::Index j = 0; j < m; ++j) {
+    if (b.weight(j) > 0.0) b.mean(j) /= b.weight(j);
+  }
+  return b;
+}
+
+// Exact weighted fit on the bins at frequency f (cycles per unit of x); O(M) by complex rotation.
+double BinnedExplained(const Bins& b, double f, Eigen::Vector3d* coef = nullptr) {
+  const std::complex<double> step = std::polar(1.0, kTwoPi * f * b.h);
+  std::complex<double> z(1.0, 0.0);
+  double w = 0, c = 0, s = 0, c2 = 0, s2 = 0, y = 0, yc = 0, ys = 0;
+  for (Eigen::Index j = 0; j < b.weight.size(); ++j) {
+    const double wj = b.weight(j);
+    if (wj > 0.0) {
+      const std::complex<double> z2 = z * z;
+      const double wy = wj * b.mean(j);
+      w += wj;
+      c += wj * z.real();
+      s += wj * z.imag();
+      c2 += wj * z2.real();
+      s2 += wj * z2.imag();
+      y += wy;
+      yc += wy * z.real();
+      ys += wy * z.imag();
+    }
+    z *= step;
+    if ((j & 1023) == 1023) z /= std::abs(z);  // keep |z| = 1 over long runs
+  }
+  return ExplainedSumOfSquares(w, c, s, c2, s2, y, yc, ys, coef);
+}
+
+// Σ_j v_j e^{+2πi jk/K} for k = 0..K−1 (the conjugate of the forward FFT of real v).
+std::vector<std::complex<double>> Dft(Eigen::FFT<double>& fft, const Eigen::VectorXd& v, Eigen::Index k_size) {
+  std::vector<double> in(static_cast<std::size_t>(k_size), 0.0);
+  for (Eigen::Index j = 0; j < v.size(); ++j) in[static_cast<std::size_t>(j)] = v(j);
+  std::vector<std::complex<double>> out;
+  fft.fwd(out, in);
+  for (auto& z : out) z = std::conj(z);
+  return out;
+}
+
+}  // namespace
+
+const PeriodogramPeak& Periodogram::best() const {
+  if (peaks.empty()) throw std::logic_error("Periodogram::best: the periodogram has no peak");
+  return peaks.front();
+}
+
+double BaluevFalseAlarmProbability(double power, double samples, double min_period, double abscissa_variance) {
+  const double z = std::clamp(power, 0.0, 1.0);
+  const double nh = samples - 1.0, nk = samples - 3.0;
+  if (nk <= 1.0 || !(min_period > 0.0) || !(abscissa_variance > 0.0)) return 1.0;
+  if (z >= 1.0) return 0.0;
+  const double log1mz = std::log1p(-z);
+  const double fap_single = std::exp(0.5 * nk * log1mz);
+  const double gamma = std::sqrt(2.0 / nh) * std::exp(std::lgamma(0.5 * nh) - std::lgamma(0.5 * (nh - 1.0)));
+  const double w = (1.0 / min_period) * std::sqrt(4.0 * std::numbers::pi * abscissa_variance);
+  const double tau = gamma * w * std::exp(0.5 * (nk - 1.0) * log1mz) * std::sqrt(0.5 * nh * z);
+  return std::clamp(1.0 - (1.0 - fap_single) * std::exp(-tau), 0.0, 1.0);
+}
+
+double LombScarglePower(const Eigen::Ref<const Eigen::VectorXd>& abscissa,
+                        const Eigen::Ref<const Eigen::VectorXd>& residual, double period) {
+  CheckData(abscissa, residual, "LombScarglePower");
+  if (!(period > 0.0)) throw std::invalid_argument("LombScarglePower: the period must be positive");
+  const Eigen::VectorXd r = residual.array() - residual.mean();
+  const double chi0 = r.squaredNorm();
+  if (!(chi0 > 0.0)) throw std::invalid_argument("LombScarglePower: the residual is constant");
+  double w = 0, c = 0, s = 0, c2 = 0, s2 = 0, y = 0, yc = 0, ys = 0;
+  for (Eigen::Index i = 0; i < r.size(); ++i) {
+    const double th = kTwoPi * abscissa(i) / period;
+    w += 1.0;
+    c += std::cos(th);
+    s += std::sin(th);
+    c2 += std::cos(2.0 * th);
+    s2 += std::sin(2.0 * th);
+    y += r(i);
+    yc += r(i) * std::cos(th);
+    ys += r(i) * std::sin(th);
+  }
+  return ExplainedSumOfSquares(w, c, s, c2, s2, y, yc, ys) / chi0;
+}
+
+Periodogram LombScarglePeriodogram(const Eigen::Ref<const Eigen::VectorXd>& abscissa,
+                                   const Eigen::Ref<const Eigen::VectorXd>& residual,
+                                   const PeriodogramOptions& options) {
+  CheckData(abscissa, residual, "LombScarglePeriodogram");
+  const Eigen::Index n = abscissa.size();
+  if (options.num_periods < 16) {
+    throw std::invalid_argument(fmt::format(
+        "LombScarglePeriodogram: num_periods = {} is too small, use at least 16", options.num_periods));
+  }
+  const Eigen::VectorXd r = residual.array() - residual.mean();
+  const double chi0 = r.squaredNorm();
+  if (!(chi0 > 0.0)) throw std::invalid_argument("LombScarglePeriodogram: the residual is constant");
+  const double x_min = abscissa.minCoeff(), x_max = abscissa.maxCoeff();
+  const double span = x_max - x_min;
+  if (!(span > 0.0)) throw std::invalid_argument("LombScarglePeriodogram: the abscissa does not vary");
+
+  Periodogram out;
+  out.samples = n;
+  out.min_period = options.min_period;
+  if (out.min_period <= 0.0) {
+    std::vector<double> steps(static_cast<std::size_t>(n - 1));
+    for (Eigen::Index i = 1; i < n; ++i) steps[static_cast<std::size_t>(i - 1)] = std::abs(abscissa(i) - abscissa(i - 1));
+    const auto mid = steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2);
+    std::nth_element(steps.begin(), mid, steps.end());
+    out.min_period = 4.0 * *mid;
+    if (!(out.min_period > 0.0)) out.min_period = 8.0 * span / static_cast<double>(n);
+  }
+  out.max_period = options.max_period > 0.0 ? options.max_period : 0.5 * span;
+  if (!(out.min_period < out.max_period)) {
+    throw std::invalid_argument(fmt::format(
+        "LombScarglePeriodogram: the period range [{}, {}] is empty; the abscissa spans {} — choose "
+        "min_period < max_period",
+        out.min_period, out.max_period, span));
+  }
+  // Bin width: P_min/8, but at most 2^21 bins.
+  constexpr double kMaxBins = 2097152.0;
+  out.bin_width = std::max(out.min_period / 8.0, span / (kMaxBins - 1.0));
+  const Eigen::Index m = static_cast<Eigen::Index>(std::ceil(span / out.bin_width)) + 1;
+  const Bins bins = MakeBins(abscissa, r, x_min, out.bin_width, m);
+
+  // FFT length: frequency step 1/(K h) <= 1/(8 span), and room for 2 f_max = 1/(4h) below Nyquist.
+  Eigen::Index k_size = 1;
+  while (k_size < 8 * m) k_size *= 2;
+  const double df = 1.0 / (static_cast<double>(k_size) * out.bin_width);
+  const double f_min = 1.0 / out.max_period, f_max = 1.0 / out.min_period;
+  const auto k_lo = std::max<Eigen::Index>(1, static_cast<Eigen::Index>(std::floor(f_min / df)));
+  const auto k_hi = static_cast<Eigen::Index>(std::ceil(f_max / df));
+  if (2 * k_hi >= k_size) {
+    throw std::invalid_argument("LombScarglePeriodogram: internal frequency grid too short");
+  }
+  Eigen::FFT<double> fft;
+  const auto a = Dft(fft, bins.weight, k_size);
+  const double w_total = bins.weight.sum();
+  const double abscissa_variance = (abscissa.array() - abscissa.mean()).square().mean();
+  const double n_eff = options.effective_samples > 0.0 ? options.effective_samples : static_cast<double>(n);
+
+  // Power on the fine FFT grid for the current (possibly prewhitened) bin means.
+  Bins work = bins;
+  auto fine_power = [&](double chi_ref) {
+    const Eigen::VectorXd wy = work.weight.cwiseProduct(work.mean);
+    const auto b = Dft(fft, wy, k_size);
+    const double y = wy.sum();
+    Eigen::VectorXd p(k_hi - k_lo + 1);
+    for (Eigen::Index k = k_lo; k <= k_hi; ++k) {
+      const auto& ak = a[static_cast<std::size_t>(k)];
+      const auto& a2k = a[static_cast<std::size_t>(2 * k)];
+      const auto& bk = b[static_cast<std::size_t>(k)];
+      p(k - k_lo) = ExplainedSumOfSquares(w_total, ak.real(), ak.imag(), a2k.real(), a2k.imag(), y,
+                                          bk.real(), bk.imag()) / chi_ref;
+    }
+    return p;
+  };
+
+  const Eigen::VectorXd fine = fine_power(chi0);
+  // Reported curve on the log grid: max of the fine grid within each log cell, else interpolated.
+  out.periods = Eigen::VectorXd::LinSpaced(options.num_periods, std::log(out.min_period), std::log(out.max_period))
+                    .array().exp().matrix();
+  out.power.resize(options.num_periods);
+  const double log_step = std::log(out.max_period / out.min_period) / static_cast<double>(options.num_periods - 1);
+  for (Eigen::Index i = 0; i < options.num_periods; ++i) {
+    const double f = 1.0 / out.periods(i);
+    const double f_hi = f * std::exp(0.5 * log_step), f_lo = f * std::exp(-0.5 * log_step);
+    const auto j_lo = std::max(k_lo, static_cast<Eigen::Index>(std::ceil(f_lo / df)));
+    const auto j_hi = std::min(k_hi, static_cast<Eigen::Index>(std::floor(f_hi / df)));
+    if (j_lo <= j_hi) {
+      out.power(i) = fine.segment(j_lo - k_lo, j_hi - j_lo + 1).maxCoeff();
+    } else {
+      const double u = std::clamp(f / df, static_cast<double>(k_lo), static_cast<double>(k_hi));
+      const auto j0 = std::min(k_hi - 1, static_cast<Eigen::Index>(std::floor(u)));
+      const double t = u - static_cast<double>(j0);
+      out.power(i) = (1.0 - t) * fine(j0 - k_lo) + t * fine(j0 + 1 - k_lo);
+    }
+  }
+
+  // Peaks by iterative prewhitening: take the highest fine-grid node away from the accepted peaks,
+  // refine its frequency by golden-section search on the exact binned power, subtract the fitted
+  // sinusoid from the bin means, repeat.
+  double chi_left = chi0;
+  std::vector<double> accepted_f;
+  const double exclusion = 1.0 / span;  // a peak's half width in frequency
+  for (Eigen::Index iter = 0; iter < options.max_peaks; ++iter) {
+    const Eigen::VectorXd p = iter == 0 ? fine : fine_power(chi_left);
+    Eigen::Index best = -1;
+    for (Eigen::Index j = 0; j < p.size(); ++j) {
+      const double f = static_cast<double>(j + k_lo) * df;
+      bool near = false;
+      for (double fa : accepted_f) near = near || std::abs(f - fa) < exclusion;
+      if (!near && (best < 0 || p(j) > p(best))) best = j;
+    }
+    if (best < 0 || !(p(best) > 0.0)) break;
+    // Golden-section search for the maximum on [f − df, f + df] (within the searched band).
+    double lo = std::max(f_min, static_cast<double>(best + k_lo - 1) * df);
+    double hi = std::min(f_max, static_cast<double>(best + k_lo + 1) * df);
+    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+    double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
+    double e1 = BinnedExplained(work, x1), e2 = BinnedExplained(work, x2);
+    for (int it = 0; it < 40 && hi - lo > 1e-9 * hi; ++it) {
+      if (e1 > e2) {
+        hi = x2; x2 = x1; e2 = e1; x1 = hi - g * (hi - lo); e1 = BinnedExplained(work, x1);
+      } else {
+        lo = x1; x1 = x2; e1 = e2; x2 = lo + g * (hi - lo); e2 = BinnedExplained(work, x2);
+      }
+    }
+    const double f_best = 0.5 * (lo + hi);
+    Eigen::Vector3d coef;
+    const double explained = BinnedExplained(work, f_best, &coef);
+    PeriodogramPeak peak;
+    peak.period = 1.0 / f_best;
+    peak.power = explained / chi0;
+    peak.amplitude = std::hypot(coef(1), coef(2));
+    peak.false_alarm_probability =
+        BaluevFalseAlarmProbability(explained / chi_left, n_eff, out.min_period, abscissa_variance);
+    peak.significant = peak.false_alarm_probability < options.false_alarm_level;
+    for (std::size_t i = 0; i < out.peaks.size() && peak.harmonic_of < 0; ++i) {
+      const double ratio = out.peaks[i].period / peak.period;
+      const double big = ratio >= 1.0 ? ratio : 1.0 / ratio;
+      const double k = std::round(big);
+      if (k >= 2.0 && k <= 8.0 && std::abs(big - k) <= options.harmonic_tolerance * k) {
+        peak.harmonic_of = static_cast<int>(i);
+        peak.harmonic_order = ratio >= 1.0 ? static_cast<int>(k) : -static_cast<int>(k);
+      }
+    }
+    out.peaks.push_back(peak);
+    accepted_f.push_back(f_best);
+    // Prewhiten the bin means.
+    const std::complex<double> step = std::polar(1.0, kTwoPi * f_best * work.h);
+    std::complex<double> z(1.0, 0.0);
+    for (Eigen::Index j = 0; j < m; ++j) {
+      work.mean(j) -= coef(0) + coef(1) * z.real() + coef(2) * z.imag();
+      z *= step;
+      if ((j & 1023) == 1023) z /= std::abs(z);
+    }
+    chi_left -= explained;
+    if (!(chi_left > 1e-12 * chi0)) break;
+  }
+  return out;
+}
+
+}  // namespace mb

@@ -1,0 +1,253 @@
+#include "models/diagnosis/signal_processing.h"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <stdexcept>
+#include <vector>
+
+#include <boost/math/distributions/chi_squared.hpp>
+#include <fmt/format.h>
+#include <unsupported/Eigen/FFT>
+
+namespace mb {
+namespace {
+
+void RequireSameSize(const Eigen::Ref<const Eigen::VectorXd>& a, const Eigen::Ref<const Eigen::VectorXd>& b,
+                     const char* what) {
+  if (a.size() != b.size()) {
+    throw std::invalid_argument(
+        fmt::format("{}: the two signals have {} and {} samples; pass equally long signals", what,
+                    a.size(), b.size()));
+  }
+  if (a.size() == 0) throw std::invalid_argument(fmt::format("{}: the signals are empty", what));
+}
+
+// Direct-form II transposed biquad, run in place from the given steady-state level.
+struct Biquad {
+  double b0, b1, b2, a1, a2;
+  void Run(std::vector<double>* x) const {
+    const double c = x->front();
+    double z2 = (b2 - a2) * c;
+    double z1 = (b1 - a1) * c + z2;
+    for (double& s : *x) {
+      const double in = s;
+      const double out = b0 * in + z1;
+      z1 = b1 * in - a1 * out + z2;
+      z2 = b2 * in - a2 * out;
+      s = out;
+    }
+  }
+};
+
+}  // namespace
+
+Eigen::VectorXd ZeroPhaseLowPass(const Eigen::Ref<const Eigen::VectorXd>& signal, double sample_period,
+                                 double cutoff_hz) {
+  const Eigen::Index n = signal.size();
+  if (n < 3) throw std::invalid_argument("ZeroPhaseLowPass: the signal needs at least 3 samples");
+  if (!(sample_period > 0.0)) {
+    throw std::invalid_argument(
+        fmt::format("ZeroPhaseLowPass: sample period {} s must be positive", sample_period));
+  }
+  const double nyquist = 0.5 / sample_period;
+  if (!(cutoff_hz > 0.0 && cutoff_hz < nyquist)) {
+    throw std::invalid_argument(fmt::format(
+        "ZeroPhaseLowPass: cut-off {} Hz must lie in (0, {} Hz) (the Nyquist frequency); lower it",
+        cutoff_hz, nyquist));
+  }
+  const double k = std::tan(std::numbers::pi * cutoff_hz * sample_period);
+  const double sqrt2 = std::numbers::sqrt2;
+  const double norm = 1.0 / (1.0 + sqrt2 * k + k * k);
+  Biquad f{k * k * norm, 2.0 * k * k * norm, k * k * norm, 2.0 * (k * k - 1.0) * norm,
+           (1.0 - sqrt2 * k + k * k) * norm};
+
+  const Eigen::Index pad = std::min<Eigen::Index>(
+      n - 1, std::max<Eigen::Index>(9, static_cast<Eigen::Index>(std::ceil(3.0 / (cutoff_hz * sample_period)))));
+  std::vector<double> x(static_cast<std::size_t>(n + 2 * pad));
+  const double first = signal(0), last = signal(n - 1);
+  for (Eigen::Index i = 0; i < pad; ++i) {
+    x[static_cast<std::size_t>(i)] = 2.0 * first - signal(pad - i);
+    x[static_cast<std::size_t>(pad + n + i)] = 2.0 * last - signal(n - 2 - i);
+  }
+  for (Eigen::Index i = 0; i < n; ++i) x[static_cast<std::size_t>(pad + i)] = signal(i);
+  f.Run(&x);
+  std::reverse(x.begin(), x.end());
+  f.Run(&x);
+  std::reverse(x.begin(), x.end());
+  return Eigen::Map<const Eigen::VectorXd>(x.data() + pad, n);
+}
+
+Eigen::VectorXd CentralDifference(const Eigen::Ref<const Eigen::VectorXd>& time,
+                                  const Eigen::Ref<const Eigen::VectorXd>& values) {
+  RequireSameSize(time, values, "CentralDifference");
+  const Eigen::Index n = time.size();
+  if (n < 3) throw std::invalid_argument("CentralDifference: at least 3 samples are needed");
+  for (Eigen::Index i = 1; i < n; ++i) {
+    if (!(time(i) > time(i - 1))) {
+      throw std::invalid_argument(fmt::format(
+          "CentralDifference: time must increase strictly (sample {} has t = {} after t = {})", i,
+          time(i), time(i - 1)));
+    }
+  }
+  Eigen::VectorXd d(n);
+  // Three-point Lagrange derivative at the middle node (non-uniform spacing h1, h2).
+  for (Eigen::Index i = 1; i + 1 < n; ++i) {
+    const double h1 = time(i) - time(i - 1), h2 = time(i + 1) - time(i);
+    d(i) = (-h2 / (h1 * (h1 + h2))) * values(i - 1) + ((h2 - h1) / (h1 * h2)) * values(i) +
+           (h1 / (h2 * (h1 + h2))) * values(i + 1);
+  }
+  {  // at the first node, from nodes 0, 1, 2
+    const double h1 = time(1) - time(0), h2 = time(2) - time(1);
+    d(0) = (-(2.0 * h1 + h2) / (h1 * (h1 + h2))) * values(0) + ((h1 + h2) / (h1 * h2)) * values(1) -
+           (h1 / (h2 * (h1 + h2))) * values(2);
+  }
+  {  // at the last node, from nodes n-3, n-2, n-1
+    const double h1 = time(n - 2) - time(n - 3), h2 = time(n - 1) - time(n - 2);
+    d(n - 1) = (h2 / (h1 * (h1 + h2))) * values(n - 3) - ((h1 + h2) / (h1 * h2)) * values(n - 2) +
+               ((h1 + 2.0 * h2) / (h2 * (h1 + h2))) * values(n - 1);
+  }
+  return d;
+}
+
+double MedianTimeStep(const Eigen::Ref<const Eigen::VectorXd>& time) {
+  if (time.size() < 2) throw std::invalid_argument("MedianTimeStep: at least 2 samples are needed");
+  std::vector<double> steps(static_cast<std::size_t>(time.size() - 1));
+  for (Eigen::Index i = 1; i < time.size(); ++i) steps[static_cast<std::size_t>(i - 1)] = time(i) - time(i - 1);
+  const auto mid = steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2);
+  std::nth_element(steps.begin(), mid, steps.end());
+  return *mid;
+}
+
+MotionDerivatives DeriveMotion(const Eigen::Ref<const Eigen::VectorXd>& time,
+                               const Eigen::Ref<const Eigen::VectorXd>& position, double cutoff_hz) {
+  RequireSameSize(time, position, "DeriveMotion");
+  MotionDerivatives m;
+  m.position = ZeroPhaseLowPass(position, MedianTimeStep(time), cutoff_hz);
+  m.velocity = CentralDifference(time, m.position);
+  m.acceleration = CentralDifference(time, m.velocity);
+  return m;
+}
+
+double Rmse(const Eigen::Ref<const Eigen::VectorXd>& measured, const Eigen::Ref<const Eigen::VectorXd>& model) {
+  RequireSameSize(measured, model, "Rmse");
+  return std::sqrt((measured - model).squaredNorm() / static_cast<double>(measured.size()));
+}
+
+double FitPercent(const Eigen::Ref<const Eigen::VectorXd>& measured,
+                  const Eigen::Ref<const Eigen::VectorXd>& model) {
+  RequireSameSize(measured, model, "FitPercent");
+  const double spread = (measured.array() - measured.mean()).matrix().norm();
+  if (!(spread > 0.0)) {
+    throw std::invalid_argument("FitPercent: the measured signal is constant, the fit is undefined");
+  }
+  return 100.0 * (1.0 - (measured - model).norm() / spread);
+}
+
+AutocorrelationTest ResidualAutocorrelation(const Eigen::Ref<const Eigen::VectorXd>& residual,
+                                            Eigen::Index max_lag) {
+  const Eigen::Index n = residual.size();
+  if (max_lag < 1 || n <= max_lag + 1) {
+    throw std::invalid_argument(fmt::format(
+        "ResidualAutocorrelation: max_lag {} must be >= 1 and below N − 1 = {}", max_lag, n - 1));
+  }
+  const Eigen::VectorXd e = residual.array() - residual.mean();
+  const double c0 = e.squaredNorm();
+  if (!(c0 > 0.0)) throw std::invalid_argument("ResidualAutocorrelation: the residual is constant");
+  AutocorrelationTest out;
+  out.autocorrelation.resize(max_lag + 1);
+  const double nd = static_cast<double>(n);
+  double q = 0.0;
+  for (Eigen::Index k = 0; k <= max_lag; ++k) {
+    const double r = e.head(n - k).dot(e.tail(n - k)) / c0;
+    out.autocorrelation(k) = r;
+    if (k > 0) q += r * r / (nd - static_cast<double>(k));
+  }
+  out.band99 = 2.58 / std::sqrt(nd);
+  out.ljung_box_q = nd * (nd + 2.0) * q;
+  const boost::math::chi_squared chi2(static_cast<double>(max_lag));
+  out.p_value = boost::math::cdf(boost::math::complement(chi2, out.ljung_box_q));
+  out.white = out.p_value >= 0.01;
+  return out;
+}
+
+CrossCorrelationTest InputResidualCrossCorrelation(const Eigen::Ref<const Eigen::VectorXd>& input,
+                                                   const Eigen::Ref<const Eigen::VectorXd>& residual,
+                                                   Eigen::Index max_lag) {
+  RequireSameSize(input, residual, "InputResidualCrossCorrelation");
+  const Eigen::Index n = input.size();
+  if (max_lag < 0 || n <= max_lag + 1) {
+    throw std::invalid_argument(fmt::format(
+        "InputResidualCrossCorrelation: max_lag {} must be >= 0 and below N − 1 = {}", max_lag, n - 1));
+  }
+  const Eigen::VectorXd u = input.array() - input.mean();
+  const Eigen::VectorXd e = residual.array() - residual.mean();
+  const double norm = u.norm() * e.norm();
+  if (!(norm > 0.0)) {
+    throw std::invalid_argument("InputResidualCrossCorrelation: the input or the residual is constant");
+  }
+  CrossCorrelationTest out;
+  out.lags.resize(2 * max_lag + 1);
+  out.correlation.resize(2 * max_lag + 1);
+  for (Eigen::Index j = 0; j < 2 * max_lag + 1; ++j) {
+    const Eigen::Index k = j - max_lag;
+    const Eigen::Index m = n - std::abs(k);
+    // e(t)·u(t − k): for k >= 0 pair e(k..) with u(0..), else e(0..) with u(−k..).
+    const double s = k >= 0 ? e.tail(m).dot(u.head(m)) : e.head(m).dot(u.tail(m));
+    out.lags(j) = static_cast<int>(k);
+    out.correlation(j) = s / norm;
+    if (std::abs(out.correlation(j)) > std::abs(out.peak_value)) {
+      out.peak_value = out.correlation(j);
+      out.peak_lag = k;
+    }
+  }
+  out.band99 = 2.58 / std::sqrt(static_cast<double>(n));
+  out.significant = std::abs(out.peak_value) > out.band99;
+  return out;
+}
+
+PowerSpectrum WelchPowerSpectrum(const Eigen::Ref<const Eigen::VectorXd>& signal, double sample_period,
+                                 Eigen::Index segment_length) {
+  const Eigen::Index n = signal.size();
+  if (!(sample_period > 0.0) || segment_length < 8 || n < 8) {
+    throw std::invalid_argument(fmt::format(
+        "WelchPowerSpectrum: needs a positive sample period (got {} s), segment_length >= 8 (got {}) "
+        "and at least 8 samples (got {})",
+        sample_period, segment_length, n));
+  }
+  const Eigen::Index m = std::min(segment_length, n);
+  const Eigen::Index step = std::max<Eigen::Index>(1, m / 2);
+  std::vector<double> window(static_cast<std::size_t>(m));
+  double window_energy = 0.0;
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const double w = 0.5 - 0.5 * std::cos(2.0 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(m));
+    window[static_cast<std::size_t>(i)] = w;
+    window_energy += w * w;
+  }
+  const Eigen::Index bins = m / 2 + 1;
+  PowerSpectrum out;
+  out.density = Eigen::VectorXd::Zero(bins);
+  out.frequency_hz = Eigen::VectorXd::LinSpaced(bins, 0.0, static_cast<double>(bins - 1) / (static_cast<double>(m) * sample_period));
+  Eigen::FFT<double> fft;
+  std::vector<double> segment(static_cast<std::size_t>(m));
+  std::vector<std::complex<double>> spectrum;
+  Eigen::Index segments = 0;
+  for (Eigen::Index start = 0; start + m <= n; start += step) {
+    const double mean = signal.segment(start, m).mean();
+    for (Eigen::Index i = 0; i < m; ++i) {
+      segment[static_cast<std::size_t>(i)] = (signal(start + i) - mean) * window[static_cast<std::size_t>(i)];
+    }
+    fft.fwd(spectrum, segment);
+    for (Eigen::Index k = 0; k < bins; ++k) out.density(k) += std::norm(spectrum[static_cast<std::size_t>(k)]);
+    ++segments;
+  }
+  const double scale = sample_period / (window_energy * static_cast<double>(segments));
+  out.density *= scale;
+  // One-sided: double every bin but DC and (for even m) Nyquist.
+  const Eigen::Index last_doubled = (m % 2 == 0) ? bins - 2 : bins - 1;
+  if (last_doubled >= 1) out.density.segment(1, last_doubled).array() *= 2.0;
+  return out;
+}
+
+}  // namespace mb

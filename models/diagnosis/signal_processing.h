@@ -1,0 +1,96 @@
+// Signal processing for model-vs-measurement comparison: zero-phase filtering and differentiation of a
+// measured position, goodness-of-fit figures (MATLAB System Identification Toolbox `compare`), residual
+// whiteness and input–residual correlation (`resid`), and the Welch power spectrum.
+// All vectors are Eigen column vectors of one signal, sample i at time t(i); SI units throughout.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace mb {
+
+// Zero-phase low-pass: a 2nd-order Butterworth (bilinear transform with pre-warping) run forward then
+// backward (MATLAB/SciPy `filtfilt`), so the magnitude is |H|² (−6 dB at the cut-off) and the phase is
+// zero. The ends are padded by odd reflection (3 time constants) and the filter starts in the steady
+// state of the first padded sample, so a constant or a ramp passes unchanged.
+// This is what the EMPS benchmark's IDIM-LS does to the position before differentiating.
+// signal: N samples; sample_period Ts [s]; cutoff_hz in (0, 0.5/Ts).
+// Throws std::invalid_argument when N < 3, Ts <= 0 or the cut-off is not below the Nyquist frequency.
+Eigen::VectorXd ZeroPhaseLowPass(const Eigen::Ref<const Eigen::VectorXd>& signal, double sample_period,
+                                 double cutoff_hz);
+
+// Derivative dy/dt by central differences, second-order accurate also on a non-uniform time grid
+// (three-point Lagrange formula); one-sided second-order formulas at both ends.
+// time, values: N >= 3 samples, time strictly increasing. Throws std::invalid_argument otherwise.
+Eigen::VectorXd CentralDifference(const Eigen::Ref<const Eigen::VectorXd>& time,
+                                  const Eigen::Ref<const Eigen::VectorXd>& values);
+
+// Position, velocity and acceleration derived from a measured position.
+struct MotionDerivatives {
+  Eigen::VectorXd position;      // zero-phase low-passed position [m]
+  Eigen::VectorXd velocity;      // [m/s]
+  Eigen::VectorXd acceleration;  // [m/s²]
+};
+
+// IDIM-LS style derivation: low-pass the position with ZeroPhaseLowPass (cutoff_hz, sample period =
+// median time step), then velocity and acceleration by CentralDifference.
+// Throws std::invalid_argument as ZeroPhaseLowPass and CentralDifference do, or when sizes differ.
+MotionDerivatives DeriveMotion(const Eigen::Ref<const Eigen::VectorXd>& time,
+                               const Eigen::Ref<const Eigen::VectorXd>& position, double cutoff_hz);
+
+// Root-mean-square error sqrt(mean((y − ŷ)²)). Throws std::invalid_argument on a size mismatch or N = 0.
+double Rmse(const Eigen::Ref<const Eigen::VectorXd>& measured,
+            const Eigen::Ref<const Eigen::VectorXd>& model);
+
+// Fit [%] = 100·(1 − ‖y − ŷ‖/‖y − mean(y)‖) (NRMSE; MATLAB `compare`): 100 is perfect, 0 is no better
+// than the mean, negative is worse. Throws std::invalid_argument on a size mismatch, N = 0 or a
+// constant measurement (the normaliser is zero).
+double FitPercent(const Eigen::Ref<const Eigen::VectorXd>& measured,
+                  const Eigen::Ref<const Eigen::VectorXd>& model);
+
+// Residual autocorrelation and whiteness test (MATLAB `resid`; Ljung & Box 1978).
+struct AutocorrelationTest {
+  Eigen::VectorXd autocorrelation;  // r(τ), τ = 0..max_lag; r(0) = 1
+  double band99 = 0.0;              // 99 % band ±2.58/√N for a white residual
+  double ljung_box_q = 0.0;         // Q = N(N+2) Σ_{τ=1..L} r(τ)²/(N−τ)
+  double p_value = 1.0;             // P(χ²(L) > Q); small = not white
+  bool white = true;                // p_value >= 0.01
+};
+
+// Autocorrelation of the (mean-removed) residual up to max_lag and the Ljung–Box test against χ²(max_lag)
+// (Boost.Math). Throws std::invalid_argument when max_lag < 1 or N <= max_lag + 1 or the residual is
+// constant.
+AutocorrelationTest ResidualAutocorrelation(const Eigen::Ref<const Eigen::VectorXd>& residual,
+                                            Eigen::Index max_lag = 25);
+
+// Input–residual cross-correlation r_eu(k) = Σ_t e(t)·u(t−k) / (N σ_e σ_u), k = −max_lag..max_lag.
+// A significant peak at k > 0: the effect of u(t−k) on the output is not modelled (MATLAB `resid`).
+struct CrossCorrelationTest {
+  Eigen::VectorXi lags;             // −max_lag..max_lag [samples]
+  Eigen::VectorXd correlation;      // r_eu(k)
+  Eigen::Index peak_lag = 0;        // lag of max |r_eu| [samples]
+  double peak_value = 0.0;          // r_eu at the peak
+  double band99 = 0.0;              // ±2.58/√N
+  bool significant = false;         // |peak_value| > band99
+};
+
+// Throws std::invalid_argument on a size mismatch, max_lag < 0, N <= max_lag + 1 or a constant signal.
+CrossCorrelationTest InputResidualCrossCorrelation(const Eigen::Ref<const Eigen::VectorXd>& input,
+                                                   const Eigen::Ref<const Eigen::VectorXd>& residual,
+                                                   Eigen::Index max_lag = 25);
+
+// One-sided power spectral density.
+struct PowerSpectrum {
+  Eigen::VectorXd frequency_hz;  // 0 .. 1/(2 Ts)
+  Eigen::VectorXd density;       // [unit²/Hz]; Σ density·Δf ≈ variance of the (mean-removed) signal
+};
+
+// Welch's method (Welch 1967): Hann-windowed segments of segment_length samples (clamped to N; a power
+// of two is fastest), 50 % overlap, segment mean removed, averaged periodograms, one-sided.
+// Throws std::invalid_argument when Ts <= 0, segment_length < 8 or N < 8.
+PowerSpectrum WelchPowerSpectrum(const Eigen::Ref<const Eigen::VectorXd>& signal, double sample_period,
+                                 Eigen::Index segment_length = 1024);
+
+// Median of the time steps t(i+1) − t(i) [s]. Throws std::invalid_argument when N < 2.
+double MedianTimeStep(const Eigen::Ref<const Eigen::VectorXd>& time);
+
+}  // namespace mb

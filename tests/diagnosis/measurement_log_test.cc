@@ -1,0 +1,132 @@
+#include "models/diagnosis/measurement_log.h"
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+namespace mb {
+namespace {
+
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+
+class MeasurementLogTest : public ::testing::Test {
+ protected:
+  std::string Write(const std::string& name, const std::string& text) {
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("mb_log_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+    std::filesystem::create_directories(dir);
+    const std::string path = (dir / name).string();
+    std::ofstream(path) << text;
+    return path;
+  }
+  // A valid log of n rows at 1 ms.
+  static std::string Rows(int n, int first = 0) {
+    std::string s;
+    for (int i = first; i < first + n; ++i) s += std::to_string(i * 1e-3) + "," + std::to_string(0.5 * i) + ",1\n";
+    return s;
+  }
+  template <typename F>
+  static std::string ErrorOf(F&& f) {
+    try {
+      f();
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+    return "no exception";
+  }
+};
+
+TEST_F(MeasurementLogTest, ReadsColumnsByName) {
+  const auto path = Write("ok.csv", "time_s,position_m,force_N\n" + Rows(20));
+  const MeasurementLog log = ReadMeasurementLog(path, {.required_columns = {"position_m", "force_N"}});
+  ASSERT_EQ(log.rows(), 20);
+  EXPECT_EQ(log.names()[0], "time_s");
+  EXPECT_DOUBLE_EQ(log.time()(3), 0.003);
+  EXPECT_DOUBLE_EQ(log.column("position_m")(4), 2.0);
+  EXPECT_TRUE(log.has_column("force_N"));
+  EXPECT_THAT(ErrorOf([&] { (void)log.column("speed"); }),
+              AllOf(HasSubstr("no column 'speed'"), HasSubstr("time_s, position_m, force_N")));
+}
+
+TEST_F(MeasurementLogTest, MissingFile) {
+  EXPECT_THAT(ErrorOf([&] { ReadMeasurementLog("/nonexistent/log.csv"); }),
+              AllOf(HasSubstr("/nonexistent/log.csv"), HasSubstr("cannot open"), HasSubstr("check the path")));
+}
+
+TEST_F(MeasurementLogTest, MissingColumnListsThePresentOnes) {
+  const auto path = Write("cols.csv", "time_s,position_m,force_N\n" + Rows(20));
+  EXPECT_THAT(ErrorOf([&] { ReadMeasurementLog(path, {.required_columns = {"input_V"}}); }),
+              AllOf(HasSubstr("cols.csv"), HasSubstr("missing required column(s) input_V"),
+                    HasSubstr("the columns present are: time_s, position_m, force_N")));
+}
+
+TEST_F(MeasurementLogTest, NonNumericCellNamesLineAndColumn) {
+  const auto path = Write("text.csv", "time_s,position_m,force_N\n" + Rows(5) + "0.005,abc,1\n" + Rows(10, 6));
+  EXPECT_THAT(ErrorOf([&] { ReadMeasurementLog(path); }),
+              AllOf(HasSubstr("text.csv: line 7, column 'position_m': 'abc' is not a number")));
+}
+
+TEST_F(MeasurementLogTest, NanIsRejected) {
+  const auto path = Write("nan.csv", "time_s,position_m,force_N\n" + Rows(3) + "0.003,1.5,NaN\n" + Rows(10, 4));
+  EXPECT_THAT(ErrorOf([&] { ReadMeasurementLog(path); }),
+              AllOf(HasSubstr("line 5, column 'force_N'"), HasSubstr("NaN or Inf"), HasSubstr("interpolate")));
+  const auto inf = Write("inf.csv", "time_s,position_m,force_N\n" + Rows(3) + "0.003,inf,1\n" + Rows(10, 4));
+  EXPECT_THAT(ErrorOf([&] { ReadMeasurementLog(inf); }), HasSubstr("line 5, column 'position_m'"));
+}
+
+TEST_F(MeasurementLogTest, GapIsReportedWithWhere) {
+  const auto path = Write("gap.csv", "time_s,position_m,force_N\n" + Rows(10) + Rows(10, 15));
+  EXPECT_THAT(ErrorOf([&] { ReadMeasurementLog(path); }),
+              AllOf(HasSubstr("1 gap(s)"), HasSubstr("after t = 0.009 s (line 11, step 0.00"),
+                    HasSubstr("the median step 0.00"), HasSubstr("resample")));
+  // The check can be disabled.
+  EXPECT_EQ(ReadMeasurementLog(path, {.max_gap_ratio = 0.0}).rows(), 20);
+}
+
+TEST_F(MeasurementLogTest, NonMonotonicTime) {
+  const auto path = Write("mono.csv", "time_s,position_m,force_N\n" + Rows(5) + "0.002,1,1\n" + Rows(10, 6));
+  EXPECT_THAT(ErrorOf([&] { ReadMeasurementLog(path); }),
+              AllOf(HasSubstr("line 7, column 'time_s': time 0.002 does not increase"), HasSubstr("sort the rows")));
+}
+
+TEST_F(MeasurementLogTest, TooFewRowsAndRaggedRows) {
+  const auto few = Write("few.csv", "time_s,position_m,force_N\n" + Rows(3));
+  EXPECT_THAT(ErrorOf([&] { ReadMeasurementLog(few); }), HasSubstr("only 3 data row(s), at least 10"));
+  const auto ragged = Write("ragged.csv", "time_s,position_m,force_N\n" + Rows(5) + "0.005,1\n");
+  EXPECT_THAT(ErrorOf([&] { ReadMeasurementLog(ragged); }), HasSubstr("line 7 has 2 cells but the header has 3"));
+  const auto noheader = Write("noheader.csv", Rows(20));
+  EXPECT_THAT(ErrorOf([&] { ReadMeasurementLog(noheader); }), HasSubstr("line 1 is numbers, not a header"));
+}
+
+TEST_F(MeasurementLogTest, WriteReadRoundTripIsExact) {
+  Eigen::VectorXd t = Eigen::VectorXd::LinSpaced(50, 0.0, 0.049);
+  Eigen::VectorXd y = t.array().sin() * 1e-3 + 1.0 / 3.0;
+  const MeasurementLog log({"time_s", "y_m"}, {t, y});
+  const auto path = Write("round.csv", "");
+  WriteMeasurementLog(log, path);
+  const MeasurementLog back = ReadMeasurementLog(path);
+  ASSERT_EQ(back.rows(), 50);
+  EXPECT_EQ((back.column("y_m") - y).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((back.time() - t).cwiseAbs().maxCoeff(), 0.0);
+}
+
+TEST_F(MeasurementLogTest, ReadsEmpsFast) {
+  const std::string path = std::string(MB_SHARED_DATA_DIR) + "/emps/DATA_EMPS.csv";
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared data not found at " << path;
+  const auto start = std::chrono::steady_clock::now();
+  const MeasurementLog log = ReadMeasurementLog(path, {.required_columns = {"position_m", "force_N"}});
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_EQ(log.rows(), 24841);
+  EXPECT_EQ(log.names().size(), 5u);
+  EXPECT_NEAR(log.column("position_m")(0), 7.45e-06, 1e-18);
+  // Generous bound: the sanitizer build is several times slower than Release (~10 ms there).
+  EXPECT_LT(seconds, 0.5);
+}
+
+}  // namespace
+}  // namespace mb

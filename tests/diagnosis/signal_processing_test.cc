@@ -1,0 +1,126 @@
+#include "models/diagnosis/signal_processing.h"
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+namespace mb {
+namespace {
+
+using ::testing::HasSubstr;
+constexpr double kPi = std::numbers::pi;
+
+Eigen::VectorXd Time(Eigen::Index n, double ts) { return Eigen::VectorXd::LinSpaced(n, 0.0, static_cast<double>(n - 1) * ts); }
+
+TEST(ZeroPhaseLowPass, PassesRampAndHasNoPhaseLag) {
+  const double ts = 1e-3;
+  const Eigen::VectorXd t = Time(4000, ts);
+  const Eigen::VectorXd ramp = 0.3 * t.array() + 0.1;
+  EXPECT_LT((ZeroPhaseLowPass(ramp, ts, 20.0) - ramp).cwiseAbs().maxCoeff(), 1e-9);
+  // A 2 Hz sine through a 20 Hz forward-backward Butterworth: gain |H|² = 1/(1 + (2/20)^4), zero phase.
+  const Eigen::VectorXd s = (2.0 * kPi * 2.0 * t.array()).sin();
+  const Eigen::VectorXd f = ZeroPhaseLowPass(s, ts, 20.0);
+  const double gain = 1.0 / (1.0 + std::pow(std::tan(kPi * 2.0 * ts) / std::tan(kPi * 20.0 * ts), 4));
+  const Eigen::VectorXd mid = f.segment(1000, 2000) - gain * s.segment(1000, 2000);
+  EXPECT_LT(mid.cwiseAbs().maxCoeff(), 1e-6);
+  // At the cut-off the forward-backward gain is 1/2 (−6 dB).
+  const Eigen::VectorXd sc = (2.0 * kPi * 20.0 * t.array()).sin();
+  const Eigen::VectorXd fc = ZeroPhaseLowPass(sc, ts, 20.0);
+  EXPECT_NEAR(fc.segment(1000, 2000).cwiseAbs().maxCoeff(), 0.5, 5e-3);
+}
+
+TEST(ZeroPhaseLowPass, RejectsCutoffAboveNyquist) {
+  const Eigen::VectorXd x = Eigen::VectorXd::Ones(10);
+  try {
+    ZeroPhaseLowPass(x, 1e-3, 600.0);
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), HasSubstr("must lie in (0, 500 Hz)"));
+  }
+}
+
+TEST(CentralDifference, ExactForQuadraticsOnNonUniformGrid) {
+  Eigen::VectorXd t(6);
+  t << 0.0, 0.1, 0.25, 0.3, 0.5, 0.8;
+  const Eigen::VectorXd y = 2.0 * t.array().square() - t.array() + 3.0;
+  const Eigen::VectorXd d = CentralDifference(t, y);
+  const Eigen::VectorXd expected = 4.0 * t.array() - 1.0;
+  EXPECT_LT((d - expected).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+TEST(DeriveMotion, RecoversVelocityAndAccelerationOfSmoothMotion) {
+  const double ts = 1e-3;
+  const Eigen::VectorXd t = Time(5000, ts);
+  const Eigen::VectorXd x = 0.1 * (2.0 * kPi * 0.5 * t.array()).sin();
+  std::mt19937 rng(1);
+  std::normal_distribution<double> noise(0.0, 1e-7);
+  Eigen::VectorXd xm = x;
+  for (auto& v : xm) v += noise(rng);
+  const MotionDerivatives m = DeriveMotion(t, xm, 30.0);
+  const Eigen::VectorXd v = 0.1 * kPi * (2.0 * kPi * 0.5 * t.array()).cos();
+  const Eigen::VectorXd a = -0.1 * kPi * kPi * (2.0 * kPi * 0.5 * t.array()).sin();
+  EXPECT_LT((m.velocity - v).segment(100, 4800).cwiseAbs().maxCoeff(), 2e-3 * 0.1 * kPi);
+  EXPECT_LT((m.acceleration - a).segment(100, 4800).cwiseAbs().maxCoeff(), 2e-2 * 0.1 * kPi * kPi);
+}
+
+TEST(FitMetrics, RmseAndFitPercentFollowMatlabDefinitions) {
+  Eigen::VectorXd y(4), yh(4);
+  y << 1, 2, 3, 4;
+  yh << 1, 2, 3, 5;
+  EXPECT_DOUBLE_EQ(Rmse(y, yh), 0.5);
+  // ‖y − ŷ‖ = 1, ‖y − ȳ‖ = sqrt(5).
+  EXPECT_NEAR(FitPercent(y, yh), 100.0 * (1.0 - 1.0 / std::sqrt(5.0)), 1e-12);
+  EXPECT_DOUBLE_EQ(FitPercent(y, y), 100.0);
+  EXPECT_THROW(FitPercent(Eigen::VectorXd::Ones(4), yh), std::invalid_argument);
+}
+
+TEST(ResidualAutocorrelation, WhiteNoisePassesColouredFails) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> n01;
+  Eigen::VectorXd e(5000);
+  for (auto& v : e) v = n01(rng);
+  const AutocorrelationTest w = ResidualAutocorrelation(e, 20);
+  EXPECT_TRUE(w.white) << "p = " << w.p_value;
+  EXPECT_NEAR(w.band99, 2.58 / std::sqrt(5000.0), 1e-12);
+  EXPECT_DOUBLE_EQ(w.autocorrelation(0), 1.0);
+  Eigen::VectorXd c = e;
+  for (Eigen::Index i = 1; i < c.size(); ++i) c(i) = 0.5 * c(i - 1) + e(i);  // AR(1)
+  const AutocorrelationTest ar = ResidualAutocorrelation(c, 20);
+  EXPECT_FALSE(ar.white);
+  EXPECT_NEAR(ar.autocorrelation(1), 0.5, 0.05);
+  EXPECT_LT(ar.p_value, 1e-10);
+}
+
+TEST(InputResidualCrossCorrelation, FindsTheLagOfAnUnmodelledInputEffect) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> n01;
+  Eigen::VectorXd u(4000), e(4000);
+  for (auto& v : u) v = n01(rng);
+  for (Eigen::Index i = 0; i < e.size(); ++i) e(i) = 0.2 * n01(rng) + (i >= 3 ? 0.5 * u(i - 3) : 0.0);
+  const CrossCorrelationTest x = InputResidualCrossCorrelation(u, e, 10);
+  EXPECT_EQ(x.peak_lag, 3);
+  EXPECT_TRUE(x.significant);
+  EXPECT_GT(x.peak_value, 0.8);
+}
+
+TEST(WelchPowerSpectrum, PeakAtTheToneAndParsevalHolds) {
+  const double ts = 1e-3;
+  const Eigen::VectorXd t = Time(16384, ts);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> n01;
+  Eigen::VectorXd s = 2.0 * (2.0 * kPi * 125.0 * t.array()).sin();
+  for (auto& v : s) v += 0.1 * n01(rng);
+  const PowerSpectrum p = WelchPowerSpectrum(s, ts, 1024);
+  Eigen::Index k = 0;
+  p.density.maxCoeff(&k);
+  EXPECT_NEAR(p.frequency_hz(k), 125.0, 1.0);
+  const double df = p.frequency_hz(1) - p.frequency_hz(0);
+  const double variance = (s.array() - s.mean()).square().mean();  // 2 + 0.01
+  EXPECT_NEAR(p.density.sum() * df, variance, 0.03 * variance);
+}
+
+}  // namespace
+}  // namespace mb
