@@ -29,8 +29,9 @@ ParamSpec Optional(std::string name, nlohmann::json default_value, std::string u
 }
 
 ParamSpec Bounded(std::string name, nlohmann::json default_value, std::string unit, std::string description,
-                  double min, double max) {
-  ParamSpec spec = Optional(std::move(name), std::move(default_value), std::move(unit), std::move(description));
+                  double min, double max, ParamType type) {
+  ParamSpec spec =
+      Optional(std::move(name), std::move(default_value), std::move(unit), std::move(description), type);
   spec.min = min;
   spec.max = max;
   return spec;
@@ -157,7 +158,7 @@ std::map<std::string, nlohmann::json> ValidateParameters(const std::vector<Param
                                         ptr, spec.unit));
           continue;
         }
-        if (value.contains("unit")) {
+        if (value.contains("unit") && !spec.unit.empty()) {
           const auto unit = value.at("unit").is_string() ? value.at("unit").get<std::string>() : std::string("?");
           if (unit != spec.unit) {
             errors->push_back(fmt::format("{}: unit mismatch: given '{}', this parameter is in '{}' (SI)", ptr, unit,

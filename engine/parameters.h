@@ -22,7 +22,7 @@ const char* ToString(ParamType type);
 struct ParamSpec {
   std::string name;
   ParamType type = ParamType::kNumber;
-  std::string unit;
+  std::string unit;  ///< SI unit; "" = dimensionless or free (a value's written unit is then not checked)
   std::optional<nlohmann::json> default_value;
   std::string description;
   /// Optional closed bounds for numbers/integers/vector entries (checked on load).
@@ -37,7 +37,7 @@ ParamSpec Optional(std::string name, nlohmann::json default_value, std::string u
                    ParamType type = ParamType::kNumber);
 /// Same as Optional with bounds [min, max] (use ±infinity for one-sided).
 ParamSpec Bounded(std::string name, nlohmann::json default_value, std::string unit, std::string description,
-                  double min, double max);
+                  double min, double max, ParamType type = ParamType::kNumber);
 
 /// The validated parameter values of one block instance. Access by name; the type was checked on load, so a
 /// wrong-type access is a programming error in the block and throws std::logic_error.
