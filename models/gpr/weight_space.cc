@@ -154,7 +154,8 @@ GprWeightPosterior SolveGprWeightPosterior(const GprFeatureStatistics& stats,
   GprWeightPosterior post;
   post.weights = sol.d.cwiseProduct(sol.a);
   const Eigen::MatrixXd a_inv = sol.llt.solve(Eigen::MatrixXd::Identity(m, m));
-  post.covariance = hp.noise_variance * (sol.d.asDiagonal() * a_inv * sol.d.asDiagonal());
+  const Eigen::MatrixXd cov = hp.noise_variance * (sol.d.asDiagonal() * a_inv * sol.d.asDiagonal());
+  post.covariance = 0.5 * (cov + cov.transpose());  // exactly symmetric (the file stores one triangle)
   post.log_marginal_likelihood = sol.log_marginal_likelihood;
   return post;
 }

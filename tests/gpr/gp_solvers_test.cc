@@ -1,0 +1,202 @@
+// The exact GP (reference) and the weight-space GP: likelihoods, gradients against finite
+// differences, and the weight form against the exact GP at the same hyperparameters.
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+
+#include <Eigen/Dense>
+#include <gtest/gtest.h>
+
+#include "models/gpr/exact_gp.h"
+#include "models/gpr/weight_space.h"
+#include "tests/gpr/synthetic_data.h"
+
+namespace mb {
+namespace {
+
+using testing::ConstantVelocityScans;
+using testing::DisturbanceSamples;
+
+GprHyperparameters Hyperparameters(GprKernel kernel) {
+  GprHyperparameters hp;
+  hp.signal_variance_x = 0.15;
+  hp.length_scale_x = kernel == GprKernel::kPeriodicSe ? 0.9 : 0.004;
+  hp.signal_variance_xdot = 0.1;
+  hp.length_scale_xdot = 0.15;
+  hp.noise_variance = 4e-4;
+  hp.period = testing::kPolePitch;
+  return hp;
+}
+
+struct Centred {
+  DisturbanceSamples s;
+  Eigen::VectorXd y;
+};
+
+Centred Data(int per_velocity, std::uint64_t seed) {
+  Centred c{ConstantVelocityScans(0.1, 0.325, per_velocity, 0.02, seed), {}};
+  c.y = c.s.d.array() - c.s.d.mean();
+  return c;
+}
+
+TEST(ExactGp, LogMarginalLikelihoodMatchesDenseFormula) {
+  const Centred c = Data(6, 1);
+  const GprHyperparameters hp = Hyperparameters(GprKernel::kPeriodicSe);
+  Eigen::MatrixXd k = TisoKernelMatrix(GprKernel::kPeriodicSe, hp, c.s.x, c.s.xdot);
+  k.diagonal().array() += hp.noise_variance;
+  const double n = static_cast<double>(c.y.size());
+  const double expected = -0.5 * c.y.dot(k.inverse() * c.y) - 0.5 * std::log(k.determinant()) -
+                          0.5 * n * std::log(2 * std::numbers::pi);
+  EXPECT_NEAR(ExactLogMarginalLikelihood(GprKernel::kPeriodicSe, hp, c.s.x, c.s.xdot, c.y),
+              expected, 1e-8 * std::abs(expected));
+}
+
+TEST(ExactGp, GradientMatchesFiniteDifferences) {
+  const Centred c = Data(8, 2);
+  for (GprKernel kernel : {GprKernel::kPeriodicSe, GprKernel::kSeSe}) {
+    const GprHyperparameters hp = Hyperparameters(kernel);
+    Eigen::VectorXd g;
+    ExactLogMarginalLikelihood(kernel, hp, c.s.x, c.s.xdot, c.y, &g);
+    const Eigen::VectorXd theta = ToLogParameters(hp);
+    for (int p = 0; p < kGprParameterCount; ++p) {
+      const double h = 1e-5;
+      Eigen::VectorXd plus = theta, minus = theta;
+      plus(p) += h;
+      minus(p) -= h;
+      const double fd =
+          (ExactLogMarginalLikelihood(kernel, FromLogParameters(plus), c.s.x, c.s.xdot, c.y) -
+           ExactLogMarginalLikelihood(kernel, FromLogParameters(minus), c.s.x, c.s.xdot, c.y)) /
+          (2 * h);
+      EXPECT_NEAR(g(p), fd, 1e-5 * (1 + std::abs(fd)))
+          << GprKernelName(kernel) << " d/d log " << GprParameterName(p);
+    }
+  }
+}
+
+TEST(ExactGp, PosteriorMatchesEquations22And23) {
+  const Centred c = Data(5, 3);
+  const GprHyperparameters hp = Hyperparameters(GprKernel::kPeriodicSe);
+  const ExactGp gp(GprKernel::kPeriodicSe, hp, c.s.x, c.s.xdot, c.y);
+  Eigen::MatrixXd k = TisoKernelMatrix(GprKernel::kPeriodicSe, hp, c.s.x, c.s.xdot);
+  k.diagonal().array() += hp.noise_variance;
+  const Eigen::MatrixXd k_inv = k.inverse();
+  const double xs = 0.5, vs = 0.27;  // outside the training window
+  Eigen::VectorXd k_star(c.y.size());
+  for (Eigen::Index i = 0; i < k_star.size(); ++i) {
+    k_star(i) = TisoKernel(GprKernel::kPeriodicSe, hp, xs, vs, c.s.x(i), c.s.xdot(i));
+  }
+  EXPECT_NEAR(gp.PosteriorMean(xs, vs), k_star.dot(k_inv * c.y), 1e-9);
+  EXPECT_NEAR(gp.PosteriorVariance(xs, vs),
+              hp.signal_variance_x + hp.signal_variance_xdot - k_star.dot(k_inv * k_star), 1e-9);
+}
+
+TEST(ExactGp, RejectsMismatchedLengthsAndSingularCovariance) {
+  GprHyperparameters hp = Hyperparameters(GprKernel::kPeriodicSe);
+  EXPECT_THROW(ExactGp(GprKernel::kPeriodicSe, hp, Eigen::VectorXd(3), Eigen::VectorXd(3),
+                       Eigen::VectorXd(2)),
+               std::invalid_argument);
+  hp.noise_variance = 0.0;
+  const Eigen::VectorXd same = Eigen::VectorXd::Constant(3, 0.1);  // three identical inputs
+  try {
+    ExactGp gp(GprKernel::kPeriodicSe, hp, same, same, Eigen::VectorXd::Ones(3));
+    FAIL() << "expected std::runtime_error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("raise the noise variance"), std::string::npos);
+  }
+}
+
+TEST(WeightSpaceGp, StatisticsAreExactSumsOverTheData) {
+  const Centred c = Data(30, 4);  // 300 samples: more than one block of 256 rows
+  const GprHyperparameters hp = Hyperparameters(GprKernel::kPeriodicSe);
+  const GprBasis basis = ChooseGprBasis(GprKernel::kPeriodicSe, hp, {0.1, 0.325}, {0.05, 0.5}, 1e-10);
+  const GprFeatureStatistics stats = AccumulateGprFeatureStatistics(basis, c.s.x, c.s.xdot, c.y);
+  Eigen::MatrixXd psi(c.y.size(), GprFeatureCount(basis));
+  for (Eigen::Index i = 0; i < psi.rows(); ++i) {
+    Eigen::VectorXd row(psi.cols());
+    EvaluateGprBasis(basis, c.s.x(i), c.s.xdot(i), row.data());
+    psi.row(i) = row.transpose();
+  }
+  EXPECT_LT((stats.gram - psi.transpose() * psi).cwiseAbs().maxCoeff(), 1e-10);
+  EXPECT_LT((stats.projection - psi.transpose() * c.y).cwiseAbs().maxCoeff(), 1e-10);
+  EXPECT_NEAR(stats.sum_squares, c.y.squaredNorm(), 1e-10);
+  EXPECT_EQ(stats.count, c.y.size());
+}
+
+TEST(WeightSpaceGp, LikelihoodEqualsExactAtSameHyperparameters) {
+  const Centred c = Data(30, 5);
+  for (GprKernel kernel : {GprKernel::kPeriodicSe, GprKernel::kSeSe}) {
+    const GprHyperparameters hp = Hyperparameters(kernel);
+    const GprBasis basis = ChooseGprBasis(kernel, hp, {0.1, 0.325}, {0.05, 0.5}, 1e-12);
+    const GprFeatureStatistics stats = AccumulateGprFeatureStatistics(basis, c.s.x, c.s.xdot, c.y);
+    const double weight = WeightSpaceLogMarginalLikelihood(stats, hp);
+    const double exact = ExactLogMarginalLikelihood(kernel, hp, c.s.x, c.s.xdot, c.y);
+    EXPECT_NEAR(weight, exact, 1e-6 * std::abs(exact)) << GprKernelName(kernel);
+  }
+}
+
+TEST(WeightSpaceGp, GradientMatchesFiniteDifferences) {
+  const Centred c = Data(20, 6);
+  for (GprKernel kernel : {GprKernel::kPeriodicSe, GprKernel::kSeSe}) {
+    const GprHyperparameters hp = Hyperparameters(kernel);
+    const bool with_period = kernel == GprKernel::kPeriodicSe;
+    const GprBasis basis = ChooseGprBasis(kernel, hp, {0.1, 0.325}, {0.05, 0.5}, 1e-12);
+    const auto lml = [&](const Eigen::VectorXd& theta, Eigen::VectorXd* g) {
+      const GprHyperparameters h = FromLogParameters(theta);
+      GprBasis b = basis;
+      b.period = h.period;
+      return WeightSpaceLogMarginalLikelihood(
+          AccumulateGprFeatureStatistics(b, c.s.x, c.s.xdot, c.y, with_period), h, g);
+    };
+    const Eigen::VectorXd theta = ToLogParameters(hp);
+    Eigen::VectorXd g;
+    lml(theta, &g);
+    for (int p = 0; p < kGprParameterCount; ++p) {
+      if (p == kLogPeriod && !with_period) continue;
+      const double h = 1e-5;
+      Eigen::VectorXd plus = theta, minus = theta;
+      plus(p) += h;
+      minus(p) -= h;
+      const double fd = (lml(plus, nullptr) - lml(minus, nullptr)) / (2 * h);
+      EXPECT_NEAR(g(p), fd, 1e-5 * (1 + std::abs(fd)))
+          << GprKernelName(kernel) << " d/d log " << GprParameterName(p);
+    }
+  }
+}
+
+// The acceptance figure of issue 4: posterior mean of the weight form within 1e-6 of the
+// signal's standard deviation of the exact GP's, at the same hyperparameters.
+TEST(WeightSpaceGp, PosteriorMatchesExactGp) {
+  const Centred c = Data(40, 7);  // N = 400
+  const double signal_std = std::sqrt(c.y.squaredNorm() / static_cast<double>(c.y.size()));
+  for (GprKernel kernel : {GprKernel::kPeriodicSe, GprKernel::kSeSe}) {
+    const GprHyperparameters hp = Hyperparameters(kernel);
+    const GprBasis basis = ChooseGprBasis(kernel, hp, {0.1, 0.325}, {0.05, 0.5}, 1e-12);
+    const GprWeightPosterior post =
+        SolveGprWeightPosterior(AccumulateGprFeatureStatistics(basis, c.s.x, c.s.xdot, c.y), hp);
+    const ExactGp exact(kernel, hp, c.s.x, c.s.xdot, c.y);
+    const auto m = static_cast<std::size_t>(GprFeatureCount(basis));
+    std::vector<double> psi(m);
+    double worst_mean = 0.0;
+    double worst_std = 0.0;
+    for (int i = 0; i < 25; ++i) {
+      for (int j = 0; j < 10; ++j) {
+        const double x = 0.1 + 0.225 * i / 24.0;
+        const double v = 0.05 + 0.45 * j / 9.0;
+        EvaluateGprBasis(basis, x, v, psi.data());
+        const Eigen::Map<const Eigen::VectorXd> p(psi.data(), static_cast<Eigen::Index>(m));
+        worst_mean = std::max(worst_mean, std::abs(p.dot(post.weights) - exact.PosteriorMean(x, v)));
+        worst_std = std::max(worst_std, std::abs(std::sqrt(std::max(0.0, p.dot(post.covariance * p))) -
+                                                 std::sqrt(std::max(0.0, exact.PosteriorVariance(x, v)))));
+      }
+    }
+    std::printf("[ measured ] %s, N = 400, M = %zu: max |mean_weight - mean_exact| / std(y) = %.2e, "
+                "max |std_weight - std_exact| / std(y) = %.2e\n",
+                std::string(GprKernelName(kernel)).c_str(), m, worst_mean / signal_std,
+                worst_std / signal_std);
+    EXPECT_LT(worst_mean, 1e-6 * signal_std) << GprKernelName(kernel);
+    EXPECT_LT(worst_std, 1e-4 * signal_std) << GprKernelName(kernel);
+  }
+}
+
+}  // namespace
+}  // namespace mb

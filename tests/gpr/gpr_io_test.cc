@@ -1,0 +1,143 @@
+// Model file: round trip and the errors a corrupt or foreign file gives.
+#include "models/gpr/gpr_io.h"
+
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "models/gpr/gpr_fit.h"
+#include "tests/gpr/synthetic_data.h"
+
+namespace mb {
+namespace {
+
+namespace fs = std::filesystem;
+
+class GprModelFile : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    const auto data = testing::ConstantVelocityScans(0.1, 0.325, 15, 0.02, 21);
+    GprFitOptions options;
+    options.restarts = 0;
+    options.source = "synthetic scans";
+    model_ = new GprModel(FitGpr(data.x, data.xdot, data.d, options));
+    options.kernel = GprKernel::kSeSe;
+    ds_model_ = new GprModel(FitGpr(data.x, data.xdot, data.d, options));
+  }
+  static void TearDownTestSuite() {
+    delete model_;
+    delete ds_model_;
+  }
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("mb_gpr_io_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string LoadError(const nlohmann::json& j) {
+    const fs::path path = dir_ / "model.json";
+    std::ofstream(path) << j.dump();
+    try {
+      LoadGprModel(path);
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+    return "no exception";
+  }
+
+  static GprModel* model_;
+  static GprModel* ds_model_;
+  fs::path dir_;
+};
+GprModel* GprModelFile::model_ = nullptr;
+GprModel* GprModelFile::ds_model_ = nullptr;
+
+TEST_F(GprModelFile, RoundTripPreservesEverything) {
+  for (const GprModel* original : {model_, ds_model_}) {
+    const fs::path path = dir_ / "model.json";
+    SaveGprModel(*original, path);
+    const GprModel loaded = LoadGprModel(path);
+    EXPECT_EQ(loaded.kernel(), original->kernel());
+    EXPECT_EQ(loaded.feature_count(), original->feature_count());
+    EXPECT_EQ((loaded.data().weights - original->data().weights).cwiseAbs().maxCoeff(), 0.0);
+    EXPECT_EQ((loaded.data().weight_covariance - original->data().weight_covariance)
+                  .cwiseAbs()
+                  .maxCoeff(),
+              0.0);
+    EXPECT_EQ(loaded.data().provenance.source, "synthetic scans");
+    EXPECT_EQ(loaded.data().provenance.priors[kLogLengthScaleXdot].median,
+              original->data().provenance.priors[kLogLengthScaleXdot].median);
+    for (double x : {-0.2, 0.15, 0.9}) {
+      for (double v : {0.0, 0.2, 0.7}) {
+        double m1 = 0, s1 = 0, m2 = 0, s2 = 0;
+        original->Predict(x, v, &m1, &s1);
+        loaded.Predict(x, v, &m2, &s2);
+        EXPECT_EQ(m1, m2);
+        EXPECT_EQ(s1, s2);
+      }
+    }
+    EXPECT_FALSE(fs::exists(dir_ / "model.json.tmp"));
+  }
+}
+
+TEST_F(GprModelFile, CorruptFileIsAClearError) {
+  const fs::path path = dir_ / "model.json";
+  SaveGprModel(*model_, path);
+  fs::resize_file(path, fs::file_size(path) / 2);  // truncated
+  try {
+    LoadGprModel(path);
+    FAIL() << "expected std::runtime_error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path.string() + ": not a valid JSON file (corrupt or truncated?)"),
+              std::string::npos)
+        << e.what();
+  }
+  try {
+    LoadGprModel(dir_ / "missing.json");
+    FAIL() << "expected std::runtime_error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot open"), std::string::npos);
+  }
+}
+
+TEST_F(GprModelFile, WrongVersionOrFormatIsRejected) {
+  nlohmann::json j = GprModelToJson(*model_);
+  j["version"] = 2;
+  EXPECT_NE(LoadError(j).find("/version: file version 2 is not supported (this build reads version 1)"),
+            std::string::npos)
+      << LoadError(j);
+  j = GprModelToJson(*model_);
+  j["format"] = "something-else";
+  EXPECT_NE(LoadError(j).find("/format: expected \"motionblocks-gpr-model\""), std::string::npos);
+}
+
+TEST_F(GprModelFile, EveryMissingOrInvalidFieldIsReportedWithItsPointer) {
+  nlohmann::json j = GprModelToJson(*model_);
+  j["hyperparameters"].erase("length_scale_xdot");
+  j["hyperparameters"]["noise_variance"] = -1.0;
+  j["weights"][3] = nullptr;  // how nlohmann writes a NaN
+  j["trained_range"]["x"] = nlohmann::json::array({0.3, 0.1});
+  const std::string error = LoadError(j);
+  EXPECT_NE(error.find("/hyperparameters/length_scale_xdot: missing"), std::string::npos) << error;
+  EXPECT_NE(error.find("/hyperparameters/noise_variance: must be > 0"), std::string::npos) << error;
+  EXPECT_NE(error.find("/weights/3: must be a number, but is null (NaN and infinity are not valid here)"),
+            std::string::npos)
+      << error;
+  EXPECT_NE(error.find("/trained_range/x: must be [min, max] with min <= max"), std::string::npos)
+      << error;
+  j = GprModelToJson(*model_);
+  j["weights"].erase(0);
+  EXPECT_NE(LoadError(j).find("/weights: must have " + std::to_string(model_->feature_count()) +
+                              " entries"),
+            std::string::npos);
+  j = GprModelToJson(*model_);
+  j["kernel"] = "SE";
+  EXPECT_NE(LoadError(j).find("/kernel: must be \"PS\" or \"DS\", got \"SE\""), std::string::npos);
+}
+
+}  // namespace
+}  // namespace mb
