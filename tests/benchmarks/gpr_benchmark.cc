@@ -1,0 +1,93 @@
+// TISO-GPR benchmarks: MAP fit for N = 2,096 (the paper's D(2)) and N = 200,000 (every sample of
+// a 200 s log at 1 kHz), prediction per call. The exact solver is run at N = 2,096 only: at
+// N = 200,000 its N×N matrix alone is 320 GB (FitGpr refuses N > 10,000).
+#include <benchmark/benchmark.h>
+
+#include "models/gpr/exact_gp.h"
+#include "models/gpr/gpr_fit.h"
+#include "tests/gpr/synthetic_data.h"
+
+namespace mb {
+namespace {
+
+testing::DisturbanceSamples Samples(Eigen::Index n) {
+  // Ten constant-velocity scans over the paper's 225 mm window, n/10 samples each.
+  return testing::ConstantVelocityScans(0.2375, 0.4625, static_cast<int>(n / 10), 0.02, 42);
+}
+
+void BM_FitGpr(benchmark::State& state, GprSolver solver, GprKernel kernel, int restarts) {
+  const auto data = Samples(state.range(0));
+  GprFitOptions options;
+  options.solver = solver;
+  options.kernel = kernel;
+  options.restarts = restarts;
+  int features = 0;
+  for (auto _ : state) {
+    const GprModel model = FitGpr(data.x, data.xdot, data.d, options);
+    features = model.feature_count();
+    benchmark::DoNotOptimize(model.mean());
+  }
+  state.counters["N"] = static_cast<double>(data.x.size());
+  state.counters["M"] = features;
+  state.counters["restarts"] = restarts;
+}
+
+BENCHMARK_CAPTURE(BM_FitGpr, weight_space_PS, GprSolver::kWeightSpace, GprKernel::kPeriodicSe, 2)
+    ->Arg(2096)->Arg(200000)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK_CAPTURE(BM_FitGpr, weight_space_DS, GprSolver::kWeightSpace, GprKernel::kSeSe, 2)
+    ->Arg(2096)->Arg(200000)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK_CAPTURE(BM_FitGpr, exact_PS, GprSolver::kExact, GprKernel::kPeriodicSe, 0)
+    ->Arg(2096)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+GprModel FittedModel(GprKernel kernel) {
+  const auto data = Samples(2096);
+  GprFitOptions options;
+  options.kernel = kernel;
+  return FitGpr(data.x, data.xdot, data.d, options);
+}
+
+void BM_PredictPosteriorMean(benchmark::State& state, GprKernel kernel) {
+  const GprModel model = FittedModel(kernel);
+  double x = 0.0, v = 0.05;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(model.PredictPosteriorMean(x, v));
+    x += 1.3e-4;  // a moving stage: 0.13 m/s at 1 kHz
+    v = v > 0.5 ? 0.05 : v + 1e-5;
+  }
+  state.counters["M"] = model.feature_count();
+}
+BENCHMARK_CAPTURE(BM_PredictPosteriorMean, PS, GprKernel::kPeriodicSe);
+BENCHMARK_CAPTURE(BM_PredictPosteriorMean, DS, GprKernel::kSeSe);
+
+void BM_PredictMeanAndStd(benchmark::State& state, GprKernel kernel) {
+  const GprModel model = FittedModel(kernel);
+  double x = 0.0, v = 0.05, mean = 0.0, std = 0.0;
+  for (auto _ : state) {
+    model.Predict(x, v, &mean, &std);
+    benchmark::DoNotOptimize(mean);
+    benchmark::DoNotOptimize(std);
+    x += 1.3e-4;
+    v = v > 0.5 ? 0.05 : v + 1e-5;
+  }
+  state.counters["M"] = model.feature_count();
+}
+BENCHMARK_CAPTURE(BM_PredictMeanAndStd, PS, GprKernel::kPeriodicSe);
+BENCHMARK_CAPTURE(BM_PredictMeanAndStd, DS, GprKernel::kSeSe);
+
+// The exact GP's prediction (eq. 22 as written, O(N)) for comparison.
+void BM_ExactPosteriorMean(benchmark::State& state) {
+  const GprModel model = FittedModel(GprKernel::kPeriodicSe);
+  const auto data = Samples(2096);
+  const Eigen::VectorXd y = data.d.array() - data.d.mean();
+  const ExactGp exact(GprKernel::kPeriodicSe, model.hyperparameters(), data.x, data.xdot, y);
+  double x = 0.0, v = 0.05;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(exact.PosteriorMean(x, v));
+    x += 1.3e-4;
+  }
+  state.counters["N"] = static_cast<double>(data.x.size());
+}
+BENCHMARK(BM_ExactPosteriorMean);
+
+}  // namespace
+}  // namespace mb
