@@ -168,6 +168,7 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
   result.candidates = search.candidates;
   result.position_peaks = search.position_periodogram.peaks;
   result.time_peaks = search.time_periodogram.peaks;
+  result.notes = search.notes;
 
   struct Candidate {
     EffectInstance effect;
@@ -321,6 +322,7 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
   result.missing_effect_found = !result.effects.empty();
 
   // 6. Can position-periodic and time-periodic be told apart?
+  std::string ambiguity_note;
   {
     const double v_max = signals.velocity.cwiseAbs().maxCoeff();
     std::vector<double> speeds;
@@ -335,11 +337,12 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
     for (const auto& e : result.effects) periodic = periodic || e.effect == "position_periodic" || e.effect == "time_periodic";
     if (one_speed && periodic) {
       result.position_time_indistinguishable = true;
-      result.notes.push_back(fmt::format(
+      ambiguity_note = fmt::format(
           "cannot tell position-periodic from time-periodic: the motion has essentially one speed (|v| ≈ {:.4g} "
           "m/s, interquartile spread {:.1f} %), so a period P in position is a period P/|v| in time. Record "
           "the motion at two or more speeds to tell them apart.",
-          median, 100.0 * spread));
+          median, 100.0 * spread);
+      result.notes.push_back(ambiguity_note);
       for (auto& e : result.effects) {
         if (e.effect == "position_periodic" || e.effect == "time_periodic") {
           e.description += " (position-periodic vs time-periodic: cannot tell at one speed)";
@@ -369,7 +372,7 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
         top.effect, top.parameters.empty() ? "" : " (" + FormatParameters(top.parameters) + ")",
         100.0 * top.score, 100.0 * result.explained_share, result.rmse_before, result.rmse_after,
         result.rmse_base_refit, result.heldout_rmse_base, result.heldout_rmse_after);
-    if (result.position_time_indistinguishable) result.summary += " " + result.notes.front();
+    if (result.position_time_indistinguishable) result.summary += " " + ambiguity_note;
   } else if (wb.white && !significant_peak) {
     result.summary = fmt::format(
         "No missing effect: no candidate reduces the held-out error by {:.1f} % or more, the residual is "

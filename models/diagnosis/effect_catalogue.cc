@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 
@@ -123,11 +124,15 @@ Eigen::VectorXd ResonantFilter(const Eigen::VectorXd& u, double ts, double f_hz,
   return y;
 }
 
-// Least-squares residual sum of squares of r on [base, extra].
+// Least-squares residual sum of squares of r on [base, extra] (normal equations, small ridge).
 double ResidualSumOfSquares(const Eigen::MatrixXd& base, const Eigen::VectorXd& extra, const Eigen::VectorXd& r) {
   Eigen::MatrixXd x(r.size(), base.cols() + 1);
   x << base, extra;
-  const Eigen::VectorXd beta = x.colPivHouseholderQr().solve(r);
+  const Eigen::VectorXd scale = (x.colwise().norm().array() + 1e-300).inverse();
+  x = x * scale.asDiagonal();
+  Eigen::MatrixXd g = x.transpose() * x;
+  g.diagonal().array() += 1e-10;
+  const Eigen::VectorXd beta = g.ldlt().solve(x.transpose() * r);
   return (r - x * beta).squaredNorm();
 }
 
@@ -296,7 +301,9 @@ CandidateSearch ProposeCandidateEffects(const DiagnosisSignals& s, const Eigen::
   // Position-periodic effects from the position periodogram.
   const double x_span = s.position.maxCoeff() - s.position.minCoeff();
   if (x_span > 0.0) {
-    out.position_periodogram = PositionPeriodogram(s.position, r, options.position_periodogram);
+    PeriodogramOptions po = options.position_periodogram;
+    if (po.max_period <= 0.0) po.max_period = x_span / options.min_position_cycles;
+    out.position_periodogram = PositionPeriodogram(s.position, r, po);
     const auto& pg = out.position_periodogram;
     int proposed = 0;
     for (std::size_t i = 0; i < pg.peaks.size() && proposed < options.max_position_periods; ++i) {
@@ -314,14 +321,29 @@ CandidateSearch ProposeCandidateEffects(const DiagnosisSignals& s, const Eigen::
     }
   }
 
-  // Time-periodic vibration from the time periodogram.
+  // Time-periodic vibration from the time periodogram: the strongest peak that is not locked to the
+  // motion's own repetition (there, every state-dependent effect is time-periodic too).
   out.time_periodogram = TimePeriodogram(s.time, r, options.time_periodogram);
-  {
-    const auto& pg = out.time_periodogram;
-    if (!pg.peaks.empty()) {
-      add("time_periodic", {{"frequency_hz", 1.0 / pg.best().period},
-                            {"harmonics", HarmonicCount(pg, 0, options.max_harmonics)}});
+  if (x_span > 0.0) {
+    out.motion_frequency_hz = 1.0 / TimePeriodogram(s.time, s.position, options.time_periodogram).best().period;
+  }
+  for (std::size_t i = 0; i < out.time_periodogram.peaks.size(); ++i) {
+    const PeriodogramPeak& peak = out.time_periodogram.peaks[i];
+    if (peak.harmonic_of >= 0) continue;
+    const double f = 1.0 / peak.period;
+    const double k = out.motion_frequency_hz > 0.0 ? std::round(f / out.motion_frequency_hz) : 0.0;
+    if (k >= 1.0 && k <= options.motion_harmonics &&
+        std::abs(f - k * out.motion_frequency_hz) <= 0.01 * f) {
+      out.notes.push_back(fmt::format(
+          "the residual's time period {:.4g} s ({:.1f} % of its variance) repeats with the motion ({} × its "
+          "frequency {:.4g} Hz): it depends on the motion state (x, v, a), not on time; not proposed as "
+          "time_periodic",
+          peak.period, 100.0 * peak.power, static_cast<int>(k), out.motion_frequency_hz));
+      continue;
     }
+    add("time_periodic", {{"frequency_hz", f},
+                          {"harmonics", HarmonicCount(out.time_periodogram, i, options.max_harmonics)}});
+    break;
   }
 
   // Resonance: a prominent peak of the residual's Welch spectrum.
@@ -349,32 +371,44 @@ CandidateSearch ProposeCandidateEffects(const DiagnosisSignals& s, const Eigen::
     }
   }
 
-  // Time delay: least squares of r on [base, 1, dŷ/dt] gives −d; refine d by golden section on the
-  // exact shift ŷ(t − d) − ŷ(t), refitting the base jointly.
+  // Time delay d (measured = ŷ(t − d)): a first guess d0 = −c from the least-squares fit of r on
+  // [1, dŷ/dt] (without the base: the base's a, v columns would absorb part of dŷ/dt), then a log-grid
+  // scan of |d| over [|d0|/8, 8|d0|] and a golden-section refinement of the joint fit of r on
+  // [base, 1, ŷ(t − d) − ŷ(t)].
   if (s.model_output.size() == n) {
     const Eigen::VectorXd& y = s.model_output;
     Eigen::MatrixXd base(n, base_columns.cols() + 1);
     base << base_columns, Eigen::VectorXd::Ones(n);
     const Eigen::VectorXd dy = CentralDifference(s.time, y);
-    Eigen::MatrixXd x(n, base.cols() + 1);
-    x << base, dy;
-    const Eigen::VectorXd beta = x.colPivHouseholderQr().solve(r);
-    const double d0 = -beta(beta.size() - 1);
+    Eigen::MatrixXd x(n, 2);
+    x << Eigen::VectorXd::Ones(n), dy;
+    const Eigen::Vector2d beta = x.colPivHouseholderQr().solve(r);
+    const double d0 = -beta(1);
     if (std::isfinite(d0) && std::abs(d0) > 1e-3 * ts) {
-      auto sse = [&](double d) { return ResidualSumOfSquares(base, Shifted(s.time, y, d) - y, r); };
-      double lo = d0 / 3.0, hi = 3.0 * d0;
-      if (lo > hi) std::swap(lo, hi);
+      const double sign = d0 > 0.0 ? 1.0 : -1.0;
+      auto sse = [&](double magnitude) {
+        return ResidualSumOfSquares(base, Shifted(s.time, y, sign * magnitude) - y, r);
+      };
+      constexpr int kGrid = 25;
+      const double lo_grid = std::abs(d0) / 8.0, ratio = std::pow(64.0, 1.0 / (kGrid - 1));
+      int best = 0;
+      double best_sse = std::numeric_limits<double>::infinity();
+      for (int i = 0; i < kGrid; ++i) {
+        const double e = sse(lo_grid * std::pow(ratio, i));
+        if (e < best_sse) { best_sse = e; best = i; }
+      }
+      double lo = lo_grid * std::pow(ratio, best - 1), hi = lo_grid * std::pow(ratio, best + 1);
       const double g = 0.5 * (std::sqrt(5.0) - 1.0);
       double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
       double e1 = sse(x1), e2 = sse(x2);
-      for (int it = 0; it < 30 && hi - lo > 1e-4 * std::abs(d0); ++it) {
+      for (int it = 0; it < 30 && hi - lo > 1e-4 * lo; ++it) {
         if (e1 < e2) {
           hi = x2; x2 = x1; e2 = e1; x1 = hi - g * (hi - lo); e1 = sse(x1);
         } else {
           lo = x1; x1 = x2; e1 = e2; x2 = lo + g * (hi - lo); e2 = sse(x2);
         }
       }
-      add("time_delay", {{"delay", 0.5 * (lo + hi)}});
+      add("time_delay", {{"delay", sign * 0.5 * (lo + hi)}});
     }
     // Quantization: the measured output y + r changes in integer multiples of its smallest step.
     const Eigen::VectorXd measured = y + r;

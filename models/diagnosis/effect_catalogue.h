@@ -80,7 +80,7 @@ struct CatalogueOptions {
   // Harmonics of a periodic effect: 1 + the highest harmonic order flagged in the periodogram, at most this.
   int max_harmonics = 4;
   // Distinct position periods proposed (strongest non-harmonic periodogram peaks).
-  int max_position_periods = 2;
+  int max_position_periods = 3;
   // Stribeck velocities tried, as fractions of max |v|; the one best correlated with the residual wins.
   std::vector<double> stribeck_fractions{0.02, 0.05, 0.1, 0.2, 0.4};
   // Resonance: Welch segment length, damping ratio of the regressor filter, and how far the spectral
@@ -89,9 +89,15 @@ struct CatalogueOptions {
   Eigen::Index welch_segment = 1024;
   double resonance_damping_ratio = 0.05;
   double resonance_prominence = 20.0;
-  // Periodogram settings for the position- and time-domain searches.
+  // Periodogram settings for the position- and time-domain searches. When position_periodogram's
+  // max_period is automatic (<= 0), the search stops at travel/min_position_cycles: a "period" that fits
+  // fewer cycles into the travel cannot be told from a smooth position dependence.
   PeriodogramOptions position_periodogram{};
   PeriodogramOptions time_periodogram{};
+  double min_position_cycles = 8.0;
+  // A residual time period within 1 % of k × the motion's own repetition frequency (k = 1..this) is
+  // "motion-locked": any effect of x, v or a repeats there too, so it is not proposed as time_periodic.
+  int motion_harmonics = 8;
 };
 
 // What the proposal found on the way (for reports): the periodograms searched.
@@ -99,12 +105,15 @@ struct CandidateSearch {
   std::vector<EffectInstance> candidates;
   Periodogram position_periodogram;
   Periodogram time_periodogram;
+  double motion_frequency_hz = 0.0;  // strongest periodicity of the position in time
+  std::vector<std::string> notes;    // e.g. why a time-periodic peak was not proposed
 };
 
 // Proposes every applicable effect with parameters estimated from the signals and `residual` (pass the
 // residual after the base model's refit): position periods from PositionPeriodogram, the time-periodic
-// frequency from TimePeriodogram, the resonance from the residual's Welch spectrum, the delay from a
-// least-squares fit of the residual on dŷ/dt refined by a golden-section search of the shift, the
+// frequency from TimePeriodogram (the strongest peak that is not motion-locked, see CatalogueOptions), the resonance from the residual's Welch spectrum, the delay from a
+// least-squares fit of the residual on dŷ/dt refined by a scan and golden-section search of the shift (joint
+// with the base), the
 // quantization step from the measured output's smallest level difference. Effects whose signals are
 // absent (time_delay and quantization without ŷ) or that have nothing to fit are left out.
 // Throws std::invalid_argument as DiagnosisSignals::Validate, or when residual or base_columns has the

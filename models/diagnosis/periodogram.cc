@@ -15,18 +15,32 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-// Least-squares fit of c0 + a cos θ + b sin θ to centred data from its weighted sums.
-// Returns the explained sum of squares; writes the coefficients when asked.
+// Least-squares fit of c0 + a cos θ + b sin θ to data from its weighted sums: W = Σw, C = Σw cos θ,
+// S = Σw sin θ, C2 = Σw cos 2θ, S2 = Σw sin 2θ, Y = Σw y, YC = Σw y cos θ, YS = Σw y sin θ.
+// Closed form: project cos and sin off the constant, solve the 2×2 system (Zechmeister & Kürster 2009).
+// Returns the explained sum of squares Σw ŷ²; writes (c0, a, b) when asked.
 double ExplainedSumOfSquares(double w, double c, double s, double c2, double s2, double y, double yc,
                              double ys, Eigen::Vector3d* coef = nullptr) {
-  Eigen::Matrix3d g;
-  g << w, c, s, c, 0.5 * (w + c2), 0.5 * s2, s, 0.5 * s2, 0.5 * (w - c2);
-  const Eigen::Vector3d rhs(y, yc, ys);
-  // A period so long (or so short) that cos and sin are nearly constant makes g singular: LDLT with
-  // pivoting then gives the minimum-effort solution of the remaining directions.
-  const Eigen::Vector3d beta = g.ldlt().solve(rhs);
-  if (coef) *coef = beta;
-  const double ess = rhs.dot(beta);
+  const double cc = 0.5 * (w + c2) - c * c / w;
+  const double ss = 0.5 * (w - c2) - s * s / w;
+  const double cs = 0.5 * s2 - c * s / w;
+  const double yc_t = yc - y * c / w, ys_t = ys - y * s / w;
+  const double det = cc * ss - cs * cs;
+  double a = 0.0, b = 0.0, ess = y * y / w;
+  if (det > 1e-12 * w * w) {
+    a = (ss * yc_t - cs * ys_t) / det;
+    b = (cc * ys_t - cs * yc_t) / det;
+    ess += a * yc_t + b * ys_t;
+  } else if (std::max(cc, ss) > 1e-12 * w) {  // cos and sin nearly collinear: fit the larger one
+    if (cc >= ss) {
+      a = yc_t / cc;
+      ess += a * yc_t;
+    } else {
+      b = ys_t / ss;
+      ess += b * ys_t;
+    }
+  }
+  if (coef) *coef = Eigen::Vector3d((y - a * c - b * s) / w, a, b);
   return std::isfinite(ess) ? std::max(0.0, ess) : 0.0;
 }
 
@@ -179,21 +193,34 @@ Periodogram LombScarglePeriodogram(const Eigen::Ref<const Eigen::VectorXd>& absc
         "min_period < max_period",
         out.min_period, out.max_period, span));
   }
-  // Bin width: P_min/8, but at most 2^21 bins.
+  // Bin width: P_min/8, but at most 2^21 bins. A uniformly sampled, increasing abscissa (time) is
+  // binned at its own step: every sample sits on a bin centre, binning changes nothing.
   constexpr double kMaxBins = 2097152.0;
   out.bin_width = std::max(out.min_period / 8.0, span / (kMaxBins - 1.0));
+  {
+    const double step = span / static_cast<double>(n - 1);
+    bool uniform = true;
+    for (Eigen::Index i = 1; i < n && uniform; ++i) {
+      uniform = std::abs(abscissa(i) - abscissa(i - 1) - step) <= 1e-6 * step;
+    }
+    if (uniform && step > out.bin_width) out.bin_width = step;
+  }
   const Eigen::Index m = static_cast<Eigen::Index>(std::ceil(span / out.bin_width)) + 1;
   const Bins bins = MakeBins(abscissa, r, x_min, out.bin_width, m);
 
-  // FFT length: frequency step 1/(K h) <= 1/(8 span), and room for 2 f_max = 1/(4h) below Nyquist.
+  // FFT length: frequency step 1/(K h) <= 1/(4 span) (4 nodes per main lobe; peaks are refined
+  // afterwards). The DFT sums are exact at every index < K, which must include 2 f_max.
   Eigen::Index k_size = 1;
-  while (k_size < 8 * m) k_size *= 2;
+  while (k_size < 4 * m) k_size *= 2;
   const double df = 1.0 / (static_cast<double>(k_size) * out.bin_width);
   const double f_min = 1.0 / out.max_period, f_max = 1.0 / out.min_period;
   const auto k_lo = std::max<Eigen::Index>(1, static_cast<Eigen::Index>(std::floor(f_min / df)));
   const auto k_hi = static_cast<Eigen::Index>(std::ceil(f_max / df));
   if (2 * k_hi >= k_size) {
-    throw std::invalid_argument("LombScarglePeriodogram: internal frequency grid too short");
+    throw std::invalid_argument(fmt::format(
+        "LombScarglePeriodogram: min_period {} is below 2 sample steps ({}) of a uniformly sampled abscissa "
+        "(above the Nyquist frequency); raise min_period",
+        out.min_period, 2.0 * out.bin_width));
   }
   Eigen::FFT<double> fft;
   const auto a = Dft(fft, bins.weight, k_size);

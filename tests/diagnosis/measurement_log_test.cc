@@ -85,7 +85,7 @@ TEST_F(MeasurementLogTest, GapIsReportedWithWhere) {
               AllOf(HasSubstr("1 gap(s)"), HasSubstr("after t = 0.009 s (line 11, step 0.00"),
                     HasSubstr("the median step 0.00"), HasSubstr("resample")));
   // The check can be disabled.
-  EXPECT_EQ(ReadMeasurementLog(path, {.max_gap_ratio = 0.0}).rows(), 20);
+  EXPECT_EQ(ReadMeasurementLog(path, {.required_columns = {}, .max_gap_ratio = 0.0}).rows(), 20);
 }
 
 TEST_F(MeasurementLogTest, NonMonotonicTime) {
