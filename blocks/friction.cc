@@ -1,0 +1,73 @@
+#include "blocks/friction.h"
+
+#include <limits>
+#include <stdexcept>
+
+namespace mb {
+
+Friction::Friction(const BlockConfig& config)
+    : Block(config.name), stick_velocity_(config.parameters.Number("stick_velocity")) {
+  const auto& p = config.parameters;
+  friction_ = FrictionParameters{p.Number("viscous"), p.Number("coulomb"), p.Number("static"),
+                                 p.Number("stribeck_velocity")};
+  ValidateFrictionParameters(friction_, "friction '" + config.name + "'");
+  const std::string& model = p.String("stick_model");
+  if (model != "karnopp" && model != "none") {
+    throw std::invalid_argument("stick_model must be \"karnopp\" (stick while |f_applied| <= static) or \"none\" "
+                                "(slip only), got \"" + model + "\"");
+  }
+  stick_ = model == "karnopp";
+  DeclareInputPort("v", 1, "m/s");
+  if (stick_) DeclareInputPort("f_applied", 1, "N");
+  DeclareOutputPort("f", 1, "N");
+  DeclareDiscreteState(1);
+  DeclareZeroCrossings(2);
+  SetSampleTime(SampleTime::Continuous());
+}
+
+FrictionMode Friction::Mode(const BlockContext& c) {
+  return static_cast<FrictionMode>(static_cast<int>(c.discrete_state()(0)));
+}
+
+void Friction::CalcOutput(const BlockContext& c) const {
+  c.y(0) = FrictionForce(friction_, Mode(c), c.u(0), AppliedForce(c));
+}
+
+void Friction::CalcZeroCrossings(const BlockContext& c) const {
+  auto g = c.zero_crossings();
+  if (Mode(c) == FrictionMode::kStuck) {
+    const double f = AppliedForce(c);
+    g(0) = friction_.breakaway - f;
+    g(1) = friction_.breakaway + f;
+  } else {
+    g(0) = c.u(0);
+    g(1) = 1.0;
+  }
+}
+
+bool Friction::UpdateModes(const BlockContext& c) const {
+  const FrictionMode old_mode = Mode(c);
+  const FrictionMode mode = NextFrictionMode(friction_, old_mode, c.u(0), AppliedForce(c), stick_, stick_velocity_);
+  c.discrete_state()(0) = static_cast<double>(static_cast<int>(mode));
+  return mode != old_mode;
+}
+
+MB_REGISTER_BLOCK(Friction, BlockType{
+    "friction",
+    "F = s·(F_c + (F_s − F_c)e^{−(v/v_s)²}) + σv while slipping in s = ±1, F = f_applied while stuck (Karnopp); "
+    "ins v [m/s], f_applied [N]; out f [N] resisting the motion (M·ẍ = f_applied − f); the mode switches at "
+    "located events.",
+    {Bounded("viscous", 0.0, "N·s/m", "viscous coefficient σ", 0.0, std::numeric_limits<double>::infinity()),
+     Bounded("coulomb", 0.0, "N", "Coulomb force F_c", 0.0, std::numeric_limits<double>::infinity()),
+     Bounded("static", 0.0, "N", "static (breakaway) force F_s >= coulomb", 0.0,
+             std::numeric_limits<double>::infinity()),
+     Bounded("stribeck_velocity", 0.0, "m/s", "Stribeck velocity v_s (0 = no Stribeck hump)", 0.0,
+             std::numeric_limits<double>::infinity()),
+     Optional("stick_model", "karnopp", "", "\"karnopp\" (input f_applied) or \"none\" (slip only)",
+              ParamType::kString),
+     Bounded("stick_velocity", 1e-6, "m/s", "|v| above which a stuck body is taken to slip", 0.0,
+             std::numeric_limits<double>::infinity())},
+    SampleTimeRule::kNone,
+    [](const BlockConfig& c) { return std::make_unique<Friction>(c); }})
+
+}  // namespace mb

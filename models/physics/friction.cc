@@ -1,0 +1,64 @@
+#include "models/physics/friction.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace mb {
+
+namespace {
+double Sign(FrictionMode mode) { return static_cast<double>(static_cast<int>(mode)); }
+FrictionMode Along(double x) { return x > 0.0 ? FrictionMode::kSlipPositive : FrictionMode::kSlipNegative; }
+}  // namespace
+
+void ValidateFrictionParameters(const FrictionParameters& p, const std::string& where) {
+  auto check = [&](double value, const char* name, const char* unit) {
+    if (!(value >= 0.0) || !std::isfinite(value)) {
+      throw std::invalid_argument(where + ": " + name + " must be a finite number >= 0 " + unit + ", got " +
+                                  std::to_string(value));
+    }
+  };
+  check(p.viscous, "viscous", "N·s/m");
+  check(p.coulomb, "coulomb", "N");
+  check(p.breakaway, "static", "N");
+  check(p.stribeck_velocity, "stribeck_velocity", "m/s");
+  if (p.breakaway < p.coulomb) {
+    throw std::invalid_argument(where + ": static (breakaway) force " + std::to_string(p.breakaway) +
+                                " N is below the Coulomb force " + std::to_string(p.coulomb) +
+                                " N; set static >= coulomb (equal for no stiction)");
+  }
+}
+
+double SlidingFriction(const FrictionParameters& p, FrictionMode mode, double velocity) noexcept {
+  double level = p.coulomb;
+  if (p.stribeck_velocity > 0.0) {
+    const double r = velocity / p.stribeck_velocity;
+    level += (p.breakaway - p.coulomb) * std::exp(-r * r);
+  }
+  return Sign(mode) * level + p.viscous * velocity;
+}
+
+double FrictionForce(const FrictionParameters& p, FrictionMode mode, double velocity,
+                     double applied_force) noexcept {
+  if (mode == FrictionMode::kStuck) return std::clamp(applied_force, -p.breakaway, p.breakaway);
+  return SlidingFriction(p, mode, velocity);
+}
+
+FrictionMode NextFrictionMode(const FrictionParameters& p, FrictionMode mode, double velocity,
+                              double applied_force, bool stick, double stick_velocity) noexcept {
+  if (mode == FrictionMode::kStuck) {
+    if (stick && std::abs(applied_force) > p.breakaway) return Along(applied_force);
+    if (std::abs(velocity) > stick_velocity) return Along(velocity);
+    return mode;
+  }
+  if (Sign(mode) * velocity > 0.0) return mode;
+  if (stick) return std::abs(applied_force) <= p.breakaway ? FrictionMode::kStuck : Along(applied_force);
+  return velocity == 0.0 ? mode : Along(velocity);
+}
+
+double SteadyStateFriction(const FrictionParameters& p, double velocity) noexcept {
+  if (velocity == 0.0) return 0.0;
+  return SlidingFriction(p, Along(velocity), velocity);
+}
+
+}  // namespace mb

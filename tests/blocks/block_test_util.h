@@ -1,0 +1,48 @@
+#pragma once
+// Helpers for block tests: one-line diagram skeletons and error-message capture.
+
+#include <string>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "engine/diagram_loader.h"
+#include "engine/execution_order.h"
+#include "engine/simulator.h"
+#include "tests/engine/test_util.h"
+
+namespace mb::testing {
+
+/// A diagram with the given elements, connections and logged signals, run from 0 to `stop` with log step `step`.
+inline nlohmann::json MakeDiagram(const nlohmann::json& elements, const nlohmann::json& connections,
+                                  const nlohmann::json& log, double stop, double step,
+                                  const nlohmann::json& solver = {{"type", "rk4"}, {"step", 1e-3}}) {
+  return {{"schemaVersion", "1.0"},
+          {"defaultExperiment", {{"startTime", 0.0}, {"stopTime", stop}, {"stepSize", step}}},
+          {"solver", solver},
+          {"elements", elements},
+          {"connections", connections},
+          {"log", log}};
+}
+
+/// The text of the error BuildDiagram throws for `j` ("" if it builds).
+inline std::string BuildError(const nlohmann::json& j, const std::string& base = ".") {
+  try {
+    BuildDiagram(j, base, "test.json");
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+/// One element {"name", "type", "parameters"} (and "sampleTime" when given).
+inline nlohmann::json Element(const std::string& name, const std::string& type,
+                              const nlohmann::json& parameters = nlohmann::json::object(),
+                              const nlohmann::json& sample_time = nullptr) {
+  nlohmann::json e = {{"name", name}, {"type", type}, {"parameters", parameters}};
+  if (!sample_time.is_null()) e["sampleTime"] = sample_time;
+  return e;
+}
+
+}  // namespace mb::testing

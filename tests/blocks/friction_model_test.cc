@@ -1,0 +1,76 @@
+// models/physics/friction.h and rigid_body.h: the friction curve, the stick force, the mode transitions.
+
+#include <cmath>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "models/physics/friction.h"
+#include "models/physics/rigid_body.h"
+
+namespace mb {
+namespace {
+
+using ::testing::HasSubstr;
+
+const FrictionParameters kStribeck{0.5, 1.0, 1.5, 0.01};  // σ, F_c, F_s, v_s
+
+TEST(FrictionModelTest, SlidingFrictionUsesTheModeNotTheVelocitySign) {
+  EXPECT_DOUBLE_EQ(SlidingFriction(kStribeck, FrictionMode::kSlipPositive, 0.0), 1.5);  // F_s at v = 0
+  EXPECT_DOUBLE_EQ(SlidingFriction(kStribeck, FrictionMode::kSlipNegative, 0.0), -1.5);
+  EXPECT_NEAR(SlidingFriction(kStribeck, FrictionMode::kSlipPositive, 0.01), 1.0 + 0.5 * std::exp(-1.0) + 0.005,
+              1e-15);
+  // Slipping forward at a slightly negative velocity (just before the event): still the forward level.
+  EXPECT_NEAR(SlidingFriction(kStribeck, FrictionMode::kSlipPositive, -1e-9), 1.5, 1e-8);
+  const FrictionParameters coulomb{0.0, 1.0, 1.0, 0.0};
+  EXPECT_DOUBLE_EQ(SlidingFriction(coulomb, FrictionMode::kSlipPositive, 100.0), 1.0);
+  EXPECT_DOUBLE_EQ(SteadyStateFriction(kStribeck, -0.01), -(1.0 + 0.5 * std::exp(-1.0)) - 0.005);
+  EXPECT_DOUBLE_EQ(SteadyStateFriction(kStribeck, 0.0), 0.0);
+}
+
+TEST(FrictionModelTest, StuckFrictionBalancesTheAppliedForceUpToBreakaway) {
+  EXPECT_DOUBLE_EQ(FrictionForce(kStribeck, FrictionMode::kStuck, 0.0, 1.2), 1.2);
+  EXPECT_DOUBLE_EQ(FrictionForce(kStribeck, FrictionMode::kStuck, 0.0, -3.0), -1.5);
+}
+
+TEST(FrictionModelTest, ModeTransitions) {
+  using M = FrictionMode;
+  const double tol = 1e-6;
+  // Slipping forward, still moving forward: unchanged whatever the force.
+  EXPECT_EQ(NextFrictionMode(kStribeck, M::kSlipPositive, 0.1, -10.0, true, tol), M::kSlipPositive);
+  // v reached zero: stick if the force is below breakaway, else slip along the force.
+  EXPECT_EQ(NextFrictionMode(kStribeck, M::kSlipPositive, -1e-12, 1.4, true, tol), M::kStuck);
+  EXPECT_EQ(NextFrictionMode(kStribeck, M::kSlipPositive, -1e-12, -1.6, true, tol), M::kSlipNegative);
+  EXPECT_EQ(NextFrictionMode(kStribeck, M::kSlipNegative, 0.0, 1.6, true, tol), M::kSlipPositive);
+  // Stuck: breakaway by force, or by a velocity the stick cannot explain.
+  EXPECT_EQ(NextFrictionMode(kStribeck, M::kStuck, 0.0, 1.5, true, tol), M::kStuck);
+  EXPECT_EQ(NextFrictionMode(kStribeck, M::kStuck, 0.0, -1.51, true, tol), M::kSlipNegative);
+  EXPECT_EQ(NextFrictionMode(kStribeck, M::kStuck, 1e-9, 0.0, true, tol), M::kStuck);
+  EXPECT_EQ(NextFrictionMode(kStribeck, M::kStuck, 0.2, 0.0, true, tol), M::kSlipPositive);
+  // Slip-only model: the direction follows v.
+  EXPECT_EQ(NextFrictionMode(kStribeck, M::kSlipPositive, -1e-12, 0.0, false, tol), M::kSlipNegative);
+  EXPECT_EQ(NextFrictionMode(kStribeck, M::kSlipPositive, 0.0, 0.0, false, tol), M::kSlipPositive);
+}
+
+TEST(FrictionModelTest, ValidationMessages) {
+  try {
+    ValidateFrictionParameters({0.0, 2.0, 1.0, 0.0}, "friction 'f'");
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), HasSubstr("friction 'f': static (breakaway) force 1.000000 N is below the Coulomb force"));
+  }
+  EXPECT_THROW(ValidateFrictionParameters({-1.0, 0.0, 0.0, 0.0}, "f"), std::invalid_argument);
+  EXPECT_THROW(ValidateFrictionParameters({0.0, 0.0, 0.0, NAN}, "f"), std::invalid_argument);
+  EXPECT_NO_THROW(ValidateFrictionParameters(kStribeck, "f"));
+}
+
+TEST(RigidBodyModelTest, AccelerationAndValidation) {
+  const RigidBodyParameters body{0.2621, 3.0};
+  EXPECT_DOUBLE_EQ(RigidBodyAcceleration(body, 1.0, 0.1), (1.0 - 0.3) / 0.2621);
+  EXPECT_THROW(ValidateRigidBodyParameters({0.0, 0.0}, "b"), std::invalid_argument);
+  EXPECT_THROW(ValidateRigidBodyParameters({1.0, -1.0}, "b"), std::invalid_argument);
+  EXPECT_NO_THROW(ValidateRigidBodyParameters(body, "b"));
+}
+
+}  // namespace
+}  // namespace mb

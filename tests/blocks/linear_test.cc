@@ -1,0 +1,250 @@
+// Static and linear blocks: product, saturation, quantizer, zero_order_hold, logger, transfer_function,
+// discrete_transfer_function, state_space — against closed forms, difference equations, sample-time
+// boundaries, feedthrough (algebraic loops) and their error messages.
+
+#include <cmath>
+#include <numbers>
+
+#include "tests/blocks/block_test_util.h"
+
+namespace mb {
+namespace {
+
+using nlohmann::json;
+using testing::Build;
+using testing::BuildError;
+using testing::Connect;
+using testing::Element;
+using testing::MakeDiagram;
+using ::testing::HasSubstr;
+
+json Constant(const std::string& name, const json& value) { return Element(name, "constant", {{"value", value}}); }
+
+// Runs a one-step diagram and returns the named signal's first logged sample.
+double Evaluate(const json& elements, const json& connections, const std::string& signal) {
+  const auto r = Simulator(Build(MakeDiagram(elements, connections, {signal}, 1.0, 1.0))).Run();
+  return r.log.Column(signal).front();
+}
+
+TEST(ProductTest, MultipliesAndDividesElementWise) {
+  const json elements = {Constant("a", json::array({2.0, 3.0})), Constant("b", json::array({4.0, -5.0})),
+                         Constant("c", json::array({8.0, 2.0})),
+                         Element("p", "product", {{"ops", "*/*"}, {"width", 2}})};
+  const json connections = {Connect("a.y", "p.u1"), Connect("b.y", "p.u2"), Connect("c.y", "p.u3")};
+  const auto r = Simulator(Build(MakeDiagram(elements, connections, {"p.y"}, 1.0, 1.0))).Run();
+  EXPECT_DOUBLE_EQ(r.log.Column("p.y[0]").front(), 2.0 / 4.0 * 8.0);
+  EXPECT_DOUBLE_EQ(r.log.Column("p.y[1]").front(), 3.0 / -5.0 * 2.0);
+  EXPECT_DOUBLE_EQ(Evaluate({Constant("a", 4.0), Element("p", "product", {{"ops", "/"}})}, {Connect("a.y", "p.u1")},
+                            "p.y"),
+                   0.25);
+}
+
+TEST(ProductTest, RejectsUnknownOperators) {
+  EXPECT_THAT(BuildError(MakeDiagram({Element("p", "product", {{"ops", "*+"}})}, json::array(), json::array(), 1, 1)),
+              HasSubstr("element 'p' (product): ops may contain only '*' (multiply) and '/' (divide), got \"*+\""));
+  EXPECT_THAT(BuildError(MakeDiagram({Element("p", "product", {{"ops", ""}})}, json::array(), json::array(), 1, 1)),
+              HasSubstr("ops must list at least one"));
+}
+
+TEST(SaturationTest, ClampsToTheLimits) {
+  for (const auto& [u, y] : std::vector<std::pair<double, double>>{{-3.0, -0.5}, {0.2, 0.2}, {2.0, 1.5}, {1.5, 1.5}}) {
+    EXPECT_EQ(Evaluate({Constant("u", u), Element("s", "saturation", {{"lower", -0.5}, {"upper", 1.5}})},
+                       {Connect("u.y", "s.u")}, "s.y"),
+              y)
+        << "u = " << u;
+  }
+  EXPECT_THAT(
+      BuildError(MakeDiagram({Element("s", "saturation", {{"lower", 2.0}, {"upper", 1.0}})}, json::array(),
+                             json::array(), 1, 1)),
+      HasSubstr("lower limit 2.000000 is above upper limit 1.000000; swap them"));
+}
+
+TEST(QuantizerTest, RoundsToTheIntervalHalfAwayFromZero) {
+  const double q = 0.25;
+  for (const auto& [u, y] : std::vector<std::pair<double, double>>{
+           {0.1, 0.0}, {0.13, 0.25}, {0.125, 0.25}, {-0.125, -0.25}, {1.01, 1.0}, {-0.9, -1.0}}) {
+    EXPECT_DOUBLE_EQ(
+        Evaluate({Constant("u", u), Element("q", "quantizer", {{"interval", q}})}, {Connect("u.y", "q.u")}, "q.y"), y)
+        << "u = " << u;
+  }
+  EXPECT_THAT(BuildError(MakeDiagram({Element("q", "quantizer", {{"interval", 0.0}})}, json::array(), json::array(),
+                                     1, 1)),
+              HasSubstr("interval must be > 0"));
+}
+
+TEST(ZeroOrderHoldTest, SamplesAtHitsAndHoldsWithOffset) {
+  // u = t (integrator of 1), held every 0.1 s from offset 0.05; logged every 0.025 s.
+  const json j = MakeDiagram({Constant("one", 1.0), Element("t", "integrator"),
+                              Element("h", "zero_order_hold", json::object(), {0.1, 0.05})},
+                             {Connect("one.y", "t.u"), Connect("t.y", "h.u")}, {"h.y"}, 0.4, 0.025);
+  const auto r = Simulator(Build(j)).Run();
+  const auto& y = r.log.Column("h.y");
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    const double t = r.log.time[i];
+    const double expected = t < 0.05 - 1e-12 ? 0.0 : 0.05 + 0.1 * std::floor((t - 0.05) / 0.1 + 1e-9);
+    EXPECT_NEAR(y[i], expected, 1e-12) << "t = " << t;
+  }
+}
+
+TEST(ZeroOrderHoldTest, RequiresASampleTime) {
+  EXPECT_THAT(BuildError(MakeDiagram({Element("h", "zero_order_hold")}, json::array(), json::array(), 1, 1)),
+              HasSubstr("element 'h' (zero_order_hold) is discrete: add \"sampleTime\""));
+}
+
+TEST(LoggerTest, PassesItsInputToALoggableOutput) {
+  const auto r = Simulator(Build(MakeDiagram({Element("s", "sine"), Element("scope", "logger")},
+                                             {Connect("s.y", "scope.u")}, {"scope.y"}, 0.5, 0.1)))
+                     .Run();
+  for (std::size_t i = 0; i < r.log.time.size(); ++i) {
+    EXPECT_NEAR(r.log.Column("scope.y")[i], std::sin(2.0 * std::numbers::pi * r.log.time[i]), 1e-12);
+  }
+}
+
+// Step response of a continuous transfer function driven by a unit constant (a step at t = 0).
+SignalLog TfStep(const json& numerator, const json& denominator, double stop = 3.0) {
+  const json j = MakeDiagram({Constant("one", 1.0), Element("H", "transfer_function",
+                                                            {{"numerator", numerator}, {"denominator", denominator}})},
+                             {Connect("one.y", "H.u")}, {"H.y"}, stop, 0.05,
+                             {{"type", "cvode"}, {"rtol", 1e-10}, {"atol", 1e-12}});
+  return Simulator(Build(j)).Run().log;
+}
+
+TEST(TransferFunctionTest, FirstOrderLagStepResponse) {
+  const auto log = TfStep(json::array({2.0}), json::array({0.5, 1.0}));  // 2/(0.5 s + 1), τ = 0.5 s
+  for (std::size_t i = 0; i < log.time.size(); ++i) {
+    EXPECT_NEAR(log.Column("H.y")[i], 2.0 * (1.0 - std::exp(-log.time[i] / 0.5)), 1e-8);
+  }
+}
+
+TEST(TransferFunctionTest, SecondOrderStepResponse) {
+  const double wn = 4.0, zeta = 0.3, wd = wn * std::sqrt(1.0 - zeta * zeta);
+  const auto log = TfStep(json::array({0.0, 0.0, 2.0 * wn * wn}), json::array({2.0, 4.0 * zeta * wn, 2.0 * wn * wn}));
+  for (std::size_t i = 0; i < log.time.size(); ++i) {
+    const double t = log.time[i];
+    const double y = 1.0 - std::exp(-zeta * wn * t) * (std::cos(wd * t) + zeta * wn / wd * std::sin(wd * t));
+    EXPECT_NEAR(log.Column("H.y")[i], y, 1e-7) << "t = " << t;
+  }
+}
+
+TEST(TransferFunctionTest, BiproperFeedsThrough) {
+  const auto log = TfStep(json::array({1.0, 2.0}), json::array({1.0, 1.0}));  // (s + 2)/(s + 1) → 2 − e^{−t}
+  EXPECT_NEAR(log.Column("H.y").front(), 1.0, 1e-12);                         // jumps to b0 at t = 0
+  for (std::size_t i = 0; i < log.time.size(); ++i) {
+    EXPECT_NEAR(log.Column("H.y")[i], 2.0 - std::exp(-log.time[i]), 1e-8);
+  }
+}
+
+TEST(TransferFunctionTest, FeedthroughOnlyWhenBiproper) {
+  auto loop = [](const json& numerator) {
+    return MakeDiagram({Element("H", "transfer_function", {{"numerator", numerator}, {"denominator", {1.0, 1.0}}}),
+                        Element("k", "gain", {{"gain", -1.0}})},
+                       {Connect("H.y", "k.u"), Connect("k.y", "H.u")}, json::array(), 1.0, 0.1);
+  };
+  EXPECT_THAT(BuildError(loop({1.0, 0.0})), HasSubstr("algebraic loop"));
+  EXPECT_EQ(BuildError(loop({1.0})), "");
+  EXPECT_EQ(BuildError(loop({0.0, 1.0})), "");  // leading zeros dropped: strictly proper
+}
+
+TEST(TransferFunctionTest, RejectsImproperAndZeroLeadingDenominator) {
+  auto tf = [](const json& numerator, const json& denominator) {
+    return BuildError(MakeDiagram(
+        {Element("H", "transfer_function", {{"numerator", numerator}, {"denominator", denominator}})}, json::array(),
+        json::array(), 1.0, 0.1));
+  };
+  EXPECT_THAT(tf({1.0, 0.0, 0.0}, {1.0, 1.0}),
+              HasSubstr("improper transfer function: numerator order 2 > denominator order 1"));
+  EXPECT_THAT(tf({1.0}, {0.0, 1.0}), HasSubstr("denominator must start with a non-zero coefficient"));
+}
+
+// Reference: the difference equation Σ a_i y[k−i] = Σ b_i u[k−i] with coefficients in descending powers of z,
+// numerator padded to the denominator's length.
+std::vector<double> DifferenceEquation(std::vector<double> b, const std::vector<double>& a,
+                                       const std::vector<double>& u) {
+  b.insert(b.begin(), a.size() - b.size(), 0.0);
+  std::vector<double> y(u.size(), 0.0);
+  for (std::size_t k = 0; k < u.size(); ++k) {
+    double acc = 0.0;
+    for (std::size_t i = 0; i < a.size() && i <= k; ++i) acc += b[i] * u[k - i];
+    for (std::size_t i = 1; i < a.size() && i <= k; ++i) acc -= a[i] * y[k - i];
+    y[k] = acc / a[0];
+  }
+  return y;
+}
+
+TEST(DiscreteTransferFunctionTest, MatchesDifferenceEquation) {
+  const double Ts = 0.01;
+  const std::vector<std::pair<std::vector<double>, std::vector<double>>> cases = {
+      {{1.0}, {1.0, -0.5}},                  // 1/(z − 0.5): one-sample delay
+      {{1.0, 0.2}, {1.0, -0.5}},             // biproper
+      {{0.5, 0.3, 0.1}, {2.0, -1.8, 0.4}},   // second order, a0 ≠ 1
+      {{0.0, 1.0, 0.0}, {1.0, 0.1, -0.2}}};  // leading zero in the numerator
+  for (const auto& [num, den] : cases) {
+    const json j = MakeDiagram({Element("u", "sine", {{"frequency_hz", 3.0}}, {Ts, 0.0}),
+                                Element("H", "discrete_transfer_function", {{"numerator", num}, {"denominator", den}},
+                                        {Ts, 0.0})},
+                               {Connect("u.y", "H.u")}, {"u.y", "H.y"}, 0.3, Ts);
+    const auto r = Simulator(Build(j)).Run();
+    const auto expected = DifferenceEquation(num, den, r.log.Column("u.y"));
+    ASSERT_EQ(r.log.Column("H.y").size(), expected.size());
+    for (std::size_t k = 0; k < expected.size(); ++k) {
+      EXPECT_NEAR(r.log.Column("H.y")[k], expected[k], 1e-12) << "k = " << k << ", den[1] = " << den[1];
+    }
+  }
+}
+
+TEST(DiscreteTransferFunctionTest, ErrorsForImproperAndMissingSampleTime) {
+  EXPECT_THAT(BuildError(MakeDiagram({Element("H", "discrete_transfer_function",
+                                              {{"numerator", {1.0, 0.0}}, {"denominator", {1.0}}}, 0.1)},
+                                     json::array(), json::array(), 1.0, 0.1)),
+              HasSubstr("improper (non-causal) transfer function: numerator order 1 > denominator order 0"));
+  EXPECT_THAT(BuildError(MakeDiagram({Element("H", "discrete_transfer_function")}, json::array(), json::array(), 1.0,
+                                     0.1)),
+              HasSubstr("is discrete: add \"sampleTime\""));
+}
+
+TEST(StateSpaceTest, OscillatorFromInitialState) {
+  const double w = 3.0;
+  const json j = MakeDiagram({Constant("zero", 0.0),
+                              Element("G", "state_space",
+                                      {{"A", {0.0, 1.0, -w * w, 0.0}},
+                                       {"B", {0.0, 1.0}},
+                                       {"C", {1.0, 0.0, 0.0, 1.0}},
+                                       {"x0", {1.0, 0.0}}})},
+                             {Connect("zero.y", "G.u")}, {"G.y"}, 2.0, 0.05,
+                             {{"type", "cvode"}, {"rtol", 1e-10}, {"atol", 1e-12}});
+  const auto r = Simulator(Build(j)).Run();
+  for (std::size_t i = 0; i < r.log.time.size(); ++i) {
+    const double t = r.log.time[i];
+    EXPECT_NEAR(r.log.Column("G.y[0]")[i], std::cos(w * t), 1e-7);
+    EXPECT_NEAR(r.log.Column("G.y[1]")[i], -w * std::sin(w * t), 1e-6);
+  }
+}
+
+TEST(StateSpaceTest, TwoInputsWithFeedthrough) {
+  // ẋ = −x + u1, y = x + 2 u1 − u2 with u = (1, 3): y(t) = 1 − e^{−t} + 2 − 3.
+  const json j = MakeDiagram({Constant("u", json::array({1.0, 3.0})),
+                              Element("G", "state_space",
+                                      {{"A", -1.0}, {"B", {1.0, 0.0}}, {"C", 1.0}, {"D", {2.0, -1.0}}})},
+                             {Connect("u.y", "G.u")}, {"G.y"}, 1.0, 0.1,
+                             {{"type", "cvode"}, {"rtol", 1e-10}, {"atol", 1e-12}});
+  const auto r = Simulator(Build(j)).Run();
+  for (std::size_t i = 0; i < r.log.time.size(); ++i) {
+    EXPECT_NEAR(r.log.Column("G.y")[i], -std::exp(-r.log.time[i]), 1e-8);
+  }
+}
+
+TEST(StateSpaceTest, ErrorsNameTheMatrix) {
+  auto ss = [](const json& parameters) {
+    return BuildError(MakeDiagram({Element("G", "state_space", parameters)}, json::array(), json::array(), 1, 0.1));
+  };
+  EXPECT_THAT(ss({{"A", {1.0, 2.0, 3.0}}, {"B", 1.0}, {"C", 1.0}}), HasSubstr("A has 3 entries; it must be a square"));
+  EXPECT_THAT(ss({{"A", {1.0, 0.0, 0.0, 1.0}}, {"B", {1.0, 2.0, 3.0}}, {"C", {1.0, 0.0}}}),
+              HasSubstr("B has 3 entries; it must be n×m = 2×m"));
+  EXPECT_THAT(ss({{"A", {1.0, 0.0, 0.0, 1.0}}, {"B", {1.0, 2.0}}, {"C", {1.0}}}),
+              HasSubstr("C has 1 entries; it must be p×n = p×2"));
+  EXPECT_THAT(ss({{"A", 1.0}, {"B", 1.0}, {"C", 1.0}, {"D", {1.0, 2.0}}}), HasSubstr("D has 2 entries; it must be p×m = 1×1"));
+  EXPECT_THAT(ss({{"A", 1.0}, {"B", 1.0}}), HasSubstr("missing required parameter 'C'"));
+}
+
+}  // namespace
+}  // namespace mb
