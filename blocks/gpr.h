@@ -1,0 +1,43 @@
+#pragma once
+// gpr: the TISO-GPR disturbance model of the seed paper (§3) as a block — the posterior mean
+// μ(x, ẋ) + mean(d) (eq. 22 with the training mean added back, eq. 24) of a model fitted by
+// `motionblocks fit-gpr` (models/gpr, docs/gpr.md), and optionally its posterior standard deviation
+// (√ of eq. 23). In the paper's loop its output goes through α and F_gp (eq. 53).
+
+#include "engine/block.h"
+#include "engine/registry.h"
+#include "models/gpr/gpr_model.h"
+
+namespace mb {
+
+/// mean = d̂(x, ẋ) = mean(d) + ψ(x, clamp(ẋ))ᵀβ (GprModel::PredictPosteriorMean, eq. 22/24);
+/// std = σ(x, ẋ), the latent posterior standard deviation (GprModel::Predict, √ eq. 23).
+/// Ports: in "x" [m] and "xdot" [m/s] (both feed through), out "mean" (the unit of the training
+/// disturbance, e.g. N) and, with output_std, "std" (same unit).
+/// Parameters:
+///  - model: the model file (gpr_io.h format), relative to the diagram's folder
+///    (BlockConfig::base_directory) unless absolute; read once, at construction;
+///  - output_std: declare the "std" output (default false; O(M²) per call instead of O(M)).
+/// Sample time: inherited without a `sampleTime`, discrete with one ([Ts, offset]; outputs held
+/// between hits).
+/// Outside the trained ranges (as the model documents, gpr_model.h): ẋ is clamped to the trained
+/// velocity range, x is not (PS repeats the learned pattern with period τ, DS decays to the mean);
+/// non-finite inputs give the prior mean and prior std.
+/// CalcOutput is noexcept and allocation-free (O(M) for the mean, the features on the stack).
+/// @throws std::runtime_error / std::invalid_argument naming the parameter, the resolved path and
+/// the problem (file missing, not JSON with the byte of the syntax error, every invalid field with
+/// its JSON pointer) — the diagram loader adds the element's name and JSON pointer.
+class Gpr final : public Block {
+ public:
+  explicit Gpr(const BlockConfig& config);
+  void CalcOutput(const BlockContext& context) const noexcept override;
+
+  /// The loaded model.
+  const GprModel& model() const noexcept { return model_; }
+
+ private:
+  GprModel model_;
+  bool output_std_;
+};
+
+}  // namespace mb

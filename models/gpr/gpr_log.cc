@@ -1,0 +1,104 @@
+#include "models/gpr/gpr_log.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+
+namespace mb {
+
+GprTrainingData SelectGprTrainingData(const MeasurementLog& log, const GprTrainingSelection& selection) {
+  if (selection.disturbance_column.empty()) {
+    throw std::invalid_argument(log.source() + ": no disturbance column given: name the column of the "
+                                "disturbance estimate to learn (e.g. the DOB output)");
+  }
+  if (selection.downsample < 1) {
+    throw std::invalid_argument(fmt::format("downsample must be >= 1 (keep every n-th sample), got {}",
+                                            selection.downsample));
+  }
+  if (selection.window) {
+    const GprRange w = *selection.window;
+    if (!std::isfinite(w.min) || !std::isfinite(w.max) || !(w.min < w.max)) {
+      throw std::invalid_argument(fmt::format("position window [{:g}, {:g}] m is empty or not finite: give "
+                                              "xmin < xmax",
+                                              w.min, w.max));
+    }
+  }
+  const Eigen::VectorXd& x = log.column(selection.position_column);
+  const Eigen::VectorXd& xdot = log.column(selection.velocity_column);
+  const Eigen::VectorXd& d = log.column(selection.disturbance_column);
+
+  std::vector<Eigen::Index> rows;
+  rows.reserve(static_cast<std::size_t>(log.rows()));
+  Eigen::Index in_window = 0;
+  for (Eigen::Index i = 0; i < log.rows(); ++i) {
+    if (selection.window && !(x(i) >= selection.window->min && x(i) <= selection.window->max)) continue;
+    if (in_window++ % selection.downsample == 0) rows.push_back(i);
+  }
+  if (rows.size() < 2) {
+    const std::string window =
+        selection.window ? fmt::format(" in the position window [{:g}, {:g}] m", selection.window->min,
+                                       selection.window->max)
+                         : "";
+    throw std::invalid_argument(fmt::format(
+        "{}: {} training sample(s){} (column {} spans [{:g}, {:g}] m over {} rows); at least 2 are needed: "
+        "widen the window or lower --downsample",
+        log.source(), rows.size(), window, selection.position_column, log.rows() > 0 ? x.minCoeff() : 0.0,
+        log.rows() > 0 ? x.maxCoeff() : 0.0, log.rows()));
+  }
+
+  const auto n = static_cast<Eigen::Index>(rows.size());
+  GprTrainingData data{Eigen::VectorXd(n), Eigen::VectorXd(n), Eigen::VectorXd(n), {}};
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const Eigen::Index i = rows[static_cast<std::size_t>(k)];
+    data.x(k) = x(i);
+    data.xdot(k) = xdot(i);
+    data.d(k) = d(i);
+  }
+  std::string description =
+      fmt::format("{} (position: {}, velocity: {}, disturbance: {}", log.source(), selection.position_column,
+                  selection.velocity_column, selection.disturbance_column);
+  if (selection.window) {
+    description += fmt::format(", window [{:g}, {:g}] m", selection.window->min, selection.window->max);
+  }
+  if (selection.downsample > 1) description += fmt::format(", downsampled by {}", selection.downsample);
+  description += fmt::format("; N = {} of {} rows)", n, log.rows());
+  data.description = std::move(description);
+  return data;
+}
+
+GprModel FitGprToLog(const MeasurementLog& log, const GprTrainingSelection& selection, GprFitOptions options) {
+  const GprTrainingData data = SelectGprTrainingData(log, selection);
+  options.source = data.description;
+  return FitGpr(data.x, data.xdot, data.d, options);
+}
+
+MeasurementLog PredictGprOnLog(const GprModel& model, const MeasurementLog& log,
+                               const std::string& position_column, const std::string& velocity_column) {
+  for (const char* name : {"mean", "std"}) {
+    if (log.has_column(name)) {
+      throw std::invalid_argument(log.source() + ": already has a column \"" + name +
+                                  "\", which the prediction would write: rename it in the input");
+    }
+  }
+  const Eigen::VectorXd& x = log.column(position_column);
+  const Eigen::VectorXd& xdot = log.column(velocity_column);
+  Eigen::VectorXd mean(log.rows()), sd(log.rows());
+  for (Eigen::Index i = 0; i < log.rows(); ++i) {
+    mean(i) = model.PredictPosteriorMean(x(i), xdot(i));
+    model.Predict(x(i), xdot(i), nullptr, &sd(i));
+  }
+  std::vector<Eigen::VectorXd> columns;
+  columns.reserve(log.names().size() + 2);
+  for (const std::string& name : log.names()) columns.push_back(log.column(name));
+  std::vector<std::string> names = log.names();
+  names.emplace_back("mean");
+  names.emplace_back("std");
+  columns.push_back(std::move(mean));
+  columns.push_back(std::move(sd));
+  return MeasurementLog(std::move(names), std::move(columns), log.source());
+}
+
+}  // namespace mb

@@ -1,0 +1,114 @@
+// The gpr block's CalcOutput allocates nothing: a diagram with the block fed by two sources, no
+// logged signals, and a counting global operator new around Simulator::AdvanceTo after Initialize.
+// The same diagram without the gpr block measures the engine's own allocations in AdvanceTo.
+#include <atomic>
+#include <cstdlib>
+#include <filesystem>
+#include <new>
+
+#include <gtest/gtest.h>
+
+#include "engine/diagram_loader.h"
+#include "engine/simulator.h"
+#include "models/gpr/gpr_fit.h"
+#include "models/gpr/gpr_io.h"
+#include "tests/gpr/synthetic_data.h"
+
+namespace {
+std::atomic<long> g_allocations{0};
+}  // namespace
+
+void* operator new(std::size_t size) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t size) { return operator new(size); }
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+
+namespace mb {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+json Connect(const std::string& se, const std::string& sc, const std::string& ee, const std::string& ec) {
+  return {{"startElement", se}, {"startConnector", sc}, {"endElement", ee}, {"endConnector", ec}};
+}
+
+// Two sine sources; with `with_gpr` a gpr block (std output too, discrete or inherited) reads them.
+json AllocDiagram(bool with_gpr, const json& sample_time) {
+  json j = {{"schemaVersion", "1.0"},
+            {"defaultExperiment", {{"startTime", 0.0}, {"stopTime", 1.0}, {"stepSize", 1e-3}}},
+            {"elements",
+             {{{"name", "pos"}, {"type", "sine"},
+               {"parameters", {{"amplitude", 0.15}, {"frequency_hz", 2.0}, {"bias", 0.2}}}},
+              {{"name", "vel"}, {"type", "sine"},
+               {"parameters", {{"amplitude", 0.6}, {"frequency_hz", 3.0}, {"bias", 0.2}}}}}},
+            {"connections", json::array()}};
+  if (with_gpr) {
+    json gpr = {{"name", "dhat"}, {"type", "gpr"}, {"parameters", {{"model", "model.json"}, {"output_std", true}}}};
+    if (!sample_time.is_null()) gpr["sampleTime"] = sample_time;
+    j["elements"].push_back(gpr);
+    j["connections"] = {Connect("pos", "y", "dhat", "x"), Connect("vel", "y", "dhat", "xdot")};
+  }
+  return j;
+}
+
+class GprBlockAllocation : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / "mb_gpr_block_alloc";
+    fs::create_directories(dir_);
+    const auto data = testing::ConstantVelocityScans(0.1, 0.325, 15, 0.02, 51);
+    GprFitOptions options;
+    options.restarts = 0;
+    SaveGprModel(FitGpr(data.x, data.xdot, data.d, options), dir_ / "model.json");
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Allocations during AdvanceTo(stop) after Initialize; the final outputs for a check.
+  long AdvanceAllocations(const json& j, double* mean, double* x, double* v) const {
+    const Diagram diagram = BuildDiagram(j, dir_, "alloc.json");
+    Simulator sim(diagram);
+    sim.Initialize();
+    const long before = g_allocations.load();
+    sim.AdvanceTo(diagram.experiment().stop_time);
+    const long count = g_allocations.load() - before;
+    *x = sim.SignalValue(diagram.ResolveSignal("pos.y"));
+    *v = sim.SignalValue(diagram.ResolveSignal("vel.y"));
+    *mean = diagram.blocks().size() > 2 ? sim.SignalValue(diagram.ResolveSignal("dhat.mean")) : 0.0;
+    return count;
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(GprBlockAllocation, AdvanceToAllocatesNothing) {
+  auto* probe = new int(1);  // the counter works
+  const long before_probe = g_allocations.load();
+  delete probe;
+  probe = new int(2);
+  ASSERT_EQ(g_allocations.load(), before_probe + 1);
+  delete probe;
+
+  double mean = 0.0, x = 0.0, v = 0.0;
+  // The engine alone (sources only): the baseline the block adds to.
+  EXPECT_EQ(AdvanceAllocations(AllocDiagram(false, nullptr), &mean, &x, &v), 0) << "the engine allocates";
+
+  const GprModel model = LoadGprModel(dir_ / "model.json");
+  for (const json& sample_time : {json(nullptr), json{1e-3, 0.0}}) {
+    EXPECT_EQ(AdvanceAllocations(AllocDiagram(true, sample_time), &mean, &x, &v), 0)
+        << "sampleTime " << sample_time.dump();
+    // The block did run during AdvanceTo: its output is the prediction at the final inputs.
+    EXPECT_EQ(mean, model.PredictPosteriorMean(x, v)) << "sampleTime " << sample_time.dump();
+    EXPECT_NEAR(x, 0.2, 1e-9);  // sin(2π·2·1) = 0 at the stop time
+  }
+}
+
+}  // namespace
+}  // namespace mb

@@ -1,0 +1,169 @@
+// fit-gpr / predict-gpr through the library functions the commands call: a synthetic DOB log as CSV
+// → training-sample selection (window, downsampling) → fit → model file → prediction along a log →
+// CSV, and the errors a wrong column, an empty window or a clashing column give.
+#include "models/gpr/gpr_log.h"
+
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "models/gpr/gpr_io.h"
+#include "tests/gpr/synthetic_data.h"
+
+namespace mb {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+// A DOB log of constant-velocity scans: time_s, position_m, velocity_m_s, dob_N (noise 0.02 N).
+MeasurementLog SyntheticLog() {
+  const auto s = testing::ConstantVelocityScans(0.05, 0.4, 40, 0.02, 61);
+  const Eigen::Index n = s.x.size();
+  const Eigen::VectorXd t = Eigen::VectorXd::LinSpaced(n, 0.0, 1e-3 * static_cast<double>(n - 1));
+  return MeasurementLog({"time_s", "position_m", "velocity_m_s", "dob_N"}, {t, s.x, s.xdot, s.d});
+}
+
+std::string ErrorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+class GprLog : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("mb_gpr_log_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST_F(GprLog, SelectionAppliesWindowThenDownsampling) {
+  const MeasurementLog log = SyntheticLog();
+  GprTrainingSelection selection;
+  selection.disturbance_column = "dob_N";
+  selection.window = GprRange{0.1, 0.325};
+  selection.downsample = 3;
+  const GprTrainingData data = SelectGprTrainingData(log, selection);
+
+  std::vector<Eigen::Index> in_window;
+  const Eigen::VectorXd& x = log.column("position_m");
+  for (Eigen::Index i = 0; i < log.rows(); ++i) {
+    if (x(i) >= 0.1 && x(i) <= 0.325) in_window.push_back(i);
+  }
+  const auto expected_n = static_cast<Eigen::Index>((in_window.size() + 2) / 3);
+  ASSERT_EQ(data.x.size(), expected_n);
+  for (Eigen::Index k = 0; k < expected_n; ++k) {
+    const Eigen::Index i = in_window[static_cast<std::size_t>(3 * k)];
+    ASSERT_EQ(data.x(k), x(i));
+    ASSERT_EQ(data.xdot(k), log.column("velocity_m_s")(i));
+    ASSERT_EQ(data.d(k), log.column("dob_N")(i));
+  }
+  EXPECT_EQ(data.description,
+            "<memory> (position: position_m, velocity: velocity_m_s, disturbance: dob_N, window [0.1, 0.325] m, "
+            "downsampled by 3; N = " + std::to_string(expected_n) + " of 400 rows)");
+}
+
+TEST_F(GprLog, FitAndPredictRoundTripThroughFiles) {
+  const fs::path csv = dir_ / "dob_log.csv";
+  WriteMeasurementLog(SyntheticLog(), csv.string());
+
+  // fit-gpr dob_log.csv --disturbance dob_N --window 0.1,0.325 --downsample 2 -o model.json
+  MeasurementLogOptions read;
+  read.min_rows = 2;
+  read.max_gap_ratio = 0.0;
+  const MeasurementLog log = ReadMeasurementLog(csv.string(), read);
+  GprTrainingSelection selection;
+  selection.disturbance_column = "dob_N";
+  selection.window = GprRange{0.1, 0.325};
+  selection.downsample = 2;
+  GprFitOptions options;
+  options.restarts = 0;
+  const GprModel fitted = FitGprToLog(log, selection, options);
+  SaveGprModel(fitted, dir_ / "model.json");
+  const GprModel model = LoadGprModel(dir_ / "model.json");
+
+  const GprProvenance& p = model.data().provenance;
+  const Eigen::Index n = SelectGprTrainingData(log, selection).x.size();
+  EXPECT_EQ(p.sample_count, n);
+  EXPECT_THAT(p.source, HasSubstr(csv.string() + " (position: position_m, velocity: velocity_m_s, disturbance: "
+                                  "dob_N, window [0.1, 0.325] m, downsampled by 2; N = " + std::to_string(n) +
+                                  " of 400 rows)"));
+  EXPECT_EQ(p.created_utc.size(), 20u) << p.created_utc;  // "YYYY-MM-DDTHH:MM:SSZ"
+  EXPECT_EQ(p.solver, "weight_space");
+  EXPECT_GE(model.x_range().min, 0.1);
+  EXPECT_LE(model.x_range().max, 0.325);
+
+  // predict-gpr model.json scan.csv -o prediction.csv, on a fresh scan at 0.3 m/s.
+  const Eigen::Index rows = 200;
+  const Eigen::VectorXd t = Eigen::VectorXd::LinSpaced(rows, 0.0, 0.199);
+  const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(rows, 0.12, 0.3);
+  const Eigen::VectorXd v = Eigen::VectorXd::Constant(rows, 0.3);
+  const fs::path scan = dir_ / "scan.csv";
+  WriteMeasurementLog(MeasurementLog({"time_s", "pos", "vel"}, {t, x, v}), scan.string());
+  read.min_rows = 1;
+  const MeasurementLog in = ReadMeasurementLog(scan.string(), read);
+  WriteMeasurementLog(PredictGprOnLog(model, in, "pos", "vel"), (dir_ / "prediction.csv").string());
+  const MeasurementLog out = ReadMeasurementLog((dir_ / "prediction.csv").string(), read);
+
+  EXPECT_EQ(out.names(), (std::vector<std::string>{"time_s", "pos", "vel", "mean", "std"}));
+  ASSERT_EQ(out.rows(), rows);
+  double squared_error = 0.0;
+  for (Eigen::Index i = 0; i < rows; ++i) {
+    ASSERT_EQ(out.column("pos")(i), x(i));
+    // Written in the shortest form that reads back exactly: the prediction itself, bit for bit.
+    ASSERT_EQ(out.column("mean")(i), fitted.PredictPosteriorMean(x(i), 0.3));
+    double sd = -1.0;
+    fitted.Predict(x(i), 0.3, nullptr, &sd);
+    ASSERT_EQ(out.column("std")(i), sd);
+    const double e = out.column("mean")(i) - testing::TrueDisturbance(x(i), 0.3);
+    squared_error += e * e;
+  }
+  // Noise 0.02 N, cogging amplitude ≈ 0.6 N: the learned model follows the truth closely.
+  EXPECT_LT(std::sqrt(squared_error / static_cast<double>(rows)), 0.03);
+}
+
+TEST_F(GprLog, ErrorsNameTheProblemAndTheFix) {
+  const MeasurementLog log = SyntheticLog();
+  GprTrainingSelection selection;
+  EXPECT_THAT(ErrorOf([&] { SelectGprTrainingData(log, selection); }), HasSubstr("no disturbance column given"));
+  selection.disturbance_column = "force_N";
+  EXPECT_THAT(ErrorOf([&] { SelectGprTrainingData(log, selection); }), HasSubstr("force_N"));
+  selection.disturbance_column = "dob_N";
+  selection.window = GprRange{0.5, 0.6};
+  EXPECT_THAT(ErrorOf([&] { SelectGprTrainingData(log, selection); }),
+              HasSubstr("<memory>: 0 training sample(s) in the position window [0.5, 0.6] m (column position_m "
+                        "spans ["));
+  selection.window = GprRange{0.3, 0.2};
+  EXPECT_THAT(ErrorOf([&] { SelectGprTrainingData(log, selection); }),
+              HasSubstr("position window [0.3, 0.2] m is empty or not finite: give xmin < xmax"));
+  selection.window.reset();
+  selection.downsample = 0;
+  EXPECT_THAT(ErrorOf([&] { SelectGprTrainingData(log, selection); }), HasSubstr("downsample must be >= 1"));
+
+  // Prediction: missing columns name the source; an existing "mean" column is not overwritten.
+  selection.downsample = 1;
+  GprFitOptions options;
+  options.restarts = 0;
+  const GprModel model = FitGprToLog(log, selection, options);
+  EXPECT_THAT(ErrorOf([&] { PredictGprOnLog(model, log, "x", "velocity_m_s"); }), HasSubstr("x"));
+  MeasurementLog clash = log;
+  clash.AddColumn("mean", Eigen::VectorXd::Zero(log.rows()));
+  EXPECT_THAT(ErrorOf([&] { PredictGprOnLog(model, clash); }),
+              HasSubstr("<memory>: already has a column \"mean\", which the prediction would write"));
+}
+
+}  // namespace
+}  // namespace mb
