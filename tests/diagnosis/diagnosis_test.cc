@@ -279,14 +279,18 @@ TEST(Diagnosis, EmpsScrewLeadRipple) {
             << "EMPS diagnosis: " << r.summary << "\n";
   for (const auto& e : r.effects) std::cout << "  " << e.description << "\n";
   for (const auto& n : r.notes) std::cout << "  note: " << n << "\n";
-  // The screw lead: a chosen position-periodic effect at 2.5 mm (±2 %), and the strongest position
-  // period in the searched band.
+  // The screw lead: a chosen position-periodic ripple at 2.5 mm (±2 %; plain or growing with |v|), and
+  // the strongest position period in the searched band. (It is not ranked first: the low-velocity
+  // friction at the reversals carries more of the residual energy — see the report.)
   const DiagnosedEffect* lead = nullptr;
   for (const auto& e : r.effects) {
-    if (e.effect == "position_periodic" && std::abs(e.parameters.at("period") - 2.5e-3) < 0.02 * 2.5e-3) lead = &e;
+    if ((e.effect == "position_periodic" || e.effect == "velocity_dependent_ripple") &&
+        std::abs(e.parameters.at("period") - 2.5e-3) < 0.02 * 2.5e-3) {
+      lead = &e;
+    }
   }
   ASSERT_NE(lead, nullptr) << Names(r);
-  EXPECT_GT(lead->score, 0.03);
+  EXPECT_GT(lead->score, 0.02);
   ASSERT_FALSE(r.position_peaks.empty());
   EXPECT_NEAR(r.position_peaks.front().period, 2.5e-3, 0.02 * 2.5e-3);
   EXPECT_LT(r.rmse_after, 0.8 * r.rmse_before);
