@@ -65,7 +65,8 @@ struct MeasurementLogOptions {
 // repeated column name, a missing required column (the message lists the columns present), a row
 // with a different number of cells, a non-numeric cell, NaN or Inf, a time that does not increase,
 // a gap (reports the time and line where each gap starts — up to five — and the median step),
-// fewer than min_rows rows. Parsing uses std::from_chars: 24k rows × 6 columns read in ~10 ms.
+// fewer than min_rows rows. Parsing uses std::from_chars: 24,841 rows × 6 columns read in ~30 ms
+// (Release, on a loaded 2-core machine).
 MeasurementLog ReadMeasurementLog(const std::string& path, const MeasurementLogOptions& options = {});
 
 // Writes a MeasurementLog as CSV (header row, then rows; each number in the shortest form that reads
