@@ -1,0 +1,369 @@
+#include "models/stability/stability.h"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "engine/registry.h"
+#include "models/stability/dob_design.h"
+
+namespace mb {
+
+namespace {
+
+using Complex = std::complex<double>;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The discrete filters of the loop, as the blocks build them.
+struct DiscreteLoop {
+  DiscreteTf plant, pd, feedforward, q, q_nominal_inverse;
+};
+
+DiscreteLoop MakeDiscreteLoop(const PaperLoop& l) {
+  DiscreteLoop d;
+  const double ts = l.sample_time;
+  d.plant = Discretize(RigidBodyPlant(l.mass, l.damping), ts, Discretization::kZeroOrderHold);
+  d.pd = PdFilter(l.kp, l.kd, l.derivative_cutoff_hz, ts);
+  // C_FF = P_n⁻¹ on the sampled reference by backward differences: M_n (1 − z⁻¹)²/Ts² + B_n (1 − z⁻¹)/Ts (FIR).
+  const double m = l.nominal_mass / (ts * ts), b = l.nominal_damping / ts;
+  d.feedforward.b = Eigen::Vector3d(m + b, -2.0 * m - b, m);
+  d.feedforward.a = Eigen::Vector3d(1.0, 0.0, 0.0);
+  d.feedforward.sample_time = ts;
+  d.q = Discretize(BinomialLowPass(l.q_cutoff_hz, l.relative_degree), ts, Discretization::kZeroOrderHold);
+  d.q_nominal_inverse =
+      Discretize(QNominalInverse(l.q_cutoff_hz, l.relative_degree, l.nominal_mass, l.nominal_damping), ts,
+                 l.q_nominal_inverse_discretization);
+  return d;
+}
+
+// One filter with its state, for the loop simulation.
+struct Running {
+  const DiscreteTf* tf;
+  Eigen::VectorXd state;
+  explicit Running(const DiscreteTf& f) : tf(&f), state(Eigen::VectorXd::Zero(std::max(f.order(), 1))) {}
+  double Out(double u) const { return FilterOutput(*tf, u, state.data()); }
+  void Update(double u) { FilterUpdate(*tf, u, state.data()); }
+};
+
+bool Decayed(const Eigen::VectorXd& h) {
+  // Stable if the last tenth carries a negligible share of the l1 norm and is not growing.
+  const Eigen::Index n = h.size(), tail = std::max<Eigen::Index>(n / 10, 1);
+  const double total = h.cwiseAbs().sum();
+  if (!std::isfinite(total)) return false;
+  return h.tail(tail).cwiseAbs().sum() <= 1e-9 * std::max(total, 1e-300);
+}
+
+Complex Jw(double f_hz) { return Complex(0.0, 2.0 * std::numbers::pi * f_hz); }
+
+double Nyquist(double ts) { return 0.5 / ts; }
+
+const nlohmann::json* FindElement(const nlohmann::json& elements, const std::string& key, const std::string& value,
+                                  bool required, const std::string& what) {
+  const nlohmann::json* found = nullptr;
+  for (const auto& e : elements) {
+    if (e.value(key, "") != value) continue;
+    if (found) {
+      throw std::invalid_argument(fmt::format("stability analysis: the diagram has more than one {} ({} \"{}\"); "
+                                              "the analysis needs exactly one",
+                                              what, key, value));
+    }
+    found = &e;
+  }
+  if (!found && required) {
+    throw std::invalid_argument(fmt::format("stability analysis: the diagram has no {} (an element with {} \"{}\"); "
+                                            "see diagrams/paper/conventional.json",
+                                            what, key, value));
+  }
+  return found;
+}
+
+// The validated parameters (registered defaults filled in) of one element.
+Parameters ElementParameters(const nlohmann::json& element) {
+  const std::string type = element.value("type", "");
+  const std::string name = element.value("name", "");
+  const BlockType* spec = BlockRegistry::Global().Find(type);
+  if (!spec) {
+    throw std::invalid_argument(fmt::format("stability analysis: block type '{}' (element '{}') is not registered; "
+                                            "link mb_blocks into the program",
+                                            type, name));
+  }
+  std::vector<std::string> errors;
+  auto values = ValidateParameters(spec->parameters, element.value("parameters", nlohmann::json::object()),
+                                   "/elements/" + name + "/parameters", &errors);
+  if (!errors.empty()) {
+    throw std::invalid_argument("stability analysis: " + errors.front());
+  }
+  return Parameters(name, std::move(values));
+}
+
+nlohmann::json Number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+nlohmann::json TermsJson(const SmallGainTerms& t) {
+  return {{"gamma_d_to_x", Number(t.gamma_d_to_x)},   {"gamma_xd_to_x", Number(t.gamma_xd_to_x)},
+          {"gamma_q", Number(t.gamma_q)},             {"gamma_q_filter", Number(t.gamma_q_filter)},
+          {"gamma_x_to_u", Number(t.gamma_x_to_u)},   {"gamma_xdot", Number(t.gamma_xdot)},
+          {"gamma_g", Number(t.gamma_g)},             {"lipschitz_x", Number(t.lipschitz_x)},
+          {"lipschitz_xdot", Number(t.lipschitz_xdot)}, {"K", Number(LipschitzGain(t))},
+          {"alpha_max", Number(t.alpha_max)}};
+}
+
+nlohmann::json ComplexJson(Complex c) {
+  return {{"magnitude", std::abs(c)}, {"phase_deg", std::arg(c) * 180.0 / std::numbers::pi}};
+}
+
+}  // namespace
+
+PaperLoop PaperLoopFromDiagram(const Diagram& diagram) {
+  const nlohmann::json& elements = diagram.json().at("elements");
+  PaperLoop l;
+  const nlohmann::json* dob = FindElement(elements, "type", "dob", true, "disturbance observer");
+  {
+    const Parameters p = ElementParameters(*dob);
+    l.nominal_mass = p.Number("nominal_mass");
+    l.nominal_damping = p.Number("nominal_damping");
+    l.q_cutoff_hz = p.Number("cutoff_hz");
+    l.relative_degree = p.Integer("relative_degree");
+    l.q_nominal_inverse_discretization = ParseDiscretization(p.String("discretization"), "dob/discretization");
+    const int b = diagram.FindBlock(dob->value("name", ""));
+    l.sample_time = diagram.blocks()[static_cast<std::size_t>(b)]->sample_time().period;
+  }
+  {
+    const Parameters p = ElementParameters(*FindElement(elements, "type", "linear_motor", true, "linear_motor plant"));
+    l.mass = p.Number("mass") + p.Number("payload_mass");
+    l.damping = p.Number("damping");
+  }
+  l.kp = ElementParameters(*FindElement(elements, "name", "pd_p", true, "PD proportional gain")).Vector("gain")(0);
+  l.kd = ElementParameters(*FindElement(elements, "name", "pd_d", true, "PD derivative gain")).Vector("gain")(0);
+  l.derivative_cutoff_hz =
+      ElementParameters(*FindElement(elements, "name", "pd_derivative", true, "PD derivative filter"))
+          .Number("cutoff_hz");
+  if (const auto* v = FindElement(elements, "name", "velocity", false, "velocity estimator")) {
+    l.velocity_cutoff_hz = ElementParameters(*v).Number("cutoff_hz");
+  }
+  if (const auto* g = FindElement(elements, "type", "f_gp", false, "GP filter")) {
+    const Parameters p = ElementParameters(*g);
+    l.gp_weight = p.Number("weight");
+    l.gp_cutoff_hz = p.Number("cutoff_hz");
+    l.gp_order = p.Integer("order");
+  }
+  return l;
+}
+
+double LipschitzGain(const SmallGainTerms& t) { return t.lipschitz_x + t.lipschitz_xdot * t.gamma_xdot; }
+
+double RhoPaper(const SmallGainTerms& t) {
+  return t.gamma_d_to_x * (t.gamma_q * (1.0 + t.gamma_x_to_u) + t.gamma_g * t.alpha_max * LipschitzGain(t));
+}
+
+double RhoConsistent(const SmallGainTerms& t) {
+  return t.gamma_d_to_x *
+         (t.gamma_q + t.gamma_q_filter * t.gamma_x_to_u + t.gamma_g * t.alpha_max * LipschitzGain(t));
+}
+
+double AlphaMaxBoundPaper(const SmallGainTerms& t) {
+  const double numerator = 1.0 / t.gamma_d_to_x - t.gamma_q * (1.0 + t.gamma_x_to_u);
+  const double denominator = t.gamma_g * LipschitzGain(t);
+  if (denominator == 0.0) return numerator > 0.0 ? kInf : numerator;
+  return numerator / denominator;
+}
+
+double AlphaMaxBoundDob(const SmallGainTerms& t) {
+  const double denominator = t.gamma_d_to_x * t.gamma_g * LipschitzGain(t);
+  return denominator == 0.0 ? kInf : 1.0 / denominator;
+}
+
+Eigen::VectorXd LoopImpulseResponse(const PaperLoop& loop, LoopPath path, bool with_dob, int count) {
+  if (count < 1) throw std::invalid_argument("LoopImpulseResponse: count must be ≥ 1");
+  const DiscreteLoop d = MakeDiscreteLoop(loop);
+  Running plant(d.plant), pd(d.pd), ff(d.feedforward), q(d.q), qp(d.q_nominal_inverse);
+  Eigen::VectorXd h(count);
+  for (int k = 0; k < count; ++k) {
+    const double impulse = k == 0 ? 1.0 : 0.0;
+    const double dist = path == LoopPath::kDisturbanceToPosition ? impulse : 0.0;
+    const double xd = path == LoopPath::kReferenceToPosition ? impulse : 0.0;
+    const double x = plant.Out(0.0);  // the ZOH plant is strictly proper
+    const double e = xd - x;
+    const double dhat = with_dob ? qp.Out(x) - q.Out(0.0) : 0.0;  // Q is strictly proper
+    const double uc = ff.Out(xd) + pd.Out(e) - dhat;
+    h(k) = x;
+    plant.Update(uc + dist);
+    pd.Update(e);
+    ff.Update(xd);
+    if (with_dob) {
+      qp.Update(x);
+      q.Update(uc);
+    }
+  }
+  return h;
+}
+
+std::vector<double> LogFrequencies(double min_hz, double sample_time, int count) {
+  const double max_hz = 0.99 * Nyquist(sample_time);
+  if (!(min_hz > 0.0) || !(min_hz < max_hz) || count < 2) {
+    throw std::invalid_argument(fmt::format("LogFrequencies: need 0 < min_hz < 0.99·Nyquist = {} Hz and count ≥ 2",
+                                            max_hz));
+  }
+  std::vector<double> f(static_cast<std::size_t>(count));
+  for (int i = 0; i < count; ++i) {
+    f[static_cast<std::size_t>(i)] =
+        min_hz * std::pow(max_hz / min_hz, static_cast<double>(i) / static_cast<double>(count - 1));
+  }
+  return f;
+}
+
+std::vector<BodePoint> ClosedLoopBode(const PaperLoop& l, const std::vector<double>& frequencies_hz) {
+  const DiscreteLoop d = MakeDiscreteLoop(l);
+  const ContinuousTf p = RigidBodyPlant(l.mass, l.damping);
+  const ContinuousTf pn = RigidBodyPlant(l.nominal_mass, l.nominal_damping);
+  const ContinuousTf q = BinomialLowPass(l.q_cutoff_hz, l.relative_degree);
+  const ContinuousTf c = PdFilterContinuous(l.kp, l.kd, l.derivative_cutoff_hz);
+  std::vector<BodePoint> out;
+  for (double f : frequencies_hz) {
+    if (!(f > 0.0) || !(f < Nyquist(l.sample_time))) {
+      throw std::invalid_argument(fmt::format("ClosedLoopBode: {} Hz is outside (0, Nyquist = {} Hz)", f,
+                                              Nyquist(l.sample_time)));
+    }
+    BodePoint b;
+    b.frequency_hz = f;
+    const Complex s = Jw(f);
+    const double w = 2.0 * std::numbers::pi * f;
+    {  // Eq. 6, 7 (with P), 12.
+      const Complex P = p.Evaluate(s), Pn_inv = 1.0 / pn.Evaluate(s), Q = q.Evaluate(s), C = c.Evaluate(s);
+      const Complex den = 1.0 - Q + (C + Q * Pn_inv) * P;
+      b.xd_to_x_continuous = (C + Pn_inv) * P / den;
+      b.d_to_x_continuous = (1.0 - Q) * P / den;
+      b.d_to_dhat_continuous = Q * P * (C + Pn_inv) / den;
+    }
+    {  // The sampled loop: Q∘P_n⁻¹ is one filter, so eq. 12 becomes Q + (QP_n⁻¹·P − Q)(1 − Q)/Δ.
+      const Complex P = d.plant.FrequencyResponse(w), Q = d.q.FrequencyResponse(w);
+      const Complex QPn = d.q_nominal_inverse.FrequencyResponse(w), C = d.pd.FrequencyResponse(w);
+      const Complex Pn_inv = 1.0 / pn.Evaluate(s);
+      const Complex den = 1.0 - Q + (C + QPn) * P;
+      b.xd_to_x_discrete = (C + Pn_inv) * P / den;
+      b.d_to_x_discrete = (1.0 - Q) * P / den;
+      b.d_to_dhat_discrete = Q + (QPn * P - Q) * (1.0 - Q) / den;
+    }
+    out.push_back(b);
+  }
+  return out;
+}
+
+StabilityReport AnalyseStability(const PaperLoop& loop, const GprModel* gpr, const StabilityOptions& options) {
+  StabilityReport r;
+  r.loop = loop;
+  const DiscreteLoop d = MakeDiscreteLoop(loop);
+  const int n = options.impulse_samples;
+
+  // Per-filter gains (Assumption 2, 5).
+  SmallGainTerms base;
+  base.gamma_q = L1Norm(d.q_nominal_inverse);
+  base.gamma_q_filter = L1Norm(d.q);
+  base.gamma_xdot = L1Norm(VelocityEstimatorFilter(loop.velocity_cutoff_hz, loop.sample_time));
+  base.gamma_g =
+      L1Norm(Discretize(BinomialLowPass(loop.gp_cutoff_hz, loop.gp_order), loop.sample_time,
+                        Discretization::kZeroOrderHold));
+  base.alpha_max = loop.gp_weight;
+  if (gpr) {
+    const GprLipschitzConstants lc = gpr->LipschitzConstants(options.lipschitz_grid);
+    base.lipschitz_x = lc.position;
+    base.lipschitz_xdot = lc.velocity;
+    r.b_mu = gpr->PosteriorErrorBound(options.beta_delta, options.std_grid);
+    r.has_gpr = true;
+  }
+
+  // "paper" decomposition: inner loop P + C_FB.
+  const Eigen::VectorXd h_inner_d = LoopImpulseResponse(loop, LoopPath::kDisturbanceToPosition, false, n);
+  const Eigen::VectorXd h_inner_r = LoopImpulseResponse(loop, LoopPath::kReferenceToPosition, false, n);
+  r.inner_loop_stable = Decayed(h_inner_d) && Decayed(h_inner_r);
+  r.paper = base;
+  r.paper.gamma_d_to_x = r.inner_loop_stable ? L1Norm(h_inner_d) : kInf;
+  r.paper.gamma_xd_to_x = r.inner_loop_stable ? L1Norm(h_inner_r) : kInf;
+  r.paper.gamma_x_to_u = L1Norm(d.pd);
+
+  // "dob" decomposition: the conventional loop closed.
+  const Eigen::VectorXd h_dob_d = LoopImpulseResponse(loop, LoopPath::kDisturbanceToPosition, true, n);
+  const Eigen::VectorXd h_dob_r = LoopImpulseResponse(loop, LoopPath::kReferenceToPosition, true, n);
+  r.dob_loop_stable = Decayed(h_dob_d) && Decayed(h_dob_r);
+  r.dob = base;
+  r.dob.gamma_d_to_x = r.dob_loop_stable ? L1Norm(h_dob_d) : kInf;
+  r.dob.gamma_xd_to_x = r.dob_loop_stable ? L1Norm(h_dob_r) : kInf;
+  r.dob.gamma_q = 0.0;
+  r.dob.gamma_x_to_u = 0.0;
+
+  r.rho_paper = RhoPaper(r.paper);
+  r.rho_consistent = RhoConsistent(r.paper);
+  r.alpha_max_bound_paper = AlphaMaxBoundPaper(r.paper);
+  r.rho_dob = r.dob.gamma_d_to_x * r.dob.gamma_g * r.dob.alpha_max * LipschitzGain(r.dob);
+  r.alpha_max_bound_dob = AlphaMaxBoundDob(r.dob);
+
+  r.bode = ClosedLoopBode(loop, LogFrequencies(options.bode_min_hz, loop.sample_time, options.bode_points));
+
+  if (!r.inner_loop_stable) r.notes.push_back("the inner loop P + C_FB is not stable (Assumption 1 fails)");
+  if (!r.dob_loop_stable) r.notes.push_back("the conventional FF/FB/DOB loop is not stable");
+  r.notes.push_back(fmt::format("eq. 58 as printed: rho = {:.4g} ({}); per-path Lemma 1: rho' = {:.4g}", r.rho_paper,
+                                r.rho_paper < 1.0 ? "< 1, BIBO stable" : ">= 1, not certified", r.rho_consistent));
+  if (r.rho_paper >= 1.0) {
+    r.notes.push_back("the 'paper' decomposition bounds d_hat_d through gamma_x_to_u = ||C_FB||_1, and "
+                      "gamma_d_to_x * ||C_FB||_1 >= ||T||_1 >= 1, so it cannot certify a PD loop; use the 'dob' "
+                      "decomposition (conventional loop closed, only the GP path fed back)");
+  }
+  if (!r.has_gpr) {
+    r.notes.push_back("no GPR model given: K = L_x + L_xdot*gamma_xdot = 0, the GP path is absent");
+  }
+  r.notes.push_back(fmt::format("'dob' decomposition: rho = {:.4g}, alpha_max < {:.4g}", r.rho_dob,
+                                r.alpha_max_bound_dob));
+  return r;
+}
+
+StabilityReport AnalyseStability(const Diagram& diagram, const GprModel* gpr, const StabilityOptions& options) {
+  return AnalyseStability(PaperLoopFromDiagram(diagram), gpr, options);
+}
+
+nlohmann::json ToJson(const StabilityReport& r) {
+  const PaperLoop& l = r.loop;
+  nlohmann::json j;
+  j["loop"] = {{"sample_time", l.sample_time},
+               {"mass", l.mass},
+               {"damping", l.damping},
+               {"nominal_mass", l.nominal_mass},
+               {"nominal_damping", l.nominal_damping},
+               {"q_cutoff_hz", l.q_cutoff_hz},
+               {"relative_degree", l.relative_degree},
+               {"q_nominal_inverse_discretization", ToString(l.q_nominal_inverse_discretization)},
+               {"kp", l.kp},
+               {"kd", l.kd},
+               {"derivative_cutoff_hz", l.derivative_cutoff_hz},
+               {"velocity_cutoff_hz", l.velocity_cutoff_hz},
+               {"gp_weight", l.gp_weight},
+               {"gp_cutoff_hz", l.gp_cutoff_hz},
+               {"gp_order", l.gp_order}};
+  j["inner_loop_stable"] = r.inner_loop_stable;
+  j["dob_loop_stable"] = r.dob_loop_stable;
+  j["has_gpr"] = r.has_gpr;
+  j["b_mu"] = r.b_mu;
+  j["paper"] = TermsJson(r.paper);
+  j["paper"]["rho"] = Number(r.rho_paper);
+  j["paper"]["rho_consistent"] = Number(r.rho_consistent);
+  j["paper"]["alpha_max_bound"] = Number(r.alpha_max_bound_paper);
+  j["dob"] = TermsJson(r.dob);
+  j["dob"]["rho"] = Number(r.rho_dob);
+  j["dob"]["alpha_max_bound"] = Number(r.alpha_max_bound_dob);
+  nlohmann::json bode = nlohmann::json::array();
+  for (const BodePoint& b : r.bode) {
+    bode.push_back({{"frequency_hz", b.frequency_hz},
+                    {"eq6_continuous", ComplexJson(b.xd_to_x_continuous)},
+                    {"eq7_continuous", ComplexJson(b.d_to_x_continuous)},
+                    {"eq12_continuous", ComplexJson(b.d_to_dhat_continuous)},
+                    {"eq6_discrete", ComplexJson(b.xd_to_x_discrete)},
+                    {"eq7_discrete", ComplexJson(b.d_to_x_discrete)},
+                    {"eq12_discrete", ComplexJson(b.d_to_dhat_discrete)}});
+  }
+  j["bode"] = std::move(bode);
+  j["notes"] = r.notes;
+  j["null_means"] = "infinite (unbounded gain or no bound)";
+  return j;
+}
+
+}  // namespace mb
