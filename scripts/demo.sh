@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# The main job on the embedded default (make demo): a real ball-screw stage (EMPS benchmark data, shipped in
+# diagrams/emps/data). Compare the benchmark's rigid-body model with the measurement, see where it fails and
+# what is missing, add the suggested effect block, refit, and validate on the held-out record.
+set -euo pipefail
+BIN=${1:-build/release/tools/motionblocks}
+OUT=${OUT:-out/demo}
+DATA=diagrams/emps/data
+mkdir -p "$OUT"
+
+step() { printf '\n== %s\n' "$*"; }
+
+step "1. Base model (rigid body + viscous + Coulomb + offset) vs DATA_EMPS: refit, diagnose, suggest"
+"$BIN" compare diagrams/emps/rigid_body.json --measurement "$DATA/DATA_EMPS.csv" \
+  --out "$OUT/1_base" --write-fitted "$OUT/rigid_body_fitted.json" --suggest "$OUT/rigid_body_suggested.json"
+
+step "2. The suggested diagram (effect block added), refit jointly on DATA_EMPS"
+"$BIN" compare "$OUT/rigid_body_suggested.json" --measurement "$DATA/DATA_EMPS.csv" \
+  --out "$OUT/2_suggested" --write-fitted "$OUT/rigid_body_suggested_fitted.json"
+
+step "3. Validation on the held-out record DATA_EMPS_PULSES (nothing refit): base model"
+"$BIN" compare "$OUT/rigid_body_fitted.json" --measurement "$DATA/DATA_EMPS_PULSES.csv" --no-fit \
+  --out "$OUT/3_validate_base"
+
+step "4. Validation on DATA_EMPS_PULSES: with the added effect"
+"$BIN" compare "$OUT/rigid_body_suggested_fitted.json" --measurement "$DATA/DATA_EMPS_PULSES.csv" --no-fit \
+  --out "$OUT/4_validate_suggested"
+
+step "Reports"
+for d in 1_base 2_suggested 3_validate_base 4_validate_suggested; do
+  echo "  $OUT/$d/report.html"
+done

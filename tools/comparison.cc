@@ -1,0 +1,363 @@
+#include "tools/comparison.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+#include <fmt/format.h>
+#include <unsupported/Eigen/NonLinearOptimization>
+#include <unsupported/Eigen/NumericalDiff>
+
+#include "engine/diagram_loader.h"
+#include "engine/registry.h"
+#include "models/diagnosis/signal_processing.h"
+
+namespace mb {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+MeasurementLog ReadMeasurementWithDerivatives(const std::string& path, const std::string& position_column,
+                                              double derivative_cutoff_hz,
+                                              const std::vector<std::string>& filter_columns) {
+  MeasurementLog raw = ReadMeasurementLog(path);
+  const double dt = MedianTimeStep(raw.time());
+  std::vector<std::string> names = raw.names();
+  std::vector<Eigen::VectorXd> columns;
+  for (const auto& name : names) {
+    const bool filter = std::find(filter_columns.begin(), filter_columns.end(), name) != filter_columns.end();
+    columns.push_back(filter ? ZeroPhaseLowPass(raw.column(name), dt, derivative_cutoff_hz) : raw.column(name));
+  }
+  MeasurementLog log(names, columns, raw.source());
+  if (log.has_column(position_column) &&
+      (!log.has_column(kDerivedVelocityColumn) || !log.has_column(kDerivedAccelerationColumn))) {
+    const MotionDerivatives m = DeriveMotion(log.time(), log.column(position_column), derivative_cutoff_hz);
+    if (!log.has_column(kDerivedVelocityColumn)) log.AddColumn(kDerivedVelocityColumn, m.velocity);
+    if (!log.has_column(kDerivedAccelerationColumn)) log.AddColumn(kDerivedAccelerationColumn, m.acceleration);
+  }
+  return log;
+}
+
+std::vector<std::string> OutputColumns(const json& diagram, const std::map<std::string, std::string>& column_map) {
+  std::vector<std::string> out;
+  for (const auto& c : diagram.value("connectors", json::array())) {
+    if (c.value("kind", "") != "output") continue;
+    const std::string name = c.value("name", "");
+    auto it = column_map.find(name);
+    out.push_back(it != column_map.end() ? it->second : c.value("measurement", name));
+  }
+  return out;
+}
+
+namespace {
+
+InputSeries SeriesOf(const MeasurementLog& log, const std::string& column) {
+  const auto& t = log.time();
+  const auto& v = log.column(column);
+  return InputSeries{std::vector<double>(t.data(), t.data() + t.size()), std::vector<double>(v.data(), v.data() + v.size())};
+}
+
+json* FindElement(json* diagram, const std::string& name) {
+  for (auto& e : (*diagram)["elements"]) {
+    if (e.value("name", "") == name) return &e;
+  }
+  return nullptr;
+}
+
+const json* FindElement(const json& diagram, const std::string& name) {
+  for (const auto& e : diagram.at("elements")) {
+    if (e.value("name", "") == name) return &e;
+  }
+  return nullptr;
+}
+
+// The parameter's value in the JSON, else the block type's default; null if neither.
+json ParameterValue(const json& element, const std::string& parameter) {
+  if (element.contains("parameters") && element["parameters"].contains(parameter)) {
+    const json& v = element["parameters"][parameter];
+    return v.is_object() && v.contains("value") ? v["value"] : v;
+  }
+  if (const BlockType* type = BlockRegistry::Global().Find(element.value("type", ""))) {
+    for (const auto& spec : type->parameters) {
+      if (spec.name == parameter && spec.default_value) return *spec.default_value;
+    }
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+void FeedInputsFromFiles(const Diagram& diagram, const std::vector<std::string>& specs, Simulator* sim) {
+  for (const auto& spec : specs) {
+    const auto eq = spec.find('=');
+    if (eq == std::string::npos) {
+      throw std::invalid_argument(fmt::format("--input '{}': write connector=FILE or connector=FILE:COLUMN", spec));
+    }
+    const std::string connector = spec.substr(0, eq);
+    std::string file = spec.substr(eq + 1);
+    std::string column;
+    if (const auto colon = file.rfind(':'); colon != std::string::npos) {
+      column = file.substr(colon + 1);
+      file = file.substr(0, colon);
+    }
+    if (column.empty()) {
+      for (const auto& in : diagram.inputs()) {
+        if (in.name == connector) column = in.measurement;
+      }
+    }
+    const MeasurementLog log = ReadMeasurementLog(file, MeasurementLogOptions{{column}});
+    sim->SetInput(connector, SeriesOf(log, column));
+  }
+}
+
+std::vector<FreeParameter> ResolveFreeParameters(const json& diagram, const std::vector<std::string>& names) {
+  std::vector<FreeParameter> out;
+  for (const auto& name : names) {
+    const auto dot = name.find('.');
+    if (dot == std::string::npos) {
+      throw std::invalid_argument(fmt::format("free parameter '{}': write block.parameter, e.g. mass.gain", name));
+    }
+    const std::string block = name.substr(0, dot), parameter = name.substr(dot + 1);
+    const json* element = FindElement(diagram, block);
+    if (!element) throw std::invalid_argument(fmt::format("free parameter '{}': no element '{}'", name, block));
+    const json value = ParameterValue(*element, parameter);
+    if (value.is_number()) {
+      out.push_back({block, parameter, -1, name});
+    } else if (value.is_array() && !value.empty() && value[0].is_number()) {
+      for (std::size_t i = 0; i < value.size(); ++i) {
+        out.push_back({block, parameter, static_cast<int>(i), fmt::format("{}[{}]", name, i)});
+      }
+    } else {
+      throw std::invalid_argument(fmt::format(
+          "free parameter '{}': element '{}' ({}) has no numeric parameter '{}'", name, block,
+          element->value("type", "?"), parameter));
+    }
+  }
+  return out;
+}
+
+Eigen::VectorXd GetParameterValues(const json& diagram, const std::vector<FreeParameter>& params) {
+  Eigen::VectorXd v(static_cast<Eigen::Index>(params.size()));
+  for (std::size_t i = 0; i < params.size(); ++i) {
+    const json value = ParameterValue(*FindElement(diagram, params[i].block), params[i].parameter);
+    v(static_cast<Eigen::Index>(i)) =
+        params[i].index < 0 ? value.get<double>() : value.at(static_cast<std::size_t>(params[i].index)).get<double>();
+  }
+  return v;
+}
+
+void SetParameterValues(json* diagram, const std::vector<FreeParameter>& params,
+                        const Eigen::Ref<const Eigen::VectorXd>& values) {
+  for (std::size_t i = 0; i < params.size(); ++i) {
+    json* element = FindElement(diagram, params[i].block);
+    json& slot = (*element)["parameters"][params[i].parameter];
+    json& target = slot.is_object() && slot.contains("value") ? slot["value"] : slot;
+    const double x = values(static_cast<Eigen::Index>(i));
+    if (params[i].index < 0) {
+      target = x;
+    } else {
+      if (!target.is_array()) target = ParameterValue(*element, params[i].parameter);
+      target[static_cast<std::size_t>(params[i].index)] = x;
+    }
+  }
+}
+
+ModelComparison::ModelComparison(json diagram, fs::path base_directory, std::string source,
+                                 const MeasurementLog& log, const std::map<std::string, std::string>& column_map)
+    : diagram_(std::move(diagram)), base_(std::move(base_directory)), source_(std::move(source)), log_(log) {
+  const auto& t = log.time();
+  diagram_["defaultExperiment"] = {{"startTime", t(0)}, {"stopTime", t(t.size() - 1)},
+                                   {"stepSize", MedianTimeStep(t)}};
+  const Diagram d = BuildDiagram(diagram_, base_, source_);
+  auto column_for = [&](const std::string& connector, const std::string& fallback) {
+    auto it = column_map.find(connector);
+    return it != column_map.end() ? it->second : fallback;
+  };
+  std::string present;
+  for (const auto& n : log.names()) present += (present.empty() ? "" : ", ") + n;
+  for (const auto& in : d.inputs()) {
+    const std::string column = column_for(in.name, in.measurement);
+    if (log.has_column(column)) {
+      input_columns_[in.name] = column;
+    } else if (!in.optional) {
+      throw std::invalid_argument(fmt::format(
+          "{}: the diagram's input '{}' reads column '{}', which the log lacks; columns present: {}. Map another "
+          "column with --map {}=COLUMN",
+          log.source(), in.name, column, present, in.name));
+    }
+  }
+  for (const auto& out : d.outputs()) {
+    const std::string column = column_for(out.name, out.measurement);
+    if (log.has_column(column)) output_columns_[out.name] = column;
+  }
+  if (output_columns_.empty()) {
+    std::string outs;
+    for (const auto& out : d.outputs()) outs += (outs.empty() ? "" : ", ") + out.name + " ← " + out.measurement;
+    throw std::invalid_argument(fmt::format(
+        "{}: no output of the diagram can be compared: its outputs read columns {} and the log has {}. Map one with "
+        "--map OUTPUT=COLUMN",
+        log.source(), outs.empty() ? "(none: add an output connector)" : outs, present));
+  }
+}
+
+std::vector<ComparedOutput> ModelComparison::Simulate() const {
+  const Diagram d = BuildDiagram(diagram_, base_, source_);
+  Simulator sim(d);
+  for (const auto& [connector, column] : input_columns_) sim.SetInput(connector, SeriesOf(log_, column));
+  sim.Initialize();
+  sim.AdvanceTo(d.experiment().stop_time);
+  const SignalLog& log = sim.log();
+  std::vector<ComparedOutput> out;
+  const auto& t = log_.time();
+  for (const auto& o : d.outputs()) {
+    auto it = output_columns_.find(o.name);
+    if (it == output_columns_.end()) continue;
+    ComparedOutput c;
+    c.connector = o.name;
+    c.column = it->second;
+    c.unit = o.unit;
+    c.measured = log_.column(it->second);
+    // Linear interpolation of the simulated output onto the measured time stamps.
+    const auto& st = log.time;
+    const auto& sv = log.Column(o.name);
+    c.model.resize(t.size());
+    std::size_t j = 0;
+    for (Eigen::Index i = 0; i < t.size(); ++i) {
+      while (j + 2 < st.size() && st[j + 1] < t(i)) ++j;
+      const double w = st.size() < 2 ? 0.0 : std::clamp((t(i) - st[j]) / (st[j + 1] - st[j]), 0.0, 1.0);
+      c.model(i) = st.size() < 2 ? sv[0] : sv[j] + w * (sv[j + 1] - sv[j]);
+    }
+    if (!c.model.allFinite()) {
+      throw std::runtime_error(fmt::format("the simulated output '{}' is not finite (NaN/Inf): the model diverged "
+                                           "with these parameters",
+                                           o.name));
+    }
+    c.rmse = Rmse(c.measured, c.model);
+    c.fit_percent = FitPercent(c.measured, c.model);
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+std::vector<ComparedOutput> ModelComparison::Simulate(const std::vector<FreeParameter>& params,
+                                                      const Eigen::Ref<const Eigen::VectorXd>& values) const {
+  ModelComparison copy = *this;
+  SetParameterValues(&copy.diagram_, params, values);
+  return copy.Simulate();
+}
+
+namespace {
+
+// Residual functor for Eigen's Levenberg–Marquardt: scaled residuals of all compared outputs.
+struct ResidualFunctor {
+  using Scalar = double;
+  using InputType = Eigen::VectorXd;
+  using ValueType = Eigen::VectorXd;
+  using JacobianType = Eigen::MatrixXd;
+  enum { InputsAtCompileTime = Eigen::Dynamic, ValuesAtCompileTime = Eigen::Dynamic };
+
+  const ModelComparison* comparison;
+  const std::vector<FreeParameter>* params;
+  Eigen::VectorXd scale;  // per output
+  Eigen::Index n_values;
+
+  int inputs() const { return static_cast<int>(params->size()); }
+  int values() const { return static_cast<int>(n_values); }
+  int operator()(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
+    std::vector<ComparedOutput> outs;
+    try {
+      outs = comparison->Simulate(*params, x);
+    } catch (const std::exception&) {
+      f.setConstant(1e6);  // a diverging trial point: make it very bad, LM retreats
+      return 0;
+    }
+    Eigen::Index k = 0;
+    for (std::size_t o = 0; o < outs.size(); ++o) {
+      const Eigen::Index n = outs[o].measured.size();
+      f.segment(k, n) = (outs[o].measured - outs[o].model) / scale(static_cast<Eigen::Index>(o));
+      k += n;
+    }
+    return 0;
+  }
+};
+
+}  // namespace
+
+Eigen::MatrixXd OutputJacobian(const ModelComparison& comparison, const std::vector<FreeParameter>& params,
+                               const Eigen::Ref<const Eigen::VectorXd>& values) {
+  const Eigen::Index p = values.size();
+  Eigen::MatrixXd jac;
+  for (Eigen::Index j = 0; j < p; ++j) {
+    const double h = 1e-6 * std::max(1.0, std::abs(values(j)));
+    Eigen::VectorXd plus = values, minus = values;
+    plus(j) += h;
+    minus(j) -= h;
+    const Eigen::VectorXd yp = comparison.Simulate(params, plus).front().model;
+    const Eigen::VectorXd ym = comparison.Simulate(params, minus).front().model;
+    if (jac.size() == 0) jac.resize(yp.size(), p);
+    jac.col(j) = (yp - ym) / (2.0 * h);
+  }
+  return jac;
+}
+
+json FitResult::ToJson() const {
+  json params_json = json::array();
+  for (std::size_t i = 0; i < parameters.size(); ++i) {
+    const auto k = static_cast<Eigen::Index>(i);
+    params_json.push_back({{"name", parameters[i].name},
+                           {"initial", initial(k)},
+                           {"estimate", estimate(k)},
+                           {"standard_error", standard_error(k)},
+                           {"ci95", {estimate(k) - 1.96 * standard_error(k), estimate(k) + 1.96 * standard_error(k)}}});
+  }
+  return {{"parameters", params_json}, {"iterations", iterations}, {"status", status},
+          {"condition_number", condition_number}};
+}
+
+FitResult FitParameters(const ModelComparison& comparison, const std::vector<FreeParameter>& params) {
+  if (params.empty()) throw std::invalid_argument("nothing to fit: name parameters with --fit block.param,…");
+  FitResult result;
+  result.parameters = params;
+  result.initial = GetParameterValues(comparison.diagram_json(), params);
+  const auto outs = comparison.Simulate();
+  ResidualFunctor functor{&comparison, &params, Eigen::VectorXd(static_cast<Eigen::Index>(outs.size())), 0};
+  for (std::size_t o = 0; o < outs.size(); ++o) {
+    const Eigen::VectorXd& y = outs[o].measured;
+    const double sd = std::sqrt((y.array() - y.mean()).square().mean());
+    functor.scale(static_cast<Eigen::Index>(o)) = sd > 0.0 ? sd : 1.0;
+    functor.n_values += y.size();
+  }
+  Eigen::NumericalDiff<ResidualFunctor> numerical(functor);
+  Eigen::LevenbergMarquardt<Eigen::NumericalDiff<ResidualFunctor>> lm(numerical);
+  lm.parameters.maxfev = 200 * static_cast<int>(params.size() + 1);
+  lm.parameters.xtol = 1e-10;
+  lm.parameters.ftol = 1e-12;
+  Eigen::VectorXd x = result.initial;
+  const auto status = lm.minimize(x);
+  result.estimate = x;
+  result.iterations = static_cast<int>(lm.iter);
+  switch (status) {
+    case Eigen::LevenbergMarquardtSpace::RelativeReductionTooSmall: result.status = "converged (cost)"; break;
+    case Eigen::LevenbergMarquardtSpace::RelativeErrorTooSmall: result.status = "converged (parameters)"; break;
+    case Eigen::LevenbergMarquardtSpace::RelativeErrorAndReductionTooSmall: result.status = "converged"; break;
+    case Eigen::LevenbergMarquardtSpace::TooManyFunctionEvaluation: result.status = "stopped: evaluation limit"; break;
+    default: result.status = fmt::format("stopped (Levenberg–Marquardt status {})", static_cast<int>(status));
+  }
+  // Standard errors from the primary output's Jacobian at the estimate (unscaled units).
+  result.jacobian = OutputJacobian(comparison, params, x);
+  const auto at = comparison.Simulate(params, x).front();
+  const auto n = static_cast<double>(at.measured.size());
+  const double sigma2 = (at.measured - at.model).squaredNorm() / std::max(1.0, n - static_cast<double>(x.size()));
+  const Eigen::MatrixXd jtj = result.jacobian.transpose() * result.jacobian;
+  const Eigen::VectorXd col_norm = result.jacobian.colwise().norm().transpose().cwiseMax(1e-300);
+  const Eigen::MatrixXd scaled = result.jacobian * col_norm.cwiseInverse().asDiagonal();
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(scaled);
+  const auto& sv = svd.singularValues();
+  result.condition_number = sv(sv.size() - 1) > 0.0 ? sv(0) / sv(sv.size() - 1) : INFINITY;
+  const Eigen::MatrixXd cov = sigma2 * jtj.completeOrthogonalDecomposition().pseudoInverse();
+  result.standard_error = cov.diagonal().cwiseMax(0.0).cwiseSqrt();
+  return result;
+}
+
+}  // namespace mb

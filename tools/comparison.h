@@ -1,0 +1,128 @@
+#pragma once
+// Model versus measurement (MATLAB System Identification Toolbox's `compare`, DIAGNOSIS.md): drive a diagram's
+// input connectors with measured columns, read its output connectors at the measured times, score them (RMSE,
+// fit %), refit chosen parameters by nonlinear least squares (Levenberg–Marquardt, Eigen's unsupported
+// NonLinearOptimization module) with confidence intervals.
+//
+// The two modes are the same mechanism with different connectors: equation-error (inverse model: measured
+// motion in, model force out, compared with the measured force) and simulation (measured reference in,
+// simulated position/force out).
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "engine/diagram.h"
+#include "engine/simulator.h"
+#include "models/diagnosis/measurement_log.h"
+
+namespace mb {
+
+/// Columns compare derives when the log lacks them: velocity and acceleration from the position column,
+/// zero-phase low-pass + central differences (the EMPS benchmark's IDIM-LS).
+inline constexpr const char* kDerivedVelocityColumn = "velocity_m_s";
+inline constexpr const char* kDerivedAccelerationColumn = "acceleration_m_s2";
+
+/// Reads a measurement log and adds the derived velocity/acceleration columns (if absent and the position
+/// column exists). Columns named in `filter_columns` (those present) are passed through the same zero-phase
+/// low-pass as the position — IDIM-LS's parallel filtering, so that an equation-error residual compares force
+/// and motion in the same band. @throws as ReadMeasurementLog.
+MeasurementLog ReadMeasurementWithDerivatives(const std::string& path, const std::string& position_column,
+                                              double derivative_cutoff_hz,
+                                              const std::vector<std::string>& filter_columns = {});
+
+/// The measured columns a diagram's output connectors are compared with (their "measurement" names, or the
+/// --map override).
+std::vector<std::string> OutputColumns(const nlohmann::json& diagram,
+                                       const std::map<std::string, std::string>& column_map);
+
+/// Feeds `run --input connector=FILE[:COLUMN]` specs. @throws std::invalid_argument on a malformed spec.
+void FeedInputsFromFiles(const Diagram& diagram, const std::vector<std::string>& specs, Simulator* sim);
+
+/// One scalar the fit may change: element `block`, parameter `parameter`, entry `index` of a vector (or -1 for
+/// a scalar). `name` is "block.param" or "block.param[i]".
+struct FreeParameter {
+  std::string block;
+  std::string parameter;
+  int index = -1;
+  std::string name;
+};
+
+/// Expands "block.param" names (a vector parameter gives one FreeParameter per entry) against the diagram JSON.
+/// @throws std::invalid_argument naming an unknown block or parameter, or a non-numeric one.
+std::vector<FreeParameter> ResolveFreeParameters(const nlohmann::json& diagram, const std::vector<std::string>& names);
+
+/// Reads / writes the current values of free parameters in the diagram JSON (values given as numbers or as
+/// {"value", "unit"}; a parameter absent from the JSON reads its block default — pass `defaults`).
+Eigen::VectorXd GetParameterValues(const nlohmann::json& diagram, const std::vector<FreeParameter>& params);
+void SetParameterValues(nlohmann::json* diagram, const std::vector<FreeParameter>& params,
+                        const Eigen::Ref<const Eigen::VectorXd>& values);
+
+/// One output connector compared with its measured column.
+struct ComparedOutput {
+  std::string connector;
+  std::string column;
+  std::string unit;
+  Eigen::VectorXd measured;
+  Eigen::VectorXd model;
+  double rmse = 0.0;
+  double fit_percent = 0.0;
+  Eigen::VectorXd residual() const { return measured - model; }
+};
+
+/// A diagram bound to a measurement: simulate it with any parameter values along the measured record.
+class ModelComparison {
+ public:
+  /// `column_map` overrides connector → column (default: each connector's "measurement" name). The diagram's
+  /// experiment is set to the log's time span and median step. @throws std::invalid_argument if a required
+  /// input's or any output's column is missing (listing the columns present) or no output can be compared.
+  ModelComparison(nlohmann::json diagram, std::filesystem::path base_directory, std::string source,
+                  const MeasurementLog& log, const std::map<std::string, std::string>& column_map);
+
+  /// Simulates with the diagram JSON as it is and returns every compared output.
+  std::vector<ComparedOutput> Simulate() const;
+  /// Same with the given free-parameter values written in first.
+  std::vector<ComparedOutput> Simulate(const std::vector<FreeParameter>& params,
+                                       const Eigen::Ref<const Eigen::VectorXd>& values) const;
+
+  const nlohmann::json& diagram_json() const { return diagram_; }
+  nlohmann::json& mutable_diagram_json() { return diagram_; }
+  const std::map<std::string, std::string>& input_columns() const { return input_columns_; }
+  const MeasurementLog& log() const { return log_; }
+
+ private:
+  nlohmann::json diagram_;
+  std::filesystem::path base_;
+  std::string source_;
+  const MeasurementLog& log_;
+  std::map<std::string, std::string> input_columns_;
+  std::map<std::string, std::string> output_columns_;
+};
+
+/// Result of a least-squares refit.
+struct FitResult {
+  std::vector<FreeParameter> parameters;
+  Eigen::VectorXd initial;
+  Eigen::VectorXd estimate;
+  Eigen::VectorXd standard_error;  ///< sqrt(diag(σ² (JᵀJ)⁻¹)), σ² = SSR/(N − p)
+  Eigen::MatrixXd jacobian;        ///< d(model output)/d(parameter) of the primary output at the estimate (N × p)
+  double condition_number = 0.0;   ///< of the column-scaled Jacobian
+  int iterations = 0;
+  std::string status;
+  nlohmann::json ToJson() const;
+};
+
+/// Minimises Σ over compared outputs of ‖(measured − model)/scale‖², scale = each output's measured standard
+/// deviation, over the free parameters (Levenberg–Marquardt, forward-difference Jacobian). The primary output is
+/// the first compared output. @throws std::invalid_argument for an empty parameter list.
+FitResult FitParameters(const ModelComparison& comparison, const std::vector<FreeParameter>& params);
+
+/// Jacobian d(primary model output)/d(params) by central differences at `values` (N × p).
+Eigen::MatrixXd OutputJacobian(const ModelComparison& comparison, const std::vector<FreeParameter>& params,
+                               const Eigen::Ref<const Eigen::VectorXd>& values);
+
+}  // namespace mb

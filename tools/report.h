@@ -1,0 +1,57 @@
+#pragma once
+// Reports that people look at: figures rendered by gnuplot (PNG, pngcairo) and one self-contained HTML page
+// per command (tables, paragraphs, figures). No hand-drawn charts.
+
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace mb {
+
+/// One curve of a figure. `style`: gnuplot's "lines", "points", "dots" or "impulses".
+struct Series {
+  std::vector<double> x;
+  std::vector<double> y;
+  std::string label;
+  std::string style = "lines";
+};
+
+/// A 2-D plot. Series longer than `max_points` are thinned for drawing (min/max per bucket keeps peaks).
+struct Figure {
+  std::string file;  ///< PNG name inside the report folder, e.g. "residual_vs_time.png"
+  std::string title;
+  std::string xlabel;
+  std::string ylabel;
+  std::vector<Series> series;
+  bool log_x = false;
+  bool log_y = false;
+  std::size_t max_points = 4000;
+};
+
+/// Renders `figure` to `directory/figure.file` with gnuplot. Returns "" on success, else the reason (gnuplot
+/// missing or failing) — the caller notes it in the report; a missing figure never loses the numbers.
+std::string RenderFigure(const Figure& figure, const std::filesystem::path& directory);
+
+/// An HTML report assembled in order and written once.
+class HtmlReport {
+ public:
+  explicit HtmlReport(std::string title) : title_(std::move(title)) {}
+  void Heading(const std::string& text);
+  void Paragraph(const std::string& text);
+  /// A table: header row and rows of cells (already formatted).
+  void Table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows);
+  /// Renders the figure into the report's folder and embeds it (or notes why it is missing).
+  void AddFigure(const Figure& figure, const std::filesystem::path& directory);
+  /// Writes `path` (report.html). @throws std::runtime_error if it cannot be written.
+  void Write(const std::filesystem::path& path) const;
+
+ private:
+  std::string title_;
+  std::string body_;
+};
+
+/// Escapes &, <, > for HTML text.
+std::string HtmlEscape(const std::string& text);
+
+}  // namespace mb
