@@ -8,8 +8,9 @@ namespace mb {
 Friction::Friction(const BlockConfig& config)
     : Block(config.name), stick_velocity_(config.parameters.Number("stick_velocity")) {
   const auto& p = config.parameters;
-  friction_ = FrictionParameters{p.Number("viscous"), p.Number("coulomb"), p.Number("static"),
-                                 p.Number("stribeck_velocity")};
+  // static = 0 (the default) means "equal to coulomb": no stiction, and a fit may move coulomb freely.
+  const double breakaway = p.Number("static") > 0.0 ? p.Number("static") : p.Number("coulomb");
+  friction_ = FrictionParameters{p.Number("viscous"), p.Number("coulomb"), breakaway, p.Number("stribeck_velocity")};
   ValidateFrictionParameters(friction_, "friction '" + config.name + "'");
   const std::string& model = p.String("stick_model");
   if (model != "karnopp" && model != "none") {
@@ -59,7 +60,7 @@ MB_REGISTER_BLOCK(Friction, BlockType{
     "located events.",
     {Bounded("viscous", 0.0, "N·s/m", "viscous coefficient σ", 0.0, std::numeric_limits<double>::infinity()),
      Bounded("coulomb", 0.0, "N", "Coulomb force F_c", 0.0, std::numeric_limits<double>::infinity()),
-     Bounded("static", 0.0, "N", "static (breakaway) force F_s >= coulomb", 0.0,
+     Bounded("static", 0.0, "N", "static (breakaway) force F_s >= coulomb; 0 = equal to coulomb", 0.0,
              std::numeric_limits<double>::infinity()),
      Bounded("stribeck_velocity", 0.0, "m/s", "Stribeck velocity v_s (0 = no Stribeck hump)", 0.0,
              std::numeric_limits<double>::infinity()),
