@@ -1,0 +1,215 @@
+#include "hw/virtual_stage.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <ostream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "engine/registry.h"
+#include "hw/realtime.h"
+
+namespace mb {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+/// Validated parameters of a HIL element of the I/O file, as its block would see them.
+Parameters HilParameters(const json& element, const std::string& pointer, const fs::path& file) {
+  const std::string type = element.value("type", "");
+  const BlockType* spec = BlockRegistry::Global().Find(type);
+  if (spec == nullptr) {
+    throw std::logic_error(fmt::format("block type '{}' is not registered: link mb_blocks into this program", type));
+  }
+  std::vector<std::string> errors;
+  auto values = ValidateParameters(spec->parameters, element.value("parameters", json::object()),
+                                   pointer + "/parameters", &errors);
+  if (!errors.empty()) throw DiagramError(file.string(), errors);
+  return Parameters(element.value("name", ""), std::move(values));
+}
+
+std::string ConnectorNames(const std::vector<std::string>& names) {
+  std::string list;
+  for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+  return list.empty() ? "(none)" : list;
+}
+
+}  // namespace
+
+StageWiring StageWiring::FromIoFile(const fs::path& io_file) {
+  const json io = ReadDiagramJson(io_file);
+  StageWiring wiring;
+  const json elements = io.value("elements", json::array());
+  const json connections = io.value("connections", json::array());
+  for (std::size_t i = 0; i < elements.size(); ++i) {
+    const json& e = elements[i];
+    const std::string type = e.value("type", "");
+    const std::string name = e.value("name", "");
+    if (type != "encoder_input" && type != "analog_output") continue;
+    const std::string pointer = fmt::format("/elements/{}", i);
+    const Parameters p = HilParameters(e, pointer, io_file);
+    StageChannel channel;
+    channel.channel = p.Integer("channel");
+    for (const json& c : connections) {
+      if (type == "encoder_input" && c.value("startElement", "") == name && c.value("endElement", "").empty()) {
+        channel.connector = c.value("endConnector", "");
+      }
+      if (type == "analog_output" && c.value("endElement", "") == name && c.value("startElement", "").empty()) {
+        channel.connector = c.value("startConnector", "");
+      }
+    }
+    if (channel.connector.empty()) {
+      throw std::invalid_argument(fmt::format(
+          "{}: {}: {} '{}' is not wired to a connector of the I/O subsystem; the virtual stage needs it to know "
+          "which plant signal the channel carries ({})",
+          io_file.string(), pointer, type, name,
+          type == "encoder_input" ? "connect its x to an output connector" : "feed its f from an input connector"));
+    }
+    if (type == "encoder_input") {
+      channel.scale = p.Number("counts_per_metre");
+      wiring.encoders.push_back(channel);
+    } else {
+      channel.scale = p.Number("newtons_per_volt");
+      wiring.analog_outputs.push_back(channel);
+    }
+  }
+  if (wiring.encoders.empty()) {
+    throw std::invalid_argument(fmt::format("{}: no encoder_input element wired to an output connector: the virtual "
+                                            "stage would have nothing to measure",
+                                            io_file.string()));
+  }
+  return wiring;
+}
+
+VirtualStage::VirtualStage(const fs::path& plant_file, StageWiring wiring, VirtualStageOptions options,
+                           const std::vector<ParameterOverride>& overrides)
+    : wiring_(std::move(wiring)), options_(options) {
+  if (!(options_.period > 0.0) || !(options_.watchdog_timeout > 0.0)) {
+    throw std::invalid_argument("virtual stage: period and watchdog timeout must be > 0 s");
+  }
+  json j = ReadDiagramJson(plant_file);
+  ApplyOverrides(&j, overrides, plant_file.string());
+  // The stage runs open-ended: log only the connectors, every 10 s, into storage reserved for a day.
+  j["log"] = json::array();
+  j["metrics"] = json::array();
+  j["defaultExperiment"] = {{"startTime", 0.0}, {"stopTime", 86400.0}, {"stepSize", 10.0}};
+  plant_ = std::make_unique<Diagram>(BuildDiagram(j, plant_file.parent_path(), plant_file.string()));
+
+  std::vector<std::string> outputs, inputs;
+  for (const auto& o : plant_->outputs()) outputs.push_back(o.name);
+  for (const auto& in : plant_->inputs()) inputs.push_back(in.name);
+  for (const auto& e : wiring_.encoders) {
+    const auto it = std::find(outputs.begin(), outputs.end(), e.connector);
+    if (it == outputs.end()) {
+      throw std::invalid_argument(fmt::format("{}: encoder channel {} measures '{}', but the plant has no output "
+                                              "connector of that name; its outputs: {}",
+                                              plant_file.string(), e.channel, e.connector, ConnectorNames(outputs)));
+    }
+    encoder_sources_.push_back(plant_->outputs()[static_cast<std::size_t>(it - outputs.begin())].source);
+  }
+  for (const auto& a : wiring_.analog_outputs) {
+    if (std::find(inputs.begin(), inputs.end(), a.connector) == inputs.end()) {
+      throw std::invalid_argument(fmt::format("{}: analog output {} drives '{}', but the plant has no input "
+                                              "connector of that name; its inputs: {}",
+                                              plant_file.string(), a.channel, a.connector, ConnectorNames(inputs)));
+    }
+  }
+  simulator_ = std::make_unique<Simulator>(*plant_);
+  for (const auto& name : inputs) simulator_->SetInput(name, InputSeries{{0.0}, {0.0}});
+  simulator_->Initialize(0.0);
+  socket_ = std::make_unique<LoopbackUdpSocket>(options_.port);
+}
+
+VirtualStage::~VirtualStage() = default;
+
+void VirtualStage::SetForce(std::size_t analog, double volts) {
+  const StageChannel& a = wiring_.analog_outputs[analog];
+  // Held from now on: a one-point series is constant (Simulator::SetInput holds the ends).
+  simulator_->SetInput(a.connector, InputSeries{{0.0}, {volts * a.scale}});
+}
+
+void VirtualStage::AdvanceTo(double t) {
+  if (t > simulator_->time()) simulator_->AdvanceTo(t);
+}
+
+VirtualStageReport VirtualStage::Run(const std::atomic<bool>& stop, std::ostream& events) {
+  VirtualStageReport report;
+  const auto period_ns = static_cast<std::int64_t>(std::llround(options_.period * 1e9));
+  const auto watchdog_ns = static_cast<std::int64_t>(std::llround(options_.watchdog_timeout * 1e9));
+  const std::int64_t start_ns = MonotonicNanoseconds();
+  const auto stage_time = [&](std::int64_t now_ns) { return static_cast<double>(now_ns - start_ns) * 1e-9; };
+  std::int64_t last_outputs_ns = 0;
+  bool watchdog_armed = false;
+  bool have_sequence = false;
+  std::uint32_t last_sequence = 0;
+  std::uint32_t digital_loopback = 0;
+  bool drop_announced = false;
+  for (long long tick = 1; !stop.load(std::memory_order_relaxed); ++tick) {
+    const std::int64_t tick_ns = start_ns + tick * period_ns;
+    BoardPacket packet;
+    sockaddr_in peer{};
+    while (socket_->ReceiveUntil(tick_ns, &packet, &peer)) {
+      const std::int64_t now = MonotonicNanoseconds();
+      const double t = stage_time(now);
+      if (t >= options_.drop_from) {
+        if (!drop_announced) {
+          events << fmt::format("t = {:.3f} s: fault injection: dropping every packet from now on\n", t) << std::flush;
+          drop_announced = true;
+        }
+        ++report.dropped;
+        continue;
+      }
+      AdvanceTo(t);
+      if (packet.type == PacketType::kSampleRequest) {
+        BoardPacket reply;
+        reply.type = PacketType::kSample;
+        reply.sequence = packet.sequence;
+        reply.timestamp_ns = now;
+        reply.digital = digital_loopback;
+        for (std::size_t i = 0; i < wiring_.encoders.size(); ++i) {
+          const double counts = std::round(simulator_->SignalValue(encoder_sources_[i]) * wiring_.encoders[i].scale);
+          const double limited = std::clamp(counts, static_cast<double>(std::numeric_limits<std::int32_t>::min()),
+                                            static_cast<double>(std::numeric_limits<std::int32_t>::max()));
+          reply.encoder_counts[static_cast<std::size_t>(wiring_.encoders[i].channel)] =
+              static_cast<std::int32_t>(limited);
+        }
+        socket_->SendTo(peer, reply);
+        ++report.requests;
+      } else if (packet.type == PacketType::kOutputs) {
+        // A gap in the sequence numbers is lost packets; a smaller number is a new client run (it restarts at 0).
+        if (have_sequence && packet.sequence > last_sequence + 1) {
+          report.lost_outputs += packet.sequence - last_sequence - 1;
+        }
+        last_sequence = packet.sequence;
+        have_sequence = true;
+        for (std::size_t i = 0; i < wiring_.analog_outputs.size(); ++i) {
+          SetForce(i, packet.analog_volts[static_cast<std::size_t>(wiring_.analog_outputs[i].channel)]);
+        }
+        digital_loopback = packet.digital;
+        last_outputs_ns = now;
+        watchdog_armed = true;
+        ++report.outputs;
+      }
+    }
+    const std::int64_t now = MonotonicNanoseconds();
+    AdvanceTo(stage_time(now));
+    if (watchdog_armed && now - last_outputs_ns > watchdog_ns) {
+      for (std::size_t i = 0; i < wiring_.analog_outputs.size(); ++i) SetForce(i, 0.0);
+      watchdog_armed = false;
+      have_sequence = false;
+      ++report.watchdog_trips;
+      events << fmt::format("t = {:.3f} s: watchdog: no outputs for {:.0f} ms, forces zeroed\n", stage_time(now),
+                            options_.watchdog_timeout * 1e3)
+             << std::flush;
+    }
+    if (stage_time(now) >= options_.duration) break;
+  }
+  report.time = simulator_->time();
+  return report;
+}
+
+}  // namespace mb
