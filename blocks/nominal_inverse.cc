@@ -61,6 +61,7 @@ void NominalInverse::CalcDerivatives(const BlockContext& c) const {
 }
 
 void NominalInverse::UpdateDiscrete(const BlockContext& c) const {
+  if (form_ != Form::kFiltered) return;  // the derivatives form is static
   auto xd = c.discrete_state();
   if (xd(0) == 0.0) {
     FilterSteadyState(filter_, c.u(0), xd.data() + 1);

@@ -165,7 +165,7 @@ double RhoConsistent(const SmallGainTerms& t) {
 double AlphaMaxBoundPaper(const SmallGainTerms& t) {
   const double numerator = 1.0 / t.gamma_d_to_x - t.gamma_q * (1.0 + t.gamma_x_to_u);
   const double denominator = t.gamma_g * LipschitzGain(t);
-  if (denominator == 0.0) return numerator > 0.0 ? kInf : numerator;
+  if (denominator == 0.0) return numerator > 0.0 ? kInf : -kInf;
   return numerator / denominator;
 }
 

@@ -82,7 +82,7 @@ double RhoPaper(const SmallGainTerms& t);
 /// ρ' = γ_d→x (γ_q + ‖Q‖₁ γ_x→u + γ_g α_max K): eq. 58 with Lemma 1 written per DOB path.
 double RhoConsistent(const SmallGainTerms& t);
 /// Eq. 62: α_max < (1/γ_d→x − γ_q (1 + γ_x→u))/(γ_g K). Returns the right-hand side (≤ 0: no α is
-/// certified; +∞ when K = 0 and the numerator is positive).
+/// certified); for K = 0, +∞ if the numerator is positive, else −∞.
 double AlphaMaxBoundPaper(const SmallGainTerms& t);
 /// Eq. 62 for the "dob" decomposition (γ_q = γ_x→u = 0): 1/(γ_d→x γ_g K).
 double AlphaMaxBoundDob(const SmallGainTerms& t);
