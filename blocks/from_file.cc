@@ -51,6 +51,10 @@ void FromFile::Initialize(const BlockContext& c) const {
 
 void FromFile::CalcOutput(const BlockContext& c) const {
   const double t = c.time();
+  if (zoh_) {
+    c.y(0) = values_[static_cast<std::size_t>(c.discrete_state()(0))];
+    return;
+  }
   if (t <= time_.front()) {
     c.y(0) = values_.front();
     return;
@@ -60,10 +64,6 @@ void FromFile::CalcOutput(const BlockContext& c) const {
     return;
   }
   const std::size_t i = Segment(t);
-  if (zoh_) {
-    c.y(0) = values_[i];
-    return;
-  }
   const double w = (t - time_[i]) / (time_[i + 1] - time_[i]);
   c.y(0) = values_[i] + w * (values_[i + 1] - values_[i]);
 }

@@ -16,9 +16,10 @@ namespace mb {
 ///    as the measurement-log format requires);
 ///  - column: the column to output;
 ///  - interpolation: "linear" (default) or "zoh" (hold the latest sample: y = v_i for t_i ≤ t < t_{i+1}).
-/// Outside the data's time range the first/last value is held. The output is a function of t alone, so every
-/// major step sees the value of its own instant. With "zoh", a zero crossing g = t − t_{i+1} (segment i kept
-/// as a mode in the discrete state) makes the solver stop at every sample time, where the output jumps.
+/// Outside the data's time range the first/last value is held. "linear" is continuous in t and evaluated from t
+/// directly. With "zoh" the segment i is a mode in the discrete state, frozen between events (y = v_i), and a
+/// zero crossing g = t − t_{i+1} makes the solver stop at every sample time, where the output jumps (the same
+/// event handling and engine caveat as the step block, blocks/step.h).
 /// The file is read once, in the constructor. @throws std::invalid_argument / std::runtime_error (from
 /// ReadMeasurementLog) naming the file, line and column for an unreadable file, a missing column, non-numeric
 /// cells or a time that does not increase; std::invalid_argument for an unknown interpolation or a wrong

@@ -47,12 +47,14 @@ double FrictionForce(const FrictionParameters& p, FrictionMode mode, double velo
 FrictionMode NextFrictionMode(const FrictionParameters& p, FrictionMode mode, double velocity,
                               double applied_force, bool stick, double stick_velocity) noexcept {
   if (mode == FrictionMode::kStuck) {
-    if (stick && std::abs(applied_force) > p.breakaway) return Along(applied_force);
+    // ≥, not >: CVODE often returns the located crossing with g = F_s − |f| exactly 0, and the mode must switch
+    // there (a zero g is inactive after the restart and would not be reported again).
+    if (stick && applied_force != 0.0 && std::abs(applied_force) >= p.breakaway) return Along(applied_force);
     if (std::abs(velocity) > stick_velocity) return Along(velocity);
     return mode;
   }
   if (Sign(mode) * velocity > 0.0) return mode;
-  if (stick) return std::abs(applied_force) <= p.breakaway ? FrictionMode::kStuck : Along(applied_force);
+  if (stick) return std::abs(applied_force) < p.breakaway ? FrictionMode::kStuck : Along(applied_force);
   return velocity == 0.0 ? mode : Along(velocity);
 }
 

@@ -48,10 +48,12 @@ double FrictionForce(const FrictionParameters& p, FrictionMode mode, double velo
 /// The mode consistent with the current velocity and applied force, starting from `mode` (one step of the
 /// event iteration; call again until it returns its argument).
 ///  - slipping in s and s·v > 0: unchanged;
-///  - slipping in s and s·v ≤ 0 (v reached zero or reversed): stuck if `stick` and |f_applied| ≤ F_s, else
+///  - slipping in s and s·v ≤ 0 (v reached zero or reversed): stuck if `stick` and |f_applied| < F_s, else
 ///    slip along f_applied (stick) or along v (no stick model; unchanged while v = 0 exactly);
-///  - stuck: slip along f_applied if |f_applied| > F_s, slip along v if |v| > stick_velocity (a body started
-///    with a velocity, or a stick entered late by a fixed-step solver), else stuck.
+///  - stuck: slip along f_applied if |f_applied| ≥ F_s (and f_applied ≠ 0), slip along v if |v| >
+///    stick_velocity (a body started with a velocity, or a stick entered late by a fixed-step solver), else stuck.
+/// The thresholds are asymmetric (≥ to break away, < to stick) so that a crossing located exactly on
+/// |f_applied| = F_s (CVODE often returns g = 0 exactly) switches and the iteration cannot flip back and forth.
 /// `stick` = false is the slip-only model (no applied-force input): the direction follows v at each event.
 FrictionMode NextFrictionMode(const FrictionParameters& p, FrictionMode mode, double velocity,
                               double applied_force, bool stick, double stick_velocity) noexcept;

@@ -14,16 +14,22 @@
 
 namespace mb::testing {
 
-/// A diagram with the given elements, connections and logged signals, run from 0 to `stop` with log step `step`.
+/// `v` as an array: a braced list of ONE json value, {x}, is x itself (copy construction wins), not [x].
+inline nlohmann::json AsArray(const nlohmann::json& v) {
+  return v.is_array() ? v : nlohmann::json::array({v});
+}
+
+/// A diagram with the given elements, connections and logged signals (arrays, or one of each), run from 0 to
+/// `stop` with log step `step`.
 inline nlohmann::json MakeDiagram(const nlohmann::json& elements, const nlohmann::json& connections,
                                   const nlohmann::json& log, double stop, double step,
                                   const nlohmann::json& solver = {{"type", "rk4"}, {"step", 1e-3}}) {
   return {{"schemaVersion", "1.0"},
           {"defaultExperiment", {{"startTime", 0.0}, {"stopTime", stop}, {"stepSize", step}}},
           {"solver", solver},
-          {"elements", elements},
-          {"connections", connections},
-          {"log", log}};
+          {"elements", AsArray(elements)},
+          {"connections", AsArray(connections)},
+          {"log", AsArray(log)}};
 }
 
 /// The text of the error BuildDiagram throws for `j` ("" if it builds).

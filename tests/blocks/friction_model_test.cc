@@ -43,7 +43,10 @@ TEST(FrictionModelTest, ModeTransitions) {
   EXPECT_EQ(NextFrictionMode(kStribeck, M::kSlipPositive, -1e-12, -1.6, true, tol), M::kSlipNegative);
   EXPECT_EQ(NextFrictionMode(kStribeck, M::kSlipNegative, 0.0, 1.6, true, tol), M::kSlipPositive);
   // Stuck: breakaway by force, or by a velocity the stick cannot explain.
-  EXPECT_EQ(NextFrictionMode(kStribeck, M::kStuck, 0.0, 1.5, true, tol), M::kStuck);
+  EXPECT_EQ(NextFrictionMode(kStribeck, M::kStuck, 0.0, 1.49, true, tol), M::kStuck);
+  EXPECT_EQ(NextFrictionMode(kStribeck, M::kStuck, 0.0, 1.5, true, tol), M::kSlipPositive);  // g = 0 switches
+  EXPECT_EQ(NextFrictionMode(kStribeck, M::kSlipPositive, 0.0, 1.5, true, tol), M::kSlipPositive);  // no flip back
+  EXPECT_EQ(NextFrictionMode({0.1, 0.0, 0.0, 0.0}, M::kStuck, 0.0, 0.0, true, tol), M::kStuck);  // no force, F_s = 0
   EXPECT_EQ(NextFrictionMode(kStribeck, M::kStuck, 0.0, -1.51, true, tol), M::kSlipNegative);
   EXPECT_EQ(NextFrictionMode(kStribeck, M::kStuck, 1e-9, 0.0, true, tol), M::kStuck);
   EXPECT_EQ(NextFrictionMode(kStribeck, M::kStuck, 0.2, 0.0, true, tol), M::kSlipPositive);

@@ -44,13 +44,26 @@ TEST(StepTest, CvodeStopsAtTheStepTime) {
   EXPECT_GE(r.solver_stats.roots_found, 1);
 }
 
-TEST(StepTest, SamplerAtTheStepTimeReadsTheFinalValue) {
-  const json j = MakeDiagram({Element("s", "step", {{"time", 0.2}}),
+TEST(StepTest, SamplerAfterTheLocatedStepReadsTheFinalValue) {
+  // The step at 0.25 s lies between the sampler's hits; CVODE locates it (the integrator gives the diagram
+  // continuous states), so the hit at 0.3 s reads the final value.
+  const json j = MakeDiagram({Element("s", "step", {{"time", 0.25}}), Element("x", "integrator"),
                               Element("h", "zero_order_hold", json::object(), {0.1, 0.0})},
-                             {Connect("s.y", "h.u")}, {"h.y"}, 0.4, 0.1);
+                             {Connect("s.y", "h.u"), Connect("s.y", "x.u")}, {"h.y", "s.y"}, 0.4, 0.05,
+                             {{"type", "cvode"}, {"rtol", 1e-10}, {"atol", 1e-12}});
   const auto r = Simulator(Build(j)).Run();
-  const std::vector<double> expected = {0.0, 0.0, 1.0, 1.0, 1.0};
-  EXPECT_EQ(r.log.Column("h.y"), expected);
+  const std::vector<double> held = {0, 0, 0, 0, 0, 0, 1, 1, 1};    // t = 0, 0.05, …, 0.4
+  const std::vector<double> step = {0, 0, 0, 0, 0, 1, 1, 1, 1};
+  EXPECT_EQ(r.log.Column("h.y"), held);
+  EXPECT_EQ(r.log.Column("s.y"), step);
+}
+
+TEST(StepTest, FixedStepSolverSwitchesWithinOneIntegrationStep) {
+  const double T = 0.7337, h = 1e-3;
+  const json j = MakeDiagram({Element("s", "step", {{"time", T}}), Element("x", "integrator")},
+                             {Connect("s.y", "x.u")}, {"x.y"}, 1.0, 0.5, {{"type", "rk4"}, {"step", h}});
+  const auto r = Simulator(Build(j)).Run();
+  EXPECT_NEAR(r.log.Column("x.y").back(), 1.0 - T, h);
 }
 
 TEST(SineTest, MatchesClosedForm) {
