@@ -90,7 +90,11 @@ class Block {
   virtual void CalcDerivatives(const BlockContext&) const {}
   /// x_d ← g(t, x_c, x_d, u) at a sample hit.
   virtual void UpdateDiscrete(const BlockContext&) const {}
-  /// Zero-crossing functions g(t, x, u); the solver locates their sign changes.
+  /// Zero-crossing functions g(t, x, u); the solver locates their sign changes. CVODE may return a located
+  /// root with g exactly 0 and does not report it again after the restart, so UpdateModes must treat g = 0 as
+  /// crossed (switch at g ≥ 0). Fixed-step solvers report a crossing at the end of the step where g went from
+  /// > 0 to ≤ 0 or back. A block output that jumps as a plain function of t (not through a mode changed at an
+  /// event) makes CVODE fail with repeated error-test failures: keep such jumps in a mode.
   virtual void CalcZeroCrossings(const BlockContext&) const {}
   /// Called at located zero crossings and at every major step: update discrete modes kept in x_d so that they
   /// are consistent with the current states and inputs. Return true if a mode changed (the engine then

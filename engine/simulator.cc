@@ -190,7 +190,7 @@ void Simulator::ComputeOutputs(double t, bool major) {
   }
 }
 
-bool Simulator::MakeModesConsistent(double t) {
+bool Simulator::MakeModesConsistent(double t, bool major) {
   bool any = false;
   const auto& blocks = diagram_.blocks();
   for (int iteration = 0; iteration < kMaxEventIterations; ++iteration) {
@@ -202,7 +202,8 @@ bool Simulator::MakeModesConsistent(double t) {
     }
     if (!changed) break;
     any = true;
-    ComputeOutputs(t, /*major=*/false);
+    // At a major step, discrete blocks with a hit now must see the outputs after the mode change.
+    ComputeOutputs(t, major);
   }
   return any;
 }
@@ -290,7 +291,7 @@ void Simulator::Initialize(double start_time) {
   for (int b : discrete_blocks_) {
     hit_now_[static_cast<std::size_t>(b)] = blocks[static_cast<std::size_t>(b)]->sample_time().IsHit(time_) ? 1 : 0;
   }
-  MakeModesConsistent(time_);
+  MakeModesConsistent(time_, /*major=*/true);
   LogNow();
   ++next_log_index_;
   if (solver_) solver_->Reset(time_, xc_.data());
@@ -321,7 +322,7 @@ void Simulator::AdvanceTo(double t_end) {
         if (root && t < t_next) {
           UpdateInputs(t);
           ComputeOutputs(t, /*major=*/false);
-          MakeModesConsistent(t);
+          MakeModesConsistent(t, /*major=*/false);
           solver_->Reset(t, xc_.data());
         } else if (root) {
           need_reset = true;
@@ -338,7 +339,7 @@ void Simulator::AdvanceTo(double t_end) {
     }
     UpdateInputs(time_);
     ComputeOutputs(time_, /*major=*/true);
-    need_reset = MakeModesConsistent(time_) || need_reset || any_hit;
+    need_reset = MakeModesConsistent(time_, /*major=*/true) || need_reset || any_hit;
     const double log_time = start_time_ + static_cast<double>(next_log_index_) * log_step_;
     if (std::abs(time_ - log_time) <= 1e-9 * log_step_) {
       LogNow();

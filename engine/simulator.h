@@ -80,7 +80,7 @@ class Simulator final : private OdeSystem {
 
   void UpdateInputs(double t);
   void ComputeOutputs(double t, bool major);
-  bool MakeModesConsistent(double t);
+  bool MakeModesConsistent(double t, bool major);
   void LogNow();
   double NextMajorTime(double t) const;
 

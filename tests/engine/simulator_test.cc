@@ -169,6 +169,22 @@ TEST(SimulatorTest, DiscreteOnlyDiagramRunsAndRespectsOffset) {
   for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(r.log.Column("z.y")[i], expected[i]) << i;
 }
 
+// A mode change at a major step (a step block switching at 0.2 s) is seen by a discrete block sampling at
+// that same instant: outputs after the event iteration are recomputed with the hits of that step.
+TEST(SimulatorTest, DiscreteBlockSamplesValueAfterModeChangeAtSameInstant) {
+  json j = {{"schemaVersion", "1.0"},
+            {"defaultExperiment", {{"stopTime", 0.4}, {"stepSize", 0.1}}},
+            {"elements",
+             {{{"name", "s"}, {"type", "step"}, {"parameters", {{"time", 0.2}, {"initial", 0.0}, {"final", 1.0}}}},
+              {{"name", "h"}, {"type", "zero_order_hold"}, {"sampleTime", 0.1}}}},
+            {"connections", {Connect("s.y", "h.u")}},
+            {"log", {"h.y"}}};
+  const auto r = Simulator(Build(j)).Run();
+  const std::vector<double> expected = {0.0, 0.0, 1.0, 1.0, 1.0};
+  ASSERT_EQ(r.log.Column("h.y").size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(r.log.Column("h.y")[i], expected[i]) << i;
+}
+
 TEST(SimulatorTest, MetricsComputedFromLog) {
   json j = FirstOrder({{"type", "rk4"}, {"step", 1e-3}});
   j["metrics"] = {{{"name", "x_rmse"}, {"type", "rmse"}, {"signal", "x.y"}, {"unit", ""}},
