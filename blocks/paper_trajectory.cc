@@ -87,7 +87,8 @@ SmoothVelocityProfile MakeProfile(const BlockConfig& config) {
 
 }  // namespace
 
-PaperTrajectory::PaperTrajectory(const BlockConfig& config) : Block(config.name), profile_(MakeProfile(config)) {
+PaperTrajectory::PaperTrajectory(const BlockConfig& config)
+    : Block(config.name), profile_(MakeProfile(config)), time_advance_(config.parameters.Number("time_advance")) {
   DeclareOutputPort("position", 1, "m");
   DeclareOutputPort("velocity", 1, "m/s");
   DeclareOutputPort("acceleration", 1, "m/s^2");
@@ -95,7 +96,7 @@ PaperTrajectory::PaperTrajectory(const BlockConfig& config) : Block(config.name)
 }
 
 void PaperTrajectory::CalcOutput(const BlockContext& c) const {
-  profile_.Evaluate(c.time(), &c.y(0), &c.y(1), &c.y(2));
+  profile_.Evaluate(c.time() + time_advance_, &c.y(0), &c.y(1), &c.y(2));
 }
 
 MB_REGISTER_BLOCK(PaperTrajectory, BlockType{
@@ -108,7 +109,9 @@ MB_REGISTER_BLOCK(PaperTrajectory, BlockType{
      Optional("transition_starts", nlohmann::json::array({0.0, 1.2, 2.4}), "s", "start time of each transition",
               ParamType::kVector),
      Optional("transition_duration", 0.2, "s", "duration of each transition (one value or one per transition)",
-              ParamType::kVector)},
+              ParamType::kVector),
+     Bounded("time_advance", 0.0, "s",
+             "outputs the profile at t + time_advance (Ts/2 for a held feedforward: mid-interval sampling)", 0.0, 1e6)},
     SampleTimeRule::kOptional,
     [](const BlockConfig& c) { return std::make_unique<PaperTrajectory>(c); }})
 

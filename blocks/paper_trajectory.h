@@ -44,7 +44,10 @@ class SmoothVelocityProfile final {
 
 /// Ports: out "position" [m], "velocity" [m/s], "acceleration" [m/s²]. Parameters: start_position [m],
 /// velocities [m/s] (the velocity after each transition), transition_starts [s], transition_duration [s]
-/// (one value, or one per transition). Sample time optional (discrete when given).
+/// (one value, or one per transition), time_advance [s]: the outputs are the profile at t + time_advance. A
+/// feedforward held over a sample period (ZOH) lags the continuous one by Ts/2; computing it from a copy of the
+/// reference with time_advance = Ts/2 (mid-interval sampling) removes that lag to O(Ts²) (docs/paper.md).
+/// Sample time optional (discrete when given).
 class PaperTrajectory final : public Block {
  public:
   explicit PaperTrajectory(const BlockConfig& config);
@@ -53,6 +56,7 @@ class PaperTrajectory final : public Block {
 
  private:
   SmoothVelocityProfile profile_;
+  double time_advance_;
 };
 
 }  // namespace mb

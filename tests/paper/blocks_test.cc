@@ -93,7 +93,8 @@ TEST(QFilterTest, ContinuousFormFollowsFirstOrderStep) {
   json j = SingleBlock({{"name", "q"}, {"type", "q_filter"}, {"parameters", {{"cutoff_hz", 5.0}, {"relative_degree", 1}}}},
                        0.1);
   j["solver"] = {{"type", "rk4"}, {"step", 1e-4}};
-  Simulator sim(Build(j));
+  const Diagram d = Build(j);
+  Simulator sim(d);
   sim.SetInput("in", {{0.0, 1.0}, {1.0, 1.0}});
   const auto r = sim.Run();
   EXPECT_NEAR(r.log.Column("q.y").back(), 1.0 - std::exp(-2.0 * kPi * 5.0 * 0.1), 1e-9);

@@ -57,13 +57,14 @@ inline nlohmann::json LoopWithInputs(const nlohmann::json& plant, double q_cutof
             {{"name", "u_c"}, {"type", "sum"}, {"parameters", {{"signs", "+++-"}}}},
             {{"name", "dob"}, {"type", "dob"}, {"sampleTime", ts}, {"parameters", {{"cutoff_hz", q_cutoff_hz}}}},
             {{"name", "force"}, {"type", "sum"}, {"parameters", {{"signs", "++"}}}},
+            {{"name", "encoder"}, {"type", "zero_order_hold"}, {"sampleTime", ts}},
             plant}},
           {"connections",
            {FromInput("v_d", "feedforward.velocity"), FromInput("a_d", "feedforward.acceleration"),
-            FromInput("x_d", "error.u1"), Connect("plant.x", "error.u2"), Connect("error.y", "pd_p.u"),
+            FromInput("x_d", "error.u1"), Connect("plant.x", "encoder.u"), Connect("encoder.y", "error.u2"), Connect("error.y", "pd_p.u"),
             Connect("error.y", "pd_derivative.x"), Connect("pd_derivative.velocity", "pd_d.u"),
             Connect("feedforward.y", "u_c.u1"), Connect("pd_p.y", "u_c.u2"), Connect("pd_d.y", "u_c.u3"),
-            Connect("dob.d_hat", "u_c.u4"), Connect("plant.x", "dob.x"), Connect("u_c.y", "dob.u_c"),
+            Connect("dob.d_hat", "u_c.u4"), Connect("encoder.y", "dob.x"), Connect("u_c.y", "dob.u_c"),
             Connect("u_c.y", "force.u1"), FromInput("d", "force.u2"), Connect("force.y", "plant.u")}},
           {"log", {"plant.x", "plant.x_true", "error.y", "dob.d_hat", "u_c.y"}}};
 }
