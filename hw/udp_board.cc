@@ -56,7 +56,8 @@ void UdpBoard::Start(double period) {
   encoder_counts_.fill(0);
   digital_inputs_ = reply.digital;
   ZeroOutputImage();
-  sequence_ = 0;
+  // Sequence numbers continue after the handshake's, so a late handshake reply never passes for a sample.
+  tick_ = 0;
   start_ns_ = MonotonicNanoseconds();
   running_ = true;
 }
@@ -64,7 +65,8 @@ void UdpBoard::Start(double period) {
 SampleStatus UdpBoard::WaitForSample(SampleTiming* timing) noexcept {
   if (!running_) return SampleStatus::kFault;
   ++sequence_;
-  timing->scheduled_ns = start_ns_ + static_cast<std::int64_t>(sequence_) * period_ns_;
+  ++tick_;
+  timing->scheduled_ns = start_ns_ + tick_ * period_ns_;
   SleepUntil(timing->scheduled_ns);
   timing->wake_ns = MonotonicNanoseconds();
   BoardPacket packet;

@@ -45,7 +45,8 @@ class UdpBoard final : public IoBoard {
   LoopbackUdpSocket socket_;
   std::int64_t period_ns_ = 0;
   std::int64_t start_ns_ = 0;
-  std::uint32_t sequence_ = 0;
+  std::uint32_t sequence_ = 0;  // of the last request sent
+  std::int64_t tick_ = 0;       // sample instants since Start
   std::array<std::int32_t, kMaxEncoderChannels> zero_counts_{};
   long long late_replies_ = 0;
   bool running_ = false;
