@@ -239,7 +239,8 @@ std::vector<BodePoint> ClosedLoopBode(const PaperLoop& l, const std::vector<doub
     {  // The sampled loop: Q∘P_n⁻¹ is one filter, so eq. 12 becomes Q + (QP_n⁻¹·P − Q)(1 − Q)/Δ.
       const Complex P = d.plant.FrequencyResponse(w), Q = d.q.FrequencyResponse(w);
       const Complex QPn = d.q_nominal_inverse.FrequencyResponse(w), C = d.pd.FrequencyResponse(w);
-      const Complex Pn_inv = 1.0 / pn.Evaluate(s);
+      // The feedforward is held over each period but sampled mid-interval (time_advance = Ts/2 in the diagrams).
+      const Complex Pn_inv = 1.0 / pn.Evaluate(s) * std::exp(Complex(0.0, w * l.sample_time / 2.0));
       const Complex den = 1.0 - Q + (C + QPn) * P;
       b.xd_to_x_discrete = (C + Pn_inv) * P / den;
       b.d_to_x_discrete = (1.0 - Q) * P / den;

@@ -88,8 +88,9 @@ double AlphaMaxBoundPaper(const SmallGainTerms& t);
 double AlphaMaxBoundDob(const SmallGainTerms& t);
 
 /// One frequency point of eq. 6, 7 and 12, continuous (the paper's formulas at s = jω) and for the sampled loop
-/// (z = e^{jωTs}, the blocks' discrete filters, ZOH plant; C_FF = P_n⁻¹(jω) because the feedforward comes from
-/// the reference's exact derivatives). G_d→x includes P (eq. 44: S∘P; eq. 7 as printed omits it).
+/// (z = e^{jωTs}, the blocks' discrete filters, ZOH plant; C_FF = P_n⁻¹(jω)·e^{jωTs/2} because the feedforward
+/// comes from the reference's exact derivatives sampled mid-interval, `time_advance` = Ts/2 in the diagrams).
+/// G_d→x includes P (eq. 44: S∘P; eq. 7 as printed omits it).
 struct BodePoint {
   double frequency_hz = 0.0;
   std::complex<double> xd_to_x_continuous, d_to_x_continuous, d_to_dhat_continuous;

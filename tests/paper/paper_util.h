@@ -35,7 +35,8 @@ inline nlohmann::json RigidPlant(double mass = 0.2621, double damping = 3.0, dou
 }
 
 /// The conventional loop with the reference (position, velocity, acceleration) and an input disturbance d
-/// from diagram input connectors, d added to the plant input: x = P(u_c + d).
+/// from diagram input connectors, d added to the plant input: x = P(u_c + d). The reference and the encoder are
+/// sampled (zero_order_hold) so that the error sum and the gains act on samples, as in the paper's diagrams.
 inline nlohmann::json LoopWithInputs(const nlohmann::json& plant, double q_cutoff_hz, double kp, double kd,
                                      double stop_time, double solver_step = 1e-4) {
   const nlohmann::json ts = {0.001, 0.0};
@@ -58,10 +59,11 @@ inline nlohmann::json LoopWithInputs(const nlohmann::json& plant, double q_cutof
             {{"name", "dob"}, {"type", "dob"}, {"sampleTime", ts}, {"parameters", {{"cutoff_hz", q_cutoff_hz}}}},
             {{"name", "force"}, {"type", "sum"}, {"parameters", {{"signs", "++"}}}},
             {{"name", "encoder"}, {"type", "zero_order_hold"}, {"sampleTime", ts}},
+            {{"name", "reference"}, {"type", "zero_order_hold"}, {"sampleTime", ts}},
             plant}},
           {"connections",
            {FromInput("v_d", "feedforward.velocity"), FromInput("a_d", "feedforward.acceleration"),
-            FromInput("x_d", "error.u1"), Connect("plant.x", "encoder.u"), Connect("encoder.y", "error.u2"), Connect("error.y", "pd_p.u"),
+            FromInput("x_d", "reference.u"), Connect("reference.y", "error.u1"), Connect("plant.x", "encoder.u"), Connect("encoder.y", "error.u2"), Connect("error.y", "pd_p.u"),
             Connect("error.y", "pd_derivative.x"), Connect("pd_derivative.velocity", "pd_d.u"),
             Connect("feedforward.y", "u_c.u1"), Connect("pd_p.y", "u_c.u2"), Connect("pd_d.y", "u_c.u3"),
             Connect("dob.d_hat", "u_c.u4"), Connect("encoder.y", "dob.x"), Connect("u_c.y", "dob.u_c"),
