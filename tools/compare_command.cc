@@ -34,7 +34,7 @@ struct CompareOptions {
   std::string suggest;
   std::string write_fitted;
   std::string position_column = "position_m";
-  double derivative_cutoff_hz = 30.0;
+  double derivative_cutoff_hz = 100.0;
 };
 
 std::vector<double> ToStd(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }

@@ -1,6 +1,7 @@
 #include "tools/suggest.h"
 
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -9,7 +10,11 @@ namespace mb {
 
 using nlohmann::json;
 
-bool HasEffectBlock(const std::string& effect) { return effect == "position_periodic"; }
+// A velocity-dependent ripple gets the plain position_periodic block at its period for now (constant
+// amplitude, harmonics refit): the |v| scaling is not a block yet.
+bool HasEffectBlock(const std::string& effect) {
+  return effect == "position_periodic" || effect == "velocity_dependent_ripple";
+}
 
 namespace {
 
@@ -44,16 +49,19 @@ json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, c
                                             effect.effect));
   }
   // Find the connection that feeds the output connector; route it through a sum with the effect.
-  json* feed = nullptr;
-  for (auto& c : out["connections"]) {
-    if (c.value("endElement", "") == "" && c.value("endConnector", "") == output) feed = &c;
+  // An index, not a pointer: the connections array grows below.
+  std::optional<std::size_t> feed;
+  for (std::size_t k = 0; k < out["connections"].size(); ++k) {
+    const json& c = out["connections"][k];
+    if (c.value("endElement", "") == "" && c.value("endConnector", "") == output) feed = k;
   }
   if (!feed) throw std::invalid_argument(fmt::format("the diagram has no connection into output '{}'", output));
 
-  const std::string effect_name = UniqueName(out, effect.effect == "position_periodic" ? "ripple" : effect.effect);
+  const std::string effect_name = UniqueName(out, "ripple");
   const std::string sum_name = UniqueName(out, "with_" + effect_name);
   const double period = effect.parameters.count("period") ? effect.parameters.at("period") : 0.0;
   const int harmonics = effect.parameters.count("harmonics") ? static_cast<int>(effect.parameters.at("harmonics")) : 3;
+  const bool same_columns = effect.effect == "position_periodic";  // else start the coefficients at zero
   if (!(period > 0.0)) throw std::invalid_argument("position_periodic without a period: cannot suggest a block");
   // Initial coefficients from the diagnosis' joint fit (columns cos1, sin1, cos2, …).
   json cos_c = json::array(), sin_c = json::array();
@@ -61,7 +69,7 @@ json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, c
     double a = 0.0, b = 0.0;
     for (std::size_t k = 0; k < effect.column_names.size(); ++k) {
       const auto& name = effect.column_names[k];
-      const double value = effect.coefficients(static_cast<Eigen::Index>(k));
+      const double value = same_columns ? effect.coefficients(static_cast<Eigen::Index>(k)) : 0.0;
       if (name.ends_with(fmt::format(".cos{}", h))) a = value;
       if (name.ends_with(fmt::format(".sin{}", h))) b = value;
     }
@@ -77,7 +85,7 @@ json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, c
                                {"cos_coefficients", cos_c},
                                {"sin_coefficients", sin_c}}}});
   out["elements"].push_back({{"name", sum_name}, {"type", "sum"}, {"parameters", {{"signs", "++"}}}});
-  json previous = *feed;
+  const json previous = out["connections"][*feed];
   out["connections"].push_back({{"startElement", previous.value("startElement", "")},
                                 {"startConnector", previous.value("startConnector", "")},
                                 {"endElement", sum_name},
@@ -86,8 +94,8 @@ json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, c
       {{"startElement", effect_name}, {"startConnector", "y"}, {"endElement", sum_name}, {"endConnector", "u2"}});
   out["connections"].push_back(
       {{"startElement", ""}, {"startConnector", position}, {"endElement", effect_name}, {"endConnector", "x"}});
-  (*feed)["startElement"] = sum_name;
-  (*feed)["startConnector"] = "y";
+  out["connections"][*feed]["startElement"] = sum_name;
+  out["connections"][*feed]["startConnector"] = "y";
   out["free"].push_back(effect_name + ".cos_coefficients");
   out["free"].push_back(effect_name + ".sin_coefficients");
   out["notes"] = out.value("notes", std::string()) +

@@ -23,9 +23,9 @@ const fs::path kEmps = fs::path(MB_SOURCE_DIR) / "diagrams" / "emps";
 struct EmpsFixture : ::testing::Test {
   static void SetUpTestSuite() {
     estimation = new MeasurementLog(
-        ReadMeasurementWithDerivatives((kEmps / "data" / "DATA_EMPS.csv").string(), "position_m", 30.0));
+        ReadMeasurementWithDerivatives((kEmps / "data" / "DATA_EMPS.csv").string(), "position_m", 100.0, {"force_N"}));
     validation = new MeasurementLog(
-        ReadMeasurementWithDerivatives((kEmps / "data" / "DATA_EMPS_PULSES.csv").string(), "position_m", 30.0));
+        ReadMeasurementWithDerivatives((kEmps / "data" / "DATA_EMPS_PULSES.csv").string(), "position_m", 100.0, {"force_N"}));
   }
   static void TearDownTestSuite() {
     delete estimation;
@@ -49,7 +49,9 @@ DiagnosisSignals SignalsOf(const MeasurementLog& log, const ComparedOutput& out)
 }
 
 // The benchmark's IDIM-LS figures (EMPS_Description.pdf; shared/data/README.md): M ≈ 94 kg, Fv ≈ 195 N·s/m,
-// Fc ≈ 21 N. The ripple at the screw lead (2.5 mm) must come out first; adding it makes the held-out error fall.
+// Fc ≈ 21 N. The ripple at the screw lead (2.5 mm) must come out as a ranked effect (its amplitude grows with
+// speed, so the catalogue names it velocity_dependent_ripple or position_periodic); adding a position-periodic
+// block at that period, harmonics refit jointly with the base, makes the held-out error fall.
 TEST_F(EmpsFixture, RigidBodyRefitFindsScrewLeadRippleAndAddingItLowersValidationError) {
   const auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
   ModelComparison base(diagram, kEmps, "rigid_body.json", *estimation, {});
@@ -66,12 +68,18 @@ TEST_F(EmpsFixture, RigidBodyRefitFindsScrewLeadRippleAndAddingItLowersValidatio
   for (const auto& p : params) regressors.names.push_back(p.name);
   const DiagnosisResult d = DiagnoseMissingEffects(SignalsOf(*estimation, fitted), regressors);
   ASSERT_TRUE(d.missing_effect_found);
-  ASSERT_FALSE(d.effects.empty());
-  EXPECT_EQ(d.effects.front().effect, "position_periodic");
-  EXPECT_NEAR(d.effects.front().parameters.at("period"), 2.5e-3, 0.05 * 2.5e-3);
+  const DiagnosedEffect* ripple = nullptr;
+  for (const auto& e : d.effects) {
+    if ((e.effect == "position_periodic" || e.effect == "velocity_dependent_ripple") &&
+        std::abs(e.parameters.at("period") - 2.5e-3) < 0.02 * 2.5e-3) {
+      ripple = &e;
+    }
+  }
+  ASSERT_NE(ripple, nullptr) << d.summary;
+  EXPECT_GT(ripple->score, 0.02);
 
   // Amend, refit jointly on the estimation record, validate on the held-out record.
-  auto amended = SuggestAmendedDiagram(base.diagram_json(), d.effects.front(), "force");
+  auto amended = SuggestAmendedDiagram(base.diagram_json(), *ripple, "force");
   ModelComparison with_effect(amended, kEmps, "amended.json", *estimation, {});
   const auto all = ResolveFreeParameters(amended, amended["free"].get<std::vector<std::string>>());
   const FitResult joint = FitParameters(with_effect, all);
