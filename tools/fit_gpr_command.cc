@@ -3,6 +3,7 @@
 // Fits the TISO-GPR disturbance model (paper §3, MAP) to a DOB log and writes the model file that the
 // `gpr` block loads (docs/gpr.md).
 
+#include <filesystem>
 #include <iostream>
 #include <vector>
 
@@ -16,6 +17,12 @@
 namespace mb {
 
 namespace {
+
+// The output's folder, created if missing (as `run --out` does).
+void CreateParentDirectory(const std::string& path) {
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  if (!parent.empty()) std::filesystem::create_directories(parent);
+}
 
 struct FitGprOptions {
   std::string log;
@@ -41,6 +48,7 @@ void RunFitGpr(const FitGprOptions& o) {
   fit.restarts = o.restarts;
   fit.seed = o.seed;
 
+  CreateParentDirectory(o.output);  // before the fit, so that a bad path fails at once
   MeasurementLogOptions read;
   read.required_columns = {selection.position_column, selection.velocity_column, selection.disturbance_column};
   read.min_rows = 2;

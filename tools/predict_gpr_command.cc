@@ -2,6 +2,7 @@
 // Evaluates a TISO-GPR model file along a log: OUT.csv = IN.csv's columns plus "mean" (posterior mean,
 // eq. 22/24) and "std" (latent posterior standard deviation, √eq. 23).
 
+#include <filesystem>
 #include <iostream>
 
 #include <fmt/format.h>
@@ -15,6 +16,12 @@ namespace mb {
 
 namespace {
 
+// The output's folder, created if missing (as `run --out` does).
+void CreateParentDirectory(const std::string& path) {
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  if (!parent.empty()) std::filesystem::create_directories(parent);
+}
+
 struct PredictGprOptions {
   std::string model;
   std::string input;
@@ -25,6 +32,7 @@ struct PredictGprOptions {
 
 void RunPredictGpr(const PredictGprOptions& o) {
   const GprModel model = LoadGprModel(o.model);
+  CreateParentDirectory(o.output);
   MeasurementLogOptions read;
   read.required_columns = {o.position, o.velocity};
   read.min_rows = 1;
