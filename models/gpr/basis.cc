@@ -43,8 +43,8 @@ inline void ForEachHarmonic(double theta, int n, Fn&& fn) noexcept {
     c[k] = c[k - 1] * c1 - s[k - 1] * s1;
     s[k] = s[k - 1] * c1 + c[k - 1] * s1;
   }
-  const double c4 = c[3] * c1 - s[3] * s1;
-  const double s4 = s[3] * c1 + c[3] * s1;
+  const double c4 = c[3];  // cos 4θ: each lane steps by four harmonics
+  const double s4 = s[3];
   int j = 1;
   for (; j + 3 <= n; j += 4) {
     for (int k = 0; k < 4; ++k) {
