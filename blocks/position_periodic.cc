@@ -21,6 +21,7 @@ Eigen::VectorXd Coefficients(const Parameters& p, const std::string& name, int h
 PositionPeriodic::PositionPeriodic(const BlockConfig& config)
     : Block(config.name),
       wavenumber_(2.0 * std::numbers::pi / config.parameters.Number("period")),
+      offset_(config.parameters.Number("position_offset")),
       cos_(Coefficients(config.parameters, "cos_coefficients", config.parameters.Integer("harmonics"))),
       sin_(Coefficients(config.parameters, "sin_coefficients", config.parameters.Integer("harmonics"))) {
   DeclareInputPort("x", 1, "m");
@@ -29,7 +30,7 @@ PositionPeriodic::PositionPeriodic(const BlockConfig& config)
 
 void PositionPeriodic::CalcOutput(const BlockContext& c) const {
   // cos/sin of h·θ by the angle-addition recurrence: one cos/sin pair per call.
-  const double theta = wavenumber_ * c.u(0);
+  const double theta = wavenumber_ * (c.u(0) - offset_);
   const double c1 = std::cos(theta), s1 = std::sin(theta);
   double ch = c1, sh = s1, y = 0.0;
   for (Eigen::Index h = 0; h < cos_.size(); ++h) {
@@ -43,11 +44,13 @@ void PositionPeriodic::CalcOutput(const BlockContext& c) const {
 
 MB_REGISTER_BLOCK(PositionPeriodic, BlockType{
     "position_periodic",
-    "y = Σ_h a_h cos(2πhx/P) + b_h sin(2πhx/P): ripple periodic in position (cogging, screw lead). In: x [m].",
+    "y = Σ_h a_h cos(2πh(x−x₀)/P) + b_h sin(2πh(x−x₀)/P): ripple periodic in position (cogging, screw lead). "
+    "In: x [m].",
     {Bounded("period", 0.0225, "m", "spatial period P (pole pitch, screw lead)", 1e-9, 1e9),
      Bounded("harmonics", 3, "", "number of harmonics H", 1, 200, ParamType::kInteger),
      Optional("cos_coefficients", nlohmann::json::array(), "", "a_1…a_H ([] = zeros)", ParamType::kVector),
-     Optional("sin_coefficients", nlohmann::json::array(), "", "b_1…b_H ([] = zeros)", ParamType::kVector)},
+     Optional("sin_coefficients", nlohmann::json::array(), "", "b_1…b_H ([] = zeros)", ParamType::kVector),
+     Optional("position_offset", 0.0, "m", "x₀: position reference of the ripple (encoder zero of the record)")},
     SampleTimeRule::kNone,
     [](const BlockConfig& c) { return std::make_unique<PositionPeriodic>(c); }})
 

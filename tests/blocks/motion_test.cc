@@ -1,11 +1,13 @@
 // Motion blocks: rigid_body (closed forms), pd_controller (continuous closed loop against the known
 // second-order response, discrete forms against their recursions, errors) and friction (stick below the
-// breakaway force, slide above it, reversals located at the velocity's zero crossings).
+// breakaway force, slide above it, reversals located at the velocity's zero crossings) and position_periodic
+// (closed form with a position reference, coefficient-length errors).
 
 #include <algorithm>
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <vector>
 
 #include "tests/blocks/block_test_util.h"
 
@@ -260,6 +262,36 @@ TEST(FrictionTest, ParameterErrors) {
               HasSubstr("friction 'fr': static (breakaway) force 1.000000 N is below the Coulomb force 2.000000 N"));
   EXPECT_THAT(fr({{"stick_model", "lugre"}}), HasSubstr("stick_model must be \"karnopp\""));
   EXPECT_THAT(fr({{"viscous", -0.1}}), HasSubstr("/elements/0/parameters/viscous: must be >= 0"));
+}
+
+TEST(PositionPeriodicTest, MatchesTheFourierSeriesAboutItsPositionReference) {
+  // x ramps at 0.01 m/s through several periods; y = Σ a_h cos(2πh(x − x₀)/P) + b_h sin(2πh(x − x₀)/P).
+  const double P = 2.5e-3, x0 = 0.7e-3, v = 0.01;
+  const std::vector<double> a = {0.02, -0.1, 0.12}, b = {0.86, -0.24, 0.1};
+  const json j = MakeDiagram({Element("v", "constant", {{"value", v}}), Element("x", "integrator"),
+                              Element("ripple", "position_periodic",
+                                      {{"period", P}, {"harmonics", 3}, {"cos_coefficients", a},
+                                       {"sin_coefficients", b}, {"position_offset", x0}})},
+                             {Connect("v.y", "x.u"), Connect("x.y", "ripple.x")}, {"x.y", "ripple.y"}, 1.0, 0.01);
+  const auto r = Simulator(Build(j)).Run();
+  const auto& x = r.log.Column("x.y");
+  const auto& y = r.log.Column("ripple.y");
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    double expected = 0.0;
+    for (int h = 1; h <= 3; ++h) {
+      const double theta = 2.0 * std::numbers::pi * h * (x[i] - x0) / P;
+      expected += a[static_cast<std::size_t>(h - 1)] * std::cos(theta) + b[static_cast<std::size_t>(h - 1)] * std::sin(theta);
+    }
+    EXPECT_NEAR(y[i], expected, 1e-12) << "x = " << x[i];
+  }
+}
+
+TEST(PositionPeriodicTest, CoefficientVectorsMustHaveOneEntryPerHarmonic) {
+  const json j = MakeDiagram({Element("x", "constant"),
+                              Element("ripple", "position_periodic",
+                                      {{"harmonics", 3}, {"cos_coefficients", {1.0, 2.0}}})},
+                             {Connect("x.y", "ripple.x")}, {"ripple.y"}, 0.1, 0.1);
+  EXPECT_THAT(BuildError(j), HasSubstr("cos_coefficients has 2 entries; give one per harmonic (3) or []"));
 }
 
 }  // namespace

@@ -52,7 +52,8 @@ DiagnosisSignals SignalsOf(const MeasurementLog& log, const ComparedOutput& out)
 // The benchmark's IDIM-LS figures (EMPS_Description.pdf; shared/data/README.md): M ≈ 94 kg, Fv ≈ 195 N·s/m,
 // Fc ≈ 21 N. The ripple at the screw lead (2.5 mm) must come out as a ranked effect (its amplitude grows with
 // speed, so the catalogue names it velocity_dependent_ripple or position_periodic); adding a position-periodic
-// block at that period, harmonics refit jointly with the base, makes the held-out error fall.
+// block at that period, harmonics refit jointly with the base, makes the held-out error fall once the ripple's
+// position reference is set for the held-out record.
 TEST_F(EmpsFixture, RigidBodyRefitFindsScrewLeadRippleAndAddingItLowersTheError) {
   const auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
   ModelComparison base(diagram, kEmps, "rigid_body.json", *estimation, {});
@@ -87,14 +88,20 @@ TEST_F(EmpsFixture, RigidBodyRefitFindsScrewLeadRippleAndAddingItLowersTheError)
   SetParameterValues(&with_effect.mutable_diagram_json(), all, joint.estimate);
   EXPECT_LT(with_effect.Simulate().front().rmse, fitted.rmse);
 
-  // On the held-out record DATA_EMPS_PULSES the constant-amplitude block does not lower the error yet (issue 2
-  // stays open on this point: README "Measured"); both models must at least run and stay near each other.
+  // Held out, DATA_EMPS_PULSES: nothing of the base refit. The ripple keeps the shape learned on DATA_EMPS;
+  // only its position reference is refit, since the incremental encoder is zeroed anew each record (the
+  // harmonics fitted separately on each half of each record agree within a record, not across records).
   ModelComparison validate_base(base.diagram_json(), kEmps, "base", *validation, {});
   ModelComparison validate_effect(with_effect.diagram_json(), kEmps, "amended", *validation, {});
   const double rmse_base = validate_base.Simulate().front().rmse;
+  const auto zero = ResolveFreeParameters(with_effect.diagram_json(), {"ripple.position_offset"});
+  const FitResult reference = FitParameters(validate_effect, zero);
+  SetParameterValues(&validate_effect.mutable_diagram_json(), zero, reference.estimate);
   const double rmse_effect = validate_effect.Simulate().front().rmse;
-  EXPECT_LT(std::abs(rmse_effect - rmse_base), 0.05 * rmse_base)
-      << "held-out RMSE " << rmse_base << " N → " << rmse_effect << " N";
+  EXPECT_LT(rmse_effect, rmse_base - 0.02) << "held-out RMSE " << rmse_base << " N → " << rmse_effect << " N";
+  // The ripple's variance (≈ 0.4 N²) is what leaves the residual; one refit parameter could not take that much
+  // noise away from 24,841 samples.
+  EXPECT_GT(rmse_base * rmse_base - rmse_effect * rmse_effect, 0.2);
 }
 
 TEST(ComparisonTest, MissingColumnIsReportedWithColumnsPresent) {
