@@ -13,5 +13,6 @@ void SetupFitGprCommand(CLI::App& app);
 void SetupPredictGprCommand(CLI::App& app);
 void SetupHilCommand(CLI::App& app);
 void SetupVirtualStageCommand(CLI::App& app);
+void SetupSweepCommand(CLI::App& app);
 
 }  // namespace mb

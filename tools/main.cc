@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   mb::SetupPredictGprCommand(app);
   mb::SetupHilCommand(app);
   mb::SetupVirtualStageCommand(app);
+  mb::SetupSweepCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

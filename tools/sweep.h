@@ -1,0 +1,118 @@
+#pragma once
+// Parameter sweeps (`motionblocks sweep`): one diagram run many times with `id.param` values taken from a grid,
+// an explicit list or a seeded random sample; runs in parallel (TBB), one row of metrics per run in runs.csv and
+// runs.json; resumable (runs already recorded as "ok" with the same values are not run again) and repeatable
+// (a sweep file gives the same runs, in the same order, every time — random samples from their seed).
+//
+// The sweep file (JSON), exactly one of "grid", "list", "random":
+//   {
+//     "description": "payload study (paper section 5.3)",           optional
+//     "diagram": "../conventional.json",   optional: the diagram it was written for, relative to the sweep file
+//     "set":  {"plant.friction_regularization_velocity": 0.002},    optional, applied to every run (no column)
+//     "grid": {"plant.payload_mass": [0, 0.26, 0.52], "dob.cutoff_hz": [20, 30]}
+//       Cartesian product; keys in alphabetical order, the last key varies fastest.
+//     "list": [{"reference.velocities": [0.05], "defaultExperiment.stopTime": 15.1}, …]
+//       one run per entry; a key missing from an entry keeps the diagram's value (empty cell).
+//     "random": {"seed": 7, "samples": 20, "parameters": {
+//         "plant.payload_mass": {"uniform": [0, 0.5]}, "dob.cutoff_hz": {"log_uniform": [10, 60]},
+//         "dob.relative_degree": {"integer": [2, 3]}, "pd_p.gain": {"choice": [6000, 7000, 8000]}}}
+//       `samples` draws from std::mt19937_64(seed); per draw the keys in alphabetical order. The uniform
+//       variate is (engine() >> 11)·2⁻⁵³, so the values do not depend on the standard library.
+//   }
+// Keys are "element.parameter" (as `--set`), or "defaultExperiment.<field>" / "solver.<field>" for the diagram's
+// experiment (startTime, stopTime, stepSize) and solver sections. Values are JSON (number, string, array).
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/simulator.h"
+
+namespace mb {
+
+/// One run of a sweep: its id ("0000", "0001", … in sweep order) and the values it assigns.
+struct SweepRun {
+  std::string id;
+  std::vector<std::pair<std::string, nlohmann::json>> assignments;  ///< key → value, in column order
+};
+
+/// A parsed sweep file.
+struct SweepSpec {
+  std::string kind;         ///< "grid", "list" or "random"
+  std::string description;
+  std::string diagram;      ///< "diagram" as written (informational; the caller chooses the diagram)
+  std::uint64_t seed = 0;   ///< "random" only
+  std::vector<std::string> parameters;                         ///< the swept keys = the parameter columns
+  std::vector<std::pair<std::string, nlohmann::json>> fixed;   ///< "set": applied to every run first
+  std::vector<SweepRun> runs;
+};
+
+/// Parses a sweep (layout above). `source` names the file in messages.
+/// @throws std::invalid_argument listing every problem with its JSON pointer (none or several of grid/list/random,
+/// an empty value list, a key without a '.', samples < 1, a distribution with bounds not a < b, log_uniform
+/// bounds ≤ 0, an unknown distribution).
+SweepSpec ParseSweep(const nlohmann::json& sweep, const std::string& source);
+
+/// Reads and parses a sweep file. @throws std::runtime_error (unreadable, JSON syntax error with the byte) or
+/// std::invalid_argument (as ParseSweep).
+SweepSpec ReadSweepFile(const std::filesystem::path& path);
+
+/// The diagram JSON with `assignments` written in: "defaultExperiment.*" and "solver.*" into those sections,
+/// the rest through ApplyOverrides. @throws DiagramError for an unknown element (listing the elements).
+nlohmann::json ApplySweepAssignments(nlohmann::json diagram,
+                                     const std::vector<std::pair<std::string, nlohmann::json>>& assignments,
+                                     const std::string& source);
+
+/// One row of runs.csv / runs.json.
+struct SweepRow {
+  std::string id;
+  std::string status;  ///< "ok" or "failed"
+  std::vector<std::pair<std::string, nlohmann::json>> assignments;
+  std::map<std::string, double> metrics;  ///< the diagram's metrics, SI units
+  double wall_time_s = 0.0;
+  std::string error;   ///< the exception's message for a failed run
+  bool resumed = false;  ///< read back from an earlier runs.csv, not run now
+};
+
+struct SweepOptions {
+  int jobs = 0;        ///< parallel runs; 0 = all hardware threads
+  bool resume = true;  ///< skip runs recorded "ok" in an existing runs.csv (false: run everything, overwrite)
+  bool save_logs = false;  ///< also write <out>/runs/<id>/signals.csv for each run
+  bool progress = true;    ///< a ProgressLine on stderr
+  /// Called on the worker thread when a run finishes successfully, with the run's index in SweepSpec::runs and
+  /// its result (logged signals and metrics). Not called for resumed runs. Must be thread-safe across indices.
+  std::function<void(std::size_t, const SimulationResult&)> on_result;
+};
+
+struct SweepOutcome {
+  std::vector<SweepRow> rows;  ///< one per run, in sweep order
+  std::vector<std::string> metric_names;
+  std::map<std::string, std::string> metric_units;
+  int ran = 0;
+  int resumed = 0;
+  int failed = 0;
+};
+
+/// Runs the sweep over the diagram file and writes <out>/runs.csv (columns: id, status, the swept keys, the
+/// diagram's metrics, wall_time_s, error; a row is appended as each run finishes, and the file is rewritten in
+/// sweep order at the end) and <out>/runs.json (the same rows plus the diagram, the sweep and the metric units).
+/// A run that throws is recorded as "failed" with the message; the others go on.
+/// @throws DiagramError if the diagram or an assignment's element is invalid (checked before any run),
+/// std::runtime_error if runs.csv exists with other columns or records another value for a run id (a different
+/// sweep: use another --out), or if an output file cannot be written.
+SweepOutcome RunSweep(const std::filesystem::path& diagram, const SweepSpec& spec,
+                      const std::filesystem::path& out, const SweepOptions& options = {});
+
+/// CSV cell of a value: a JSON string without quotes, anything else as compact JSON.
+std::string SweepValueText(const nlohmann::json& value);
+
+/// Splits one CSV line (RFC 4180 quoting: "a,b" and "" for a quote). Used to read runs.csv back.
+std::vector<std::string> SplitCsvLine(const std::string& line);
+
+}  // namespace mb
