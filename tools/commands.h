@@ -14,5 +14,6 @@ void SetupPredictGprCommand(CLI::App& app);
 void SetupHilCommand(CLI::App& app);
 void SetupVirtualStageCommand(CLI::App& app);
 void SetupSweepCommand(CLI::App& app);
+void SetupReproduceCommand(CLI::App& app);
 
 }  // namespace mb

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   mb::SetupHilCommand(app);
   mb::SetupVirtualStageCommand(app);
   mb::SetupSweepCommand(app);
+  mb::SetupReproduceCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
