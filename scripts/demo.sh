@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The main job on the embedded default (make demo): a real ball-screw stage (EMPS benchmark data, shipped in
 # diagrams/emps/data). Compare the benchmark's rigid-body model with the measurement, see where it fails and
-# what is missing, add the suggested effect block, refit, and validate on the held-out record.
+# what is missing, add the suggested effect block, refit, and validate on the held-out record. Last, the seed
+# paper's experiments on the linear-motor twin (`reproduce --quick`, under a minute).
 set -euo pipefail
 BIN=${1:-build/release/tools/motionblocks}
 OUT=${OUT:-out/demo}
@@ -26,7 +27,10 @@ step "4. Validation on DATA_EMPS_PULSES: with the added effect (its shape from D
 "$BIN" compare "$OUT/rigid_body_suggested_fitted.json" --measurement "$DATA/DATA_EMPS_PULSES.csv" --fit ripple.position_offset \
   --out "$OUT/4_validate_suggested"
 
+step "5. The TISO-GPR paper on the linear-motor twin (quick): training scans, DS/PS fits, Tables 1 and 2, payload, stability, cost per step"
+"$BIN" reproduce --quick --out "$OUT/5_reproduce"
+
 step "Reports"
-for d in 1_base 2_suggested 3_validate_base 4_validate_suggested; do
+for d in 1_base 2_suggested 3_validate_base 4_validate_suggested 5_reproduce; do
   echo "  $OUT/$d/report.html"
 done
