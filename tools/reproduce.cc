@@ -148,7 +148,7 @@ json Reproduce(const ReproduceOptions& o) {
     if (o.message) o.message(text);
   };
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count(); };
-  const int steps = 8;
+  const int steps = 9;
 
   const fs::path conventional = o.diagrams / "conventional.json";
   const fs::path gp_loop = o.diagrams / "gp_loop.json";
@@ -360,8 +360,48 @@ json Reproduce(const ReproduceOptions& o) {
                        {"PS", rmse_um(5)},
                        {"without_payload", {{"conventional", rmse_um(0)}, {"DS", rmse_um(1)}, {"PS", rmse_um(2)}}}};
 
+  // The payload study as sweeps (diagrams/paper/sweeps): conventional.json and gp_loop.json with each D(2) model.
+  say(fmt::format("[6/{}] payload study: sweeps/payload_conventional.json and sweeps/payload_gp_loop.json (DS, PS)",
+                  steps));
+  {
+    struct PayloadSweep {
+      const char* name;
+      fs::path diagram;
+      fs::path sweep;
+      std::string model;
+    };
+    const PayloadSweep sweeps[] = {
+        {"conventional", conventional, o.diagrams / "sweeps" / "payload_conventional.json", ""},
+        {"DS", gp_loop, o.diagrams / "sweeps" / "payload_gp_loop.json", model_paths["DS_D2"].string()},
+        {"PS", gp_loop, o.diagrams / "sweeps" / "payload_gp_loop.json", model_paths["PS_D2"].string()}};
+    json study;
+    for (const PayloadSweep& ps : sweeps) {
+      SweepSpec spec = ReadSweepFile(ps.sweep);
+      if (!ps.model.empty()) spec.fixed.emplace_back("gpr.model", ps.model);
+      SweepOptions so;
+      so.jobs = jobs;
+      so.resume = false;
+      so.progress = o.progress;
+      const SweepOutcome outcome = RunSweep(ps.diagram, spec, o.out / "payload_study" / ps.name, so);
+      std::vector<double> mass, rmse;
+      for (const SweepRow& row : outcome.rows) {
+        if (row.status != "ok") {
+          throw std::runtime_error(fmt::format("payload sweep {} run {} failed: {}", ps.name, row.id, row.error));
+        }
+        for (const auto& [k, v] : row.assignments) {
+          if (k == "plant.payload_mass") mass.push_back(v.get<double>());
+        }
+        rmse.push_back(row.metrics.at("tracking_rmse") * 1e6);
+      }
+      study["payload_mass_kg"] = mass;
+      study[ps.name] = rmse;
+    }
+    study["unit"] = "µm";
+    payload_json["sweep"] = study;
+  }
+
   // 7. Stability for the α of gp_loop.json, with each D(2) model.
-  say(fmt::format("[6/{}] stability (section 4.2): ρ and the α bound for the gp_loop's α with the DS and PS models",
+  say(fmt::format("[7/{}] stability (section 4.2): ρ and the α bound for the gp_loop's α with the DS and PS models",
                   steps));
   json stability;
   for (int kernel = 0; kernel < 2; ++kernel) {
@@ -374,7 +414,7 @@ json Reproduce(const ReproduceOptions& o) {
   }
 
   // 8. The GPR's cost per control step: the posterior mean as the gpr block evaluates it (O(M), no allocation).
-  say(fmt::format("[7/{}] timing: GPR posterior mean per control step", steps));
+  say(fmt::format("[8/{}] timing: GPR posterior mean per control step", steps));
   json timing;
   {
     const int calls = o.quick ? 200000 : 2000000;
@@ -492,7 +532,7 @@ json Reproduce(const ReproduceOptions& o) {
   results["paper"] = {{"table1", kPaperTable1}, {"table2", kPaperTable2}};
 
   // Report.
-  say(fmt::format("[8/{}] report: results.json, report.html and figures", steps));
+  say(fmt::format("[9/{}] report: results.json, report.html and figures", steps));
   HtmlReport report("motionblocks reproduce: TISO-GPR + DOB on the linear-motor twin");
   report.Paragraph(fmt::format(
       "Reproduction of Jung et al., TISO-GPR integrated with disturbance observers (reference/paper-tisogpr-dob.txt), "
@@ -536,6 +576,16 @@ json Reproduce(const ReproduceOptions& o) {
   report.Table({"", "conv", "DS", "PS"},
                {{"without payload", Fixed(rmse_um(0), 3), Fixed(rmse_um(1), 3), Fixed(rmse_um(2), 3)},
                 {"with payload", Fixed(rmse_um(3), 3), Fixed(rmse_um(4), 3), Fixed(rmse_um(5), 3)}});
+  {
+    const json& study = payload_json["sweep"];
+    Figure f = MakeFigure("payload_study.png", "Tracking RMSE on Fig. 9 against the added moving mass (not retrained)",
+                          "payload [kg] (moving mass 0.2621 kg)", "tracking RMSE [µm]");
+    for (const char* name : {"conventional", "DS", "PS"}) {
+      f.series.push_back(MakeSeries(study["payload_mass_kg"].get<std::vector<double>>(),
+                                    study[name].get<std::vector<double>>(), name, "linespoints"));
+    }
+    report.AddFigure(f, o.out);
+  }
   report.Heading("Stability (section 4.2) and cost per control step");
   {
     std::vector<std::vector<std::string>> rows;

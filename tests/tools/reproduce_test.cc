@@ -100,6 +100,19 @@ TEST(ReproduceTest, QuickRunWritesResultsWithThePapersOrderings) {
   const json& p = r["payload"];
   EXPECT_GT(p["conventional"].get<double>(), conv);
   EXPECT_LT(p["PS"].get<double>(), p["conventional"].get<double>());
+  // The payload sweep (sweeps/payload_*.json): the conventional error grows with the mass, PS stays below it.
+  const json& study = p["sweep"];
+  const auto masses = study["payload_mass_kg"].get<std::vector<double>>();
+  const auto conv_sweep = study["conventional"].get<std::vector<double>>();
+  const auto ps_sweep = study["PS"].get<std::vector<double>>();
+  ASSERT_GE(masses.size(), 3u);
+  ASSERT_EQ(conv_sweep.size(), masses.size());
+  ASSERT_EQ(ps_sweep.size(), masses.size());
+  EXPECT_NEAR(conv_sweep[0], conv, 1e-9);  // payload 0 is the Table 2 run
+  for (std::size_t i = 0; i < masses.size(); ++i) {
+    if (i > 0) EXPECT_GT(conv_sweep[i], conv_sweep[i - 1]) << masses[i];
+    EXPECT_LT(ps_sweep[i], conv_sweep[i]) << masses[i];
+  }
 
   // Stability for the α used: certified with the DOB loop closed (ρ < 1, α below its bound).
   const json& s = r["stability"];
