@@ -14,7 +14,9 @@
 //      controller fixed;
 //   6. section 5.3: the same three with a payload equal to the moving mass (doubles it), models not retrained;
 //   7. stability (models/stability/stability.h) for the α of gp_loop.json with each model; the GPR's cost per
-//      control step (posterior mean, as the gpr block evaluates it).
+//      control step (posterior mean, as the gpr block evaluates it);
+//   8. an ablation a real stage cannot run: PS of D(2) trained on the true disturbance instead of the DOB estimate
+//      (how much of the gap to the paper the DOB's lag explains).
 // Writes <out>/results.json, <out>/report.html with the paper's numbers beside ours and the figures (gnuplot),
 // the fitted models (<out>/models/{ds,ps}_d{1,2,3}.json) and the scan sweep (<out>/scans/runs.csv).
 
@@ -57,7 +59,10 @@ struct GprTrainingSet {
 /// between the scan velocities). Each log needs the columns plant.x, reference.velocity, dob.d_hat and
 /// reference.constant_velocity. @throws std::invalid_argument for a missing column (SignalLog::Column),
 /// window_length ≤ 0, downsample < 1, or a scan without a constant-velocity section.
-GprTrainingSet SelectTrainingWindow(const std::vector<SignalLog>& scans, double window_length, int downsample = 1);
+/// `target` names the regression target's column: the DOB estimate (the paper's, default) or, for an ablation only
+/// a simulation allows, the true disturbance "plant.disturbance".
+GprTrainingSet SelectTrainingWindow(const std::vector<SignalLog>& scans, double window_length, int downsample = 1,
+                                    const std::string& target = "dob.d_hat");
 
 /// Root mean square of a − b. @throws std::invalid_argument for different or zero lengths.
 double RootMeanSquareDifference(const std::vector<double>& a, const std::vector<double>& b);
