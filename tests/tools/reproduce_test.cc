@@ -9,6 +9,8 @@
 #include <numbers>
 #include <sstream>
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -69,7 +71,7 @@ TEST(ReproduceTest, QuickRunWritesResultsWithThePapersOrderings) {
   options.quick = true;
   options.progress = false;
   options.diagrams = fs::path(MB_SOURCE_DIR) / "diagrams" / "paper";
-  options.out = fs::temp_directory_path() / "mb_reproduce_test";
+  options.out = fs::temp_directory_path() / ("mb_reproduce_test_" + std::to_string(::getpid()));
   fs::remove_all(options.out);
   const json returned = Reproduce(options);
   std::ifstream in(options.out / "results.json");
