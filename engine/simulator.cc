@@ -94,6 +94,55 @@ Simulator::Simulator(const Diagram& diagram) : diagram_(diagram) {
     if (block.sample_time().is_discrete()) discrete_blocks_.push_back(static_cast<int>(b));
   }
 
+  // Blocks a minor step needs: transitively, the blocks feeding those with continuous states or zero
+  // crossings — except blocks whose output cannot change between major steps: discrete blocks (held between
+  // hits) and stateless inherited blocks fed only by such blocks (Simulink would give them the discrete rate
+  // by sample-time propagation; computing them at major steps only is the same result).
+  std::vector<char> held(nb, 0);
+  for (int b : diagram.execution_order()) {
+    const auto bi = static_cast<std::size_t>(b);
+    const Block& block = *blocks[bi];
+    if (block.sample_time().is_discrete()) {
+      held[bi] = 1;
+      continue;
+    }
+    const bool stateless = block.num_continuous_states() == 0 && block.num_discrete_states() == 0 &&
+                           block.num_zero_crossings() == 0;
+    if (!stateless || block.sample_time().kind != SampleTime::Kind::kInherited || diagram.sources()[bi].empty()) {
+      continue;
+    }
+    bool all_held = true;  // a source later in the order is not yet known: not held (conservative)
+    for (const SignalRef& src : diagram.sources()[bi]) {
+      all_held = all_held && !src.is_external() && held[static_cast<std::size_t>(src.block)];
+    }
+    held[bi] = all_held ? 1 : 0;
+  }
+  // CalcDerivatives reads a block's states and inputs, not its own outputs (docs/engine.md), so a block with
+  // continuous states is recomputed in minor steps only when another needed block reads it; blocks with zero
+  // crossings always are (their mode logic may compare outputs).
+  std::vector<char> needed(nb, 0);
+  std::vector<int> stack;
+  for (std::size_t b = 0; b < nb; ++b) {
+    if (blocks[b]->num_zero_crossings() > 0) needed[b] = 1;
+    if (blocks[b]->num_continuous_states() > 0 || blocks[b]->num_zero_crossings() > 0) {
+      stack.push_back(static_cast<int>(b));
+    }
+  }
+  while (!stack.empty()) {
+    const auto b = static_cast<std::size_t>(stack.back());
+    stack.pop_back();
+    for (const SignalRef& src : diagram.sources()[b]) {
+      if (src.is_external()) continue;
+      const auto a = static_cast<std::size_t>(src.block);
+      if (needed[a] || held[a]) continue;
+      needed[a] = 1;
+      stack.push_back(src.block);
+    }
+  }
+  for (int b : diagram.execution_order()) {
+    if (needed[static_cast<std::size_t>(b)] && !held[static_cast<std::size_t>(b)]) minor_step_order_.push_back(b);
+  }
+
   input_series_.resize(diagram.inputs().size());
   input_set_.assign(diagram.inputs().size(), 0);
   input_cursor_.assign(diagram.inputs().size(), 0);
@@ -181,7 +230,7 @@ void Simulator::UpdateInputs(double t) {
 
 void Simulator::ComputeOutputs(double t, bool major) {
   const auto& blocks = diagram_.blocks();
-  for (int b : diagram_.execution_order()) {
+  for (int b : major ? diagram_.execution_order() : minor_step_order_) {
     const auto bi = static_cast<std::size_t>(b);
     const Block& block = *blocks[bi];
     if (block.sample_time().is_discrete() && !(major && hit_now_[bi])) continue;  // held between hits

@@ -90,6 +90,9 @@ class Simulator final : private OdeSystem {
   std::vector<std::size_t> output_offset_;  // per block, offset of its first output
   std::vector<double> xc_, dxc_, xd_, zc_;
   std::vector<int> discrete_blocks_;
+  // Minor steps (solver stages, root searches) recompute only the non-discrete blocks that feed a block with
+  // continuous states or zero crossings, in execution order; the rest only changes at major steps.
+  std::vector<int> minor_step_order_;
   std::vector<char> hit_now_;       // per block: discrete hit at the current major time
   std::vector<InputSeries> input_series_;
   std::vector<char> input_set_;

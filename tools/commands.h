@@ -13,6 +13,7 @@ void SetupFitGprCommand(CLI::App& app);
 void SetupPredictGprCommand(CLI::App& app);
 void SetupHilCommand(CLI::App& app);
 void SetupVirtualStageCommand(CLI::App& app);
+void SetupStabilityCommand(CLI::App& app);
 void SetupSweepCommand(CLI::App& app);
 void SetupReproduceCommand(CLI::App& app);
 

@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   mb::SetupPredictGprCommand(app);
   mb::SetupHilCommand(app);
   mb::SetupVirtualStageCommand(app);
+  mb::SetupStabilityCommand(app);
   mb::SetupSweepCommand(app);
   mb::SetupReproduceCommand(app);
   try {

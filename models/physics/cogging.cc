@@ -20,12 +20,19 @@ CoggingForce::CoggingForce(CoggingParameters parameters) : p_(std::move(paramete
     throw std::invalid_argument("cogging: all parameters must be finite");
   }
   wavenumber_ = 2.0 * std::numbers::pi / p_.pole_pitch;
+  sin_weight_ = p_.harmonics.array() * p_.phases.array().cos();
+  cos_weight_ = p_.harmonics.array() * p_.phases.array().sin();
 }
 
 double CoggingForce::Shape(double x) const noexcept {
-  double s = 0.0;
-  for (Eigen::Index h = 0; h < p_.harmonics.size(); ++h) {
-    s += p_.harmonics(h) * std::sin(static_cast<double>(h + 1) * wavenumber_ * x + p_.phases(h));
+  const double theta = wavenumber_ * x;
+  const double s1 = std::sin(theta), c1 = std::cos(theta);
+  double sh = s1, ch = c1, s = 0.0;
+  for (Eigen::Index h = 0; h < sin_weight_.size(); ++h) {
+    s += sin_weight_(h) * sh + cos_weight_(h) * ch;
+    const double next_s = sh * c1 + ch * s1;
+    ch = ch * c1 - sh * s1;
+    sh = next_s;
   }
   return s;
 }

@@ -43,6 +43,9 @@ class CoggingForce final {
  private:
   CoggingParameters p_;
   double wavenumber_;  // 2π/τ [rad/m]
+  // r_h sin(hθ + φ_h) = (r_h cos φ_h) sin hθ + (r_h sin φ_h) cos hθ: one sin/cos pair per call, then the
+  // angle-addition recurrence over h.
+  Eigen::VectorXd sin_weight_, cos_weight_;
 };
 
 }  // namespace mb

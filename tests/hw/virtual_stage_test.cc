@@ -160,6 +160,16 @@ TEST_F(VirtualStageTest, HilRunReproducesTheSimulatedRun) {
   RecordProperty("tracking_rmse_sim_um", std::to_string(rmse_sim * 1e6));
   RecordProperty("tracking_rmse_hil_um", std::to_string(rmse_hil * 1e6));
   EXPECT_GT(rmse_sim, 10e-6);  // a non-trivial error to reproduce
+  // The HIL log names what the I/O subsystem logs.
+  EXPECT_TRUE(r.log.Has("plant/encoder.counts"));
+  EXPECT_TRUE(r.log.Has("plant/amplifier.voltage"));
+  EXPECT_EQ(r.statistics.ticks, 1000);
+  // The stage integrates in wall-clock time, as a real plant does: a loop that missed its deadline on many
+  // ticks ran a different experiment, and the comparison below says nothing about the HIL path.
+  if (r.statistics.overruns > r.statistics.ticks / 20) {
+    GTEST_SKIP() << "this machine did not keep the 1 kHz deadline (" << r.statistics.overruns << " of "
+                 << r.statistics.ticks << " ticks overran): the HIL-vs-simulation comparison needs real time";
+  }
   // RMS tracking error within 10 %: on an idle machine the two agree to < 1 %; a scheduler stall of a few
   // milliseconds on a loaded one (counted as overruns) perturbs a few hundred samples.
   EXPECT_NEAR(rmse_hil, rmse_sim, 0.10 * rmse_sim)
@@ -172,10 +182,6 @@ TEST_F(VirtualStageTest, HilRunReproducesTheSimulatedRun) {
   std::nth_element(difference.begin(), difference.begin() + static_cast<std::ptrdiff_t>(difference.size() / 2),
                    difference.end());
   EXPECT_LT(difference[difference.size() / 2], 0.05 * rmse_sim);
-  // The HIL log names what the I/O subsystem logs.
-  EXPECT_TRUE(r.log.Has("plant/encoder.counts"));
-  EXPECT_TRUE(r.log.Has("plant/amplifier.voltage"));
-  EXPECT_EQ(r.statistics.ticks, 1000);
 }
 
 TEST_F(VirtualStageTest, KilledStageTriggersTheSafeStop) {
