@@ -1,0 +1,72 @@
+#include "blocks/transport_delay.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace mb {
+
+namespace {
+// Discrete state layout: [count, head, buffer_0 … buffer_{K−1}].
+constexpr Eigen::Index kCount = 0, kHead = 1, kBuffer = 2;
+
+double SamplePeriod(const BlockConfig& config) {
+  if (!config.sample_time) {
+    throw std::invalid_argument("transport_delay '" + config.name + "' needs a sampleTime [Ts, offset]");
+  }
+  return config.sample_time->period;
+}
+}  // namespace
+
+TransportDelay::TransportDelay(const BlockConfig& config) : Block(config.name) {
+  const double ts = SamplePeriod(config);
+  const double samples = config.parameters.Number("delay") / ts;
+  if (!(samples >= 0.0 && samples <= 1e6)) {
+    throw std::invalid_argument("transport_delay '" + config.name + "': delay/Ts = " + std::to_string(samples) +
+                                " samples; it must lie in [0, 1e6] (use a coarser sampleTime for long delays)");
+  }
+  // A delay within 1e-9 samples of a whole number is that number (d = 4 ms at Ts = 1 ms is 4 samples exactly).
+  const double rounded = std::round(samples);
+  const double k = std::abs(samples - rounded) < 1e-9 ? rounded : std::floor(samples);
+  whole_ = static_cast<Eigen::Index>(k);
+  fraction_ = std::max(0.0, samples - k);
+  capacity_ = whole_ + 1;
+  // u feeds through: for d < Ts, and at the first hit, where the first sample is held.
+  DeclareInputPort("u", 1, "", /*direct_feedthrough=*/true);
+  DeclareOutputPort("y");
+  DeclareDiscreteState(static_cast<int>(kBuffer + capacity_));
+  SetSampleTime(*config.sample_time);
+}
+
+double TransportDelay::Past(const BlockContext& c, Eigen::Index j, double current) const {
+  const auto x = c.discrete_state();
+  const auto count = static_cast<Eigen::Index>(x(kCount));
+  if (j == 0 || count == 0) return current;
+  const Eigen::Index back = std::min(j, count) - 1;  // 0 = the newest stored sample u[n − 1]
+  const auto head = static_cast<Eigen::Index>(x(kHead));
+  return x(kBuffer + (head - back + capacity_) % capacity_);
+}
+
+void TransportDelay::CalcOutput(const BlockContext& c) const {
+  const double current = c.u(0);
+  const double newer = Past(c, whole_, current);
+  const double older = Past(c, whole_ + 1, current);
+  c.y(0) = (1.0 - fraction_) * newer + fraction_ * older;
+}
+
+void TransportDelay::UpdateDiscrete(const BlockContext& c) const {
+  auto x = c.discrete_state();
+  const auto head = (static_cast<Eigen::Index>(x(kHead)) + 1) % capacity_;
+  x(kHead) = static_cast<double>(head);
+  x(kBuffer + head) = c.u(0);
+  x(kCount) = std::min(x(kCount) + 1.0, static_cast<double>(capacity_));
+}
+
+MB_REGISTER_BLOCK(TransportDelay, BlockType{
+    "transport_delay",
+    "y(t) = u(t − d): pure delay, discrete (needs sampleTime [Ts, offset]), linear interpolation for a "
+    "fractional d/Ts; before the first sample the input is held at its first value. In: u; out: y.",
+    {Bounded("delay", 0.0, "s", "delay d", 0.0, 1000.0)},
+    SampleTimeRule::kRequired,
+    [](const BlockConfig& c) { return std::make_unique<TransportDelay>(c); }})
+
+}  // namespace mb
