@@ -108,6 +108,9 @@ void RunCompare(const CompareOptions& o) {
       o.measurement, o.position_column, o.derivative_cutoff_hz,
       mode == "equation_error" ? OutputColumns(diagram_json, column_map) : std::vector<std::string>{});
   ModelComparison comparison(diagram_json, fs::path(o.diagram).parent_path(), o.diagram, log, column_map);
+  // The model's outputs get the measured outputs' filter (parallel filtering), else every Coulomb step of the
+  // model leaves a spike in the residual that the diagnosis would try to explain.
+  if (mode == "equation_error") comparison.set_output_filter(o.derivative_cutoff_hz);
 
   std::cerr << fmt::format("compare {} with {} ({} samples, {} mode)\n", o.diagram, o.measurement, log.rows(), mode);
   const auto before = comparison.Simulate();
@@ -160,7 +163,9 @@ void RunCompare(const CompareOptions& o) {
       base.columns.resize(log.rows(), 0);
     }
     std::cerr << "diagnosing the residual …\n";
-    diagnosis = DiagnoseMissingEffects(signals, base);
+    DiagnosisOptions options;
+    if (mode == "equation_error") options.regressor_filter_hz = o.derivative_cutoff_hz;  // parallel filtering
+    diagnosis = DiagnoseMissingEffects(signals, base, options);
   } else {
     diagnosis_skipped = fmt::format("no diagnosis: the log has no position column '{}' (set --position-column)",
                                     o.position_column);

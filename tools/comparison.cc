@@ -228,6 +228,9 @@ std::vector<ComparedOutput> ModelComparison::Simulate() const {
       const double w = st.size() < 2 ? 0.0 : std::clamp((t(i) - st[j]) / (st[j + 1] - st[j]), 0.0, 1.0);
       c.model(i) = st.size() < 2 ? sv[0] : sv[j] + w * (sv[j + 1] - sv[j]);
     }
+    if (output_filter_hz_ > 0.0 && c.model.allFinite()) {
+      c.model = ZeroPhaseLowPass(c.model, MedianTimeStep(t), output_filter_hz_);
+    }
     if (!c.model.allFinite()) {
       throw std::runtime_error(fmt::format("the simulated output '{}' is not finite (NaN/Inf): the model diverged "
                                            "with these parameters",
@@ -358,6 +361,43 @@ FitResult FitParameters(const ModelComparison& comparison, const std::vector<Fre
   const Eigen::MatrixXd cov = sigma2 * jtj.completeOrthogonalDecomposition().pseudoInverse();
   result.standard_error = cov.diagonal().cwiseMax(0.0).cwiseSqrt();
   return result;
+}
+
+DiagramFit FitDiagram(const json& diagram, const fs::path& base_directory, const std::string& source,
+                      const MeasurementLog& log, const std::map<std::string, std::string>& column_map,
+                      const std::vector<std::string>& parameter_names, double output_filter_hz) {
+  ModelComparison comparison(diagram, base_directory, source, log, column_map);
+  comparison.set_output_filter(output_filter_hz);
+  const auto params = ResolveFreeParameters(diagram, parameter_names);
+  DiagramFit out;
+  out.before = comparison.Simulate();
+  out.fit = FitParameters(comparison, params);
+  out.after = comparison.Simulate(params, out.fit.estimate);
+  out.fitted_diagram = diagram;
+  SetParameterValues(&out.fitted_diagram, params, out.fit.estimate);
+  return out;
+}
+
+json DiagramFit::ToJson() const {
+  json outputs = json::array();
+  for (std::size_t i = 0; i < after.size(); ++i) {
+    outputs.push_back({{"connector", after[i].connector},
+                       {"column", after[i].column},
+                       {"unit", after[i].unit},
+                       {"rmse_before", before[i].rmse},
+                       {"rmse_after", after[i].rmse},
+                       {"fit_percent_before", before[i].fit_percent},
+                       {"fit_percent_after", after[i].fit_percent}});
+  }
+  json j = fit.ToJson();
+  j["output"] = after.front().connector;
+  j["unit"] = after.front().unit;
+  j["rmse_before"] = before.front().rmse;
+  j["rmse_after"] = after.front().rmse;
+  j["fit_percent_before"] = before.front().fit_percent;
+  j["fit_percent_after"] = after.front().fit_percent;
+  j["outputs"] = outputs;
+  return j;
 }
 
 }  // namespace mb

@@ -89,6 +89,13 @@ class ModelComparison {
   std::vector<ComparedOutput> Simulate(const std::vector<FreeParameter>& params,
                                        const Eigen::Ref<const Eigen::VectorXd>& values) const;
 
+  /// Equation-error parallel filtering (IDIM-LS): pass every simulated output through the same zero-phase
+  /// low-pass as the measured outputs (ReadMeasurementWithDerivatives' `filter_columns`), so that both sides of
+  /// the residual have the same band — a Coulomb step of the model is smoothed like the measured one instead of
+  /// leaving a spike at every reversal. cutoff_hz <= 0: off (the default).
+  void set_output_filter(double cutoff_hz) { output_filter_hz_ = cutoff_hz; }
+  double output_filter_hz() const { return output_filter_hz_; }
+
   const nlohmann::json& diagram_json() const { return diagram_; }
   nlohmann::json& mutable_diagram_json() { return diagram_; }
   const std::map<std::string, std::string>& input_columns() const { return input_columns_; }
@@ -101,6 +108,7 @@ class ModelComparison {
   const MeasurementLog& log_;
   std::map<std::string, std::string> input_columns_;
   std::map<std::string, std::string> output_columns_;
+  double output_filter_hz_ = 0.0;
 };
 
 /// Result of a least-squares refit.
@@ -120,6 +128,28 @@ struct FitResult {
 /// deviation, over the free parameters (Levenberg–Marquardt, forward-difference Jacobian). The primary output is
 /// the first compared output. @throws std::invalid_argument for an empty parameter list.
 FitResult FitParameters(const ModelComparison& comparison, const std::vector<FreeParameter>& params);
+
+/// What `motionblocks fit` computes: the chosen parameters of a diagram refit against a measurement (simulation or
+/// equation-error, as the diagram's experiment.mode says), the outputs before and after, and the diagram with the
+/// estimates written in.
+struct DiagramFit {
+  FitResult fit;
+  std::vector<ComparedOutput> before, after;  ///< every compared output; the first is the primary
+  nlohmann::json fitted_diagram;              ///< the input diagram (its own defaultExperiment) with the estimates
+  /// fit.json: rmse/fit % before and after (primary and per output), the estimates with standard errors and 95 %
+  /// confidence intervals (estimate ± 1.96·SE, from the Jacobian at the estimate), iterations, status, condition
+  /// number of the scaled Jacobian.
+  nlohmann::json ToJson() const;
+};
+
+/// Refits `parameter_names` ("block.param", vectors expand to each entry) of `diagram` against `log`. In
+/// equation-error mode pass the measured outputs' filter cut-off as `output_filter_hz` (parallel filtering, see
+/// ModelComparison::set_output_filter; 0 = none). @throws std::invalid_argument as ModelComparison,
+/// ResolveFreeParameters and FitParameters (empty list).
+DiagramFit FitDiagram(const nlohmann::json& diagram, const std::filesystem::path& base_directory,
+                      const std::string& source, const MeasurementLog& log,
+                      const std::map<std::string, std::string>& column_map,
+                      const std::vector<std::string>& parameter_names, double output_filter_hz);
 
 /// Jacobian d(primary model output)/d(params) by central differences at `values` (N × p).
 Eigen::MatrixXd OutputJacobian(const ModelComparison& comparison, const std::vector<FreeParameter>& params,

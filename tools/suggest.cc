@@ -1,5 +1,6 @@
 #include "tools/suggest.h"
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <stdexcept>
@@ -10,19 +11,39 @@ namespace mb {
 
 using nlohmann::json;
 
-// A velocity-dependent ripple gets the plain position_periodic block at its period for now (constant
-// amplitude, harmonics refit): the |v| scaling is not a block yet.
+// asymmetric_friction has no block on purpose: with a free offset and Coulomb friction it is the same regressor
+// (1[v > 0] = (1 + sign v)/2 wherever the axis moves), so refitting those is the fix. quantization and resonance
+// have none yet.
 bool HasEffectBlock(const std::string& effect) {
-  return effect == "position_periodic" || effect == "velocity_dependent_ripple";
+  static const std::vector<std::string> kWithBlock{
+      "position_periodic", "velocity_dependent_ripple", "time_periodic",    "time_delay",      "mass_mismatch",
+      "stribeck_friction", "viscous_friction",          "coulomb_friction", "constant_offset"};
+  return std::find(kWithBlock.begin(), kWithBlock.end(), effect) != kWithBlock.end();
 }
 
 namespace {
 
-std::string InputConnectorWithUnit(const json& diagram, const std::string& unit) {
+std::string InputConnectorWithUnit(const json& diagram, const std::vector<std::string>& units) {
   for (const auto& c : diagram.value("connectors", json::array())) {
-    if (c.value("kind", "") == "input" && c.value("unit", "") == unit) return c.value("name", "");
+    if (c.value("kind", "") != "input") continue;
+    const std::string unit = c.value("unit", "");
+    if (std::find(units.begin(), units.end(), unit) != units.end()) return c.value("name", "");
   }
   return {};
+}
+
+// The input connector carrying position ("m"), velocity ("m/s") or acceleration ("m/s^2"); throws naming what to add.
+std::string NeedInput(const json& diagram, const std::string& quantity, const std::string& effect) {
+  std::vector<std::string> units;
+  if (quantity == "position") units = {"m"};
+  if (quantity == "velocity") units = {"m/s"};
+  if (quantity == "acceleration") units = {"m/s^2", "m/s²", "m/s2"};
+  const std::string name = InputConnectorWithUnit(diagram, units);
+  if (name.empty()) {
+    throw std::invalid_argument(fmt::format("effect '{}' needs the {}: add an input connector with unit \"{}\"",
+                                            effect, quantity, units.front()));
+  }
+  return name;
 }
 
 std::string UniqueName(const json& diagram, const std::string& base) {
@@ -35,71 +56,203 @@ std::string UniqueName(const json& diagram, const std::string& base) {
   }
 }
 
-}  // namespace
-
-json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, const std::string& output) {
-  if (!HasEffectBlock(effect.effect)) {
-    throw std::invalid_argument(fmt::format("no block for effect '{}' yet: add it by hand (docs/diagnosis.md)",
-                                            effect.effect));
-  }
-  json out = diagram;
-  const std::string position = InputConnectorWithUnit(out, "m");
-  if (position.empty()) {
-    throw std::invalid_argument(fmt::format("effect '{}' needs the position: add an input connector with unit \"m\"",
-                                            effect.effect));
-  }
-  // Find the connection that feeds the output connector; route it through a sum with the effect.
-  // An index, not a pointer: the connections array grows below.
+// Index of the connection that feeds the output connector `output`.
+std::size_t FeedOf(const json& diagram, const std::string& output) {
   std::optional<std::size_t> feed;
-  for (std::size_t k = 0; k < out["connections"].size(); ++k) {
-    const json& c = out["connections"][k];
+  for (std::size_t k = 0; k < diagram["connections"].size(); ++k) {
+    const json& c = diagram["connections"][k];
     if (c.value("endElement", "") == "" && c.value("endConnector", "") == output) feed = k;
   }
   if (!feed) throw std::invalid_argument(fmt::format("the diagram has no connection into output '{}'", output));
+  return *feed;
+}
 
-  const std::string effect_name = UniqueName(out, "ripple");
-  const std::string sum_name = UniqueName(out, "with_" + effect_name);
-  const double period = effect.parameters.count("period") ? effect.parameters.at("period") : 0.0;
-  const int harmonics = effect.parameters.count("harmonics") ? static_cast<int>(effect.parameters.at("harmonics")) : 3;
-  const bool same_columns = effect.effect == "position_periodic";  // else start the coefficients at zero
-  if (!(period > 0.0)) throw std::invalid_argument("position_periodic without a period: cannot suggest a block");
-  // Initial coefficients from the diagnosis' joint fit (columns cos1, sin1, cos2, …).
-  json cos_c = json::array(), sin_c = json::array();
-  for (int h = 1; h <= harmonics; ++h) {
-    double a = 0.0, b = 0.0;
-    for (std::size_t k = 0; k < effect.column_names.size(); ++k) {
-      const auto& name = effect.column_names[k];
-      const double value = same_columns ? effect.coefficients(static_cast<Eigen::Index>(k)) : 0.0;
-      if (name.ends_with(fmt::format(".cos{}", h))) a = value;
-      if (name.ends_with(fmt::format(".sin{}", h))) b = value;
+// The diagnosis' coefficient of column "<effect>.<suffix>" (0 if absent).
+double Coefficient(const DiagnosedEffect& effect, const std::string& suffix) {
+  for (std::size_t k = 0; k < effect.column_names.size(); ++k) {
+    const auto& name = effect.column_names[k];
+    if (name == effect.effect ? suffix.empty() : name.ends_with("." + suffix)) {
+      return effect.coefficients(static_cast<Eigen::Index>(k));
     }
-    cos_c.push_back(a);
-    sin_c.push_back(b);
   }
-  out["elements"].push_back({{"name", effect_name},
-                             {"type", "position_periodic"},
-                             {"description", effect.description},
-                             {"parameters",
-                              {{"period", {{"value", period}, {"unit", "m"}}},
-                               {"harmonics", harmonics},
-                               {"cos_coefficients", cos_c},
-                               {"sin_coefficients", sin_c}}}});
-  out["elements"].push_back({{"name", sum_name}, {"type", "sum"}, {"parameters", {{"signs", "++"}}}});
-  const json previous = out["connections"][*feed];
-  out["connections"].push_back({{"startElement", previous.value("startElement", "")},
-                                {"startConnector", previous.value("startConnector", "")},
-                                {"endElement", sum_name},
-                                {"endConnector", "u1"}});
-  out["connections"].push_back(
-      {{"startElement", effect_name}, {"startConnector", "y"}, {"endElement", sum_name}, {"endConnector", "u2"}});
-  out["connections"].push_back(
-      {{"startElement", ""}, {"startConnector", position}, {"endElement", effect_name}, {"endConnector", "x"}});
-  out["connections"][*feed]["startElement"] = sum_name;
-  out["connections"][*feed]["startConnector"] = "y";
-  out["free"].push_back(effect_name + ".cos_coefficients");
-  out["free"].push_back(effect_name + ".sin_coefficients");
+  return 0.0;
+}
+
+double Parameter(const DiagnosedEffect& effect, const std::string& name) {
+  const auto it = effect.parameters.find(name);
+  if (it == effect.parameters.end() || !std::isfinite(it->second)) {
+    throw std::invalid_argument(fmt::format("effect '{}' without a '{}': cannot suggest a block", effect.effect, name));
+  }
+  return it->second;
+}
+
+// Harmonic coefficients a_h (cos) and b_h (sin), h = 1..harmonics, from the diagnosis' columns.
+void HarmonicCoefficients(const DiagnosedEffect& effect, int harmonics, json* cos_c, json* sin_c) {
+  *cos_c = json::array();
+  *sin_c = json::array();
+  for (int h = 1; h <= harmonics; ++h) {
+    cos_c->push_back(Coefficient(effect, fmt::format("cos{}", h)));
+    sin_c->push_back(Coefficient(effect, fmt::format("sin{}", h)));
+  }
+}
+
+// Adds `element` (output port `port`) to the signal feeding output connector `output`, through a new sum.
+void AddToOutput(json* out, const json& element, const std::string& output, const std::string& port = "y") {
+  const std::size_t feed = FeedOf(*out, output);
+  const std::string name = element.at("name");
+  const std::string sum_name = UniqueName(*out, "with_" + name);
+  out->at("elements").push_back(element);
+  (*out)["elements"].push_back({{"name", sum_name}, {"type", "sum"}, {"parameters", {{"signs", "++"}}}});
+  const json previous = (*out)["connections"][feed];
+  (*out)["connections"].push_back({{"startElement", previous.value("startElement", "")},
+                                   {"startConnector", previous.value("startConnector", "")},
+                                   {"endElement", sum_name},
+                                   {"endConnector", "u1"}});
+  (*out)["connections"].push_back(
+      {{"startElement", name}, {"startConnector", port}, {"endElement", sum_name}, {"endConnector", "u2"}});
+  (*out)["connections"][feed]["startElement"] = sum_name;
+  (*out)["connections"][feed]["startConnector"] = "y";
+}
+
+// Puts `element` (ports "u" → "y") between the signal feeding output connector `output` and the connector.
+void InsertBeforeOutput(json* out, const json& element, const std::string& output) {
+  const std::size_t feed = FeedOf(*out, output);
+  const std::string name = element.at("name");
+  out->at("elements").push_back(element);
+  const json previous = (*out)["connections"][feed];
+  (*out)["connections"].push_back({{"startElement", previous.value("startElement", "")},
+                                   {"startConnector", previous.value("startConnector", "")},
+                                   {"endElement", name},
+                                   {"endConnector", "u"}});
+  (*out)["connections"][feed]["startElement"] = name;
+  (*out)["connections"][feed]["startConnector"] = "y";
+}
+
+void Wire(json* out, const std::string& connector, const std::string& element, const std::string& port) {
+  (*out)["connections"].push_back(
+      {{"startElement", ""}, {"startConnector", connector}, {"endElement", element}, {"endConnector", port}});
+}
+
+// The diagram's time step: the solver's fixed step, else the default experiment's step size.
+double DiagramStep(const json& diagram) {
+  const double solver = diagram.value("solver", json::object()).value("step", 0.0);
+  if (solver > 0.0) return solver;
+  const double experiment = diagram.value("defaultExperiment", json::object()).value("stepSize", 0.0);
+  if (experiment > 0.0) return experiment;
+  throw std::invalid_argument(
+      "effect 'time_delay' needs the diagram's sample period for its delay block: set solver.step or "
+      "defaultExperiment.stepSize");
+}
+
+}  // namespace
+
+json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, const std::string& output) {
+  const std::string& kind = effect.effect;
+  if (!HasEffectBlock(kind)) {
+    throw std::invalid_argument(fmt::format("no block for effect '{}' yet: add it by hand (docs/diagnosis.md)", kind));
+  }
+  json out = diagram;
+  std::vector<std::string> free;
+  std::string name;
+  if (kind == "position_periodic" || kind == "velocity_dependent_ripple") {
+    const std::string position = NeedInput(out, "position", kind);
+    const double period = Parameter(effect, "period");
+    if (!(period > 0.0)) throw std::invalid_argument(fmt::format("{} without a period: cannot suggest a block", kind));
+    const bool scaled = kind == "velocity_dependent_ripple";
+    const int harmonics = effect.parameters.count("harmonics") ? static_cast<int>(effect.parameters.at("harmonics"))
+                                                               : (scaled ? 1 : 3);
+    json cos_c, sin_c;
+    HarmonicCoefficients(effect, harmonics, &cos_c, &sin_c);
+    name = UniqueName(out, "ripple");
+    AddToOutput(&out,
+                {{"name", name},
+                 {"type", kind},
+                 {"description", effect.description},
+                 {"parameters",
+                  {{"period", {{"value", period}, {"unit", "m"}}},
+                   {"harmonics", harmonics},
+                   {"cos_coefficients", cos_c},
+                   {"sin_coefficients", sin_c}}}},
+                output);
+    Wire(&out, position, name, "x");
+    if (scaled) Wire(&out, NeedInput(out, "velocity", kind), name, "v");
+    free = {name + ".cos_coefficients", name + ".sin_coefficients"};
+  } else if (kind == "time_periodic") {
+    const int harmonics = effect.parameters.count("harmonics") ? static_cast<int>(effect.parameters.at("harmonics")) : 1;
+    json cos_c, sin_c;
+    HarmonicCoefficients(effect, harmonics, &cos_c, &sin_c);
+    name = UniqueName(out, "vibration");
+    AddToOutput(&out,
+                {{"name", name},
+                 {"type", "time_periodic"},
+                 {"description", effect.description},
+                 {"parameters",
+                  {{"frequency_hz", {{"value", Parameter(effect, "frequency_hz")}, {"unit", "Hz"}}},
+                   {"harmonics", harmonics},
+                   {"cos_coefficients", cos_c},
+                   {"sin_coefficients", sin_c}}}},
+                output);
+    // The frequency too: over a long record a small frequency error turns into a large phase error.
+    free = {name + ".frequency_hz", name + ".cos_coefficients", name + ".sin_coefficients"};
+  } else if (kind == "time_delay") {
+    const double delay = Parameter(effect, "delay");
+    if (delay < 0.0) {
+      throw std::invalid_argument(fmt::format(
+          "time_delay of {:.4g} ms is negative: the model lags the measurement (check the time stamps, or delay the "
+          "measured inputs instead); a transport_delay block cannot advance the output",
+          delay * 1e3));
+    }
+    const double ts = DiagramStep(out);
+    name = UniqueName(out, "delay");
+    InsertBeforeOutput(&out,
+                       {{"name", name},
+                        {"type", "transport_delay"},
+                        {"description", effect.description},
+                        {"sampleTime", {ts, 0.0}},
+                        {"parameters", {{"delay", {{"value", delay}, {"unit", "s"}}}}}},
+                       output);
+    free = {name + ".delay"};
+  } else if (kind == "mass_mismatch" || kind == "viscous_friction") {
+    const bool mass = kind == "mass_mismatch";
+    name = UniqueName(out, mass ? "payload" : "viscous_extra");
+    AddToOutput(&out,
+                {{"name", name},
+                 {"type", "gain"},
+                 {"description", effect.description},
+                 {"parameters", {{"gain", Coefficient(effect, "")}}}},
+                output);
+    Wire(&out, NeedInput(out, mass ? "acceleration" : "velocity", kind), name, "u");
+    free = {name + ".gain"};
+  } else if (kind == "stribeck_friction" || kind == "coulomb_friction") {
+    // A friction element of its own (slip model: the measured velocity drives it); the friction block needs
+    // non-negative forces, so a negative coefficient starts from 1 mN (not 0: the fit's central differences
+    // would step below the bound) and the fit moves it.
+    const bool stribeck = kind == "stribeck_friction";
+    const double level = std::max(1e-3, Coefficient(effect, ""));
+    json parameters = {{"viscous", 0.0}, {"coulomb", stribeck ? 0.0 : level}, {"stick_model", "none"}};
+    if (stribeck) {
+      parameters["static"] = {{"value", level}, {"unit", "N"}};
+      parameters["stribeck_velocity"] = {{"value", Parameter(effect, "stribeck_velocity")}, {"unit", "m/s"}};
+    }
+    name = UniqueName(out, stribeck ? "stribeck" : "coulomb_extra");
+    AddToOutput(&out, {{"name", name}, {"type", "friction"}, {"description", effect.description}, {"parameters", parameters}},
+                output, "f");
+    Wire(&out, NeedInput(out, "velocity", kind), name, "v");
+    free = stribeck ? std::vector<std::string>{name + ".static", name + ".stribeck_velocity"}
+                    : std::vector<std::string>{name + ".coulomb"};
+  } else {  // constant_offset
+    name = UniqueName(out, "offset_extra");
+    AddToOutput(&out,
+                {{"name", name},
+                 {"type", "constant"},
+                 {"description", effect.description},
+                 {"parameters", {{"value", Coefficient(effect, "")}}}},
+                output);
+    free = {name + ".value"};
+  }
+  for (const auto& f : free) out["free"].push_back(f);
   out["notes"] = out.value("notes", std::string()) +
-                 fmt::format(" Amended by motionblocks compare --suggest: added '{}' ({}).", effect_name, effect.effect);
+                 fmt::format(" Amended by motionblocks compare --suggest: added '{}' ({}).", name, kind);
   return out;
 }
 

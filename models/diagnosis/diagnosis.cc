@@ -148,6 +148,10 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
     throw std::invalid_argument(fmt::format(
         "DiagnoseMissingEffects: folds = {} must lie in 2..{} (N/16)", options.folds, n / 16));
   }
+  if (options.regressor_filter_hz > 0.0 && !(options.regressor_filter_hz < 0.5 / MedianTimeStep(signals.time))) {
+    throw std::invalid_argument(fmt::format("DiagnoseMissingEffects: regressor_filter_hz = {} must be below the "
+                                            "Nyquist frequency", options.regressor_filter_hz));
+  }
   if (!(options.min_gain >= 0.0 && options.min_gain < 1.0)) {
     throw std::invalid_argument(fmt::format("DiagnoseMissingEffects: min_gain = {} must lie in [0, 1)", options.min_gain));
   }
@@ -179,6 +183,13 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
   Eigen::Index total_cols = p;
   for (const auto& e : search.candidates) {
     Candidate c{e, BuildEffectRegressors(e, signals), {}};
+    // time_delay and quantization are built from the model output, which is in the filtered band already.
+    if (options.regressor_filter_hz > 0.0 && e.name != "time_delay" && e.name != "quantization") {
+      const double ts = MedianTimeStep(signals.time);
+      for (Eigen::Index j = 0; j < c.reg.columns.cols(); ++j) {
+        c.reg.columns.col(j) = ZeroPhaseLowPass(c.reg.columns.col(j), ts, options.regressor_filter_hz);
+      }
+    }
     if (c.reg.columns.cwiseAbs().maxCoeff() == 0.0) continue;  // nothing to fit (e.g. no positive motion)
     total_cols += c.reg.columns.cols();
     cands.push_back(std::move(c));
@@ -334,7 +345,11 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
     const double spread = median > 0.0 ? (Percentile(speeds, 0.75) - Percentile(speeds, 0.25)) / median : 0.0;
     const bool one_speed = median > 0.0 && spread < options.single_speed_spread;
     bool periodic = false;
-    for (const auto& e : result.effects) periodic = periodic || e.effect == "position_periodic" || e.effect == "time_periodic";
+    // At one speed |v| is constant too: a velocity-dependent ripple is a position-periodic one.
+    auto is_periodic = [](const std::string& effect) {
+      return effect == "position_periodic" || effect == "time_periodic" || effect == "velocity_dependent_ripple";
+    };
+    for (const auto& e : result.effects) periodic = periodic || is_periodic(e.effect);
     if (one_speed && periodic) {
       result.position_time_indistinguishable = true;
       ambiguity_note = fmt::format(
@@ -344,7 +359,7 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
           median, 100.0 * spread);
       result.notes.push_back(ambiguity_note);
       for (auto& e : result.effects) {
-        if (e.effect == "position_periodic" || e.effect == "time_periodic") {
+        if (is_periodic(e.effect)) {
           e.description += " (position-periodic vs time-periodic: cannot tell at one speed)";
         }
       }

@@ -47,6 +47,12 @@ struct DiagnosisOptions {
   // max |v|, has "one speed": position- and time-periodic effects cannot be told apart.
   double single_speed_spread = 0.1;
   CatalogueOptions catalogue{};
+  // Parallel filtering for equation-error data: when > 0, every candidate's regressor columns built from the
+  // motion (x, v, a, t) pass through ZeroPhaseLowPass at this cut-off [Hz], the filter the model output and the
+  // measured output went through (ModelComparison::set_output_filter). Without it a candidate differs from the
+  // base's (filtered) columns only by the derivative noise it carries, and that noise "explains" a few per cent
+  // of the residual: a mass mismatch invented on data with nothing missing. 0 = off.
+  double regressor_filter_hz = 0.0;
 };
 
 // One effect the ranking chose.
