@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   mb::SetupRunCommand(app);
   mb::SetupCompareCommand(app);
+  mb::SetupFitCommand(app);
   mb::SetupBlocksCommand(app);
   mb::SetupFitGprCommand(app);
   mb::SetupPredictGprCommand(app);
