@@ -1,0 +1,96 @@
+// `motionblocks fit` as users call it: on the EMPS record (equation error), the refit parameters with their
+// 95 % confidence intervals in fit.json, the fitted diagram, the error falling; a bad parameter name is one
+// clear message and exit code 1.
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <sys/wait.h>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace mb {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr
+};
+
+CommandResult RunMotionblocks(const std::string& arguments) {
+  const fs::path log = fs::temp_directory_path() / "mb_fit_command_test.log";
+  const std::string command =
+      std::string("\"") + MB_MOTIONBLOCKS_EXE + "\" " + arguments + " > \"" + log.string() + "\" 2>&1";
+  CommandResult r;
+  const int status = std::system(command.c_str());
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream in(log);
+  r.output.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  return r;
+}
+
+nlohmann::json ReadJson(const fs::path& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+const std::string kEmps = std::string(MB_SOURCE_DIR) + "/diagrams/emps";
+
+// The benchmark's IDIM-LS figures: M ≈ 94 kg, Fv ≈ 195 N·s/m, Fc ≈ 21 N (EMPS_Description.pdf).
+TEST(FitCommand, RefitsTheEmpsRigidBodyWithConfidenceIntervals) {
+  const fs::path out = fs::temp_directory_path() / "mb_fit_command";
+  fs::remove_all(out);
+  const auto r = RunMotionblocks("fit " + kEmps + "/rigid_body.json --measurement " + kEmps +
+                                 "/data/DATA_EMPS.csv --params inertia.gain,friction.viscous "
+                                 "--params friction.coulomb,offset.value --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("force: RMSE"));
+  const auto fit = ReadJson(out / "fit.json");
+  ASSERT_EQ(fit["parameters"].size(), 4u);
+  const double expected[] = {94.0, 195.0, 21.0};
+  const double tolerance[] = {4.0, 15.0, 3.0};
+  for (std::size_t i = 0; i < 4; ++i) {
+    const auto& p = fit["parameters"][i];
+    const double estimate = p["estimate"], se = p["standard_error"];
+    EXPECT_GT(se, 0.0) << p.dump();
+    EXPECT_NEAR(p["ci95"][0].get<double>(), estimate - 1.96 * se, 1e-9 * std::abs(estimate) + 1e-12);
+    EXPECT_NEAR(p["ci95"][1].get<double>(), estimate + 1.96 * se, 1e-9 * std::abs(estimate) + 1e-12);
+    if (i < 3) {
+      EXPECT_NEAR(estimate, expected[i], tolerance[i]) << p["name"];
+    }
+  }
+  EXPECT_EQ(fit["parameters"][0]["name"], "inertia.gain");
+  EXPECT_EQ(fit["mode"], "equation_error");
+  EXPECT_LT(fit["rmse_after"].get<double>(), 0.7 * fit["rmse_before"].get<double>());
+  // The fitted diagram carries the estimates and loads again.
+  const auto fitted = ReadJson(out / "fitted.json");
+  double mass = 0.0;
+  for (const auto& e : fitted["elements"]) {
+    if (e["name"] == "inertia") mass = e["parameters"]["gain"];
+  }
+  EXPECT_DOUBLE_EQ(mass, fit["parameters"][0]["estimate"].get<double>());
+  const auto again = RunMotionblocks("fit " + (out / "fitted.json").string() + " --measurement " + kEmps +
+                                     "/data/DATA_EMPS.csv --params offset.value --out " + (out / "again").string());
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_NEAR(ReadJson(out / "again" / "fit.json")["rmse_before"].get<double>(), fit["rmse_after"].get<double>(),
+              1e-6 * fit["rmse_after"].get<double>());
+  fs::remove_all(out);
+}
+
+TEST(FitCommand, UnknownParameterIsOneClearMessage) {
+  const auto r = RunMotionblocks("fit " + kEmps + "/rigid_body.json --measurement " + kEmps +
+                                 "/data/DATA_EMPS_PULSES.csv --params mass.gain --out " +
+                                 (fs::temp_directory_path() / "mb_fit_command_bad").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_THAT(r.output, HasSubstr("motionblocks: error: free parameter 'mass.gain': no element 'mass'"));
+}
+
+}  // namespace
+}  // namespace mb
