@@ -13,6 +13,7 @@ namespace mb {
 namespace {
 constexpr int kMaxEventIterations = 10;  // Modelica-style event iteration bound
 constexpr double kTimeTolerance = 1e-12;
+constexpr double kLogMergeTolerance = 1e-6;  // in log steps
 }  // namespace
 
 const std::vector<double>& SignalLog::Column(const std::string& name) const {
@@ -283,16 +284,28 @@ void Simulator::Roots(double t, const double* x, double* g) {
   std::copy(zc_.begin(), zc_.end(), g);
 }
 
+// Log times and sample hits come from separate integer grids that nominally coincide but may differ by rounding
+// (a log step taken from a measured time column, 0.001 + 1e-16): a log time within kLogMergeTolerance·step of a
+// hit is taken at the hit, after the hit's update, so the log never shows a block one sample late. A hit is
+// "now" within the same tolerance IsHit uses (1e-9 periods), so no hit is ever skipped.
+double Simulator::NextLogTime() const {
+  return start_time_ + static_cast<double>(next_log_index_) * log_step_;
+}
+
 double Simulator::NextMajorTime(double t) const {
-  double next = start_time_ + static_cast<double>(next_log_index_) * log_step_;
-  if (next <= t + kTimeTolerance) next = start_time_ + static_cast<double>(next_log_index_ + 1) * log_step_;
+  double next_hit = std::numeric_limits<double>::infinity();
   for (int b : discrete_blocks_) {
     const SampleTime& st = diagram_.blocks()[static_cast<std::size_t>(b)]->sample_time();
     long long k = st.FirstHitIndexAtOrAfter(t);
-    if (st.HitTime(k) <= t + kTimeTolerance * std::max(1.0, std::abs(t))) ++k;
-    next = std::min(next, st.HitTime(k));
+    if (std::abs(st.HitTime(k) - t) <= 1e-9 * st.period) ++k;  // the hit at t is being handled
+    next_hit = std::min(next_hit, st.HitTime(k));
   }
-  return next;
+  double next_log = NextLogTime();
+  if (next_log <= t + kLogMergeTolerance * log_step_) {
+    next_log = start_time_ + static_cast<double>(next_log_index_ + 1) * log_step_;
+  }
+  if (next_log < next_hit && next_hit - next_log <= kLogMergeTolerance * log_step_) return next_hit;
+  return std::min(next_log, next_hit);
 }
 
 void Simulator::LogNow() {
@@ -389,8 +402,7 @@ void Simulator::AdvanceTo(double t_end) {
     UpdateInputs(time_);
     ComputeOutputs(time_, /*major=*/true);
     need_reset = MakeModesConsistent(time_, /*major=*/true) || need_reset || any_hit;
-    const double log_time = start_time_ + static_cast<double>(next_log_index_) * log_step_;
-    if (std::abs(time_ - log_time) <= 1e-9 * log_step_) {
+    if (std::abs(time_ - NextLogTime()) <= kLogMergeTolerance * log_step_) {
       LogNow();
       ++next_log_index_;
     }

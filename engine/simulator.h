@@ -83,6 +83,7 @@ class Simulator final : private OdeSystem {
   bool MakeModesConsistent(double t, bool major);
   void LogNow();
   double NextMajorTime(double t) const;
+  double NextLogTime() const;
 
   const Diagram& diagram_;
   std::vector<BlockContext> contexts_;

@@ -2,6 +2,7 @@
 // equation, a mixed continuous/discrete loop, fixed-step vs CVODE agreement, sample-time boundaries.
 
 #include <cmath>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -167,6 +168,27 @@ TEST(SimulatorTest, DiscreteOnlyDiagramRunsAndRespectsOffset) {
   const std::vector<double> expected = {0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0};
   ASSERT_EQ(r.log.Column("z.y").size(), expected.size());
   for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(r.log.Column("z.y")[i], expected[i]) << i;
+}
+
+// A log step that differs from the sample period by rounding (a step taken from a measured time column) must
+// neither skip a hit nor log a block one sample late, however long the run: a counter (unit delay + 1) at 1 kHz,
+// logged on a grid of (1 + 2e-13) ms over 20 s, where the two grids drift 4e-12 s apart.
+TEST(SimulatorTest, NoHitIsSkippedWhenTheLogGridDriftsByRounding) {
+  const double ts = 1e-3;
+  json j = {{"schemaVersion", "1.0"},
+            {"defaultExperiment", {{"stopTime", 20.0}, {"stepSize", ts * (1.0 + 2e-13)}}},
+            {"elements",
+             {{{"name", "one"}, {"type", "constant"}, {"parameters", {{"value", 1.0}}}},
+              {{"name", "next"}, {"type", "sum"}, {"parameters", {{"signs", "++"}}}},
+              {{"name", "count"}, {"type", "unit_delay"}, {"sampleTime", {ts, 0.0}}}}},
+            {"connections", {Connect("one.y", "next.u1"), Connect("count.y", "next.u2"), Connect("next.y", "count.u")}},
+            {"log", {"count.y"}}};
+  const auto r = Simulator(Build(j)).Run();
+  const auto& count = r.log.Column("count.y");
+  ASSERT_GE(count.size(), 19999u);
+  for (std::size_t i = 0; i < count.size(); ++i) {
+    ASSERT_EQ(count[i], static_cast<double>(i)) << "t = " << r.log.time[i];
+  }
 }
 
 // A mode change at a major step (a step block switching at 0.2 s) is seen by a discrete block sampling at
