@@ -1,5 +1,5 @@
 // motionblocks compare DIAGRAM --measurement LOG.csv [--map connector=column …] [--fit block.param,…]
-//                      [--suggest AMENDED.json] [--write-fitted FITTED.json] --out DIR
+//                      [--suggest AMENDED.json [--suggest-effect NAME]] [--write-fitted FITTED.json] --out DIR
 // Drives the diagram with the measured inputs, compares its outputs with the measured columns, refits the free
 // parameters, shows where the model fails and ranks the candidate missing effects (docs/diagnosis.md).
 
@@ -32,6 +32,7 @@ struct CompareOptions {
   std::vector<std::string> overrides;
   std::string out = "out/compare";
   std::string suggest;
+  std::string suggest_effect;
   std::string write_fitted;
   std::string position_column = "position_m";
   double derivative_cutoff_hz = 100.0;
@@ -222,6 +223,10 @@ void RunCompare(const CompareOptions& o) {
   if (!o.suggest.empty() && diagnosis) {
     std::string why = "no missing effect found";
     for (const auto& e : diagnosis->effects) {
+      if (!o.suggest_effect.empty() && e.effect != o.suggest_effect) {
+        why = fmt::format("no effect '{}' among the ranked ones", o.suggest_effect);
+        continue;
+      }
       if (!HasEffectBlock(e.effect)) {
         why = fmt::format("the top effects have no block yet (first: {})", e.effect);
         continue;
@@ -307,6 +312,9 @@ void SetupCompareCommand(CLI::App& app) {
   cmd->add_flag("--no-fit", o->no_fit, "compare as is, refit nothing");
   cmd->add_option("--set", o->overrides, "parameter override block.param=value (repeatable)");
   cmd->add_option("--suggest", o->suggest, "write the diagram amended with the top-ranked effect's block here");
+  cmd->add_option("--suggest-effect", o->suggest_effect,
+                  "with --suggest: the highest-ranked effect of this catalogue name instead of the top one "
+                  "(e.g. velocity_dependent_ripple)");
   cmd->add_option("--write-fitted", o->write_fitted, "write the diagram with the fitted parameters here");
   cmd->add_option("--position-column", o->position_column, "measured position column [m]")->capture_default_str();
   cmd->add_option("--derivative-cutoff-hz", o->derivative_cutoff_hz,

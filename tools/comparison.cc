@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include <Eigen/Dense>
@@ -290,16 +291,33 @@ struct ResidualFunctor {
 Eigen::MatrixXd OutputJacobian(const ModelComparison& comparison, const std::vector<FreeParameter>& params,
                                const Eigen::Ref<const Eigen::VectorXd>& values) {
   const Eigen::Index p = values.size();
-  Eigen::MatrixXd jac;
+  const Eigen::VectorXd y0 = comparison.Simulate(params, values).front().model;
+  Eigen::MatrixXd jac(y0.size(), p);
+  // A trial value the diagram refuses (a parameter at its bound, e.g. a friction level fitted to 0): nullopt.
+  const auto model_at = [&](const Eigen::VectorXd& v) -> std::optional<Eigen::VectorXd> {
+    try {
+      return comparison.Simulate(params, v).front().model;
+    } catch (const DiagramError&) {
+      return std::nullopt;
+    }
+  };
   for (Eigen::Index j = 0; j < p; ++j) {
     const double h = 1e-6 * std::max(1.0, std::abs(values(j)));
     Eigen::VectorXd plus = values, minus = values;
     plus(j) += h;
     minus(j) -= h;
-    const Eigen::VectorXd yp = comparison.Simulate(params, plus).front().model;
-    const Eigen::VectorXd ym = comparison.Simulate(params, minus).front().model;
-    if (jac.size() == 0) jac.resize(yp.size(), p);
-    jac.col(j) = (yp - ym) / (2.0 * h);
+    const auto yp = model_at(plus);
+    const auto ym = model_at(minus);
+    if (yp && ym) {
+      jac.col(j) = (*yp - *ym) / (2.0 * h);  // central
+    } else if (yp) {
+      jac.col(j) = (*yp - y0) / h;  // at a lower bound: forward
+    } else if (ym) {
+      jac.col(j) = (y0 - *ym) / h;  // at an upper bound: backward
+    } else {
+      throw std::invalid_argument(fmt::format("parameter '{}': the diagram refuses every value within {} of {}",
+                                              params[static_cast<std::size_t>(j)].name, h, values(j)));
+    }
   }
   return jac;
 }
