@@ -2,44 +2,23 @@
 
 #include <cmath>
 #include <numbers>
-#include <stdexcept>
+
+#include "blocks/fourier_series.h"
 
 namespace mb {
-
-namespace {
-Eigen::VectorXd Coefficients(const Parameters& p, const std::string& name, int harmonics) {
-  Eigen::VectorXd c = p.Vector(name);
-  if (c.size() == 0) return Eigen::VectorXd::Zero(harmonics);
-  if (c.size() != harmonics) {
-    throw std::invalid_argument(name + " has " + std::to_string(c.size()) + " entries; give one per harmonic (" +
-                                std::to_string(harmonics) + ") or []");
-  }
-  return c;
-}
-}  // namespace
 
 PositionPeriodic::PositionPeriodic(const BlockConfig& config)
     : Block(config.name),
       wavenumber_(2.0 * std::numbers::pi / config.parameters.Number("period")),
       offset_(config.parameters.Number("position_offset")),
-      cos_(Coefficients(config.parameters, "cos_coefficients", config.parameters.Integer("harmonics"))),
-      sin_(Coefficients(config.parameters, "sin_coefficients", config.parameters.Integer("harmonics"))) {
+      cos_(FourierCoefficients(config.parameters, "cos_coefficients", config.parameters.Integer("harmonics"))),
+      sin_(FourierCoefficients(config.parameters, "sin_coefficients", config.parameters.Integer("harmonics"))) {
   DeclareInputPort("x", 1, "m");
   DeclareOutputPort("y");
 }
 
 void PositionPeriodic::CalcOutput(const BlockContext& c) const {
-  // cos/sin of h·θ by the angle-addition recurrence: one cos/sin pair per call.
-  const double theta = wavenumber_ * (c.u(0) - offset_);
-  const double c1 = std::cos(theta), s1 = std::sin(theta);
-  double ch = c1, sh = s1, y = 0.0;
-  for (Eigen::Index h = 0; h < cos_.size(); ++h) {
-    y += cos_(h) * ch + sin_(h) * sh;
-    const double next_c = ch * c1 - sh * s1;
-    sh = sh * c1 + ch * s1;
-    ch = next_c;
-  }
-  c.y(0) = y;
+  c.y(0) = FourierSeries(cos_, sin_, wavenumber_ * (c.u(0) - offset_));
 }
 
 MB_REGISTER_BLOCK(PositionPeriodic, BlockType{

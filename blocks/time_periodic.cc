@@ -2,38 +2,22 @@
 
 #include <cmath>
 #include <numbers>
-#include <stdexcept>
+
+#include "blocks/fourier_series.h"
 
 namespace mb {
-
-namespace {
-Eigen::VectorXd Coefficients(const Parameters& p, const std::string& name, int harmonics) {
-  Eigen::VectorXd c = p.Vector(name);
-  if (c.size() == 0) return Eigen::VectorXd::Zero(harmonics);
-  if (c.size() != harmonics) {
-    throw std::invalid_argument(name + " has " + std::to_string(c.size()) + " entries; give one per harmonic (" +
-                                std::to_string(harmonics) + ") or []");
-  }
-  return c;
-}
-}  // namespace
 
 TimePeriodic::TimePeriodic(const BlockConfig& config)
     : Block(config.name),
       omega_(2.0 * std::numbers::pi * config.parameters.Number("frequency_hz")),
-      cos_(Coefficients(config.parameters, "cos_coefficients", config.parameters.Integer("harmonics"))),
-      sin_(Coefficients(config.parameters, "sin_coefficients", config.parameters.Integer("harmonics"))) {
+      cos_(FourierCoefficients(config.parameters, "cos_coefficients", config.parameters.Integer("harmonics"))),
+      sin_(FourierCoefficients(config.parameters, "sin_coefficients", config.parameters.Integer("harmonics"))) {
   DeclareOutputPort("y");
   SetSampleTime(config.sample_time ? *config.sample_time : SampleTime::Continuous());
 }
 
 void TimePeriodic::CalcOutput(const BlockContext& c) const {
-  double y = 0.0;
-  for (Eigen::Index h = 0; h < cos_.size(); ++h) {
-    const double theta = static_cast<double>(h + 1) * omega_ * c.time();
-    y += cos_(h) * std::cos(theta) + sin_(h) * std::sin(theta);
-  }
-  c.y(0) = y;
+  c.y(0) = FourierSeries(cos_, sin_, omega_ * c.time());
 }
 
 MB_REGISTER_BLOCK(TimePeriodic, BlockType{

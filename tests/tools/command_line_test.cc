@@ -1,15 +1,14 @@
 // The motionblocks executable as users call it: exit codes, files written, one clear message on bad input.
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
-#include <sys/wait.h>
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+
+#include "tests/tools/run_motionblocks.h"
 
 namespace mb {
 namespace {
@@ -17,27 +16,14 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-struct CommandResult {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr
-};
-
-CommandResult RunMotionblocks(const std::string& arguments) {
-  const fs::path log = fs::temp_directory_path() / "mb_command_line_test.log";
-  const std::string command = std::string("\"") + MB_MOTIONBLOCKS_EXE + "\" " + arguments + " > \"" + log.string() +
-                              "\" 2>&1";
-  CommandResult r;
-  const int status = std::system(command.c_str());
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream in(log);
-  r.output.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  return r;
-}
+using testing::CommandResult;
+using testing::ProcessTempDir;
+using testing::RunMotionblocks;
 
 const std::string kSource = MB_SOURCE_DIR;
 
 TEST(StabilityCommand, ConventionalLoopIsStableAndTheReportHasTheTermsAndBodePlots) {
-  const fs::path out = fs::temp_directory_path() / "mb_stability_command";
+  const fs::path out = ProcessTempDir("mb_stability_command");
   fs::remove_all(out);
   const CommandResult r =
       RunMotionblocks("stability " + kSource + "/diagrams/paper/conventional.json --bode-points 50 --out " +
@@ -56,7 +42,7 @@ TEST(StabilityCommand, ConventionalLoopIsStableAndTheReportHasTheTermsAndBodePlo
 }
 
 TEST(StabilityCommand, PayloadOverrideReachesTheLoop) {
-  const fs::path out = fs::temp_directory_path() / "mb_stability_payload";
+  const fs::path out = ProcessTempDir("mb_stability_payload");
   const CommandResult r = RunMotionblocks("stability " + kSource +
                                           "/diagrams/paper/conventional.json --bode-points 10 "
                                           "--set plant.payload_mass=0.25 --out " + out.string());
@@ -67,7 +53,7 @@ TEST(StabilityCommand, PayloadOverrideReachesTheLoop) {
 
 TEST(StabilityCommand, DiagramWithoutTheLoopSaysWhatIsMissing) {
   const CommandResult r = RunMotionblocks("stability " + kSource + "/diagrams/emps/rigid_body.json --out " +
-                                          (fs::temp_directory_path() / "mb_stability_bad").string());
+                                          ProcessTempDir("mb_stability_bad").string());
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_THAT(r.output, HasSubstr("motionblocks: error:"));
   EXPECT_THAT(r.output, HasSubstr("dob"));

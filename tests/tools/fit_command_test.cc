@@ -2,16 +2,15 @@
 // 95 % confidence intervals in fit.json, the fitted diagram, the error falling; a bad parameter name is one
 // clear message and exit code 1.
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
-#include <sys/wait.h>
-
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+
+#include "tests/tools/run_motionblocks.h"
 
 namespace mb {
 namespace {
@@ -19,22 +18,9 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-struct CommandResult {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr
-};
-
-CommandResult RunMotionblocks(const std::string& arguments) {
-  const fs::path log = fs::temp_directory_path() / "mb_fit_command_test.log";
-  const std::string command =
-      std::string("\"") + MB_MOTIONBLOCKS_EXE + "\" " + arguments + " > \"" + log.string() + "\" 2>&1";
-  CommandResult r;
-  const int status = std::system(command.c_str());
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream in(log);
-  r.output.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  return r;
-}
+using testing::CommandResult;
+using testing::ProcessTempDir;
+using testing::RunMotionblocks;
 
 nlohmann::json ReadJson(const fs::path& path) {
   std::ifstream in(path);
@@ -45,7 +31,7 @@ const std::string kEmps = std::string(MB_SOURCE_DIR) + "/diagrams/emps";
 
 // The benchmark's IDIM-LS figures: M ≈ 94 kg, Fv ≈ 195 N·s/m, Fc ≈ 21 N (EMPS_Description.pdf).
 TEST(FitCommand, RefitsTheEmpsRigidBodyWithConfidenceIntervals) {
-  const fs::path out = fs::temp_directory_path() / "mb_fit_command";
+  const fs::path out = ProcessTempDir("mb_fit_command");
   fs::remove_all(out);
   const auto r = RunMotionblocks("fit " + kEmps + "/rigid_body.json --measurement " + kEmps +
                                  "/data/DATA_EMPS.csv --params inertia.gain,friction.viscous "
@@ -87,7 +73,7 @@ TEST(FitCommand, RefitsTheEmpsRigidBodyWithConfidenceIntervals) {
 TEST(FitCommand, UnknownParameterIsOneClearMessage) {
   const auto r = RunMotionblocks("fit " + kEmps + "/rigid_body.json --measurement " + kEmps +
                                  "/data/DATA_EMPS_PULSES.csv --params mass.gain --out " +
-                                 (fs::temp_directory_path() / "mb_fit_command_bad").string());
+                                 ProcessTempDir("mb_fit_command_bad").string());
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_THAT(r.output, HasSubstr("motionblocks: error: free parameter 'mass.gain': no element 'mass'"));
 }
