@@ -1,28 +1,10 @@
 // The real-time path allocates nothing: a counting global operator new around the predict calls.
-#include <atomic>
-#include <cstdlib>
-#include <new>
 
 #include <gtest/gtest.h>
 
 #include "models/gpr/gpr_fit.h"
+#include "tests/alloc_counter.h"
 #include "tests/gpr/synthetic_data.h"
-
-namespace {
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t size) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) { return operator new(size); }
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 namespace mb {
 namespace {
@@ -34,12 +16,13 @@ TEST(GprRealTime, PredictAllocatesNothing) {
     options.kernel = kernel;
     options.restarts = 0;
     const GprModel model = FitGpr(data.x, data.xdot, data.d, options);
-    const long before_check = g_allocations.load();
-    auto* probe = new int(1);  // the counter works
-    delete probe;
-    ASSERT_EQ(g_allocations.load(), before_check + 1);
+    const long before_check = ::mb::testing::AllocationCount();
+    void* probe = ::operator new(16);  // the counter works
+    const long after_check = ::mb::testing::AllocationCount();
+    ::operator delete(probe);
+    ASSERT_EQ(after_check, before_check + 1);
 
-    const long before = g_allocations.load();
+    const long before = ::mb::testing::AllocationCount();
     double sum = 0.0;
     for (int i = 0; i < 1000; ++i) {
       const double x = -0.5 + 0.0017 * i, v = -0.1 + 0.0008 * i;
@@ -50,7 +33,7 @@ TEST(GprRealTime, PredictAllocatesNothing) {
       model.PosteriorMeanGradient(x, v, &gx, &gv);
       sum += mean + std + gx + gv;
     }
-    EXPECT_EQ(g_allocations.load(), before) << GprKernelName(kernel);
+    EXPECT_EQ(::mb::testing::AllocationCount(), before) << GprKernelName(kernel);
     EXPECT_TRUE(std::isfinite(sum));
   }
 }

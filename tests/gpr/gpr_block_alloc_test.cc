@@ -1,10 +1,7 @@
 // The gpr block's CalcOutput allocates nothing: a diagram with the block fed by two sources, no
 // logged signals, and a counting global operator new around Simulator::AdvanceTo after Initialize.
 // The same diagram without the gpr block measures the engine's own allocations in AdvanceTo.
-#include <atomic>
-#include <cstdlib>
 #include <filesystem>
-#include <new>
 
 #include <gtest/gtest.h>
 
@@ -12,23 +9,8 @@
 #include "engine/simulator.h"
 #include "models/gpr/gpr_fit.h"
 #include "models/gpr/gpr_io.h"
+#include "tests/alloc_counter.h"
 #include "tests/gpr/synthetic_data.h"
-
-namespace {
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t size) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) { return operator new(size); }
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 namespace mb {
 namespace {
@@ -76,9 +58,9 @@ class GprBlockAllocation : public ::testing::Test {
     const Diagram diagram = BuildDiagram(j, dir_, "alloc.json");
     Simulator sim(diagram);
     sim.Initialize();
-    const long before = g_allocations.load();
+    const long before = ::mb::testing::AllocationCount();
     sim.AdvanceTo(diagram.experiment().stop_time);
-    const long count = g_allocations.load() - before;
+    const long count = ::mb::testing::AllocationCount() - before;
     *x = sim.SignalValue(diagram.ResolveSignal("pos.y"));
     *v = sim.SignalValue(diagram.ResolveSignal("vel.y"));
     *mean = diagram.blocks().size() > 2 ? sim.SignalValue(diagram.ResolveSignal("dhat.mean")) : 0.0;
@@ -89,12 +71,11 @@ class GprBlockAllocation : public ::testing::Test {
 };
 
 TEST_F(GprBlockAllocation, AdvanceToAllocatesNothing) {
-  auto* probe = new int(1);  // the counter works
-  const long before_probe = g_allocations.load();
-  delete probe;
-  probe = new int(2);
-  ASSERT_EQ(g_allocations.load(), before_probe + 1);
-  delete probe;
+  const long before_probe = ::mb::testing::AllocationCount();
+  void* probe = ::operator new(16);  // the counter works
+  const long after_probe = ::mb::testing::AllocationCount();
+  ::operator delete(probe);
+  ASSERT_EQ(after_probe, before_probe + 1);
 
   double mean = 0.0, x = 0.0, v = 0.0;
   // The engine alone (sources only): the baseline the block adds to.

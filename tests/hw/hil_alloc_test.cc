@@ -1,11 +1,8 @@
-// The HIL loop allocates nothing: a counting global operator new is armed from the first sample to the safe
-// stop of RunHilLoop, on the shipped HIL diagram with a gpr block added to the controller (its output is added
-// to the PD force), against the in-process test board.
-#include <atomic>
+// The HIL loop allocates nothing: the allocation count (tests/alloc_counter.h) is read at the first sample
+// and at the safe stop of RunHilLoop, on the shipped HIL diagram with a gpr block added to the controller
+// (its output is added to the PD force), against the in-process test board.
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
-#include <new>
 
 #include <gtest/gtest.h>
 
@@ -14,26 +11,10 @@
 #include "hw/hil_runner.h"
 #include "models/gpr/gpr_fit.h"
 #include "models/gpr/gpr_io.h"
+#include "tests/alloc_counter.h"
 #include "tests/gpr/synthetic_data.h"
 #include "tests/hw/hil_test_util.h"
 #include "tests/hw/test_board.h"
-
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t size) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) { return operator new(size); }
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 namespace mb {
 namespace {
@@ -74,25 +55,28 @@ TEST(HilAllocationTest, TheLoopAllocatesNothingWithAGprBlockInTheController) {
   testing::TestBoard board;
   ScopedBoardAttachment attachment(board);
   const Diagram diagram = BuildDiagram(j, dir, "hil_alloc.json");
-  board.on_first_sample = [] { g_counting.store(true); };
-  board.on_safe_stop = [] { g_counting.store(false); };
+  long at_first_sample = -1, at_safe_stop = -1;
+  board.on_first_sample = [&] { at_first_sample = ::mb::testing::AllocationCount(); };
+  board.on_safe_stop = [&] { at_safe_stop = ::mb::testing::AllocationCount(); };
   const HilResult r = RunHilLoop(diagram, board, HilOptions{});
   fs::remove_all(dir);
 
   ASSERT_TRUE(r.completed) << r.stop_reason;
   EXPECT_EQ(r.statistics.ticks, 300);
-  EXPECT_EQ(g_allocations.load(), 0) << "allocations inside the real-time loop";
+  ASSERT_GE(at_first_sample, 0) << "the board never saw a first sample";
+  ASSERT_GE(at_safe_stop, 0) << "the board never saw the safe stop";
+  EXPECT_EQ(at_safe_stop - at_first_sample, 0) << "allocations inside the real-time loop";
   // The gpr block really ran: a finite, non-zero disturbance estimate in the log.
   const auto& mean = r.log.Column("dhat.mean");
   ASSERT_EQ(mean.size(), 301u);
   EXPECT_TRUE(std::isfinite(mean.back()));
   EXPECT_GT(std::abs(mean.back()), 0.0);
-  // The counter does count: one allocation while armed is seen.
-  g_counting.store(true);
+  // The counter does count: one allocation is seen.
+  const long before_probe = ::mb::testing::AllocationCount();
   void* p = ::operator new(16);
-  g_counting.store(false);
+  const long after_probe = ::mb::testing::AllocationCount();
   ::operator delete(p);
-  EXPECT_EQ(g_allocations.load(), 1);
+  EXPECT_EQ(after_probe - before_probe, 1);
 }
 
 }  // namespace
