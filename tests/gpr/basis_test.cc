@@ -2,6 +2,7 @@
 // kernel against the exact kernel, and the basis derivatives against finite differences.
 #include "models/gpr/basis.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -150,6 +151,42 @@ TEST(GprBasis, SpectralWeightDerivativesMatchFiniteDifferences) {
       EXPECT_NEAR(dlog(k, p), fd, 1e-5 * (1 + std::abs(fd))) << GprParameterName(p) << " k=" << k;
     }
   }
+}
+
+// The features come from recurrences (rotation for the periodic pairs, Chebyshev for the Hilbert
+// sines) started from one bounded-range sincos; every harmonic must still equal its definition.
+// Inputs include both ends of the Hilbert domain, where the Chebyshev recurrence loses most.
+TEST(GprBasis, FeaturesEqualTheirDefinitionsHarmonicByHarmonic) {
+  constexpr double kPi = 3.14159265358979323846;
+  GprBasis basis;
+  basis.kernel = GprKernel::kPeriodicSe;
+  basis.period = 0.0225;
+  basis.harmonics = 61;
+  basis.xdot_domain = {0.2, 0.35, 203};
+  const int p = GprPositionFeatureCount(basis);
+  std::vector<double> psi(static_cast<std::size_t>(GprFeatureCount(basis)));
+  const double inputs[][2] = {{0.0, 0.2}, {0.1234, -0.15 + 1e-9}, {-0.31, 0.55 - 1e-9},
+                              {0.0225 * 7 - 1e-12, 0.37}, {0.01, 0.2 + 0.35 * 0.999}};
+  double worst = 0.0;
+  for (const auto& in : inputs) {
+    const double x = in[0];
+    const double v = in[1];
+    EvaluateGprBasis(basis, x, v, psi.data());
+    EXPECT_EQ(psi[0], 1.0);
+    for (int j = 1; j <= basis.harmonics; ++j) {
+      const double phase = 2.0 * kPi * j * x / basis.period;
+      worst = std::max(worst, std::abs(psi[static_cast<std::size_t>(2 * j - 1)] - std::cos(phase)));
+      worst = std::max(worst, std::abs(psi[static_cast<std::size_t>(2 * j)] - std::sin(phase)));
+    }
+    const HilbertDomain& d = basis.xdot_domain;
+    for (int j = 1; j <= d.count; ++j) {
+      const double want =
+          std::sin(kPi * j * (v - d.center + d.half_width) / (2.0 * d.half_width)) /
+          std::sqrt(d.half_width);
+      worst = std::max(worst, std::abs(psi[static_cast<std::size_t>(p + j - 1)] - want));
+    }
+  }
+  EXPECT_LT(worst, 1e-11) << "largest deviation from libm over all features";
 }
 
 TEST(GprBasis, TooManyFeaturesIsAClearError) {
