@@ -11,6 +11,23 @@
 namespace mb {
 namespace {
 
+// The smallest share, over the columns of `columns` (N × k), of a column's energy that the base regressors
+// `base` (N × p, QR-factorised in `qr`) reproduce by least squares: 1 − ‖c − B·B⁺c‖²/‖c‖². 0 when p = 0. A
+// candidate whose every column lies in the base's span adds only what separates it from the base — for
+// coulomb_friction against a base that already fits F_c, only its dead band — and would be named for that.
+double ShareSpannedByBase(const Eigen::MatrixXd& columns, const Eigen::MatrixXd& base,
+                          const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>& qr) {
+  if (base.cols() == 0) return 0.0;
+  double share = 1.0;
+  for (Eigen::Index j = 0; j < columns.cols(); ++j) {
+    const double energy = columns.col(j).squaredNorm();
+    if (!(energy > 0.0)) continue;
+    const Eigen::VectorXd rest = columns.col(j) - base * qr.solve(columns.col(j));
+    share = std::min(share, 1.0 - rest.squaredNorm() / energy);
+  }
+  return share;
+}
+
 // Per-block Gram matrices of the scaled regressor matrix, for fast contiguous-block cross-validation.
 class BlockGrams {
  public:
@@ -155,6 +172,10 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
   if (!(options.min_gain >= 0.0 && options.min_gain < 1.0)) {
     throw std::invalid_argument(fmt::format("DiagnoseMissingEffects: min_gain = {} must lie in [0, 1)", options.min_gain));
   }
+  if (!(options.redundant_with_base > 0.0 && options.redundant_with_base <= 1.0)) {
+    throw std::invalid_argument(fmt::format("DiagnoseMissingEffects: redundant_with_base = {} must lie in (0, 1]",
+                                            options.redundant_with_base));
+  }
   const Eigen::MatrixXd base_cols = p > 0 ? base.columns : Eigen::MatrixXd(n, 0);
   const Eigen::VectorXd& r = signals.residual;
 
@@ -167,7 +188,8 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
   if (p > 0) r0 -= base_cols * base_cols.colPivHouseholderQr().solve(r);
   result.rmse_base_refit = std::sqrt(r0.squaredNorm() / static_cast<double>(n));
 
-  // 2. Candidates and their regressors.
+  // 2. Candidates and their regressors; those the base already spans are not candidates.
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> base_qr(base_cols);
   const CandidateSearch search = ProposeCandidateEffects(signals, r0, base_cols, options.catalogue);
   result.candidates = search.candidates;
   result.position_peaks = search.position_periodogram.peaks;
@@ -191,6 +213,14 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
       }
     }
     if (c.reg.columns.cwiseAbs().maxCoeff() == 0.0) continue;  // nothing to fit (e.g. no positive motion)
+    const double spanned = ShareSpannedByBase(c.reg.columns, base_cols, base_qr);
+    if (spanned >= options.redundant_with_base) {
+      result.notes.push_back(fmt::format(
+          "{} is already in the model: the base's free parameters reproduce {:.1f} % of its regressor, so it is "
+          "refit with them rather than proposed as missing",
+          e.name, 100.0 * spanned));
+      continue;
+    }
     total_cols += c.reg.columns.cols();
     cands.push_back(std::move(c));
   }

@@ -5,7 +5,8 @@
 //  1. Refit the base model's free-parameter regressors X_b (e.g. a, v, sign(v), 1 for a rigid body)
 //     to the residual by least squares: the base parameters are biased while an effect is missing.
 //  2. Propose candidates with their nonlinear parameters from the refit residual
-//     (ProposeCandidateEffects: periodograms, Welch spectrum, delay search, ...).
+//     (ProposeCandidateEffects: periodograms, Welch spectrum, delay search, ...). Drop those the base's
+//     regressors already span (DiagnosisOptions::redundant_with_base): they are in the model, refit.
 //  3. Split the record into k = 5 CONTIGUOUS time blocks. For a set S of regressors, the held-out error
 //     MSE(S) = Σ_blocks ‖r_b − X_b(S)·θ_{−b}‖²/N, θ_{−b} fitted by least squares on the other blocks
 //     (columns scaled to unit RMS, ridge 1e-9 for collinear columns; computed from per-block Gram
@@ -53,6 +54,10 @@ struct DiagnosisOptions {
   // base's (filtered) columns only by the derivative noise it carries, and that noise "explains" a few per cent
   // of the residual: a mass mismatch invented on data with nothing missing. 0 = off.
   double regressor_filter_hz = 0.0;
+  // A candidate whose regressor columns the base's free-parameter regressors reproduce to at least this share of
+  // their energy (least squares) is already in the model and is not ranked (a note says so): e.g.
+  // coulomb_friction when F_c is free, which would otherwise score on its dead band alone.
+  double redundant_with_base = 0.98;
 };
 
 // One effect the ranking chose.
@@ -104,7 +109,7 @@ struct DiagnosisResult {
 
 // Runs the ranking. signals.residual = measured − model; base as described above.
 // Throws std::invalid_argument as DiagnosisSignals::Validate, when base.columns has the wrong number of
-// rows or names, or when options are out of range (folds < 2 or > N/16, min_gain not in [0, 1)).
+// rows or names, or when options are out of range (folds < 2 or > N/16, min_gain not in [0, 1), redundant_with_base not in (0, 1]).
 DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const BaseRegressors& base,
                                        const DiagnosisOptions& options = {});
 

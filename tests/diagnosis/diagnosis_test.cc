@@ -281,7 +281,7 @@ TEST(Diagnosis, EmpsScrewLeadRipple) {
   for (const auto& n : r.notes) std::cout << "  note: " << n << "\n";
   // The screw lead: a chosen position-periodic ripple at 2.5 mm (±2 %; plain or growing with |v|), and
   // the strongest position period in the searched band. (It is not ranked first: the low-velocity
-  // friction at the reversals carries more of the residual energy — see the report.)
+  // friction carries more of the residual energy — see the report.)
   const DiagnosedEffect* lead = nullptr;
   for (const auto& e : r.effects) {
     if ((e.effect == "position_periodic" || e.effect == "velocity_dependent_ripple") &&
@@ -293,7 +293,9 @@ TEST(Diagnosis, EmpsScrewLeadRipple) {
   EXPECT_GT(lead->score, 0.02);
   ASSERT_FALSE(r.position_peaks.empty());
   EXPECT_NEAR(r.position_peaks.front().period, 2.5e-3, 0.02 * 2.5e-3);
-  EXPECT_LT(r.rmse_after, 0.8 * r.rmse_before);
+  // Measured: 2.364 → 2.026 N in-sample. (Before coulomb_friction was dropped as already in the base, its dead
+  // band alone scored 13.6 % here — the reversals — and the bound was 0.8.)
+  EXPECT_LT(r.rmse_after, 0.9 * r.rmse_before);
 
   const std::string val_path = dir + "DATA_EMPS_PULSES.csv";
   if (std::filesystem::exists(val_path)) {
