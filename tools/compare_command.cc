@@ -1,7 +1,9 @@
 // motionblocks compare DIAGRAM --measurement LOG.csv [--map connector=column …] [--fit block.param,…]
-//                      [--suggest AMENDED.json [--suggest-effect NAME]] [--write-fitted FITTED.json] --out DIR
+//                      [--suggest AMENDED.json [--suggest-effect NAME]] [--write-fitted FITTED.json]
+//                      [--no-gpr-fallback] --out DIR
 // Drives the diagram with the measured inputs, compares its outputs with the measured columns, refits the free
-// parameters, shows where the model fails and ranks the candidate missing effects (docs/diagnosis.md).
+// parameters, shows where the model fails and ranks the candidate missing effects (docs/diagnosis.md); then fits
+// a TISO-GPR to what the ranked effects leave and says how much of it depends on position and velocity.
 
 #include <fstream>
 #include <iostream>
@@ -10,6 +12,8 @@
 
 #include "engine/diagram_loader.h"
 #include "models/diagnosis/diagnosis.h"
+#include "models/gpr/gpr_io.h"
+#include "models/gpr/residual_gpr.h"
 #include "tools/commands.h"
 #include "tools/comparison.h"
 #include "tools/output_files.h"
@@ -36,6 +40,7 @@ struct CompareOptions {
   std::string write_fitted;
   std::string position_column = "position_m";
   double derivative_cutoff_hz = 100.0;
+  bool no_gpr_fallback = false;
 };
 
 std::vector<double> ToStd(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
@@ -147,6 +152,7 @@ void RunCompare(const CompareOptions& o) {
 
   // Diagnosis of the primary output's residual, with the fitted parameters' sensitivities as base regressors.
   std::optional<DiagnosisResult> diagnosis;
+  std::optional<ResidualGprResult> fallback;
   std::string diagnosis_skipped;
   if (log.has_column(o.position_column) && log.has_column(kDerivedVelocityColumn)) {
     DiagnosisSignals signals;
@@ -167,6 +173,10 @@ void RunCompare(const CompareOptions& o) {
     DiagnosisOptions options;
     if (mode == "equation_error") options.regressor_filter_hz = o.derivative_cutoff_hz;  // parallel filtering
     diagnosis = DiagnoseMissingEffects(signals, base, options);
+    if (!o.no_gpr_fallback) {
+      std::cerr << "fitting the non-parametric fallback (TISO-GPR on position and velocity) to what is left …\n";
+      fallback = FitResidualGprAfterDiagnosis(signals, base, *diagnosis);
+    }
   } else {
     diagnosis_skipped = fmt::format("no diagnosis: the log has no position column '{}' (set --position-column)",
                                     o.position_column);
@@ -212,6 +222,14 @@ void RunCompare(const CompareOptions& o) {
     result["summary"] = diagnosis_skipped;
   }
   result["diagnosis"] = ranked;
+  if (fallback) {
+    json j = fallback->ToJson();
+    if (fallback->model) {
+      SaveGprModel(*fallback->model, out / "residual_gpr.json");
+      j["model"] = (out / "residual_gpr.json").string();
+    }
+    result["nonparametric_fallback"] = j;
+  }
 
   if (fit && !o.write_fitted.empty()) {
     json fitted = comparison.diagram_json();
@@ -280,6 +298,10 @@ void RunCompare(const CompareOptions& o) {
     report.Table({"effect", "share of remaining held-out residual explained", "cumulative", "parameters"}, drow);
     for (const auto& e : diagnosis->effects) report.Paragraph(e.effect + ": " + e.description);
     for (const auto& n : diagnosis->notes) report.Paragraph(n);
+    if (fallback) {
+      report.Heading("What no catalogue effect explains (non-parametric fallback)");
+      report.Paragraph(fallback->description);
+    }
   } else {
     report.Paragraph(diagnosis_skipped);
   }
@@ -297,6 +319,7 @@ void RunCompare(const CompareOptions& o) {
       std::cout << fmt::format("  {:<28} {:5.1f} %  {}\n", e.effect, 100.0 * e.score, e.description);
     }
   }
+  if (fallback) std::cout << fallback->description << "\n";
   std::cout << fmt::format("wrote {}/compare.json and report.html\n", out.string());
 }
 
@@ -310,6 +333,8 @@ void SetupCompareCommand(CLI::App& app) {
   cmd->add_option("--map", o->maps, "connector=column: read a connector from another column (repeatable)");
   cmd->add_option("--fit", o->fit, "parameters to refit: block.param,… (default: the diagram's \"free\" list)");
   cmd->add_flag("--no-fit", o->no_fit, "compare as is, refit nothing");
+  cmd->add_flag("--no-gpr-fallback", o->no_gpr_fallback,
+                "skip the TISO-GPR fitted to what the diagnosis leaves (it writes residual_gpr.json when it helps)");
   cmd->add_option("--set", o->overrides, "parameter override block.param=value (repeatable)");
   cmd->add_option("--suggest", o->suggest, "write the diagram amended with the top-ranked effect's block here");
   cmd->add_option("--suggest-effect", o->suggest_effect,

@@ -264,6 +264,12 @@ GprModel FitGpr(const Eigen::Ref<const Eigen::VectorXd>& x,
   if (!theta.allFinite()) {
     throw std::invalid_argument("FitGpr: the initial hyperparameters must all be finite and > 0");
   }
+  // exp(log τ) need not return τ to the last bit: a fixed period must stay exactly the basis' period.
+  const auto Hyperparameters = [&](const Eigen::VectorXd& th) {
+    GprHyperparameters hp = FromLogParameters(th);
+    if (!options.estimate_period) hp.period = options.period;
+    return hp;
+  };
   const auto log_prior = [&](const Eigen::VectorXd& th, Eigen::VectorXd* g) {
     return GprLogPrior(priors, th, free, g);
   };
@@ -274,7 +280,7 @@ GprModel FitGpr(const Eigen::Ref<const Eigen::VectorXd>& x,
     basis = ChooseGprBasis(options.kernel, hp0, x_range, xdot_range, options.tolerance);
   } else if (options.solver == GprSolver::kExact) {
     const LogPosterior objective = [&](const Eigen::VectorXd& th, Eigen::VectorXd* g) {
-      const double lml = ExactLogMarginalLikelihood(options.kernel, FromLogParameters(th), x, xdot,
+      const double lml = ExactLogMarginalLikelihood(options.kernel, Hyperparameters(th), x, xdot,
                                                     yc, g);
       return lml + log_prior(th, g);
     };
@@ -286,7 +292,7 @@ GprModel FitGpr(const Eigen::Ref<const Eigen::VectorXd>& x,
     }
     theta = map.theta;
     log_posterior = map.log_posterior;
-    basis = ChooseGprBasis(options.kernel, FromLogParameters(theta), x_range, xdot_range,
+    basis = ChooseGprBasis(options.kernel, Hyperparameters(theta), x_range, xdot_range,
                            options.tolerance);
   } else {
     basis = ChooseGprBasis(options.kernel, hp0, x_range, xdot_range,
@@ -295,7 +301,7 @@ GprModel FitGpr(const Eigen::Ref<const Eigen::VectorXd>& x,
     for (int round = 0; round < kMaxBasisRounds; ++round) {
       stats = AccumulateGprFeatureStatistics(basis, x, xdot, yc, options.estimate_period);
       const LogPosterior objective = [&](const Eigen::VectorXd& th, Eigen::VectorXd* g) {
-        const GprHyperparameters hp = FromLogParameters(th);
+        const GprHyperparameters hp = Hyperparameters(th);
         if (options.estimate_period && hp.period != stats.basis.period) {
           GprBasis moved = stats.basis;
           moved.period = hp.period;
@@ -314,13 +320,13 @@ GprModel FitGpr(const Eigen::Ref<const Eigen::VectorXd>& x,
       }
       theta = map.theta;
       log_posterior = map.log_posterior;
-      const GprHyperparameters hp = FromLogParameters(theta);
+      const GprHyperparameters hp = Hyperparameters(theta);
       basis.period = hp.period;
       if (GprBasisSuffices(basis, hp, x_range, xdot_range, options.tolerance)) break;
       basis = ChooseGprBasis(options.kernel, hp, x_range, xdot_range,
                              options.tolerance * kBasisHeadroom);
     }
-    const GprHyperparameters hp = FromLogParameters(theta);
+    const GprHyperparameters hp = Hyperparameters(theta);
     if (!GprBasisSuffices(basis, hp, x_range, xdot_range, options.tolerance)) {
       basis = ChooseGprBasis(options.kernel, hp, x_range, xdot_range, options.tolerance);
     }
@@ -328,7 +334,7 @@ GprModel FitGpr(const Eigen::Ref<const Eigen::VectorXd>& x,
 
   GprModelData data;
   data.kernel = options.kernel;
-  data.hyperparameters = FromLogParameters(theta);
+  data.hyperparameters = Hyperparameters(theta);
   data.basis = basis;
   data.mean = mean;
   data.x_range = x_range;

@@ -134,4 +134,21 @@ ResidualGprResult FitResidualGpr(const DiagnosisSignals& signals, const Eigen::R
   return result;
 }
 
+ResidualGprResult FitResidualGprAfterDiagnosis(const DiagnosisSignals& signals, const BaseRegressors& base,
+                                               const DiagnosisResult& diagnosis, ResidualGprOptions options) {
+  if (options.period == 0.0 && !options.kernel) {
+    for (const auto& e : diagnosis.effects) {
+      if ((e.effect == "position_periodic" || e.effect == "velocity_dependent_ripple") && e.parameters.count("period")) {
+        options.period = e.parameters.at("period");
+        break;
+      }
+    }
+    if (options.period == 0.0 && !diagnosis.position_peaks.empty() && diagnosis.position_peaks.front().significant) {
+      options.period = diagnosis.position_peaks.front().period;
+    }
+  }
+  const Eigen::VectorXd left = signals.residual - PredictCorrection(diagnosis, signals, base);
+  return FitResidualGpr(signals, left, options);
+}
+
 }  // namespace mb

@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include "models/diagnosis/diagnosis.h"
 #include "models/diagnosis/effect_catalogue.h"
 #include "models/gpr/gpr_fit.h"
 #include "models/gpr/gpr_model.h"
@@ -52,5 +53,13 @@ struct ResidualGprResult {
 /// std::runtime_error when a fit fails (FitGpr's message).
 ResidualGprResult FitResidualGpr(const DiagnosisSignals& signals, const Eigen::Ref<const Eigen::VectorXd>& residual,
                                  const ResidualGprOptions& options = {});
+
+/// The fallback after a diagnosis: fitted to what the diagnosis left (signals.residual minus PredictCorrection of
+/// `diagnosis` with `base`), with "PS" at the period of a chosen position_periodic or velocity_dependent_ripple
+/// effect, else of the strongest significant position-periodogram peak, else "DS". `options.period` and
+/// `options.kernel`, when set, win.
+/// @throws as FitResidualGpr and PredictCorrection.
+ResidualGprResult FitResidualGprAfterDiagnosis(const DiagnosisSignals& signals, const BaseRegressors& base,
+                                               const DiagnosisResult& diagnosis, ResidualGprOptions options = {});
 
 }  // namespace mb

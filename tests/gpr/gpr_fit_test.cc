@@ -136,6 +136,21 @@ TEST(FitGpr, EstimatesThePeriodWithItsPrior) {
   EXPECT_TRUE(model.data().provenance.period_estimated);
 }
 
+// A fixed period whose exp(log τ) does not round-trip (2.504 mm, the EMPS screw lead, does not): the fit used
+// to rebuild τ from its log and then refuse the basis built for the given τ ("built for period 0.002504 m but
+// the hyperparameters have 0.002504 m").
+TEST(FitGpr, AFixedPeriodIsKeptExactly) {
+  const double period = 0.002504;
+  ASSERT_NE(std::exp(std::log(period)), period) << "pick a period that does not round-trip";
+  const auto data = ConstantVelocityScans(kWindowLo, kWindowLo + 0.05, 6, 0.02, 17, period);
+  GprFitOptions options;
+  options.period = period;
+  options.restarts = 0;
+  const GprModel model = FitGpr(data.x, data.xdot, data.d, options);
+  EXPECT_EQ(model.hyperparameters().period, period);
+  EXPECT_EQ(model.data().basis.period, period);
+}
+
 TEST(FitGpr, ClampsVelocityToTrainedRange) {
   const auto data = ConstantVelocityScans(kWindowLo, kWindowHi, 20, 0.02, 16);
   const GprModel model = FitGpr(data.x, data.xdot, data.d, GprFitOptions{});
