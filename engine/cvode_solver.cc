@@ -39,6 +39,7 @@ struct CvodeSolver::Impl {
   double t = 0.0;
   std::string callback_error;  // an exception caught in a callback, rethrown after CVode returns
   mutable SolverStats stats;
+  long steps_before_reinit = 0;  // CVodeReInit resets CVODE's own step counter
 
   // extern "C"-compatible trampolines: never let an exception cross into C.
   static int Rhs(sunrealtype t, N_Vector y, N_Vector ydot, void* user_data) {
@@ -109,6 +110,8 @@ void CvodeSolver::Reset(double t, const double* x) {
     }
     s.initialised = true;
   } else {
+    long steps = 0;
+    if (CVodeGetNumSteps(s.memory, &steps) == CV_SUCCESS) s.steps_before_reinit += steps;
     Check(CVodeReInit(s.memory, t, s.y), "CVodeReInit");
   }
   ++s.stats.reinitialisations;
@@ -153,7 +156,9 @@ double CvodeSolver::Integrate(double t_stop, double* x, bool* root_found) {
 
 const SolverStats& CvodeSolver::stats() const {
   long steps = 0;
-  if (impl_->initialised && CVodeGetNumSteps(impl_->memory, &steps) == CV_SUCCESS) impl_->stats.steps = steps;
+  if (impl_->initialised && CVodeGetNumSteps(impl_->memory, &steps) == CV_SUCCESS) {
+    impl_->stats.steps = impl_->steps_before_reinit + steps;
+  }
   return impl_->stats;
 }
 
