@@ -8,6 +8,7 @@ namespace mb {
 
 void SetupRunCommand(CLI::App& app);
 void SetupCompareCommand(CLI::App& app);
+void SetupImproveCommand(CLI::App& app);
 void SetupFitCommand(CLI::App& app);
 void SetupBlocksCommand(CLI::App& app);
 void SetupFitGprCommand(CLI::App& app);

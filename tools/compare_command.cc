@@ -108,18 +108,10 @@ void RunCompare(const CompareOptions& o) {
     if (eq == std::string::npos) throw std::invalid_argument(fmt::format("--map '{}': write connector=column", m));
     column_map[m.substr(0, eq)] = m.substr(eq + 1);
   }
-  const std::string mode = diagram_json.value("experiment", json::object()).value("mode", "simulation");
-  // Equation-error mode filters the measured outputs like the position (IDIM-LS's parallel filtering).
-  const MeasurementLog log = ReadMeasurementWithDerivatives(
-      o.measurement, o.position_column, o.derivative_cutoff_hz,
-      mode == "equation_error" ? OutputColumns(diagram_json, column_map) : std::vector<std::string>{});
-  ModelComparison comparison(diagram_json, fs::path(o.diagram).parent_path(), o.diagram, log, column_map);
-  // The model's outputs get the measured outputs' filter (parallel filtering), else every Coulomb step of the
-  // model leaves a spike in the residual that the diagnosis would try to explain.
-  if (mode == "equation_error") comparison.set_output_filter(o.derivative_cutoff_hz);
-
+  const MeasurementSettings settings{column_map, o.position_column, o.derivative_cutoff_hz};
+  const std::string mode = ExperimentMode(diagram_json);
+  const MeasurementLog log = ReadMeasurementFor(diagram_json, o.measurement, settings);
   std::cerr << fmt::format("compare {} with {} ({} samples, {} mode)\n", o.diagram, o.measurement, log.rows(), mode);
-  const auto before = comparison.Simulate();
 
   // Refit the free parameters (--fit, else the diagram's "free" list).
   std::vector<std::string> fit_names;
@@ -137,49 +129,23 @@ void RunCompare(const CompareOptions& o) {
     for (const auto& f : diagram_json.value("free", json::array())) fit_names.push_back(f.get<std::string>());
   }
   if (o.no_fit) fit_names.clear();
-  std::optional<FitResult> fit;
-  std::vector<FreeParameter> params;
-  if (!fit_names.empty()) {
-    params = ResolveFreeParameters(comparison.diagram_json(), fit_names);
-    std::cerr << fmt::format("fitting {} parameter(s) by Levenberg–Marquardt …\n", params.size());
-    fit = FitParameters(comparison, params);
-    SetParameterValues(&comparison.mutable_diagram_json(), params, fit->estimate);
-  }
-  const auto after = comparison.Simulate();
+  std::cerr << fmt::format("fitting {} parameter(s) by Levenberg–Marquardt, diagnosing the residual …\n",
+                           fit_names.size());
+  const DiagnosedComparison compared =
+      CompareAndDiagnose(diagram_json, fs::path(o.diagram).parent_path(), o.diagram, log, settings, fit_names);
+  const std::optional<FitResult>& fit = compared.fit;
+  const std::vector<FreeParameter>& params = compared.parameters;
+  const std::optional<DiagnosisResult>& diagnosis = compared.diagnosis;
+  const std::string& diagnosis_skipped = compared.diagnosis_skipped;
+  const auto& before = compared.before;
+  const auto& after = compared.after;
   const ComparedOutput& primary_before = before.front();
   const ComparedOutput& primary_after = after.front();
   const Eigen::VectorXd residual_after = primary_after.residual();
-
-  // Diagnosis of the primary output's residual, with the fitted parameters' sensitivities as base regressors.
-  std::optional<DiagnosisResult> diagnosis;
   std::optional<ResidualGprResult> fallback;
-  std::string diagnosis_skipped;
-  if (log.has_column(o.position_column) && log.has_column(kDerivedVelocityColumn)) {
-    DiagnosisSignals signals;
-    signals.time = log.time();
-    signals.position = log.column(o.position_column);
-    signals.velocity = log.column(kDerivedVelocityColumn);
-    signals.acceleration = log.column(kDerivedAccelerationColumn);
-    signals.residual = residual_after;
-    signals.model_output = primary_after.model;
-    BaseRegressors base;
-    if (fit) {
-      base.columns = fit->jacobian;
-      for (const auto& p : params) base.names.push_back(p.name);
-    } else {
-      base.columns.resize(log.rows(), 0);
-    }
-    std::cerr << "diagnosing the residual …\n";
-    DiagnosisOptions options;
-    if (mode == "equation_error") options.regressor_filter_hz = o.derivative_cutoff_hz;  // parallel filtering
-    diagnosis = DiagnoseMissingEffects(signals, base, options);
-    if (!o.no_gpr_fallback) {
-      std::cerr << "fitting the non-parametric fallback (TISO-GPR on position and velocity) to what is left …\n";
-      fallback = FitResidualGprAfterDiagnosis(signals, base, *diagnosis);
-    }
-  } else {
-    diagnosis_skipped = fmt::format("no diagnosis: the log has no position column '{}' (set --position-column)",
-                                    o.position_column);
+  if (diagnosis && !o.no_gpr_fallback) {
+    std::cerr << "fitting the non-parametric fallback (TISO-GPR on position and velocity) to what is left …\n";
+    fallback = FitResidualGprAfterDiagnosis(compared.signals, compared.base, *diagnosis);
   }
 
   // compare.json
@@ -232,10 +198,7 @@ void RunCompare(const CompareOptions& o) {
   }
 
   if (fit && !o.write_fitted.empty()) {
-    json fitted = comparison.diagram_json();
-    fitted.erase("defaultExperiment");
-    if (diagram_json.contains("defaultExperiment")) fitted["defaultExperiment"] = diagram_json["defaultExperiment"];
-    WriteJsonFile(fitted, o.write_fitted);
+    WriteJsonFile(compared.fitted_diagram, o.write_fitted);
     result["fitted_diagram"] = o.write_fitted;
   }
   if (!o.suggest.empty() && diagnosis) {
@@ -249,7 +212,7 @@ void RunCompare(const CompareOptions& o) {
         why = fmt::format("the top effects have no block yet (first: {})", e.effect);
         continue;
       }
-      json amended = SuggestAmendedDiagram(comparison.diagram_json(), e, primary_after.connector);
+      json amended = SuggestAmendedDiagram(compared.compared_diagram, e, primary_after.connector);
       amended.erase("defaultExperiment");
       if (diagram_json.contains("defaultExperiment")) amended["defaultExperiment"] = diagram_json["defaultExperiment"];
       WriteJsonFile(amended, o.suggest);

@@ -396,6 +396,69 @@ DiagramFit FitDiagram(const json& diagram, const fs::path& base_directory, const
   return out;
 }
 
+std::string ExperimentMode(const json& diagram) {
+  return diagram.value("experiment", json::object()).value("mode", "simulation");
+}
+
+MeasurementLog ReadMeasurementFor(const json& diagram, const std::string& path, const MeasurementSettings& settings) {
+  return ReadMeasurementWithDerivatives(
+      path, settings.position_column, settings.derivative_cutoff_hz,
+      ExperimentMode(diagram) == "equation_error" ? OutputColumns(diagram, settings.column_map)
+                                                  : std::vector<std::string>{});
+}
+
+DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base_directory, const std::string& source,
+                                       const MeasurementLog& log, const MeasurementSettings& settings,
+                                       const std::vector<std::string>& fit_names, bool diagnose) {
+  DiagnosedComparison out;
+  out.mode = ExperimentMode(diagram);
+  const bool equation_error = out.mode == "equation_error";
+  ModelComparison comparison(diagram, base_directory, source, log, settings.column_map);
+  // The model's outputs get the measured outputs' filter (parallel filtering), else every Coulomb step of the
+  // model leaves a spike in the residual that the diagnosis would try to explain.
+  if (equation_error) comparison.set_output_filter(settings.derivative_cutoff_hz);
+  out.before = comparison.Simulate();
+  out.fitted_diagram = diagram;
+  if (!fit_names.empty()) {
+    out.parameters = ResolveFreeParameters(comparison.diagram_json(), fit_names);
+    out.fit = FitParameters(comparison, out.parameters);
+    SetParameterValues(&comparison.mutable_diagram_json(), out.parameters, out.fit->estimate);
+    SetParameterValues(&out.fitted_diagram, out.parameters, out.fit->estimate);
+  }
+  out.after = comparison.Simulate();
+  out.compared_diagram = comparison.diagram_json();
+  if (!diagnose) {
+    out.diagnosis_skipped = "no diagnosis asked for";
+    return out;
+  }
+  if (!log.has_column(settings.position_column) || !log.has_column(kDerivedVelocityColumn)) {
+    out.diagnosis_skipped = fmt::format("no diagnosis: the log has no position column '{}' (set --position-column)",
+                                        settings.position_column);
+    return out;
+  }
+  const ComparedOutput& primary = out.after.front();
+  DiagnosisSignals& signals = out.signals;
+  signals.time = log.time();
+  signals.position = log.column(settings.position_column);
+  signals.velocity = log.column(kDerivedVelocityColumn);
+  signals.acceleration = log.column(kDerivedAccelerationColumn);
+  signals.residual = primary.residual();
+  signals.model_output = primary.model;
+  // The fitted parameters' sensitivities are the base regressors: the diagnosis refits them jointly with each
+  // candidate (DIAGNOSIS.md step 1).
+  BaseRegressors& base = out.base;
+  if (out.fit) {
+    base.columns = out.fit->jacobian;
+    for (const auto& p : out.parameters) base.names.push_back(p.name);
+  } else {
+    base.columns.resize(log.rows(), 0);
+  }
+  DiagnosisOptions options;
+  if (equation_error) options.regressor_filter_hz = settings.derivative_cutoff_hz;  // parallel filtering
+  out.diagnosis = DiagnoseMissingEffects(signals, base, options);
+  return out;
+}
+
 json DiagramFit::ToJson() const {
   json outputs = json::array();
   for (std::size_t i = 0; i < after.size(); ++i) {

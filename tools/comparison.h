@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,7 @@
 
 #include "engine/diagram.h"
 #include "engine/simulator.h"
+#include "models/diagnosis/diagnosis.h"
 #include "models/diagnosis/measurement_log.h"
 
 namespace mb {
@@ -150,6 +152,48 @@ DiagramFit FitDiagram(const nlohmann::json& diagram, const std::filesystem::path
                       const std::string& source, const MeasurementLog& log,
                       const std::map<std::string, std::string>& column_map,
                       const std::vector<std::string>& parameter_names, double output_filter_hz);
+
+/// How a diagram is read against a measurement log: what compare, fit and improve share.
+struct MeasurementSettings {
+  std::map<std::string, std::string> column_map;  ///< connector → column overrides (--map)
+  std::string position_column = "position_m";      ///< measured position [m], source of velocity/acceleration
+  double derivative_cutoff_hz = 100.0;             ///< zero-phase low-pass before differentiating [Hz]
+};
+
+/// The diagram's experiment.mode: "equation_error" or "simulation" (the default).
+std::string ExperimentMode(const nlohmann::json& diagram);
+
+/// Reads `path` for `diagram`: ReadMeasurementWithDerivatives, and in equation-error mode the measured outputs
+/// through the derivative low-pass too (IDIM-LS's parallel filtering). @throws as ReadMeasurementLog (naming the
+/// file, line and column).
+MeasurementLog ReadMeasurementFor(const nlohmann::json& diagram, const std::string& path,
+                                  const MeasurementSettings& settings);
+
+/// One `compare`: the diagram bound to a log, its free parameters refit, its primary output's residual diagnosed.
+struct DiagnosedComparison {
+  std::string mode;                        ///< "equation_error" or "simulation"
+  std::vector<FreeParameter> parameters;   ///< what was refit (empty: nothing)
+  std::optional<FitResult> fit;            ///< set when parameters is not empty
+  std::vector<ComparedOutput> before;      ///< every compared output as given; the first is the primary
+  std::vector<ComparedOutput> after;       ///< after the refit
+  nlohmann::json fitted_diagram;           ///< the input diagram (its own defaultExperiment) with the estimates
+  nlohmann::json compared_diagram;         ///< the same, its defaultExperiment set to the log's span and step
+  std::optional<DiagnosisResult> diagnosis;
+  std::string diagnosis_skipped;           ///< why there is no diagnosis (no position column, or not asked)
+  DiagnosisSignals signals;                ///< what the diagnosis was given (residual = the primary's after the refit)
+  BaseRegressors base;                     ///< the fitted parameters' sensitivities (N × p; p = 0 if nothing fit)
+};
+
+/// What `motionblocks compare` computes: simulate `diagram` along `log` (equation-error diagrams with the output
+/// low-pass of parallel filtering), refit `fit_names` ("block.param"; empty: nothing) by Levenberg–Marquardt, and,
+/// if `diagnose` and the log has the position and derived velocity, rank the missing effects of the primary
+/// output's residual with the fitted parameters' sensitivities as base regressors (DiagnoseMissingEffects). `log`
+/// must come from ReadMeasurementFor with the same settings. @throws std::invalid_argument as ModelComparison
+/// (missing columns), ResolveFreeParameters (unknown parameter) and DiagnoseMissingEffects.
+DiagnosedComparison CompareAndDiagnose(const nlohmann::json& diagram, const std::filesystem::path& base_directory,
+                                       const std::string& source, const MeasurementLog& log,
+                                       const MeasurementSettings& settings,
+                                       const std::vector<std::string>& fit_names, bool diagnose = true);
 
 /// Jacobian d(primary model output)/d(params) by central differences at `values` (N × p).
 Eigen::MatrixXd OutputJacobian(const ModelComparison& comparison, const std::vector<FreeParameter>& params,

@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   mb::SetupRunCommand(app);
   mb::SetupCompareCommand(app);
   mb::SetupFitCommand(app);
+  mb::SetupImproveCommand(app);
   mb::SetupBlocksCommand(app);
   mb::SetupFitGprCommand(app);
   mb::SetupPredictGprCommand(app);

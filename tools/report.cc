@@ -73,6 +73,19 @@ std::string RenderFigure(const Figure& figure, const fs::path& directory) {
     gp << "set grid\nset key outside right top\nset datafile commentschars '#'\n";
     if (figure.log_x) gp << "set logscale x\n";
     if (figure.log_y) gp << "set logscale y\n";
+    if (!figure.x_tick_labels.empty()) {
+      gp << "set xtics (";
+      for (std::size_t i = 0; i < figure.x_tick_labels.size(); ++i) {
+        gp << (i ? ", " : "") << GnuplotQuote(figure.x_tick_labels[i].second) << " "
+           << fmt::format("{:.10g}", figure.x_tick_labels[i].first);
+      }
+      gp << ")\n";
+      const auto [lo, hi] = std::minmax_element(figure.x_tick_labels.begin(), figure.x_tick_labels.end());
+      gp << fmt::format("set xrange [{:.10g}:{:.10g}]\n", lo->first - 0.6, hi->first + 0.6);
+    }
+    const bool bars = std::any_of(figure.series.begin(), figure.series.end(),
+                                  [](const Series& s) { return s.style == "boxes"; });
+    if (bars) gp << "set style fill solid 0.7 border -1\nset boxwidth 0.35 absolute\nset yrange [0:*]\n";
     gp << "plot ";
     for (std::size_t i = 0; i < figure.series.size(); ++i) {
       const auto& s = figure.series[i];

@@ -9,7 +9,8 @@
 
 namespace mb {
 
-/// One curve of a figure. `style`: gnuplot's "lines", "points", "dots" or "impulses".
+/// One curve of a figure. `style`: gnuplot's "lines", "points", "dots", "impulses" or "boxes" (bars from 0, width
+/// 0.35 in x units: place side-by-side bars at x ± 0.18).
 struct Series {
   std::vector<double> x;
   std::vector<double> y;
@@ -26,6 +27,8 @@ struct Figure {
   std::vector<Series> series;
   bool log_x = false;
   bool log_y = false;
+  /// Named x ticks (position, label) instead of numbers, e.g. the steps of a bar chart; empty: numeric ticks.
+  std::vector<std::pair<double, std::string>> x_tick_labels{};
   std::size_t max_points = 4000;
 };
 
