@@ -79,7 +79,7 @@ std::string RenderFigure(const Figure& figure, const fs::path& directory) {
         gp << (i ? ", " : "") << GnuplotQuote(figure.x_tick_labels[i].second) << " "
            << fmt::format("{:.10g}", figure.x_tick_labels[i].first);
       }
-      gp << ")\n";
+      gp << ") noenhanced\n";  // labels verbatim: "position_periodic" is no subscript
       const auto [lo, hi] = std::minmax_element(figure.x_tick_labels.begin(), figure.x_tick_labels.end());
       gp << fmt::format("set xrange [{:.10g}:{:.10g}]\n", lo->first - 0.6, hi->first + 0.6);
     }
