@@ -12,12 +12,12 @@ namespace mb {
 using nlohmann::json;
 
 // asymmetric_friction has no block on purpose: with a free offset and Coulomb friction it is the same regressor
-// (1[v > 0] = (1 + sign v)/2 wherever the axis moves), so refitting those is the fix. quantization and resonance
-// have none yet.
+// (1[v > 0] = (1 + sign v)/2 wherever the axis moves), so refitting those is the fix.
 bool HasEffectBlock(const std::string& effect) {
   static const std::vector<std::string> kWithBlock{
       "position_periodic", "velocity_dependent_ripple", "time_periodic",    "time_delay",      "mass_mismatch",
-      "stribeck_friction", "viscous_friction",          "coulomb_friction", "constant_offset"};
+      "stribeck_friction", "viscous_friction",          "coulomb_friction", "constant_offset", "resonance",
+      "quantization"};
   return std::find(kWithBlock.begin(), kWithBlock.end(), effect) != kWithBlock.end();
 }
 
@@ -240,6 +240,45 @@ json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, c
     Wire(&out, NeedInput(out, "velocity", kind), name, "v");
     free = stribeck ? std::vector<std::string>{name + ".static", name + ".stribeck_velocity"}
                     : std::vector<std::string>{name + ".coulomb"};
+  } else if (kind == "resonance") {
+    // The two-mass model seen from the motor (blocks/flexible_load.h): the diagnosis' regressors g and ġ/ω_r
+    // are its terms, the coefficient of g its load mass. Mass, frequency and damping are refit: the
+    // frequency from the spectrum is good to a fraction of a Welch bin, not of the mode's bandwidth.
+    const double frequency = Parameter(effect, "frequency_hz");
+    const double damping = Parameter(effect, "damping_ratio");
+    if (!(frequency > 0.0) || !(damping > 0.0)) {
+      throw std::invalid_argument(fmt::format(
+          "resonance with frequency_hz = {} and damping_ratio = {}: both must be > 0 to suggest a block", frequency,
+          damping));
+    }
+    const std::string acceleration = NeedInput(out, "acceleration", kind);
+    name = UniqueName(out, "flexible_load");
+    AddToOutput(&out,
+                {{"name", name},
+                 {"type", "flexible_load"},
+                 {"description", effect.description},
+                 {"parameters",
+                  {{"mass", {{"value", Coefficient(effect, "response")}, {"unit", "kg"}}},
+                   {"frequency_hz", {{"value", frequency}, {"unit", "Hz"}}},
+                   {"damping_ratio", damping}}}},
+                output, "f");
+    Wire(&out, acceleration, name, "a");
+    free = {name + ".mass", name + ".frequency_hz", name + ".damping_ratio"};
+  } else if (kind == "quantization") {
+    // The quantizer goes last, on the signal the output connector reads. Its step stays fixed (not free): the
+    // least-squares cost is piecewise constant in q, so a Jacobian by finite differences carries no information
+    // about it; the diagnosis finds q from the levels or the residual's periodicity in ŷ instead.
+    const double step = Parameter(effect, "step");
+    if (!(step > 0.0)) {
+      throw std::invalid_argument(fmt::format("quantization with step {}: must be > 0 to suggest a block", step));
+    }
+    name = UniqueName(out, "output_quantizer");
+    InsertBeforeOutput(&out,
+                       {{"name", name},
+                        {"type", "quantizer"},
+                        {"description", effect.description},
+                        {"parameters", {{"interval", step}}}},
+                       output);
   } else {  // constant_offset
     name = UniqueName(out, "offset_extra");
     AddToOutput(&out,

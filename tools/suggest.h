@@ -13,8 +13,8 @@ namespace mb {
 
 /// Effects for which the block library has a block that SuggestAmendedDiagram can insert: position_periodic,
 /// velocity_dependent_ripple, time_periodic, time_delay, mass_mismatch, stribeck_friction, viscous_friction,
-/// coulomb_friction, constant_offset (not asymmetric_friction: a free offset and Coulomb level already span it;
-/// not quantization or resonance yet).
+/// coulomb_friction, constant_offset, resonance, quantization (not asymmetric_friction: a free offset and Coulomb
+/// level already span it).
 bool HasEffectBlock(const std::string& effect);
 
 /// Returns the diagram with an element for `effect`, its parameters set from the diagnosis (period, frequency,
@@ -30,8 +30,17 @@ bool HasEffectBlock(const std::string& effect);
 ///   stribeck_friction          friction "stribeck" (slip model, Coulomb 0; static and stribeck_velocity free)
 ///   coulomb_friction           friction "coulomb_extra" (slip model; coulomb free)
 ///   constant_offset            constant "offset_extra"
+///   resonance                  flexible_load "flexible_load" on the acceleration input (two-mass model: a load
+///                              on a spring–damper behind the motor, F = m(2ζω s + ω²)/(s² + 2ζω s + ω²)·a;
+///                              mass = the coefficient of the diagnosis' resonance.response column;
+///                              mass, frequency_hz and damping_ratio free). For equation-error diagrams: the
+///                              diagnosis excites the mode with the acceleration when it is given no input u.
+///   quantization               quantizer "output_quantizer" between the model and output `output`, interval =
+///                              the diagnosed step; NOT free (the cost is piecewise constant in the step, so a
+///                              least-squares fit of it is ill-posed); the base parameters are refit through it
 /// Additive elements are summed into the signal feeding output connector `output` through a new sum element.
-/// @throws std::invalid_argument if the effect has no block, lacks its key parameter, has a negative delay, or the
+/// @throws std::invalid_argument if the effect has no block, lacks its key parameter (or it is not positive: step,
+/// frequency_hz, damping_ratio), has a negative delay, or the
 /// diagram lacks the needed input connector or a connection into `output` (the message says what to add).
 nlohmann::json SuggestAmendedDiagram(const nlohmann::json& diagram, const DiagnosedEffect& effect,
                                      const std::string& output);

@@ -124,9 +124,39 @@ Eigen::VectorXd ResonantFilter(const Eigen::VectorXd& u, double ts, double f_hz,
   return y;
 }
 
+// The resonance regressors: g = the excitation through ω²/(s² + 2ζωs + ω²) and ġ/ω (N × 2). The excitation is
+// the input u when given, else the acceleration: with the encoder on the motor, a load on a spring–damper
+// (two-mass model, blocks/flexible_load.h) adds m·(2ζωs + ω²)/(s² + 2ζωs + ω²)·a = m·g + 2ζm·ġ/ω to the force.
+// (Not ŷ: the model force holds friction steps that the structure never feels as an acceleration.)
+Eigen::MatrixXd ResonanceColumns(const DiagnosisSignals& s, double ts, double f_hz, double zeta) {
+  const Eigen::VectorXd& u = s.input.size() ? s.input : s.acceleration;
+  Eigen::MatrixXd columns(s.size(), 2);
+  columns.col(0) = ResonantFilter(u.array() - u.mean(), ts, f_hz, zeta);
+  columns.col(1) = CentralDifference(s.time, columns.col(0)) / (kTwoPi * f_hz);
+  return columns;
+}
+
+// Golden-section search for the minimum of `cost` on [lo, hi] (assumed unimodal there), to a relative width of
+// `tolerance`; returns the midpoint of the last bracket.
+template <class Cost>
+double GoldenSectionMinimum(const Cost& cost, double lo, double hi, double tolerance) {
+  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+  double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
+  double e1 = cost(x1), e2 = cost(x2);
+  for (int it = 0; it < 60 && hi - lo > tolerance * std::abs(lo + hi) * 0.5; ++it) {
+    if (e1 < e2) {
+      hi = x2; x2 = x1; e2 = e1; x1 = hi - g * (hi - lo); e1 = cost(x1);
+    } else {
+      lo = x1; x1 = x2; e1 = e2; x2 = lo + g * (hi - lo); e2 = cost(x2);
+    }
+  }
+  return 0.5 * (lo + hi);
+}
+
 // Least-squares residual sum of squares of r on [base, extra] (normal equations, small ridge).
-double ResidualSumOfSquares(const Eigen::MatrixXd& base, const Eigen::VectorXd& extra, const Eigen::VectorXd& r) {
-  Eigen::MatrixXd x(r.size(), base.cols() + 1);
+double ResidualSumOfSquares(const Eigen::MatrixXd& base, const Eigen::Ref<const Eigen::MatrixXd>& extra,
+                            const Eigen::VectorXd& r) {
+  Eigen::MatrixXd x(r.size(), base.cols() + extra.cols());
   x << base, extra;
   const Eigen::VectorXd scale = (x.colwise().norm().array() + 1e-300).inverse();
   x = x * scale.asDiagonal();
@@ -238,11 +268,7 @@ EffectRegressors BuildEffectRegressors(const EffectInstance& effect, const Diagn
       throw std::invalid_argument(fmt::format(
           "effect 'resonance': frequency_hz = {} must be below the Nyquist frequency {} Hz", f, 0.5 / ts));
     }
-    const Eigen::VectorXd& u = s.input.size() ? s.input : (s.model_output.size() ? s.model_output : s.acceleration);
-    const Eigen::VectorXd g = ResonantFilter(u.array() - u.mean(), ts, f, zeta);
-    out.columns.resize(n, 2);
-    out.columns.col(0) = g;
-    out.columns.col(1) = CentralDifference(s.time, g) / (kTwoPi * f);
+    out.columns = ResonanceColumns(s, ts, f, zeta);
     out.column_names = {"resonance.response", "resonance.rate"};
   } else if (name == "time_delay") {
     const Eigen::VectorXd& y = NeedModelOutput(effect, s);
@@ -346,28 +372,65 @@ CandidateSearch ProposeCandidateEffects(const DiagnosisSignals& s, const Eigen::
     break;
   }
 
-  // Resonance: a prominent peak of the residual's Welch spectrum.
+  // Resonance: the most prominent local maximum of the residual's Welch spectrum — its density over the median
+  // density of the bins within ±50 % of its frequency (at least ±10 bins; the 2 bins either side, its own main
+  // lobe, left out) — gives f_0 (to a fraction of a Welch bin). Local, because the residual is often low-passed
+  // (parallel filtering): against the whole spectrum's median, mostly stop band, any pass-band noise would be
+  // "prominent". Then golden-section searches of the joint least-squares fit of r on [base, 1, g, ġ/ω_r] refine
+  // f_r (over f_0 ± 2 bins), ζ (log scale, 0.002–0.3, from resonance_damping_ratio) and f_r again: a bin is
+  // ~1 Hz, a few per cent of a low mode, and the spectrum alone says little about ζ.
   const double ts = MedianTimeStep(s.time);
   {
     const PowerSpectrum psd = WelchPowerSpectrum(r, ts, std::min(options.welch_segment, n));
     const Eigen::Index m = psd.density.size();
-    if (m > 8) {
-      Eigen::Index k_best = 4;
-      for (Eigen::Index k = 4; k < m - 1; ++k) {
-        if (psd.density(k) > psd.density(k_best)) k_best = k;
+    Eigen::Index k_best = -1;
+    double best_prominence = 0.0;
+    std::vector<double> window;
+    for (Eigen::Index k = 4; k < m - 1; ++k) {
+      if (!(psd.density(k) > psd.density(k - 1) && psd.density(k) >= psd.density(k + 1))) continue;
+      const Eigen::Index half = std::max<Eigen::Index>(k / 2, 10);
+      window.clear();
+      for (Eigen::Index j = std::max<Eigen::Index>(1, k - half); j <= std::min(m - 1, k + half); ++j) {
+        if (std::abs(j - k) > 2) window.push_back(psd.density(j));
       }
-      std::vector<double> sorted(psd.density.data() + 4, psd.density.data() + m);
-      const auto mid = sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2);
-      std::nth_element(sorted.begin(), mid, sorted.end());
-      if (k_best < m - 1 && psd.density(k_best) > options.resonance_prominence * *mid) {
-        // Parabolic interpolation of the log density around the peak bin.
-        const double l0 = std::log(psd.density(k_best - 1)), l1 = std::log(psd.density(k_best)),
-                     l2 = std::log(psd.density(k_best + 1));
-        const double denom = l0 - 2.0 * l1 + l2;
-        const double shift = denom < 0.0 ? std::clamp(0.5 * (l0 - l2) / denom, -0.5, 0.5) : 0.0;
-        const double f = psd.frequency_hz(k_best) + shift * (psd.frequency_hz(1) - psd.frequency_hz(0));
-        add("resonance", {{"frequency_hz", f}, {"damping_ratio", options.resonance_damping_ratio}});
+      if (window.size() < 8) continue;
+      const auto mid = window.begin() + static_cast<std::ptrdiff_t>(window.size() / 2);
+      std::nth_element(window.begin(), mid, window.end());
+      const double prominence = *mid > 0.0 ? psd.density(k) / *mid : 0.0;
+      if (prominence > best_prominence) {
+        best_prominence = prominence;
+        k_best = k;
       }
+    }
+    if (k_best > 0) {
+      out.notes.push_back(fmt::format(
+          "the residual spectrum's most prominent peak: {:.4g} Hz, {:.3g} × the median density around it ({}: a "
+          "resonance is proposed above {:.3g} ×)",
+          psd.frequency_hz(k_best), best_prominence,
+          best_prominence > options.resonance_prominence ? "proposed" : "not proposed", options.resonance_prominence));
+    }
+    if (k_best > 0 && best_prominence > options.resonance_prominence) {
+      // Parabolic interpolation of the log density around the peak bin.
+      const double l0 = std::log(psd.density(k_best - 1)), l1 = std::log(psd.density(k_best)),
+                   l2 = std::log(psd.density(k_best + 1));
+      const double denom = l0 - 2.0 * l1 + l2;
+      const double shift = denom < 0.0 ? std::clamp(0.5 * (l0 - l2) / denom, -0.5, 0.5) : 0.0;
+      const double bin = psd.frequency_hz(1) - psd.frequency_hz(0);
+      double f = psd.frequency_hz(k_best) + shift * bin;
+      double zeta = options.resonance_damping_ratio;
+      const double nyquist = 0.5 / ts;
+      if (f > 2.0 * bin && f + 2.0 * bin < nyquist) {
+        Eigen::MatrixXd base(n, base_columns.cols() + 1);
+        base << base_columns, Eigen::VectorXd::Ones(n);
+        auto sse_f = [&](double trial) { return ResidualSumOfSquares(base, ResonanceColumns(s, ts, trial, zeta), r); };
+        auto sse_log_zeta = [&](double log_zeta) {
+          return ResidualSumOfSquares(base, ResonanceColumns(s, ts, f, std::exp(log_zeta)), r);
+        };
+        f = GoldenSectionMinimum(sse_f, f - 2.0 * bin, f + 2.0 * bin, 1e-5);
+        zeta = std::exp(GoldenSectionMinimum(sse_log_zeta, std::log(0.002), std::log(0.3), 1e-3));
+        f = GoldenSectionMinimum(sse_f, f - bin, f + bin, 1e-5);
+      }
+      add("resonance", {{"frequency_hz", f}, {"damping_ratio", zeta}});
     }
   }
 
@@ -417,12 +480,34 @@ CandidateSearch ProposeCandidateEffects(const DiagnosisSignals& s, const Eigen::
       const double d = std::abs(measured(i) - measured(i - 1));
       if (d > 1e-12 * (1.0 + std::abs(measured(i)))) steps.push_back(d);
     }
+    bool on_levels = false;
     if (steps.size() >= 32) {
       const double q = *std::min_element(steps.begin(), steps.end());
       std::size_t on_grid = 0;
       for (double d : steps) on_grid += std::abs(d / q - std::round(d / q)) < 0.02 ? 1u : 0u;
       if (static_cast<double>(on_grid) >= 0.95 * static_cast<double>(steps.size())) {
         add("quantization", {{"step", q}});
+        on_levels = true;
+      }
+    }
+    // Not on levels (noise after the quantizer, or the output low-passed in parallel as `compare` does): the
+    // quantization error q·round(ŷ/q) − ŷ is a sawtooth periodic in ŷ with period q, so the step is the
+    // strongest significant independent peak of the residual's periodogram against ŷ (at least
+    // min_quantization_levels periods in ŷ's range). Filtering in time smooths the sawtooth's corners where ŷ
+    // crosses levels fast but keeps its period.
+    const double y_span = y.maxCoeff() - y.minCoeff();
+    if (!on_levels && y_span > 0.0) {
+      PeriodogramOptions qo = options.output_periodogram;
+      if (qo.max_period <= 0.0) qo.max_period = y_span / options.min_quantization_levels;
+      try {
+        const Periodogram pg = LombScarglePeriodogram(y, r, qo);
+        for (const auto& peak : pg.peaks) {
+          if (peak.harmonic_of >= 0) continue;
+          if (peak.significant && peak.power >= options.min_quantization_power) add("quantization", {{"step", peak.period}});
+          break;
+        }
+      } catch (const std::invalid_argument&) {
+        // ŷ too smooth or too short for the period range (min ≥ max): no quantization to see.
       }
     }
   }

@@ -16,8 +16,10 @@
 //   position_periodic          cos(2πkx/P), sin(2πkx/P), k = 1..K           {period, harmonics}
 //   velocity_dependent_ripple  |v|·cos(2πx/P), |v|·sin(2πx/P)               {period}
 //   time_periodic              cos(2πkft), sin(2πkft), k = 1..K             {frequency_hz, harmonics}
-//   resonance                  g and ġ/ω_r, g = the excitation (input u, else model output ŷ, else a)
-//                              through ω_r²/(s² + 2ζω_r s + ω_r²) (bilinear, pre-warped at f_r)
+//   resonance                  g and ġ/ω_r, g = the excitation (input u, else the acceleration a)
+//                              through ω_r²/(s² + 2ζω_r s + ω_r²) (bilinear, pre-warped at f_r); with a:
+//                              a load m on a spring–damper behind the motor adds m·g + 2ζm·ġ/ω_r to the
+//                              force (two-mass model, blocks/flexible_load.h)
 //                                                                           {frequency_hz, damping_ratio}
 //   time_delay                 ŷ(t − d) − ŷ(t) (linear interpolation; ≈ −d·dŷ/dt for small d)  {delay}
 //   quantization               q·round(ŷ/q) − ŷ (the measured output is quantized with step q)  {step}
@@ -83,9 +85,10 @@ struct CatalogueOptions {
   int max_position_periods = 3;
   // Stribeck velocities tried, as fractions of max |v|; the one best correlated with the residual wins.
   std::vector<double> stribeck_fractions{0.02, 0.05, 0.1, 0.2, 0.4};
-  // Resonance: Welch segment length, damping ratio of the regressor filter, and how far the spectral
-  // peak must stand above the median density (factor) to be proposed; peaks below 4 frequency
-  // resolutions are ignored (they are drift, not a mode).
+  // Resonance: Welch segment length, the damping ratio proposed when the peak is too close to 0 or Nyquist
+  // for the search of ζ, and how far the spectral peak must stand above the median density of the bins
+  // within ±50 % of its frequency (at least ±10 bins, its own main lobe left out) to be proposed; peaks
+  // below 4 frequency resolutions are ignored (they are drift, not a mode).
   Eigen::Index welch_segment = 1024;
   double resonance_damping_ratio = 0.05;
   double resonance_prominence = 20.0;
@@ -95,6 +98,12 @@ struct CatalogueOptions {
   PeriodogramOptions position_periodogram{};
   PeriodogramOptions time_periodogram{};
   double min_position_cycles = 8.0;
+  // Quantization when the measured output is not on exact levels: periodogram of the residual against ŷ
+  // (max_period automatic: ŷ's range / min_quantization_levels); its strongest independent peak is proposed
+  // when significant and explaining at least min_quantization_power of the residual variance.
+  PeriodogramOptions output_periodogram{};
+  double min_quantization_levels = 8.0;
+  double min_quantization_power = 0.02;
   // A residual time period within 1 % of k × the motion's own repetition frequency (k = 1..this) is
   // "motion-locked": any effect of x, v or a repeats there too, so it is not proposed as time_periodic.
   int motion_harmonics = 8;
@@ -111,10 +120,12 @@ struct CandidateSearch {
 
 // Proposes every applicable effect with parameters estimated from the signals and `residual` (pass the
 // residual after the base model's refit): position periods from PositionPeriodogram, the time-periodic
-// frequency from TimePeriodogram (the strongest peak that is not motion-locked, see CatalogueOptions), the resonance from the residual's Welch spectrum, the delay from a
-// least-squares fit of the residual on dŷ/dt refined by a scan and golden-section search of the shift (joint
-// with the base), the
-// quantization step from the measured output's smallest level difference. Effects whose signals are
+// frequency from TimePeriodogram (the strongest peak that is not motion-locked, see CatalogueOptions), the
+// resonance's frequency from the residual's Welch spectrum, refined with its damping ratio by golden-section
+// searches of the joint fit with the base, the delay from a least-squares fit of the residual on dŷ/dt refined
+// by a scan and golden-section search of the shift (joint with the base), the quantization step from the
+// measured output's (ŷ + r) smallest level difference when ≥ 95 % of its changes are multiples of it, else
+// from the periodogram of the residual against ŷ (the quantization error is periodic in ŷ). Effects whose signals are
 // absent (time_delay and quantization without ŷ) or that have nothing to fit are left out.
 // Throws std::invalid_argument as DiagnosisSignals::Validate, or when residual or base_columns has the
 // wrong number of rows.

@@ -7,7 +7,8 @@
 //
 // The truth is the EMPS rigid body (diagrams/emps/rigid_body.json: M = 94 kg, Fv = 195 N·s/m, Fc = 21 N,
 // offset −0.5 N), evaluated by the engine in equation-error mode on the exact motion, plus the hidden
-// effect's block. Measured: force + N(0, 0.5 N), position quantized to 0.1 µm, 1 kHz, 12 s.
+// effect's block. Measured: force + N(0, 0.5 N), position quantized to 0.1 µm, 1 kHz, 12 s. (The resonance
+// case moves differently: a smooth motion does not excite a mode.)
 
 #include <cmath>
 #include <filesystem>
@@ -66,6 +67,41 @@ Motion VaryingSpeedMotion() {
   return m;
 }
 
+// Back and forth over ~0.19 m at ±0.15 m/s, reversing at 2 m/s² with a 10 ms jerk ramp at either end of the
+// acceleration (the jerk-limited trapezoidal velocity profile of a point-to-point planner; cycle 2.72 s).
+// Every change of the acceleration excites a structural mode below ~1/(2·10 ms); VaryingSpeedMotion would not
+// (its acceleration has nothing above a few Hz). Without the jerk limit the force steps by M·Δa = 200 N within
+// a sample and the parallel filtering (the measured force filtered once, the model's force from filtered
+// derivatives and filtered again) leaves ±9 N spikes at every step, whatever the model. a is continuous and
+// piecewise linear with its kinks on the sample grid, so v and x are integrated exactly.
+Motion JerkLimitedTrapezoidalMotion(double duration) {
+  const auto n = static_cast<Eigen::Index>(std::lround(duration / kSamplePeriod)) + 1;
+  const double speed = 0.15, peak = 2.0, jerk_time = 0.01, coast = 1.2;  // [m/s], [m/s²], [s], [s]
+  const double hold = 2.0 * speed / peak - jerk_time;                     // Δv = peak·(hold + jerk_time)
+  const double reversal = hold + 2.0 * jerk_time;
+  const double cycle = 2.0 * (coast + reversal);
+  // The acceleration at phase p of the cycle: 0 while coasting, a trapezoid −peak (then +peak) while reversing.
+  auto acceleration = [&](double p) {
+    const double sign = p < coast + reversal ? -1.0 : 1.0;
+    const double q = p < coast + reversal ? p - coast : p - 2.0 * coast - reversal;  // time into the reversal
+    if (q <= 0.0 || q >= reversal) return 0.0;
+    return sign * peak * std::min({1.0, q / jerk_time, (reversal - q) / jerk_time});
+  };
+  Motion m{Eigen::VectorXd::LinSpaced(n, 0.0, kSamplePeriod * static_cast<double>(n - 1)), {}, {}, {}};
+  m.x.resize(n);
+  m.v.resize(n);
+  m.a.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) m.a(i) = acceleration(std::fmod(m.t(i), cycle));
+  const double h = kSamplePeriod;
+  m.x(0) = 0.01;
+  m.v(0) = speed;
+  for (Eigen::Index i = 0; i + 1 < n; ++i) {  // exact for a linear between samples
+    m.v(i + 1) = m.v(i) + 0.5 * h * (m.a(i) + m.a(i + 1));
+    m.x(i + 1) = m.x(i) + h * m.v(i) + h * h * (2.0 * m.a(i) + m.a(i + 1)) / 6.0;
+  }
+  return m;
+}
+
 // One constant speed, 0.025 m/s over 0.3 m (a scan): nothing separates position from time.
 Motion ConstantSpeedMotion() {
   const auto n = static_cast<Eigen::Index>(std::lround(kDuration / kSamplePeriod)) + 1;
@@ -96,8 +132,9 @@ json TruthBase() {
 }
 
 // `diagram` with `element` added to the force: its input ports wired from the named input connectors, its
-// output port "y" summed into the output connector "force".
-json WithAddedForce(json diagram, json element, const std::map<std::string, std::string>& port_from_connector) {
+// output port (`output_port`) summed into the output connector "force".
+json WithAddedForce(json diagram, json element, const std::map<std::string, std::string>& port_from_connector,
+                    const std::string& output_port = "y") {
   const std::string name = element.at("name");
   diagram["elements"].push_back(element);
   diagram["elements"].push_back({{"name", "truth_sum"}, {"type", "sum"}, {"parameters", {{"signs", "++"}}}});
@@ -119,7 +156,27 @@ json WithAddedForce(json diagram, json element, const std::map<std::string, std:
     }
   }
   diagram["connections"].push_back(
-      {{"startElement", name}, {"startConnector", "y"}, {"endElement", "truth_sum"}, {"endConnector", "u2"}});
+      {{"startElement", name}, {"startConnector", output_port}, {"endElement", "truth_sum"}, {"endConnector", "u2"}});
+  return diagram;
+}
+
+// `diagram` with `element` (ports "u" → "y") between the force and the output connector "force".
+json WithElementBeforeForce(json diagram, const json& element) {
+  const std::string name = element.at("name");
+  diagram["elements"].push_back(element);
+  for (auto& c : diagram["connections"]) {
+    if (c.value("endConnector", "") == "force" && c.value("endElement", "") == "") {
+      const json feed = {{"startElement", c.at("startElement")},
+                         {"startConnector", c.at("startConnector")},
+                         {"endElement", name},
+                         {"endConnector", "u"}};
+      c["startElement"] = name;
+      c["startConnector"] = "y";
+      diagram["connections"].push_back(feed);
+      return diagram;
+    }
+  }
+  ADD_FAILURE() << "no connection into the output 'force'";
   return diagram;
 }
 
@@ -195,6 +252,16 @@ Loop CompareSuggestRefit(const json& user, const MeasurementLog& log) {
   SetParameterValues(&amended.mutable_diagram_json(), loop.amended_parameters, loop.joint.estimate);
   loop.rmse_amended = amended.Simulate().front().rmse;
   return loop;
+}
+
+// The user's diagram refit to `log`, nothing amended: the error that remains when nothing is missing (the noise
+// floor of this motion and these derivatives).
+double RefitRmse(const json& user, const MeasurementLog& log) {
+  ModelComparison comparison(user, kEmps, "user.json", log, {});
+  comparison.set_output_filter(kDerivativeCutoffHz);
+  const auto params = ResolveFreeParameters(user, user["free"].get<std::vector<std::string>>());
+  SetParameterValues(&comparison.mutable_diagram_json(), params, FitParameters(comparison, params).estimate);
+  return comparison.Simulate().front().rmse;
 }
 
 // The fitted value of the amended diagram's free parameter `name` (e.g. "delay.delay").
@@ -376,6 +443,66 @@ TEST(HiddenEffect, TimePeriodicVibrationIsNotCalledPositionPeriodic) {
   EXPECT_NEAR(Fitted(loop, "vibration.frequency_hz"), frequency, 1e-3 * frequency);
   EXPECT_LT(loop.rmse_amended, 0.5 * loop.rmse_refit);
   EXPECT_LT(loop.rmse_amended, kNoiseFloor);
+}
+
+// A payload on a compliant mount: 6 kg behind a spring–damper, mode at 31.7 Hz, ζ = 0.02 (two-mass model, the
+// encoder and the force on the motor side); the truth's carriage keeps 94 kg, so the user's refit mass becomes
+// ~100 kg and the residual rings after every acceleration step.
+TEST(HiddenEffect, StructuralResonanceIsFoundWithItsFrequency) {
+  const Motion m = JerkLimitedTrapezoidalMotion(6.0);  // 4 reversals: enough, and half the time
+  const double frequency = 31.7, damping = 0.02, load = 6.0;  // [Hz], [-], [kg]
+  const json mode = {{"name", "hidden"},
+                     {"type", "flexible_load"},
+                     {"parameters", {{"mass", load}, {"frequency_hz", frequency}, {"damping_ratio", damping}}}};
+  const json truth = WithAddedForce(TruthBase(), mode, {{"a", "acceleration"}}, "f");
+  const MeasurementLog log = Measure(m, TruthForce(truth, m), 9, "resonance");
+  const Loop loop = CompareSuggestRefit(UserDiagram(), log);
+  const auto& d = loop.diagnosis;
+  ASSERT_TRUE(d.missing_effect_found) << d.summary;
+  ASSERT_EQ(d.effects.front().effect, "resonance") << Ranking(d);
+  const double found = d.effects.front().parameters.at("frequency_hz");
+  ASSERT_FALSE(loop.amended.is_null());
+  const double refit = Fitted(loop, "flexible_load.frequency_hz");
+  Report("resonance", loop,
+         fmt::format("frequency {:.5g} Hz, ζ {:.3g}; after the joint refit {:.5g} Hz, ζ {:.3g}, load {:.3g} kg "
+                     "(truth {} Hz, {}, {} kg)",
+                     found, d.effects.front().parameters.at("damping_ratio"), refit,
+                     Fitted(loop, "flexible_load.damping_ratio"), Fitted(loop, "flexible_load.mass"), frequency,
+                     damping, load));
+  EXPECT_NEAR(found, frequency, 0.02 * frequency);
+  EXPECT_NEAR(refit, frequency, 0.01 * frequency);
+  EXPECT_LT(loop.rmse_amended, 0.5 * loop.rmse_refit);
+  // The floor of this motion is above kNoiseFloor: at each of the jerk ramps' corners the parallel filtering
+  // leaves ~3 N for a moment, hidden effect or not. Compare with the same motion when nothing is hidden.
+  const double floor = RefitRmse(UserDiagram(), Measure(m, TruthForce(TruthBase(), m), 9, "resonance_floor"));
+  std::cout << fmt::format("[hidden effect] resonance: the same motion with nothing hidden, refit {:.4g} N\n", floor);
+  EXPECT_LT(loop.rmse_amended, 1.1 * floor);
+}
+
+// The force the drive produces passes a 10-bit converter over ±1 kN (q = 2000/1024 N), the sensor noise comes
+// after it. compare low-passes the measured force (parallel filtering), so the levels are gone from the log;
+// the sawtooth q·round(F/q) − F, periodic in the force, is what is left to find.
+TEST(HiddenEffect, OutputQuantizationIsFoundWithItsStep) {
+  const Motion m = VaryingSpeedMotion();
+  const double step = 2000.0 / 1024.0;  // [N]
+  const json converter = {{"name", "hidden"}, {"type", "quantizer"}, {"parameters", {{"interval", step}}}};
+  const json truth = WithElementBeforeForce(TruthBase(), converter);
+  const MeasurementLog log = Measure(m, TruthForce(truth, m), 10, "quantization");
+  const Loop loop = CompareSuggestRefit(UserDiagram(), log);
+  const auto& d = loop.diagnosis;
+  ASSERT_TRUE(d.missing_effect_found) << d.summary;
+  ASSERT_EQ(d.effects.front().effect, "quantization") << Ranking(d);
+  const double found = d.effects.front().parameters.at("step");
+  Report("quantization", loop, fmt::format("step {:.5g} N (truth {:.5g})", found, step));
+  EXPECT_NEAR(found, step, 0.01 * step);
+  ASSERT_FALSE(loop.amended.is_null());
+  EXPECT_EQ(loop.amended["free"], UserDiagram()["free"]);  // the step is not refit (tools/suggest.h)
+  // What holds: the error falls by about a third. What does not: the noise floor. The model rounds its own
+  // force, which carries the derivative noise of the 0.1 µm encoder (~0.17 N); near every level it rounds to
+  // the other side now and then, an error of a whole step. (With a 0.1 nm encoder the amended error is within
+  // 10 % of the floor: docs/diagnosis.md.) The base parameters cannot move through the quantizer either: the
+  // cost is piecewise constant in them, so the refit keeps the values refit without it.
+  EXPECT_LT(loop.rmse_amended, 0.8 * loop.rmse_refit);
 }
 
 TEST(HiddenEffect, OneConstantSpeedCannotTellPositionFromTime) {
