@@ -6,6 +6,7 @@
 // a TISO-GPR to what the ranked effects leave and says how much of it depends on position and velocity.
 
 #include <fstream>
+#include <stdexcept>
 #include <iostream>
 
 #include <fmt/format.h>
@@ -203,6 +204,7 @@ void RunCompare(const CompareOptions& o) {
   }
   if (!o.suggest.empty() && diagnosis) {
     std::string why = "no missing effect found";
+    json skipped = json::array();
     for (const auto& e : diagnosis->effects) {
       if (!o.suggest_effect.empty() && e.effect != o.suggest_effect) {
         why = fmt::format("no effect '{}' among the ranked ones", o.suggest_effect);
@@ -212,7 +214,15 @@ void RunCompare(const CompareOptions& o) {
         why = fmt::format("the top effects have no block yet (first: {})", e.effect);
         continue;
       }
-      json amended = SuggestAmendedDiagram(compared.compared_diagram, e, primary_after.connector);
+      json amended;
+      try {
+        amended = SuggestAmendedDiagram(compared.compared_diagram, e, primary_after.connector);
+      } catch (const std::invalid_argument& error) {  // e.g. a negative delay: say why, try the next effect
+        std::cerr << fmt::format("not suggesting {}: {}\n", e.effect, error.what());
+        skipped.push_back({{"effect", e.effect}, {"why_not", error.what()}});
+        why = fmt::format("no ranked effect could be added (last: {}: {})", e.effect, error.what());
+        continue;
+      }
       amended.erase("defaultExperiment");
       if (diagram_json.contains("defaultExperiment")) amended["defaultExperiment"] = diagram_json["defaultExperiment"];
       WriteJsonFile(amended, o.suggest);
@@ -221,6 +231,7 @@ void RunCompare(const CompareOptions& o) {
       break;
     }
     if (!why.empty()) result["suggested_diagram"] = {{"path", nullptr}, {"why_not", why}};
+    if (!skipped.empty()) result["suggested_diagram"]["skipped"] = skipped;
   }
   WriteJsonFile(result, out / "compare.json");
 

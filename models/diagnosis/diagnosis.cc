@@ -205,8 +205,9 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
   Eigen::Index total_cols = p;
   for (const auto& e : search.candidates) {
     Candidate c{e, BuildEffectRegressors(e, signals), {}};
-    // time_delay and quantization are built from the model output, which is in the filtered band already.
-    if (options.regressor_filter_hz > 0.0 && e.name != "time_delay" && e.name != "quantization") {
+    // time_delay is built from the model output, which is in the filtered band already. quantization is built
+    // from it too, but its rounding puts energy above the cut-off that the measured (filtered) output lost.
+    if (options.regressor_filter_hz > 0.0 && e.name != "time_delay") {
       const double ts = MedianTimeStep(signals.time);
       for (Eigen::Index j = 0; j < c.reg.columns.cols(); ++j) {
         c.reg.columns.col(j) = ZeroPhaseLowPass(c.reg.columns.col(j), ts, options.regressor_filter_hz);
@@ -251,6 +252,25 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
   std::vector<std::size_t> order;
   std::vector<double> scores, cumulative;
   const double log_n = std::log(grams.n());
+  // Effects whose regressor is the error itself (the output quantized, or delayed, minus the output) must enter with
+  // a coefficient near 1; far from it, the column is only a nonlinear function of ŷ that happens to correlate
+  // with the residual (on EMPS: a 13 N "quantization step" with coefficient 0.2) and the effect is dropped.
+  const auto implausible = [&](std::size_t c, const std::vector<Eigen::Index>& trial) {
+    const std::string& name = cands[c].effect.name;
+    if (name != "quantization" && name != "time_delay") return false;
+    double sse = 0.0;
+    const Eigen::VectorXd theta = grams.Fit(trial, &sse);
+    const double coefficient = theta(theta.size() - 1) / scale(trial.back());
+    if (coefficient >= 0.5 && coefficient <= 1.5) return false;
+    std::string parameters;
+    for (const auto& [key, value] : cands[c].effect.parameters) {
+      parameters += fmt::format("{}{} = {:.4g}", parameters.empty() ? "" : ", ", key, value);
+    }
+    result.notes.push_back(fmt::format("{} ({}) dropped: it fits with coefficient {:.3g} where the effect itself "
+                                       "would give 1",
+                                       name, parameters, coefficient));
+    return true;
+  };
   for (Eigen::Index round = 0; round < options.max_effects; ++round) {
     std::vector<double> mse(cands.size(), std::numeric_limits<double>::infinity());
     double best_mse = std::numeric_limits<double>::infinity();
@@ -258,6 +278,10 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
       if (used[c]) continue;
       std::vector<Eigen::Index> trial = selected;
       trial.insert(trial.end(), cands[c].idx.begin(), cands[c].idx.end());
+      if (implausible(c, trial)) {
+        used[c] = true;  // never chosen; not in `order`
+        continue;
+      }
       mse[c] = grams.HeldOutMse(trial);
       best_mse = std::min(best_mse, mse[c]);
     }

@@ -102,8 +102,10 @@ struct CatalogueOptions {
   // (max_period automatic: ŷ's range / min_quantization_levels); its strongest independent peak is proposed
   // when significant and explaining at least min_quantization_power of the residual variance.
   PeriodogramOptions output_periodogram{};
-  double min_quantization_levels = 8.0;
+  double min_quantization_levels = 20.0;  // a step above 5 % of the output's range is no sensor resolution
   double min_quantization_power = 0.02;
+  // A time delay shorter than this many sample periods is not proposed: the data do not resolve it.
+  double min_delay_samples = 0.1;
   // A residual time period within 1 % of k × the motion's own repetition frequency (k = 1..this) is
   // "motion-locked": any effect of x, v or a repeats there too, so it is not proposed as time_periodic.
   int motion_harmonics = 8;
