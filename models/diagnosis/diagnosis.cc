@@ -189,7 +189,9 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
   result.rmse_base_refit = std::sqrt(r0.squaredNorm() / static_cast<double>(n));
 
   // 2. Candidates and their regressors; those the base already spans are not candidates.
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> base_qr(base_cols);
+  // (Eigen's QR of an N × 0 matrix is not defined: without base regressors nothing is spanned.)
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> base_qr =
+      p > 0 ? Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(base_cols) : Eigen::ColPivHouseholderQR<Eigen::MatrixXd>();
   const CandidateSearch search = ProposeCandidateEffects(signals, r0, base_cols, options.catalogue);
   result.candidates = search.candidates;
   result.position_peaks = search.position_periodogram.peaks;

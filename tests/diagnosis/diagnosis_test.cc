@@ -118,6 +118,17 @@ TEST(Diagnosis, CoulombFrictionMissingFromTheBase) {
   EXPECT_NEAR(r.effects.front().coefficients(0), 20.0, 0.5);
 }
 
+// Nothing refit (`compare --no-fit`): no base regressors at all. The diagnosis still ranks, and nothing counts as
+// already in the model (this crashed once: Eigen's QR of an N × 0 matrix).
+TEST(Diagnosis, WithoutBaseRegressorsNothingIsAlreadyInTheModel) {
+  Scenario sc(12000);
+  sc.s.residual = 20.0 * sc.Sign() + sc.Noise(0.5);
+  const DiagnosisResult r = DiagnoseMissingEffects(sc.s, sc.Base(""));
+  ASSERT_TRUE(r.missing_effect_found) << r.summary;
+  EXPECT_EQ(r.effects.front().effect, "coulomb_friction") << Names(r);
+  for (const auto& n : r.notes) EXPECT_EQ(n.find("already in the model"), std::string::npos) << n;
+}
+
 TEST(Diagnosis, MassMismatch) {
   Scenario sc(12000);
   sc.s.residual = 21.0 * sc.s.acceleration + sc.Noise(0.3);  // payload of 21 kg not in the model
