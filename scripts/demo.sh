@@ -14,7 +14,7 @@ step() { printf '\n== %s\n' "$*"; }
 step "1. Base model (rigid body + viscous + Coulomb + offset) vs DATA_EMPS: refit, diagnose, suggest"
 "$BIN" compare diagrams/emps/rigid_body.json --measurement "$DATA/DATA_EMPS.csv" \
   --out "$OUT/1_base" --write-fitted "$OUT/rigid_body_fitted.json" \
-  --suggest "$OUT/rigid_body_suggested.json" --suggest-effect velocity_dependent_ripple
+  --suggest "$OUT/rigid_body_suggested.json"
 
 step "2. The suggested diagram (effect block added), refit jointly on DATA_EMPS"
 "$BIN" compare "$OUT/rigid_body_suggested.json" --measurement "$DATA/DATA_EMPS.csv" \
