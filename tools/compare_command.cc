@@ -230,6 +230,18 @@ void RunCompare(const CompareOptions& o) {
       why.clear();
       break;
     }
+    // Nothing in the catalogue named, but something left that depends on (x, v): the fallback's GP as a block. (Only
+    // then: with effects named, the GP learned what their corrections leave, not the residual of this diagram.)
+    const bool want_fallback = o.suggest_effect.empty() || o.suggest_effect == "nonparametric_fallback";
+    if (!why.empty() && want_fallback && diagnosis->effects.empty() && fallback && fallback->model) {
+      const std::string model = fs::absolute(out / "residual_gpr.json").string();
+      json amended = SuggestGprFallbackBlock(compared.compared_diagram, model, primary_after.connector);
+      amended.erase("defaultExperiment");
+      if (diagram_json.contains("defaultExperiment")) amended["defaultExperiment"] = diagram_json["defaultExperiment"];
+      WriteJsonFile(amended, o.suggest);
+      result["suggested_diagram"] = {{"path", o.suggest}, {"effect", "nonparametric_fallback"}, {"model", model}};
+      why.clear();
+    }
     if (!why.empty()) result["suggested_diagram"] = {{"path", nullptr}, {"why_not", why}};
     if (!skipped.empty()) result["suggested_diagram"]["skipped"] = skipped;
   }
@@ -313,7 +325,8 @@ void SetupCompareCommand(CLI::App& app) {
   cmd->add_option("--suggest", o->suggest, "write the diagram amended with the top-ranked effect's block here");
   cmd->add_option("--suggest-effect", o->suggest_effect,
                   "with --suggest: the highest-ranked effect of this catalogue name instead of the top one "
-                  "(e.g. velocity_dependent_ripple)");
+                  "(e.g. velocity_dependent_ripple); when no effect is named but the TISO-GPR fallback helps, "
+                  "--suggest adds its gpr block (nonparametric_fallback)");
   cmd->add_option("--write-fitted", o->write_fitted, "write the diagram with the fitted parameters here");
   cmd->add_option("--position-column", o->position_column, "measured position column [m]")->capture_default_str();
   cmd->add_option("--derivative-cutoff-hz", o->derivative_cutoff_hz,

@@ -295,4 +295,23 @@ json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, c
   return out;
 }
 
+json SuggestGprFallbackBlock(const json& diagram, const std::string& model_path, const std::string& output) {
+  json out = diagram;
+  const std::string position = NeedInput(out, "position", "nonparametric_fallback");
+  const std::string velocity = NeedInput(out, "velocity", "nonparametric_fallback");
+  const std::string name = UniqueName(out, "residual_gp");
+  AddToOutput(&out,
+              {{"name", name},
+               {"type", "gpr"},
+               {"description", "TISO-GPR on (x, v) learned from what the catalogue's effects leave of the residual"},
+               {"parameters", {{"model", model_path}}}},
+              output, "mean");
+  Wire(&out, position, name, "x");
+  Wire(&out, velocity, name, "xdot");
+  out["description"] = out.value("description", std::string()) +
+                       fmt::format(" Amended by motionblocks compare --suggest: added '{}' (non-parametric fallback).",
+                                   name);
+  return out;
+}
+
 }  // namespace mb

@@ -45,4 +45,13 @@ bool HasEffectBlock(const std::string& effect);
 nlohmann::json SuggestAmendedDiagram(const nlohmann::json& diagram, const DiagnosedEffect& effect,
                                      const std::string& output);
 
+/// The non-parametric fallback as a block: the diagram with a `gpr` element "residual_gp" (blocks/gpr.h) that loads
+/// `model_path` (a TISO-GPR fitted to the residual, models/gpr/residual_gpr.h; pass an absolute path or one relative
+/// to the diagram's folder), fed by the position ("m") and velocity ("m/s") input connectors, its posterior mean
+/// summed into the signal feeding output connector `output`. Nothing is added to "free": the model is fitted.
+/// @throws std::invalid_argument if the diagram lacks a position or velocity input connector or a connection into
+/// `output` (the message says what to add).
+nlohmann::json SuggestGprFallbackBlock(const nlohmann::json& diagram, const std::string& model_path,
+                                       const std::string& output);
+
 }  // namespace mb

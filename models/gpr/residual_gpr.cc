@@ -143,9 +143,6 @@ ResidualGprResult FitResidualGprAfterDiagnosis(const DiagnosisSignals& signals, 
         break;
       }
     }
-    if (options.period == 0.0 && !diagnosis.position_peaks.empty() && diagnosis.position_peaks.front().significant) {
-      options.period = diagnosis.position_peaks.front().period;
-    }
   }
   const Eigen::VectorXd left = signals.residual - PredictCorrection(diagnosis, signals, base);
   return FitResidualGpr(signals, left, options);

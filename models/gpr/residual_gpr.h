@@ -56,7 +56,8 @@ ResidualGprResult FitResidualGpr(const DiagnosisSignals& signals, const Eigen::R
 
 /// The fallback after a diagnosis: fitted to what the diagnosis left (signals.residual minus PredictCorrection of
 /// `diagnosis` with `base`), with "PS" at the period of a chosen position_periodic or velocity_dependent_ripple
-/// effect, else of the strongest significant position-periodogram peak, else "DS". `options.period` and
+/// effect, else "DS" (a periodogram peak the ranking did not choose is no period to build a kernel on: on a smooth
+/// force over the travel it sent "PS" to a 24 mm period that explained nothing). `options.period` and
 /// `options.kernel`, when set, win.
 /// @throws as FitResidualGpr and PredictCorrection.
 ResidualGprResult FitResidualGprAfterDiagnosis(const DiagnosisSignals& signals, const BaseRegressors& base,
