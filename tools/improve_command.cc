@@ -1,13 +1,20 @@
 // motionblocks improve DIAGRAM --measurement LOG.csv [--validation LOG.csv] [--max-effects N] [--out DIR]
 // The loop compare → suggest → fit → compare in one command: add the diagnosed missing effects one at a time,
 // refit jointly, keep an effect only if the held-out error falls (tools/improve.h). Writes DIR/step_<k>/diagram.json
-// as each step completes, DIR/improved.json, DIR/improve.json and DIR/report.html (before/after figures).
+// as each step completes, DIR/improved.json, DIR/improve.json and DIR/report.html (before/after figures); when the
+// residual stays non-white, the TISO-GPR fallback (DIR/residual_gpr.json, DIR/improved_with_gp.json).
 
+#include <fstream>
 #include <iostream>
+#include <optional>
 
 #include <fmt/format.h>
 
 #include "engine/diagram_loader.h"
+#include "models/gpr/gpr_io.h"
+#include "models/gpr/residual_gpr.h"
+#include "tools/output_files.h"
+#include "tools/suggest.h"
 #include "tools/commands.h"
 #include "tools/comparison.h"
 #include "tools/improve.h"
@@ -34,6 +41,42 @@ struct ImproveOptions {
   std::string position_column = "position_m";
   double derivative_cutoff_hz = 100.0;
 };
+
+// When the loop stops with a residual that is still not white: the TISO-GPR fallback (models/gpr/residual_gpr.h)
+// fitted to the last accepted diagram's residual — "PS" at the period of the first accepted periodic effect, else
+// "DS" —
+// scored on held-out blocks. When it helps, writes residual_gpr.json and improved_with_gp.json (the last accepted
+// diagram with the gpr block, SuggestGprFallbackBlock) and records both in improve.json under
+// "nonparametric_fallback". Returns that record.
+std::optional<json> FitFallback(const ImproveResult& result, const fs::path& out) {
+  const ImproveStep& last = result.last_accepted();
+  if (!result.residual_not_white || !last.training.diagnosis) return std::nullopt;
+  std::cerr << "improve: fitting the non-parametric fallback (TISO-GPR on position and velocity) to what is left …\n";
+  ResidualGprOptions options;
+  for (const auto& step : result.steps) {
+    if (step.accepted && step.diagnosed && step.diagnosed->parameters.count("period") &&
+        (step.effect == "position_periodic" || step.effect == "velocity_dependent_ripple")) {
+      options.period = step.diagnosed->parameters.at("period");
+      break;  // the first accepted period: the strongest (later ones are often its harmonics)
+    }
+  }
+  const ResidualGprResult g = FitResidualGpr(last.training.signals, last.training.signals.residual, options);
+  json record = g.ToJson();
+  if (g.model) {
+    const std::string model = fs::absolute(out / "residual_gpr.json").string();
+    SaveGprModel(*g.model, model);
+    const json amended =
+        SuggestGprFallbackBlock(last.training.fitted_diagram, model, last.training.after.front().connector);
+    WriteJsonFile(amended, out / "improved_with_gp.json");
+    record["model"] = model;
+    record["diagram"] = (out / "improved_with_gp.json").string();
+  }
+  std::ifstream in(out / "improve.json");
+  json written = json::parse(in);
+  written["nonparametric_fallback"] = record;
+  WriteJsonFile(written, out / "improve.json");
+  return record;
+}
 
 void RunImprove(const ImproveOptions& o) {
   std::vector<ParameterOverride> overrides;
@@ -76,6 +119,7 @@ void RunImprove(const ImproveOptions& o) {
       diagram, fs::path(o.diagram).parent_path(), o.diagram, training, validation ? &*validation : nullptr, settings,
       [](const std::string& line) { std::cerr << "improve: " << line << "\n"; },
       [&](const ImproveStep&, const ImproveResult& so_far) { WriteImproveProgress(so_far, out, context); });
+  const std::optional<json> fallback = FitFallback(result, out);
   std::cerr << "improve: writing the report …\n";
   WriteImproveReport(result,
                      training, validation ? &*validation : nullptr,
@@ -91,6 +135,7 @@ void RunImprove(const ImproveOptions& o) {
                              s.training.after.front().unit, s.accepted ? "" : "(rejected)");
   }
   std::cout << "stop: " << result.stop_reason << "\n";
+  if (fallback) std::cout << (*fallback)["description"].get<std::string>() << "\n";
   std::cout << fmt::format("wrote {}/improved.json, improve.json, step_*/diagram.json and report.html\n", out.string());
 }
 
