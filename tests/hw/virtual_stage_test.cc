@@ -166,9 +166,12 @@ TEST_F(VirtualStageTest, HilRunReproducesTheSimulatedRun) {
   EXPECT_EQ(r.statistics.ticks, 1000);
   // The stage integrates in wall-clock time, as a real plant does: a loop that missed its deadline on many
   // ticks ran a different experiment, and the comparison below says nothing about the HIL path.
-  if (r.statistics.overruns > r.statistics.ticks / 20) {
+  // A missed sample (the stage's reply came after the controller's deadline) applies a stale input for a whole
+  // period: seen under load with 28 overruns and 3 missed samples, a 16 % different run.
+  if (r.statistics.overruns > r.statistics.ticks / 20 || r.statistics.missed_samples > 0) {
     GTEST_SKIP() << "this machine did not keep the 1 kHz deadline (" << r.statistics.overruns << " of "
-                 << r.statistics.ticks << " ticks overran): the HIL-vs-simulation comparison needs real time";
+                 << r.statistics.ticks << " ticks overran, " << r.statistics.missed_samples
+                 << " samples missed): the HIL-vs-simulation comparison needs real time";
   }
   // RMS tracking error within 10 %: on an idle machine the two agree to < 1 %; a scheduler stall of a few
   // milliseconds on a loaded one (counted as overruns) perturbs a few hundred samples.
