@@ -138,21 +138,27 @@ TEST(Diagnosis, MassMismatch) {
   EXPECT_NEAR(r.effects.front().coefficients(0), 21.0, 0.5);
 }
 
-TEST(Diagnosis, TimeDelayAndItsValue) {
-  Scenario sc(12000);
-  const double delay = 0.006;
-  sc.s.model_output = sc.nominal_force;
-  // Measured force = the model's force 6 ms later (interpolated on the analytic motion).
-  Eigen::VectorXd measured(sc.s.time.size());
-  for (Eigen::Index i = 0; i < measured.size(); ++i) {
+// The scenario's nominal force (M = 94 kg, Fv = 195 N·s/m, Fc = 21 N, offset −0.5 N) at t − delay, from the
+// analytic motion (not interpolated).
+Eigen::VectorXd NominalForceDelayedBy(const Scenario& sc, double delay) {
+  Eigen::VectorXd force(sc.s.time.size());
+  for (Eigen::Index i = 0; i < force.size(); ++i) {
     const double t = std::max(0.0, sc.s.time(i) - delay);
     const double w1 = kTwoPi * 0.15, w2 = kTwoPi * 0.05, m = 0.45;
     const double phi = w1 * t + m * std::sin(w2 * t), dphi = w1 + m * w2 * std::cos(w2 * t);
     const double ddphi = -m * w2 * w2 * std::sin(w2 * t);
     const double v = 0.1 * std::cos(phi) * dphi, a = 0.1 * (-std::sin(phi) * dphi * dphi + std::cos(phi) * ddphi);
-    measured(i) = 94.0 * a + 195.0 * v + 21.0 * (v > 0 ? 1.0 : -1.0) - 0.5;
+    force(i) = 94.0 * a + 195.0 * v + 21.0 * (v > 0 ? 1.0 : -1.0) - 0.5;
   }
-  sc.s.residual = measured - sc.nominal_force + sc.Noise(0.2);
+  return force;
+}
+
+TEST(Diagnosis, TimeDelayAndItsValue) {
+  Scenario sc(12000);
+  const double delay = 0.006;
+  sc.s.model_output = sc.nominal_force;
+  // Measured force = the model's force 6 ms later.
+  sc.s.residual = NominalForceDelayedBy(sc, delay) - sc.nominal_force + sc.Noise(0.2);
   const DiagnosisResult r = DiagnoseMissingEffects(sc.s, sc.Base("avs1"));
   ASSERT_TRUE(r.missing_effect_found) << r.summary;
   EXPECT_EQ(r.effects.front().effect, "time_delay") << Names(r);
@@ -165,16 +171,7 @@ TEST(Diagnosis, APartialLagIsNotCalledATimeDelay) {
   Scenario sc(12000);
   const double delay = 0.006;
   sc.s.model_output = sc.nominal_force;
-  Eigen::VectorXd lagged(sc.s.time.size());
-  for (Eigen::Index i = 0; i < lagged.size(); ++i) {
-    const double t = std::max(0.0, sc.s.time(i) - delay);
-    const double w1 = kTwoPi * 0.15, w2 = kTwoPi * 0.05, m = 0.45;
-    const double phi = w1 * t + m * std::sin(w2 * t), dphi = w1 + m * w2 * std::cos(w2 * t);
-    const double ddphi = -m * w2 * w2 * std::sin(w2 * t);
-    const double v = 0.1 * std::cos(phi) * dphi, a = 0.1 * (-std::sin(phi) * dphi * dphi + std::cos(phi) * ddphi);
-    lagged(i) = 94.0 * a + 195.0 * v + 21.0 * (v > 0 ? 1.0 : -1.0) - 0.5;
-  }
-  sc.s.residual = 0.3 * (lagged - sc.nominal_force) + sc.Noise(0.2);
+  sc.s.residual = 0.3 * (NominalForceDelayedBy(sc, delay) - sc.nominal_force) + sc.Noise(0.2);
   const DiagnosisResult r = DiagnoseMissingEffects(sc.s, sc.Base("avs1"));
   EXPECT_FALSE(Named(r, "time_delay")) << Names(r);
   bool said_why = false;

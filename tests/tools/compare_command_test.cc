@@ -19,12 +19,8 @@ namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
 using testing::ProcessTempDir;
+using testing::ReadJsonFile;
 using testing::RunMotionblocks;
-
-nlohmann::json ReadJson(const fs::path& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
-}
 
 const std::string kEmps = std::string(MB_SOURCE_DIR) + "/diagrams/emps";
 
@@ -35,7 +31,7 @@ TEST(CompareCommand, NamesTheMissingEffectFitsTheFallbackAndSuggests) {
                                  "/data/DATA_EMPS.csv --suggest " + (out / "amended.json").string() + " --out " +
                                  out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  const auto c = ReadJson(out / "compare.json");
+  const auto c = ReadJsonFile(out / "compare.json");
   EXPECT_LT(c["rmse_after"].get<double>(), 0.6 * c["rmse_before"].get<double>());  // measured 4.45 → 2.33 N
   ASSERT_TRUE(c["missing_effect_found"].get<bool>()) << c["summary"];
   // The screw lead (2.5 mm), its ripple growing with speed, comes first. (coulomb_friction is not ranked: F_c is free
@@ -62,7 +58,7 @@ TEST(CompareCommand, NamesTheMissingEffectFitsTheFallbackAndSuggests) {
 
   // --suggest: the amended diagram holds the top effect's block.
   ASSERT_EQ(c["suggested_diagram"]["effect"], "velocity_dependent_ripple");
-  const auto amended = ReadJson(out / "amended.json");
+  const auto amended = ReadJsonFile(out / "amended.json");
   bool has_block = false;
   for (const auto& e : amended["elements"]) has_block = has_block || e["type"] == "velocity_dependent_ripple";
   EXPECT_TRUE(has_block) << amended.dump(1);

@@ -20,12 +20,8 @@ using ::testing::HasSubstr;
 
 using testing::CommandResult;
 using testing::ProcessTempDir;
+using testing::ReadJsonFile;
 using testing::RunMotionblocks;
-
-nlohmann::json ReadJson(const fs::path& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
-}
 
 const std::string kEmps = std::string(MB_SOURCE_DIR) + "/diagrams/emps";
 
@@ -38,7 +34,7 @@ TEST(FitCommand, RefitsTheEmpsRigidBodyWithConfidenceIntervals) {
                                  "--params friction.coulomb,offset.value --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_THAT(r.output, HasSubstr("force: RMSE"));
-  const auto fit = ReadJson(out / "fit.json");
+  const auto fit = ReadJsonFile(out / "fit.json");
   ASSERT_EQ(fit["parameters"].size(), 4u);
   const double expected[] = {94.0, 195.0, 21.0};
   const double tolerance[] = {4.0, 15.0, 3.0};
@@ -56,7 +52,7 @@ TEST(FitCommand, RefitsTheEmpsRigidBodyWithConfidenceIntervals) {
   EXPECT_EQ(fit["mode"], "equation_error");
   EXPECT_LT(fit["rmse_after"].get<double>(), 0.7 * fit["rmse_before"].get<double>());
   // The fitted diagram carries the estimates and loads again.
-  const auto fitted = ReadJson(out / "fitted.json");
+  const auto fitted = ReadJsonFile(out / "fitted.json");
   double mass = 0.0;
   for (const auto& e : fitted["elements"]) {
     if (e["name"] == "inertia") mass = e["parameters"]["gain"];
@@ -65,7 +61,7 @@ TEST(FitCommand, RefitsTheEmpsRigidBodyWithConfidenceIntervals) {
   const auto again = RunMotionblocks("fit " + (out / "fitted.json").string() + " --measurement " + kEmps +
                                      "/data/DATA_EMPS.csv --params offset.value --out " + (out / "again").string());
   ASSERT_EQ(again.exit_code, 0) << again.output;
-  EXPECT_NEAR(ReadJson(out / "again" / "fit.json")["rmse_before"].get<double>(), fit["rmse_after"].get<double>(),
+  EXPECT_NEAR(ReadJsonFile(out / "again" / "fit.json")["rmse_before"].get<double>(), fit["rmse_after"].get<double>(),
               1e-6 * fit["rmse_after"].get<double>());
   fs::remove_all(out);
 }

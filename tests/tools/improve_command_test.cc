@@ -21,12 +21,8 @@ namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
 using testing::ProcessTempDir;
+using testing::ReadJsonFile;
 using testing::RunMotionblocks;
-
-nlohmann::json ReadJson(const fs::path& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
-}
 
 const std::string kPaper = std::string(MB_SOURCE_DIR) + "/diagrams/paper";
 constexpr double kPolePitch = 0.0225;  // the twin's τ [m] (linear_motor's pole_pitch in cogging_scan.json)
@@ -47,7 +43,7 @@ TEST(ImproveCommand, FindsTheTwinsCoggingAtThePolePitchAndTheErrorFalls) {
                                  out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_THAT(r.output, HasSubstr("improve: step 0:"));  // progress on stderr
-  const auto result = ReadJson(out / "improve.json");
+  const auto result = ReadJsonFile(out / "improve.json");
   const auto& accepted = result["accepted"];
   ASSERT_GE(accepted.size(), 2u) << result.dump(1);
   const std::string first = accepted[1]["effect"];
@@ -80,7 +76,7 @@ TEST(ImproveCommand, FindsTheTwinsCoggingAtThePolePitchAndTheErrorFalls) {
   for (std::size_t k = 0; k < accepted.size(); ++k) {
     EXPECT_TRUE(fs::exists(out / ("step_" + std::to_string(k)) / "diagram.json")) << k;
   }
-  const auto improved = ReadJson(out / "improved.json");
+  const auto improved = ReadJsonFile(out / "improved.json");
   bool has_ripple = false;
   for (const auto& e : improved["elements"]) has_ripple = has_ripple || e["type"] == first;
   EXPECT_TRUE(has_ripple);

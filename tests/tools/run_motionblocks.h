@@ -6,6 +6,8 @@
 #include <fstream>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -35,6 +37,12 @@ inline CommandResult RunMotionblocks(const std::string& arguments) {
   std::ifstream in(log);
   r.output.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   return r;
+}
+
+/// A JSON file the command wrote (compare.json, fit.json, …); throws nlohmann::json::parse_error if it is not JSON.
+inline nlohmann::json ReadJsonFile(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
 }
 
 }  // namespace mb::testing
