@@ -144,9 +144,15 @@ void RunCompare(const CompareOptions& o) {
   const ComparedOutput& primary_after = after.front();
   const Eigen::VectorXd residual_after = primary_after.residual();
   std::optional<ResidualGprResult> fallback;
+  std::string fallback_skipped;  // the comparison stands without it (e.g. a log too short for its folds)
   if (diagnosis && !o.no_gpr_fallback) {
     std::cerr << "fitting the non-parametric fallback (TISO-GPR on position and velocity) to what is left …\n";
-    fallback = FitResidualGprAfterDiagnosis(compared.signals, compared.base, *diagnosis);
+    try {
+      fallback = FitResidualGprAfterDiagnosis(compared.signals, compared.base, *diagnosis);
+    } catch (const std::exception& e) {
+      fallback_skipped = e.what();
+      std::cerr << "no non-parametric fallback: " << fallback_skipped << "\n";
+    }
   }
 
   // compare.json
@@ -196,6 +202,8 @@ void RunCompare(const CompareOptions& o) {
       j["model"] = (out / "residual_gpr.json").string();
     }
     result["nonparametric_fallback"] = j;
+  } else if (!fallback_skipped.empty()) {
+    result["nonparametric_fallback"] = {{"useful", false}, {"skipped", fallback_skipped}};
   }
 
   if (fit && !o.write_fitted.empty()) {

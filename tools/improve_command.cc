@@ -60,8 +60,15 @@ std::optional<json> FitFallback(const ImproveResult& result, const fs::path& out
       break;  // the first accepted period: the strongest (later ones are often its harmonics)
     }
   }
-  const ResidualGprResult g = FitResidualGpr(last.training.signals, last.training.signals.residual, options);
-  json record = g.ToJson();
+  json record;
+  ResidualGprResult g;
+  try {
+    g = FitResidualGpr(last.training.signals, last.training.signals.residual, options);
+    record = g.ToJson();
+  } catch (const std::exception& e) {  // the loop's result stands without it (e.g. a log too short for the folds)
+    std::cerr << "improve: no non-parametric fallback: " << e.what() << "\n";
+    record = {{"useful", false}, {"skipped", e.what()}, {"description", std::string("no fallback: ") + e.what()}};
+  }
   if (g.model) {
     const std::string model = fs::absolute(out / "residual_gpr.json").string();
     SaveGprModel(*g.model, model);

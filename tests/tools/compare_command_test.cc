@@ -65,6 +65,26 @@ TEST(CompareCommand, NamesTheMissingEffectFitsTheFallbackAndSuggests) {
   fs::remove_all(out);
 }
 
+// 300 rows: enough to compare and diagnose, too few for the fallback's five 64-sample folds. The comparison must
+// stand and say why there is no fallback, not fail.
+TEST(CompareCommand, AShortLogStillComparesAndSaysWhyThereIsNoFallback) {
+  const fs::path out = ProcessTempDir("mb_compare_command_short");
+  const fs::path log = out / "short.csv";
+  {
+    std::ifstream in(kEmps + "/data/DATA_EMPS.csv");
+    std::ofstream f(log);
+    std::string line;
+    for (int i = 0; i < 301 && std::getline(in, line); ++i) f << line << "\n";
+  }
+  const auto r = RunMotionblocks("compare " + kEmps + "/rigid_body.json --measurement " + log.string() + " --out " +
+                                 (out / "o").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto c = ReadJsonFile(out / "o" / "compare.json");
+  EXPECT_FALSE(c["nonparametric_fallback"]["useful"].get<bool>());
+  EXPECT_THAT(c["nonparametric_fallback"]["skipped"].get<std::string>(), HasSubstr("folds"));
+  fs::remove_all(out);
+}
+
 TEST(CompareCommand, ALogWithNanIsOneClearMessage) {
   const fs::path out = ProcessTempDir("mb_compare_command_nan");
   fs::create_directories(out);
