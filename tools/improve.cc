@@ -365,22 +365,19 @@ void AddBeforeAfterFigures(HtmlReport* report, const fs::path& out, const std::s
   rt.series.push_back({t, r_before, "before", "lines"});
   rt.series.push_back({t, r_after, "after", "lines"});
   report->AddFigure(rt, out);
-  if (log.has_column(position_column)) {
-    const auto x = ToStd(log.column(position_column));
-    Figure rx{prefix + "residual_vs_position.png", record + ": residual against position, before vs after",
-              "position [m]", fmt::format("residual [{}]", unit), {}};
-    rx.series.push_back({x, r_before, "before", "dots"});
-    rx.series.push_back({x, r_after, "after", "dots"});
-    report->AddFigure(rx, out);
-  }
-  if (log.has_column(kDerivedVelocityColumn)) {
-    const auto v = ToStd(log.column(kDerivedVelocityColumn));
-    Figure rv{prefix + "residual_vs_velocity.png", record + ": residual against velocity, before vs after",
-              "velocity [m/s]", fmt::format("residual [{}]", unit), {}};
-    rv.series.push_back({v, r_before, "before", "dots"});
-    rv.series.push_back({v, r_after, "after", "dots"});
-    report->AddFigure(rv, out);
-  }
+  // The residual against a logged column (position, velocity), before and after on the same axes.
+  const auto against = [&](const std::string& column, const std::string& quantity, const std::string& axis_unit) {
+    if (!log.has_column(column)) return;
+    const auto abscissa = ToStd(log.column(column));
+    Figure f{fmt::format("{}residual_vs_{}.png", prefix, quantity),
+             fmt::format("{}: residual against {}, before vs after", record, quantity),
+             fmt::format("{} [{}]", quantity, axis_unit), fmt::format("residual [{}]", unit), {}};
+    f.series.push_back({abscissa, r_before, "before", "dots"});
+    f.series.push_back({abscissa, r_after, "after", "dots"});
+    report->AddFigure(f, out);
+  };
+  against(position_column, "position", "m");
+  against(kDerivedVelocityColumn, "velocity", "m/s");
 }
 
 }  // namespace
