@@ -158,16 +158,6 @@ void RunCompare(const CompareOptions& o) {
   // compare.json
   const fs::path out(o.out);
   fs::create_directories(out);
-  json outputs = json::array();
-  for (std::size_t i = 0; i < after.size(); ++i) {
-    outputs.push_back({{"connector", after[i].connector},
-                       {"column", after[i].column},
-                       {"unit", after[i].unit},
-                       {"rmse_before", before[i].rmse},
-                       {"rmse_after", after[i].rmse},
-                       {"fit_percent_before", before[i].fit_percent},
-                       {"fit_percent_after", after[i].fit_percent}});
-  }
   json result = {{"diagram", o.diagram},
                  {"measurement", o.measurement},
                  {"mode", mode},
@@ -178,7 +168,7 @@ void RunCompare(const CompareOptions& o) {
                  {"rmse_after", primary_after.rmse},
                  {"fit_percent_before", primary_before.fit_percent},
                  {"fit_percent_after", primary_after.fit_percent},
-                 {"outputs", outputs}};
+                 {"outputs", ComparedOutputsJson(before, after)}};
   if (fit) result["fit"] = fit->ToJson();
   json ranked = json::array();
   if (diagnosis) {

@@ -459,7 +459,7 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
   return out;
 }
 
-json DiagramFit::ToJson() const {
+json ComparedOutputsJson(const std::vector<ComparedOutput>& before, const std::vector<ComparedOutput>& after) {
   json outputs = json::array();
   for (std::size_t i = 0; i < after.size(); ++i) {
     outputs.push_back({{"connector", after[i].connector},
@@ -470,6 +470,10 @@ json DiagramFit::ToJson() const {
                        {"fit_percent_before", before[i].fit_percent},
                        {"fit_percent_after", after[i].fit_percent}});
   }
+  return outputs;
+}
+
+json DiagramFit::ToJson() const {
   json j = fit.ToJson();
   j["output"] = after.front().connector;
   j["unit"] = after.front().unit;
@@ -477,7 +481,7 @@ json DiagramFit::ToJson() const {
   j["rmse_after"] = after.front().rmse;
   j["fit_percent_before"] = before.front().fit_percent;
   j["fit_percent_after"] = after.front().fit_percent;
-  j["outputs"] = outputs;
+  j["outputs"] = ComparedOutputsJson(before, after);
   return j;
 }
 

@@ -76,6 +76,11 @@ struct ComparedOutput {
   Eigen::VectorXd residual() const { return measured - model; }
 };
 
+/// Per compared output, before and after a refit (same order and length): [{"connector", "column", "unit",
+/// "rmse_before", "rmse_after", "fit_percent_before", "fit_percent_after"}] — the "outputs" of compare.json and
+/// fit.json. RMSE in the output's unit, fit in % (FitPercent).
+nlohmann::json ComparedOutputsJson(const std::vector<ComparedOutput>& before, const std::vector<ComparedOutput>& after);
+
 /// A diagram bound to a measurement: simulate it with any parameter values along the measured record.
 class ModelComparison {
  public:
