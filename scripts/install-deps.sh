@@ -5,6 +5,7 @@ set -euo pipefail
 
 PACKAGES=(
   build-essential cmake pkg-config
+  ccache                   # compiler cache (the presets' compiler launcher)
   libeigen3-dev            # linear algebra
   libsundials-dev          # CVODE
   libboost-dev libboost-graph-dev  # Boost.Graph (header-only parts), Boost.Math
@@ -14,6 +15,7 @@ PACKAGES=(
   libnlopt-cxx-dev         # L-BFGS with bounds for MAP fits
   libtbb-dev               # parallel sweeps
   gnuplot-nox              # report figures
+  libvalijson-dev          # JSON Schema validation of diagrams and sweeps
 )
 
 missing=()
