@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "engine/file_access.h"
 #include "models/diagnosis/measurement_log.h"
 
 namespace mb {
@@ -15,8 +16,12 @@ FromFile::FromFile(const BlockConfig& config) : Block(config.name) {
     throw std::invalid_argument("interpolation must be \"linear\" or \"zoh\", got \"" + interpolation + "\"");
   }
   zoh_ = interpolation == "zoh";
-  std::filesystem::path path = p.String("file");
-  if (path.is_relative()) path = config.base_directory / path;
+  std::filesystem::path path;
+  try {
+    path = ResolveDiagramFile(p.String("file"), config.base_directory);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("parameter file ") + e.what());
+  }
   MeasurementLogOptions options;
   options.min_rows = 1;
   options.max_gap_ratio = 0.0;  // a reference profile may be sampled unevenly

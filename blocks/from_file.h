@@ -11,7 +11,8 @@
 namespace mb {
 
 /// y(t) = column value at t. Port: out "y". Parameters:
-///  - file: the CSV path, relative to the diagram's folder (BlockConfig::base_directory) unless absolute;
+///  - file: the CSV path, relative to the diagram's folder (BlockConfig::base_directory); it must lie in that
+///    folder or one allowed with --allow-path and be a regular file (engine/file_access.h);
 ///  - time_column: the time column's name [s] ("" = the first column; if given it must be the first column,
 ///    as the measurement-log format requires);
 ///  - column: the column to output;

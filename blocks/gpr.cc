@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "engine/file_access.h"
 #include "models/gpr/gpr_io.h"
 
 namespace mb {
@@ -19,8 +20,12 @@ GprModel LoadModelParameter(const BlockConfig& config) {
     throw std::invalid_argument("parameter model is empty: give the model file written by "
                                 "`motionblocks fit-gpr` (relative to the diagram's folder)");
   }
-  std::filesystem::path path = written;
-  if (path.is_relative()) path = config.base_directory / path;
+  std::filesystem::path path;
+  try {
+    path = ResolveDiagramFile(written, config.base_directory);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("parameter model ") + e.what());
+  }
   const std::string where = "parameter model \"" + written + "\" (" + path.string() + "): ";
   try {
     return LoadGprModel(path);

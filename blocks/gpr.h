@@ -16,7 +16,8 @@ namespace mb {
 /// disturbance, e.g. N) and, with output_std, "std" (same unit).
 /// Parameters:
 ///  - model: the model file (gpr_io.h format), relative to the diagram's folder
-///    (BlockConfig::base_directory) unless absolute; read once, at construction;
+///    (BlockConfig::base_directory), inside it or a folder allowed with --allow-path, a regular file
+///    (engine/file_access.h); read once, at construction;
 ///  - output_std: declare the "std" output (default false; O(M²) per call instead of O(M)).
 /// Sample time: inherited without a `sampleTime`, discrete with one ([Ts, offset]; outputs held
 /// between hits).

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "engine/execution_order.h"
+#include "engine/file_access.h"
 #include "engine/registry.h"
 
 namespace mb {
@@ -107,8 +108,9 @@ json ExpandSubsystemsImpl(const json& diagram, const fs::path& base, const std::
     json inner;
     fs::path inner_base = base;
     if (element.contains("diagram") && element["diagram"].is_string()) {
-      const fs::path file = base / element["diagram"].get<std::string>();
+      fs::path file;
       try {
+        file = ResolveDiagramFile(element["diagram"].get<std::string>(), base);
         inner = ReadDiagramJson(file);
       } catch (const std::exception& e) {
         problems->push_back(fmt::format("{}/diagram: {}", ptr, e.what()));

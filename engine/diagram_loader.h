@@ -45,7 +45,8 @@ nlohmann::json ReadDiagramJson(const std::filesystem::path& path);
 
 /// Expands `subsystem` elements (a nested diagram, in a file `"diagram": "plant.json"` relative to the parent,
 /// or inline under "diagram") into the parent: inner elements become "<subsystem>/<element>", connections to
-/// the subsystem's ports are rewired to the inner connectors' endpoints. Recursive. @throws DiagramError.
+/// the subsystem's ports are rewired to the inner connectors' endpoints. Recursive. A subsystem file must lie in the
+/// parent's folder (or one allowed with --allow-path) and be a regular file (engine/file_access.h). @throws DiagramError.
 nlohmann::json ExpandSubsystems(const nlohmann::json& diagram, const std::filesystem::path& base_directory,
                                 const std::string& source);
 

@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "engine/diagram_loader.h"
+#include "engine/file_access.h"
 #include "hw/board_registry.h"
 #include "hw/hil_diagram.h"
 #include "hw/hil_runner.h"
@@ -99,7 +100,12 @@ void RunHil(const HilCommandOptions& o) {
   }
   nlohmann::json j = ReadDiagramJson(o.diagram);
   std::vector<std::string> dropped;
-  for (const auto& text : o.replacements) j = ReplaceSubsystem(j, SubsystemReplacement::Parse(text), o.diagram, &dropped);
+  for (const auto& text : o.replacements) {
+    const SubsystemReplacement replacement = SubsystemReplacement::Parse(text);
+    // The user named this file on the command line: the diagram may read it wherever it lies.
+    if (std::filesystem::is_directory(replacement.file.parent_path())) AllowDiagramFilesUnder(replacement.file.parent_path());
+    j = ReplaceSubsystem(j, replacement, o.diagram, &dropped);
+  }
   std::vector<ParameterOverride> overrides;
   for (const auto& s : o.overrides) overrides.push_back(ParameterOverride::Parse(s));
   ApplyOverrides(&j, overrides, o.diagram);

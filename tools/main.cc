@@ -3,15 +3,28 @@
 
 #include <exception>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "engine/file_access.h"
 #include "tools/commands.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"motionblocks — block-diagram simulation, model-vs-measurement diagnosis and learned disturbance "
                "compensation for precision motion control"};
   app.require_subcommand(1);
+  app.fallthrough();  // global options may follow the subcommand
+  app.add_option_function<std::vector<std::string>>(
+         "--allow-path",
+         [](const std::vector<std::string>& folders) {
+           for (const auto& folder : folders) mb::AllowDiagramFilesUnder(folder);
+         },
+         "A folder outside the diagram's own whose files the diagram's file parameters (from_file.file, gpr.model, "
+         "subsystem diagram) may read; repeat for several")
+      ->type_name("DIR")
+      ->allow_extra_args(false);
   mb::SetupRunCommand(app);
   mb::SetupCompareCommand(app);
   mb::SetupFitCommand(app);
