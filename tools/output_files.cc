@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include "engine/output_file.h"
 #include "models/diagnosis/measurement_log.h"
 
 namespace mb {
@@ -27,9 +28,7 @@ void WriteSignalLog(const SignalLog& log, const fs::path& path) {
 }
 
 void WriteJsonFile(const nlohmann::json& j, const fs::path& path) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error(fmt::format("{}: cannot write", path.string()));
-  out << j.dump(2) << "\n";
+  WriteFileSafely(path, j.dump(2) + "\n");
 }
 
 ProgressLine::ProgressLine(std::string label) : label_(std::move(label)), tty_(isatty(fileno(stderr)) != 0) {}

@@ -17,6 +17,7 @@
 #include <tbb/task_arena.h>
 
 #include "engine/diagram_loader.h"
+#include "engine/output_file.h"
 #include "tools/output_files.h"
 
 namespace mb {
@@ -224,15 +225,6 @@ json RowJson(const SweepRow& row) {
   return j;
 }
 
-void WriteTextAtomically(const std::string& text, const fs::path& path) {
-  const fs::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << text;
-    if (!out) throw std::runtime_error("cannot write " + tmp.string());
-  }
-  fs::rename(tmp, path);
-}
 
 }  // namespace
 
@@ -530,7 +522,7 @@ SweepOutcome RunSweep(const fs::path& diagram_path, const SweepSpec& spec, const
     text += RowLine(spec, spec.runs[i], row, outcome.metric_names) + "\n";
     rows.push_back(RowJson(row));
   }
-  WriteTextAtomically(text, csv);
+  WriteFileSafely(csv, text);
   json fixed = json::object();
   for (const auto& [k, v] : spec.fixed) fixed[k] = v;
   const json summary = {{"diagram", fs::absolute(diagram_path).string()},

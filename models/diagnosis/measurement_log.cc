@@ -1,5 +1,7 @@
 #include "models/diagnosis/measurement_log.h"
 
+#include "engine/output_file.h"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -278,11 +280,7 @@ void WriteMeasurementLog(const MeasurementLog& log, const std::string& path) {
       text += j + 1 < cols.size() ? ',' : '\n';
     }
   }
-  std::ofstream out(path, std::ios::binary);
-  if (!out || !out.write(text.data(), static_cast<std::streamsize>(text.size()))) {
-    throw std::runtime_error(fmt::format(
-        "{}: cannot write the CSV file; check that the folder exists and is writable", path));
-  }
+  WriteFileSafely(path, text);
 }
 
 }  // namespace mb

@@ -4,6 +4,8 @@
 
 #include "models/gpr/gpr_io.h"
 
+#include "engine/output_file.h"
+
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -288,24 +290,10 @@ GprModel GprModelFromJson(const json& j, std::string_view origin) {
 }
 
 void SaveGprModel(const GprModel& model, const std::filesystem::path& path) {
-  const std::string text = GprModelToJson(model).dump(1);
-  std::filesystem::path temporary = path;
-  temporary += ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) {
-      throw std::runtime_error("SaveGprModel: cannot open " + temporary.string() +
-                               " for writing: check the directory exists and is writable");
-    }
-    out << text << '\n';
-    out.close();
-    if (!out) throw std::runtime_error("SaveGprModel: writing " + temporary.string() + " failed");
-  }
-  std::error_code ec;
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) {
-    std::filesystem::remove(temporary, ec);
-    throw std::runtime_error("SaveGprModel: cannot replace " + path.string() + ": " + ec.message());
+  try {
+    WriteFileSafely(path, GprModelToJson(model).dump(1) + "\n");
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(std::string("SaveGprModel: ") + e.what());
   }
 }
 
