@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
-#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 #include <fmt/format.h>
+
+#include "engine/output_file.h"
+#include "tools/run_program.h"
 
 namespace mb {
 
@@ -37,13 +39,24 @@ std::vector<std::pair<double, double>> Thin(const Series& s, std::size_t max_poi
   return out;
 }
 
+// A gnuplot string literal holding `s` as data: single-quoted (gnuplot expands neither backquotes nor
+// backslashes there; a quote is written twice), control characters (a newline would end the command)
+// written as spaces. Every user string (names, titles, paths) reaches gnuplot only through this.
 std::string GnuplotQuote(const std::string& s) {
-  std::string out = "\"";
+  std::string out = "'";
   for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
+    if (c == '\'') out += '\'';
+    out += (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) ? ' ' : c;
   }
-  return out + "\"";
+  return out + "'";
+}
+
+// One line of text in a data-file comment: control characters as spaces.
+std::string CommentText(std::string s) {
+  for (char& c : s) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
+  }
+  return s;
 }
 
 }  // namespace
@@ -54,23 +67,24 @@ std::string RenderFigure(const Figure& figure, const fs::path& directory) {
   const fs::path data = directory / (fs::path(figure.file).stem().string() + ".dat");
   const fs::path script = directory / (fs::path(figure.file).stem().string() + ".gp");
   {
-    std::ofstream out(data);
+    std::ostringstream out;
     for (const auto& s : figure.series) {
-      out << "# " << s.label << "\n";
+      out << "# " << CommentText(s.label) << "\n";
       for (const auto& [x, y] : Thin(s, figure.max_points)) {
         if (std::isfinite(x) && std::isfinite(y)) out << fmt::format("{:.10g} {:.10g}\n", x, y);
       }
       out << "\n\n";  // gnuplot data block separator (index)
     }
+    WriteFileSafely(data, out.str());
   }
   {
-    std::ofstream gp(script);
+    std::ostringstream gp;
     gp << "set terminal pngcairo size 900,420 font 'Sans,10'\n";
     gp << "set output " << GnuplotQuote(png.string()) << "\n";
-    gp << "set title " << GnuplotQuote(figure.title) << "\n";
-    gp << "set xlabel " << GnuplotQuote(figure.xlabel) << "\n";
-    gp << "set ylabel " << GnuplotQuote(figure.ylabel) << "\n";
-    gp << "set grid\nset key outside right top\nset datafile commentschars '#'\n";
+    gp << "set title " << GnuplotQuote(figure.title) << " noenhanced\n";  // every text verbatim, no markup
+    gp << "set xlabel " << GnuplotQuote(figure.xlabel) << " noenhanced\n";
+    gp << "set ylabel " << GnuplotQuote(figure.ylabel) << " noenhanced\n";
+    gp << "set grid\nset key outside right top noenhanced\nset datafile commentschars '#'\n";
     if (figure.log_x) gp << "set logscale x\n";
     if (figure.log_y) gp << "set logscale y\n";
     if (!figure.x_tick_labels.empty()) {
@@ -90,16 +104,17 @@ std::string RenderFigure(const Figure& figure, const fs::path& directory) {
     for (std::size_t i = 0; i < figure.series.size(); ++i) {
       const auto& s = figure.series[i];
       gp << (i ? ", " : "") << GnuplotQuote(data.string()) << " index " << i << " using 1:2 with " << s.style
-         << (s.style == "points" ? " pt 7 ps 0.3" : " lw 1.2") << " title " << GnuplotQuote(s.label);
+         << (s.style == "points" ? " pt 7 ps 0.3" : " lw 1.2") << " title " << GnuplotQuote(s.label) << " noenhanced";
     }
     gp << "\n";
+    WriteFileSafely(script, gp.str());
   }
-  const std::string command = fmt::format("gnuplot {} 2>{}", GnuplotQuote(script.string()),
-                                          GnuplotQuote((directory / "gnuplot.log").string()));
-  const int status = std::system(command.c_str());
+  // No shell: the script's path is one argument (absolute, so that a name starting with '-' is no option).
+  const fs::path log = directory / "gnuplot.log";
+  const int status = RunProgram({"gnuplot", fs::absolute(script).string()}, log);
   if (status != 0) {
     return fmt::format("gnuplot failed for {} (exit {}); see {} — is gnuplot installed? (scripts/install-deps.sh)",
-                       figure.file, status, (directory / "gnuplot.log").string());
+                       figure.file, status, log.string());
   }
   return {};
 }
@@ -144,14 +159,13 @@ void HtmlReport::AddFigure(const Figure& figure, const fs::path& directory) {
 }
 
 void HtmlReport::Write(const fs::path& path) const {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error(fmt::format("{}: cannot write the report", path.string()));
-  out << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>" << HtmlEscape(title_) << "</title>\n"
-      << "<style>body{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222}"
-         "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}"
-         "th{background:#eee}figure{margin:1em 0}img{max-width:100%}.warn{color:#a00}</style></head><body>\n"
-      << "<h1>" << HtmlEscape(title_) << "</h1>\n"
-      << body_ << "</body></html>\n";
+  const std::string page =
+      "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>" + HtmlEscape(title_) + "</title>\n" +
+      "<style>body{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222}"
+      "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}"
+      "th{background:#eee}figure{margin:1em 0}img{max-width:100%}.warn{color:#a00}</style></head><body>\n" +
+      "<h1>" + HtmlEscape(title_) + "</h1>\n" + body_ + "</body></html>\n";
+  WriteFileSafely(path, page);
 }
 
 }  // namespace mb
