@@ -14,6 +14,7 @@
 #include <tbb/task_arena.h>
 
 #include "engine/diagram_loader.h"
+#include "engine/file_access.h"
 #include "models/gpr/gpr_fit.h"
 #include "models/gpr/gpr_io.h"
 #include "models/stability/stability.h"
@@ -156,6 +157,7 @@ json Reproduce(const ReproduceOptions& o) {
   const fs::path training_scan = o.diagrams / "training_scan.json";
   const fs::path scans_sweep = o.diagrams / "sweeps" / "training_scans.json";
   fs::create_directories(o.out / "models");
+  AllowDiagramFilesUnder(o.out / "models");  // the paper's diagrams read the GP models this run writes there
   json results;
   results["configuration"] = {{"quick", o.quick},
                               {"jobs", jobs},

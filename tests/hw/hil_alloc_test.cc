@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/diagram_loader.h"
+#include "engine/file_access.h"
 #include "hw/board_registry.h"
 #include "hw/hil_runner.h"
 #include "models/gpr/gpr_fit.h"
@@ -54,6 +55,7 @@ TEST(HilAllocationTest, TheLoopAllocatesNothingWithAGprBlockInTheController) {
 
   testing::TestBoard board;
   ScopedBoardAttachment attachment(board);
+  AllowDiagramFilesUnder(std::string(MB_SOURCE_DIR) + "/diagrams/hil/subsystems");  // the shipped I/O subsystem
   const Diagram diagram = BuildDiagram(j, dir, "hil_alloc.json");
   long at_first_sample = -1, at_safe_stop = -1;
   board.on_first_sample = [&] { at_first_sample = ::mb::testing::AllocationCount(); };

@@ -24,6 +24,7 @@
 #include <gtest/gtest.h>
 
 #include "engine/diagram_loader.h"
+#include "engine/file_access.h"
 #include "models/diagnosis/diagnosis.h"
 #include "models/gpr/gpr_io.h"
 #include "models/gpr/residual_gpr.h"
@@ -353,6 +354,7 @@ TEST(HiddenEffect, WhatNoCatalogueEffectNamesTheGprFallbackLearns) {
 
   const fs::path model = fs::temp_directory_path() / fmt::format("mb_hidden_gp_{}.json", ::getpid());
   SaveGprModel(*g.model, model);
+  AllowDiagramFilesUnder(model.parent_path());  // the diagram (in diagrams/emps) reads the model written here
   const json amended_json = SuggestGprFallbackBlock(loop.fitted, model.string(), "force");
   ModelComparison amended(amended_json, kEmps, "amended.json", log, {});
   amended.set_output_filter(kDerivativeCutoffHz);
