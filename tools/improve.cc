@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "models/diagnosis/effect_registry.h"
 #include "tools/output_files.h"
 #include "tools/report.h"
 #include "tools/suggest.h"
@@ -99,9 +100,10 @@ json Amend(const ImproveStep& current, const DiagnosedEffect& effect, bool refin
       break;
     }
   }
-  if (refine_periods && (effect.effect == "position_periodic" || effect.effect == "velocity_dependent_ripple") &&
-      !element->empty()) {
-    amended["free"].push_back(*element + ".period");
+  if (refine_periods && !element->empty()) {
+    for (const auto& parameter : LookupEffect(effect.effect).block->refinable) {
+      amended["free"].push_back(*element + "." + parameter);
+    }
   }
   return amended;
 }
@@ -111,9 +113,8 @@ json Amend(const ImproveStep& current, const DiagnosedEffect& effect, bool refin
 std::vector<std::string> RecordParameters(const json& diagram) {
   std::vector<std::string> names;
   for (const auto& e : diagram.value("elements", json::array())) {
-    const std::string type = e.value("type", "");
-    if (type == "position_periodic" || type == "velocity_dependent_ripple") {
-      names.push_back(e.value("name", "") + ".position_offset");
+    for (const auto& parameter : RecordSpecificParameters(e.value("type", ""))) {
+      names.push_back(e.value("name", "") + "." + parameter);
     }
   }
   return names;

@@ -38,15 +38,17 @@ struct ImproveSettings {
   int max_effects = 3;              ///< accepted effects at most (rounds), >= 0
   int max_trials_per_round = 3;     ///< ranked effects (with a block) tried per round before giving up, >= 1
   double min_relative_gain = 0.002;  ///< accept an effect when held-out RMSE falls by at least this share, [0, 1)
-  /// Free the period of an added position_periodic / velocity_dependent_ripple element in the joint refit (as
-  /// suggest frees a time_periodic frequency): the periodogram's period is refined and gets a standard error.
+  /// Free the refinable parameters of an added element (EffectBlockTemplate::refinable: the period of a
+  /// position-periodic ripple) in the joint refit (as suggest frees a vibration's frequency): the periodogram's
+  /// period is refined and gets a standard error.
   bool refine_periods = true;
   /// Parameters refit on the validation record ("block.param"); empty: RecordParameters of each step's diagram.
   std::vector<std::string> validation_free;
 };
 
-/// The parameters that belong to a record rather than to the machine: "<element>.position_offset" of every
-/// position_periodic and velocity_dependent_ripple element (the encoder's zero).
+/// The parameters that belong to a record rather than to the machine: "<element>.<parameter>" of every element whose
+/// block type an effect's block template marks record-specific (RecordSpecificParameters, effect_registry.h: the
+/// position_offset of the ripple blocks, the encoder's zero).
 std::vector<std::string> RecordParameters(const nlohmann::json& diagram);
 
 /// A diagram scored on the validation record.

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "engine/diagram_loader.h"
+#include "models/diagnosis/effect_registry.h"
 #include "models/gpr/gpr_io.h"
 #include "models/gpr/residual_gpr.h"
 #include "tools/output_files.h"
@@ -55,7 +56,7 @@ std::optional<json> FitFallback(const ImproveResult& result, const fs::path& out
   ResidualGprOptions options;
   for (const auto& step : result.steps) {
     if (step.accepted && step.diagnosed && step.diagnosed->parameters.count("period") &&
-        (step.effect == "position_periodic" || step.effect == "velocity_dependent_ripple")) {
+        LookupEffect(step.effect).traits.periodicity == Periodicity::kPosition) {
       options.period = step.diagnosed->parameters.at("period");
       break;  // the first accepted period: the strongest (later ones are often its harmonics)
     }

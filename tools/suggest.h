@@ -11,37 +11,22 @@
 
 namespace mb {
 
-/// Effects for which the block library has a block that SuggestAmendedDiagram can insert: position_periodic,
-/// velocity_dependent_ripple, time_periodic, time_delay, mass_mismatch, stribeck_friction, viscous_friction,
-/// coulomb_friction, constant_offset, resonance, quantization (not asymmetric_friction: a free offset and Coulomb
-/// level already span it).
+/// Whether the effect registry (models/diagnosis/effect_registry.h) has a block template for `effect` that
+/// SuggestAmendedDiagram can insert (false for unknown effects and for those without a block).
 bool HasEffectBlock(const std::string& effect);
 
-/// Returns the diagram with an element for `effect`, its parameters set from the diagnosis (period, frequency,
-/// delay, Stribeck velocity; the joint fit's coefficients as initial values) and its coefficients appended to the
-/// diagram's "free" list:
-///   position_periodic          position_periodic "ripple" on the position input (unit "m")
-///   velocity_dependent_ripple  velocity_dependent_ripple "ripple" on position and velocity ("m/s")
-///   time_periodic              time_periodic "vibration" (its frequency_hz is free too)
-///   time_delay                 transport_delay "delay" between the model and output `output` (sampleTime = the
-///                              diagram's solver step or defaultExperiment.stepSize; delay free)
-///   mass_mismatch              gain "payload" on the acceleration input ("m/s^2")
-///   viscous_friction           gain "viscous_extra" on the velocity input
-///   stribeck_friction          friction "stribeck" (slip model, Coulomb 0; static and stribeck_velocity free)
-///   coulomb_friction           friction "coulomb_extra" (slip model; coulomb free)
-///   constant_offset            constant "offset_extra"
-///   resonance                  flexible_load "flexible_load" on the acceleration input (two-mass model: a load
-///                              on a spring–damper behind the motor, F = m(2ζω s + ω²)/(s² + 2ζω s + ω²)·a;
-///                              mass = the coefficient of the diagnosis' resonance.response column;
-///                              mass, frequency_hz and damping_ratio free). For equation-error diagrams: the
-///                              diagnosis excites the mode with the acceleration when it is given no input u.
-///   quantization               quantizer "output_quantizer" between the model and output `output`, interval =
-///                              the diagnosed step; NOT free (the cost is piecewise constant in the step, so a
-///                              least-squares fit of it is ill-posed); the base parameters are refit through it
-/// Additive elements are summed into the signal feeding output connector `output` through a new sum element.
-/// @throws std::invalid_argument if the effect has no block, lacks its key parameter (or it is not positive: step,
-/// frequency_hz, damping_ratio), has a negative delay, or the
-/// diagram lacks the needed input connector or a connection into `output` (the message says what to add).
+/// Returns the diagram with an element for `effect` built from the effect's block template (EffectBlockTemplate,
+/// registered in the effect's file in models/diagnosis/effects/): its type and name (made unique), its parameters
+/// from the diagnosis (period, frequency, delay, Stribeck velocity; the joint fit's coefficients as initial
+/// values), a sampleTime = the diagram's solver step or defaultExperiment.stepSize when the block is discrete, its
+/// inputs wired from the input connectors carrying position ("m"), velocity ("m/s") or acceleration ("m/s^2"), and
+/// its free parameters appended to the diagram's "free" list so that the next compare refits them jointly with the
+/// base model. An additive element is summed into the signal feeding output connector `output` through a new sum
+/// element; one that acts on the model's output (a delay, a quantizer) is inserted between that signal and the
+/// connector. docs/diagnosis.md lists each effect's block.
+/// @throws std::invalid_argument if the effect is unknown or has no block, its template refuses the diagnosed
+/// parameters (a key parameter missing or out of range, a negative delay), or the diagram lacks the needed input
+/// connector, sample period or a connection into `output` (the message says what to add).
 nlohmann::json SuggestAmendedDiagram(const nlohmann::json& diagram, const DiagnosedEffect& effect,
                                      const std::string& output);
 

@@ -8,6 +8,8 @@
 #include <Eigen/Dense>
 #include <fmt/format.h>
 
+#include "models/diagnosis/effect_registry.h"
+
 namespace mb {
 namespace {
 
@@ -140,16 +142,8 @@ AutocorrelationTest Whiteness(const Eigen::VectorXd& r) {
   return ResidualAutocorrelation(r, lag);
 }
 
-}  // namespace
-
-std::vector<EffectInstance> DiagnosisResult::chosen() const {
-  std::vector<EffectInstance> out;
-  for (const auto& e : effects) out.push_back({e.effect, e.parameters});
-  return out;
-}
-
-DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const BaseRegressors& base,
-                                       const DiagnosisOptions& options) {
+// 0. What DiagnoseMissingEffects refuses.
+void CheckDiagnosisInput(const DiagnosisSignals& signals, const BaseRegressors& base, const DiagnosisOptions& options) {
   signals.Validate();
   const Eigen::Index n = signals.size();
   const Eigen::Index p = base.columns.cols();
@@ -176,6 +170,316 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
     throw std::invalid_argument(fmt::format("DiagnoseMissingEffects: redundant_with_base = {} must lie in (0, 1]",
                                             options.redundant_with_base));
   }
+}
+
+// A candidate effect, its regressor columns and their place in the full regressor matrix.
+struct Candidate {
+  EffectInstance effect;
+  const EffectType* type = nullptr;
+  EffectRegressors reg;
+  std::vector<Eigen::Index> idx;
+};
+
+// The full regressor matrix [base, candidates' columns] (N × total), each column scaled to unit RMS by `scale`.
+struct RegressorMatrix {
+  std::vector<Candidate> cands;
+  Eigen::MatrixXd x;
+  Eigen::VectorXd scale;
+};
+
+// 2. The candidates' regressors; those the base already spans are not candidates (a note says so).
+RegressorMatrix BuildCandidateMatrix(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols,
+                                     const std::vector<EffectInstance>& proposed, const DiagnosisOptions& options,
+                                     std::vector<std::string>* notes) {
+  const Eigen::Index n = signals.size(), p = base_cols.cols();
+  // (Eigen's QR of an N × 0 matrix is not defined: without base regressors nothing is spanned.)
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> base_qr =
+      p > 0 ? Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(base_cols) : Eigen::ColPivHouseholderQR<Eigen::MatrixXd>();
+  RegressorMatrix m;
+  Eigen::Index total_cols = p;
+  for (const auto& e : proposed) {
+    const EffectType& type = LookupEffect(e.name);
+    Candidate c{e, &type, type.regressors(e, signals), {}};
+    // Regressors built from the model output alone are in the filtered band already. (quantization is built from
+    // it too, but its rounding puts energy above the cut-off that the measured, filtered output lost.)
+    if (options.regressor_filter_hz > 0.0 && !type.traits.regressor_in_output_band) {
+      const double ts = MedianTimeStep(signals.time);
+      for (Eigen::Index j = 0; j < c.reg.columns.cols(); ++j) {
+        c.reg.columns.col(j) = ZeroPhaseLowPass(c.reg.columns.col(j), ts, options.regressor_filter_hz);
+      }
+    }
+    if (c.reg.columns.cwiseAbs().maxCoeff() == 0.0) continue;  // nothing to fit (e.g. no positive motion)
+    const double spanned = ShareSpannedByBase(c.reg.columns, base_cols, base_qr);
+    if (spanned >= options.redundant_with_base) {
+      notes->push_back(fmt::format(
+          "{} is already in the model: the base's free parameters reproduce {:.1f} % of its regressor, so it is "
+          "refit with them rather than proposed as missing",
+          e.name, 100.0 * spanned));
+      continue;
+    }
+    total_cols += c.reg.columns.cols();
+    m.cands.push_back(std::move(c));
+  }
+  m.x.resize(n, total_cols);
+  if (p > 0) m.x.leftCols(p) = base_cols;
+  Eigen::Index col = p;
+  for (auto& c : m.cands) {
+    m.x.middleCols(col, c.reg.columns.cols()) = c.reg.columns;
+    for (Eigen::Index j = 0; j < c.reg.columns.cols(); ++j) c.idx.push_back(col + j);
+    col += c.reg.columns.cols();
+  }
+  m.scale.resize(total_cols);
+  for (Eigen::Index j = 0; j < total_cols; ++j) {
+    const double rms = m.x.col(j).norm() / std::sqrt(static_cast<double>(n));
+    m.scale(j) = rms > 0.0 ? rms : 1.0;
+    m.x.col(j) /= m.scale(j);
+  }
+  return m;
+}
+
+// What the forward selection chose.
+struct Selection {
+  std::vector<Eigen::Index> selected;  // columns of the regressor matrix: the base's, then the chosen effects'
+  std::vector<std::size_t> order;      // the chosen candidates, in the order they were added
+  std::vector<double> scores, cumulative;
+  double mse_base = 0.0;  // held-out MSE of the base alone
+  double mse_last = 0.0;  // held-out MSE after the last chosen effect
+};
+
+// An effect whose regressor is the error itself (EffectTraits::regressor_is_error) must enter with a coefficient
+// near 1; far from it, the column is only a nonlinear function of ŷ that happens to correlate with the residual (on
+// EMPS: a 13 N "quantization step" with coefficient 0.2): true, and a note, when it is dropped for that.
+bool ImplausibleCoefficient(const Candidate& c, const RegressorMatrix& m, const BlockGrams& grams,
+                            const std::vector<Eigen::Index>& trial, std::vector<std::string>* notes) {
+  if (!c.type->traits.regressor_is_error) return false;
+  double sse = 0.0;
+  const Eigen::VectorXd theta = grams.Fit(trial, &sse);
+  const double coefficient = theta(theta.size() - 1) / m.scale(trial.back());
+  if (coefficient >= 0.5 && coefficient <= 1.5) return false;
+  std::string parameters;
+  for (const auto& [key, value] : c.effect.parameters) {
+    parameters += fmt::format("{}{} = {:.4g}", parameters.empty() ? "" : ", ", key, value);
+  }
+  notes->push_back(fmt::format("{} ({}) dropped: it fits with coefficient {:.3g} where the effect itself would give 1",
+                               c.effect.name, parameters, coefficient));
+  return true;
+}
+
+// Among the candidates within 0.1 % of the best held-out MSE, the one with the lowest in-sample
+// BIC = N ln(SSE/N) + k ln N.
+std::size_t PickByBic(const RegressorMatrix& m, const BlockGrams& grams, const std::vector<Eigen::Index>& selected,
+                      const std::vector<double>& mse, const std::vector<bool>& used, double best_mse) {
+  const double log_n = std::log(grams.n());
+  std::size_t pick = m.cands.size();
+  double best_bic = std::numeric_limits<double>::infinity();
+  for (std::size_t c = 0; c < m.cands.size(); ++c) {
+    if (used[c] || mse[c] > best_mse * (1.0 + 1e-3)) continue;
+    std::vector<Eigen::Index> trial = selected;
+    trial.insert(trial.end(), m.cands[c].idx.begin(), m.cands[c].idx.end());
+    double sse = 0.0;
+    grams.Fit(trial, &sse);
+    const double bic = grams.n() * std::log(std::max(sse, 1e-300) / grams.n()) + static_cast<double>(trial.size()) * log_n;
+    if (bic < best_bic) { best_bic = bic; pick = c; }
+  }
+  return pick;
+}
+
+// 3. Forward selection on the held-out error: each round adds the candidate with the lowest held-out MSE (near-ties
+// to the lower BIC) while its gain reaches min_gain.
+Selection SelectEffects(const RegressorMatrix& m, const BlockGrams& grams, Eigen::Index p,
+                        const DiagnosisOptions& options, std::vector<std::string>* notes) {
+  Selection s;
+  for (Eigen::Index j = 0; j < p; ++j) s.selected.push_back(j);
+  s.mse_base = grams.HeldOutMse(s.selected);
+  double mse_prev = s.mse_base;
+  std::vector<bool> used(m.cands.size(), false);
+  for (Eigen::Index round = 0; round < options.max_effects; ++round) {
+    std::vector<double> mse(m.cands.size(), std::numeric_limits<double>::infinity());
+    double best_mse = std::numeric_limits<double>::infinity();
+    for (std::size_t c = 0; c < m.cands.size(); ++c) {
+      if (used[c]) continue;
+      std::vector<Eigen::Index> trial = s.selected;
+      trial.insert(trial.end(), m.cands[c].idx.begin(), m.cands[c].idx.end());
+      if (ImplausibleCoefficient(m.cands[c], m, grams, trial, notes)) {
+        used[c] = true;  // never chosen; not in `order`
+        continue;
+      }
+      mse[c] = grams.HeldOutMse(trial);
+      best_mse = std::min(best_mse, mse[c]);
+    }
+    if (!std::isfinite(best_mse)) break;
+    const std::size_t pick = PickByBic(m, grams, s.selected, mse, used, best_mse);
+    const double gain = mse_prev > 0.0 ? 1.0 - mse[pick] / mse_prev : 0.0;
+    if (!(gain >= options.min_gain) || gain <= 0.0) break;
+    used[pick] = true;
+    s.order.push_back(pick);
+    s.selected.insert(s.selected.end(), m.cands[pick].idx.begin(), m.cands[pick].idx.end());
+    s.scores.push_back(gain);
+    s.cumulative.push_back(s.mse_base > 0.0 ? 1.0 - mse[pick] / s.mse_base : 0.0);
+    mse_prev = mse[pick];
+  }
+  s.mse_last = mse_prev;
+  return s;
+}
+
+// The final joint fit: coefficients in the columns' own units, their standard deviations, the fitted correction.
+struct JointFit {
+  Eigen::VectorXd coef, coef_std, fitted;
+  double condition_number = 0.0;
+};
+
+// 4. Final joint fit of the base and the chosen effects on all data.
+JointFit FitJointly(const RegressorMatrix& m, const BlockGrams& grams, const std::vector<Eigen::Index>& selected) {
+  double sse = 0.0;
+  const Eigen::VectorXd theta = grams.Fit(selected, &sse);
+  const Eigen::Index k = static_cast<Eigen::Index>(selected.size());
+  JointFit fit;
+  fit.coef.resize(k);
+  fit.coef_std.resize(k);
+  fit.fitted = Eigen::VectorXd::Zero(m.x.rows());
+  if (k == 0) return fit;
+  const Eigen::MatrixXd g = grams.TotalGram(selected);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(g);
+  const double lmax = eig.eigenvalues().maxCoeff(), lmin = std::max(eig.eigenvalues().minCoeff(), 0.0);
+  fit.condition_number = lmin > 0.0 ? std::sqrt(lmax / lmin) : std::numeric_limits<double>::infinity();
+  const double sigma2 = sse / std::max(1.0, grams.n() - static_cast<double>(k));
+  Eigen::MatrixXd g_reg = g;
+  g_reg.diagonal().array() += 1e-9 * std::max(1.0, g.trace() / static_cast<double>(k));
+  const Eigen::MatrixXd cov = sigma2 * g_reg.ldlt().solve(Eigen::MatrixXd::Identity(k, k));
+  for (Eigen::Index i = 0; i < k; ++i) {
+    const double s = m.scale(selected[static_cast<std::size_t>(i)]);
+    fit.coef(i) = theta(i) / s;
+    fit.coef_std(i) = std::sqrt(std::max(0.0, cov(i, i))) / s;
+    fit.fitted += theta(i) * m.x.col(selected[static_cast<std::size_t>(i)]);
+  }
+  return fit;
+}
+
+// 5. One chosen effect in words: its share, parameters (periodic ones also their first harmonic's amplitude),
+// coefficients, and where its fitted contribution is largest.
+DiagnosedEffect DescribeEffect(const Candidate& c, double score, double cumulative, const Eigen::VectorXd& coefficients,
+                               const Eigen::VectorXd& coefficient_std, const DiagnosisSignals& signals) {
+  const Eigen::Index n = signals.size();
+  DiagnosedEffect d;
+  d.effect = c.effect.name;
+  d.score = score;
+  d.cumulative_share = cumulative;
+  d.parameters = c.effect.parameters;
+  d.column_names = c.reg.column_names;
+  d.coefficients = coefficients;
+  d.coefficient_std = coefficient_std;
+  if (c.type->traits.periodicity != Periodicity::kNone) {
+    d.parameters["amplitude"] = std::hypot(d.coefficients(0), d.coefficients(1));
+  }
+  const Eigen::VectorXd contribution = c.reg.columns * d.coefficients;
+  d.contribution_rms = std::sqrt(contribution.squaredNorm() / static_cast<double>(n));
+  const Eigen::VectorXd magnitude = contribution.cwiseAbs();
+  const double threshold = Percentile(std::vector<double>(magnitude.data(), magnitude.data() + n), 0.9);
+  std::vector<double> ts, xs, vs;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    if (std::abs(contribution(j)) >= threshold) {
+      ts.push_back(signals.time(j));
+      xs.push_back(signals.position(j));
+      vs.push_back(signals.velocity(j));
+    }
+  }
+  d.time_range[0] = Percentile(ts, 0.05); d.time_range[1] = Percentile(ts, 0.95);
+  d.position_range[0] = Percentile(xs, 0.05); d.position_range[1] = Percentile(xs, 0.95);
+  d.velocity_range[0] = Percentile(vs, 0.05); d.velocity_range[1] = Percentile(vs, 0.95);
+  d.description = fmt::format(
+      "{}{}: explains {:.1f} % of the held-out residual energy left before it was added ({:.1f} % "
+      "cumulative); RMS contribution {:.3g}; largest for t in [{:.3g}, {:.3g}] s, x in [{:.4g}, {:.4g}] mm, "
+      "v in [{:.3g}, {:.3g}] m/s. {}",
+      d.effect, d.parameters.empty() ? "" : " (" + FormatParameters(d.parameters) + ")", 100.0 * d.score,
+      100.0 * d.cumulative_share, d.contribution_rms, d.time_range[0], d.time_range[1],
+      1e3 * d.position_range[0], 1e3 * d.position_range[1], d.velocity_range[0], d.velocity_range[1],
+      c.type->physics);
+  return d;
+}
+
+bool IsPeriodic(const std::string& effect) { return LookupEffect(effect).traits.periodicity != Periodicity::kNone; }
+
+// 6. Can position-periodic and time-periodic be told apart? Not when the motion has essentially one speed (at one
+// speed |v| is constant too: a velocity-dependent ripple is a position-periodic one). Returns the note ("" if
+// they can) and marks the result and the periodic effects.
+std::string CheckPositionTimeAmbiguity(const DiagnosisSignals& signals, const DiagnosisOptions& options,
+                                       DiagnosisResult* result) {
+  const double v_max = signals.velocity.cwiseAbs().maxCoeff();
+  std::vector<double> speeds;
+  for (Eigen::Index j = 0; j < signals.size(); ++j) {
+    const double s = std::abs(signals.velocity(j));
+    if (s > 0.1 * v_max) speeds.push_back(s);
+  }
+  const double median = Percentile(speeds, 0.5);
+  const double spread = median > 0.0 ? (Percentile(speeds, 0.75) - Percentile(speeds, 0.25)) / median : 0.0;
+  const bool one_speed = median > 0.0 && spread < options.single_speed_spread;
+  bool periodic = false;
+  for (const auto& e : result->effects) periodic = periodic || IsPeriodic(e.effect);
+  if (!one_speed || !periodic) return {};
+  result->position_time_indistinguishable = true;
+  std::string note = fmt::format(
+      "cannot tell position-periodic from time-periodic: the motion has essentially one speed (|v| ≈ {:.4g} "
+      "m/s, interquartile spread {:.1f} %), so a period P in position is a period P/|v| in time. Record "
+      "the motion at two or more speeds to tell them apart.",
+      median, 100.0 * spread);
+  result->notes.push_back(note);
+  for (auto& e : result->effects) {
+    if (IsPeriodic(e.effect)) e.description += " (position-periodic vs time-periodic: cannot tell at one speed)";
+  }
+  return note;
+}
+
+// 7. Evidence (whiteness, the strongest position-periodogram peak) and the summary for users.
+void Summarise(const DiagnosisOptions& options, const std::string& ambiguity_note, DiagnosisResult* result) {
+  const auto& wb = result->whiteness_before;
+  result->notes.push_back(fmt::format("residual after the base refit: Ljung–Box Q = {:.4g}, p = {:.3g} ({})",
+                                      wb.ljung_box_q, wb.p_value, wb.white ? "white" : "not white"));
+  bool significant_peak = false;
+  if (!result->position_peaks.empty()) {
+    const auto& pk = result->position_peaks.front();
+    significant_peak = pk.significant;
+    result->notes.push_back(fmt::format(
+        "strongest position-periodogram peak: period {:.4g} mm, {:.1f} % of the variance, false-alarm "
+        "probability {:.2g} ({})",
+        pk.period * 1e3, 100.0 * pk.power, pk.false_alarm_probability, pk.significant ? "significant" : "not significant"));
+  }
+  if (result->missing_effect_found) {
+    const auto& top = result->effects.front();
+    result->summary = fmt::format(
+        "Missing: {}{} — explains {:.1f} % of the held-out residual energy. All chosen effects together "
+        "explain {:.1f} %; RMSE {:.4g} → {:.4g} (in-sample, base refit {:.4g}), held-out RMSE {:.4g} → {:.4g}.",
+        top.effect, top.parameters.empty() ? "" : " (" + FormatParameters(top.parameters) + ")",
+        100.0 * top.score, 100.0 * result->explained_share, result->rmse_before, result->rmse_after,
+        result->rmse_base_refit, result->heldout_rmse_base, result->heldout_rmse_after);
+    if (result->position_time_indistinguishable) result->summary += " " + ambiguity_note;
+  } else if (wb.white && !significant_peak) {
+    result->summary = fmt::format(
+        "No missing effect: no candidate reduces the held-out error by {:.1f} % or more, the residual is "
+        "white (Ljung–Box p = {:.3g}) and no position-periodogram peak is significant. RMSE {:.4g}.",
+        100.0 * options.min_gain, wb.p_value, result->rmse_base_refit);
+  } else {
+    result->summary = fmt::format(
+        "No missing effect from the catalogue: no candidate reduces the held-out error by {:.1f} % or more, "
+        "but the residual is {}{}; the structure left is not one of the catalogue's effects (try the "
+        "non-parametric TISO-GPR component). RMSE {:.4g}.",
+        100.0 * options.min_gain, wb.white ? "white" : "not white", significant_peak ? " and has a significant position-periodic peak" : "",
+        result->rmse_base_refit);
+  }
+}
+
+}  // namespace
+
+std::vector<EffectInstance> DiagnosisResult::chosen() const {
+  std::vector<EffectInstance> out;
+  for (const auto& e : effects) out.push_back({e.effect, e.parameters});
+  return out;
+}
+
+DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const BaseRegressors& base,
+                                       const DiagnosisOptions& options) {
+  CheckDiagnosisInput(signals, base, options);
+  const Eigen::Index n = signals.size();
+  const Eigen::Index p = base.columns.cols();
   const Eigen::MatrixXd base_cols = p > 0 ? base.columns : Eigen::MatrixXd(n, 0);
   const Eigen::VectorXd& r = signals.residual;
 
@@ -188,275 +492,49 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
   if (p > 0) r0 -= base_cols * base_cols.colPivHouseholderQr().solve(r);
   result.rmse_base_refit = std::sqrt(r0.squaredNorm() / static_cast<double>(n));
 
-  // 2. Candidates and their regressors; those the base already spans are not candidates.
-  // (Eigen's QR of an N × 0 matrix is not defined: without base regressors nothing is spanned.)
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> base_qr =
-      p > 0 ? Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(base_cols) : Eigen::ColPivHouseholderQR<Eigen::MatrixXd>();
+  // 2. Candidates and their regressors.
   const CandidateSearch search = ProposeCandidateEffects(signals, r0, base_cols, options.catalogue);
   result.candidates = search.candidates;
   result.position_peaks = search.position_periodogram.peaks;
   result.time_peaks = search.time_periodogram.peaks;
   result.notes = search.notes;
-
-  struct Candidate {
-    EffectInstance effect;
-    EffectRegressors reg;
-    std::vector<Eigen::Index> idx;  // its columns in the full matrix
-  };
-  std::vector<Candidate> cands;
-  Eigen::Index total_cols = p;
-  for (const auto& e : search.candidates) {
-    Candidate c{e, BuildEffectRegressors(e, signals), {}};
-    // time_delay is built from the model output, which is in the filtered band already. quantization is built
-    // from it too, but its rounding puts energy above the cut-off that the measured (filtered) output lost.
-    if (options.regressor_filter_hz > 0.0 && e.name != "time_delay") {
-      const double ts = MedianTimeStep(signals.time);
-      for (Eigen::Index j = 0; j < c.reg.columns.cols(); ++j) {
-        c.reg.columns.col(j) = ZeroPhaseLowPass(c.reg.columns.col(j), ts, options.regressor_filter_hz);
-      }
-    }
-    if (c.reg.columns.cwiseAbs().maxCoeff() == 0.0) continue;  // nothing to fit (e.g. no positive motion)
-    const double spanned = ShareSpannedByBase(c.reg.columns, base_cols, base_qr);
-    if (spanned >= options.redundant_with_base) {
-      result.notes.push_back(fmt::format(
-          "{} is already in the model: the base's free parameters reproduce {:.1f} % of its regressor, so it is "
-          "refit with them rather than proposed as missing",
-          e.name, 100.0 * spanned));
-      continue;
-    }
-    total_cols += c.reg.columns.cols();
-    cands.push_back(std::move(c));
-  }
-  Eigen::MatrixXd x(n, total_cols);
-  if (p > 0) x.leftCols(p) = base_cols;
-  {
-    Eigen::Index col = p;
-    for (auto& c : cands) {
-      x.middleCols(col, c.reg.columns.cols()) = c.reg.columns;
-      for (Eigen::Index j = 0; j < c.reg.columns.cols(); ++j) c.idx.push_back(col + j);
-      col += c.reg.columns.cols();
-    }
-  }
-  Eigen::VectorXd scale(total_cols);
-  for (Eigen::Index j = 0; j < total_cols; ++j) {
-    const double rms = x.col(j).norm() / std::sqrt(static_cast<double>(n));
-    scale(j) = rms > 0.0 ? rms : 1.0;
-    x.col(j) /= scale(j);
-  }
-  const BlockGrams grams(x, r, options.folds);
+  const RegressorMatrix m = BuildCandidateMatrix(signals, base_cols, search.candidates, options, &result.notes);
+  const BlockGrams grams(m.x, r, options.folds);
 
   // 3. Forward selection on the held-out error.
-  std::vector<Eigen::Index> selected;
-  for (Eigen::Index j = 0; j < p; ++j) selected.push_back(j);
-  const double mse_base = grams.HeldOutMse(selected);
-  double mse_prev = mse_base;
-  std::vector<bool> used(cands.size(), false);
-  std::vector<std::size_t> order;
-  std::vector<double> scores, cumulative;
-  const double log_n = std::log(grams.n());
-  // Effects whose regressor is the error itself (the output quantized, or delayed, minus the output) must enter with
-  // a coefficient near 1; far from it, the column is only a nonlinear function of ŷ that happens to correlate
-  // with the residual (on EMPS: a 13 N "quantization step" with coefficient 0.2) and the effect is dropped.
-  const auto implausible = [&](std::size_t c, const std::vector<Eigen::Index>& trial) {
-    const std::string& name = cands[c].effect.name;
-    if (name != "quantization" && name != "time_delay") return false;
-    double sse = 0.0;
-    const Eigen::VectorXd theta = grams.Fit(trial, &sse);
-    const double coefficient = theta(theta.size() - 1) / scale(trial.back());
-    if (coefficient >= 0.5 && coefficient <= 1.5) return false;
-    std::string parameters;
-    for (const auto& [key, value] : cands[c].effect.parameters) {
-      parameters += fmt::format("{}{} = {:.4g}", parameters.empty() ? "" : ", ", key, value);
-    }
-    result.notes.push_back(fmt::format("{} ({}) dropped: it fits with coefficient {:.3g} where the effect itself "
-                                       "would give 1",
-                                       name, parameters, coefficient));
-    return true;
-  };
-  for (Eigen::Index round = 0; round < options.max_effects; ++round) {
-    std::vector<double> mse(cands.size(), std::numeric_limits<double>::infinity());
-    double best_mse = std::numeric_limits<double>::infinity();
-    for (std::size_t c = 0; c < cands.size(); ++c) {
-      if (used[c]) continue;
-      std::vector<Eigen::Index> trial = selected;
-      trial.insert(trial.end(), cands[c].idx.begin(), cands[c].idx.end());
-      if (implausible(c, trial)) {
-        used[c] = true;  // never chosen; not in `order`
-        continue;
-      }
-      mse[c] = grams.HeldOutMse(trial);
-      best_mse = std::min(best_mse, mse[c]);
-    }
-    if (!std::isfinite(best_mse)) break;
-    // Near-ties (within 0.1 %) go to the lower BIC = N ln(SSE/N) + k ln N (in-sample).
-    std::size_t pick = cands.size();
-    double best_bic = std::numeric_limits<double>::infinity();
-    for (std::size_t c = 0; c < cands.size(); ++c) {
-      if (used[c] || mse[c] > best_mse * (1.0 + 1e-3)) continue;
-      std::vector<Eigen::Index> trial = selected;
-      trial.insert(trial.end(), cands[c].idx.begin(), cands[c].idx.end());
-      double sse = 0.0;
-      grams.Fit(trial, &sse);
-      const double bic = grams.n() * std::log(std::max(sse, 1e-300) / grams.n()) + static_cast<double>(trial.size()) * log_n;
-      if (bic < best_bic) { best_bic = bic; pick = c; }
-    }
-    const double gain = mse_prev > 0.0 ? 1.0 - mse[pick] / mse_prev : 0.0;
-    if (!(gain >= options.min_gain) || gain <= 0.0) break;
-    used[pick] = true;
-    order.push_back(pick);
-    selected.insert(selected.end(), cands[pick].idx.begin(), cands[pick].idx.end());
-    scores.push_back(gain);
-    cumulative.push_back(mse_base > 0.0 ? 1.0 - mse[pick] / mse_base : 0.0);
-    mse_prev = mse[pick];
-  }
-  result.heldout_rmse_base = std::sqrt(mse_base);
-  result.heldout_rmse_after = std::sqrt(mse_prev);
-  result.explained_share = mse_base > 0.0 ? 1.0 - mse_prev / mse_base : 0.0;
+  const Selection chosen = SelectEffects(m, grams, p, options, &result.notes);
+  result.heldout_rmse_base = std::sqrt(chosen.mse_base);
+  result.heldout_rmse_after = std::sqrt(chosen.mse_last);
+  result.explained_share = chosen.mse_base > 0.0 ? 1.0 - chosen.mse_last / chosen.mse_base : 0.0;
 
   // 4. Final joint fit on all data.
-  double sse = 0.0;
-  const Eigen::VectorXd theta = grams.Fit(selected, &sse);
-  const Eigen::Index k = static_cast<Eigen::Index>(selected.size());
-  Eigen::VectorXd coef(k), coef_std(k);
-  Eigen::VectorXd fitted = Eigen::VectorXd::Zero(n);
-  if (k > 0) {
-    const Eigen::MatrixXd g = grams.TotalGram(selected);
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(g);
-    const double lmax = eig.eigenvalues().maxCoeff(), lmin = std::max(eig.eigenvalues().minCoeff(), 0.0);
-    result.condition_number = lmin > 0.0 ? std::sqrt(lmax / lmin) : std::numeric_limits<double>::infinity();
-    const double sigma2 = sse / std::max(1.0, grams.n() - static_cast<double>(k));
-    Eigen::MatrixXd g_reg = g;
-    g_reg.diagonal().array() += 1e-9 * std::max(1.0, g.trace() / static_cast<double>(k));
-    const Eigen::MatrixXd cov = sigma2 * g_reg.ldlt().solve(Eigen::MatrixXd::Identity(k, k));
-    for (Eigen::Index i = 0; i < k; ++i) {
-      const double s = scale(selected[static_cast<std::size_t>(i)]);
-      coef(i) = theta(i) / s;
-      coef_std(i) = std::sqrt(std::max(0.0, cov(i, i))) / s;
-      fitted += theta(i) * x.col(selected[static_cast<std::size_t>(i)]);
-    }
-  }
-  const Eigen::VectorXd r_after = r - fitted;
+  const JointFit fit = FitJointly(m, grams, chosen.selected);
+  result.condition_number = fit.condition_number;
+  const Eigen::VectorXd r_after = r - fit.fitted;
   result.rmse_after = std::sqrt(r_after.squaredNorm() / static_cast<double>(n));
-  result.base_coefficients = coef.head(p);
-  result.base_coefficient_std = coef_std.head(p);
+  result.base_coefficients = fit.coef.head(p);
+  result.base_coefficient_std = fit.coef_std.head(p);
   result.whiteness_before = Whiteness(r0);
   result.whiteness_after = Whiteness(r_after);
 
-  // 5. Describe each chosen effect.
+  // 5. Describe each chosen effect, highest score first.
   Eigen::Index offset = p;
-  for (std::size_t i = 0; i < order.size(); ++i) {
-    const Candidate& c = cands[order[i]];
+  for (std::size_t i = 0; i < chosen.order.size(); ++i) {
+    const Candidate& c = m.cands[chosen.order[i]];
     const Eigen::Index kc = c.reg.columns.cols();
-    DiagnosedEffect d;
-    d.effect = c.effect.name;
-    d.score = scores[i];
-    d.cumulative_share = cumulative[i];
-    d.parameters = c.effect.parameters;
-    d.column_names = c.reg.column_names;
-    d.coefficients = coef.segment(offset, kc);
-    d.coefficient_std = coef_std.segment(offset, kc);
+    result.effects.push_back(DescribeEffect(c, chosen.scores[i], chosen.cumulative[i], fit.coef.segment(offset, kc),
+                                            fit.coef_std.segment(offset, kc), signals));
     offset += kc;
-    if (d.effect == "position_periodic" || d.effect == "time_periodic" || d.effect == "velocity_dependent_ripple") {
-      d.parameters["amplitude"] = std::hypot(d.coefficients(0), d.coefficients(1));
-    }
-    const Eigen::VectorXd contribution = c.reg.columns * d.coefficients;
-    d.contribution_rms = std::sqrt(contribution.squaredNorm() / static_cast<double>(n));
-    const Eigen::VectorXd magnitude = contribution.cwiseAbs();
-    const double threshold = Percentile(std::vector<double>(magnitude.data(), magnitude.data() + n), 0.9);
-    std::vector<double> ts, xs, vs;
-    for (Eigen::Index j = 0; j < n; ++j) {
-      if (std::abs(contribution(j)) >= threshold) {
-        ts.push_back(signals.time(j));
-        xs.push_back(signals.position(j));
-        vs.push_back(signals.velocity(j));
-      }
-    }
-    d.time_range[0] = Percentile(ts, 0.05); d.time_range[1] = Percentile(ts, 0.95);
-    d.position_range[0] = Percentile(xs, 0.05); d.position_range[1] = Percentile(xs, 0.95);
-    d.velocity_range[0] = Percentile(vs, 0.05); d.velocity_range[1] = Percentile(vs, 0.95);
-    d.description = fmt::format(
-        "{}{}: explains {:.1f} % of the held-out residual energy left before it was added ({:.1f} % "
-        "cumulative); RMS contribution {:.3g}; largest for t in [{:.3g}, {:.3g}] s, x in [{:.4g}, {:.4g}] mm, "
-        "v in [{:.3g}, {:.3g}] m/s. {}",
-        d.effect, d.parameters.empty() ? "" : " (" + FormatParameters(d.parameters) + ")", 100.0 * d.score,
-        100.0 * d.cumulative_share, d.contribution_rms, d.time_range[0], d.time_range[1],
-        1e3 * d.position_range[0], 1e3 * d.position_range[1], d.velocity_range[0], d.velocity_range[1],
-        EffectPhysics(d.effect));
-    result.effects.push_back(std::move(d));
   }
   std::stable_sort(result.effects.begin(), result.effects.end(),
                    [](const DiagnosedEffect& a, const DiagnosedEffect& b) { return a.score > b.score; });
   result.missing_effect_found = !result.effects.empty();
 
   // 6. Can position-periodic and time-periodic be told apart?
-  std::string ambiguity_note;
-  {
-    const double v_max = signals.velocity.cwiseAbs().maxCoeff();
-    std::vector<double> speeds;
-    for (Eigen::Index j = 0; j < n; ++j) {
-      const double s = std::abs(signals.velocity(j));
-      if (s > 0.1 * v_max) speeds.push_back(s);
-    }
-    const double median = Percentile(speeds, 0.5);
-    const double spread = median > 0.0 ? (Percentile(speeds, 0.75) - Percentile(speeds, 0.25)) / median : 0.0;
-    const bool one_speed = median > 0.0 && spread < options.single_speed_spread;
-    bool periodic = false;
-    // At one speed |v| is constant too: a velocity-dependent ripple is a position-periodic one.
-    auto is_periodic = [](const std::string& effect) {
-      return effect == "position_periodic" || effect == "time_periodic" || effect == "velocity_dependent_ripple";
-    };
-    for (const auto& e : result.effects) periodic = periodic || is_periodic(e.effect);
-    if (one_speed && periodic) {
-      result.position_time_indistinguishable = true;
-      ambiguity_note = fmt::format(
-          "cannot tell position-periodic from time-periodic: the motion has essentially one speed (|v| ≈ {:.4g} "
-          "m/s, interquartile spread {:.1f} %), so a period P in position is a period P/|v| in time. Record "
-          "the motion at two or more speeds to tell them apart.",
-          median, 100.0 * spread);
-      result.notes.push_back(ambiguity_note);
-      for (auto& e : result.effects) {
-        if (is_periodic(e.effect)) {
-          e.description += " (position-periodic vs time-periodic: cannot tell at one speed)";
-        }
-      }
-    }
-  }
+  const std::string ambiguity_note = CheckPositionTimeAmbiguity(signals, options, &result);
 
   // 7. Evidence and summary.
-  const auto& wb = result.whiteness_before;
-  result.notes.push_back(fmt::format("residual after the base refit: Ljung–Box Q = {:.4g}, p = {:.3g} ({})",
-                                     wb.ljung_box_q, wb.p_value, wb.white ? "white" : "not white"));
-  bool significant_peak = false;
-  if (!result.position_peaks.empty()) {
-    const auto& pk = result.position_peaks.front();
-    significant_peak = pk.significant;
-    result.notes.push_back(fmt::format(
-        "strongest position-periodogram peak: period {:.4g} mm, {:.1f} % of the variance, false-alarm "
-        "probability {:.2g} ({})",
-        pk.period * 1e3, 100.0 * pk.power, pk.false_alarm_probability, pk.significant ? "significant" : "not significant"));
-  }
-  if (result.missing_effect_found) {
-    const auto& top = result.effects.front();
-    result.summary = fmt::format(
-        "Missing: {}{} — explains {:.1f} % of the held-out residual energy. All chosen effects together "
-        "explain {:.1f} %; RMSE {:.4g} → {:.4g} (in-sample, base refit {:.4g}), held-out RMSE {:.4g} → {:.4g}.",
-        top.effect, top.parameters.empty() ? "" : " (" + FormatParameters(top.parameters) + ")",
-        100.0 * top.score, 100.0 * result.explained_share, result.rmse_before, result.rmse_after,
-        result.rmse_base_refit, result.heldout_rmse_base, result.heldout_rmse_after);
-    if (result.position_time_indistinguishable) result.summary += " " + ambiguity_note;
-  } else if (wb.white && !significant_peak) {
-    result.summary = fmt::format(
-        "No missing effect: no candidate reduces the held-out error by {:.1f} % or more, the residual is "
-        "white (Ljung–Box p = {:.3g}) and no position-periodogram peak is significant. RMSE {:.4g}.",
-        100.0 * options.min_gain, wb.p_value, result.rmse_base_refit);
-  } else {
-    result.summary = fmt::format(
-        "No missing effect from the catalogue: no candidate reduces the held-out error by {:.1f} % or more, "
-        "but the residual is {}{}; the structure left is not one of the catalogue's effects (try the "
-        "non-parametric TISO-GPR component). RMSE {:.4g}.",
-        100.0 * options.min_gain, wb.white ? "white" : "not white", significant_peak ? " and has a significant position-periodic peak" : "",
-        result.rmse_base_refit);
-  }
+  Summarise(options, ambiguity_note, &result);
   return result;
 }
 

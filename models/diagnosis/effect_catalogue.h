@@ -4,25 +4,8 @@
 // much of the residual the effect explains. ProposeCandidateEffects finds the effects' nonlinear
 // parameters (periods, frequencies, delay, ...) from the data: periodograms, spectrum, correlation.
 //
-// Stable effect names and their regressors (s_db(v) = sign(v), 0 inside the dead band |v| < v_db):
-//   constant_offset            1
-//   viscous_friction           v
-//   coulomb_friction           s_db(v)                                      {dead_band}
-//   stribeck_friction          exp(−(v/v_s)²)·s_db(v)                       {stribeck_velocity, dead_band}
-//   asymmetric_friction        1 where v > v_db, else 0 (an offset in the positive direction only;
-//                              with coulomb_friction and constant_offset: different levels per direction)
-//                                                                           {dead_band}
-//   mass_mismatch              a
-//   position_periodic          cos(2πkx/P), sin(2πkx/P), k = 1..K           {period, harmonics}
-//   velocity_dependent_ripple  |v|·cos(2πx/P), |v|·sin(2πx/P)               {period}
-//   time_periodic              cos(2πkft), sin(2πkft), k = 1..K             {frequency_hz, harmonics}
-//   resonance                  g and ġ/ω_r, g = the excitation (input u, else the acceleration a)
-//                              through ω_r²/(s² + 2ζω_r s + ω_r²) (bilinear, pre-warped at f_r); with a:
-//                              a load m on a spring–damper behind the motor adds m·g + 2ζm·ġ/ω_r to the
-//                              force (two-mass model, blocks/flexible_load.h)
-//                                                                           {frequency_hz, damping_ratio}
-//   time_delay                 ŷ(t − d) − ŷ(t) (linear interpolation; ≈ −d·dŷ/dt for small d)  {delay}
-//   quantization               q·round(ŷ/q) − ŷ (the measured output is quantized with step q)  {step}
+// The effects themselves are registered one per file in models/diagnosis/effects/ (effect_registry.h: name,
+// physics, regressors, proposal rule, traits, block); the functions below go through that registry.
 // Units: SI (period [m], frequency_hz [Hz], delay [s], velocities [m/s], step [unit of the output]).
 #pragma once
 
@@ -55,7 +38,7 @@ struct DiagnosisSignals {
 
 // One effect with its parameters: enough to rebuild its regressors on new data.
 struct EffectInstance {
-  std::string name;                          // a stable name from the catalogue above
+  std::string name;                          // a registered effect's stable name (effect_registry.h)
   std::map<std::string, double> parameters;  // SI
 };
 
@@ -65,11 +48,11 @@ struct EffectRegressors {
   std::vector<std::string> column_names;  // k names, e.g. "position_periodic.cos1"
 };
 
-// The catalogue's effect names, in catalogue order.
-const std::vector<std::string>& EffectNames();
+// The registered effects' names, in catalogue order (the order candidates are proposed in).
+std::vector<std::string> EffectNames();
 
 // One sentence on the physics of an effect and how to add it to a model (for reports).
-// Throws std::invalid_argument for an unknown name.
+// Throws std::invalid_argument for an unknown name ("did you mean", listing the known ones).
 std::string EffectPhysics(std::string_view name);
 
 // The regressors of an effect on the signals. Throws std::invalid_argument for an unknown name (listing
@@ -121,14 +104,10 @@ struct CandidateSearch {
 };
 
 // Proposes every applicable effect with parameters estimated from the signals and `residual` (pass the
-// residual after the base model's refit): position periods from PositionPeriodogram, the time-periodic
-// frequency from TimePeriodogram (the strongest peak that is not motion-locked, see CatalogueOptions), the
-// resonance's frequency from the residual's Welch spectrum, refined with its damping ratio by golden-section
-// searches of the joint fit with the base, the delay from a least-squares fit of the residual on dŷ/dt refined
-// by a scan and golden-section search of the shift (joint with the base), the quantization step from the
-// measured output's (ŷ + r) smallest level difference when ≥ 95 % of its changes are multiples of it, else
-// from the periodogram of the residual against ŷ (the quantization error is periodic in ŷ). Effects whose signals are
-// absent (time_delay and quantization without ŷ) or that have nothing to fit are left out.
+// residual after the base model's refit): every registered effect's proposal rule (EffectType::propose, described
+// in its file in effects/) runs in catalogue order on one ProposalContext (effect_proposal.h) that holds the
+// analyses they share — the position and time periodograms of the residual and the motion's own frequency.
+// Effects whose signals are absent (those built from ŷ without it) or that have nothing to fit are left out.
 // Throws std::invalid_argument as DiagnosisSignals::Validate, or when residual or base_columns has the
 // wrong number of rows.
 // base_columns: the base model's regressors (N × p, p may be 0), refit jointly when the delay is estimated.

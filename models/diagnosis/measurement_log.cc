@@ -100,6 +100,82 @@ void MeasurementLog::AddColumn(std::string name, Eigen::VectorXd values) {
   columns_.push_back(std::move(values));
 }
 
+namespace {
+
+// The header's column names (line 1): each named, not numbers, the required ones present.
+std::vector<std::string> ParseHeader(std::string_view line, const std::string& path,
+                                     const MeasurementLogOptions& options) {
+  std::vector<std::string_view> cells;
+  SplitCells(line, &cells);
+  std::vector<std::string> names(cells.begin(), cells.end());
+  for (std::size_t j = 0; j < names.size(); ++j) {
+    if (names[j].empty()) {
+      throw std::invalid_argument(fmt::format(
+          "{}: line 1 (header): column {} has no name; give every column a name", path, j + 1));
+    }
+    double unused = 0.0;
+    const auto res = std::from_chars(names[j].data(), names[j].data() + names[j].size(), unused);
+    if (res.ec == std::errc() && res.ptr == names[j].data() + names[j].size()) {
+      throw std::invalid_argument(fmt::format(
+          "{}: line 1 is numbers, not a header; add a header row with the column names (e.g. "
+          "'time_s,position_m,force_N')",
+          path));
+    }
+  }
+  std::vector<std::string> missing;
+  for (const auto& req : options.required_columns) {
+    if (std::find(names.begin(), names.end(), req) == names.end()) missing.push_back(req);
+  }
+  if (!missing.empty()) {
+    throw std::invalid_argument(fmt::format(
+        "{}: missing required column(s) {}; the columns present are: {}. Rename the column in the "
+        "header or choose the column names in the command's options",
+        path, JoinNames(missing), JoinNames(names)));
+  }
+  return names;
+}
+
+// Time (the first column) strictly increasing, without gaps above max_gap_ratio × the median step.
+void CheckTimeColumn(const std::vector<double>& t, const std::vector<std::size_t>& line_of_row, const std::string& path,
+                     const std::string& time_name, const MeasurementLogOptions& options) {
+  const std::size_t nrows = t.size();
+  for (std::size_t i = 1; i < nrows; ++i) {
+    if (!(t[i] > t[i - 1])) {
+      throw std::invalid_argument(fmt::format(
+          "{}: line {}, column '{}': time {} does not increase (previous row, line {}, has {}); sort the "
+          "rows by time and remove repeated samples",
+          path, line_of_row[i], time_name, t[i], line_of_row[i - 1], t[i - 1]));
+    }
+  }
+  if (options.max_gap_ratio > 0.0 && nrows >= 3) {
+    std::vector<double> steps(nrows - 1);
+    for (std::size_t i = 1; i < nrows; ++i) steps[i - 1] = t[i] - t[i - 1];
+    std::vector<double> sorted = steps;
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2),
+                     sorted.end());
+    const double median = sorted[sorted.size() / 2];
+    std::string where;
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < steps.size(); ++i) {
+      if (steps[i] > options.max_gap_ratio * median) {
+        if (count < 5) {
+          where += fmt::format("{}after t = {} s (line {}, step {} s)", count ? "; " : "", t[i],
+                               line_of_row[i], steps[i]);
+        }
+        ++count;
+      }
+    }
+    if (count > 0) {
+      throw std::invalid_argument(fmt::format(
+          "{}: column '{}': {} gap(s) in time larger than {} × the median step {} s: {}{}. Split the log "
+          "at the gaps or resample it to a uniform step",
+          path, time_name, count, options.max_gap_ratio, median, where, count > 5 ? "; ..." : ""));
+    }
+  }
+}
+
+}  // namespace
+
 MeasurementLog ReadMeasurementLog(const std::string& path, const MeasurementLogOptions& options) {
   std::ifstream in(path, std::ios::binary);
   if (!in) {
@@ -131,33 +207,8 @@ MeasurementLog ReadMeasurementLog(const std::string& path, const MeasurementLogO
         path));
   }
   if (line.size() >= 3 && line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);  // UTF-8 BOM
+  std::vector<std::string> names = ParseHeader(line, path, options);
   std::vector<std::string_view> cells;
-  SplitCells(line, &cells);
-  std::vector<std::string> names(cells.begin(), cells.end());
-  for (std::size_t j = 0; j < names.size(); ++j) {
-    if (names[j].empty()) {
-      throw std::invalid_argument(fmt::format(
-          "{}: line 1 (header): column {} has no name; give every column a name", path, j + 1));
-    }
-    double unused = 0.0;
-    const auto res = std::from_chars(names[j].data(), names[j].data() + names[j].size(), unused);
-    if (res.ec == std::errc() && res.ptr == names[j].data() + names[j].size()) {
-      throw std::invalid_argument(fmt::format(
-          "{}: line 1 is numbers, not a header; add a header row with the column names (e.g. "
-          "'time_s,position_m,force_N')",
-          path));
-    }
-  }
-  std::vector<std::string> missing;
-  for (const auto& req : options.required_columns) {
-    if (std::find(names.begin(), names.end(), req) == names.end()) missing.push_back(req);
-  }
-  if (!missing.empty()) {
-    throw std::invalid_argument(fmt::format(
-        "{}: missing required column(s) {}; the columns present are: {}. Rename the column in the "
-        "header or choose the column names in the command's options",
-        path, JoinNames(missing), JoinNames(names)));
-  }
 
   const std::size_t ncols = names.size();
   std::vector<std::vector<double>> data(ncols);
@@ -220,40 +271,7 @@ MeasurementLog ReadMeasurementLog(const std::string& path, const MeasurementLogO
         options.min_rows));
   }
 
-  const std::vector<double>& t = data[0];
-  for (std::size_t i = 1; i < nrows; ++i) {
-    if (!(t[i] > t[i - 1])) {
-      throw std::invalid_argument(fmt::format(
-          "{}: line {}, column '{}': time {} does not increase (previous row, line {}, has {}); sort the "
-          "rows by time and remove repeated samples",
-          path, line_of_row[i], names[0], t[i], line_of_row[i - 1], t[i - 1]));
-    }
-  }
-  if (options.max_gap_ratio > 0.0 && nrows >= 3) {
-    std::vector<double> steps(nrows - 1);
-    for (std::size_t i = 1; i < nrows; ++i) steps[i - 1] = t[i] - t[i - 1];
-    std::vector<double> sorted = steps;
-    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2),
-                     sorted.end());
-    const double median = sorted[sorted.size() / 2];
-    std::string where;
-    std::size_t count = 0;
-    for (std::size_t i = 0; i < steps.size(); ++i) {
-      if (steps[i] > options.max_gap_ratio * median) {
-        if (count < 5) {
-          where += fmt::format("{}after t = {} s (line {}, step {} s)", count ? "; " : "", t[i],
-                               line_of_row[i], steps[i]);
-        }
-        ++count;
-      }
-    }
-    if (count > 0) {
-      throw std::invalid_argument(fmt::format(
-          "{}: column '{}': {} gap(s) in time larger than {} × the median step {} s: {}{}. Split the log "
-          "at the gaps or resample it to a uniform step",
-          path, names[0], count, options.max_gap_ratio, median, where, count > 5 ? "; ..." : ""));
-    }
-  }
+  CheckTimeColumn(data[0], line_of_row, path, names[0], options);
 
   std::vector<Eigen::VectorXd> columns(ncols);
   for (std::size_t j = 0; j < ncols; ++j) {

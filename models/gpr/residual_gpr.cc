@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "models/diagnosis/effect_registry.h"
+
 namespace mb {
 namespace {
 
@@ -138,7 +140,7 @@ ResidualGprResult FitResidualGprAfterDiagnosis(const DiagnosisSignals& signals, 
                                                const DiagnosisResult& diagnosis, ResidualGprOptions options) {
   if (options.period == 0.0 && !options.kernel) {
     for (const auto& e : diagnosis.effects) {
-      if ((e.effect == "position_periodic" || e.effect == "velocity_dependent_ripple") && e.parameters.count("period")) {
+      if (LookupEffect(e.effect).traits.periodicity == Periodicity::kPosition && e.parameters.count("period")) {
         options.period = e.parameters.at("period");
         break;
       }

@@ -1,0 +1,78 @@
+#include "models/diagnosis/effect_block.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace mb {
+
+using nlohmann::json;
+
+double BlockCoefficient(const DiagnosedEffect& effect, const std::string& suffix) {
+  for (std::size_t k = 0; k < effect.column_names.size(); ++k) {
+    const auto& name = effect.column_names[k];
+    if (name == effect.effect ? suffix.empty() : name.ends_with("." + suffix)) {
+      return effect.coefficients(static_cast<Eigen::Index>(k));
+    }
+  }
+  return 0.0;
+}
+
+double BlockParameter(const DiagnosedEffect& effect, const std::string& name) {
+  const auto it = effect.parameters.find(name);
+  if (it == effect.parameters.end() || !std::isfinite(it->second)) {
+    throw std::invalid_argument(fmt::format("effect '{}' without a '{}': cannot suggest a block", effect.effect, name));
+  }
+  return it->second;
+}
+
+int BlockHarmonics(const DiagnosedEffect& effect, int fallback) {
+  const auto it = effect.parameters.find("harmonics");
+  return it == effect.parameters.end() ? fallback : static_cast<int>(it->second);
+}
+
+json FourierBlockParameters(const DiagnosedEffect& effect, int harmonics) {
+  json cos_c = json::array(), sin_c = json::array();
+  for (int h = 1; h <= harmonics; ++h) {
+    cos_c.push_back(BlockCoefficient(effect, fmt::format("cos{}", h)));
+    sin_c.push_back(BlockCoefficient(effect, fmt::format("sin{}", h)));
+  }
+  return {{"harmonics", harmonics}, {"cos_coefficients", cos_c}, {"sin_coefficients", sin_c}};
+}
+
+json WithUnit(double value, const std::string& unit) { return {{"value", value}, {"unit", unit}}; }
+
+EffectBlockTemplate GainBlock(const std::string& element_name, MotionInput input) {
+  EffectBlockTemplate block;
+  block.block_type = "gain";
+  block.element_name = element_name;
+  block.inputs = {{input, "u"}};
+  block.parameters = [](const DiagnosedEffect& d) { return json{{"gain", BlockCoefficient(d, "")}}; };
+  block.free = {"gain"};
+  return block;
+}
+
+EffectBlockTemplate PositionRippleBlock(const std::string& block_type, int default_harmonics,
+                                        const std::vector<std::pair<MotionInput, std::string>>& extra_inputs) {
+  EffectBlockTemplate block;
+  block.block_type = block_type;
+  block.element_name = "ripple";
+  block.inputs = {{MotionInput::kPosition, "x"}};
+  block.inputs.insert(block.inputs.end(), extra_inputs.begin(), extra_inputs.end());
+  block.parameters = [default_harmonics](const DiagnosedEffect& d) {
+    const double period = BlockParameter(d, "period");
+    if (!(period > 0.0)) {
+      throw std::invalid_argument(fmt::format("{} without a period: cannot suggest a block", d.effect));
+    }
+    json p = FourierBlockParameters(d, BlockHarmonics(d, default_harmonics));
+    p["period"] = WithUnit(period, "m");
+    return p;
+  };
+  block.free = {"cos_coefficients", "sin_coefficients"};
+  block.refinable = {"period"};
+  block.record_specific = {"position_offset"};
+  return block;
+}
+
+}  // namespace mb

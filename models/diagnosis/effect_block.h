@@ -1,0 +1,43 @@
+#pragma once
+// What an effect's block template (EffectBlockTemplate::parameters) reads from the diagnosis: the effect's
+// parameters and the joint fit's coefficients of its regressor columns, as block parameters.
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "models/diagnosis/diagnosis.h"
+#include "models/diagnosis/effect_registry.h"
+
+namespace mb {
+
+/// The joint fit's coefficient of column "<effect>.<suffix>", or of the single column "<effect>" when `suffix`
+/// is empty; 0 if absent.
+double BlockCoefficient(const DiagnosedEffect& effect, const std::string& suffix);
+
+/// The diagnosed parameter `name`. Throws std::invalid_argument "effect 'x' without a 'name': cannot suggest a
+/// block" when it is absent or not finite.
+double BlockParameter(const DiagnosedEffect& effect, const std::string& name);
+
+/// The diagnosed "harmonics" (an integer), else `fallback`.
+int BlockHarmonics(const DiagnosedEffect& effect, int fallback);
+
+/// The Fourier block parameters "harmonics", "cos_coefficients" a_h and "sin_coefficients" b_h (h = 1..harmonics)
+/// from the columns "<effect>.cos<h>", "<effect>.sin<h>" (blocks/position_periodic.h, blocks/time_periodic.h).
+nlohmann::json FourierBlockParameters(const DiagnosedEffect& effect, int harmonics);
+
+/// A parameter with its unit: {"value": v, "unit": unit}.
+nlohmann::json WithUnit(double value, const std::string& unit);
+
+/// A gain element `element_name` on a motion input (port "u"), summed into the output; its gain = the effect's
+/// single-column coefficient, free.
+EffectBlockTemplate GainBlock(const std::string& element_name, MotionInput input);
+
+/// A position-periodic ripple element "ripple" of `block_type` (blocks/position_periodic.h,
+/// blocks/velocity_dependent_ripple.h) on the position input (port "x", plus `extra_inputs`): its period from the
+/// diagnosis (> 0, else std::invalid_argument), Fourier coefficients from the joint fit (free), `harmonics` the
+/// diagnosed ones else `default_harmonics`; the period refinable, the position_offset (encoder zero) record-specific.
+EffectBlockTemplate PositionRippleBlock(const std::string& block_type, int default_harmonics,
+                                        const std::vector<std::pair<MotionInput, std::string>>& extra_inputs = {});
+
+}  // namespace mb

@@ -1,0 +1,75 @@
+#pragma once
+// What an effect's proposal rule (EffectType::propose) works with: the signals, the residual after the base
+// refit, the base's regressors, the options, and the analyses that several effects share — the position and
+// time periodograms of the residual, the motion's own repetition frequency, the position periods worth
+// proposing. ProposeCandidateEffects (effect_catalogue.h) builds one context and calls every registered effect's
+// rule in catalogue order; the rules add candidates and notes to it.
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "models/diagnosis/effect_catalogue.h"
+
+namespace mb {
+
+/// A position period worth proposing: a strong independent peak of the residual's position periodogram.
+struct ProposedPeriod {
+  double period = 0.0;  ///< [m]; a sub-harmonic found in the periodogram makes it k × the peak's period
+  int harmonics = 1;    ///< 1 + the highest harmonic order flagged, at most CatalogueOptions::max_harmonics
+};
+
+class ProposalContext {
+ public:
+  /// Runs the shared analyses: the position periodogram (when the position moves; max_period automatic =
+  /// travel/min_position_cycles), the time periodogram of the residual and the motion's repetition frequency
+  /// (the strongest period of the position in time), written to `search`. The arguments must outlive the context.
+  /// Throws as PositionPeriodogram and TimePeriodogram.
+  ProposalContext(const DiagnosisSignals& signals, const Eigen::VectorXd& residual,
+                  const Eigen::MatrixXd& base_columns, const CatalogueOptions& options, CandidateSearch* search);
+
+  const DiagnosisSignals& signals() const { return signals_; }
+  /// The residual after the base refit (N).
+  const Eigen::VectorXd& residual() const { return residual_; }
+  /// The base model's regressors (N × p, p may be 0).
+  const Eigen::MatrixXd& base_columns() const { return base_columns_; }
+  const CatalogueOptions& options() const { return options_; }
+  const CandidateSearch& search() const { return *search_; }
+  Eigen::Index size() const { return signals_.size(); }
+
+  double max_speed() const { return max_speed_; }         ///< max |v| [m/s]
+  double dead_band() const { return dead_band_; }         ///< of sign(v): dead_band_fraction × max |v| [m/s]
+  double position_span() const { return position_span_; }  ///< max x − min x [m]
+  double sample_period() const { return sample_period_; }   ///< median time step [s]
+  /// The base's regressors with a constant column appended (N × (p + 1)), for joint fits in parameter searches.
+  Eigen::MatrixXd BaseWithConstant() const;
+  /// Up to CatalogueOptions::max_position_periods periods from the position periodogram, strongest first
+  /// (empty when the position does not move).
+  const std::vector<ProposedPeriod>& position_periods() const { return position_periods_; }
+
+  /// Adds a candidate (catalogue name, SI parameters).
+  void Propose(std::string effect, std::map<std::string, double> parameters = {});
+  /// Adds a note for the report (why something was or was not proposed).
+  void Note(std::string note);
+
+ private:
+  const DiagnosisSignals& signals_;
+  const Eigen::VectorXd& residual_;
+  const Eigen::MatrixXd& base_columns_;
+  const CatalogueOptions& options_;
+  CandidateSearch* search_;
+  double max_speed_ = 0.0, dead_band_ = 0.0, position_span_ = 0.0, sample_period_ = 0.0;
+  std::vector<ProposedPeriod> position_periods_;
+};
+
+/// Harmonics of peak `index` of a periodogram: 1 + the highest positive harmonic order flagged against it, at
+/// most max_harmonics.
+int HarmonicCount(const Periodogram& periodogram, std::size_t index, int max_harmonics);
+
+/// Residual sum of squares of the least-squares fit of r on [base, extra] (normal equations, small ridge).
+double ResidualSumOfSquares(const Eigen::MatrixXd& base, const Eigen::Ref<const Eigen::MatrixXd>& extra,
+                            const Eigen::VectorXd& r);
+
+}  // namespace mb

@@ -1,0 +1,76 @@
+#include "models/diagnosis/effect_registry.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "engine/closest_names.h"
+
+namespace mb {
+
+EffectRegistry& EffectRegistry::Global() {
+  static EffectRegistry registry;
+  return registry;
+}
+
+bool EffectRegistry::Add(EffectType type) {
+  const std::string name = type.name;
+  if (name.empty()) throw std::logic_error("an effect registered without a name");
+  if (!type.regressors || !type.propose) {
+    throw std::logic_error(fmt::format("effect '{}' registered without its regressors or proposal rule", name));
+  }
+  if (type.block && !type.block->parameters) {
+    throw std::logic_error(fmt::format("effect '{}': its block template has no parameters function", name));
+  }
+  if (!effects_.emplace(name, std::move(type)).second) {
+    throw std::logic_error(fmt::format("effect '{}' registered twice", name));
+  }
+  return true;
+}
+
+const EffectType* EffectRegistry::Find(std::string_view name) const {
+  const auto it = effects_.find(name);
+  return it == effects_.end() ? nullptr : &it->second;
+}
+
+const EffectType& EffectRegistry::Get(std::string_view name) const {
+  if (const EffectType* type = Find(name)) return *type;
+  std::string known, guess;
+  for (const EffectType* e : Effects()) known += (known.empty() ? "" : ", ") + e->name;
+  for (const auto& s : Suggest(name)) guess += (guess.empty() ? "" : "' or '") + s;
+  throw std::invalid_argument(fmt::format("unknown effect '{}'; {}: {}", name,
+                                          guess.empty() ? "the catalogue has"
+                                                        : fmt::format("did you mean '{}'? The catalogue has", guess),
+                                          known));
+}
+
+std::vector<const EffectType*> EffectRegistry::Effects() const {
+  std::vector<const EffectType*> out;
+  for (const auto& [name, type] : effects_) out.push_back(&type);
+  std::stable_sort(out.begin(), out.end(), [](const EffectType* a, const EffectType* b) {
+    return a->catalogue_order < b->catalogue_order;
+  });
+  return out;
+}
+
+std::vector<std::string> EffectRegistry::Suggest(std::string_view name, std::size_t max_suggestions) const {
+  std::vector<std::string> names;
+  for (const auto& [known, type] : effects_) names.push_back(known);
+  return ClosestNames(name, names, max_suggestions);
+}
+
+const EffectType& LookupEffect(std::string_view name) { return EffectRegistry::Global().Get(name); }
+
+std::vector<std::string> RecordSpecificParameters(std::string_view block_type) {
+  std::vector<std::string> out;
+  for (const EffectType* e : EffectRegistry::Global().Effects()) {
+    if (!e->block || e->block->block_type != block_type) continue;
+    for (const auto& p : e->block->record_specific) {
+      if (std::find(out.begin(), out.end(), p) == out.end()) out.push_back(p);
+    }
+  }
+  return out;
+}
+
+}  // namespace mb

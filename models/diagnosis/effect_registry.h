@@ -1,0 +1,136 @@
+#pragma once
+// The catalogue of candidate missing physical effects as a registry, mirroring the block registry
+// (engine/registry.h): each effect is one file in models/diagnosis/effects/ that fills in an EffectType — its
+// name, physics, regressors, proposal rule, traits and the block that adds it to a diagram — and registers it
+// with MB_REGISTER_EFFECT. The diagnosis (diagnosis.cc), the loop (tools/suggest.cc, tools/improve.cc) and the
+// non-parametric fallback (models/gpr/residual_gpr.cc) ask the registry for an effect's traits and block
+// instead of comparing its name (docs/diagnosis.md, "Adding an effect").
+
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "models/diagnosis/effect_catalogue.h"
+
+namespace mb {
+
+struct DiagnosedEffect;  // models/diagnosis/diagnosis.h
+class ProposalContext;   // models/diagnosis/effect_proposal.h
+
+/// What an effect's regressors are periodic in (Lomb–Scargle searches; DIAGNOSIS.md step 2).
+enum class Periodicity {
+  kNone,
+  kPosition,  ///< periodic in x with a parameter "period" [m] (cogging, screw-lead ripple): a pitch of the machine
+  kTime,      ///< periodic in t with a parameter "frequency_hz" (a vibration)
+};
+
+/// What the diagnosis and the loop ask of an effect instead of its name.
+struct EffectTraits {
+  /// Periodic effects' first two regressor columns are the cosine and sine of the fundamental: the diagnosis
+  /// reports their amplitude; at one speed a position period cannot be told from a time period.
+  Periodicity periodicity = Periodicity::kNone;
+  /// The regressor is the error itself (ŷ quantized, or delayed, minus ŷ): the effect must enter the joint fit
+  /// with a coefficient near 1, else the column is only a nonlinear function of ŷ that happens to correlate
+  /// with the residual and the effect is dropped.
+  bool regressor_is_error = false;
+  /// The regressor is built from the model output ŷ alone, which is in the output filter's band already: it is
+  /// not low-passed with the motion's regressors (DiagnosisOptions::regressor_filter_hz).
+  bool regressor_in_output_band = false;
+};
+
+/// One parameter of an effect instance (EffectInstance::parameters), SI units.
+struct EffectParameter {
+  std::string name;
+  std::string unit;         ///< SI ("m", "Hz", "s", "m/s"), "" for counts and ratios
+  std::string description;
+};
+
+/// Where a suggested block goes in the diagram (tools/suggest.h).
+enum class BlockPlacement {
+  kAddToOutput,         ///< its output port is summed into the signal feeding the output connector
+  kInsertBeforeOutput,  ///< it is put between that signal and the output connector (ports "u" → "y")
+};
+
+/// A measured motion quantity that a suggested block reads from the diagram's input connectors (found by unit).
+enum class MotionInput { kPosition, kVelocity, kAcceleration };
+
+/// The block that adds an effect to a diagram, as `compare --suggest` and `improve` insert it.
+struct EffectBlockTemplate {
+  std::string block_type;    ///< a registered block type (blocks/)
+  std::string element_name;  ///< the new element's name, made unique ("ripple", "ripple_2", …)
+  BlockPlacement placement = BlockPlacement::kAddToOutput;
+  std::string output_port = "y";  ///< the port summed into the output (kAddToOutput)
+  std::vector<std::pair<MotionInput, std::string>> inputs;  ///< input connector → block port, wired in order
+  bool discrete = false;  ///< gets sampleTime [Ts, 0], Ts = the diagram's solver.step or defaultExperiment.stepSize
+  /// The element's "parameters" from the diagnosis (its parameters and joint-fit coefficients, effect_block.h).
+  /// Throws std::invalid_argument when a key parameter is missing or out of range (saying why).
+  std::function<nlohmann::json(const DiagnosedEffect&)> parameters;
+  std::vector<std::string> free;       ///< element parameters refit jointly with the base by the next compare
+  std::vector<std::string> refinable;  ///< also refit when the loop refines periods (improve --refine-periods)
+  /// Parameters that belong to the record rather than the machine (the encoder zero): refit on a validation
+  /// record while the rest stays (improve's held-out score, demo step 4).
+  std::vector<std::string> record_specific;
+};
+
+/// One registered effect: everything the catalogue knows about it.
+struct EffectType {
+  std::string name;  ///< stable catalogue name (compare.json, improve.json): snake_case, e.g. "position_periodic"
+  /// Where the effect's candidates come in the candidate list (ascending); ties go by name. Candidates earlier in
+  /// the list win exact ties of the forward selection.
+  int catalogue_order = 0;
+  std::string physics;             ///< one sentence: the physics and how to add it to a model (reports)
+  std::string regressor_formula;   ///< the regressor columns as a formula, e.g. "cos(2πkx/P), sin(2πkx/P), k = 1..K"
+  std::vector<EffectParameter> parameters;
+  EffectTraits traits;
+  /// The regressor columns (N × k, names "<effect>" or "<effect>.<column>") on the signals. Throws
+  /// std::invalid_argument naming a missing or invalid parameter or an absent optional signal.
+  std::function<EffectRegressors(const EffectInstance&, const DiagnosisSignals&)> regressors;
+  /// The proposal rule: estimates the effect's parameters from the residual (periodogram peaks, spectrum, a
+  /// scan of the joint fit, …) and adds zero or more candidates to the context (ProposalContext::Propose).
+  std::function<void(ProposalContext&)> propose;
+  /// The block that adds the effect to a diagram; nullopt when there is none (the report says to add it by hand).
+  std::optional<EffectBlockTemplate> block;
+};
+
+class EffectRegistry {
+ public:
+  /// The process-wide registry that the effect files add themselves to during static initialisation.
+  static EffectRegistry& Global();
+
+  /// Adds an effect. @throws std::logic_error if the name is taken or empty, or a function is missing.
+  /// Returns true (for static registration).
+  bool Add(EffectType type);
+  /// nullptr if unknown.
+  const EffectType* Find(std::string_view name) const;
+  /// The effect; @throws std::invalid_argument "unknown effect 'x'; did you mean 'y'? The catalogue has: …".
+  const EffectType& Get(std::string_view name) const;
+  /// Every effect in catalogue order (the order candidates are proposed in).
+  std::vector<const EffectType*> Effects() const;
+  /// The registered names closest to `name` (edit distance), for "did you mean" messages.
+  std::vector<std::string> Suggest(std::string_view name, std::size_t max_suggestions = 3) const;
+
+ private:
+  std::map<std::string, EffectType, std::less<>> effects_;
+};
+
+/// EffectRegistry::Global().Get(name).
+const EffectType& LookupEffect(std::string_view name);
+
+/// The record-specific parameters (EffectBlockTemplate::record_specific) of a block type, over every registered
+/// effect whose block is of that type, each once; empty for other types.
+std::vector<std::string> RecordSpecificParameters(std::string_view block_type);
+
+}  // namespace mb
+
+/// Registers effect `type` (an EffectType expression) at static-initialisation time. Use once per effect file.
+#define MB_REGISTER_EFFECT(identifier, ...)                                         \
+  namespace {                                                                       \
+  [[maybe_unused]] const bool kEffectRegistered_##identifier =                      \
+      ::mb::EffectRegistry::Global().Add(__VA_ARGS__);                              \
+  }

@@ -1,0 +1,77 @@
+#include "models/diagnosis/effect_regressors.h"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace mb {
+
+double RequiredParameter(const EffectInstance& e, const char* key) {
+  const auto it = e.parameters.find(key);
+  if (it == e.parameters.end() || !std::isfinite(it->second)) {
+    throw std::invalid_argument(fmt::format(
+        "effect '{}': parameter '{}' is missing or not finite; set it (SI units)", e.name, key));
+  }
+  return it->second;
+}
+
+double PositiveParameter(const EffectInstance& e, const char* key) {
+  const double v = RequiredParameter(e, key);
+  if (!(v > 0.0)) {
+    throw std::invalid_argument(fmt::format("effect '{}': parameter '{}' = {} must be positive", e.name, key, v));
+  }
+  return v;
+}
+
+int HarmonicsParameter(const EffectInstance& e) {
+  const auto it = e.parameters.find("harmonics");
+  if (it == e.parameters.end()) return 1;
+  const double h = it->second;
+  if (!(h >= 1.0 && h <= 50.0) || h != std::round(h)) {
+    throw std::invalid_argument(fmt::format(
+        "effect '{}': parameter 'harmonics' = {} must be an integer in 1..50", e.name, h));
+  }
+  return static_cast<int>(h);
+}
+
+const Eigen::VectorXd& NeedModelOutput(const EffectInstance& e, const DiagnosisSignals& s) {
+  if (s.model_output.size() == 0) {
+    throw std::invalid_argument(fmt::format(
+        "effect '{}' needs the model output ŷ (DiagnosisSignals::model_output), which is absent", e.name));
+  }
+  return s.model_output;
+}
+
+Eigen::VectorXd SignDeadBand(const Eigen::VectorXd& v, double dead_band) {
+  return v.unaryExpr([dead_band](double x) { return std::abs(x) <= dead_band ? 0.0 : (x > 0.0 ? 1.0 : -1.0); });
+}
+
+EffectRegressors SingleColumn(const std::string& effect, Eigen::VectorXd column) {
+  EffectRegressors out;
+  out.columns = std::move(column);
+  out.column_names = {effect};
+  return out;
+}
+
+EffectRegressors PeriodicColumns(const Eigen::VectorXd& z, double period, int harmonics, const std::string& prefix,
+                                 const Eigen::VectorXd* scale) {
+  constexpr double kTwoPi = 2.0 * std::numbers::pi;
+  const Eigen::Index n = z.size();
+  EffectRegressors out;
+  out.columns.resize(n, 2 * harmonics);
+  for (int k = 1; k <= harmonics; ++k) {
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double th = kTwoPi * static_cast<double>(k) * z(i) / period;
+      const double g = scale ? (*scale)(i) : 1.0;
+      out.columns(i, 2 * (k - 1)) = g * std::cos(th);
+      out.columns(i, 2 * (k - 1) + 1) = g * std::sin(th);
+    }
+    out.column_names.push_back(fmt::format("{}.cos{}", prefix, k));
+    out.column_names.push_back(fmt::format("{}.sin{}", prefix, k));
+  }
+  return out;
+}
+
+}  // namespace mb

@@ -1,0 +1,34 @@
+#pragma once
+// Building blocks of the effects' regressors (models/diagnosis/effects/): parameter access with the catalogue's
+// error messages, sign(v) with a dead band, Fourier columns.
+
+#include <string>
+
+#include <Eigen/Core>
+
+#include "models/diagnosis/effect_catalogue.h"
+
+namespace mb {
+
+/// The parameter `key` of the effect. Throws std::invalid_argument "effect 'x': parameter 'key' is missing or not
+/// finite; set it (SI units)".
+double RequiredParameter(const EffectInstance& effect, const char* key);
+/// As RequiredParameter, and > 0 (else std::invalid_argument naming it).
+double PositiveParameter(const EffectInstance& effect, const char* key);
+/// The optional parameter "harmonics": 1 when absent; an integer in 1..50 (else std::invalid_argument).
+int HarmonicsParameter(const EffectInstance& effect);
+/// The model output ŷ; throws std::invalid_argument when DiagnosisSignals::model_output is absent.
+const Eigen::VectorXd& NeedModelOutput(const EffectInstance& effect, const DiagnosisSignals& signals);
+
+/// sign(v), 0 inside the dead band |v| ≤ dead_band [m/s].
+Eigen::VectorXd SignDeadBand(const Eigen::VectorXd& velocity, double dead_band);
+
+/// One column named after the effect.
+EffectRegressors SingleColumn(const std::string& effect, Eigen::VectorXd column);
+
+/// Columns g·cos(2πk·z/period), g·sin(2πk·z/period), k = 1..harmonics (N × 2·harmonics), named
+/// "<prefix>.cos<k>", "<prefix>.sin<k>"; g = `scale` (N) when given, else 1.
+EffectRegressors PeriodicColumns(const Eigen::VectorXd& z, double period, int harmonics, const std::string& prefix,
+                                 const Eigen::VectorXd* scale = nullptr);
+
+}  // namespace mb

@@ -1,0 +1,48 @@
+// coulomb_friction: a constant force opposing motion. Regressor s_db(v) = sign(v), 0 inside the dead band
+// |v| ≤ v_db {dead_band [m/s]}. Block: a friction element "coulomb_extra" (slip model) on the velocity input,
+// its Coulomb level free.
+#include <algorithm>
+
+#include "models/diagnosis/effect_block.h"
+#include "models/diagnosis/effect_proposal.h"
+#include "models/diagnosis/effect_registry.h"
+#include "models/diagnosis/effect_regressors.h"
+
+namespace mb {
+namespace {
+
+constexpr const char* kName = "coulomb_friction";
+
+EffectType CoulombFriction() {
+  EffectType t;
+  t.name = kName;
+  t.catalogue_order = 30;
+  t.physics = "a constant force opposing motion; add or refit Coulomb friction (friction mode, not sign(v))";
+  t.regressor_formula = "s_db(v) = sign(v), 0 inside the dead band |v| ≤ v_db";
+  t.parameters = {{"dead_band", "m/s", "v_db: sign(v) is 0 below it (dead_band_fraction × max |v|)"}};
+  t.regressors = [](const EffectInstance& e, const DiagnosisSignals& s) {
+    return SingleColumn(e.name, SignDeadBand(s.velocity, RequiredParameter(e, "dead_band")));
+  };
+  t.propose = [](ProposalContext& c) {
+    if (c.max_speed() > 0.0) c.Propose(kName, {{"dead_band", c.dead_band()}});
+  };
+  // The friction block needs non-negative forces, so a negative coefficient starts from 1 mN (not 0: the fit's
+  // central differences would step below the bound) and the fit moves it.
+  EffectBlockTemplate block;
+  block.block_type = "friction";
+  block.element_name = "coulomb_extra";
+  block.output_port = "f";
+  block.inputs = {{MotionInput::kVelocity, "v"}};
+  block.parameters = [](const DiagnosedEffect& d) {
+    return nlohmann::json{
+        {"viscous", 0.0}, {"coulomb", std::max(1e-3, BlockCoefficient(d, ""))}, {"stick_model", "none"}};
+  };
+  block.free = {"coulomb"};
+  t.block = std::move(block);
+  return t;
+}
+
+}  // namespace
+}  // namespace mb
+
+MB_REGISTER_EFFECT(coulomb_friction, mb::CoulombFriction())

@@ -1,0 +1,74 @@
+// stribeck_friction: extra friction at low speed decaying with the Stribeck velocity. Regressor
+// exp(−(v/v_s)²)·s_db(v) {stribeck_velocity v_s [m/s], dead_band [m/s]}. Proposal: the trial v_s (fractions of
+// max |v|) whose regressor correlates best with the residual. Block: a friction element "stribeck" (slip model,
+// Coulomb 0) on the velocity input, its static level and Stribeck velocity free.
+#include <algorithm>
+#include <cmath>
+
+#include "models/diagnosis/effect_block.h"
+#include "models/diagnosis/effect_proposal.h"
+#include "models/diagnosis/effect_registry.h"
+#include "models/diagnosis/effect_regressors.h"
+
+namespace mb {
+namespace {
+
+constexpr const char* kName = "stribeck_friction";
+
+Eigen::VectorXd StribeckColumn(const Eigen::VectorXd& velocity, const Eigen::VectorXd& sign, double vs) {
+  return (-(velocity.array() / vs).square()).exp() * sign.array();
+}
+
+void Propose(ProposalContext& c) {
+  if (!(c.max_speed() > 0.0)) return;
+  const Eigen::VectorXd& r = c.residual();
+  double best_vs = 0.0, best_corr = -1.0;
+  const Eigen::VectorXd sg = SignDeadBand(c.signals().velocity, c.dead_band());
+  const Eigen::VectorXd rc = r.array() - r.mean();
+  for (double frac : c.options().stribeck_fractions) {
+    const double vs = frac * c.max_speed();
+    Eigen::VectorXd col = StribeckColumn(c.signals().velocity, sg, vs);
+    col.array() -= col.mean();
+    const double denom = col.norm() * rc.norm();
+    const double corr = denom > 0.0 ? std::abs(col.dot(rc)) / denom : 0.0;
+    if (corr > best_corr) { best_corr = corr; best_vs = vs; }
+  }
+  if (best_vs > 0.0) c.Propose(kName, {{"stribeck_velocity", best_vs}, {"dead_band", c.dead_band()}});
+}
+
+EffectType StribeckFriction() {
+  EffectType t;
+  t.name = kName;
+  t.catalogue_order = 50;
+  t.physics = "extra friction at low speed decaying with the Stribeck velocity; add a Stribeck term";
+  t.regressor_formula = "exp(−(v/v_s)²)·s_db(v)";
+  t.parameters = {{"stribeck_velocity", "m/s", "v_s: where the extra low-speed friction has decayed to 1/e"},
+                  {"dead_band", "m/s", "v_db: sign(v) is 0 below it"}};
+  t.regressors = [](const EffectInstance& e, const DiagnosisSignals& s) {
+    const double vs = PositiveParameter(e, "stribeck_velocity");
+    const Eigen::VectorXd sg = SignDeadBand(s.velocity, RequiredParameter(e, "dead_band"));
+    return SingleColumn(e.name, StribeckColumn(s.velocity, sg, vs));
+  };
+  t.propose = Propose;
+  // A negative coefficient starts from 1 mN (the friction block needs non-negative forces).
+  EffectBlockTemplate block;
+  block.block_type = "friction";
+  block.element_name = "stribeck";
+  block.output_port = "f";
+  block.inputs = {{MotionInput::kVelocity, "v"}};
+  block.parameters = [](const DiagnosedEffect& d) {
+    return nlohmann::json{{"viscous", 0.0},
+                          {"coulomb", 0.0},
+                          {"stick_model", "none"},
+                          {"static", WithUnit(std::max(1e-3, BlockCoefficient(d, "")), "N")},
+                          {"stribeck_velocity", WithUnit(BlockParameter(d, "stribeck_velocity"), "m/s")}};
+  };
+  block.free = {"static", "stribeck_velocity"};
+  t.block = std::move(block);
+  return t;
+}
+
+}  // namespace
+}  // namespace mb
+
+MB_REGISTER_EFFECT(stribeck_friction, mb::StribeckFriction())

@@ -1,0 +1,39 @@
+// velocity_dependent_ripple: a position-periodic ripple whose amplitude grows with speed. Regressors
+// |v|·cos(2πx/P), |v|·sin(2πx/P) {period P [m]}. Proposal: at the strongest position period. Block:
+// velocity_dependent_ripple "ripple" on the position and velocity inputs, its coefficients free; its
+// position_offset (the encoder zero) belongs to the record.
+#include "models/diagnosis/effect_block.h"
+#include "models/diagnosis/effect_proposal.h"
+#include "models/diagnosis/effect_registry.h"
+#include "models/diagnosis/effect_regressors.h"
+
+namespace mb {
+namespace {
+
+constexpr const char* kName = "velocity_dependent_ripple";
+
+EffectType VelocityDependentRipple() {
+  EffectType t;
+  t.name = kName;
+  t.catalogue_order = 80;
+  t.physics = "a position-periodic ripple whose amplitude grows with speed; add a ripple term scaled by |v|";
+  t.regressor_formula = "|v|·cos(2πx/P), |v|·sin(2πx/P)";
+  t.parameters = {{"period", "m", "P: the pitch"}};
+  t.traits.periodicity = Periodicity::kPosition;
+  t.regressors = [](const EffectInstance& e, const DiagnosisSignals& s) {
+    const Eigen::VectorXd speed = s.velocity.cwiseAbs();
+    return PeriodicColumns(s.position, PositiveParameter(e, "period"), 1, e.name, &speed);
+  };
+  t.propose = [](ProposalContext& c) {
+    if (!c.position_periods().empty() && c.max_speed() > 0.0) {
+      c.Propose(kName, {{"period", c.position_periods().front().period}});
+    }
+  };
+  t.block = PositionRippleBlock("velocity_dependent_ripple", 1, {{MotionInput::kVelocity, "v"}});
+  return t;
+}
+
+}  // namespace
+}  // namespace mb
+
+MB_REGISTER_EFFECT(velocity_dependent_ripple, mb::VelocityDependentRipple())

@@ -1,0 +1,178 @@
+// The effect registry (models/diagnosis/effect_registry.h): every registered effect is complete, names are
+// unique, lookups of unknown names say "did you mean".
+#include "models/diagnosis/effect_registry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <set>
+#include <stdexcept>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "models/diagnosis/effect_proposal.h"
+
+namespace mb {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::StartsWith;
+
+// Back and forth over 0..0.2 m at 1 kHz, with a model output.
+DiagnosisSignals Motion() {
+  const Eigen::Index n = 4000;
+  DiagnosisSignals s;
+  s.time = Eigen::VectorXd::LinSpaced(n, 0.0, 1e-3 * static_cast<double>(n - 1));
+  const Eigen::ArrayXd phase = 2.0 * std::numbers::pi * 0.5 * s.time.array();
+  s.position = 0.1 + 0.1 * phase.sin();
+  s.velocity = 0.1 * std::numbers::pi * phase.cos();
+  s.acceleration = -0.1 * std::numbers::pi * std::numbers::pi * phase.sin();
+  s.residual = Eigen::VectorXd::Zero(n);
+  s.model_output = 90.0 * s.acceleration + 200.0 * s.velocity;
+  return s;
+}
+
+// A typical value of every parameter an effect declares. A new effect's new parameter goes here too, so that the
+// test builds its regressors.
+const std::map<std::string, double> kTypical{{"period", 0.0025},   {"harmonics", 2.0},         {"frequency_hz", 7.0},
+                                             {"delay", 0.004},     {"stribeck_velocity", 0.01}, {"damping_ratio", 0.05},
+                                             {"step", 0.5},        {"dead_band", 0.001}};
+
+bool IsSnakeCase(const std::string& name) {
+  return !name.empty() && std::islower(static_cast<unsigned char>(name.front())) &&
+         std::all_of(name.begin(), name.end(), [](char c) {
+           return std::islower(static_cast<unsigned char>(c)) || std::isdigit(static_cast<unsigned char>(c)) || c == '_';
+         });
+}
+
+TEST(EffectRegistry, EveryEffectHasNamePhysicsRegressorsAndARule) {
+  const auto effects = EffectRegistry::Global().Effects();
+  ASSERT_GE(effects.size(), 12u);
+  for (const EffectType* e : effects) {
+    SCOPED_TRACE(e->name);
+    EXPECT_TRUE(IsSnakeCase(e->name));
+    EXPECT_FALSE(e->physics.empty());
+    EXPECT_FALSE(e->regressor_formula.empty());
+    EXPECT_TRUE(e->regressors);
+    EXPECT_TRUE(e->propose);
+    for (const auto& p : e->parameters) {
+      EXPECT_TRUE(IsSnakeCase(p.name));
+      EXPECT_FALSE(p.description.empty()) << p.name;
+    }
+    if (e->block) {
+      EXPECT_FALSE(e->block->block_type.empty());
+      EXPECT_FALSE(e->block->element_name.empty());
+      EXPECT_TRUE(e->block->parameters);
+    }
+    if (e->traits.periodicity == Periodicity::kPosition) {
+      EXPECT_TRUE(std::any_of(e->parameters.begin(), e->parameters.end(), [](const auto& p) { return p.name == "period"; }));
+    }
+  }
+}
+
+TEST(EffectRegistry, NamesAreUniqueAndInCatalogueOrder) {
+  const std::vector<std::string> names = EffectNames();
+  EXPECT_EQ(std::set<std::string>(names.begin(), names.end()).size(), names.size());
+  const auto effects = EffectRegistry::Global().Effects();
+  ASSERT_EQ(effects.size(), names.size());
+  for (std::size_t i = 0; i < effects.size(); ++i) {
+    EXPECT_EQ(effects[i]->name, names[i]);
+    if (i > 0) {
+      EXPECT_LE(effects[i - 1]->catalogue_order, effects[i]->catalogue_order);
+    }
+  }
+  // The catalogue's stable names (compare.json) are all there.
+  for (const char* name : {"constant_offset", "viscous_friction", "coulomb_friction", "asymmetric_friction",
+                           "stribeck_friction", "mass_mismatch", "position_periodic", "velocity_dependent_ripple",
+                           "time_periodic", "resonance", "time_delay", "quantization"}) {
+    EXPECT_NE(EffectRegistry::Global().Find(name), nullptr) << name;
+  }
+}
+
+TEST(EffectRegistry, RegressorsBuildFromTheDeclaredParameters) {
+  const DiagnosisSignals s = Motion();
+  for (const EffectType* e : EffectRegistry::Global().Effects()) {
+    SCOPED_TRACE(e->name);
+    EffectInstance instance{e->name, {}};
+    for (const auto& p : e->parameters) {
+      ASSERT_TRUE(kTypical.count(p.name)) << "add a typical value of '" << p.name << "' to kTypical";
+      instance.parameters[p.name] = kTypical.at(p.name);
+    }
+    const EffectRegressors reg = BuildEffectRegressors(instance, s);
+    EXPECT_EQ(reg.columns.rows(), s.size());
+    ASSERT_GE(reg.columns.cols(), 1);
+    ASSERT_EQ(static_cast<Eigen::Index>(reg.column_names.size()), reg.columns.cols());
+    EXPECT_TRUE(reg.columns.allFinite());
+    for (const auto& column : reg.column_names) {
+      EXPECT_TRUE(column == e->name || column.starts_with(e->name + ".")) << column;
+    }
+    if (e->traits.periodicity != Periodicity::kNone) {
+      EXPECT_GE(reg.columns.cols(), 2);
+    }
+    // Without its parameters: an error that names one of them (or none are needed).
+    if (e->parameters.empty()) continue;
+    try {
+      BuildEffectRegressors({e->name, {}}, s);
+    } catch (const std::invalid_argument& error) {
+      EXPECT_THAT(error.what(), HasSubstr("effect '" + e->name + "': parameter '"));
+    }
+  }
+}
+
+TEST(EffectRegistry, UnknownEffectSaysDidYouMean) {
+  try {
+    LookupEffect("position_periodc");
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), StartsWith("unknown effect 'position_periodc'; did you mean 'position_periodic' or "
+                                     "'time_periodic'? The "
+                                     "catalogue has: constant_offset, viscous_friction, "));
+  }
+  try {
+    BuildEffectRegressors({"cogging", {}}, Motion());
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), StartsWith("unknown effect 'cogging'; the catalogue has: constant_offset, "));
+  }
+  EXPECT_EQ(EffectRegistry::Global().Find("cogging"), nullptr);
+  EXPECT_THROW(EffectPhysics("Stribeck"), std::invalid_argument);
+}
+
+TEST(EffectRegistry, RefusesDuplicatesAndIncompleteEffects) {
+  EffectRegistry registry;
+  EffectType t;
+  t.name = "spring";
+  t.physics = "a force proportional to position";
+  t.regressor_formula = "x";
+  t.regressors = [](const EffectInstance&, const DiagnosisSignals& s) { return EffectRegressors{s.position, {"spring"}}; };
+  EffectType incomplete = t;
+  incomplete.name = "spring2";
+  try {
+    registry.Add(incomplete);
+    FAIL() << "no exception";
+  } catch (const std::logic_error& e) {
+    EXPECT_STREQ(e.what(), "effect 'spring2' registered without its regressors or proposal rule");
+  }
+  t.propose = [](ProposalContext& c) { c.Propose("spring"); };
+  EXPECT_TRUE(registry.Add(t));
+  try {
+    registry.Add(t);
+    FAIL() << "no exception";
+  } catch (const std::logic_error& e) {
+    EXPECT_STREQ(e.what(), "effect 'spring' registered twice");
+  }
+  EXPECT_EQ(registry.Suggest("sprin"), std::vector<std::string>{"spring"});
+}
+
+TEST(EffectRegistry, RecordSpecificParametersComeFromTheBlockTemplates) {
+  // The ripple blocks' encoder zero belongs to the record; a gain's parameters to the machine.
+  EXPECT_EQ(RecordSpecificParameters(LookupEffect("position_periodic").block->block_type),
+            std::vector<std::string>{"position_offset"});
+  EXPECT_TRUE(RecordSpecificParameters("gain").empty());
+  EXPECT_TRUE(RecordSpecificParameters("no_such_block").empty());
+}
+
+}  // namespace
+}  // namespace mb
