@@ -31,6 +31,13 @@ std::vector<std::string> BlockRegistry::TypeNames() const {
   return names;
 }
 
+const BlockType& BlockRegistry::SumOfTwo() const {
+  for (const auto& [name, type] : types_) {
+    if (type.sum_of_two) return type;
+  }
+  throw std::logic_error("no registered block type adds two signals (sum_of_two): link mb_blocks into the program");
+}
+
 namespace {
 std::size_t EditDistance(const std::string& a, const std::string& b) {
   std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
@@ -46,16 +53,21 @@ std::size_t EditDistance(const std::string& a, const std::string& b) {
 }
 }  // namespace
 
-std::vector<std::string> BlockRegistry::Suggest(const std::string& type_name, std::size_t max_suggestions) const {
+std::vector<std::string> ClosestNames(const std::string& name, const std::vector<std::string>& candidates,
+                                      std::size_t max_suggestions) {
   std::vector<std::pair<std::size_t, std::string>> scored;
-  for (const auto& [name, type] : types_) scored.emplace_back(EditDistance(type_name, name), name);
+  for (const auto& candidate : candidates) scored.emplace_back(EditDistance(name, candidate), candidate);
   std::sort(scored.begin(), scored.end());
   std::vector<std::string> out;
-  for (const auto& [d, name] : scored) {
-    if (out.size() >= max_suggestions || d > std::max<std::size_t>(3, type_name.size() / 2)) break;
-    out.push_back(name);
+  for (const auto& [d, candidate] : scored) {
+    if (out.size() >= max_suggestions || d > std::max<std::size_t>(3, name.size() / 2)) break;
+    out.push_back(candidate);
   }
   return out;
+}
+
+std::vector<std::string> BlockRegistry::Suggest(const std::string& type_name, std::size_t max_suggestions) const {
+  return ClosestNames(type_name, TypeNames(), max_suggestions);
 }
 
 }  // namespace mb

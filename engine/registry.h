@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "engine/block.h"
 #include "engine/parameters.h"
 #include "engine/sample_time.h"
@@ -38,7 +40,16 @@ struct BlockType {
   std::vector<ParamSpec> parameters;
   SampleTimeRule sample_time_rule = SampleTimeRule::kNone;
   std::function<std::unique_ptr<Block>(const BlockConfig&)> factory;
+  /// Set by the one type that adds signals: the parameters that make an instance the sum of two inputs,
+  /// y = u_0 + u_1 (its input ports in declared order, its output port 0). DiagramDocument::SumInto splices such
+  /// an element into a signal path; nobody outside the block's own file names its type or ports.
+  std::optional<nlohmann::json> sum_of_two = std::nullopt;
 };
+
+/// The candidates closest to `name` by edit distance (at most `max_suggestions`, none further than
+/// max(3, |name|/2)), for "did you mean" messages.
+std::vector<std::string> ClosestNames(const std::string& name, const std::vector<std::string>& candidates,
+                                      std::size_t max_suggestions = 3);
 
 class BlockRegistry {
  public:
@@ -50,6 +61,8 @@ class BlockRegistry {
   /// nullptr if unknown.
   const BlockType* Find(const std::string& type_name) const;
   std::vector<std::string> TypeNames() const;
+  /// The type that declares `sum_of_two`. @throws std::logic_error if none is registered (link mb_blocks).
+  const BlockType& SumOfTwo() const;
   /// The registered names closest to `type_name` (edit distance), for "did you mean" messages.
   std::vector<std::string> Suggest(const std::string& type_name, std::size_t max_suggestions = 3) const;
 
