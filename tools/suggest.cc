@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "engine/diagram_document.h"
+
 namespace mb {
 
 using nlohmann::json;
@@ -23,17 +25,15 @@ bool HasEffectBlock(const std::string& effect) {
 
 namespace {
 
-std::string InputConnectorWithUnit(const json& diagram, const std::vector<std::string>& units) {
-  for (const auto& c : diagram.value("connectors", json::array())) {
-    if (c.value("kind", "") != "input") continue;
-    const std::string unit = c.value("unit", "");
-    if (std::find(units.begin(), units.end(), unit) != units.end()) return c.value("name", "");
+std::string InputConnectorWithUnit(const DiagramDocument& diagram, const std::vector<std::string>& units) {
+  for (const auto& c : diagram.Connectors("input")) {
+    if (std::find(units.begin(), units.end(), c.unit) != units.end()) return c.name;
   }
   return {};
 }
 
 // The input connector carrying position ("m"), velocity ("m/s") or acceleration ("m/s^2"); throws naming what to add.
-std::string NeedInput(const json& diagram, const std::string& quantity, const std::string& effect) {
+std::string NeedInput(const DiagramDocument& diagram, const std::string& quantity, const std::string& effect) {
   std::vector<std::string> units;
   if (quantity == "position") units = {"m"};
   if (quantity == "velocity") units = {"m/s"};
@@ -44,27 +44,6 @@ std::string NeedInput(const json& diagram, const std::string& quantity, const st
                                             effect, quantity, units.front()));
   }
   return name;
-}
-
-std::string UniqueName(const json& diagram, const std::string& base) {
-  std::string name = base;
-  for (int k = 2;; ++k) {
-    bool taken = false;
-    for (const auto& e : diagram["elements"]) taken = taken || e.value("name", "") == name;
-    if (!taken) return name;
-    name = fmt::format("{}_{}", base, k);
-  }
-}
-
-// Index of the connection that feeds the output connector `output`.
-std::size_t FeedOf(const json& diagram, const std::string& output) {
-  std::optional<std::size_t> feed;
-  for (std::size_t k = 0; k < diagram["connections"].size(); ++k) {
-    const json& c = diagram["connections"][k];
-    if (c.value("endElement", "") == "" && c.value("endConnector", "") == output) feed = k;
-  }
-  if (!feed) throw std::invalid_argument(fmt::format("the diagram has no connection into output '{}'", output));
-  return *feed;
 }
 
 // The diagnosis' coefficient of column "<effect>.<suffix>" (0 if absent).
@@ -96,49 +75,40 @@ void HarmonicCoefficients(const DiagnosedEffect& effect, int harmonics, json* co
   }
 }
 
-// Adds `element` (output port `port`) to the signal feeding output connector `output`, through a new sum.
-void AddToOutput(json* out, const json& element, const std::string& output, const std::string& port = "y") {
-  const std::size_t feed = FeedOf(*out, output);
-  const std::string name = element.at("name");
-  const std::string sum_name = UniqueName(*out, "with_" + name);
-  out->at("elements").push_back(element);
-  (*out)["elements"].push_back({{"name", sum_name}, {"type", "sum"}, {"parameters", {{"signs", "++"}}}});
-  const json previous = (*out)["connections"][feed];
-  (*out)["connections"].push_back({{"startElement", previous.value("startElement", "")},
-                                   {"startConnector", previous.value("startConnector", "")},
-                                   {"endElement", sum_name},
-                                   {"endConnector", "u1"}});
-  (*out)["connections"].push_back(
-      {{"startElement", name}, {"startConnector", port}, {"endElement", sum_name}, {"endConnector", "u2"}});
-  (*out)["connections"][feed]["startElement"] = sum_name;
-  (*out)["connections"][feed]["startConnector"] = "y";
+// A Fourier-series element: `parameters` (its period or frequency) plus the diagnosis' harmonic coefficients.
+ElementSpec FourierElement(const std::string& name, const std::string& type, json parameters, int harmonics,
+                           const DiagnosedEffect& effect) {
+  json cos_c, sin_c;
+  HarmonicCoefficients(effect, harmonics, &cos_c, &sin_c);
+  parameters["harmonics"] = harmonics;
+  parameters["cos_coefficients"] = cos_c;
+  parameters["sin_coefficients"] = sin_c;
+  return {name, type, parameters, std::nullopt, effect.description};
 }
 
-// Puts `element` (ports "u" → "y") between the signal feeding output connector `output` and the connector.
-void InsertBeforeOutput(json* out, const json& element, const std::string& output) {
-  const std::size_t feed = FeedOf(*out, output);
-  const std::string name = element.at("name");
-  out->at("elements").push_back(element);
-  const json previous = (*out)["connections"][feed];
-  (*out)["connections"].push_back({{"startElement", previous.value("startElement", "")},
-                                   {"startConnector", previous.value("startConnector", "")},
-                                   {"endElement", name},
-                                   {"endConnector", "u"}});
-  (*out)["connections"][feed]["startElement"] = name;
-  (*out)["connections"][feed]["startConnector"] = "y";
+// Adds `element` (its one output) to the signal feeding output connector `output`, through a new sum named
+// "with_<element>". Returns the element's name.
+std::string AddToOutput(DiagramDocument* out, const ElementSpec& element, const std::string& output) {
+  const std::string name = out->Add(element);
+  out->SumInto({"", output}, {name, ""}, "with_" + name);
+  return name;
 }
 
-void Wire(json* out, const std::string& connector, const std::string& element, const std::string& port) {
-  (*out)["connections"].push_back(
-      {{"startElement", ""}, {"startConnector", connector}, {"endElement", element}, {"endConnector", port}});
+// Puts `element` (one input, one output) between the signal feeding output connector `output` and the connector.
+std::string InsertBeforeOutput(DiagramDocument* out, const ElementSpec& element, const std::string& output) {
+  const std::string name = out->Add(element);
+  out->InsertBefore({"", output}, name);
+  return name;
+}
+
+void Wire(DiagramDocument* out, const std::string& connector, const std::string& element, const std::string& port) {
+  out->Connect({"", connector}, {element, port});
 }
 
 // The diagram's time step: the solver's fixed step, else the default experiment's step size.
-double DiagramStep(const json& diagram) {
-  const double solver = diagram.value("solver", json::object()).value("step", 0.0);
-  if (solver > 0.0) return solver;
-  const double experiment = diagram.value("defaultExperiment", json::object()).value("stepSize", 0.0);
-  if (experiment > 0.0) return experiment;
+double DiagramStep(const DiagramDocument& diagram) {
+  if (const auto step = diagram.SolverStep()) return *step;
+  if (const auto step = diagram.ExperimentStepSize()) return *step;
   throw std::invalid_argument(
       "effect 'time_delay' needs the diagram's sample period for its delay block: set solver.step or "
       "defaultExperiment.stepSize");
@@ -151,7 +121,7 @@ json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, c
   if (!HasEffectBlock(kind)) {
     throw std::invalid_argument(fmt::format("no block for effect '{}' yet: add it by hand (docs/diagnosis.md)", kind));
   }
-  json out = diagram;
+  DiagramDocument out(diagram);
   std::vector<std::string> free;
   std::string name;
   if (kind == "position_periodic" || kind == "velocity_dependent_ripple") {
@@ -161,37 +131,19 @@ json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, c
     const bool scaled = kind == "velocity_dependent_ripple";
     const int harmonics = effect.parameters.count("harmonics") ? static_cast<int>(effect.parameters.at("harmonics"))
                                                                : (scaled ? 1 : 3);
-    json cos_c, sin_c;
-    HarmonicCoefficients(effect, harmonics, &cos_c, &sin_c);
-    name = UniqueName(out, "ripple");
-    AddToOutput(&out,
-                {{"name", name},
-                 {"type", kind},
-                 {"description", effect.description},
-                 {"parameters",
-                  {{"period", {{"value", period}, {"unit", "m"}}},
-                   {"harmonics", harmonics},
-                   {"cos_coefficients", cos_c},
-                   {"sin_coefficients", sin_c}}}},
-                output);
+    name = AddToOutput(
+        &out, FourierElement("ripple", kind, {{"period", {{"value", period}, {"unit", "m"}}}}, harmonics, effect),
+        output);
     Wire(&out, position, name, "x");
     if (scaled) Wire(&out, NeedInput(out, "velocity", kind), name, "v");
     free = {name + ".cos_coefficients", name + ".sin_coefficients"};
   } else if (kind == "time_periodic") {
     const int harmonics = effect.parameters.count("harmonics") ? static_cast<int>(effect.parameters.at("harmonics")) : 1;
-    json cos_c, sin_c;
-    HarmonicCoefficients(effect, harmonics, &cos_c, &sin_c);
-    name = UniqueName(out, "vibration");
-    AddToOutput(&out,
-                {{"name", name},
-                 {"type", "time_periodic"},
-                 {"description", effect.description},
-                 {"parameters",
-                  {{"frequency_hz", {{"value", Parameter(effect, "frequency_hz")}, {"unit", "Hz"}}},
-                   {"harmonics", harmonics},
-                   {"cos_coefficients", cos_c},
-                   {"sin_coefficients", sin_c}}}},
-                output);
+    name = AddToOutput(&out,
+                       FourierElement("vibration", "time_periodic",
+                                      {{"frequency_hz", {{"value", Parameter(effect, "frequency_hz")}, {"unit", "Hz"}}}},
+                                      harmonics, effect),
+                       output);
     // The frequency too: over a long record a small frequency error turns into a large phase error.
     free = {name + ".frequency_hz", name + ".cos_coefficients", name + ".sin_coefficients"};
   } else if (kind == "time_delay") {
@@ -203,24 +155,23 @@ json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, c
           delay * 1e3));
     }
     const double ts = DiagramStep(out);
-    name = UniqueName(out, "delay");
-    InsertBeforeOutput(&out,
-                       {{"name", name},
-                        {"type", "transport_delay"},
-                        {"description", effect.description},
-                        {"sampleTime", {ts, 0.0}},
-                        {"parameters", {{"delay", {{"value", delay}, {"unit", "s"}}}}}},
-                       output);
+    name = InsertBeforeOutput(&out,
+                              {"delay",
+                               "transport_delay",
+                               {{"delay", {{"value", delay}, {"unit", "s"}}}},
+                               std::pair{ts, 0.0},
+                               effect.description},
+                              output);
     free = {name + ".delay"};
   } else if (kind == "mass_mismatch" || kind == "viscous_friction") {
     const bool mass = kind == "mass_mismatch";
-    name = UniqueName(out, mass ? "payload" : "viscous_extra");
-    AddToOutput(&out,
-                {{"name", name},
-                 {"type", "gain"},
-                 {"description", effect.description},
-                 {"parameters", {{"gain", Coefficient(effect, "")}}}},
-                output);
+    name = AddToOutput(&out,
+                       {mass ? "payload" : "viscous_extra",
+                        "gain",
+                        {{"gain", Coefficient(effect, "")}},
+                        std::nullopt,
+                        effect.description},
+                       output);
     Wire(&out, NeedInput(out, mass ? "acceleration" : "velocity", kind), name, "u");
     free = {name + ".gain"};
   } else if (kind == "stribeck_friction" || kind == "coulomb_friction") {
@@ -234,9 +185,10 @@ json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, c
       parameters["static"] = {{"value", level}, {"unit", "N"}};
       parameters["stribeck_velocity"] = {{"value", Parameter(effect, "stribeck_velocity")}, {"unit", "m/s"}};
     }
-    name = UniqueName(out, stribeck ? "stribeck" : "coulomb_extra");
-    AddToOutput(&out, {{"name", name}, {"type", "friction"}, {"description", effect.description}, {"parameters", parameters}},
-                output, "f");
+    name = AddToOutput(&out,
+                       {stribeck ? "stribeck" : "coulomb_extra", "friction", parameters, std::nullopt,
+                        effect.description},
+                       output);
     Wire(&out, NeedInput(out, "velocity", kind), name, "v");
     free = stribeck ? std::vector<std::string>{name + ".static", name + ".stribeck_velocity"}
                     : std::vector<std::string>{name + ".coulomb"};
@@ -252,16 +204,15 @@ json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, c
           damping));
     }
     const std::string acceleration = NeedInput(out, "acceleration", kind);
-    name = UniqueName(out, "flexible_load");
-    AddToOutput(&out,
-                {{"name", name},
-                 {"type", "flexible_load"},
-                 {"description", effect.description},
-                 {"parameters",
-                  {{"mass", {{"value", Coefficient(effect, "response")}, {"unit", "kg"}}},
-                   {"frequency_hz", {{"value", frequency}, {"unit", "Hz"}}},
-                   {"damping_ratio", damping}}}},
-                output, "f");
+    name = AddToOutput(&out,
+                       {"flexible_load",
+                        "flexible_load",
+                        {{"mass", {{"value", Coefficient(effect, "response")}, {"unit", "kg"}}},
+                         {"frequency_hz", {{"value", frequency}, {"unit", "Hz"}}},
+                         {"damping_ratio", damping}},
+                        std::nullopt,
+                        effect.description},
+                       output);
     Wire(&out, acceleration, name, "a");
     free = {name + ".mass", name + ".frequency_hz", name + ".damping_ratio"};
   } else if (kind == "quantization") {
@@ -272,46 +223,33 @@ json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, c
     if (!(step > 0.0)) {
       throw std::invalid_argument(fmt::format("quantization with step {}: must be > 0 to suggest a block", step));
     }
-    name = UniqueName(out, "output_quantizer");
-    InsertBeforeOutput(&out,
-                       {{"name", name},
-                        {"type", "quantizer"},
-                        {"description", effect.description},
-                        {"parameters", {{"interval", step}}}},
-                       output);
+    name = InsertBeforeOutput(
+        &out, {"output_quantizer", "quantizer", {{"interval", step}}, std::nullopt, effect.description}, output);
   } else {  // constant_offset
-    name = UniqueName(out, "offset_extra");
-    AddToOutput(&out,
-                {{"name", name},
-                 {"type", "constant"},
-                 {"description", effect.description},
-                 {"parameters", {{"value", Coefficient(effect, "")}}}},
-                output);
+    name = AddToOutput(
+        &out, {"offset_extra", "constant", {{"value", Coefficient(effect, "")}}, std::nullopt, effect.description},
+        output);
     free = {name + ".value"};
   }
-  for (const auto& f : free) out["free"].push_back(f);
-  out["notes"] = out.value("notes", std::string()) +
-                 fmt::format(" Amended by motionblocks compare --suggest: added '{}' ({}).", name, kind);
-  return out;
+  for (const auto& f : free) out.AddFreeParameter(f);
+  out.AppendNote(fmt::format(" Amended by motionblocks compare --suggest: added '{}' ({}).", name, kind));
+  return out.json();
 }
 
 json SuggestGprFallbackBlock(const json& diagram, const std::string& model_path, const std::string& output) {
-  json out = diagram;
+  DiagramDocument out(diagram);
   const std::string position = NeedInput(out, "position", "nonparametric_fallback");
   const std::string velocity = NeedInput(out, "velocity", "nonparametric_fallback");
-  const std::string name = UniqueName(out, "residual_gp");
-  AddToOutput(&out,
-              {{"name", name},
-               {"type", "gpr"},
-               {"description", "TISO-GPR on (x, v) learned from what the catalogue's effects leave of the residual"},
-               {"parameters", {{"model", model_path}}}},
-              output, "mean");
+  const std::string name = AddToOutput(
+      &out,
+      {"residual_gp", "gpr", {{"model", model_path}}, std::nullopt,
+       "TISO-GPR on (x, v) learned from what the catalogue's effects leave of the residual"},
+      output);
   Wire(&out, position, name, "x");
   Wire(&out, velocity, name, "xdot");
-  out["description"] = out.value("description", std::string()) +
-                       fmt::format(" Amended by motionblocks compare --suggest: added '{}' (non-parametric fallback).",
-                                   name);
-  return out;
+  out.AppendDescription(
+      fmt::format(" Amended by motionblocks compare --suggest: added '{}' (non-parametric fallback).", name));
+  return out.json();
 }
 
 }  // namespace mb
