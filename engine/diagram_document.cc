@@ -403,7 +403,8 @@ std::vector<std::string> DiagramDocument::SetSubsystemDiagram(const std::string&
   Json& e = *FindElement(element);
   e["diagram"] = file.string();
   std::vector<std::string> dropped;
-  for (const auto& [key, value] : e.value("parameters", Json::object()).items()) {
+  const Json overrides = e.value("parameters", Json::object());
+  for (const auto& [key, value] : overrides.items()) {
     dropped.push_back(fmt::format("{}.{} = {}", element, key, value.dump()));
   }
   e.erase("parameters");

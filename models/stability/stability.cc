@@ -230,6 +230,9 @@ StabilityReport AnalyseStability(const PaperLoop& loop, const GprModel* gpr, con
 
   if (!r.inner_loop_stable) r.notes.push_back("the inner loop P + C_FB is not stable (Assumption 1 fails)");
   if (!r.dob_loop_stable) r.notes.push_back("the conventional FF/FB/DOB loop is not stable");
+  if (!loop.has_dob) {
+    r.notes.push_back("the loop has no DOB: the 'dob' decomposition closes the PD loop alone (gamma_q = 0)");
+  }
   r.notes.push_back(fmt::format("eq. 58 as printed: rho = {:.4g} ({}); per-path Lemma 1: rho' = {:.4g}", r.rho_paper,
                                 r.rho_paper < 1.0 ? "< 1, BIBO stable" : ">= 1, not certified", r.rho_consistent));
   if (r.rho_paper >= 1.0) {

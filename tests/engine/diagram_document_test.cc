@@ -22,7 +22,7 @@ json Base() {
           {"defaultExperiment", {{"startTime", 0.0}, {"stopTime", 0.01}, {"stepSize", 0.001}}},
           {"solver", {{"type", "rk4"}, {"step", 0.001}}},
           {"connectors",
-           {{{"name", "x"}, {"kind", "input"}, {"unit", "m"}, {"measurement", "position_m"}},
+           {{{"name", "x"}, {"kind", "input"}, {"unit", "m"}, {"measurement", "position_m"}, {"optional", true}},
             {{"name", "force"}, {"kind", "output"}, {"unit", "N"}}}},
           {"elements",
            {{{"name", "source"}, {"type", "constant"}, {"parameters", {{"value", 1.5}}}},
