@@ -60,9 +60,10 @@ class LoopFinder {
           found.size(), role, Join(names, ", "), role, names.front()));
     }
     if (found.empty() && required) {
-      throw std::invalid_argument(fmt::format("stability analysis: the diagram has no {} (an element of type {}); "
-                                              "see diagrams/paper/conventional.json",
-                                              role, Join(types, " or ")));
+      throw std::invalid_argument(fmt::format(
+          "stability analysis: the diagram has no {} (an element of type {}); the analysis reads a closed loop: a "
+          "plant, a PD and optionally a dob and the GP path (see diagrams/paper/conventional.json)",
+          role, Join(types, " or ")));
     }
     return found.empty() ? -1 : found.front();
   }
