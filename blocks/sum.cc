@@ -29,6 +29,7 @@ MB_REGISTER_BLOCK(Sum, BlockType{
     {Optional("signs", "++", "", "one '+' or '-' per input", ParamType::kString),
      Bounded("width", 1, "", "signal width n", 1, 1e6, ParamType::kInteger)},
     SampleTimeRule::kNone,
-    [](const BlockConfig& c) { return std::make_unique<Sum>(c); }})
+    [](const BlockConfig& c) { return std::make_unique<Sum>(c); },
+    nlohmann::json{{"signs", "++"}}})
 
 }  // namespace mb

@@ -3,6 +3,7 @@
 // measure. Built from JSON by LoadDiagram (diagram_loader.h); run by Simulator (simulator.h).
 
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -10,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/block.h"
+#include "engine/parameters.h"
 
 namespace mb {
 
@@ -90,9 +92,15 @@ class Diagram {
   const Experiment& experiment() const { return experiment_; }
   /// Block indices in an order where every direct-feedthrough input is computed before it is read.
   const std::vector<int>& execution_order() const { return execution_order_; }
-  /// The effective diagram JSON (after subsystem expansion is NOT applied; overrides applied).
-  const nlohmann::json& json() const { return json_; }
   const std::filesystem::path& path() const { return path_; }
+  /// The registered type name of block `b` (its element's "type") and its validated parameters (defaults filled
+  /// in, units stripped), for analyses that read a loop's numbers (tools/loop_from_diagram.h). To edit a diagram,
+  /// use DiagramDocument (engine/diagram_document.h) on its JSON.
+  const std::string& block_type(int b) const { return block_types_[static_cast<std::size_t>(b)]; }
+  const Parameters& block_parameters(int b) const { return block_parameters_[static_cast<std::size_t>(b)]; }
+  /// The diagram's optional "roles" map, role → element name (after subsystem expansion: "plant/body"). The
+  /// engine checks only that each names an element; what a role means belongs to the analysis that reads it.
+  const std::map<std::string, std::string>& roles() const { return roles_; }
 
   /// Index of the block with this instance name, or -1.
   int FindBlock(const std::string& block_name) const;
@@ -116,7 +124,9 @@ class Diagram {
   SolverSpec solver_;
   Experiment experiment_;
   std::vector<int> execution_order_;
-  nlohmann::json json_;
+  std::vector<std::string> block_types_;
+  std::vector<Parameters> block_parameters_;
+  std::map<std::string, std::string> roles_;
   std::filesystem::path path_;
 };
 

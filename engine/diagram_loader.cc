@@ -99,7 +99,7 @@ json ExpandSubsystemsImpl(const json& diagram, const fs::path& base, const std::
 
   for (std::size_t i = 0; i < diagram["elements"].size(); ++i) {
     const json& element = diagram["elements"][i];
-    if (element.value("type", "") != "subsystem") {
+    if (element.value("type", "") != kSubsystemType) {
       out["elements"].push_back(element);
       continue;
     }
@@ -266,7 +266,6 @@ class DiagramBuilder {
     if (!j_.is_object()) throw DiagramError(source_, {"/: a diagram is a JSON object"});
     CheckVersion();
     d_.name_ = j_.value("name", fs::path(source_).stem().string());
-    d_.json_ = j_;
     ReadExperiment();
     ReadSolver();
     ReadInputConnectors();
@@ -276,6 +275,7 @@ class DiagramBuilder {
     ReadOutputConnectors();
     ReadLog();
     ReadMetrics();
+    ReadRoles();
     if (!problems_.empty()) throw DiagramError(source_, problems_);
     Sort();
     return std::move(d_);
@@ -294,7 +294,7 @@ class DiagramBuilder {
     static const std::set<std::string> kKnown = {"schemaVersion", "name",    "description", "defaultExperiment",
                                                  "solver",        "connectors", "elements", "connections",
                                                  "log",           "metrics", "experiment", "ui", "free", "$schema",
-                                                 "notes"};
+                                                 "notes", "roles"};
     for (const auto& [key, value] : j_.items()) {
       if (!kKnown.count(key)) Problem(fmt::format("/{}: unknown top-level key '{}'", key, key));
     }
@@ -411,6 +411,8 @@ class DiagramBuilder {
       try {
         BlockConfig config{name, Parameters(name, std::move(values)), st, base_};
         d_.blocks_.push_back(bt->factory(config));
+        d_.block_types_.push_back(type);
+        d_.block_parameters_.push_back(config.parameters);
         element_pointer_.push_back(ptr);
       } catch (const std::exception& ex) {
         Problem(fmt::format("{}: element '{}' ({}): {}", ptr, name, type, ex.what()));
@@ -593,6 +595,24 @@ class DiagramBuilder {
         Problem(fmt::format("{}/reference: rms_difference needs a reference signal", ptr));
       }
       d_.metrics_.push_back(spec);
+    }
+  }
+
+  // "roles": {"role": "element", …}; the meaning of a role is the reader's (tools/loop_from_diagram.h).
+  void ReadRoles() {
+    if (!j_.contains("roles")) return;
+    if (!j_["roles"].is_object()) {
+      Problem("/roles: must be an object {\"role\": \"element name\"}");
+      return;
+    }
+    for (const auto& [role, element] : j_["roles"].items()) {
+      if (!element.is_string()) {
+        Problem(fmt::format("/roles/{}: must be an element's name (a string), got {}", role, element.dump()));
+      } else if (d_.FindBlock(element.get<std::string>()) < 0) {
+        Problem(fmt::format("/roles/{}: no element named '{}'", role, element.get<std::string>()));
+      } else {
+        d_.roles_[role] = element.get<std::string>();
+      }
     }
   }
 

@@ -15,6 +15,8 @@ namespace mb {
 
 /// The schema version this build reads and writes.
 inline constexpr const char* kDiagramSchemaVersion = "1.0";
+/// The element type of a nested diagram, expanded by the loader (ExpandSubsystems) rather than a registered block.
+inline constexpr const char* kSubsystemType = "subsystem";
 
 /// Every problem found in a diagram, each "<file>: <json pointer>: <message and fix>".
 class DiagramError : public std::runtime_error {

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "engine/block.h"
 #include "engine/parameters.h"
 #include "engine/sample_time.h"
@@ -38,6 +40,10 @@ struct BlockType {
   std::vector<ParamSpec> parameters;
   SampleTimeRule sample_time_rule = SampleTimeRule::kNone;
   std::function<std::unique_ptr<Block>(const BlockConfig&)> factory;
+  /// Set by the one type that adds signals: the parameters that make an instance the sum of two inputs,
+  /// y = u_0 + u_1 (its input ports in declared order, its output port 0). DiagramDocument::SumInto splices such
+  /// an element into a signal path; nobody outside the block's own file names its type or ports.
+  std::optional<nlohmann::json> sum_of_two = std::nullopt;
 };
 
 class BlockRegistry {
@@ -50,6 +56,8 @@ class BlockRegistry {
   /// nullptr if unknown.
   const BlockType* Find(const std::string& type_name) const;
   std::vector<std::string> TypeNames() const;
+  /// The type that declares `sum_of_two`. @throws std::logic_error if none is registered (link mb_blocks).
+  const BlockType& SumOfTwo() const;
   /// The registered names closest to `type_name` (edit distance), for "did you mean" messages.
   std::vector<std::string> Suggest(const std::string& type_name, std::size_t max_suggestions = 3) const;
 

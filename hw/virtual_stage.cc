@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-#include "engine/registry.h"
+#include "engine/diagram_document.h"
 #include "hw/realtime.h"
 
 namespace mb {
@@ -17,20 +17,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
-
-/// Validated parameters of a HIL element of the I/O file, as its block would see them.
-Parameters HilParameters(const json& element, const std::string& pointer, const fs::path& file) {
-  const std::string type = element.value("type", "");
-  const BlockType* spec = BlockRegistry::Global().Find(type);
-  if (spec == nullptr) {
-    throw std::logic_error(fmt::format("block type '{}' is not registered: link mb_blocks into this program", type));
-  }
-  std::vector<std::string> errors;
-  auto values = ValidateParameters(spec->parameters, element.value("parameters", json::object()),
-                                   pointer + "/parameters", &errors);
-  if (!errors.empty()) throw DiagramError(file.string(), errors);
-  return Parameters(element.value("name", ""), std::move(values));
-}
 
 std::string ConnectorNames(const std::vector<std::string>& names) {
   std::string list;
@@ -41,26 +27,20 @@ std::string ConnectorNames(const std::vector<std::string>& names) {
 }  // namespace
 
 StageWiring StageWiring::FromIoFile(const fs::path& io_file) {
-  const json io = ReadDiagramJson(io_file);
+  const DiagramDocument io = DiagramDocument::Load(io_file);
   StageWiring wiring;
-  const json elements = io.value("elements", json::array());
-  const json connections = io.value("connections", json::array());
-  for (std::size_t i = 0; i < elements.size(); ++i) {
-    const json& e = elements[i];
-    const std::string type = e.value("type", "");
-    const std::string name = e.value("name", "");
+  const auto names = io.ElementNames();
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const std::string& name = names[i];
+    const std::string type = io.TypeOf(name);
     if (type != "encoder_input" && type != "analog_output") continue;
     const std::string pointer = fmt::format("/elements/{}", i);
-    const Parameters p = HilParameters(e, pointer, io_file);
+    const Parameters p = io.ElementParameters(name);
     StageChannel channel;
     channel.channel = p.Integer("channel");
-    for (const json& c : connections) {
-      if (type == "encoder_input" && c.value("startElement", "") == name && c.value("endElement", "").empty()) {
-        channel.connector = c.value("endConnector", "");
-      }
-      if (type == "analog_output" && c.value("endElement", "") == name && c.value("startElement", "").empty()) {
-        channel.connector = c.value("startConnector", "");
-      }
+    for (const Connection& c : io.Connections()) {
+      if (type == "encoder_input" && c.start.element == name && c.end.is_connector()) channel.connector = c.end.port;
+      if (type == "analog_output" && c.end.element == name && c.start.is_connector()) channel.connector = c.start.port;
     }
     if (channel.connector.empty()) {
       throw std::invalid_argument(fmt::format(
@@ -94,10 +74,11 @@ VirtualStage::VirtualStage(const fs::path& plant_file, StageWiring wiring, Virtu
   json j = ReadDiagramJson(plant_file);
   ApplyOverrides(&j, overrides, plant_file.string());
   // The stage runs open-ended: log only the connectors, every 10 s, into storage reserved for a day.
-  j["log"] = json::array();
-  j["metrics"] = json::array();
-  j["defaultExperiment"] = {{"startTime", 0.0}, {"stopTime", 86400.0}, {"stepSize", 10.0}};
-  plant_ = std::make_unique<Diagram>(BuildDiagram(j, plant_file.parent_path(), plant_file.string()));
+  DiagramDocument plant(std::move(j), plant_file.parent_path(), plant_file.string());
+  plant.SetLoggedSignals({});
+  plant.ClearMetrics();
+  plant.SetExperiment(0.0, 86400.0, 10.0);
+  plant_ = std::make_unique<Diagram>(BuildDiagram(plant.json(), plant_file.parent_path(), plant_file.string()));
 
   std::vector<std::string> outputs, inputs;
   for (const auto& o : plant_->outputs()) outputs.push_back(o.name);

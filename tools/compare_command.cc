@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/diagram_document.h"
 #include "engine/diagram_loader.h"
 #include "models/diagnosis/diagnosis.h"
 #include "models/gpr/gpr_io.h"
@@ -98,6 +99,13 @@ void AddResidualFigures(HtmlReport* report, const fs::path& out, const Measureme
   }
 }
 
+// Writes an amended diagram (suggested on the comparison's copy) with the input diagram's own defaultExperiment.
+void WriteSuggestion(const json& amended, const json& input, const std::string& path) {
+  DiagramDocument document(amended);
+  document.CopyExperimentFrom(DiagramDocument(input));
+  WriteJsonFile(document.json(), path);
+}
+
 void RunCompare(const CompareOptions& o) {
   std::vector<ParameterOverride> overrides;
   for (const auto& s : o.overrides) overrides.push_back(ParameterOverride::Parse(s));
@@ -127,7 +135,7 @@ void RunCompare(const CompareOptions& o) {
     }
   }
   if (fit_names.empty() && !o.no_fit) {
-    for (const auto& f : diagram_json.value("free", json::array())) fit_names.push_back(f.get<std::string>());
+    fit_names = DiagramDocument(diagram_json).FreeParameters();
   }
   if (o.no_fit) fit_names.clear();
   std::cerr << fmt::format("fitting {} parameter(s) by Levenberg–Marquardt, diagnosing the residual …\n",
@@ -221,9 +229,7 @@ void RunCompare(const CompareOptions& o) {
         why = fmt::format("no ranked effect could be added (last: {}: {})", e.effect, error.what());
         continue;
       }
-      amended.erase("defaultExperiment");
-      if (diagram_json.contains("defaultExperiment")) amended["defaultExperiment"] = diagram_json["defaultExperiment"];
-      WriteJsonFile(amended, o.suggest);
+      WriteSuggestion(amended, diagram_json, o.suggest);
       result["suggested_diagram"] = {{"path", o.suggest}, {"effect", e.effect}};
       why.clear();
       break;
@@ -233,10 +239,8 @@ void RunCompare(const CompareOptions& o) {
     const bool want_fallback = o.suggest_effect.empty() || o.suggest_effect == "nonparametric_fallback";
     if (!why.empty() && want_fallback && diagnosis->effects.empty() && fallback && fallback->model) {
       const std::string model = fs::absolute(out / "residual_gpr.json").string();
-      json amended = SuggestGprFallbackBlock(compared.compared_diagram, model, primary_after.connector);
-      amended.erase("defaultExperiment");
-      if (diagram_json.contains("defaultExperiment")) amended["defaultExperiment"] = diagram_json["defaultExperiment"];
-      WriteJsonFile(amended, o.suggest);
+      WriteSuggestion(SuggestGprFallbackBlock(compared.compared_diagram, model, primary_after.connector), diagram_json,
+                      o.suggest);
       result["suggested_diagram"] = {{"path", o.suggest}, {"effect", "nonparametric_fallback"}, {"model", model}};
       why.clear();
     }

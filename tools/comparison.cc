@@ -10,8 +10,8 @@
 #include <unsupported/Eigen/NonLinearOptimization>
 #include <unsupported/Eigen/NumericalDiff>
 
+#include "engine/diagram_document.h"
 #include "engine/diagram_loader.h"
-#include "engine/registry.h"
 #include "models/diagnosis/signal_processing.h"
 
 namespace mb {
@@ -42,11 +42,9 @@ MeasurementLog ReadMeasurementWithDerivatives(const std::string& path, const std
 
 std::vector<std::string> OutputColumns(const json& diagram, const std::map<std::string, std::string>& column_map) {
   std::vector<std::string> out;
-  for (const auto& c : diagram.value("connectors", json::array())) {
-    if (c.value("kind", "") != "output") continue;
-    const std::string name = c.value("name", "");
-    auto it = column_map.find(name);
-    out.push_back(it != column_map.end() ? it->second : c.value("measurement", name));
+  for (const auto& c : DiagramDocument(diagram).Connectors("output")) {
+    auto it = column_map.find(c.name);
+    out.push_back(it != column_map.end() ? it->second : c.measurement);
   }
   return out;
 }
@@ -57,34 +55,6 @@ InputSeries SeriesOf(const MeasurementLog& log, const std::string& column) {
   const auto& t = log.time();
   const auto& v = log.column(column);
   return InputSeries{std::vector<double>(t.data(), t.data() + t.size()), std::vector<double>(v.data(), v.data() + v.size())};
-}
-
-json* FindElement(json* diagram, const std::string& name) {
-  for (auto& e : (*diagram)["elements"]) {
-    if (e.value("name", "") == name) return &e;
-  }
-  return nullptr;
-}
-
-const json* FindElement(const json& diagram, const std::string& name) {
-  for (const auto& e : diagram.at("elements")) {
-    if (e.value("name", "") == name) return &e;
-  }
-  return nullptr;
-}
-
-// The parameter's value in the JSON, else the block type's default; null if neither.
-json ParameterValue(const json& element, const std::string& parameter) {
-  if (element.contains("parameters") && element["parameters"].contains(parameter)) {
-    const json& v = element["parameters"][parameter];
-    return v.is_object() && v.contains("value") ? v["value"] : v;
-  }
-  if (const BlockType* type = BlockRegistry::Global().Find(element.value("type", ""))) {
-    for (const auto& spec : type->parameters) {
-      if (spec.name == parameter && spec.default_value) return *spec.default_value;
-    }
-  }
-  return nullptr;
 }
 
 }  // namespace
@@ -113,6 +83,7 @@ void FeedInputsFromFiles(const Diagram& diagram, const std::vector<std::string>&
 }
 
 std::vector<FreeParameter> ResolveFreeParameters(const json& diagram, const std::vector<std::string>& names) {
+  const DiagramDocument document(diagram);
   std::vector<FreeParameter> out;
   for (const auto& name : names) {
     const auto dot = name.find('.');
@@ -120,9 +91,8 @@ std::vector<FreeParameter> ResolveFreeParameters(const json& diagram, const std:
       throw std::invalid_argument(fmt::format("free parameter '{}': write block.parameter, e.g. mass.gain", name));
     }
     const std::string block = name.substr(0, dot), parameter = name.substr(dot + 1);
-    const json* element = FindElement(diagram, block);
-    if (!element) throw std::invalid_argument(fmt::format("free parameter '{}': no element '{}'", name, block));
-    const json value = ParameterValue(*element, parameter);
+    if (!document.Has(block)) throw std::invalid_argument(fmt::format("free parameter '{}': no element '{}'", name, block));
+    const json value = document.Parameter(block, parameter);
     if (value.is_number()) {
       out.push_back({block, parameter, -1, name});
     } else if (value.is_array() && !value.empty() && value[0].is_number()) {
@@ -132,16 +102,17 @@ std::vector<FreeParameter> ResolveFreeParameters(const json& diagram, const std:
     } else {
       throw std::invalid_argument(fmt::format(
           "free parameter '{}': element '{}' ({}) has no numeric parameter '{}'", name, block,
-          element->value("type", "?"), parameter));
+          document.TypeOf(block), parameter));
     }
   }
   return out;
 }
 
 Eigen::VectorXd GetParameterValues(const json& diagram, const std::vector<FreeParameter>& params) {
+  const DiagramDocument document(diagram);
   Eigen::VectorXd v(static_cast<Eigen::Index>(params.size()));
   for (std::size_t i = 0; i < params.size(); ++i) {
-    const json value = ParameterValue(*FindElement(diagram, params[i].block), params[i].parameter);
+    const json value = document.Parameter(params[i].block, params[i].parameter);
     v(static_cast<Eigen::Index>(i)) =
         params[i].index < 0 ? value.get<double>() : value.at(static_cast<std::size_t>(params[i].index)).get<double>();
   }
@@ -150,26 +121,28 @@ Eigen::VectorXd GetParameterValues(const json& diagram, const std::vector<FreePa
 
 void SetParameterValues(json* diagram, const std::vector<FreeParameter>& params,
                         const Eigen::Ref<const Eigen::VectorXd>& values) {
+  DiagramDocument document(std::move(*diagram));
   for (std::size_t i = 0; i < params.size(); ++i) {
-    json* element = FindElement(diagram, params[i].block);
-    json& slot = (*element)["parameters"][params[i].parameter];
-    json& target = slot.is_object() && slot.contains("value") ? slot["value"] : slot;
     const double x = values(static_cast<Eigen::Index>(i));
     if (params[i].index < 0) {
-      target = x;
+      document.SetParameter(params[i].block, params[i].parameter, x);
     } else {
-      if (!target.is_array()) target = ParameterValue(*element, params[i].parameter);
-      target[static_cast<std::size_t>(params[i].index)] = x;
+      json vector = document.Parameter(params[i].block, params[i].parameter);
+      if (!vector.is_array()) vector = json::array({vector});
+      vector[static_cast<std::size_t>(params[i].index)] = x;
+      document.SetParameter(params[i].block, params[i].parameter, vector);
     }
   }
+  *diagram = document.json();
 }
 
 ModelComparison::ModelComparison(json diagram, fs::path base_directory, std::string source,
                                  const MeasurementLog& log, const std::map<std::string, std::string>& column_map)
     : diagram_(std::move(diagram)), base_(std::move(base_directory)), source_(std::move(source)), log_(log) {
   const auto& t = log.time();
-  diagram_["defaultExperiment"] = {{"startTime", t(0)}, {"stopTime", t(t.size() - 1)},
-                                   {"stepSize", MedianTimeStep(t)}};
+  DiagramDocument document(std::move(diagram_));
+  document.SetExperiment(t(0), t(t.size() - 1), MedianTimeStep(t));
+  diagram_ = document.json();
   const Diagram d = BuildDiagram(diagram_, base_, source_);
   auto column_for = [&](const std::string& connector, const std::string& fallback) {
     auto it = column_map.find(connector);
@@ -396,9 +369,7 @@ DiagramFit FitDiagram(const json& diagram, const fs::path& base_directory, const
   return out;
 }
 
-std::string ExperimentMode(const json& diagram) {
-  return diagram.value("experiment", json::object()).value("mode", "simulation");
-}
+std::string ExperimentMode(const json& diagram) { return DiagramDocument(diagram).ExperimentMode(); }
 
 MeasurementLog ReadMeasurementFor(const json& diagram, const std::string& path, const MeasurementSettings& settings) {
   return ReadMeasurementWithDerivatives(

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "engine/diagram_document.h"
 #include "engine/diagram_loader.h"
 #include "tools/commands.h"
 #include "tools/comparison.h"
@@ -60,14 +61,12 @@ void RunFit(const FitOptions& o) {
     column_map[m.substr(0, eq)] = m.substr(eq + 1);
   }
   std::vector<std::string> names = SplitCommas(o.params);
-  if (names.empty()) {
-    for (const auto& f : diagram.value("free", json::array())) names.push_back(f.get<std::string>());
-  }
+  if (names.empty()) names = DiagramDocument(diagram).FreeParameters();
   if (names.empty()) {
     throw std::invalid_argument(fmt::format(
         "nothing to fit: name parameters with --params block.param,… ({} has no \"free\" list)", o.diagram));
   }
-  const std::string mode = diagram.value("experiment", json::object()).value("mode", "simulation");
+  const std::string mode = DiagramDocument(diagram).ExperimentMode();
   const bool equation_error = mode == "equation_error";
   // Equation error: the measured outputs and the model's get the same zero-phase low-pass (as compare does).
   const MeasurementLog log = ReadMeasurementWithDerivatives(

@@ -11,6 +11,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/diagram_document.h"
 #include "engine/diagram_loader.h"
 #include "engine/file_access.h"
 #include "hw/board_registry.h"
@@ -110,9 +111,9 @@ void RunHil(const HilCommandOptions& o) {
   for (const auto& s : o.overrides) overrides.push_back(ParameterOverride::Parse(s));
   ApplyOverrides(&j, overrides, o.diagram);
   if (o.duration > 0.0) {
-    const double start = j.value("defaultExperiment", nlohmann::json::object()).value("startTime", 0.0);
-    j["defaultExperiment"]["startTime"] = start;
-    j["defaultExperiment"]["stopTime"] = start + o.duration;
+    DiagramDocument document(std::move(j), fs::path(o.diagram).parent_path(), o.diagram);
+    document.SetExperimentDuration(o.duration);
+    j = document.json();
   }
   for (const auto& d : dropped) std::cerr << fmt::format("hil: dropped {} (it names the replaced plant)\n", d);
 

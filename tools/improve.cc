@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/diagram_document.h"
 #include "models/diagnosis/effect_registry.h"
 #include "tools/output_files.h"
 #include "tools/report.h"
@@ -19,18 +20,9 @@ using nlohmann::json;
 
 namespace {
 
-std::vector<std::string> FreeList(const json& diagram) {
-  std::vector<std::string> names;
-  for (const auto& f : diagram.value("free", json::array())) names.push_back(f.get<std::string>());
-  return names;
-}
+std::vector<std::string> FreeList(const json& diagram) { return DiagramDocument(diagram).FreeParameters(); }
 
-bool HasElement(const json& diagram, const std::string& name) {
-  for (const auto& e : diagram.value("elements", json::array())) {
-    if (e.value("name", "") == name) return true;
-  }
-  return false;
-}
+bool HasElement(const json& diagram, const std::string& name) { return DiagramDocument(diagram).Has(name); }
 
 std::string BlockOf(const std::string& parameter) { return parameter.substr(0, parameter.find('.')); }
 
@@ -87,14 +79,11 @@ ImproveStep Evaluate(const json& diagram, const fs::path& base_directory, const 
 // The diagram amended with `effect`: suggested on the comparison's copy (the log's experiment, which the
 // delay block's sample time may need), then given back the input's own defaultExperiment; the element's name.
 json Amend(const ImproveStep& current, const DiagnosedEffect& effect, bool refine_periods, std::string* element) {
-  json amended = SuggestAmendedDiagram(current.training.compared_diagram, effect,
-                                       current.training.after.front().connector);
-  amended.erase("defaultExperiment");
-  if (current.training.fitted_diagram.contains("defaultExperiment")) {
-    amended["defaultExperiment"] = current.training.fitted_diagram["defaultExperiment"];
-  }
+  DiagramDocument amended(
+      SuggestAmendedDiagram(current.training.compared_diagram, effect, current.training.after.front().connector));
+  amended.CopyExperimentFrom(DiagramDocument(current.training.fitted_diagram));
   const auto before = FreeList(current.training.fitted_diagram);
-  for (const auto& name : FreeList(amended)) {
+  for (const auto& name : amended.FreeParameters()) {
     if (std::find(before.begin(), before.end(), name) == before.end()) {
       *element = BlockOf(name);
       break;
@@ -102,19 +91,20 @@ json Amend(const ImproveStep& current, const DiagnosedEffect& effect, bool refin
   }
   if (refine_periods && !element->empty()) {
     for (const auto& parameter : LookupEffect(effect.effect).block->refinable) {
-      amended["free"].push_back(*element + "." + parameter);
+      amended.AddFreeParameter(*element + "." + parameter);
     }
   }
-  return amended;
+  return amended.json();
 }
 
 }  // namespace
 
 std::vector<std::string> RecordParameters(const json& diagram) {
   std::vector<std::string> names;
-  for (const auto& e : diagram.value("elements", json::array())) {
-    for (const auto& parameter : RecordSpecificParameters(e.value("type", ""))) {
-      names.push_back(e.value("name", "") + "." + parameter);
+  const DiagramDocument document(diagram);
+  for (const auto& element : document.ElementNames()) {
+    for (const auto& parameter : RecordSpecificParameters(document.TypeOf(element))) {
+      names.push_back(element + "." + parameter);
     }
   }
   return names;

@@ -17,7 +17,7 @@
 #include "engine/file_access.h"
 #include "models/gpr/gpr_fit.h"
 #include "models/gpr/gpr_io.h"
-#include "models/stability/stability.h"
+#include "tools/loop_from_diagram.h"
 #include "tools/output_files.h"
 #include "tools/report.h"
 #include "tools/sweep.h"

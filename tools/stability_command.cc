@@ -17,7 +17,7 @@
 
 #include "engine/diagram_loader.h"
 #include "models/gpr/gpr_io.h"
-#include "models/stability/stability.h"
+#include "tools/loop_from_diagram.h"
 #include "tools/commands.h"
 #include "tools/output_files.h"
 #include "tools/report.h"
@@ -147,7 +147,9 @@ void SetupStabilityCommand(CLI::App& app) {
   auto o = std::make_shared<StabilityCommandOptions>();
   CLI::App* cmd = app.add_subcommand(
       "stability", "Small-gain stability of the paper's DOB loop with the GP path (section 4.2) and Bode data");
-  cmd->add_option("diagram", o->diagram, "diagram with one dob, one linear_motor and the PD (pd_p, pd_d)")
+  cmd->add_option("diagram", o->diagram,
+                  "diagram with a plant, a PD and optionally a dob, found by block type or \"roles\" "
+                  "(tools/loop_from_diagram.h)")
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("--gpr", o->gpr, "TISO-GPR model file (fit-gpr): adds L_x, L_ẋ, b_μ and the α_max bound")

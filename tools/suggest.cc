@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/diagram_document.h"
 #include "models/diagnosis/effect_registry.h"
 
 namespace mb {
@@ -20,17 +21,15 @@ bool HasEffectBlock(const std::string& effect) {
 
 namespace {
 
-std::string InputConnectorWithUnit(const json& diagram, const std::vector<std::string>& units) {
-  for (const auto& c : diagram.value("connectors", json::array())) {
-    if (c.value("kind", "") != "input") continue;
-    const std::string unit = c.value("unit", "");
-    if (std::find(units.begin(), units.end(), unit) != units.end()) return c.value("name", "");
+std::string InputConnectorWithUnit(const DiagramDocument& diagram, const std::vector<std::string>& units) {
+  for (const auto& c : diagram.Connectors("input")) {
+    if (std::find(units.begin(), units.end(), c.unit) != units.end()) return c.name;
   }
   return {};
 }
 
 // The input connector carrying position ("m"), velocity ("m/s") or acceleration ("m/s^2"); throws naming what to add.
-std::string NeedInput(const json& diagram, MotionInput input, const std::string& effect) {
+std::string NeedInput(const DiagramDocument& diagram, MotionInput input, const std::string& effect) {
   std::string quantity;
   std::vector<std::string> units;
   switch (input) {
@@ -46,70 +45,30 @@ std::string NeedInput(const json& diagram, MotionInput input, const std::string&
   return name;
 }
 
-std::string UniqueName(const json& diagram, const std::string& base) {
-  std::string name = base;
-  for (int k = 2;; ++k) {
-    bool taken = false;
-    for (const auto& e : diagram["elements"]) taken = taken || e.value("name", "") == name;
-    if (!taken) return name;
-    name = fmt::format("{}_{}", base, k);
-  }
+// Adds `element` (its output port `port`) to the signal feeding output connector `output`, through a new sum named
+// "with_<element>". Returns the element's name.
+std::string AddToOutput(DiagramDocument* out, const ElementSpec& element, const std::string& output,
+                        const std::string& port) {
+  const std::string name = out->Add(element);
+  out->SumInto({"", output}, {name, port}, "with_" + name);
+  return name;
 }
 
-// Index of the connection that feeds the output connector `output`.
-std::size_t FeedOf(const json& diagram, const std::string& output) {
-  std::optional<std::size_t> feed;
-  for (std::size_t k = 0; k < diagram["connections"].size(); ++k) {
-    const json& c = diagram["connections"][k];
-    if (c.value("endElement", "") == "" && c.value("endConnector", "") == output) feed = k;
-  }
-  if (!feed) throw std::invalid_argument(fmt::format("the diagram has no connection into output '{}'", output));
-  return *feed;
+// Puts `element` (one input, one output) between the signal feeding output connector `output` and the connector.
+std::string InsertBeforeOutput(DiagramDocument* out, const ElementSpec& element, const std::string& output) {
+  const std::string name = out->Add(element);
+  out->InsertBefore({"", output}, name);
+  return name;
 }
 
-// Adds `element` (output port `port`) to the signal feeding output connector `output`, through a new sum.
-void AddToOutput(json* out, const json& element, const std::string& output, const std::string& port = "y") {
-  const std::size_t feed = FeedOf(*out, output);
-  const std::string name = element.at("name");
-  const std::string sum_name = UniqueName(*out, "with_" + name);
-  out->at("elements").push_back(element);
-  (*out)["elements"].push_back({{"name", sum_name}, {"type", "sum"}, {"parameters", {{"signs", "++"}}}});
-  const json previous = (*out)["connections"][feed];
-  (*out)["connections"].push_back({{"startElement", previous.value("startElement", "")},
-                                   {"startConnector", previous.value("startConnector", "")},
-                                   {"endElement", sum_name},
-                                   {"endConnector", "u1"}});
-  (*out)["connections"].push_back(
-      {{"startElement", name}, {"startConnector", port}, {"endElement", sum_name}, {"endConnector", "u2"}});
-  (*out)["connections"][feed]["startElement"] = sum_name;
-  (*out)["connections"][feed]["startConnector"] = "y";
-}
-
-// Puts `element` (ports "u" → "y") between the signal feeding output connector `output` and the connector.
-void InsertBeforeOutput(json* out, const json& element, const std::string& output) {
-  const std::size_t feed = FeedOf(*out, output);
-  const std::string name = element.at("name");
-  out->at("elements").push_back(element);
-  const json previous = (*out)["connections"][feed];
-  (*out)["connections"].push_back({{"startElement", previous.value("startElement", "")},
-                                   {"startConnector", previous.value("startConnector", "")},
-                                   {"endElement", name},
-                                   {"endConnector", "u"}});
-  (*out)["connections"][feed]["startElement"] = name;
-  (*out)["connections"][feed]["startConnector"] = "y";
-}
-
-void Wire(json* out, const std::string& connector, const std::string& element, const std::string& port) {
-  (*out)["connections"].push_back(
-      {{"startElement", ""}, {"startConnector", connector}, {"endElement", element}, {"endConnector", port}});
+void Wire(DiagramDocument* out, const std::string& connector, const std::string& element, const std::string& port) {
+  out->Connect({"", connector}, {element, port});
 }
 
 // The diagram's time step: the solver's fixed step, else the default experiment's step size.
-double DiagramStep(const json& diagram, const std::string& effect, const std::string& block) {
-  const double solver = diagram.value("solver", json::object()).value("step", 0.0);
-  if (solver > 0.0) return solver;
-  const double experiment = diagram.value("defaultExperiment", json::object()).value("stepSize", 0.0);
-  if (experiment > 0.0) return experiment;
+double DiagramStep(const DiagramDocument& diagram, const std::string& effect, const std::string& block) {
+  if (const auto step = diagram.SolverStep()) return *step;
+  if (const auto step = diagram.ExperimentStepSize()) return *step;
   throw std::invalid_argument(fmt::format(
       "effect '{}' needs the diagram's sample period for its {} block: set solver.step or "
       "defaultExperiment.stepSize",
@@ -125,44 +84,34 @@ json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, c
         fmt::format("no block for effect '{}' yet: add it by hand (docs/diagnosis.md)", effect.effect));
   }
   const EffectBlockTemplate& block = *type.block;
-  json out = diagram;
+  DiagramDocument out(diagram);
   std::vector<std::string> inputs;
   for (const auto& [input, port] : block.inputs) inputs.push_back(NeedInput(out, input, effect.effect));
-  json element = {{"name", UniqueName(out, block.element_name)},
-                  {"type", block.block_type},
-                  {"description", effect.description},
-                  {"parameters", block.parameters(effect)}};
-  if (block.discrete) element["sampleTime"] = {DiagramStep(out, effect.effect, block.element_name), 0.0};
-  const std::string name = element["name"];
-  if (block.placement == BlockPlacement::kInsertBeforeOutput) {
-    InsertBeforeOutput(&out, element, output);
-  } else {
-    AddToOutput(&out, element, output, block.output_port);
-  }
+  ElementSpec element{block.element_name, block.block_type, block.parameters(effect), std::nullopt, effect.description};
+  if (block.discrete) element.sample_time = std::make_pair(DiagramStep(out, effect.effect, block.element_name), 0.0);
+  const std::string name = block.placement == BlockPlacement::kInsertBeforeOutput
+                               ? InsertBeforeOutput(&out, element, output)
+                               : AddToOutput(&out, element, output, block.output_port);
   for (std::size_t k = 0; k < inputs.size(); ++k) Wire(&out, inputs[k], name, block.inputs[k].second);
-  for (const auto& f : block.free) out["free"].push_back(name + "." + f);
-  out["notes"] = out.value("notes", std::string()) +
-                 fmt::format(" Amended by motionblocks compare --suggest: added '{}' ({}).", name, effect.effect);
-  return out;
+  for (const auto& f : block.free) out.AddFreeParameter(name + "." + f);
+  out.AppendNote(fmt::format(" Amended by motionblocks compare --suggest: added '{}' ({}).", name, effect.effect));
+  return out.json();
 }
 
 json SuggestGprFallbackBlock(const json& diagram, const std::string& model_path, const std::string& output) {
-  json out = diagram;
+  DiagramDocument out(diagram);
   const std::string position = NeedInput(out, MotionInput::kPosition, "nonparametric_fallback");
   const std::string velocity = NeedInput(out, MotionInput::kVelocity, "nonparametric_fallback");
-  const std::string name = UniqueName(out, "residual_gp");
-  AddToOutput(&out,
-              {{"name", name},
-               {"type", "gpr"},
-               {"description", "TISO-GPR on (x, v) learned from what the catalogue's effects leave of the residual"},
-               {"parameters", {{"model", model_path}}}},
-              output, "mean");
+  const std::string name = AddToOutput(
+      &out,
+      {"residual_gp", "gpr", {{"model", model_path}}, std::nullopt,
+       "TISO-GPR on (x, v) learned from what the catalogue's effects leave of the residual"},
+      output, "mean");
   Wire(&out, position, name, "x");
   Wire(&out, velocity, name, "xdot");
-  out["description"] = out.value("description", std::string()) +
-                       fmt::format(" Amended by motionblocks compare --suggest: added '{}' (non-parametric fallback).",
-                                   name);
-  return out;
+  out.AppendDescription(
+      fmt::format(" Amended by motionblocks compare --suggest: added '{}' (non-parametric fallback).", name));
+  return out.json();
 }
 
 }  // namespace mb

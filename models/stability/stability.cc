@@ -6,7 +6,6 @@
 
 #include <fmt/format.h>
 
-#include "engine/registry.h"
 #include "models/stability/dob_design.h"
 
 namespace mb {
@@ -59,45 +58,6 @@ Complex Jw(double f_hz) { return Complex(0.0, 2.0 * std::numbers::pi * f_hz); }
 
 double Nyquist(double ts) { return 0.5 / ts; }
 
-const nlohmann::json* FindElement(const nlohmann::json& elements, const std::string& key, const std::string& value,
-                                  bool required, const std::string& what) {
-  const nlohmann::json* found = nullptr;
-  for (const auto& e : elements) {
-    if (e.value(key, "") != value) continue;
-    if (found) {
-      throw std::invalid_argument(fmt::format("stability analysis: the diagram has more than one {} ({} \"{}\"); "
-                                              "the analysis needs exactly one",
-                                              what, key, value));
-    }
-    found = &e;
-  }
-  if (!found && required) {
-    throw std::invalid_argument(fmt::format("stability analysis: the diagram has no {} (an element with {} \"{}\"); "
-                                            "see diagrams/paper/conventional.json",
-                                            what, key, value));
-  }
-  return found;
-}
-
-// The validated parameters (registered defaults filled in) of one element.
-Parameters ElementParameters(const nlohmann::json& element) {
-  const std::string type = element.value("type", "");
-  const std::string name = element.value("name", "");
-  const BlockType* spec = BlockRegistry::Global().Find(type);
-  if (!spec) {
-    throw std::invalid_argument(fmt::format("stability analysis: block type '{}' (element '{}') is not registered; "
-                                            "link mb_blocks into the program",
-                                            type, name));
-  }
-  std::vector<std::string> errors;
-  auto values = ValidateParameters(spec->parameters, element.value("parameters", nlohmann::json::object()),
-                                   "/elements/" + name + "/parameters", &errors);
-  if (!errors.empty()) {
-    throw std::invalid_argument("stability analysis: " + errors.front());
-  }
-  return Parameters(name, std::move(values));
-}
-
 nlohmann::json Number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
 nlohmann::json TermsJson(const SmallGainTerms& t) {
@@ -114,42 +74,6 @@ nlohmann::json ComplexJson(Complex c) {
 }
 
 }  // namespace
-
-PaperLoop PaperLoopFromDiagram(const Diagram& diagram) {
-  const nlohmann::json& elements = diagram.json().at("elements");
-  PaperLoop l;
-  const nlohmann::json* dob = FindElement(elements, "type", "dob", true, "disturbance observer");
-  {
-    const Parameters p = ElementParameters(*dob);
-    l.nominal_mass = p.Number("nominal_mass");
-    l.nominal_damping = p.Number("nominal_damping");
-    l.q_cutoff_hz = p.Number("cutoff_hz");
-    l.relative_degree = p.Integer("relative_degree");
-    l.q_nominal_inverse_discretization = ParseDiscretization(p.String("discretization"), "dob/discretization");
-    const int b = diagram.FindBlock(dob->value("name", ""));
-    l.sample_time = diagram.blocks()[static_cast<std::size_t>(b)]->sample_time().period;
-  }
-  {
-    const Parameters p = ElementParameters(*FindElement(elements, "type", "linear_motor", true, "linear_motor plant"));
-    l.mass = p.Number("mass") + p.Number("payload_mass");
-    l.damping = p.Number("damping");
-  }
-  l.kp = ElementParameters(*FindElement(elements, "name", "pd_p", true, "PD proportional gain")).Vector("gain")(0);
-  l.kd = ElementParameters(*FindElement(elements, "name", "pd_d", true, "PD derivative gain")).Vector("gain")(0);
-  l.derivative_cutoff_hz =
-      ElementParameters(*FindElement(elements, "name", "pd_derivative", true, "PD derivative filter"))
-          .Number("cutoff_hz");
-  if (const auto* v = FindElement(elements, "name", "velocity", false, "velocity estimator")) {
-    l.velocity_cutoff_hz = ElementParameters(*v).Number("cutoff_hz");
-  }
-  if (const auto* g = FindElement(elements, "type", "f_gp", false, "GP filter")) {
-    const Parameters p = ElementParameters(*g);
-    l.gp_weight = p.Number("weight");
-    l.gp_cutoff_hz = p.Number("cutoff_hz");
-    l.gp_order = p.Integer("order");
-  }
-  return l;
-}
 
 double LipschitzGain(const SmallGainTerms& t) { return t.lipschitz_x + t.lipschitz_xdot * t.gamma_xdot; }
 
@@ -178,6 +102,7 @@ Eigen::VectorXd LoopImpulseResponse(const PaperLoop& loop, LoopPath path, bool w
   if (count < 1) throw std::invalid_argument("LoopImpulseResponse: count must be ≥ 1");
   const DiscreteLoop d = MakeDiscreteLoop(loop);
   Running plant(d.plant), pd(d.pd), ff(d.feedforward), q(d.q), qp(d.q_nominal_inverse);
+  const bool dob = with_dob && loop.has_dob;
   Eigen::VectorXd h(count);
   for (int k = 0; k < count; ++k) {
     const double impulse = k == 0 ? 1.0 : 0.0;
@@ -185,13 +110,13 @@ Eigen::VectorXd LoopImpulseResponse(const PaperLoop& loop, LoopPath path, bool w
     const double xd = path == LoopPath::kReferenceToPosition ? impulse : 0.0;
     const double x = plant.Out(0.0);  // the ZOH plant is strictly proper
     const double e = xd - x;
-    const double dhat = with_dob ? qp.Out(x) - q.Out(0.0) : 0.0;  // Q is strictly proper
-    const double uc = ff.Out(xd) + pd.Out(e) - dhat;
+    const double dhat = dob ? qp.Out(x) - q.Out(0.0) : 0.0;  // Q is strictly proper
+    const double uc = (loop.has_feedforward ? ff.Out(xd) : 0.0) + pd.Out(e) - dhat;
     h(k) = x;
     plant.Update(uc + dist);
     pd.Update(e);
     ff.Update(xd);
-    if (with_dob) {
+    if (dob) {
       qp.Update(x);
       q.Update(uc);
     }
@@ -229,18 +154,20 @@ std::vector<BodePoint> ClosedLoopBode(const PaperLoop& l, const std::vector<doub
     b.frequency_hz = f;
     const Complex s = Jw(f);
     const double w = 2.0 * std::numbers::pi * f;
+    // Without a DOB, Q = Q∘P_n⁻¹ = 0; without the feedforward, C_FF = 0.
+    const double dob = l.has_dob ? 1.0 : 0.0, ff = l.has_feedforward ? 1.0 : 0.0;
     {  // Eq. 6, 7 (with P), 12.
-      const Complex P = p.Evaluate(s), Pn_inv = 1.0 / pn.Evaluate(s), Q = q.Evaluate(s), C = c.Evaluate(s);
+      const Complex P = p.Evaluate(s), Pn_inv = 1.0 / pn.Evaluate(s), Q = dob * q.Evaluate(s), C = c.Evaluate(s);
       const Complex den = 1.0 - Q + (C + Q * Pn_inv) * P;
-      b.xd_to_x_continuous = (C + Pn_inv) * P / den;
+      b.xd_to_x_continuous = (C + ff * Pn_inv) * P / den;
       b.d_to_x_continuous = (1.0 - Q) * P / den;
       b.d_to_dhat_continuous = Q * P * (C + Pn_inv) / den;
     }
     {  // The sampled loop: Q∘P_n⁻¹ is one filter, so eq. 12 becomes Q + (QP_n⁻¹·P − Q)(1 − Q)/Δ.
-      const Complex P = d.plant.FrequencyResponse(w), Q = d.q.FrequencyResponse(w);
-      const Complex QPn = d.q_nominal_inverse.FrequencyResponse(w), C = d.pd.FrequencyResponse(w);
+      const Complex P = d.plant.FrequencyResponse(w), Q = dob * d.q.FrequencyResponse(w);
+      const Complex QPn = dob * d.q_nominal_inverse.FrequencyResponse(w), C = d.pd.FrequencyResponse(w);
       // The feedforward is held over each period but sampled mid-interval (time_advance = Ts/2 in the diagrams).
-      const Complex Pn_inv = 1.0 / pn.Evaluate(s) * std::exp(Complex(0.0, w * l.sample_time / 2.0));
+      const Complex Pn_inv = ff / pn.Evaluate(s) * std::exp(Complex(0.0, w * l.sample_time / 2.0));
       const Complex den = 1.0 - Q + (C + QPn) * P;
       b.xd_to_x_discrete = (C + Pn_inv) * P / den;
       b.d_to_x_discrete = (1.0 - Q) * P / den;
@@ -259,8 +186,8 @@ StabilityReport AnalyseStability(const PaperLoop& loop, const GprModel* gpr, con
 
   // Per-filter gains (Assumption 2, 5).
   SmallGainTerms base;
-  base.gamma_q = L1Norm(d.q_nominal_inverse);
-  base.gamma_q_filter = L1Norm(d.q);
+  base.gamma_q = loop.has_dob ? L1Norm(d.q_nominal_inverse) : 0.0;
+  base.gamma_q_filter = loop.has_dob ? L1Norm(d.q) : 0.0;
   base.gamma_xdot = L1Norm(VelocityEstimatorFilter(loop.velocity_cutoff_hz, loop.sample_time));
   base.gamma_g =
       L1Norm(Discretize(BinomialLowPass(loop.gp_cutoff_hz, loop.gp_order), loop.sample_time,
@@ -303,6 +230,9 @@ StabilityReport AnalyseStability(const PaperLoop& loop, const GprModel* gpr, con
 
   if (!r.inner_loop_stable) r.notes.push_back("the inner loop P + C_FB is not stable (Assumption 1 fails)");
   if (!r.dob_loop_stable) r.notes.push_back("the conventional FF/FB/DOB loop is not stable");
+  if (!loop.has_dob) {
+    r.notes.push_back("the loop has no DOB: the 'dob' decomposition closes the PD loop alone (gamma_q = 0)");
+  }
   r.notes.push_back(fmt::format("eq. 58 as printed: rho = {:.4g} ({}); per-path Lemma 1: rho' = {:.4g}", r.rho_paper,
                                 r.rho_paper < 1.0 ? "< 1, BIBO stable" : ">= 1, not certified", r.rho_consistent));
   if (r.rho_paper >= 1.0) {
@@ -316,10 +246,6 @@ StabilityReport AnalyseStability(const PaperLoop& loop, const GprModel* gpr, con
   r.notes.push_back(fmt::format("'dob' decomposition: rho = {:.4g}, alpha_max < {:.4g}", r.rho_dob,
                                 r.alpha_max_bound_dob));
   return r;
-}
-
-StabilityReport AnalyseStability(const Diagram& diagram, const GprModel* gpr, const StabilityOptions& options) {
-  return AnalyseStability(PaperLoopFromDiagram(diagram), gpr, options);
 }
 
 nlohmann::json ToJson(const StabilityReport& r) {
@@ -339,7 +265,9 @@ nlohmann::json ToJson(const StabilityReport& r) {
                {"velocity_cutoff_hz", l.velocity_cutoff_hz},
                {"gp_weight", l.gp_weight},
                {"gp_cutoff_hz", l.gp_cutoff_hz},
-               {"gp_order", l.gp_order}};
+               {"gp_order", l.gp_order},
+               {"has_dob", l.has_dob},
+               {"has_feedforward", l.has_feedforward}};
   j["inner_loop_stable"] = r.inner_loop_stable;
   j["dob_loop_stable"] = r.dob_loop_stable;
   j["has_gpr"] = r.has_gpr;

@@ -29,13 +29,13 @@
 
 #include <nlohmann/json.hpp>
 
-#include "engine/diagram.h"
 #include "models/gpr/gpr_model.h"
 #include "models/stability/lti.h"
 
 namespace mb {
 
-/// The linear loop the analysis needs. Plain data; units SI.
+/// The linear loop the analysis needs. Plain data; units SI. Finding it in a diagram (by block types or the
+/// diagram's "roles") is tools/loop_from_diagram.h's job; this library knows no diagram.
 struct PaperLoop {
   double sample_time = 1e-3;       ///< Ts [s]
   double mass = 0.2621;            ///< true moving mass M + m_p [kg]
@@ -52,14 +52,9 @@ struct PaperLoop {
   double gp_weight = 0.0;          ///< α_max used for ρ (the f_gp weight)
   double gp_cutoff_hz = 100.0;     ///< F_gp cut-off [Hz]
   int gp_order = 1;                ///< F_gp order
+  bool has_dob = true;             ///< false: no DOB (d̂_d = 0; Q and Q∘P_n⁻¹ absent, their γ terms 0)
+  bool has_feedforward = true;     ///< false: no C_FF = P_n⁻¹ on the reference (a plain PD loop)
 };
-
-/// Reads the loop from a diagram: the single `dob` element (M_n, B_n, Q, Ts), the single `linear_motor`
-/// (mass + payload_mass, damping), the PD as the elements named `pd_p` (gain K_p), `pd_d` (gain K_d) and
-/// `pd_derivative` (velocity_estimator on the error) as in diagrams/paper/conventional.json, and optionally an
-/// `f_gp` element and a velocity_estimator named `velocity` (the GP's F_ẋ). Parameters are read with the
-/// registered defaults and units. @throws std::invalid_argument naming what is missing or duplicated.
-PaperLoop PaperLoopFromDiagram(const Diagram& diagram);
 
 /// The constants of section 4.2.
 struct SmallGainTerms {
@@ -136,9 +131,6 @@ struct StabilityReport {
 /// +∞ where their numerator is positive. @throws std::invalid_argument for an invalid loop (bad filter
 /// parameters).
 StabilityReport AnalyseStability(const PaperLoop& loop, const GprModel* gpr = nullptr,
-                                 const StabilityOptions& options = {});
-/// PaperLoopFromDiagram + AnalyseStability.
-StabilityReport AnalyseStability(const Diagram& diagram, const GprModel* gpr = nullptr,
                                  const StabilityOptions& options = {});
 
 /// Everything as JSON (numbers in SI; complex responses as magnitude and phase in degrees; +∞ as null with a

@@ -3,12 +3,16 @@
 
 #include <cmath>
 #include <numbers>
+#include <string>
+
+#include <gmock/gmock.h>
 
 #include <gtest/gtest.h>
 
 #include "engine/diagram_loader.h"
 #include "models/stability/dob_design.h"
 #include "models/stability/stability.h"
+#include "tools/loop_from_diagram.h"
 
 namespace mb {
 namespace {
@@ -103,6 +107,132 @@ TEST(StabilityTest, ReadsTheConventionalDiagram) {
   const StabilityReport r = AnalyseStability(d);
   EXPECT_TRUE(r.dob_loop_stable);
   EXPECT_TRUE(std::isfinite(r.dob.gamma_d_to_x));
+}
+
+
+// Every element of the diagram renamed "renamed_<name>" — in the elements, connections, roles, log and metrics.
+nlohmann::json RenameEveryElement(nlohmann::json j) {
+  const auto renamed = [](const std::string& s) { return s.empty() ? s : "renamed_" + s; };
+  for (auto& e : j["elements"]) e["name"] = renamed(e["name"].get<std::string>());
+  for (auto& c : j["connections"]) {
+    c["startElement"] = renamed(c.value("startElement", ""));
+    c["endElement"] = renamed(c.value("endElement", ""));
+  }
+  for (auto& [role, element] : j["roles"].items()) element = renamed(element.get<std::string>());
+  for (auto& s : j["log"]) s = renamed(s.get<std::string>());
+  for (auto& m : j["metrics"]) m["signal"] = renamed(m["signal"].get<std::string>());
+  return j;
+}
+
+TEST(StabilityTest, FindsTheLoopByRoleNotByName) {
+  const std::string dir = std::string(MB_SOURCE_DIR) + "/diagrams/paper";
+  for (const char* file : {"/conventional.json", "/gp_loop.json"}) {
+    const nlohmann::json j = ReadDiagramJson(dir + file);
+    const PaperLoop original = PaperLoopFromDiagram(BuildDiagram(j, dir, file));
+    const Diagram renamed = BuildDiagram(RenameEveryElement(j), dir, file);
+    ASSERT_LT(renamed.FindBlock("pd_p"), 0);
+    const nlohmann::json a = ToJson(AnalyseStability(original));
+    const nlohmann::json b = ToJson(AnalyseStability(renamed));
+    EXPECT_EQ(a["loop"], b["loop"]) << file;  // every number of the loop
+    EXPECT_EQ(a["paper"], b["paper"]) << file;
+    EXPECT_EQ(a["dob"], b["dob"]) << file;
+  }
+  // The paper's loop as conventional.json writes it: K_p, K_d and the derivative cut-off of its PD gains.
+  const PaperLoop l = PaperLoopFromDiagram(LoadDiagram(dir + "/conventional.json"));
+  EXPECT_TRUE(l.has_dob);
+  EXPECT_TRUE(l.has_feedforward);
+  EXPECT_DOUBLE_EQ(l.q_cutoff_hz, 30.0);
+  const PaperLoop gp = PaperLoopFromDiagram(LoadDiagram(dir + "/gp_loop.json"));
+  EXPECT_GT(gp.gp_weight, 0.0);
+  EXPECT_EQ(gp.kp, l.kp);
+}
+
+TEST(StabilityTest, AnalysesThePdLoopOfTheHilDiagram) {
+  // diagrams/hil/pd_rigid_body.json: a discrete pd_controller (K_p 9300, K_d 69, T_f 0.5 ms, backward Euler, 1 ms)
+  // around a rigid body in a subsystem; no DOB, no feedforward.
+  const Diagram d = LoadDiagram(std::string(MB_SOURCE_DIR) + "/diagrams/hil/pd_rigid_body.json");
+  const PaperLoop l = PaperLoopFromDiagram(d);
+  EXPECT_FALSE(l.has_dob);
+  EXPECT_FALSE(l.has_feedforward);
+  EXPECT_DOUBLE_EQ(l.sample_time, 0.001);
+  EXPECT_DOUBLE_EQ(l.mass, 0.2621);
+  EXPECT_DOUBLE_EQ(l.damping, 3.0);
+  EXPECT_DOUBLE_EQ(l.kp, 9300.0);
+  EXPECT_DOUBLE_EQ(l.kd, 69.0);
+  // a = T_f/(T_f + Ts) = 1/3 ⇒ the cut-off with exp(−2π f Ts) = 1/3.
+  EXPECT_NEAR(std::exp(-2.0 * kPi * l.derivative_cutoff_hz * l.sample_time), 1.0 / 3.0, 1e-12);
+  const StabilityReport r = AnalyseStability(d);
+  EXPECT_TRUE(r.inner_loop_stable);
+  EXPECT_TRUE(r.dob_loop_stable);
+  EXPECT_EQ(r.paper.gamma_q, 0.0);
+  EXPECT_EQ(r.dob.gamma_d_to_x, r.paper.gamma_d_to_x);  // without a DOB both decompositions close the same loop
+  // ‖C_FB‖₁ = K_p + 2 K_d (1 − a)/Ts = 9300 + 2·69/(T_f + Ts).
+  EXPECT_NEAR(r.paper.gamma_x_to_u, 9300.0 + 2.0 * 69.0 / 0.0015, 1e-6);
+  for (const BodePoint& b : r.bode) {
+    EXPECT_EQ(std::abs(b.d_to_dhat_discrete), 0.0);
+    EXPECT_GE(r.paper.gamma_d_to_x, std::abs(b.d_to_x_discrete) * (1.0 - 1e-9));
+  }
+}
+
+// r → e = r − x → PD → rigid body: the smallest loop the analysis reads.
+nlohmann::json PdLoop(const nlohmann::json& pd) {
+  nlohmann::json j = {
+      {"schemaVersion", "1.0"},
+      {"elements",
+       {{{"name", "r"}, {"type", "constant"}, {"parameters", {{"value", 0.001}}}},
+        {{"name", "e"}, {"type", "sum"}, {"parameters", {{"signs", "+-"}}}},
+        pd,
+        {{"name", "body"}, {"type", "rigid_body"}, {"parameters", {{"mass", 1.0}, {"damping", 1.0}}}}}},
+      {"connections",
+       {{{"startElement", "r"}, {"startConnector", "y"}, {"endElement", "e"}, {"endConnector", "u1"}},
+        {{"startElement", "body"}, {"startConnector", "x"}, {"endElement", "e"}, {"endConnector", "u2"}},
+        {{"startElement", "e"}, {"startConnector", "y"}, {"endElement", pd["name"]}, {"endConnector", "e"}},
+        {{"startElement", pd["name"]}, {"startConnector", "u"}, {"endElement", "body"}, {"endConnector", "f"}}}}};
+  return j;
+}
+
+std::string LoopError(const nlohmann::json& j) {
+  try {
+    PaperLoopFromDiagram(BuildDiagram(j, ".", "loop.json"));
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(StabilityTest, LoopErrorsSayWhatIsMissingAndHowToName) {
+  const nlohmann::json pd = {{"name", "c"}, {"type", "pd_controller"}, {"sampleTime", {0.001, 0.0}},
+                             {"parameters", {{"kp", 100.0}, {"kd", 5.0}, {"derivative_filter", 0.001}}}};
+  EXPECT_EQ(LoopError(PdLoop(pd)), "no error");
+  EXPECT_DOUBLE_EQ(PaperLoopFromDiagram(BuildDiagram(PdLoop(pd), ".", "loop.json")).mass, 1.0);
+
+  nlohmann::json continuous = pd;
+  continuous.erase("sampleTime");
+  EXPECT_THAT(LoopError(PdLoop(continuous)),
+              ::testing::HasSubstr("the PD 'c' is continuous; the analysis is of the sampled loop: give it a "
+                                   "\"sampleTime\": [Ts, 0]"));
+  nlohmann::json no_filter = pd;
+  no_filter["parameters"]["derivative_filter"] = 0.0;
+  EXPECT_THAT(LoopError(PdLoop(no_filter)), ::testing::HasSubstr("has derivative pole a = 0"));
+
+  nlohmann::json two_plants = PdLoop(pd);
+  two_plants["elements"].push_back({{"name", "other"}, {"type", "rigid_body"}});
+  two_plants["connections"].push_back(
+      {{"startElement", "c"}, {"startConnector", "u"}, {"endElement", "other"}, {"endConnector", "f"}});
+  EXPECT_THAT(LoopError(two_plants),
+              ::testing::HasSubstr("the diagram has 2 elements that could be the plant (body, other): name the one "
+                                   "in the loop with \"roles\": {\"plant\": \"body\"}"));
+  two_plants["roles"] = {{"plant", "other"}};
+  EXPECT_EQ(LoopError(two_plants), "no error");
+  two_plants["roles"] = {{"plant", "e"}};
+  EXPECT_THAT(LoopError(two_plants),
+              ::testing::HasSubstr("roles/plant names 'e', a sum; the plant must be a linear_motor or rigid_body"));
+
+  nlohmann::json gains = PdLoop({{"name", "c"}, {"type", "gain"}, {"parameters", {{"gain", 100.0}}}});
+  gains["connections"][2]["endConnector"] = "u";
+  gains["connections"][3]["startConnector"] = "y";
+  EXPECT_THAT(LoopError(gains), ::testing::HasSubstr("the diagram has no pd_controller; for a PD built of blocks name "
+                                                     "its parts in \"roles\""));
 }
 
 }  // namespace

@@ -1,0 +1,175 @@
+#pragma once
+// DiagramDocument: the one typed way to read and edit a diagram's JSON (schema: diagrams/schema.json; names from
+// SSP, DESIGN.md) — find an element, add one, connect ports, sum a signal into a driven input, insert an element
+// before an input, set `element.parameter`, the free-parameter list, the experiment section — each operation
+// checked against the block registry (types, parameter specs, ports), so that no tool walks or writes raw
+// diagram JSON. Building and running stay with BuildDiagram (engine/diagram_loader.h) on `json()`.
+//
+// Ports are learned by asking the block type: the element is instantiated through its registered factory with
+// its validated parameters (a `subsystem` element's ports are its inner diagram's connectors). Nothing here
+// names a block type or a port: summing uses the type that declares `BlockType::sum_of_two` (blocks/sum.cc).
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/parameters.h"
+
+namespace mb {
+
+/// One end of a connection: port `port` of element `element`, or — `element` empty — the diagram's connector
+/// named `port` (an input connector as a start, an output connector as an end). SSP's startElement /
+/// startConnector and endElement / endConnector. As a start, an element's port may be left empty when the element
+/// has exactly one output: the document writes that output's name.
+struct Endpoint {
+  std::string element;
+  std::string port;
+  bool is_connector() const { return element.empty(); }
+  /// "element.port", or the connector's name.
+  std::string ToString() const { return element.empty() ? port : element + "." + port; }
+  bool operator==(const Endpoint&) const = default;
+};
+
+/// A connection start → end as written in the diagram.
+struct Connection {
+  Endpoint start;
+  Endpoint end;
+};
+
+/// A connector of the diagram (SSP `connectors`): "input" or "output", its unit, its measured column.
+struct DocumentConnector {
+  std::string name;
+  std::string kind;         ///< "input" or "output"
+  std::string unit;
+  std::string measurement;  ///< the measured column's name (default: the connector's name)
+};
+
+/// An element to add: `name` is a wish (a taken name gets a suffix, see DiagramDocument::Add), `type` a
+/// registered block type, `parameters` as in a diagram file (a value or {"value": …, "unit": "…"}),
+/// `sample_time` [Ts, offset] in seconds for discrete blocks.
+struct ElementSpec {
+  std::string name;
+  std::string type;
+  nlohmann::json parameters = nlohmann::json::object();
+  std::optional<std::pair<double, double>> sample_time;
+  std::string description;
+};
+
+class DiagramDocument {
+ public:
+  /// Holds `diagram` (a JSON object; "elements" and "connections" arrays if present). `base_directory` resolves
+  /// a subsystem's diagram file; `source` names the diagram in messages.
+  /// @throws std::invalid_argument if `diagram` is not an object or "elements"/"connections" are not arrays.
+  explicit DiagramDocument(nlohmann::json diagram, std::filesystem::path base_directory = {},
+                           std::string source = "diagram");
+  /// Reads a diagram file (ReadDiagramJson: syntax errors with line and column).
+  static DiagramDocument Load(const std::filesystem::path& path);
+
+  /// The diagram as JSON, to write out or to build (BuildDiagram).
+  const nlohmann::json& json() const { return json_; }
+  const std::filesystem::path& base_directory() const { return base_; }
+  const std::string& source() const { return source_; }
+
+  // ---- Elements ----------------------------------------------------------------------------------------
+  bool Has(const std::string& element) const;
+  std::vector<std::string> ElementNames() const;
+  /// The element's "type". @throws std::invalid_argument for an unknown element ("did you mean").
+  std::string TypeOf(const std::string& element) const;
+  /// The elements of one type, in file order.
+  std::vector<std::string> ElementsOfType(const std::string& type) const;
+  /// `base` if no element has that name, else the first free of base_2, base_3, …
+  std::string UniqueName(const std::string& base) const;
+  /// Appends an element; returns its name: `spec.name`, or UniqueName(spec.name) when that is taken (adding never
+  /// fails on a name clash, so a suggestion can be applied twice). @throws std::invalid_argument for an empty
+  /// name or one with '.', an unknown type ("did you mean"), a sampleTime the type does not take / lacks, and
+  /// every parameter problem at once (unknown parameter, missing required one, wrong type, unit or bound).
+  std::string Add(const ElementSpec& spec);
+
+  // ---- Connections -------------------------------------------------------------------------------------
+  std::vector<Connection> Connections() const;
+  /// What drives `end` (an element's input or an output connector), if anything.
+  std::optional<Endpoint> DriverOf(const Endpoint& end) const;
+  /// Connects `start` (an element's output or an input connector) to `end` (an element's input or an output
+  /// connector). @throws std::invalid_argument naming the element/connector/port that does not exist (listing the
+  /// ports there are), or an end already driven ("use SumInto to add a signal").
+  void Connect(const Endpoint& start, const Endpoint& end);
+  /// Adds `addend` into the signal that already drives `end`: a new two-input sum (the type declaring
+  /// BlockType::sum_of_two, named UniqueName(sum_name)) takes the old driver on its first input and `addend` on
+  /// its second, and drives `end` in place of the old driver. Returns the sum's name. @throws
+  /// std::invalid_argument if nothing drives `end` (connect it instead) or as Connect for `addend`.
+  std::string SumInto(const Endpoint& end, const Endpoint& addend, const std::string& sum_name);
+  /// Puts `element` (already added; exactly one input and one output port) between `end` and what drives it.
+  /// @throws std::invalid_argument if nothing drives `end` or the element has not one input and one output.
+  void InsertBefore(const Endpoint& end, const std::string& element);
+
+  // ---- Connectors --------------------------------------------------------------------------------------
+  /// The connectors of kind "input" or "output", in file order.
+  std::vector<DocumentConnector> Connectors(const std::string& kind) const;
+
+  // ---- Parameters --------------------------------------------------------------------------------------
+  /// The value of `element.parameter` as written (a unit wrapper stripped), else the type's default, else null
+  /// (a required parameter not given). @throws std::invalid_argument for an unknown element or a parameter the
+  /// type does not declare ("did you mean").
+  nlohmann::json Parameter(const std::string& element, const std::string& parameter) const;
+  /// Sets `element.parameter` to `value`, keeping a unit written as {"value", "unit"}. @throws
+  /// std::invalid_argument as Parameter; DiagramError if the value does not fit the parameter's spec (type,
+  /// bounds) — the same error BuildDiagram would give.
+  void SetParameter(const std::string& element, const std::string& parameter, const nlohmann::json& value);
+  /// Every parameter of the element validated against its type's specs, defaults filled in, units stripped.
+  /// @throws std::invalid_argument for an unknown element or an unregistered type; DiagramError for bad values.
+  Parameters ElementParameters(const std::string& element) const;
+
+  // ---- Free parameters ("free": what compare and fit refit) ---------------------------------------------
+  std::vector<std::string> FreeParameters() const;
+  /// Appends "element.parameter" (if not listed yet). @throws std::invalid_argument as Parameter, or for a name
+  /// without '.'.
+  void AddFreeParameter(const std::string& name);
+
+  // ---- Experiment and solver ----------------------------------------------------------------------------
+  /// Sets defaultExperiment to startTime `start`, stopTime `stop`, stepSize `step` [s].
+  void SetExperiment(double start, double stop, double step);
+  /// Keeps defaultExperiment's startTime (default 0) and stepSize, sets stopTime = startTime + `duration` [s].
+  void SetExperimentDuration(double duration);
+  /// Gives this document `other`'s defaultExperiment (or none, if it has none).
+  void CopyExperimentFrom(const DiagramDocument& other);
+  /// experiment.mode: "equation_error" or "simulation" (the default).
+  std::string ExperimentMode() const;
+  /// solver.step and defaultExperiment.stepSize when given and > 0 [s].
+  std::optional<double> SolverStep() const;
+  std::optional<double> ExperimentStepSize() const;
+
+  // ---- Logging, subsystems, text ------------------------------------------------------------------------
+  std::vector<std::string> LoggedSignals() const;
+  void SetLoggedSignals(const std::vector<std::string>& signals);
+  /// Removes every metric (a diagram run open-ended has nothing to score).
+  void ClearMetrics();
+  /// Points subsystem `element` at `file` and drops its parameter overrides (they belonged to the old inner
+  /// diagram); returns the dropped overrides as "element.param = value". @throws std::invalid_argument if the
+  /// element is unknown or not a subsystem.
+  std::vector<std::string> SetSubsystemDiagram(const std::string& element, const std::filesystem::path& file);
+  /// Appends `text` to the diagram's "notes" / "description".
+  void AppendNote(const std::string& text);
+  void AppendDescription(const std::string& text);
+
+ private:
+  nlohmann::json* FindElement(const std::string& element);
+  const nlohmann::json& Element(const std::string& element) const;
+  /// The element's input or output port names (instantiating its block, or reading a subsystem's connectors).
+  std::vector<std::string> Ports(const std::string& element, bool inputs) const;
+  /// `start` with an empty port of an element with one output resolved to that output.
+  Endpoint ResolveStart(const Endpoint& start) const;
+  /// @throws std::invalid_argument unless `endpoint` exists as a start (an output or input connector) or an end.
+  void CheckEndpoint(const Endpoint& endpoint, bool is_start) const;
+  /// Index of the connection into `end`. @throws std::invalid_argument if none.
+  std::size_t FeedOf(const Endpoint& end) const;
+
+  nlohmann::json json_;
+  std::filesystem::path base_;
+  std::string source_;
+};
+
+}  // namespace mb
