@@ -1,5 +1,7 @@
 #include "blocks/friction.h"
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 
@@ -21,7 +23,7 @@ Friction::Friction(const BlockConfig& config)
   DeclareInputPort("v", 1, "m/s");
   if (stick_) DeclareInputPort("f_applied", 1, "N");
   DeclareOutputPort("f", 1, "N");
-  DeclareDiscreteState(1);
+  DeclareDiscreteState(2);  // the mode; the velocity band of the current stick (0 while slipping)
   DeclareZeroCrossings(2);
   SetSampleTime(SampleTime::Continuous());
 }
@@ -47,9 +49,15 @@ void Friction::CalcZeroCrossings(const BlockContext& c) const {
 }
 
 bool Friction::UpdateModes(const BlockContext& c) const {
+  auto xd = c.discrete_state();
   const FrictionMode old_mode = Mode(c);
-  const FrictionMode mode = NextFrictionMode(friction_, old_mode, c.u(0), AppliedForce(c), stick_, stick_velocity_);
-  c.discrete_state()(0) = static_cast<double>(static_cast<int>(mode));
+  const double band = std::max(stick_velocity_, xd(1));
+  const FrictionMode mode = NextFrictionMode(friction_, old_mode, c.u(0), AppliedForce(c), stick_, band);
+  // Step-aware stick band: a stick entered at |v| (up to a·h with a fixed-step solver) holds while |v| stays
+  // within kStickBandFactor·|v|; with CVODE |v| is at its root tolerance and the band stays stick_velocity.
+  if (mode == FrictionMode::kStuck && old_mode != FrictionMode::kStuck) xd(1) = kStickBandFactor * std::abs(c.u(0));
+  if (mode != FrictionMode::kStuck) xd(1) = 0.0;
+  xd(0) = static_cast<double>(static_cast<int>(mode));
   return mode != old_mode;
 }
 

@@ -22,9 +22,11 @@ namespace mb {
 /// crossing and at every major step, and the engine iterates until the mode is consistent.
 /// Initial mode: stuck; the first consistency check (at the start time) switches to slip when |v| >
 /// stick_velocity or |f_applied| > F_s.
-/// Limits: a body that sticks keeps the velocity it had at the located crossing (|v| within CVODE's root
-/// tolerance; up to a·h with fixed-step solvers, which locate a crossing only to the end of a step — use CVODE
-/// for stick-slip). With stick_model "none" (no f_applied input) the direction follows v at each crossing and a
+/// Stick band (Karnopp's DV, step-aware): a body that sticks keeps the velocity v_0 it had at the located crossing
+/// (|v_0| within CVODE's root tolerance; up to a·h with fixed-step solvers, which locate a crossing only to the end
+/// of a step h); it stays stuck while |v| ≤ max(stick_velocity, kStickBandFactor·|v_0|), so a fixed-step solver
+/// does not chatter between stick and slip at every step (x_d[1] holds the band while stuck, 0 while slipping).
+/// The stuck body drifts at v_0 (≤ a·h): use CVODE where that drift matters. With stick_model "none" (no f_applied input) the direction follows v at each crossing and a
 /// body that should come to rest chatters; use it only for motions that keep moving.
 /// @throws std::invalid_argument for negative or non-finite parameters, static < coulomb, an unknown
 /// stick_model.
@@ -34,6 +36,10 @@ class Friction final : public Block {
   void CalcOutput(const BlockContext& context) const override;
   void CalcZeroCrossings(const BlockContext& context) const override;
   bool UpdateModes(const BlockContext& context) const override;
+
+  /// The stick band is this multiple of the velocity at which the stick began (room for the small acceleration of
+  /// forces the stick does not balance, e.g. an offset).
+  static constexpr double kStickBandFactor = 2.0;
 
   /// The mode stored in a context's discrete state (for tests and inspection).
   static FrictionMode Mode(const BlockContext& context);

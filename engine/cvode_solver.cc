@@ -1,7 +1,10 @@
 #include "engine/cvode_solver.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <stdexcept>
+#include <vector>
 
 #include <cvode/cvode.h>
 #include <fmt/format.h>
@@ -9,6 +12,8 @@
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
+
+#include "engine/numerical_error.h"
 
 namespace mb {
 
@@ -38,6 +43,9 @@ struct CvodeSolver::Impl {
   bool initialised = false;
   double t = 0.0;
   std::string callback_error;  // an exception caught in a callback, rethrown after CVode returns
+  std::string non_finite;      // the last right-hand side with NaN/Inf, described by the system
+  std::vector<int> roots_found;  // CVodeGetRootInfo after a root return
+  int last_root = -1;
   mutable SolverStats stats;
   long steps_before_reinit = 0;  // CVodeReInit resets CVODE's own step counter
 
@@ -47,7 +55,14 @@ struct CvodeSolver::Impl {
     try {
       self->system->Derivatives(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
       ++self->stats.rhs_evaluations;
-      return 0;
+      const double* dx = N_VGetArrayPointer(ydot);
+      const double* x = N_VGetArrayPointer(y);
+      const int n = self->system->num_states();
+      if (std::all_of(dx, dx + n, [](double v) { return std::isfinite(v); })) return 0;
+      // Recoverable: CVODE retries with a smaller step; if it still fails, this names the culprit.
+      const std::string where = self->system->DescribeNonFinite(x);
+      self->non_finite = fmt::format("at t = {:.9g} s: {}", t, where.empty() ? "a derivative is NaN/Inf" : where);
+      return 1;
     } catch (const std::exception& e) {
       self->callback_error = e.what();
       return -1;
@@ -125,6 +140,7 @@ double CvodeSolver::Integrate(double t_stop, double* x, bool* root_found) {
     Check(CVodeSetStopTime(s.memory, t_stop), "CVodeSetStopTime");
     sunrealtype t_reached = s.t;
     s.callback_error.clear();
+    s.non_finite.clear();
     const int flag = CVode(s.memory, t_stop, s.y, &t_reached, CV_NORMAL);
     if (flag < 0) {
       std::string detail = s.callback_error.empty() ? "" : " (in a block: " + s.callback_error + ")";
@@ -141,18 +157,32 @@ double CvodeSolver::Integrate(double t_stop, double* x, bool* root_found) {
       }
       N_VDestroy(weights);
       N_VDestroy(errors);
-      throw std::runtime_error(fmt::format("CVODE failed at t = {:.9g} s: {}{}. Try a smaller rtol/maxStep, the bdf "
-                                           "method, or check the model for a discontinuity without a zero crossing",
-                                           t_reached, FlagName(flag), detail));
+      if (!s.non_finite.empty()) detail += "; NaN/Inf " + s.non_finite;
+      if (!s.callback_error.empty()) {
+        throw std::runtime_error(fmt::format("CVODE failed at t = {:.9g} s: {}{}", t_reached, FlagName(flag), detail));
+      }
+      throw NumericalError(fmt::format("CVODE failed at t = {:.9g} s: {}{}. Try a smaller rtol/maxStep, the bdf "
+                                       "method, or check the model for a discontinuity without a zero crossing",
+                                       t_reached, FlagName(flag), detail));
     }
     *root_found = flag == CV_ROOT_RETURN;
-    if (*root_found) ++s.stats.roots_found;
+    s.last_root = -1;
+    if (*root_found) {
+      ++s.stats.roots_found;
+      s.roots_found.assign(static_cast<std::size_t>(s.system->num_roots()), 0);
+      if (CVodeGetRootInfo(s.memory, s.roots_found.data()) == CV_SUCCESS) {
+        const auto it = std::find_if(s.roots_found.begin(), s.roots_found.end(), [](int r) { return r != 0; });
+        if (it != s.roots_found.end()) s.last_root = static_cast<int>(it - s.roots_found.begin());
+      }
+    }
     s.t = t_reached;
   }
   const double* data = N_VGetArrayPointer(s.y);
   std::copy(data, data + s.system->num_states(), x);
   return s.t;
 }
+
+int CvodeSolver::last_root() const { return impl_->last_root; }
 
 const SolverStats& CvodeSolver::stats() const {
   long steps = 0;

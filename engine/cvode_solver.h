@@ -14,7 +14,8 @@ namespace mb {
 
 class CvodeSolver final : public ContinuousSolver {
  public:
-  /// Uses spec.method ("bdf"/"adams"), rtol, atol, max_step (0 = unlimited). @throws std::runtime_error if
+  /// A right-hand side that returns NaN/Inf is a recoverable error (CVODE retries with a smaller step); if CVODE
+  /// still fails, NumericalError names the non-finite value. Uses spec.method ("bdf"/"adams"), rtol, atol, max_step (0 = unlimited). @throws std::runtime_error if
   /// SUNDIALS cannot be set up.
   CvodeSolver(OdeSystem* system, const SolverSpec& spec);
   ~CvodeSolver() override;
@@ -23,6 +24,7 @@ class CvodeSolver final : public ContinuousSolver {
   double Integrate(double t_stop, double* x, bool* root_found) override;
   const SolverStats& stats() const override;
   std::string name() const override { return "cvode"; }
+  int last_root() const override;
 
  private:
   struct Impl;

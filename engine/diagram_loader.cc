@@ -8,6 +8,7 @@
 
 #include "engine/execution_order.h"
 #include "engine/file_access.h"
+#include "engine/json_limits.h"
 #include "engine/registry.h"
 
 namespace mb {
@@ -75,7 +76,7 @@ json ReadDiagramJson(const fs::path& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot open the diagram file (does it exist?)", path.string()));
   try {
-    return json::parse(in, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
+    return ParseJsonLimited(in, path.string(), /*ignore_comments=*/true);
   } catch (const json::parse_error& e) {
     throw std::runtime_error(fmt::format("{}: not valid JSON: {}", path.string(), e.what()));
   }

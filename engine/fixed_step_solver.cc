@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "engine/cvode_solver.h"
+#include "engine/numerical_error.h"
 
 namespace mb {
 
@@ -59,13 +60,15 @@ double FixedStepSolver::Integrate(double t_stop, double* x, bool* root_found) {
       Step(t_, h);
       t_ = k == n ? t_stop : t0 + static_cast<double>(k) * h;
       ++stats_.steps;
+      CheckFinite();
       if (!g_old_.empty()) {
         system_->Roots(t_, x_.data(), g_new_.data());
         ++stats_.root_evaluations;
-        bool crossed = false;
+        last_root_ = -1;
         for (std::size_t i = 0; i < g_new_.size(); ++i) {
-          crossed = crossed || (g_old_[i] > 0.0) != (g_new_[i] > 0.0);
+          if (last_root_ < 0 && (g_old_[i] > 0.0) != (g_new_[i] > 0.0)) last_root_ = static_cast<int>(i);
         }
+        const bool crossed = last_root_ >= 0;
         g_old_ = g_new_;
         if (crossed) {
           *root_found = true;
@@ -77,6 +80,16 @@ double FixedStepSolver::Integrate(double t_stop, double* x, bool* root_found) {
   }
   std::copy(x_.begin(), x_.end(), x);
   return t_;
+}
+
+void FixedStepSolver::CheckFinite() const {
+  for (const double v : x_) {
+    if (std::isfinite(v)) continue;
+    throw NumericalError(fmt::format("{} solver: {} after the step to t = {:.9g} s (step {} s). The model diverged "
+                                     "or a block computed an invalid value: check that block's parameters and "
+                                     "inputs, or try a smaller solver.step or the cvode solver",
+                                     name(), system_->DescribeNonFinite(x_.data()), t_, step_));
+  }
 }
 
 std::unique_ptr<ContinuousSolver> MakeSolver(const SolverSpec& spec, OdeSystem* system) {

@@ -18,13 +18,17 @@ class FixedStepSolver final : public ContinuousSolver {
   double Integrate(double t_stop, double* x, bool* root_found) override;
   const SolverStats& stats() const override { return stats_; }
   std::string name() const override { return method_ == Method::kEuler ? "euler" : "rk4"; }
+  int last_root() const override { return last_root_; }
 
  private:
   void Step(double t, double h);
+  /// @throws NumericalError naming the first non-finite state.
+  void CheckFinite() const;
   OdeSystem* system_;
   Method method_;
   double step_;
   double t_ = 0.0;
+  int last_root_ = -1;
   std::vector<double> x_, k1_, k2_, k3_, k4_, tmp_, g_old_, g_new_;
   SolverStats stats_;
 };

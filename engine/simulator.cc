@@ -1,6 +1,7 @@
 #include "engine/simulator.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -8,13 +9,49 @@
 
 #include <fmt/format.h>
 
+#include "engine/numerical_error.h"
+
 namespace mb {
 
 namespace {
 constexpr int kMaxEventIterations = 10;  // Modelica-style event iteration bound
 constexpr double kTimeTolerance = 1e-12;
 constexpr double kLogMergeTolerance = 1e-6;  // in log steps
+
+std::atomic<double> g_default_max_steps{SimulationLimits{}.max_steps};
+std::atomic<long> g_default_max_events{SimulationLimits{}.max_events_per_major_step};
+
+// The block owning entry i of storage laid out block by block, `count(block)` entries each; *local = its index
+// within the block.
+template <class Count>
+std::size_t OwnerOf(const std::vector<std::unique_ptr<Block>>& blocks, std::size_t i, Count count,
+                    std::size_t* local) {
+  std::size_t offset = 0;
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    const auto n = static_cast<std::size_t>(count(*blocks[b]));
+    if (i < offset + n) {
+      *local = i - offset;
+      return b;
+    }
+    offset += n;
+  }
+  *local = i;
+  return 0;
+}
+
+// A time step of the run for CheckRunLength: what sets it, for the message.
+struct RunGrid {
+  std::string what;
+  double step;
+};
 }  // namespace
+
+SimulationLimits DefaultSimulationLimits() { return {g_default_max_steps.load(), g_default_max_events.load()}; }
+
+void SetDefaultSimulationLimits(const SimulationLimits& limits) {
+  g_default_max_steps.store(limits.max_steps);
+  g_default_max_events.store(limits.max_events_per_major_step);
+}
 
 const std::vector<double>& SignalLog::Column(const std::string& name) const {
   for (std::size_t i = 0; i < names.size(); ++i) {
@@ -31,7 +68,7 @@ bool SignalLog::Has(const std::string& name) const {
   return std::find(names.begin(), names.end(), name) != names.end();
 }
 
-Simulator::Simulator(const Diagram& diagram) : diagram_(diagram) {
+Simulator::Simulator(const Diagram& diagram, SimulationLimits limits) : diagram_(diagram), limits_(limits) {
   const auto& blocks = diagram.blocks();
   const std::size_t nb = blocks.size();
   // Signal storage: every output port, then one slot per external input.
@@ -336,7 +373,10 @@ void Simulator::Initialize(double start_time) {
   std::fill(signals_.begin(), signals_.end(), 0.0);
   for (auto& c : input_cursor_) c = 0;
   log_ = SignalLog{{}, log_.names, std::vector<std::vector<double>>(log_.names.size())};
-  const auto expected = static_cast<std::size_t>((diagram_.experiment().stop_time - start_time) / log_step_) + 2;
+  CheckRunLength(start_time);
+  // The whole log (the real-time loop must not allocate), never beyond the limit CheckRunLength enforced.
+  const double samples = std::max(0.0, (diagram_.experiment().stop_time - start_time) / log_step_) + 2.0;
+  const auto expected = static_cast<std::size_t>(std::min(samples, limits_.max_steps));
   log_.time.reserve(expected);
   for (auto& c : log_.columns) c.reserve(expected);
   next_log_index_ = 0;
@@ -354,6 +394,7 @@ void Simulator::Initialize(double start_time) {
     hit_now_[static_cast<std::size_t>(b)] = blocks[static_cast<std::size_t>(b)]->sample_time().IsHit(time_) ? 1 : 0;
   }
   MakeModesConsistent(time_, /*major=*/true);
+  CheckFinite(time_);
   LogNow();
   ++next_log_index_;
   if (solver_) solver_->Reset(time_, xc_.data());
@@ -375,22 +416,7 @@ void Simulator::AdvanceTo(double t_end) {
       blocks[bi]->UpdateDiscrete(contexts_[bi]);
     }
     const double t_next = std::min(NextMajorTime(time_), t_end);
-    // Integrate the continuous states to the next major time, stopping at zero crossings.
-    if (solver_) {
-      double t = time_;
-      while (t < t_next) {
-        bool root = false;
-        t = solver_->Integrate(t_next, xc_.data(), &root);
-        if (root && t < t_next) {
-          UpdateInputs(t);
-          ComputeOutputs(t, /*major=*/false);
-          MakeModesConsistent(t, /*major=*/false);
-          solver_->Reset(t, xc_.data());
-        } else if (root) {
-          need_reset = true;
-        }
-      }
-    }
+    if (solver_) need_reset = IntegrateTo(t_next);
     time_ = t_next;
     // Start the next major step: hits, outputs, modes, log.
     bool any_hit = false;
@@ -402,6 +428,7 @@ void Simulator::AdvanceTo(double t_end) {
     UpdateInputs(time_);
     ComputeOutputs(time_, /*major=*/true);
     need_reset = MakeModesConsistent(time_, /*major=*/true) || need_reset || any_hit;
+    CheckFinite(time_);
     if (std::abs(time_ - NextLogTime()) <= kLogMergeTolerance * log_step_) {
       LogNow();
       ++next_log_index_;
@@ -412,6 +439,135 @@ void Simulator::AdvanceTo(double t_end) {
       next_progress = time_ + 0.02 * (t_stop - start_time_);
     }
   }
+}
+
+// Integrates the continuous states to the next major time, stopping at zero crossings (modes updated, solver
+// restarted); more than limits_.max_events_per_major_step of them before t_next is a Zeno loop.
+bool Simulator::IntegrateTo(double t_next) {
+  bool root_at_end = false;
+  double t = time_;
+  long events = 0;
+  while (t < t_next) {
+    bool root = false;
+    t = solver_->Integrate(t_next, xc_.data(), &root);
+    if (root && t < t_next) {
+      if (++events > limits_.max_events_per_major_step) {
+        throw NumericalError(fmt::format(
+            "{} zero-crossing events between t = {:.9g} s and t = {:.9g} s without reaching the next major step at "
+            "{:.9g} s: {} fires again and again (a Zeno loop — e.g. friction with stick_model \"none\" at rest "
+            "under a force below Coulomb). Give the block a way to rest (friction: stick_model \"karnopp\" with "
+            "its f_applied input) or change the model so that the event does not repeat",
+            events - 1, time_, t, t_next, DescribeRoot(solver_->last_root())));
+      }
+      UpdateInputs(t);
+      ComputeOutputs(t, /*major=*/false);
+      MakeModesConsistent(t, /*major=*/false);
+      solver_->Reset(t, xc_.data());
+    } else if (root) {
+      root_at_end = true;
+    }
+  }
+  return root_at_end;
+}
+
+void Simulator::CheckRunLength(double start_time) const {
+  const Experiment& ex = diagram_.experiment();
+  const double span = ex.stop_time - start_time;
+  if (!(span > 0.0)) return;  // nothing to run (the loader refuses stopTime <= startTime)
+  std::vector<RunGrid> grids;
+  if (ex.step_size > 0.0) grids.push_back({"defaultExperiment.stepSize", ex.step_size});
+  for (int b : discrete_blocks_) {
+    const Block& block = *diagram_.blocks()[static_cast<std::size_t>(b)];
+    grids.push_back({fmt::format("the sampleTime of element '{}'", block.name()), block.sample_time().period});
+  }
+  if (solver_ && diagram_.solver().type != "cvode") grids.push_back({"solver.step", diagram_.solver().step});
+  grids.push_back({"the log interval", log_step_});
+  const double t_max = std::max(std::abs(start_time), std::abs(ex.stop_time));
+  const RunGrid* finest = &grids.front();
+  for (const RunGrid& g : grids) {
+    if (g.step > span * (1.0 + 1e-9)) {
+      throw std::invalid_argument(fmt::format(
+          "{}: {} ({} s) is longer than the run ({} s, from startTime {} s to stopTime {} s): the run would log "
+          "only its start. Make it at most {} s, or make stopTime later",
+          diagram_.name(), g.what, g.step, span, start_time, ex.stop_time, span));
+    }
+    if (!(t_max + g.step > t_max)) {
+      throw std::invalid_argument(fmt::format(
+          "{}: {} ({} s) vanishes next to the run's times (t = {} s): t + {} == t in double precision, so time "
+          "could never advance. Use a larger step, or start the run nearer t = 0",
+          diagram_.name(), g.what, g.step, t_max, g.step));
+    }
+    if (g.step < finest->step) finest = &g;
+  }
+  const double steps = span / finest->step;
+  if (steps > limits_.max_steps) {
+    throw std::invalid_argument(fmt::format(
+        "{}: the run from {} s to {} s in steps of {} s ({}) takes about {:.3g} steps, more than the limit of "
+        "{:.3g}. Shorten the run (defaultExperiment.stopTime), enlarge the step, or raise the limit with "
+        "--max-steps N",
+        diagram_.name(), start_time, ex.stop_time, finest->step, finest->what, steps, limits_.max_steps));
+  }
+  const double values = (span / log_step_ + 1.0) * static_cast<double>(std::max<std::size_t>(1, log_.names.size()));
+  if (values > limits_.max_steps) {
+    throw std::invalid_argument(fmt::format(
+        "{}: the log would hold about {:.3g} values ({:.3g} samples every {} s × {} signals, {:.3g} MB), more than "
+        "the limit of {:.3g}. Log fewer signals, a larger defaultExperiment.stepSize or a shorter run, or raise "
+        "the limit with --max-steps N",
+        diagram_.name(), values, span / log_step_ + 1.0, log_step_, log_.names.size(), values * 8e-6,
+        limits_.max_steps));
+  }
+}
+
+std::string Simulator::DescribeState(int i) const {
+  std::size_t local = 0;
+  const std::size_t b = OwnerOf(diagram_.blocks(), static_cast<std::size_t>(i),
+                                [](const Block& block) { return block.num_continuous_states(); }, &local);
+  const Block& block = *diagram_.blocks()[b];
+  return fmt::format("block '{}' continuous state {} of {}", block.name(), local, block.num_continuous_states());
+}
+
+std::string Simulator::DescribeRoot(int i) const {
+  if (i < 0) return "a zero crossing";
+  std::size_t local = 0;
+  const std::size_t b = OwnerOf(diagram_.blocks(), static_cast<std::size_t>(i),
+                                [](const Block& block) { return block.num_zero_crossings(); }, &local);
+  return fmt::format("the zero crossing {} of block '{}'", local, diagram_.blocks()[b]->name());
+}
+
+std::string Simulator::DescribeNonFinite(const double* x) const {
+  const auto& blocks = diagram_.blocks();
+  for (int b : diagram_.execution_order()) {
+    const auto bi = static_cast<std::size_t>(b);
+    const auto& ports = blocks[bi]->output_ports();
+    for (std::size_t p = 0; p < ports.size(); ++p) {
+      for (int k = 0; k < ports[p].width; ++k) {
+        const double v = contexts_[bi].outputs_[p][k];
+        if (std::isfinite(v)) continue;
+        return fmt::format("block '{}' output '{}'{} is {}", blocks[bi]->name(), ports[p].name,
+                           ports[p].width > 1 ? fmt::format("[{}]", k) : "", v);
+      }
+    }
+  }
+  for (int i = 0; x && i < num_continuous_; ++i) {
+    if (!std::isfinite(x[i])) return fmt::format("{} is {}", DescribeState(i), x[i]);
+  }
+  for (std::size_t i = 0; i < xd_.size(); ++i) {
+    if (std::isfinite(xd_[i])) continue;
+    std::size_t local = 0;
+    const std::size_t b = OwnerOf(blocks, i, [](const Block& block) { return block.num_discrete_states(); }, &local);
+    return fmt::format("block '{}' discrete state {} is {}", blocks[b]->name(), local, xd_[i]);
+  }
+  return "";
+}
+
+void Simulator::CheckFinite(double t) const {
+  const std::string where = DescribeNonFinite(xc_.data());
+  if (where.empty()) return;
+  throw NumericalError(fmt::format("{}: at t = {:.9g} s {} (the first NaN/Inf, in execution order). The model "
+                                   "diverged or the block computed an invalid value: check its parameters and "
+                                   "inputs{}",
+                                   diagram_.name(), t, where,
+                                   solver_ ? ", or try a smaller solver step or the cvode solver" : ""));
 }
 
 SimulationResult Simulator::Run() {

@@ -39,10 +39,26 @@ struct InputSeries {
   std::vector<double> values;  ///< same length
 };
 
+/// What a run may cost before it starts (checked by Simulator::Initialize).
+struct SimulationLimits {
+  /// Refuse a run estimated to take more major or fixed solver steps than this (the finest of the log interval,
+  /// the discrete sample times and a fixed solver step over the run), or to log more values (samples × logged
+  /// scalars; 8 bytes each) than this. The command line's --max-steps.
+  double max_steps = 1e8;
+  /// Refuse more than this many zero-crossing events between two major steps (a Zeno loop: events that do not
+  /// let time advance).
+  long max_events_per_major_step = 10000;
+};
+
+/// The limits a Simulator gets when none are given: SimulationLimits{} until SetDefaultSimulationLimits (the
+/// command line's --max-steps sets it once, before any run). Thread-safe.
+SimulationLimits DefaultSimulationLimits();
+void SetDefaultSimulationLimits(const SimulationLimits& limits);
+
 class Simulator final : private OdeSystem {
  public:
   /// Lays out all signal and state storage (the only allocation). The diagram must outlive the simulator.
-  explicit Simulator(const Diagram& diagram);
+  explicit Simulator(const Diagram& diagram, SimulationLimits limits = DefaultSimulationLimits());
   ~Simulator() override;
 
   /// Feeds diagram input connector `name`. @throws std::invalid_argument for an unknown name, mismatched lengths,
@@ -54,10 +70,17 @@ class Simulator final : private OdeSystem {
   void SetProgressCallback(std::function<void(double, double)> callback) { progress_ = std::move(callback); }
 
   /// Initialises states at the experiment's start time (or `start_time`), computes outputs, makes modes
-  /// consistent. @throws std::runtime_error if a required input is not set.
+  /// consistent, and reserves the log (never more than the limits allow).
+  /// @throws std::runtime_error if a required input is not set; std::invalid_argument (with the fix) if the log
+  /// interval (defaultExperiment.stepSize), a discrete sample time or the fixed solver step is longer than the run
+  /// or vanishes next to the run's times (t + dt == t), or the run exceeds the limits (SimulationLimits);
+  /// NumericalError if an initial output is NaN/Inf.
   void Initialize();
   void Initialize(double start_time);
   /// Advances through major steps until `t` (logging on the log grid). Requires Initialize.
+  /// @throws NumericalError (engine/numerical_error.h) at the step where a block output or a state becomes NaN or
+  /// Inf (naming the block, the port or state, and the time), when the solver fails, or when zero-crossing events
+  /// repeat without reaching the next major step (SimulationLimits::max_events_per_major_step; names the block).
   void AdvanceTo(double t);
   /// Initialize + AdvanceTo(stop time) + metrics.
   SimulationResult Run();
@@ -77,7 +100,17 @@ class Simulator final : private OdeSystem {
   int num_roots() const override { return num_roots_; }
   void Derivatives(double t, const double* x, double* dx) override;
   void Roots(double t, const double* x, double* g) override;
+  std::string DescribeNonFinite(const double* x) const override;
 
+  // Refuses runs that cannot advance or exceed limits_ (Initialize's checks).
+  void CheckRunLength(double start_time) const;
+  // Throws NumericalError if a block output or state is NaN/Inf at major time t.
+  void CheckFinite(double t) const;
+  // Integrates to t_next, handling zero crossings before it; returns whether one was located at t_next.
+  bool IntegrateTo(double t_next);
+  // "block 'name' (continuous state k of n)" for entry i of the continuous states / root functions.
+  std::string DescribeState(int i) const;
+  std::string DescribeRoot(int i) const;
   void UpdateInputs(double t);
   void ComputeOutputs(double t, bool major);
   bool MakeModesConsistent(double t, bool major);
@@ -109,6 +142,7 @@ class Simulator final : private OdeSystem {
   SignalLog log_;
   std::vector<std::pair<SignalRef, int>> logged_refs_;
   std::function<void(double, double)> progress_;
+  SimulationLimits limits_;
   bool initialised_ = false;
 };
 

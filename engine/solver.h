@@ -20,6 +20,9 @@ class OdeSystem {
   virtual void Derivatives(double t, const double* x, double* dx) = 0;
   /// g[0..num_roots) = g(t, x).
   virtual void Roots(double t, const double* x, double* g) = 0;
+  /// Where the first NaN/Inf is, for an error message: the first non-finite block output of the latest evaluation
+  /// (in execution order), else the first non-finite entry of the state x (named by its block), else "".
+  virtual std::string DescribeNonFinite(const double* x) const = 0;
 };
 
 /// Counters that users look at when a run is slow or stiff.
@@ -39,8 +42,11 @@ class ContinuousSolver {
   /// Integrates from the current time towards t_stop (never past it). Writes the state reached into x and
   /// returns the time reached: t_stop, or the time of the first zero crossing, in which case *root_found is
   /// true. Fixed-step solvers locate a crossing to the end of the step in which g changed sign; CVODE locates
-  /// it to its root tolerance. @throws std::runtime_error with the solver's flag name on failure.
+  /// it to its root tolerance. @throws NumericalError (engine/numerical_error.h) when a state becomes NaN/Inf
+  /// (naming it through OdeSystem::DescribeNonFinite) or CVODE fails (with its flag name).
   virtual double Integrate(double t_stop, double* x, bool* root_found) = 0;
+  /// Index of a root function that crossed at the last Integrate that returned *root_found, else -1.
+  virtual int last_root() const = 0;
   virtual const SolverStats& stats() const = 0;
   virtual std::string name() const = 0;
 };

@@ -19,4 +19,7 @@ void SetupStabilityCommand(CLI::App& app);
 void SetupSweepCommand(CLI::App& app);
 void SetupReproduceCommand(CLI::App& app);
 
+/// Adds --max-steps N (SimulationLimits::max_steps for every simulation the command runs) to a subcommand.
+void AddMaxStepsOption(CLI::App* command);
+
 }  // namespace mb

@@ -1,15 +1,33 @@
 // motionblocks: block-diagram simulation for precision motion control. One top-level catch: every error
-// reaches the user as one clear message and a non-zero exit code.
+// reaches the user as one clear message and a non-zero exit code (README "Exit codes"): 0 ok, 1 failure,
+// 2 bad usage or bad input, 3 numerical failure.
 
 #include <exception>
 #include <iostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "engine/diagram_loader.h"
+#include "engine/execution_order.h"
 #include "engine/file_access.h"
+#include "engine/numerical_error.h"
 #include "tools/commands.h"
+
+namespace {
+
+constexpr int kExitFailure = 1;
+constexpr int kExitBadInput = 2;
+constexpr int kExitNumericalFailure = 3;
+
+int ReportError(const std::exception& e, int code) {
+  std::cerr << "motionblocks: error: " << e.what() << "\n";
+  return code;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"motionblocks — block-diagram simulation, model-vs-measurement diagnosis and learned disturbance "
@@ -37,13 +55,23 @@ int main(int argc, char** argv) {
   mb::SetupStabilityCommand(app);
   mb::SetupSweepCommand(app);
   mb::SetupReproduceCommand(app);
+  for (const char* simulating : {"run", "compare", "fit", "improve", "sweep", "reproduce"}) {
+    mb::AddMaxStepsOption(app.get_subcommand(simulating));
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    return app.exit(e) == 0 ? 0 : kExitBadInput;  // --help prints and exits 0
+  } catch (const mb::NumericalError& e) {
+    return ReportError(e, kExitNumericalFailure);
+  } catch (const mb::DiagramError& e) {
+    return ReportError(e, kExitBadInput);
+  } catch (const mb::AlgebraicLoopError& e) {
+    return ReportError(e, kExitBadInput);
+  } catch (const std::invalid_argument& e) {
+    return ReportError(e, kExitBadInput);
   } catch (const std::exception& e) {
-    std::cerr << "motionblocks: error: " << e.what() << "\n";
-    return 1;
+    return ReportError(e, kExitFailure);
   }
   return 0;
 }

@@ -17,6 +17,7 @@
 #include <tbb/task_arena.h>
 
 #include "engine/diagram_loader.h"
+#include "engine/json_limits.h"
 #include "engine/output_file.h"
 #include "tools/output_files.h"
 
@@ -257,7 +258,20 @@ std::vector<std::string> SplitCsvLine(const std::string& line) {
   return cells;
 }
 
-SweepSpec ParseSweep(const json& sweep, const std::string& source) {
+namespace {
+
+// "<what> has N runs, more than the limit …" as a problem, if n > max_runs.
+bool TooManyRuns(double n, std::size_t max_runs, const std::string& what, std::vector<std::string>* problems) {
+  if (n <= static_cast<double>(max_runs)) return false;
+  problems->push_back(fmt::format("{} gives {:.4g} runs, more than the limit of {}: sweep fewer values (or sample "
+                                  "the space with \"random\"), or raise the limit with --max-runs N",
+                                  what, n, max_runs));
+  return true;
+}
+
+}  // namespace
+
+SweepSpec ParseSweep(const json& sweep, const std::string& source, std::size_t max_runs) {
   std::vector<std::string> problems;
   SweepSpec spec;
   if (!sweep.is_object()) throw std::invalid_argument(source + ": a sweep file is a JSON object");
@@ -303,9 +317,10 @@ SweepSpec ParseSweep(const json& sweep, const std::string& source) {
         spec.parameters.push_back(key);
         axes.emplace_back(values.begin(), values.end());
       }
-      if (problems.empty()) {
-        std::size_t total = 1;
-        for (const auto& a : axes) total *= a.size();
+      double product = 1.0;  // in double: 1000 axes of 1000 values must not overflow
+      for (const auto& a : axes) product *= static_cast<double>(a.size());
+      if (problems.empty() && !TooManyRuns(product, max_runs, "/grid: the Cartesian product", &problems)) {
+        const auto total = static_cast<std::size_t>(product);
         for (std::size_t r = 0; r < total; ++r) {
           SweepRun run;
           run.id = RunId(r);
@@ -322,6 +337,7 @@ SweepSpec ParseSweep(const json& sweep, const std::string& source) {
     }
   } else if (spec.kind == "list") {
     const json& list = sweep["list"];
+    if (list.is_array()) TooManyRuns(static_cast<double>(list.size()), max_runs, "/list", &problems);
     if (!list.is_array() || list.empty()) {
       problems.push_back("/list: give a non-empty array of objects {\"element.parameter\": value, …}");
     } else {
@@ -349,14 +365,18 @@ SweepSpec ParseSweep(const json& sweep, const std::string& source) {
     }
   } else {
     const json& random = sweep["random"];
-    const int samples = random.is_object() ? random.value("samples", 0) : 0;
+    const json samples_json = random.is_object() ? random.value("samples", json(0)) : json(0);
+    const double samples_value = samples_json.is_number() ? samples_json.get<double>() : 0.0;
+    const bool whole = samples_value == std::floor(samples_value);
+    const bool too_many = TooManyRuns(samples_value, max_runs, "/random/samples", &problems);
+    const int samples = whole && !too_many && samples_value >= 1.0 ? static_cast<int>(samples_value) : 0;
     if (!random.is_object() || !random.contains("seed") || !random["seed"].is_number_integer() ||
         random["seed"].get<long long>() < 0) {
       problems.push_back("/random/seed: give the seed, a non-negative integer (the same seed gives the same runs)");
     } else {
       spec.seed = random["seed"].get<std::uint64_t>();
     }
-    if (samples < 1) problems.push_back("/random/samples: give the number of runs, at least 1");
+    if (samples < 1 && !too_many) problems.push_back("/random/samples: give the number of runs, a whole number >= 1");
     std::vector<Distribution> distributions;
     if (!random.contains("parameters") || !random["parameters"].is_object() || random["parameters"].empty()) {
       problems.push_back("/random/parameters: give {\"element.parameter\": {\"uniform\": [low, high]}, …}");
@@ -385,16 +405,16 @@ SweepSpec ParseSweep(const json& sweep, const std::string& source) {
   return spec;
 }
 
-SweepSpec ReadSweepFile(const fs::path& path) {
+SweepSpec ReadSweepFile(const fs::path& path, std::size_t max_runs) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot open the sweep file", path.string()));
   json j;
   try {
-    j = json::parse(in);
+    j = ParseJsonLimited(in, path.string());
   } catch (const json::parse_error& e) {
     throw std::runtime_error(fmt::format("{}: not valid JSON at byte {}: {}", path.string(), e.byte, e.what()));
   }
-  return ParseSweep(j, path.string());
+  return ParseSweep(j, path.string(), max_runs);
 }
 
 json ApplySweepAssignments(json diagram, const std::vector<std::pair<std::string, json>>& assignments,

@@ -53,15 +53,21 @@ struct SweepSpec {
   std::vector<SweepRun> runs;
 };
 
+/// Most runs a sweep may have unless the caller allows more (`sweep --max-runs`): every run is held in memory
+/// and gets a row in runs.csv and runs.json.
+inline constexpr std::size_t kDefaultMaxSweepRuns = 100000;
+
 /// Parses a sweep (layout above). `source` names the file in messages.
 /// @throws std::invalid_argument listing every problem with its JSON pointer (none or several of grid/list/random,
-/// an empty value list, a key without a '.', samples < 1, a distribution with bounds not a < b, log_uniform
-/// bounds ≤ 0, an unknown distribution).
-SweepSpec ParseSweep(const nlohmann::json& sweep, const std::string& source);
+/// an empty value list, a key without a '.', samples not a whole number ≥ 1, a distribution with bounds not
+/// a < b, log_uniform bounds ≤ 0, an unknown distribution), or if the sweep has more than `max_runs` runs (before
+/// any is built).
+SweepSpec ParseSweep(const nlohmann::json& sweep, const std::string& source,
+                     std::size_t max_runs = kDefaultMaxSweepRuns);
 
 /// Reads and parses a sweep file. @throws std::runtime_error (unreadable, JSON syntax error with the byte) or
-/// std::invalid_argument (as ParseSweep).
-SweepSpec ReadSweepFile(const std::filesystem::path& path);
+/// std::invalid_argument (as ParseSweep; JsonDepthError for nesting beyond kMaxJsonDepth).
+SweepSpec ReadSweepFile(const std::filesystem::path& path, std::size_t max_runs = kDefaultMaxSweepRuns);
 
 /// The diagram JSON with `assignments` written in: "defaultExperiment.*" and "solver.*" into those sections,
 /// the rest through ApplyOverrides. @throws DiagramError for an unknown element (listing the elements).

@@ -22,10 +22,11 @@ struct SweepCommandOptions {
   bool fresh = false;
   bool save_logs = false;
   bool quiet = false;
+  std::size_t max_runs = kDefaultMaxSweepRuns;
 };
 
 void RunSweepCommand(const SweepCommandOptions& o) {
-  const SweepSpec spec = ReadSweepFile(o.sweep);
+  const SweepSpec spec = ReadSweepFile(o.sweep, o.max_runs);
   SweepOptions options;
   options.jobs = o.jobs;
   options.resume = !o.fresh;
@@ -56,6 +57,9 @@ void SetupSweepCommand(CLI::App& app) {
   cmd->add_flag("--fresh", options->fresh, "run everything again (default: skip runs already in runs.csv)");
   cmd->add_flag("--save-logs", options->save_logs, "also write DIR/runs/<id>/signals.csv for every run");
   cmd->add_flag("--quiet", options->quiet, "no progress line");
+  cmd->add_option("--max-runs", options->max_runs, "refuse a sweep of more runs than N")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   cmd->callback([options] { RunSweepCommand(*options); });
 }
 

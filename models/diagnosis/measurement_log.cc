@@ -8,19 +8,21 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
-#include <unordered_set>
 
 #include <fmt/format.h>
 
 namespace mb {
 namespace {
 
+// The names for a message, at most the first 30 (a log of 200k columns must not print them all).
 std::string JoinNames(const std::vector<std::string>& names) {
+  constexpr std::size_t kMaxListed = 30;
   std::string out;
-  for (const auto& n : names) {
+  for (std::size_t i = 0; i < names.size() && i < kMaxListed; ++i) {
     if (!out.empty()) out += ", ";
-    out += n;
+    out += names[i];
   }
+  if (names.size() > kMaxListed) out += fmt::format(", … ({} more)", names.size() - kMaxListed);
   return out;
 }
 
@@ -56,13 +58,13 @@ MeasurementLog::MeasurementLog(std::vector<std::string> names, std::vector<Eigen
         "columns)",
         source_, names_.size(), columns_.size()));
   }
-  std::unordered_set<std::string> seen;
+  index_.reserve(names_.size());
   for (std::size_t j = 0; j < names_.size(); ++j) {
     if (names_[j].empty()) {
       throw std::invalid_argument(fmt::format("{}: column {} has an empty name; name every column",
                                               source_, j + 1));
     }
-    if (!seen.insert(names_[j]).second) {
+    if (!index_.emplace(names_[j], j).second) {
       throw std::invalid_argument(fmt::format(
           "{}: column name '{}' appears twice; rename one of them", source_, names_[j]));
     }
@@ -74,17 +76,15 @@ MeasurementLog::MeasurementLog(std::vector<std::string> names, std::vector<Eigen
   }
 }
 
-bool MeasurementLog::has_column(std::string_view name) const {
-  return std::find(names_.begin(), names_.end(), name) != names_.end();
-}
+bool MeasurementLog::has_column(std::string_view name) const { return index_.find(name) != index_.end(); }
 
 const Eigen::VectorXd& MeasurementLog::column(std::string_view name) const {
-  const auto it = std::find(names_.begin(), names_.end(), name);
-  if (it == names_.end()) {
+  const auto it = index_.find(name);
+  if (it == index_.end()) {
     throw std::invalid_argument(fmt::format("{}: no column '{}'; the columns present are: {}", source_,
                                             name, JoinNames(names_)));
   }
-  return columns_[static_cast<std::size_t>(it - names_.begin())];
+  return columns_[it->second];
 }
 
 void MeasurementLog::AddColumn(std::string name, Eigen::VectorXd values) {
@@ -96,6 +96,7 @@ void MeasurementLog::AddColumn(std::string name, Eigen::VectorXd values) {
     throw std::invalid_argument(fmt::format("{}: cannot add column '{}' with {} values to a log of {} rows",
                                             source_, name, values.size(), rows()));
   }
+  index_.emplace(name, names_.size());
   names_.push_back(std::move(name));
   columns_.push_back(std::move(values));
 }

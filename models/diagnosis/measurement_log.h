@@ -7,8 +7,10 @@
 // numbers, the first column the sample time [s], strictly increasing. Blank lines at the end are allowed.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include <Eigen/Core>
@@ -31,7 +33,7 @@ class MeasurementLog {
   const std::vector<std::string>& names() const { return names_; }
   // Where the table came from (a file path or "<memory>").
   const std::string& source() const { return source_; }
-  // True when a column of that exact name exists.
+  // True when a column of that exact name exists. O(1), as column().
   bool has_column(std::string_view name) const;
   // The column of that name. Throws std::invalid_argument naming the source and listing the columns
   // present when there is none.
@@ -44,9 +46,15 @@ class MeasurementLog {
   void AddColumn(std::string name, Eigen::VectorXd values);
 
  private:
+  // Heterogeneous lookup by string_view: no temporary string per query.
+  struct NameHash {
+    using is_transparent = void;
+    std::size_t operator()(std::string_view s) const noexcept { return std::hash<std::string_view>{}(s); }
+  };
   std::vector<std::string> names_;
   std::vector<Eigen::VectorXd> columns_;
   std::string source_;
+  std::unordered_map<std::string, std::size_t, NameHash, std::equal_to<>> index_;  // name → column
 };
 
 // What ReadMeasurementLog checks.

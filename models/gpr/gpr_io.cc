@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "engine/json_limits.h"
+
 namespace mb {
 namespace {
 
@@ -305,7 +307,7 @@ GprModel LoadGprModel(const std::filesystem::path& path) {
   }
   json j;
   try {
-    j = json::parse(in);
+    j = ParseJsonLimited(in, path.string());
   } catch (const json::parse_error& e) {
     throw std::runtime_error(path.string() + ": not a valid JSON file (corrupt or truncated?) at byte " +
                              std::to_string(e.byte) + ": " + e.what());

@@ -25,6 +25,36 @@ TEST(LtiTest, ZohOfFirstOrderLowPassMatchesClosedForm) {
   EXPECT_TRUE(d.strictly_proper());
 }
 
+// ω^n/(s + ω)^n at 100 Hz and Ts = 1 ms (a q_filter or f_gp of high relative degree): the ZOH equivalent's step
+// response equals the continuous one at the samples, 1 − e^{−ωt} Σ_{m<n} (ωt)^m/m!, and its n poles sit at
+// p = e^{−ωTs}, so a(z⁻¹) = (1 − p z⁻¹)^n. The Taylor exponential this replaced was off from n = 5 and unstable at
+// n = 8 (issue 11; SciPy's cont2discrete agrees with the closed form).
+TEST(LtiTest, ZohOfHighRelativeDegreeMatchesClosedForm) {
+  const double w = 2.0 * kPi * 100.0, ts = 1e-3, p = std::exp(-w * ts);
+  for (int n = 5; n <= 8; ++n) {
+    const DiscreteTf d = Discretize(BinomialLowPass(100.0, n), ts, Discretization::kZeroOrderHold);
+    ASSERT_EQ(d.order(), n);
+    double binomial = 1.0;  // C(n, k)
+    for (int k = 0; k <= n; ++k) {
+      EXPECT_NEAR(d.a(k), binomial * std::pow(-p, k), 1e-10 * binomial) << "n = " << n << ", a_" << k;
+      binomial = binomial * (n - k) / (k + 1);
+    }
+    EXPECT_LT(d.SpectralRadius(), 1.0) << n;
+    const Eigen::VectorXd h = ImpulseResponse(d, 40);
+    double step = 0.0;
+    for (int k = 0; k < 40; ++k) {
+      step += h(k);
+      const double wt = w * ts * k;
+      double series = 0.0, term = 1.0;
+      for (int m = 0; m < n; ++m) {
+        series += term;
+        term *= wt / (m + 1);
+      }
+      EXPECT_NEAR(step, 1.0 - std::exp(-wt) * series, 1e-10) << "n = " << n << ", k = " << k;
+    }
+  }
+}
+
 TEST(LtiTest, TustinOfFirstOrderLowPassMatchesClosedForm) {
   // ω/(s + ω) → ωT(1 + z⁻¹) / ((2 + ωT) − (2 − ωT) z⁻¹).
   const double w = 2.0 * kPi * 10.0, ts = 1e-3;

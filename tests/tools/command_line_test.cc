@@ -54,7 +54,7 @@ TEST(StabilityCommand, PayloadOverrideReachesTheLoop) {
 TEST(StabilityCommand, DiagramWithoutTheLoopSaysWhatIsMissing) {
   const CommandResult r = RunMotionblocks("stability " + kSource + "/diagrams/emps/rigid_body.json --out " +
                                           ProcessTempDir("mb_stability_bad").string());
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);  // bad input (README "Exit codes")
   EXPECT_THAT(r.output, HasSubstr("motionblocks: error:"));
   EXPECT_THAT(r.output, HasSubstr("dob"));
 }

@@ -96,7 +96,7 @@ TEST(CompareCommand, ALogWithNanIsOneClearMessage) {
   }
   const auto r = RunMotionblocks("compare " + kEmps + "/rigid_body.json --measurement " + log.string() +
                                  " --out " + (out / "o").string());
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);  // bad input (README "Exit codes")
   EXPECT_THAT(r.output, HasSubstr("line 59"));
   EXPECT_FALSE(fs::exists(out / "o" / "compare.json"));
   fs::remove_all(out);

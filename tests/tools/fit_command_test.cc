@@ -70,7 +70,7 @@ TEST(FitCommand, UnknownParameterIsOneClearMessage) {
   const auto r = RunMotionblocks("fit " + kEmps + "/rigid_body.json --measurement " + kEmps +
                                  "/data/DATA_EMPS_PULSES.csv --params mass.gain --out " +
                                  ProcessTempDir("mb_fit_command_bad").string());
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);  // bad input (README "Exit codes")
   EXPECT_THAT(r.output, HasSubstr("motionblocks: error: free parameter 'mass.gain': no element 'mass'"));
 }
 

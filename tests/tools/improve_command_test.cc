@@ -96,7 +96,7 @@ TEST(ImproveCommand, AValidationLogWithoutTheOutputColumnIsOneClearMessage) {
   const auto r = RunMotionblocks("improve " + emps + "/rigid_body.json --measurement " + emps +
                                  "/data/DATA_EMPS_PULSES.csv --validation " + bad.string() + " --out " +
                                  (dir / "out").string());
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);  // bad input (README "Exit codes")
   EXPECT_THAT(r.output, HasSubstr("motionblocks: error: " + bad.string() + ": no output of the diagram can be compared"));
   EXPECT_THAT(r.output, HasSubstr("--map OUTPUT=COLUMN"));
   EXPECT_THAT(r.output, ::testing::Not(HasSubstr("step 0:")));  // refused before any fitting

@@ -1,0 +1,190 @@
+// Runs that must stop instead of returning nonsense or hanging (issue 11): NaN/Inf at the step it appears,
+// steps longer than the run or too small to advance time, runs beyond the step limit, a Zeno loop of events,
+// and JSON nested too deeply to parse safely.
+
+#include <cmath>
+#include <fstream>
+#include <string>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "engine/json_limits.h"
+#include "engine/numerical_error.h"
+#include "tests/engine/test_util.h"
+
+namespace mb {
+namespace {
+
+using nlohmann::json;
+using ::testing::HasSubstr;
+using testing::Build;
+using testing::Connect;
+
+// ẋ = a·x, x(0) = 1: with a = 1e308 the state overflows to Inf in the first step.
+json Growth(const json& solver, double a, const json& experiment) {
+  return {{"schemaVersion", "1.0"},
+          {"defaultExperiment", experiment},
+          {"solver", solver},
+          {"elements",
+           {{{"name", "x"}, {"type", "integrator"}, {"parameters", {{"initial_condition", 1.0}}}},
+            {{"name", "k"}, {"type", "gain"}, {"parameters", {{"gain", a}}}}}},
+          {"connections", {Connect("x.y", "k.u"), Connect("k.y", "x.u")}},
+          {"log", {"x.y"}}};
+}
+
+const json kOneSecond = {{"startTime", 0.0}, {"stopTime", 1.0}, {"stepSize", 0.01}};
+
+template <class Error>
+std::string MessageOf(const Diagram& d, SimulationLimits limits = {}) {
+  try {
+    Simulator(d, limits).Run();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "no exception";
+}
+
+TEST(RuntimeLimitsTest, DivergenceStopsAtTheStepWithTheBlockAndTime) {
+  // 1e308 · x overflows within the first step: an RK4 stage of the integrator's output is already Inf.
+  const std::string rk4 = MessageOf<NumericalError>(Build(Growth({{"type", "rk4"}, {"step", 1e-3}}, 1e308, kOneSecond)));
+  EXPECT_EQ(rk4, "rk4 solver: block 'x' output 'y' is inf after the step to t = 0.001 s (step 0.001 s). The model "
+                 "diverged or a block computed an invalid value: check that block's parameters and inputs, or try a "
+                 "smaller solver.step or the cvode solver");
+  // A slower blow-up (x ← 3x per Euler step) is caught at the major step where the gain's output first overflows
+  // (2000·3^n > 1.8e308 at n = 640), long before the end of the run.
+  const std::string slow = MessageOf<NumericalError>(Build(Growth({{"type", "euler"}, {"step", 1e-3}}, 2000.0,
+                                                                   kOneSecond)));
+  EXPECT_THAT(slow, HasSubstr("test: at t = 0.64 s block 'k' output 'y' is inf (the first NaN/Inf, in execution "
+                              "order)"));
+}
+
+TEST(RuntimeLimitsTest, CvodeDivergenceIsANumericalError) {
+  const std::string m = MessageOf<NumericalError>(Build(Growth({{"type", "cvode"}}, 1e308, kOneSecond)));
+  EXPECT_THAT(m, HasSubstr("CVODE failed at t = 0 s: "));
+  EXPECT_THAT(m, HasSubstr("; NaN/Inf at t = 0 s: block 'x' output 'y' is "));  // CVODE's trial state: Inf or NaN
+}
+
+TEST(RuntimeLimitsTest, NonFiniteOutputAtStartNamesTheBlock) {
+  const json j = {{"schemaVersion", "1.0"},
+                  {"defaultExperiment", kOneSecond},
+                  {"elements",
+                   {{{"name", "c"}, {"type", "constant"}, {"parameters", {{"value", 10.0}}}},
+                    {{"name", "k"}, {"type", "gain"}, {"parameters", {{"gain", 1e308}}}}}},
+                  {"connections", {Connect("c.y", "k.u")}},
+                  {"log", {"k.y"}}};
+  EXPECT_EQ(MessageOf<NumericalError>(Build(j)),
+            "test: at t = 0 s block 'k' output 'y' is inf (the first NaN/Inf, in execution order). The model "
+            "diverged or the block computed an invalid value: check its parameters and inputs");
+}
+
+TEST(RuntimeLimitsTest, StepLongerThanTheRunIsRefusedWithTheFix) {
+  const json ex = {{"startTime", 0.0}, {"stopTime", 1.0}, {"stepSize", 5.0}};
+  EXPECT_EQ(MessageOf<std::invalid_argument>(Build(Growth({{"type", "rk4"}, {"step", 1e-3}}, -1.0, ex))),
+            "test: defaultExperiment.stepSize (5 s) is longer than the run (1 s, from startTime 0 s to stopTime 1 s): "
+            "the run would log only its start. Make it at most 1 s, or make stopTime later");
+  EXPECT_THAT(MessageOf<std::invalid_argument>(Build(Growth({{"type", "rk4"}, {"step", 2.0}}, -1.0, kOneSecond))),
+              HasSubstr("test: solver.step (2 s) is longer than the run (1 s"));
+  json discrete = {{"schemaVersion", "1.0"},
+                   {"defaultExperiment", {{"stopTime", 1.0}}},
+                   {"elements",
+                    {{{"name", "c"}, {"type", "constant"}, {"parameters", {{"value", 1.0}}}},
+                     {{"name", "d"}, {"type", "unit_delay"}, {"sampleTime", {3.0, 0.0}}}}},
+                   {"connections", {Connect("c.y", "d.u")}},
+                   {"log", {"d.y"}}};
+  EXPECT_THAT(MessageOf<std::invalid_argument>(Build(discrete)),
+              HasSubstr("test: the sampleTime of element 'd' (3 s) is longer than the run (1 s"));
+}
+
+TEST(RuntimeLimitsTest, AStepThatCannotAdvanceTimeIsRefused) {
+  const json ex = {{"startTime", 1e17}, {"stopTime", 1e17 + 1e6}, {"stepSize", 1.0}};
+  EXPECT_EQ(MessageOf<std::invalid_argument>(Build(Growth({{"type", "cvode"}}, -1.0, ex))),
+            "test: defaultExperiment.stepSize (1 s) vanishes next to the run's times (t = 1.00000000001e+17 s): t + 1 "
+            "== t in double precision, so time could never advance. Use a larger step, or start the run nearer t = 0");
+  const json tiny = {{"startTime", 0.0}, {"stopTime", 1.0}, {"stepSize", 1e-300}};
+  EXPECT_THAT(MessageOf<std::invalid_argument>(Build(Growth({{"type", "cvode"}}, -1.0, tiny))),
+              HasSubstr("test: defaultExperiment.stepSize (1e-300 s) vanishes next to the run's times (t = 1 s)"));
+}
+
+TEST(RuntimeLimitsTest, RunsBeyondTheStepLimitAreRefusedBeforeTheyStart) {
+  const json long_run = {{"startTime", 0.0}, {"stopTime", 1e9}, {"stepSize", 0.01}};
+  EXPECT_EQ(MessageOf<std::invalid_argument>(Build(Growth({{"type", "rk4"}, {"step", 1e-3}}, -1.0, long_run))),
+            "test: the run from 0 s to 1000000000 s in steps of 0.001 s (solver.step) takes about 1e+12 steps, more "
+            "than the limit of 1e+08. Shorten the run (defaultExperiment.stopTime), enlarge the step, or raise the "
+            "limit with --max-steps N");
+  // The log counts too: 1e4 steps but 2e4 values (two logged signals) against a limit of 1.5e4.
+  json two_signals = Growth({{"type", "cvode"}}, -1.0, {{"startTime", 0.0}, {"stopTime", 1.0}, {"stepSize", 1e-4}});
+  two_signals["log"] = {"x.y", "k.y"};
+  SimulationLimits small;
+  small.max_steps = 1.5e4;
+  EXPECT_EQ(MessageOf<std::invalid_argument>(Build(two_signals), small),
+            "test: the log would hold about 2e+04 values (1e+04 samples every 0.0001 s × 2 signals, 0.16 MB), more "
+            "than the limit of 1.5e+04. Log fewer signals, a larger defaultExperiment.stepSize or a shorter run, or "
+            "raise the limit with --max-steps N");
+  small.max_steps = 3e4;  // raised: the same run goes
+  EXPECT_EQ(MessageOf<std::invalid_argument>(Build(two_signals), small), "no exception");
+}
+
+TEST(RuntimeLimitsTest, DefaultLimitsCanBeRaised) {
+  const SimulationLimits before = DefaultSimulationLimits();
+  SimulationLimits raised = before;
+  raised.max_steps = 1e12;
+  SetDefaultSimulationLimits(raised);
+  EXPECT_EQ(DefaultSimulationLimits().max_steps, 1e12);
+  SetDefaultSimulationLimits(before);
+  EXPECT_EQ(DefaultSimulationLimits().max_steps, 1e8);
+}
+
+// A body at rest under 5 N against 10 N of Coulomb friction with stick_model "none": each located v = 0 flips
+// the slip direction, and the next step crosses back (Zeno). The run must stop and name the friction block.
+TEST(RuntimeLimitsTest, ZenoLoopOfEventsIsBoundedAndNamesTheBlock) {
+  const json j = {
+      {"schemaVersion", "1.0"},
+      {"defaultExperiment", {{"stopTime", 1.0}, {"stepSize", 0.01}}},
+      {"solver", {{"type", "cvode"}}},
+      {"elements",
+       {{{"name", "force"}, {"type", "constant"}, {"parameters", {{"value", 5.0}}}},
+        {{"name", "net"}, {"type", "sum"}, {"parameters", {{"signs", "+-"}}}},
+        {{"name", "friction"}, {"type", "friction"}, {"parameters", {{"coulomb", 10.0}, {"stick_model", "none"}}}},
+        {{"name", "body"}, {"type", "rigid_body"}, {"parameters", {{"mass", 1.0}}}}}},
+      {"connections",
+       {Connect("force.y", "net.u1"), Connect("friction.f", "net.u2"), Connect("net.y", "body.f"),
+        Connect("body.v", "friction.v")}},
+      {"log", {"body.v"}}};
+  SimulationLimits limits;
+  limits.max_events_per_major_step = 200;  // fast under ASan
+  const std::string m = MessageOf<NumericalError>(Build(j), limits);
+  // It slides away from rest in the first 20 ms, then every step crosses v = 0 back and forth.
+  EXPECT_THAT(m, HasSubstr("200 zero-crossing events between t = 0.02 s and t = 0.02 s without reaching the next "
+                           "major step at 0.03 s: "));
+  EXPECT_THAT(m, HasSubstr("the zero crossing 0 of block 'friction' fires again and again (a Zeno loop"));
+}
+
+TEST(JsonLimitsTest, DeepNestingIsRefusedBeforeParsing) {
+  const std::string deep = std::string(100000, '[') + std::string(100000, ']');
+  try {
+    ParseJsonLimited(deep, "deep.json");
+    FAIL() << "no exception";
+  } catch (const JsonDepthError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "deep.json: JSON nested deeper than 256 levels of arrays/objects; refusing to read it (real diagrams, "
+              "sweeps and models nest fewer than 20: is the file generated wrongly?)");
+  }
+  const std::string ok = std::string(256, '[') + std::string(256, ']');
+  EXPECT_TRUE(ParseJsonLimited(ok, "ok.json").is_array());
+  EXPECT_THROW(ParseJsonLimited(std::string(257, '[') + std::string(257, ']'), "x"), JsonDepthError);
+  EXPECT_THROW(ParseJsonLimited(std::string("{\"a\": [1,"), "x"), nlohmann::json::parse_error);  // syntax: as before
+  EXPECT_EQ(ParseJsonLimited(std::string("// c\n{\"a\": 1}"), "x", /*ignore_comments=*/true)["a"], 1);
+}
+
+TEST(JsonLimitsTest, DiagramFilesGoThroughTheDepthCheck) {
+  const std::string path = ::testing::TempDir() + "deep_diagram.json";
+  {
+    std::ofstream out(path);
+    out << "{\"elements\": " << std::string(5000, '[') << std::string(5000, ']') << "}";
+  }
+  EXPECT_THROW(ReadDiagramJson(path), JsonDepthError);
+}
+
+}  // namespace
+}  // namespace mb
