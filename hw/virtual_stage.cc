@@ -99,7 +99,10 @@ VirtualStage::VirtualStage(const fs::path& plant_file, StageWiring wiring, Virtu
                                               plant_file.string(), a.channel, a.connector, ConnectorNames(inputs)));
     }
   }
-  simulator_ = std::make_unique<Simulator>(*plant_);
+  // The stage runs until it is stopped (the plant's stopTime is nominal): no run-length limit.
+  SimulationLimits unlimited;
+  unlimited.max_steps = std::numeric_limits<double>::infinity();
+  simulator_ = std::make_unique<Simulator>(*plant_, unlimited);
   for (const auto& name : inputs) simulator_->SetInput(name, InputSeries{{0.0}, {0.0}});
   simulator_->Initialize(0.0);
   socket_ = std::make_unique<LoopbackUdpSocket>(options_.port);

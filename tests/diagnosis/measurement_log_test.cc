@@ -142,12 +142,12 @@ TEST_F(MeasurementLogTest, WideLogReadsInLinearTimeAndErrorsStayShort) {
   }
   const std::string path = Write("wide.csv", text);
   const auto start = std::chrono::steady_clock::now();
-  const MeasurementLog log = ReadMeasurementLog(path, {.min_rows = 3});
+  const MeasurementLog log = ReadMeasurementLog(path, {.required_columns = {}, .min_rows = 3});
   double sum = 0.0;
   for (const auto& name : log.names()) sum += log.column(name)(0);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   EXPECT_EQ(sum, kColumns + 0.0);
-  EXPECT_LT(seconds, 3.0);  // about 0.2 s under ASan; the quadratic lookup took minutes
+  EXPECT_LT(seconds, 10.0);  // about 1.8 s under ASan on the loaded 2-core machine; the quadratic lookup: minutes
   try {
     log.column("missing");
     FAIL() << "no exception";

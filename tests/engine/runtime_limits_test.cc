@@ -16,10 +16,10 @@
 namespace mb {
 namespace {
 
-using nlohmann::json;
-using ::testing::HasSubstr;
 using testing::Build;
 using testing::Connect;
+using nlohmann::json;
+using ::testing::HasSubstr;
 
 // ẋ = a·x, x(0) = 1: with a = 1e308 the state overflows to Inf in the first step.
 json Growth(const json& solver, double a, const json& experiment) {

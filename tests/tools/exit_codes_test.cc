@@ -43,7 +43,7 @@ fs::path WriteGrowthDiagram(const fs::path& dir, double gain, const json& experi
 
 const json kShortRun = {{"startTime", 0.0}, {"stopTime", 0.1}, {"stepSize", 0.001}};
 
-CommandResult Run(const fs::path& diagram, const std::string& extra = "") {
+CommandResult RunDiagram(const fs::path& diagram, const std::string& extra = "") {
   return RunMotionblocks("run " + diagram.string() + " --quiet --out " + (diagram.parent_path() / "out").string() +
                          extra);
 }
@@ -56,9 +56,9 @@ TEST(ExitCodes, UsageErrorsAreTwoAndHelpIsZero) {
 
 TEST(ExitCodes, ADivergingRunIsANumericalFailureNamingBlockSignalAndTime) {
   const fs::path dir = ProcessTempDir("mb_exit_diverge");
-  const CommandResult r = Run(WriteGrowthDiagram(dir, 1e308, kShortRun));
+  const CommandResult r = RunDiagram(WriteGrowthDiagram(dir, 1e308, kShortRun));
   EXPECT_EQ(r.exit_code, 3) << r.output;
-  EXPECT_THAT(r.output, HasSubstr("motionblocks: error: rk4 solver: block 'k' output 'y' is inf after the step to "
+  EXPECT_THAT(r.output, HasSubstr("motionblocks: error: rk4 solver: block 'x' output 'y' is inf after the step to "
                                   "t = 0.001 s"));
   EXPECT_FALSE(fs::exists(dir / "out" / "summary.json"));  // no -nan RMSE written as a result
   fs::remove_all(dir);
@@ -67,7 +67,7 @@ TEST(ExitCodes, ADivergingRunIsANumericalFailureNamingBlockSignalAndTime) {
 TEST(ExitCodes, AStepLongerThanTheRunIsBadInput) {
   const fs::path dir = ProcessTempDir("mb_exit_step");
   const CommandResult r =
-      Run(WriteGrowthDiagram(dir, -1.0, {{"startTime", 0.0}, {"stopTime", 0.1}, {"stepSize", 1.0}}));
+      RunDiagram(WriteGrowthDiagram(dir, -1.0, {{"startTime", 0.0}, {"stopTime", 0.1}, {"stepSize", 1.0}}));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("motionblocks: error: growth: defaultExperiment.stepSize (1 s) is longer than the "
                                   "run (0.1 s"));
@@ -77,16 +77,20 @@ TEST(ExitCodes, AStepLongerThanTheRunIsBadInput) {
 TEST(ExitCodes, RunsBeyondMaxStepsAreRefusedAndTheLimitCanBeRaised) {
   const fs::path dir = ProcessTempDir("mb_exit_max_steps");
   const fs::path diagram = WriteGrowthDiagram(dir, -1.0, kShortRun);  // 100 steps of 1 ms
-  const CommandResult refused = Run(diagram, " --max-steps 50");
+  const CommandResult refused = RunDiagram(diagram, " --max-steps 50");
   EXPECT_EQ(refused.exit_code, 2) << refused.output;
   EXPECT_THAT(refused.output, HasSubstr("takes about 100 steps, more than the limit of 50."));
   EXPECT_THAT(refused.output, HasSubstr("raise the limit with --max-steps N"));
-  EXPECT_EQ(Run(diagram, " --max-steps 1000").exit_code, 0);
-  // stopTime 1e308: refused at once, not a hang or bad_alloc.
+  EXPECT_EQ(RunDiagram(diagram, " --max-steps 1000").exit_code, 0);
+  // stopTime 1e9 and 1e308: refused at once, not a hang or bad_alloc.
+  const CommandResult long_run =
+      RunDiagram(WriteGrowthDiagram(dir, -1.0, {{"startTime", 0.0}, {"stopTime", 1e9}, {"stepSize", 0.001}}));
+  EXPECT_EQ(long_run.exit_code, 2) << long_run.output;
+  EXPECT_THAT(long_run.output, HasSubstr("takes about 1e+12 steps, more than the limit of 1e+08"));
   const CommandResult huge =
-      Run(WriteGrowthDiagram(dir, -1.0, {{"startTime", 0.0}, {"stopTime", 1e308}, {"stepSize", 0.001}}));
+      RunDiagram(WriteGrowthDiagram(dir, -1.0, {{"startTime", 0.0}, {"stopTime", 1e308}, {"stepSize", 0.001}}));
   EXPECT_EQ(huge.exit_code, 2) << huge.output;
-  EXPECT_THAT(huge.output, HasSubstr("more than the limit of 1e+08"));
+  EXPECT_THAT(huge.output, HasSubstr("t + 0.001 == t in double precision, so time could never advance"));
   fs::remove_all(dir);
 }
 
