@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include "engine/json_schema.h"
+
 namespace mb {
 
 BlockRegistry& BlockRegistry::Global() {
@@ -31,31 +33,9 @@ std::vector<std::string> BlockRegistry::TypeNames() const {
   return names;
 }
 
-namespace {
-std::size_t EditDistance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    cur[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0u : 1u)});
-    }
-    std::swap(prev, cur);
-  }
-  return prev[b.size()];
-}
-}  // namespace
 
 std::vector<std::string> BlockRegistry::Suggest(const std::string& type_name, std::size_t max_suggestions) const {
-  std::vector<std::pair<std::size_t, std::string>> scored;
-  for (const auto& [name, type] : types_) scored.emplace_back(EditDistance(type_name, name), name);
-  std::sort(scored.begin(), scored.end());
-  std::vector<std::string> out;
-  for (const auto& [d, name] : scored) {
-    if (out.size() >= max_suggestions || d > std::max<std::size_t>(3, type_name.size() / 2)) break;
-    out.push_back(name);
-  }
-  return out;
+  return ClosestNames(type_name, TypeNames(), max_suggestions);
 }
 
 }  // namespace mb

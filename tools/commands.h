@@ -18,5 +18,6 @@ void SetupVirtualStageCommand(CLI::App& app);
 void SetupStabilityCommand(CLI::App& app);
 void SetupSweepCommand(CLI::App& app);
 void SetupReproduceCommand(CLI::App& app);
+void SetupSchemaCommand(CLI::App& app);
 
 }  // namespace mb

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   mb::SetupStabilityCommand(app);
   mb::SetupSweepCommand(app);
   mb::SetupReproduceCommand(app);
+  mb::SetupSchemaCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
