@@ -51,7 +51,7 @@ MB_REGISTER_BLOCK(Dob, BlockType{
      Bounded("nominal_damping", 3.0, "N*s/m", "nominal damping B_n", 0.0, 1e12),
      Bounded("cutoff_hz", 30.0, "Hz", "Q-filter cut-off f_q (ω_q = 2π f_q)", 1e-9, 1e12),
      Bounded("relative_degree", 2, "", "Q-filter relative degree n_r", 2, 8, ParamType::kInteger),
-     Optional("discretization", "tustin", "", "Q∘P_n⁻¹ discretisation: \"tustin\" or \"zoh\"", ParamType::kString)},
+     Choice("discretization", "tustin", "Q∘P_n⁻¹ discretisation: \"tustin\" or \"zoh\"", {"tustin", "zoh"})},
     SampleTimeRule::kRequired,
     [](const BlockConfig& c) { return std::make_unique<Dob>(c); }})
 

@@ -94,7 +94,7 @@ MB_REGISTER_BLOCK(FromFile, BlockType{
      Optional("time_column", "", "", "name of the time column [s] (must be the first column; \"\" = first)",
               ParamType::kString),
      Required("column", "", "name of the column to output", ParamType::kString),
-     Optional("interpolation", "linear", "", "\"linear\" or \"zoh\"", ParamType::kString)},
+     Choice("interpolation", "linear", "\"linear\" or \"zoh\"", {"linear", "zoh"})},
     SampleTimeRule::kNone,
     [](const BlockConfig& c) { return std::make_unique<FromFile>(c); }})
 

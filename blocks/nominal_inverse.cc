@@ -77,12 +77,12 @@ MB_REGISTER_BLOCK(NominalInverse, BlockType{
     "relative_degree ≥ 2, continuous or discretised (\"tustin\" default, \"zoh\").",
     {Bounded("nominal_mass", 0.2621, "kg", "nominal mass M_n", 1e-12, 1e12),
      Bounded("nominal_damping", 3.0, "N*s/m", "nominal damping B_n", 0.0, 1e12),
-     Optional("form", "derivatives", "", "\"derivatives\" or \"filtered\"", ParamType::kString),
+     Choice("form", "derivatives", "\"derivatives\" or \"filtered\"", {"derivatives", "filtered"}),
      Bounded("cutoff_hz", 30.0, "Hz", "Q-filter cut-off (form \"filtered\")", 1e-9, 1e12),
      Bounded("relative_degree", 2, "", "Q-filter relative degree n_r ≥ 2 (form \"filtered\")", 2, 8,
              ParamType::kInteger),
-     Optional("discretization", "tustin", "", "\"tustin\" or \"zoh\" (form \"filtered\" with a sampleTime)",
-              ParamType::kString)},
+     Choice("discretization", "tustin", "\"tustin\" or \"zoh\" (form \"filtered\" with a sampleTime)",
+            {"tustin", "zoh"})},
     SampleTimeRule::kOptional,
     [](const BlockConfig& c) { return std::make_unique<NominalInverse>(c); }})
 

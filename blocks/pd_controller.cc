@@ -79,8 +79,8 @@ MB_REGISTER_BLOCK(PdController, BlockType{
      Optional("kd", 0.0, "", "derivative gain K_d (N·s/m for position → force)"),
      Bounded("derivative_filter", 1e-3, "s", "derivative filter time constant T_f", 0.0,
              std::numeric_limits<double>::infinity()),
-     Optional("method", "backward_euler", "", "discretisation: \"backward_euler\" or \"tustin\"",
-              ParamType::kString)},
+     Choice("method", "backward_euler", "discretisation: \"backward_euler\" or \"tustin\"",
+            {"backward_euler", "tustin"})},
     SampleTimeRule::kOptional,
     [](const BlockConfig& c) { return std::make_unique<PdController>(c); }})
 

@@ -45,7 +45,7 @@ MB_REGISTER_BLOCK(QFilter, BlockType{
     "without sampleTime; with sampleTime discretised by \"zoh\" (strictly proper) or \"tustin\".",
     {Bounded("cutoff_hz", 30.0, "Hz", "Q-filter cut-off frequency f_q (ω_q = 2π f_q)", 1e-9, 1e12),
      Bounded("relative_degree", 2, "", "relative degree n_r (binomial order)", 1, 8, ParamType::kInteger),
-     Optional("discretization", "zoh", "", "\"zoh\" or \"tustin\" (discrete form only)", ParamType::kString)},
+     Choice("discretization", "zoh", "\"zoh\" or \"tustin\" (discrete form only)", {"zoh", "tustin"})},
     SampleTimeRule::kOptional,
     [](const BlockConfig& c) { return std::make_unique<QFilter>(c); }})
 

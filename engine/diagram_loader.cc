@@ -1,14 +1,21 @@
 #include "engine/diagram_loader.h"
 
+#include <algorithm>
 #include <fstream>
+#include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
+#include "engine/diagram_schema.h"
 #include "engine/execution_order.h"
 #include "engine/file_access.h"
 #include "engine/json_limits.h"
+#include "engine/json_parsing.h"
+#include "engine/json_schema.h"
 #include "engine/registry.h"
 
 namespace mb {
@@ -76,9 +83,11 @@ json ReadDiagramJson(const fs::path& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(fmt::format("{}: cannot open the diagram file (does it exist?)", path.string()));
   try {
-    return ParseJsonLimited(in, path.string(), /*ignore_comments=*/true);
+    return ParseJsonRejectingDuplicateKeys(in, path.string(), /*ignore_comments=*/true);
   } catch (const json::parse_error& e) {
     throw std::runtime_error(fmt::format("{}: not valid JSON: {}", path.string(), e.what()));
+  } catch (const DuplicateKeyError& e) {
+    throw DiagramError(path.string(), e.problems());
   }
 }
 
@@ -86,132 +95,206 @@ namespace {
 
 // ---- Subsystem expansion -------------------------------------------------------------------------------
 
-json ExpandSubsystemsImpl(const json& diagram, const fs::path& base, const std::string& source, int depth,
-                          std::vector<std::string>* problems) {
+/// Where a part of a diagram was written: "" for the file being loaded, "<subsystem file>: " for a subsystem
+/// file, plus the JSON pointer of the diagram inside that file ("" or ".../diagram" for an inline subsystem).
+struct Place {
+  std::string file;     ///< "" or "<file>: "
+  std::string pointer;  ///< JSON pointer of the diagram in that file
+  std::string At(const std::string& section, std::size_t index) const {
+    return fmt::format("{}{}/{}/{}", file, pointer, section, index);
+  }
+};
+
+/// A diagram with its subsystems expanded, and for each element, connection and logged signal where the user
+/// wrote it (so that problems found after expansion point into the right file).
+struct Expansion {
+  json diagram;
+  std::map<std::string, std::vector<std::string>> origins;  ///< "elements", "connections", "log" → place
+};
+
+Expansion ExpandSubsystemsImpl(const json& diagram, const fs::path& base, const std::string& source,
+                               const Place& place, int depth, std::vector<std::string>* problems);
+
+/// The expanded inner diagram of subsystem element `element` (at `ptr` in `place`), or nothing after a problem.
+std::optional<Expansion> ExpandSubsystemElement(const json& element, const fs::path& base, const std::string& source,
+                                                const Place& place, const std::string& ptr, int depth,
+                                                std::vector<std::string>* problems) {
+  json inner;
+  fs::path inner_base = base;
+  Place inner_place{place.file, ptr + "/diagram"};
+  const std::string where = place.file + ptr;
+  if (element.contains("diagram") && element["diagram"].is_string()) {
+    fs::path file;
+    try {
+      file = ResolveDiagramFile(element["diagram"].get<std::string>(), base);
+      inner = ReadDiagramJson(file);
+    } catch (const std::exception& e) {
+      problems->push_back(fmt::format("{}/diagram: {}", where, e.what()));
+      return std::nullopt;
+    }
+    inner_base = file.parent_path();
+    inner_place = Place{file.string() + ": ", ""};
+    // The subsystem file as the user wrote it (an inline diagram is checked with its parent).
+    const auto schema_problems = DiagramSchemaProblems(inner);
+    for (const auto& p : schema_problems) problems->push_back(inner_place.file + p.Text());
+    if (!schema_problems.empty()) return std::nullopt;
+  } else if (element.contains("diagram") && element["diagram"].is_object()) {
+    inner = element["diagram"];
+  } else {
+    problems->push_back(fmt::format("{}: a subsystem needs \"diagram\": a file name or an inline diagram", where));
+    return std::nullopt;
+  }
+  if (element.contains("parameters")) {
+    // Parameters of a subsystem element are overrides "inner_block.param": value.
+    std::vector<ParameterOverride> overrides;
+    for (const auto& [key, value] : element["parameters"].items()) {
+      try {
+        auto o = ParameterOverride::Parse(key + "=0");
+        o.value = value;
+        overrides.push_back(o);
+      } catch (const std::exception& e) {
+        problems->push_back(fmt::format("{}/parameters/{}: {}", where, key, e.what()));
+      }
+    }
+    try {
+      ApplyOverrides(&inner, overrides, source + ptr);
+    } catch (const DiagramError& e) {
+      for (const auto& p : e.problems()) problems->push_back(p);
+    }
+  }
+  return ExpandSubsystemsImpl(inner, inner_base, source, inner_place, depth + 1, problems);
+}
+
+/// A connection with the place it was written.
+struct PlacedConnection {
+  json connection;
+  std::string origin;
+};
+
+/// Splices the subsystem `name` (expanded as `inner`) into `connections` of its parent: a connection to one of
+/// its ports is rewired to the inner element behind the port; inner element-to-element connections are
+/// appended to `inner_connections`.
+void SpliceSubsystem(const std::string& name, const Expansion& inner, std::vector<PlacedConnection>* connections,
+                     std::vector<PlacedConnection>* inner_connections, std::vector<std::string>* problems) {
+  const std::string prefix = name + "/";
+  std::vector<json> from_port;  // inner connector (input) → inner element
+  std::vector<json> to_port;    // inner element → inner connector (output)
+  const json inner_list = inner.diagram.value("connections", json::array());
+  for (std::size_t k = 0; k < inner_list.size(); ++k) {
+    const json& c = inner_list[k];
+    const std::string se = c.value("startElement", "");
+    const std::string ee = c.value("endElement", "");
+    json p = c;
+    if (!se.empty()) p["startElement"] = prefix + se;
+    if (!ee.empty()) p["endElement"] = prefix + ee;
+    if (se.empty()) {
+      from_port.push_back(p);
+    } else if (ee.empty()) {
+      to_port.push_back(p);
+    } else {
+      inner_connections->push_back({p, inner.origins.at("connections").at(k)});
+    }
+  }
+  std::vector<PlacedConnection> rewired;
+  for (const auto& [c, origin] : *connections) {
+    bool consumed = false;
+    if (c.value("endElement", "") == name) {
+      for (const json& f : from_port) {
+        if (f.value("startConnector", "") != c.value("endConnector", "")) continue;
+        json n = c;
+        n["endElement"] = f["endElement"];
+        n["endConnector"] = f.value("endConnector", "");
+        rewired.push_back({n, origin});
+        consumed = true;
+      }
+      if (!consumed) {
+        problems->push_back(fmt::format("{}: connection into subsystem '{}' port '{}': the subsystem has no input "
+                                        "connector of that name (or it is connected to nothing inside)",
+                                        origin, name, c.value("endConnector", "")));
+        consumed = true;
+      }
+    }
+    if (c.value("startElement", "") == name) {
+      bool matched = false;
+      for (const json& t : to_port) {
+        if (t.value("endConnector", "") != c.value("startConnector", "")) continue;
+        json n = c;
+        n["startElement"] = t["startElement"];
+        n["startConnector"] = t.value("startConnector", "");
+        rewired.push_back({n, origin});
+        matched = true;
+      }
+      if (!matched) {
+        problems->push_back(fmt::format("{}: connection from subsystem '{}' port '{}': the subsystem has no output "
+                                        "connector of that name",
+                                        origin, name, c.value("startConnector", "")));
+      }
+      consumed = true;
+    }
+    if (!consumed) rewired.push_back({c, origin});
+  }
+  *connections = std::move(rewired);
+}
+
+Expansion ExpandSubsystemsImpl(const json& diagram, const fs::path& base, const std::string& source,
+                               const Place& place, int depth, std::vector<std::string>* problems) {
+  Expansion out{diagram, {}};
+  auto placed = [&](const char* section) {
+    std::vector<std::string> origins;
+    if (diagram.contains(section) && diagram[section].is_array()) {
+      for (std::size_t i = 0; i < diagram[section].size(); ++i) origins.push_back(place.At(section, i));
+    }
+    return origins;
+  };
+  out.origins["connections"] = placed("connections");
+  out.origins["log"] = placed("log");
   if (depth > 16) {
     problems->push_back("subsystems nest deeper than 16 levels: is a diagram including itself?");
-    return diagram;
+    return out;
   }
-  if (!diagram.contains("elements") || !diagram["elements"].is_array()) return diagram;
-  json out = diagram;
-  out["elements"] = json::array();
-  json connections = diagram.value("connections", json::array());  // the parent's, rewired below
-  json inner_connections = json::array();                          // element-to-element inside subsystems
-
+  if (!diagram.contains("elements") || !diagram["elements"].is_array()) return out;
+  out.diagram["elements"] = json::array();
+  std::vector<PlacedConnection> connections;  // the parent's, rewired below
+  for (const auto& c : diagram.value("connections", json::array())) {
+    connections.push_back({c, out.origins["connections"][connections.size()]});
+  }
+  std::vector<PlacedConnection> inner_connections;  // element-to-element inside subsystems
+  auto& element_origins = out.origins["elements"];
   for (std::size_t i = 0; i < diagram["elements"].size(); ++i) {
     const json& element = diagram["elements"][i];
     if (element.value("type", "") != kSubsystemType) {
-      out["elements"].push_back(element);
+      out.diagram["elements"].push_back(element);
+      element_origins.push_back(place.At("elements", i));
       continue;
     }
-    const std::string ptr = fmt::format("/elements/{}", i);
+    const std::string ptr = fmt::format("{}/elements/{}", place.pointer, i);
     const std::string name = element.value("name", "");
-    json inner;
-    fs::path inner_base = base;
-    if (element.contains("diagram") && element["diagram"].is_string()) {
-      fs::path file;
-      try {
-        file = ResolveDiagramFile(element["diagram"].get<std::string>(), base);
-        inner = ReadDiagramJson(file);
-      } catch (const std::exception& e) {
-        problems->push_back(fmt::format("{}/diagram: {}", ptr, e.what()));
-        continue;
-      }
-      inner_base = file.parent_path();
-    } else if (element.contains("diagram") && element["diagram"].is_object()) {
-      inner = element["diagram"];
-    } else {
-      problems->push_back(fmt::format("{}: a subsystem needs \"diagram\": a file name or an inline diagram", ptr));
-      continue;
-    }
-    if (element.contains("parameters")) {
-      // Parameters of a subsystem element are overrides "inner_block.param": value.
-      std::vector<ParameterOverride> overrides;
-      for (const auto& [key, value] : element["parameters"].items()) {
-        try {
-          auto o = ParameterOverride::Parse(key + "=0");
-          o.value = value;
-          overrides.push_back(o);
-        } catch (const std::exception& e) {
-          problems->push_back(fmt::format("{}/parameters/{}: {}", ptr, key, e.what()));
-        }
-      }
-      try {
-        ApplyOverrides(&inner, overrides, source + ptr);
-      } catch (const DiagramError& e) {
-        for (const auto& p : e.problems()) problems->push_back(p);
-      }
-    }
-    inner = ExpandSubsystemsImpl(inner, inner_base, source, depth + 1, problems);
+    const auto inner = ExpandSubsystemElement(element, base, source, place, ptr, depth, problems);
+    if (!inner) continue;
     const std::string prefix = name + "/";
-    for (json e : inner.value("elements", json::array())) {
+    const json inner_elements = inner->diagram.value("elements", json::array());
+    for (std::size_t k = 0; k < inner_elements.size(); ++k) {
+      json e = inner_elements[k];
       e["name"] = prefix + e.value("name", "");
-      out["elements"].push_back(e);
+      out.diagram["elements"].push_back(e);
+      element_origins.push_back(inner->origins.at("elements").at(k));
     }
-    // Inner connections: internal ones get prefixed; those touching the inner diagram's own connectors are
-    // spliced into the parent's connections of the subsystem's ports.
-    std::vector<json> from_port;  // inner connector (input) → inner element
-    std::vector<json> to_port;    // inner element → inner connector (output)
-    for (const json& c : inner.value("connections", json::array())) {
-      const std::string se = c.value("startElement", "");
-      const std::string ee = c.value("endElement", "");
-      json p = c;
-      if (!se.empty()) p["startElement"] = prefix + se;
-      if (!ee.empty()) p["endElement"] = prefix + ee;
-      if (se.empty()) {
-        from_port.push_back(p);
-      } else if (ee.empty()) {
-        to_port.push_back(p);
-      } else {
-        inner_connections.push_back(p);
-      }
-    }
-    json rewired = json::array();
-    for (const json& c : connections) {
-      bool consumed = false;
-      if (c.value("endElement", "") == name) {
-        for (const json& f : from_port) {
-          if (f.value("startConnector", "") != c.value("endConnector", "")) continue;
-          json n = c;
-          n["endElement"] = f["endElement"];
-          n["endConnector"] = f.value("endConnector", "");
-          rewired.push_back(n);
-          consumed = true;
-        }
-        if (!consumed) {
-          problems->push_back(fmt::format("connection into subsystem '{}' port '{}': the subsystem has no input "
-                                          "connector of that name (or it is connected to nothing inside)",
-                                          name, c.value("endConnector", "")));
-          consumed = true;
-        }
-      }
-      if (c.value("startElement", "") == name) {
-        bool matched = false;
-        for (const json& t : to_port) {
-          if (t.value("endConnector", "") != c.value("startConnector", "")) continue;
-          json n = c;
-          n["startElement"] = t["startElement"];
-          n["startConnector"] = t.value("startConnector", "");
-          rewired.push_back(n);
-          matched = true;
-        }
-        if (!matched) {
-          problems->push_back(fmt::format("connection from subsystem '{}' port '{}': the subsystem has no output "
-                                          "connector of that name",
-                                          name, c.value("startConnector", "")));
-        }
-        consumed = true;
-      }
-      if (!consumed) rewired.push_back(c);
-    }
-    connections = rewired;
+    SpliceSubsystem(name, *inner, &connections, &inner_connections, problems);
     // Signals inside may be logged as "<subsystem>/<element>.<port>".
-    for (const json& s : inner.value("log", json::array())) {
-      if (s.is_string()) out["log"].push_back(prefix + s.get<std::string>());
+    const json inner_log = inner->diagram.value("log", json::array());
+    for (std::size_t k = 0; k < inner_log.size(); ++k) {
+      if (!inner_log[k].is_string()) continue;
+      out.diagram["log"].push_back(prefix + inner_log[k].get<std::string>());
+      out.origins["log"].push_back(inner->origins.at("log").at(k));
     }
   }
-  out["connections"] = connections;
-  for (const auto& c : inner_connections) out["connections"].push_back(c);
+  out.diagram["connections"] = json::array();
+  out.origins["connections"].clear();
+  connections.insert(connections.end(), inner_connections.begin(), inner_connections.end());
+  for (const auto& [c, origin] : connections) {
+    out.diagram["connections"].push_back(c);
+    out.origins["connections"].push_back(origin);
+  }
   return out;
 }
 
@@ -251,17 +334,25 @@ std::optional<SampleTime> ParseSampleTime(const json& j, const std::string& ptr,
 
 json ExpandSubsystems(const json& diagram, const fs::path& base_directory, const std::string& source) {
   std::vector<std::string> problems;
-  json out = ExpandSubsystemsImpl(diagram, base_directory, source, 0, &problems);
+  Expansion out = ExpandSubsystemsImpl(diagram, base_directory, source, Place{}, 0, &problems);
   if (!problems.empty()) throw DiagramError(source, problems);
-  return out;
+  return out.diagram;
 }
 
 /// Builds a Diagram step by step; each step appends problems instead of throwing so that the user sees them
 /// all at once.
 class DiagramBuilder {
  public:
-  DiagramBuilder(const json& j, fs::path base, std::string source)
-      : j_(j), base_(std::move(base)), source_(std::move(source)) {}
+  /// `origins`: where each element, connection and logged signal was written (ExpandSubsystemsImpl);
+  /// `schema_problems`: the diagram's problems against the schema, reported with the builder's own (which win
+  /// at the same pointer); blocks are not created when there are any.
+  DiagramBuilder(const json& j, fs::path base, std::string source,
+                 std::map<std::string, std::vector<std::string>> origins, std::vector<SchemaProblem> schema_problems)
+      : j_(j),
+        base_(std::move(base)),
+        source_(std::move(source)),
+        origins_(std::move(origins)),
+        schema_problems_(std::move(schema_problems)) {}
 
   Diagram Build() {
     if (!j_.is_object()) throw DiagramError(source_, {"/: a diagram is a JSON object"});
@@ -271,13 +362,13 @@ class DiagramBuilder {
     ReadSolver();
     ReadInputConnectors();
     ReadElements();
-    if (!problems_.empty()) throw DiagramError(source_, problems_);  // connections need valid blocks
+    ThrowIfProblems();  // connections need valid blocks
     ReadConnections();
     ReadOutputConnectors();
     ReadLog();
     ReadMetrics();
     ReadRoles();
-    if (!problems_.empty()) throw DiagramError(source_, problems_);
+    ThrowIfProblems();
     Sort();
     return std::move(d_);
   }
@@ -285,19 +376,25 @@ class DiagramBuilder {
  private:
   void Problem(std::string p) { problems_.push_back(std::move(p)); }
 
+  /// Throws the builder's problems and the schema's, a schema problem only where the builder has none.
+  void ThrowIfProblems() const {
+    auto all = MergeProblems(problems_, schema_problems_, /*own_covers_descendants=*/false);
+    if (!all.empty()) throw DiagramError(source_, all);
+  }
+
+  /// Where the user wrote entry `index` of `section` (after subsystem expansion).
+  std::string At(const std::string& section, std::size_t index) const {
+    const auto it = origins_.find(section);
+    if (it != origins_.end() && index < it->second.size()) return it->second[index];
+    return fmt::format("/{}/{}", section, index);
+  }
+
   void CheckVersion() {
     if (!j_.contains("schemaVersion")) {
       Problem(fmt::format("/schemaVersion: missing; add \"schemaVersion\": \"{}\"", kDiagramSchemaVersion));
     } else if (j_["schemaVersion"] != kDiagramSchemaVersion) {
       Problem(fmt::format("/schemaVersion: this build reads version \"{}\", the file says {}", kDiagramSchemaVersion,
                           j_["schemaVersion"].dump()));
-    }
-    static const std::set<std::string> kKnown = {"schemaVersion", "name",    "description", "defaultExperiment",
-                                                 "solver",        "connectors", "elements", "connections",
-                                                 "log",           "metrics", "experiment", "ui", "free", "$schema",
-                                                 "notes", "roles"};
-    for (const auto& [key, value] : j_.items()) {
-      if (!kKnown.count(key)) Problem(fmt::format("/{}: unknown top-level key '{}'", key, key));
     }
   }
 
@@ -367,7 +464,7 @@ class DiagramBuilder {
     const auto& registry = BlockRegistry::Global();
     for (std::size_t i = 0; i < j_["elements"].size(); ++i) {
       const json& e = j_["elements"][i];
-      const std::string ptr = fmt::format("/elements/{}", i);
+      const std::string ptr = At("elements", i);
       const std::string name = e.value("name", "");
       const std::string type = e.value("type", "");
       if (name.empty() || name.find('.') != std::string::npos) {
@@ -384,12 +481,6 @@ class DiagramBuilder {
         Problem(fmt::format("{}/type: unknown block type '{}' in element '{}'{}; `motionblocks blocks` lists them",
                             ptr, type, name, hint.empty() ? "" : "; did you mean: " + hint));
         continue;
-      }
-      for (const auto& [key, value] : e.items()) {
-        if (key != "name" && key != "type" && key != "parameters" && key != "sampleTime" && key != "ui" &&
-            key != "description") {
-          Problem(fmt::format("{}/{}: unknown key '{}' in element '{}'", ptr, key, key, name));
-        }
       }
       std::vector<std::string> param_problems;
       auto values = ValidateParameters(bt->parameters, e.value("parameters", json::object()), ptr + "/parameters",
@@ -408,7 +499,7 @@ class DiagramBuilder {
         Problem(fmt::format("{}: element '{}' ({}) is discrete: add \"sampleTime\": [Ts, offset] in seconds", ptr,
                             name, type));
       }
-      if (!param_problems.empty()) continue;
+      if (!param_problems.empty() || !schema_problems_.empty()) continue;
       try {
         BlockConfig config{name, Parameters(name, std::move(values)), st, base_};
         d_.blocks_.push_back(bt->factory(config));
@@ -456,7 +547,7 @@ class DiagramBuilder {
     }
     const json cs = j_.value("connections", json::array());
     for (std::size_t i = 0; i < cs.size(); ++i) {
-      const std::string ptr = fmt::format("/connections/{}", i);
+      const std::string ptr = At("connections", i);
       const json& c = cs[i];
       const std::string end_element = c.value("endElement", "");
       if (end_element.empty()) continue;  // to an output connector: handled by ReadOutputConnectors
@@ -516,7 +607,11 @@ class DiagramBuilder {
 
   void ReadOutputConnectors() {
     const json cs = j_.value("connectors", json::array());
-    const json conns = j_.value("connections", json::array());
+    std::vector<std::string> names;  // the output connectors, in the order written
+    for (const auto& c : cs) {
+      if (c.value("kind", "") == "output" && c.contains("name") && c["name"].is_string()) names.push_back(c["name"]);
+    }
+    const auto feeding = ConnectionsIntoOutputs(names);
     for (std::size_t i = 0; i < cs.size(); ++i) {
       const json& c = cs[i];
       if (c.value("kind", "") != "output" || !c.contains("name")) continue;
@@ -524,20 +619,45 @@ class DiagramBuilder {
       out.name = c["name"];
       out.unit = c.value("unit", "");
       out.measurement = c.value("measurement", out.name);
-      bool connected = false;
-      for (std::size_t k = 0; k < conns.size(); ++k) {
-        if (conns[k].value("endElement", "") != "" || conns[k].value("endConnector", "") != out.name) continue;
-        if (auto start = ResolveStart(conns[k], fmt::format("/connections/{}", k))) {
-          out.source = *start;
-          connected = true;
+      const auto it = feeding.find(out.name);
+      std::optional<SignalRef> start;
+      if (it != feeding.end()) start = ResolveStart(j_["connections"][it->second], At("connections", it->second));
+      if (!start) {
+        if (it == feeding.end()) {
+          Problem(fmt::format("/connectors/{}: output connector '{}' is connected to nothing", i, out.name));
         }
-      }
-      if (!connected) {
-        Problem(fmt::format("/connectors/{}: output connector '{}' is connected to nothing", i, out.name));
         continue;
       }
+      out.source = *start;
       d_.outputs_.push_back(out);
     }
+  }
+
+  /// The connection feeding each output connector (by index in "connections"). A connection without
+  /// endElement must end at an output connector, and an output connector takes one connection.
+  std::map<std::string, std::size_t> ConnectionsIntoOutputs(const std::vector<std::string>& outputs) {
+    std::map<std::string, std::size_t> feeding;
+    const json conns = j_.value("connections", json::array());
+    for (std::size_t k = 0; k < conns.size(); ++k) {
+      if (conns[k].value("endElement", "") != "") continue;
+      const std::string name = conns[k].value("endConnector", "");
+      const std::string ptr = At("connections", k);
+      if (std::find(outputs.begin(), outputs.end(), name) == outputs.end()) {
+        const auto close = ClosestNames(name, outputs, 1);
+        Problem(fmt::format("{}/endConnector: the diagram has no output connector '{}'{}; a connection without "
+                            "endElement ends at one of the diagram's output connectors: {}",
+                            ptr, name, close.empty() ? "" : fmt::format(" (did you mean '{}'?)", close.front()),
+                            outputs.empty() ? "(none)" : fmt::format("{}", fmt::join(outputs, ", "))));
+        continue;
+      }
+      const auto [it, inserted] = feeding.emplace(name, k);
+      if (!inserted) {
+        Problem(fmt::format("{}: output connector '{}' is already connected ({}); an output takes exactly one "
+                            "signal (use a sum block to add signals)",
+                            ptr, name, At("connections", it->second)));
+      }
+    }
+    return feeding;
   }
 
   void ReadLog() {
@@ -554,10 +674,10 @@ class DiagramBuilder {
     const json log = j_.value("log", json::array());
     for (std::size_t i = 0; i < log.size(); ++i) {
       if (!log[i].is_string()) {
-        Problem(fmt::format("/log/{}: a logged signal is a string \"block.port\"", i));
+        Problem(fmt::format("{}: a logged signal is a string \"block.port\"", At("log", i)));
         continue;
       }
-      add(log[i].get<std::string>(), fmt::format("/log/{}", i));
+      add(log[i].get<std::string>(), At("log", i));
     }
     // Diagram inputs and outputs are always logged (compare needs them).
     for (const auto& in : d_.inputs_) add(in.name, "/connectors");
@@ -644,11 +764,25 @@ class DiagramBuilder {
   Diagram d_;
   std::vector<std::string> problems_;
   std::vector<std::string> element_pointer_;
+  std::map<std::string, std::vector<std::string>> origins_;
+  std::vector<SchemaProblem> schema_problems_;
 };
 
 Diagram BuildDiagram(const json& diagram, const fs::path& base_directory, const std::string& source) {
-  const json expanded = ExpandSubsystems(diagram, base_directory, source);
-  return DiagramBuilder(expanded, base_directory, source).Build();
+  // The diagram as the user wrote it against the schema first; a value of the wrong JSON type stops here (the
+  // builder would not know what to make of it), other schema problems are reported with the builder's.
+  std::vector<SchemaProblem> schema_problems = DiagramSchemaProblems(diagram);
+  std::vector<std::string> problems;
+  for (const auto& p : schema_problems) problems.push_back(p.Text());
+  const bool wrong_type = std::any_of(schema_problems.begin(), schema_problems.end(),
+                                      [](const SchemaProblem& p) { return p.wrong_type; });
+  if (wrong_type || !diagram.is_object()) throw DiagramError(source, problems);
+  const std::size_t schema_count = problems.size();
+  Expansion expanded = ExpandSubsystemsImpl(diagram, base_directory, source, Place{}, 0, &problems);
+  if (problems.size() > schema_count) throw DiagramError(source, problems);
+  return DiagramBuilder(expanded.diagram, base_directory, source, std::move(expanded.origins),
+                        std::move(schema_problems))
+      .Build();
 }
 
 Diagram LoadDiagram(const fs::path& path, const std::vector<ParameterOverride>& overrides) {

@@ -49,7 +49,7 @@ class DepthCounter final : public nlohmann::json_sax<json> {
 
 }  // namespace
 
-json ParseJsonLimited(std::string_view text, const std::string& source, bool ignore_comments) {
+void CheckJsonDepth(std::string_view text, const std::string& source, bool ignore_comments) {
   DepthCounter counter;
   json::sax_parse(text, &counter, json::input_format_t::json, /*strict=*/true, ignore_comments);
   if (counter.too_deep()) {
@@ -58,6 +58,10 @@ json ParseJsonLimited(std::string_view text, const std::string& source, bool ign
                                      "wrongly?)",
                                      source, kMaxJsonDepth));
   }
+}
+
+json ParseJsonLimited(std::string_view text, const std::string& source, bool ignore_comments) {
+  CheckJsonDepth(text, source, ignore_comments);
   return json::parse(text, nullptr, /*allow_exceptions=*/true, ignore_comments);
 }
 

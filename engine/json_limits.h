@@ -22,6 +22,10 @@ class JsonDepthError : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
+/// Throws JsonDepthError (the message below) if `text` nests deeper than kMaxJsonDepth; a syntax error is left to
+/// the real parse. Linear, non-recursive (a SAX pass that builds nothing).
+void CheckJsonDepth(std::string_view text, const std::string& source, bool ignore_comments = false);
+
 /// Parses `text` as nlohmann::json::parse does (exceptions on, comments skipped if `ignore_comments`), after a
 /// linear, non-recursive SAX pass that counts the nesting depth. `source` names the file in messages.
 /// @throws JsonDepthError "<source>: JSON nested deeper than 256 levels (byte N) …" before anything is built;

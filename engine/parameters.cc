@@ -19,13 +19,13 @@ const char* ToString(ParamType type) {
 }
 
 ParamSpec Required(std::string name, std::string unit, std::string description, ParamType type) {
-  return ParamSpec{std::move(name), type, std::move(unit), std::nullopt, std::move(description), {}, {}};
+  return ParamSpec{std::move(name), type, std::move(unit), std::nullopt, std::move(description), {}, {}, {}};
 }
 
 ParamSpec Optional(std::string name, nlohmann::json default_value, std::string unit, std::string description,
                    ParamType type) {
   return ParamSpec{std::move(name), type, std::move(unit), std::move(default_value), std::move(description),
-                   {}, {}};
+                   {}, {}, {}};
 }
 
 ParamSpec Bounded(std::string name, nlohmann::json default_value, std::string unit, std::string description,
@@ -34,6 +34,13 @@ ParamSpec Bounded(std::string name, nlohmann::json default_value, std::string un
       Optional(std::move(name), std::move(default_value), std::move(unit), std::move(description), type);
   spec.min = min;
   spec.max = max;
+  return spec;
+}
+
+ParamSpec Choice(std::string name, std::string default_value, std::string description,
+                 std::vector<std::string> choices) {
+  ParamSpec spec = Optional(std::move(name), std::move(default_value), "", std::move(description), ParamType::kString);
+  spec.choices = std::move(choices);
   return spec;
 }
 

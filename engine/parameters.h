@@ -28,6 +28,9 @@ struct ParamSpec {
   /// Optional closed bounds for numbers/integers/vector entries (checked on load).
   std::optional<double> min;
   std::optional<double> max;
+  /// For string parameters with a fixed set of values: the allowed values (the JSON Schema's "enum", for
+  /// editors). The block checks the value itself (with its own message); empty = any string.
+  std::vector<std::string> choices;
 };
 
 /// Builder helpers for readable block specs: Required("mass", "kg", "moving mass").
@@ -38,6 +41,11 @@ ParamSpec Optional(std::string name, nlohmann::json default_value, std::string u
 /// Same as Optional with bounds [min, max] (use ±infinity for one-sided).
 ParamSpec Bounded(std::string name, nlohmann::json default_value, std::string unit, std::string description,
                   double min, double max, ParamType type = ParamType::kNumber);
+
+/// A string parameter taking one of `choices` (default first or given): Choice("method", "tustin", "…",
+/// {"backward_euler", "tustin"}).
+ParamSpec Choice(std::string name, std::string default_value, std::string description,
+                 std::vector<std::string> choices);
 
 /// The validated parameter values of one block instance. Access by name; the type was checked on load, so a
 /// wrong-type access is a programming error in the block and throws std::logic_error.

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "engine/closest_names.h"
+#include "engine/json_schema.h"
 
 namespace mb {
 

@@ -18,6 +18,7 @@ void SetupVirtualStageCommand(CLI::App& app);
 void SetupStabilityCommand(CLI::App& app);
 void SetupSweepCommand(CLI::App& app);
 void SetupReproduceCommand(CLI::App& app);
+void SetupSchemaCommand(CLI::App& app);
 
 /// Adds --max-steps N (SimulationLimits::max_steps for every simulation the command runs) to a subcommand.
 void AddMaxStepsOption(CLI::App* command);

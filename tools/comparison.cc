@@ -7,11 +7,14 @@
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <unsupported/Eigen/NonLinearOptimization>
 #include <unsupported/Eigen/NumericalDiff>
 
 #include "engine/diagram_document.h"
 #include "engine/diagram_loader.h"
+#include "engine/json_schema.h"
+#include "engine/registry.h"
 #include "models/diagnosis/signal_processing.h"
 
 namespace mb {
@@ -136,6 +139,23 @@ void SetParameterValues(json* diagram, const std::vector<FreeParameter>& params,
   *diagram = document.json();
 }
 
+namespace {
+/// Every --map names a connector of the diagram (a misspelled one would silently change nothing).
+void CheckColumnMap(const Diagram& d, const std::map<std::string, std::string>& column_map) {
+  std::vector<std::string> connectors;
+  for (const auto& in : d.inputs()) connectors.push_back(in.name);
+  for (const auto& out : d.outputs()) connectors.push_back(out.name);
+  for (const auto& [connector, column] : column_map) {
+    if (std::find(connectors.begin(), connectors.end(), connector) != connectors.end()) continue;
+    const auto close = ClosestNames(connector, connectors, 1);
+    throw std::invalid_argument(fmt::format(
+        "--map {}={}: the diagram has no connector '{}'{}; its input and output connectors: {}", connector, column,
+        connector, close.empty() ? "" : fmt::format(" (did you mean '{}'?)", close.front()),
+        connectors.empty() ? "(none)" : fmt::format("{}", fmt::join(connectors, ", "))));
+  }
+}
+}  // namespace
+
 ModelComparison::ModelComparison(json diagram, fs::path base_directory, std::string source,
                                  const MeasurementLog& log, const std::map<std::string, std::string>& column_map)
     : diagram_(std::move(diagram)), base_(std::move(base_directory)), source_(std::move(source)), log_(log) {
@@ -144,6 +164,7 @@ ModelComparison::ModelComparison(json diagram, fs::path base_directory, std::str
   document.SetExperiment(t(0), t(t.size() - 1), MedianTimeStep(t));
   diagram_ = document.json();
   const Diagram d = BuildDiagram(diagram_, base_, source_);
+  CheckColumnMap(d, column_map);
   auto column_for = [&](const std::string& connector, const std::string& fallback) {
     auto it = column_map.find(connector);
     return it != column_map.end() ? it->second : fallback;

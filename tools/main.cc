@@ -55,6 +55,7 @@ int main(int argc, char** argv) {
   mb::SetupStabilityCommand(app);
   mb::SetupSweepCommand(app);
   mb::SetupReproduceCommand(app);
+  mb::SetupSchemaCommand(app);
   for (const char* simulating : {"run", "compare", "fit", "improve", "sweep", "reproduce"}) {
     mb::AddMaxStepsOption(app.get_subcommand(simulating));
   }

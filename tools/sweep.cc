@@ -17,8 +17,11 @@
 #include <tbb/task_arena.h>
 
 #include "engine/diagram_loader.h"
+#include "engine/diagram_schema.h"
 #include "engine/json_limits.h"
+#include "engine/json_parsing.h"
 #include "engine/output_file.h"
+#include "tools/sweep_schema.h"
 #include "tools/output_files.h"
 
 namespace mb {
@@ -286,11 +289,11 @@ SweepSpec ParseSweep(const json& sweep, const std::string& source, std::size_t m
     throw std::invalid_argument(fmt::format("{}: give exactly one of \"grid\", \"list\" or \"random\" (found {})",
                                             source, kinds));
   }
-  for (const auto& [key, value] : sweep.items()) {
-    if (key != "grid" && key != "list" && key != "random" && key != "description" && key != "set" &&
-        key != "diagram" && key != "$comment") {
-      problems.push_back(fmt::format("/{}: unknown key (grid, list, random, set, description, diagram)", key));
-    }
+  // Against the schema first (unknown keys with "did you mean", types); a value of the wrong type stops here.
+  const auto schema_problems = SweepSchemaProblems(sweep);
+  if (std::any_of(schema_problems.begin(), schema_problems.end(), [](const auto& p) { return p.wrong_type; })) {
+    throw std::invalid_argument(
+        fmt::format("{}: {}", source, fmt::join(MergeProblems({}, schema_problems, false), "; ")));
   }
   spec.description = sweep.value("description", "");
   spec.diagram = sweep.value("diagram", "");
@@ -399,6 +402,7 @@ SweepSpec ParseSweep(const json& sweep, const std::string& source, std::size_t m
       }
     }
   }
+  problems = MergeProblems(std::move(problems), schema_problems, /*own_covers_descendants=*/true);
   if (!problems.empty()) {
     throw std::invalid_argument(fmt::format("{}: {}", source, fmt::join(problems, "; ")));
   }
@@ -410,9 +414,11 @@ SweepSpec ReadSweepFile(const fs::path& path, std::size_t max_runs) {
   if (!in) throw std::runtime_error(fmt::format("{}: cannot open the sweep file", path.string()));
   json j;
   try {
-    j = ParseJsonLimited(in, path.string());
+    j = ParseJsonRejectingDuplicateKeys(in, path.string(), /*ignore_comments=*/false);
   } catch (const json::parse_error& e) {
     throw std::runtime_error(fmt::format("{}: not valid JSON at byte {}: {}", path.string(), e.byte, e.what()));
+  } catch (const DuplicateKeyError& e) {
+    throw std::invalid_argument(fmt::format("{}: {}", path.string(), fmt::join(e.problems(), "; ")));
   }
   return ParseSweep(j, path.string(), max_runs);
 }
@@ -452,7 +458,15 @@ SweepOutcome RunSweep(const fs::path& diagram_path, const SweepSpec& spec, const
   {
     std::vector<std::pair<std::string, json>> all = spec.fixed;
     for (const auto& run : spec.runs) all.insert(all.end(), run.assignments.begin(), run.assignments.end());
-    ApplySweepAssignments(base, all, source);
+    // A misspelled defaultExperiment.<key> or solver.<key> would otherwise be ignored by every run.
+    std::vector<std::string> problems;
+    for (const auto& p : DiagramSchemaProblems(ApplySweepAssignments(base, all, source))) {
+      if (p.pointer.rfind(fmt::format("/{}/", kExperimentSection), 0) == 0 ||
+          p.pointer.rfind(fmt::format("/{}/", kSolverSection), 0) == 0) {
+        problems.push_back(p.Text() + " (set by the sweep)");
+      }
+    }
+    if (!problems.empty()) throw DiagramError(source, problems);
   }
 
   fs::create_directories(out);

@@ -241,13 +241,16 @@ TEST(DiagramRolesTest, TheLoaderReadsAndChecksRoles) {
   EXPECT_EQ(d.roles().at("plant"), "body");
   EXPECT_EQ(d.block_type(d.FindBlock("body")), "rigid_body");
   EXPECT_DOUBLE_EQ(d.block_parameters(d.FindBlock("body")).Number("mass"), 3.0);
-  j["roles"] = {{"plant", "bodie"}, {"dob", 3}};
+  j["roles"] = {{"plant", "bodie"}};
   EXPECT_THAT([&] { BuildDiagram(j, ".", "roles.json"); },
-              ThrowsMessage<DiagramError>(AllOf(HasSubstr("/roles/plant: no element named 'bodie'"),
-                                                HasSubstr("/roles/dob: must be an element's name (a string), got 3"))));
+              ThrowsMessage<DiagramError>(HasSubstr("/roles/plant: no element named 'bodie'")));
+  // The shape of "roles" is the schema's to check (engine/diagram_schema.h).
+  j["roles"] = {{"plant", "body"}, {"dob", 3}};
+  EXPECT_THAT([&] { BuildDiagram(j, ".", "roles.json"); },
+              ThrowsMessage<DiagramError>(HasSubstr("/roles/dob: must be string, got an integer")));
   j["roles"] = json::array();
   EXPECT_THAT([&] { BuildDiagram(j, ".", "roles.json"); },
-              ThrowsMessage<DiagramError>(HasSubstr("/roles: must be an object {\"role\": \"element name\"}")));
+              ThrowsMessage<DiagramError>(HasSubstr("/roles: must be object, got an array")));
 }
 
 }  // namespace

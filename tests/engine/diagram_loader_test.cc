@@ -14,14 +14,8 @@ using ::testing::HasSubstr;
 using testing::Build;
 using testing::Connect;
 
-json Minimal() {
-  return {{"schemaVersion", "1.0"},
-          {"elements",
-           {{{"name", "c"}, {"type", "constant"}, {"parameters", {{"value", 1.0}}}},
-            {{"name", "g"}, {"type", "gain"}, {"parameters", {{"gain", 2.0}}}}}},
-          {"connections", {Connect("c.y", "g.u")}},
-          {"log", {"g.y"}}};
-}
+using testing::MinimalDiagram;
+const auto Minimal = MinimalDiagram;
 
 std::string ErrorOf(const json& j) {
   try {

@@ -1,0 +1,237 @@
+// The generated diagram schema and its enforcement: misspelled keys, duplicate keys, duplicated entries and
+// doubly connected connectors are errors with the JSON pointer of the file the user wrote (also inside
+// subsystems) and a "did you mean" where a key is unknown.
+
+#include <filesystem>
+#include <fstream>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "engine/diagram_schema.h"
+#include "engine/json_parsing.h"
+#include "tests/engine/test_util.h"
+
+namespace mb {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using ::testing::ElementsAre;
+using ::testing::HasSubstr;
+using testing::Build;
+using testing::Connect;
+
+using testing::MinimalDiagram;
+const auto Minimal = MinimalDiagram;
+
+std::vector<std::string> ProblemsOf(const json& j, const fs::path& base = ".") {
+  try {
+    BuildDiagram(j, base, "test.json");
+  } catch (const DiagramError& e) {
+    return e.problems();
+  }
+  return {"no DiagramError"};
+}
+
+/// A folder of this test's own, removed at the end.
+class TempFolder {
+ public:
+  TempFolder() : path_(fs::temp_directory_path() / ("mb_schema_test_" + std::to_string(::getpid()))) {
+    fs::create_directories(path_);
+  }
+  ~TempFolder() { fs::remove_all(path_); }
+  fs::path Write(const std::string& name, const std::string& text) const {
+    std::ofstream(path_ / name) << text;
+    return path_ / name;
+  }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+TEST(DiagramSchemaTest, EveryBlockTypeWithItsParametersUnitsEnumsAndBounds) {
+  const json schema = DiagramSchema(BlockRegistry::Global());
+  const json& blocks = schema["definitions"]["blocks"];
+  for (const auto& name : BlockRegistry::Global().TypeNames()) {
+    ASSERT_TRUE(blocks.contains(name)) << name;
+    for (const auto& p : BlockRegistry::Global().Find(name)->parameters) {
+      EXPECT_TRUE(blocks[name]["properties"]["parameters"]["properties"].contains(p.name)) << name << "." << p.name;
+    }
+  }
+  const json& cutoff = blocks["q_filter"]["properties"]["parameters"]["properties"]["cutoff_hz"];
+  EXPECT_EQ(cutoff["default"], 30.0);
+  EXPECT_EQ(cutoff["anyOf"][0], json({{"type", "number"}, {"minimum", 1e-9}, {"maximum", 1e12}}));
+  EXPECT_EQ(cutoff["anyOf"][1]["properties"]["unit"], json({{"const", "Hz"}}));
+  EXPECT_EQ(blocks["friction"]["properties"]["parameters"]["properties"]["stick_model"]["anyOf"][0]["enum"],
+            json({"karnopp", "none"}));
+  EXPECT_EQ(blocks["unit_delay"]["required"], json::array({"sampleTime"}));
+  EXPECT_EQ(blocks["gain"]["properties"]["sampleTime"], false);
+  EXPECT_EQ(schema["properties"]["schemaVersion"]["const"], kDiagramSchemaVersion);
+}
+
+TEST(DiagramSchemaTest, CommittedSchemaIsTheGeneratedOne) {
+  std::ifstream in(fs::path(MB_SOURCE_DIR) / "diagrams" / "schema.json");
+  ASSERT_TRUE(in) << "diagrams/schema.json is missing";
+  const json committed = json::parse(in);
+  EXPECT_EQ(committed, DiagramSchema(BlockRegistry::Global()))
+      << "diagrams/schema.json has drifted: regenerate it with `motionblocks schema > diagrams/schema.json`";
+}
+
+TEST(DiagramSchemaTest, MisspelledExperimentAndSolverKeysAreErrorsWithTheClosestKey) {
+  json j = Minimal();
+  j["defaultExperiment"] = {{"stopTme", 1.0}};
+  j["solver"] = {{"tpye", "rk4"}, {"stepp", 1e-3}};
+  EXPECT_THAT(ProblemsOf(j),
+              ElementsAre("/defaultExperiment/stopTme: unknown key 'stopTme' (did you mean 'stopTime'?); the keys "
+                          "here are: startTime, stepSize, stopTime",
+                          "/solver/stepp: unknown key 'stepp' (did you mean 'step'?); the keys here are: atol, "
+                          "maxStep, method, rtol, step, type",
+                          "/solver/tpye: unknown key 'tpye' (did you mean 'type'?); the keys here are: atol, maxStep, "
+                          "method, rtol, step, type"));
+}
+
+TEST(DiagramSchemaTest, MisspelledConnectionMetricAndTopLevelKeysAreErrors) {
+  json j = Minimal();
+  j["connections"][0].erase("endConnector");
+  j["connections"][0]["endConector"] = "u";
+  j["metrics"] = {{{"name", "m"}, {"signal", "g.y"}, {"tpye", "rmse"}}};
+  j["elemnts"] = json::array();
+  EXPECT_THAT(ProblemsOf(j),
+              ElementsAre(HasSubstr("/connections/0/endConector: unknown key 'endConector' (did you mean "
+                                    "'endConnector'?)"),
+                          HasSubstr("/metrics/0/tpye: unknown key 'tpye' (did you mean 'type'?)"),
+                          HasSubstr("/elemnts: unknown key 'elemnts' (did you mean 'elements'?)")));
+}
+
+TEST(DiagramSchemaTest, ExperimentModeIsOneOfTheModes) {
+  json j = Minimal();
+  j["experiment"] = {{"mode", "equation_eror"}};
+  EXPECT_THAT(ProblemsOf(j), ElementsAre("/experiment/mode: \"equation_eror\" is not allowed here (did you mean "
+                                         "\"equation_error\"?); use one of \"simulation\", \"equation_error\""));
+}
+
+TEST(DiagramSchemaTest, WrongTypesStopBeforeTheLoaderReadsThem) {
+  json j = Minimal();
+  j["elements"][0]["name"] = 5;
+  j["solver"] = {{"type", 4}};
+  EXPECT_THAT(ProblemsOf(j), ElementsAre("/elements/0/name: must be string, got an integer",
+                                         "/solver/type: 4 is not allowed here; use one of \"euler\", \"rk4\", "
+                                         "\"cvode\""));
+}
+
+TEST(DiagramSchemaTest, LoaderMessagesWinWhereItHasThem) {
+  json j = Minimal();
+  j["schemaVersion"] = "0.9";
+  j["elements"][1]["parameters"]["gainn"] = 1;
+  j["elements"][1]["descripton"] = "typo";
+  EXPECT_THAT(ProblemsOf(j),
+              ElementsAre("/schemaVersion: this build reads version \"1.0\", the file says \"0.9\"",
+                          "/elements/1/parameters/gainn: unknown parameter 'gainn'; this block takes: gain, width "
+                          "(element 'g', gain)",
+                          HasSubstr("/elements/1/descripton: unknown key 'descripton' (did you mean 'description'?)")));
+}
+
+TEST(DiagramSchemaTest, DuplicatedFreeEntriesAreErrors) {
+  json j = Minimal();
+  j["free"] = {"g.gain", "c.value", "g.gain"};
+  EXPECT_THAT(ProblemsOf(j), ElementsAre(HasSubstr("/free: Elements at indexes #0 and #2 violate uniqueness")));
+}
+
+TEST(DiagramSchemaTest, TwoConnectionsIntoOneOutputConnectorAreAnError) {
+  json j = Minimal();
+  j["connectors"] = {{{"name", "y"}, {"kind", "output"}}};
+  j["connections"].push_back({{"startElement", "g"}, {"startConnector", "y"}, {"endConnector", "y"}});
+  j["connections"].push_back({{"startElement", "c"}, {"startConnector", "y"}, {"endConnector", "y"}});
+  EXPECT_THAT(ProblemsOf(j), ElementsAre("/connections/2: output connector 'y' is already connected "
+                                         "(/connections/1); an output takes exactly one signal (use a sum block to "
+                                         "add signals)"));
+}
+
+TEST(DiagramSchemaTest, ConnectionToAMissingOrInputConnectorIsAnError) {
+  json j = Minimal();
+  j["connectors"] = {{{"name", "u"}, {"kind", "input"}}, {{"name", "position"}, {"kind", "output"}}};
+  j["connections"].push_back({{"startElement", "g"}, {"startConnector", "y"}, {"endConnector", "positon"}});
+  j["connections"].push_back({{"startElement", "g"}, {"startConnector", "y"}, {"endConnector", "u"}});
+  EXPECT_THAT(ProblemsOf(j),
+              ElementsAre("/connections/1/endConnector: the diagram has no output connector 'positon' (did you mean "
+                          "'position'?); a connection without endElement ends at one of the diagram's output "
+                          "connectors: position",
+                          "/connections/2/endConnector: the diagram has no output connector 'u'; a connection "
+                          "without endElement ends at one of the diagram's output connectors: position",
+                          "/connectors/1: output connector 'position' is connected to nothing"));
+}
+
+TEST(DiagramSchemaTest, TwoConnectionsIntoOneInputAreAnError) {
+  json j = Minimal();
+  j["connections"].push_back(Connect("c.y", "g.u"));
+  EXPECT_THAT(ProblemsOf(j), ElementsAre("/connections/1: input 'g.u' is already connected; an input takes exactly "
+                                         "one signal (use a sum block to add signals)"));
+}
+
+TEST(DiagramSchemaTest, DuplicateJsonKeysAreErrorsWithTheirPointer) {
+  TempFolder folder;
+  const fs::path file = folder.Write("dup.json", R"({"schemaVersion": "1.0",
+    "defaultExperiment": {"stopTime": 1, "stopTime": 3},
+    "elements": [{"name": "c", "type": "constant", "parameters": {"value": 1, "value": 2}}]})");
+  try {
+    ReadDiagramJson(file);
+    FAIL() << "duplicate keys accepted";
+  } catch (const DiagramError& e) {
+    EXPECT_THAT(e.problems(),
+                ElementsAre("/defaultExperiment/stopTime: the key 'stopTime' is given twice in one object (JSON keeps "
+                            "only the last); remove one",
+                            "/elements/0/parameters/value: the key 'value' is given twice in one object (JSON keeps "
+                            "only the last); remove one"));
+    EXPECT_THAT(std::string(e.what()), HasSubstr(file.string() + ": 2 problems in the diagram"));
+  }
+}
+
+TEST(DiagramSchemaTest, ProblemsInsideASubsystemPointIntoTheSubsystemFile) {
+  TempFolder folder;
+  folder.Write("inner.json", R"({"schemaVersion": "1.0",
+    "connectors": [{"name": "u", "kind": "input"}, {"name": "y", "kind": "output"}],
+    "elements": [{"name": "k", "type": "gain", "parameters": {"gain": 2}},
+                 {"name": "z", "type": "gain", "parameters": {"gainn": 2}}],
+    "connections": [{"endElement": "k", "endConnector": "u", "startConnector": "u"},
+                    {"startElement": "k", "startConnector": "y", "endElement": "z", "endConnector": "u"},
+                    {"startElement": "z", "startConnector": "y", "endConnector": "y"}]})");
+  json j = Minimal();
+  const json sub = {{"name", "sub"}, {"type", "subsystem"}, {"diagram", "inner.json"}};
+  j["elements"].insert(j["elements"].begin(), sub);
+  j["elements"].push_back({{"name", "h"}, {"type", "gain"}, {"parameters", {{"gainx", 1}}}});
+  j["connections"].push_back(Connect("g.y", "sub.u"));
+  j["connections"].push_back(Connect("sub.y", "h.u"));
+  const std::string inner = (folder.path() / "inner.json").string();
+  EXPECT_THAT(ProblemsOf(j, folder.path()),
+              ElementsAre(inner + ": /elements/1/parameters/gainn: unknown parameter 'gainn'; this block takes: "
+                                  "gain, width (element 'sub/z', gain)",
+                          "/elements/3/parameters/gainx: unknown parameter 'gainx'; this block takes: gain, width "
+                          "(element 'h', gain)"));
+}
+
+TEST(DiagramSchemaTest, ASubsystemFileIsValidatedAsWritten) {
+  TempFolder folder;
+  folder.Write("inner.json", R"({"schemaVersion": "1.0", "solver": {"tpye": "rk4"},
+    "elements": [{"name": "k", "type": "gain"}]})");
+  json j = Minimal();
+  j["elements"].push_back({{"name", "sub"}, {"type", "subsystem"}, {"diagram", "inner.json"}});
+  const std::string inner = (folder.path() / "inner.json").string();
+  EXPECT_THAT(ProblemsOf(j, folder.path()),
+              ElementsAre(inner + ": /solver/tpye: unknown key 'tpye' (did you mean 'type'?); the keys here are: atol, "
+                                  "maxStep, method, rtol, step, type"));
+}
+
+TEST(DiagramSchemaTest, InlineSubsystemsAreValidatedWithTheirParent) {
+  json j = Minimal();
+  j["elements"].push_back({{"name", "sub"},
+                           {"type", "subsystem"},
+                           {"diagram", {{"schemaVersion", "1.0"},
+                                        {"elements", {{{"name", "k"}, {"type", "q_filter"}, {"sampleTme", 0.1}}}}}}});
+  EXPECT_THAT(ProblemsOf(j), ElementsAre(HasSubstr("/elements/2/diagram/elements/0/sampleTme: unknown key "
+                                                   "'sampleTme' (did you mean 'sampleTime'?)")));
+}
+
+}  // namespace
+}  // namespace mb
