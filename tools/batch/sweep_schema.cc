@@ -1,4 +1,4 @@
-#include "tools/sweep_schema.h"
+#include "tools/batch/sweep_schema.h"
 
 namespace mb {
 

@@ -5,7 +5,7 @@
 #include <fmt/format.h>
 
 #include "engine/registry.h"
-#include "tools/commands.h"
+#include "tools/commands/commands.h"
 
 namespace mb {
 

@@ -1,6 +1,7 @@
 #pragma once
 // The `motionblocks` subcommands. One file per subcommand (STYLE.md): an options struct, a Setup…(CLI::App&)
-// that declares the options and binds the callback, and a Run…(const Options&) that only calls the library.
+// that declares the options and binds the callback, and a Run…(const Options&) that only calls the library
+// and prints. The options several subcommands share are declared in cli_options.h.
 
 #include <CLI/CLI.hpp>
 
@@ -19,8 +20,5 @@ void SetupStabilityCommand(CLI::App& app);
 void SetupSweepCommand(CLI::App& app);
 void SetupReproduceCommand(CLI::App& app);
 void SetupSchemaCommand(CLI::App& app);
-
-/// Adds --max-steps N (SimulationLimits::max_steps for every simulation the command runs) to a subcommand.
-void AddMaxStepsOption(CLI::App* command);
 
 }  // namespace mb

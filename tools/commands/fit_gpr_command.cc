@@ -12,7 +12,7 @@
 #include "models/diagnosis/measurement_log.h"
 #include "models/gpr/gpr_io.h"
 #include "models/gpr/gpr_log.h"
-#include "tools/commands.h"
+#include "tools/commands/commands.h"
 
 namespace mb {
 

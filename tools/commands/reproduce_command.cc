@@ -1,13 +1,13 @@
 // motionblocks reproduce [--quick] [--out DIR] [--diagrams DIR] [--jobs N]
-// The seed paper's experiments on the twin (tools/reproduce.h): training scans, windows, DS/PS fits, Table 1,
+// The seed paper's experiments on the twin (tools/experiments/paper/reproduce.h): training scans, windows, DS/PS fits, Table 1,
 // Table 2, the payload case, stability and the GPR's cost per step; writes DIR/results.json and DIR/report.html.
 
 #include <iostream>
 
 #include <fmt/format.h>
 
-#include "tools/commands.h"
-#include "tools/reproduce.h"
+#include "tools/commands/commands.h"
+#include "tools/experiments/paper/reproduce.h"
 
 namespace mb {
 

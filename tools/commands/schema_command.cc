@@ -4,8 +4,8 @@
 #include <iostream>
 
 #include "engine/diagram_schema.h"
-#include "tools/commands.h"
-#include "tools/sweep_schema.h"
+#include "tools/commands/commands.h"
+#include "tools/batch/sweep_schema.h"
 
 namespace mb {
 

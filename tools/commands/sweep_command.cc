@@ -1,5 +1,5 @@
 // motionblocks sweep DIAGRAM SWEEP.json [--jobs N] [--fresh] [--save-logs] --out DIR
-// Runs a diagram over a grid, list or seeded random sample of parameter values (tools/sweep.h), in parallel;
+// Runs a diagram over a grid, list or seeded random sample of parameter values (tools/batch/sweep.h), in parallel;
 // writes DIR/runs.csv and DIR/runs.json (one row of metrics per run). Resumable: runs already in DIR/runs.csv
 // with status ok are not run again.
 
@@ -7,8 +7,8 @@
 
 #include <fmt/format.h>
 
-#include "tools/commands.h"
-#include "tools/sweep.h"
+#include "tools/commands/commands.h"
+#include "tools/batch/sweep.h"
 
 namespace mb {
 
@@ -49,7 +49,7 @@ void SetupSweepCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "sweep", "Run a diagram over a grid, list or seeded random sample of parameters in parallel: runs.csv, runs.json");
   cmd->add_option("diagram", options->diagram, "diagram JSON file")->required()->check(CLI::ExistingFile);
-  cmd->add_option("sweep", options->sweep, "sweep JSON file (grid, list or random; see tools/sweep.h)")
+  cmd->add_option("sweep", options->sweep, "sweep JSON file (grid, list or random; see tools/batch/sweep.h)")
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("--out", options->out, "output folder (runs.csv, runs.json)")->required();

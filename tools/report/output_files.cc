@@ -1,4 +1,4 @@
-#include "tools/output_files.h"
+#include "tools/report/output_files.h"
 
 #include <cstdio>
 #include <fstream>

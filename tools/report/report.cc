@@ -1,4 +1,4 @@
-#include "tools/report.h"
+#include "tools/report/report.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <fmt/format.h>
 
 #include "engine/output_file.h"
-#include "tools/run_program.h"
+#include "tools/report/run_program.h"
 
 namespace mb {
 

@@ -1,4 +1,4 @@
-#include "tools/suggest.h"
+#include "tools/workflow/suggest.h"
 
 #include <algorithm>
 #include <cmath>

@@ -9,8 +9,8 @@
 
 #include "engine/diagram_loader.h"
 #include "engine/diagram_schema.h"
-#include "tools/sweep.h"
-#include "tools/sweep_schema.h"
+#include "tools/batch/sweep.h"
+#include "tools/batch/sweep_schema.h"
 
 namespace mb {
 namespace {

@@ -1,7 +1,7 @@
-// tools/sweep.h: grid, list and seeded random sweeps (order, repeatability, errors), parallel runs with one row
+// tools/batch/sweep.h: grid, list and seeded random sweeps (order, repeatability, errors), parallel runs with one row
 // of metrics each, resuming from runs.csv, and the shipped sweeps in diagrams/paper/sweeps.
 
-#include "tools/sweep.h"
+#include "tools/batch/sweep.h"
 
 #include <filesystem>
 #include <fstream>

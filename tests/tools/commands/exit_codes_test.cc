@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "tests/tools/run_motionblocks.h"
+#include "tests/tools/commands/run_motionblocks.h"
 
 namespace mb {
 namespace {

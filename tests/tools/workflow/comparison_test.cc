@@ -10,8 +10,8 @@
 
 #include "engine/diagram_loader.h"
 #include "models/diagnosis/diagnosis.h"
-#include "tools/comparison.h"
-#include "tools/suggest.h"
+#include "tools/workflow/comparison.h"
+#include "tools/workflow/suggest.h"
 
 namespace mb {
 namespace {

@@ -28,8 +28,8 @@
 #include "models/diagnosis/diagnosis.h"
 #include "models/gpr/gpr_io.h"
 #include "models/gpr/residual_gpr.h"
-#include "tools/comparison.h"
-#include "tools/suggest.h"
+#include "tools/workflow/comparison.h"
+#include "tools/workflow/suggest.h"
 
 namespace mb {
 namespace {
@@ -550,7 +550,7 @@ TEST(HiddenEffect, OutputQuantizationIsFoundWithItsStep) {
   Report("quantization", loop, fmt::format("step {:.5g} N (truth {:.5g})", found, step));
   EXPECT_NEAR(found, step, 0.01 * step);
   ASSERT_FALSE(loop.amended.is_null());
-  EXPECT_EQ(loop.amended["free"], UserDiagram()["free"]);  // the step is not refit (tools/suggest.h)
+  EXPECT_EQ(loop.amended["free"], UserDiagram()["free"]);  // the step is not refit (tools/workflow/suggest.h)
   // What holds: the error falls by about a third. What does not: the noise floor. The model rounds its own
   // force, which carries the derivative noise of the 0.1 µm encoder (~0.17 N); near every level it rounds to
   // the other side now and then, an error of a whole step. (With a 0.1 nm encoder the amended error is within

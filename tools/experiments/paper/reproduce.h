@@ -2,7 +2,7 @@
 // `motionblocks reproduce`: the seed paper's experiments (reference/paper-tisogpr-dob.txt, sections 3.2, 4.2, 5)
 // rebuilt from the shipped diagrams and sweeps in diagrams/paper/ on the linear-motor twin:
 //   1. training scans: the list sweep sweeps/training_scans.json over training_scan.json (one constant-velocity
-//      stroke per velocity over the 700 mm travel), run in parallel (tools/sweep.h);
+//      stroke per velocity over the 700 mm travel), run in parallel (tools/batch/sweep.h);
 //   2. windows D(1), D(2), D(3) of L = 125, 225, 325 mm around each scan's centre (eq. 25–26), constant-velocity
 //      samples only; inputs x and the scan's constant velocity v_i ("the position samples inside W_k(i) and the
 //      constant velocity are paired to form the training data", section 3.2), target the DOB estimate d̂_d;

@@ -1,7 +1,7 @@
-// tools/reproduce.h: the training-window selection of eq. 25–26 on synthetic scans, and `reproduce --quick` end to
+// tools/experiments/paper/reproduce.h: the training-window selection of eq. 25–26 on synthetic scans, and `reproduce --quick` end to
 // end on the shipped diagrams: results.json has the five sections with the orderings the paper reports.
 
-#include "tools/reproduce.h"
+#include "tools/experiments/paper/reproduce.h"
 
 #include <cmath>
 #include <filesystem>
