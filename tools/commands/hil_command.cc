@@ -19,8 +19,9 @@
 #include "hw/hil_runner.h"
 #include "hw/quanser_board.h"
 #include "hw/udp_board.h"
-#include "tools/commands.h"
-#include "tools/output_files.h"
+#include "tools/commands/cli_options.h"
+#include "tools/commands/commands.h"
+#include "tools/report/output_files.h"
 
 namespace mb {
 
@@ -107,8 +108,7 @@ void RunHil(const HilCommandOptions& o) {
     if (std::filesystem::is_directory(replacement.file.parent_path())) AllowDiagramFilesUnder(replacement.file.parent_path());
     j = ReplaceSubsystem(j, replacement, o.diagram, &dropped);
   }
-  std::vector<ParameterOverride> overrides;
-  for (const auto& s : o.overrides) overrides.push_back(ParameterOverride::Parse(s));
+  const std::vector<ParameterOverride> overrides = ParseOverrides(o.overrides);
   ApplyOverrides(&j, overrides, o.diagram);
   if (o.duration > 0.0) {
     DiagramDocument document(std::move(j), fs::path(o.diagram).parent_path(), o.diagram);
@@ -188,7 +188,7 @@ void SetupHilCommand(CLI::App& app) {
   cmd->add_option("--replace", options->replacements,
                   "ELEMENT=FILE: swap subsystem ELEMENT for FILE, e.g. plant=diagrams/hil/subsystems/hil_io.json")
       ->required();
-  cmd->add_option("--set", options->overrides, "parameter override block.param=value (repeatable)");
+  AddSetOption(cmd, &options->overrides);
   cmd->add_option("--duration", options->duration, "run this many seconds (default: the diagram's stop time)");
   cmd->add_option("--out", options->out, "output folder")->capture_default_str();
   cmd->add_option("--port", options->port, "udp: the virtual stage's port on 127.0.0.1")->check(CLI::Range(1, 65535));

@@ -8,10 +8,11 @@
 
 #include "engine/diagram_loader.h"
 #include "engine/simulator.h"
-#include "tools/commands.h"
-#include "tools/comparison.h"
-#include "tools/output_files.h"
-#include "tools/report.h"
+#include "tools/commands/cli_options.h"
+#include "tools/commands/commands.h"
+#include "tools/workflow/comparison.h"
+#include "tools/report/output_files.h"
+#include "tools/report/report.h"
 
 namespace mb {
 
@@ -28,8 +29,7 @@ struct RunOptions {
 };
 
 void RunRun(const RunOptions& o) {
-  std::vector<ParameterOverride> overrides;
-  for (const auto& s : o.overrides) overrides.push_back(ParameterOverride::Parse(s));
+  const std::vector<ParameterOverride> overrides = ParseOverrides(o.overrides);
   const Diagram diagram = LoadDiagram(o.diagram, overrides);
   Simulator sim(diagram);
   FeedInputsFromFiles(diagram, o.inputs, &sim);
@@ -102,7 +102,7 @@ void SetupRunCommand(CLI::App& app) {
   auto options = std::make_shared<RunOptions>();
   auto* cmd = app.add_subcommand("run", "Simulate a diagram: logged signals (CSV), summary.json with metrics, report");
   cmd->add_option("diagram", options->diagram, "diagram JSON file")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--set", options->overrides, "parameter override block.param=value (repeatable)");
+  AddSetOption(cmd, &options->overrides);
   cmd->add_option("--input", options->inputs,
                   "feed an input connector from a CSV log: connector=FILE[:COLUMN] (default column: the "
                   "connector's measurement name)");

@@ -17,10 +17,11 @@
 
 #include "engine/diagram_loader.h"
 #include "models/gpr/gpr_io.h"
-#include "tools/loop_from_diagram.h"
-#include "tools/commands.h"
-#include "tools/output_files.h"
-#include "tools/report.h"
+#include "tools/workflow/loop_from_diagram.h"
+#include "tools/commands/cli_options.h"
+#include "tools/commands/commands.h"
+#include "tools/report/output_files.h"
+#include "tools/report/report.h"
 
 namespace mb {
 
@@ -71,8 +72,7 @@ void AddBode(HtmlReport& report, const fs::path& out, const std::string& stem, c
 }
 
 void RunStability(const StabilityCommandOptions& o) {
-  std::vector<ParameterOverride> overrides;
-  for (const auto& s : o.overrides) overrides.push_back(ParameterOverride::Parse(s));
+  const std::vector<ParameterOverride> overrides = ParseOverrides(o.overrides);
   const Diagram diagram = LoadDiagram(o.diagram, overrides);
   std::optional<GprModel> gpr;
   if (!o.gpr.empty()) gpr = LoadGprModel(o.gpr);
@@ -149,12 +149,12 @@ void SetupStabilityCommand(CLI::App& app) {
       "stability", "Small-gain stability of the paper's DOB loop with the GP path (section 4.2) and Bode data");
   cmd->add_option("diagram", o->diagram,
                   "diagram with a plant, a PD and optionally a dob, found by block type or \"roles\" "
-                  "(tools/loop_from_diagram.h)")
+                  "(tools/workflow/loop_from_diagram.h)")
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("--gpr", o->gpr, "TISO-GPR model file (fit-gpr): adds L_x, L_ẋ, b_μ and the α_max bound")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--set", o->overrides, "override a parameter: block.param=value (repeatable)");
+  AddSetOption(cmd, &o->overrides, "override a parameter: block.param=value (repeatable)");
   cmd->add_option("--out", o->out, "output folder")->capture_default_str();
   cmd->add_option("--bode-points", o->bode_points, "log-spaced frequencies of the Bode data")
       ->capture_default_str()

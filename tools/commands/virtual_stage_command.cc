@@ -10,7 +10,8 @@
 
 #include "hw/realtime.h"
 #include "hw/virtual_stage.h"
-#include "tools/commands.h"
+#include "tools/commands/cli_options.h"
+#include "tools/commands/commands.h"
 
 namespace mb {
 
@@ -33,8 +34,7 @@ struct VirtualStageCommandOptions {
 };
 
 void RunVirtualStage(const VirtualStageCommandOptions& o) {
-  std::vector<ParameterOverride> overrides;
-  for (const auto& s : o.overrides) overrides.push_back(ParameterOverride::Parse(s));
+  const std::vector<ParameterOverride> overrides = ParseOverrides(o.overrides);
   VirtualStageOptions options;
   options.port = static_cast<std::uint16_t>(o.port);
   options.period = o.period_ms * 1e-3;
@@ -82,7 +82,7 @@ void SetupVirtualStageCommand(CLI::App& app) {
   cmd->add_option("--duration", options->duration, "stop after this many seconds (default: run until stopped)");
   cmd->add_option("--drop-from", options->drop_from,
                   "fault injection: drop every packet from this many seconds on (tests the safe stop)");
-  cmd->add_option("--set", options->overrides, "plant parameter override block.param=value (repeatable)");
+  AddSetOption(cmd, &options->overrides, "plant parameter override block.param=value (repeatable)");
   cmd->add_option("--fifo", options->fifo_priority, "SCHED_FIFO priority 1–99 (0 = default scheduler)")
       ->check(CLI::Range(0, 99));
   cmd->callback([options] { RunVirtualStage(*options); });
