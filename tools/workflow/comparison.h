@@ -21,29 +21,10 @@
 #include "engine/simulator.h"
 #include "models/diagnosis/diagnosis.h"
 #include "models/diagnosis/measurement_log.h"
+#include "tools/workflow/measurement.h"
 
 namespace mb {
 
-/// Columns compare derives when the log lacks them: velocity and acceleration from the position column,
-/// zero-phase low-pass + central differences (the EMPS benchmark's IDIM-LS).
-inline constexpr const char* kDerivedVelocityColumn = "velocity_m_s";
-inline constexpr const char* kDerivedAccelerationColumn = "acceleration_m_s2";
-
-/// Reads a measurement log and adds the derived velocity/acceleration columns (if absent and the position
-/// column exists). Columns named in `filter_columns` (those present) are passed through the same zero-phase
-/// low-pass as the position — IDIM-LS's parallel filtering, so that an equation-error residual compares force
-/// and motion in the same band. @throws as ReadMeasurementLog.
-MeasurementLog ReadMeasurementWithDerivatives(const std::string& path, const std::string& position_column,
-                                              double derivative_cutoff_hz,
-                                              const std::vector<std::string>& filter_columns = {});
-
-/// The measured columns a diagram's output connectors are compared with (their "measurement" names, or the
-/// --map override).
-std::vector<std::string> OutputColumns(const nlohmann::json& diagram,
-                                       const std::map<std::string, std::string>& column_map);
-
-/// Feeds `run --input connector=FILE[:COLUMN]` specs. @throws std::invalid_argument on a malformed spec.
-void FeedInputsFromFiles(const Diagram& diagram, const std::vector<std::string>& specs, Simulator* sim);
 
 /// One scalar the fit may change: element `block`, parameter `parameter`, entry `index` of a vector (or -1 for
 /// a scalar). `name` is "block.param" or "block.param[i]".
@@ -157,22 +138,6 @@ DiagramFit FitDiagram(const nlohmann::json& diagram, const std::filesystem::path
                       const std::string& source, const MeasurementLog& log,
                       const std::map<std::string, std::string>& column_map,
                       const std::vector<std::string>& parameter_names, double output_filter_hz);
-
-/// How a diagram is read against a measurement log: what compare, fit and improve share.
-struct MeasurementSettings {
-  std::map<std::string, std::string> column_map;  ///< connector → column overrides (--map)
-  std::string position_column = "position_m";      ///< measured position [m], source of velocity/acceleration
-  double derivative_cutoff_hz = 100.0;             ///< zero-phase low-pass before differentiating [Hz]
-};
-
-/// The diagram's experiment.mode: "equation_error" or "simulation" (the default).
-std::string ExperimentMode(const nlohmann::json& diagram);
-
-/// Reads `path` for `diagram`: ReadMeasurementWithDerivatives, and in equation-error mode the measured outputs
-/// through the derivative low-pass too (IDIM-LS's parallel filtering). @throws as ReadMeasurementLog (naming the
-/// file, line and column).
-MeasurementLog ReadMeasurementFor(const nlohmann::json& diagram, const std::string& path,
-                                  const MeasurementSettings& settings);
 
 /// One `compare`: the diagram bound to a log, its free parameters refit, its primary output's residual diagnosed.
 struct DiagnosedComparison {
