@@ -1,4 +1,4 @@
-#include "tools/improve.h"
+#include "tools/workflow/improve.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,9 +9,7 @@
 
 #include "engine/diagram_document.h"
 #include "models/diagnosis/effect_registry.h"
-#include "tools/output_files.h"
-#include "tools/report.h"
-#include "tools/suggest.h"
+#include "tools/workflow/suggest.h"
 
 namespace mb {
 
@@ -55,14 +53,6 @@ double HeldOutRmse(const ImproveStep& step) {
   return step.training.after.front().rmse;
 }
 
-std::string Unit(const ImproveStep& step) { return step.training.after.front().unit; }
-
-std::string DescribeParameters(const std::map<std::string, double>& parameters) {
-  std::string s;
-  for (const auto& [k, v] : parameters) s += fmt::format("{}{} = {:.5g}", s.empty() ? "" : ", ", k, v);
-  return s;
-}
-
 // Runs one amended (or the input) diagram through the training comparison and the held-out score.
 ImproveStep Evaluate(const json& diagram, const fs::path& base_directory, const std::string& source,
                      const MeasurementLog& training, const MeasurementLog* validation,
@@ -99,6 +89,12 @@ json Amend(const ImproveStep& current, const DiagnosedEffect& effect, bool refin
 
 }  // namespace
 
+std::string DescribeParameters(const std::map<std::string, double>& parameters) {
+  std::string s;
+  for (const auto& [k, v] : parameters) s += fmt::format("{}{} = {:.5g}", s.empty() ? "" : ", ", k, v);
+  return s;
+}
+
 std::vector<std::string> RecordParameters(const json& diagram) {
   std::vector<std::string> names;
   const DiagramDocument document(diagram);
@@ -134,7 +130,7 @@ json ImproveStep::ToJson() const {
             {"element", element.empty() ? json(nullptr) : json(element)},
             {"verdict", verdict},
             {"output", training.after.front().connector},
-            {"unit", Unit(*this)},
+            {"unit", unit()},
             {"rmse",
              {{"train_before", rmse_train_before},
               {"train", rmse_train},
@@ -188,15 +184,103 @@ json ImproveResult::ToJson() const {
           {"residual_not_white", residual_not_white}};
 }
 
-ImproveResult ImproveModel(const json& diagram, const fs::path& base_directory, const std::string& source,
-                           const MeasurementLog& training, const MeasurementLog* validation,
-                           const ImproveSettings& settings, const std::function<void(const std::string&)>& progress,
-                           const ImproveStepCallback& on_step) {
+namespace {
+
+void CheckImproveSettings(const ImproveSettings& settings) {
   if (settings.max_effects < 0) throw std::invalid_argument("--max-effects must be >= 0");
   if (settings.max_trials_per_round < 1) throw std::invalid_argument("--max-trials must be >= 1");
   if (!(settings.min_relative_gain >= 0.0 && settings.min_relative_gain < 1.0)) {
     throw std::invalid_argument("--min-gain must be in [0, 1), a share of the held-out RMSE (e.g. 0.002)");
   }
+}
+
+// The ranked effects of `current`'s diagnosis that a round tries (those with a block, at most max_trials_per_round),
+// or none with `result`'s stop and reason set.
+std::vector<const DiagnosedEffect*> RoundCandidates(const ImproveStep& current, const ImproveSettings& settings,
+                                                    ImproveResult* result) {
+  const DiagnosisResult* diagnosis = current.training.diagnosis ? &*current.training.diagnosis : nullptr;
+  if (!diagnosis) {
+    result->stop = ImproveStop::kNoMissingEffect;
+    result->stop_reason = current.training.diagnosis_skipped;
+    return {};
+  }
+  if (!diagnosis->missing_effect_found) {
+    result->stop = ImproveStop::kNoMissingEffect;
+    result->stop_reason = diagnosis->summary;
+    return {};
+  }
+  std::vector<const DiagnosedEffect*> candidates;
+  for (const auto& e : diagnosis->effects) {
+    if (HasEffectBlock(e.effect)) candidates.push_back(&e);
+  }
+  if (candidates.empty()) {
+    result->stop = ImproveStop::kCatalogueExhausted;
+    result->stop_reason =
+        fmt::format("the ranked effects have no block to add (first: {})", diagnosis->effects.front().effect);
+    return {};
+  }
+  if (static_cast<int>(candidates.size()) > settings.max_trials_per_round) {
+    candidates.resize(static_cast<std::size_t>(settings.max_trials_per_round));
+  }
+  return candidates;
+}
+
+// One trial of a round: `current` amended with `effect`, refit jointly, scored held out and accepted when the
+// held-out RMSE falls by min_relative_gain; a suggestion or refit that fails is a rejected step with the reason.
+ImproveStep TryEffect(const ImproveStep& current, const DiagnosedEffect& effect, int round,
+                      const fs::path& base_directory, const std::string& source, const MeasurementLog& training,
+                      const MeasurementLog* validation, const ImproveSettings& settings) {
+  ImproveStep step;
+  std::string element;
+  try {
+    const json amended = Amend(current, effect, settings.refine_periods, &element);
+    step = Evaluate(amended, base_directory, source, training, validation, settings);
+  } catch (const std::exception& e) {
+    step = ImproveStep{};
+    step.training = current.training;
+    step.validation = current.validation;
+    step.rmse_train = current.rmse_train;
+    step.rmse_heldout = current.rmse_heldout;
+    step.accepted = false;
+    step.verdict = fmt::format("could not be added: {}", e.what());
+  }
+  step.round = round;
+  step.effect = effect.effect;
+  step.diagnosed = effect;
+  step.element = element;
+  step.rmse_train_before = current.rmse_train;
+  step.rmse_heldout_before = current.rmse_heldout;
+  if (step.verdict.empty()) {
+    const double gain = 1.0 - step.rmse_heldout / current.rmse_heldout;
+    step.accepted = gain >= settings.min_relative_gain;
+    step.verdict = fmt::format("{}: held-out RMSE {:.4g} → {:.4g} {} ({:+.2f} %, {} {:.2f} %)",
+                               step.accepted ? "accepted" : "rejected", current.rmse_heldout, step.rmse_heldout,
+                               step.unit(), -100.0 * gain, step.accepted ? "≥" : "<",
+                               100.0 * settings.min_relative_gain);
+  }
+  return step;
+}
+
+// When the loop stopped before max_effects: is the last accepted residual still not white? Then the structure is
+// outside the catalogue, and a non-parametric component (TISO-GPR on x, ẋ; fallback.h) can take it.
+void NoteResidualWhiteness(ImproveResult* result) {
+  const ImproveStep& last = result->last_accepted();
+  if (!last.training.diagnosis || result->stop == ImproveStop::kMaxEffects) return;
+  result->residual_not_white = !last.training.diagnosis->whiteness_before.white;
+  if (result->residual_not_white) {
+    result->stop_reason +=
+        fmt::format("; the residual is still not white (Ljung–Box p = {:.2g}): structure outside the catalogue",
+                    last.training.diagnosis->whiteness_before.p_value);
+  }
+}
+
+}  // namespace
+
+ImproveResult ImproveModel(const json& diagram, const fs::path& base_directory, const std::string& source,
+                           const MeasurementLog& training, const MeasurementLog* validation,
+                           const ImproveSettings& settings, const std::function<void(const std::string&)>& progress,
+                           const ImproveStepCallback& on_step) {
+  CheckImproveSettings(settings);
   const auto say = [&](const std::string& line) {
     if (progress) progress(line);
   };
@@ -216,84 +300,28 @@ ImproveResult ImproveModel(const json& diagram, const fs::path& base_directory, 
   step0.rmse_heldout_before = step0.rmse_heldout;
   step0.verdict = "the diagram as given, its free parameters refit";
   say(fmt::format("step 0: RMSE {:.4g} → {:.4g} {} after the refit; held out {:.4g} {}", step0.rmse_train_before,
-                  step0.rmse_train, Unit(step0), step0.rmse_heldout, Unit(step0)));
+                  step0.rmse_train, step0.unit(), step0.rmse_heldout, step0.unit()));
   finish(std::move(step0));
 
-  int accepted = 0;
-  for (int round = 1;; ++round) {
+  for (int round = 1, accepted = 0;; ++round) {
     if (accepted >= settings.max_effects) {
       result.stop = ImproveStop::kMaxEffects;
       result.stop_reason = fmt::format("stopped after --max-effects {} effect(s)", settings.max_effects);
       break;
     }
-    // Copy: result.steps grows below.
-    const ImproveStep current = result.last_accepted();
-    const DiagnosisResult* diagnosis = current.training.diagnosis ? &*current.training.diagnosis : nullptr;
-    if (!diagnosis) {
-      result.stop = ImproveStop::kNoMissingEffect;
-      result.stop_reason = current.training.diagnosis_skipped;
-      break;
-    }
-    if (!diagnosis->missing_effect_found) {
-      result.stop = ImproveStop::kNoMissingEffect;
-      result.stop_reason = diagnosis->summary;
-      break;
-    }
-    std::vector<const DiagnosedEffect*> candidates;
-    for (const auto& e : diagnosis->effects) {
-      if (HasEffectBlock(e.effect)) candidates.push_back(&e);
-    }
-    if (candidates.empty()) {
-      result.stop = ImproveStop::kCatalogueExhausted;
-      result.stop_reason = fmt::format("the ranked effects have no block to add (first: {})",
-                                       diagnosis->effects.front().effect);
-      break;
-    }
-    if (static_cast<int>(candidates.size()) > settings.max_trials_per_round) {
-      candidates.resize(static_cast<std::size_t>(settings.max_trials_per_round));
-    }
-    const double heldout_before = current.rmse_heldout;
+    const ImproveStep current = result.last_accepted();  // a copy: result.steps grows below
+    const std::vector<const DiagnosedEffect*> candidates = RoundCandidates(current, settings, &result);
+    if (candidates.empty()) break;
     bool accepted_this_round = false;
     for (const DiagnosedEffect* effect : candidates) {
       say(fmt::format("round {}: trying {} ({}; {:.1f} % of the held-out residual) — amend, refit jointly …", round,
                       effect->effect, DescribeParameters(effect->parameters), 100.0 * effect->score));
-      ImproveStep step;
-      std::string element;
-      try {
-        const json amended = Amend(current, *effect, settings.refine_periods, &element);
-        step = Evaluate(amended, base_directory, source, training, validation, settings);
-      } catch (const std::exception& e) {
-        step = ImproveStep{};
-        step.training = current.training;
-        step.validation = current.validation;
-        step.rmse_train = current.rmse_train;
-        step.rmse_heldout = current.rmse_heldout;
-        step.accepted = false;
-        step.verdict = fmt::format("could not be added: {}", e.what());
-      }
-      step.round = round;
-      step.effect = effect->effect;
-      step.diagnosed = *effect;
-      step.element = element;
-      step.rmse_train_before = current.rmse_train;
-      step.rmse_heldout_before = heldout_before;
-      if (step.verdict.empty()) {
-        const double gain = 1.0 - step.rmse_heldout / heldout_before;
-        step.accepted = gain >= settings.min_relative_gain;
-        step.verdict = fmt::format("{}: held-out RMSE {:.4g} → {:.4g} {} ({:+.2f} %, {} {:.2f} %)",
-                                   step.accepted ? "accepted" : "rejected", heldout_before, step.rmse_heldout,
-                                   Unit(step), -100.0 * gain, step.accepted ? "≥" : "<",
-                                   100.0 * settings.min_relative_gain);
-      }
+      ImproveStep step = TryEffect(current, *effect, round, base_directory, source, training, validation, settings);
       say(fmt::format("round {}: {} {}; train RMSE {:.4g} → {:.4g} {}", round, effect->effect, step.verdict,
-                      step.rmse_train_before, step.rmse_train, Unit(step)));
-      const bool ok = step.accepted;
+                      step.rmse_train_before, step.rmse_train, step.unit()));
+      accepted_this_round = step.accepted;
       finish(std::move(step));
-      if (ok) {
-        accepted_this_round = true;
-        ++accepted;
-        break;
-      }
+      if (accepted_this_round) break;
     }
     if (!accepted_this_round) {
       result.stop = ImproveStop::kNoHeldOutGain;
@@ -302,147 +330,11 @@ ImproveResult ImproveModel(const json& diagram, const fs::path& base_directory, 
           round, 100.0 * settings.min_relative_gain);
       break;
     }
+    ++accepted;
   }
-  // Non-parametric fallback goes here: the loop stopped, no catalogue block helps, but the last accepted
-  // residual is not white — the structure is outside the catalogue (a TISO-GPR component on x, ẋ can take it).
-  const ImproveStep& last = result.last_accepted();
-  if (last.training.diagnosis && result.stop != ImproveStop::kMaxEffects) {
-    result.residual_not_white = !last.training.diagnosis->whiteness_before.white;
-    if (result.residual_not_white) {
-      result.stop_reason += fmt::format(
-          "; the residual is still not white (Ljung–Box p = {:.2g}): structure outside the catalogue",
-          last.training.diagnosis->whiteness_before.p_value);
-    }
-  }
+  NoteResidualWhiteness(&result);
   say("stop: " + result.stop_reason);
   return result;
-}
-
-void WriteImproveProgress(const ImproveResult& so_far, const fs::path& directory, const json& context) {
-  fs::create_directories(directory);
-  int k = 0;
-  for (const auto& s : so_far.steps) {
-    if (!s.accepted) continue;
-    const fs::path dir = directory / fmt::format("step_{}", k++);
-    fs::create_directories(dir);
-    WriteJsonFile(s.training.fitted_diagram, dir / "diagram.json");
-  }
-  WriteJsonFile(so_far.last_accepted().training.fitted_diagram, directory / "improved.json");
-  json j = context;
-  j.update(so_far.ToJson());
-  WriteJsonFile(j, directory / "improve.json");
-}
-
-namespace {
-
-std::vector<double> ToStd(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
-
-void AddBeforeAfterFigures(HtmlReport* report, const fs::path& out, const std::string& prefix,
-                           const std::string& record, const MeasurementLog& log, const ComparedOutput& before,
-                           const ComparedOutput& after, const std::string& position_column) {
-  const auto t = ToStd(log.time());
-  const std::string unit = before.unit;
-  Figure overlay{prefix + "model_vs_measurement.png",
-                 fmt::format("{}: measured {} vs model, before (step 0) and after (improved)", record, before.connector),
-                 "time [s]", fmt::format("{} [{}]", before.connector, unit), {}};
-  overlay.series.push_back({t, ToStd(before.measured), "measured (" + before.column + ")", "lines"});
-  overlay.series.push_back({t, ToStd(before.model), "model before", "lines"});
-  overlay.series.push_back({t, ToStd(after.model), "model after", "lines"});
-  report->AddFigure(overlay, out);
-
-  const auto r_before = ToStd(before.residual()), r_after = ToStd(after.residual());
-  Figure rt{prefix + "residual_vs_time.png", record + ": residual against time, before vs after", "time [s]",
-            fmt::format("measured − model [{}]", unit), {}};
-  rt.series.push_back({t, r_before, "before", "lines"});
-  rt.series.push_back({t, r_after, "after", "lines"});
-  report->AddFigure(rt, out);
-  // The residual against a logged column (position, velocity), before and after on the same axes.
-  const auto against = [&](const std::string& column, const std::string& quantity, const std::string& axis_unit) {
-    if (!log.has_column(column)) return;
-    const auto abscissa = ToStd(log.column(column));
-    Figure f{fmt::format("{}residual_vs_{}.png", prefix, quantity),
-             fmt::format("{}: residual against {}, before vs after", record, quantity),
-             fmt::format("{} [{}]", quantity, axis_unit), fmt::format("residual [{}]", unit), {}};
-    f.series.push_back({abscissa, r_before, "before", "dots"});
-    f.series.push_back({abscissa, r_after, "after", "dots"});
-    report->AddFigure(f, out);
-  };
-  against(position_column, "position", "m");
-  against(kDerivedVelocityColumn, "velocity", "m/s");
-}
-
-}  // namespace
-
-void WriteImproveReport(const ImproveResult& result, const MeasurementLog& training, const MeasurementLog* validation,
-                        const std::string& title, const std::string& position_column, const fs::path& directory) {
-  fs::create_directories(directory);
-  const ImproveStep& first = result.first();
-  const ImproveStep& last = result.last_accepted();
-  const std::string unit = Unit(first);
-  HtmlReport report(title);
-  report.Paragraph(fmt::format(
-      "{} mode; output '{}' [{}]. Held-out error: {}. Stop: {}.", first.training.mode,
-      first.training.after.front().connector, unit,
-      validation ? "the validation record " + validation->source() +
-                       " (only the record's parameters refit: the ripple's position offset)"
-                 : "contiguous 5-fold cross-validation on the measurement",
-      result.stop_reason));
-  std::vector<std::vector<std::string>> rows;
-  int k = 0;
-  for (const auto& s : result.steps) {
-    std::string key;
-    if (s.training.fit) {
-      for (std::size_t i = 0; i < s.training.parameters.size(); ++i) {
-        if (s.element.empty() || BlockOf(s.training.parameters[i].name) != s.element) continue;
-        const auto p = static_cast<Eigen::Index>(i);
-        if (s.training.parameters[i].parameter != "period" && s.training.parameters[i].parameter != "delay" &&
-            s.training.parameters[i].parameter != "frequency_hz" && s.training.parameters[i].parameter != "gain") {
-          continue;
-        }
-        key += fmt::format("{}{} = {:.6g} ± {:.2g}", key.empty() ? "" : "; ", s.training.parameters[i].name,
-                           s.training.fit->estimate(p), s.training.fit->standard_error(p));
-      }
-    }
-    if (key.empty() && s.diagnosed) key = DescribeParameters(s.diagnosed->parameters);
-    rows.push_back({s.accepted ? fmt::format("{}", k++) : "—", s.effect.empty() ? "(as given, refit)" : s.effect,
-                    s.diagnosed ? fmt::format("{:.1f} %", 100.0 * s.diagnosed->score) : "", key,
-                    fmt::format("{:.4g} → {:.4g}", s.rmse_train_before, s.rmse_train),
-                    fmt::format("{:.4g} → {:.4g}", s.rmse_heldout_before, s.rmse_heldout), s.verdict});
-  }
-  report.Table({"step", "effect", "share explained", "key parameters (± 1 SE)", fmt::format("RMSE fit [{}]", unit),
-                fmt::format("RMSE held out [{}]", unit), "verdict"},
-               rows);
-
-  report.Heading("RMSE per step");
-  Figure bars{"rmse_per_step.png", "RMSE per accepted step", "step", fmt::format("RMSE [{}]", unit), {}};
-  Series train{{}, {}, "fit (measurement)", "boxes"}, held{{}, {}, "held out", "boxes"};
-  k = 0;
-  for (const auto& s : result.steps) {
-    if (!s.accepted) continue;
-    train.x.push_back(k - 0.18);
-    train.y.push_back(s.rmse_train);
-    held.x.push_back(k + 0.18);
-    held.y.push_back(s.rmse_heldout);
-    bars.x_tick_labels.emplace_back(k, s.effect.empty() ? "0: as given" : fmt::format("{}: + {}", k, s.effect));
-    ++k;
-  }
-  bars.series = {train, held};
-  report.AddFigure(bars, directory);
-
-  report.Heading("Before (step 0, refit) and after (improved): the measurement");
-  AddBeforeAfterFigures(&report, directory, "", fs::path(training.source()).filename().string(), training,
-                        first.training.after.front(), last.training.after.front(), position_column);
-  if (validation && first.validation && last.validation) {
-    report.Heading("Before and after: the validation record (held out)");
-    AddBeforeAfterFigures(&report, directory, "heldout_", fs::path(validation->source()).filename().string(),
-                          *validation, first.validation->outputs.front(), last.validation->outputs.front(),
-                          position_column);
-  }
-  if (last.training.diagnosis) {
-    report.Heading("What is left");
-    report.Paragraph(last.training.diagnosis->summary);
-  }
-  report.Write(directory / "report.html");
 }
 
 }  // namespace mb

@@ -29,7 +29,7 @@
 
 #include "models/diagnosis/diagnosis.h"
 #include "models/diagnosis/measurement_log.h"
-#include "tools/comparison.h"
+#include "tools/workflow/comparison.h"
 
 namespace mb {
 
@@ -50,6 +50,9 @@ struct ImproveSettings {
 /// block type an effect's block template marks record-specific (RecordSpecificParameters, effect_registry.h: the
 /// position_offset of the ripple blocks, the encoder's zero).
 std::vector<std::string> RecordParameters(const nlohmann::json& diagram);
+
+/// A diagnosed effect's parameters in words: "period = 0.0225, amplitude = 1.5" (sorted by name, 5 digits).
+std::string DescribeParameters(const std::map<std::string, double>& parameters);
 
 /// A diagram scored on the validation record.
 struct HeldOutScore {
@@ -75,6 +78,8 @@ struct ImproveStep {
   /// Per step JSON for improve.json: effect, its diagnosis (share explained, parameters), the new element's
   /// fitted parameters with standard errors and 95 % intervals, RMSE train/held-out before and after.
   nlohmann::json ToJson() const;
+  /// The primary output's unit.
+  const std::string& unit() const { return training.after.front().unit; }
 };
 
 enum class ImproveStop {
@@ -111,19 +116,5 @@ ImproveResult ImproveModel(const nlohmann::json& diagram, const std::filesystem:
                            const MeasurementLog* validation, const ImproveSettings& settings,
                            const std::function<void(const std::string&)>& progress = {},
                            const ImproveStepCallback& on_step = {});
-
-/// Writes DIR/step_<k>/diagram.json for an accepted step (k = accepted steps so far, 0 = the input refit),
-/// DIR/improved.json (the best diagram so far) and DIR/improve.json (every step so far): call from on_step, so
-/// that an interrupted run keeps what it finished. `context` (the inputs: diagram, logs) heads improve.json.
-/// @throws std::runtime_error if a file cannot be written.
-void WriteImproveProgress(const ImproveResult& so_far, const std::filesystem::path& directory,
-                          const nlohmann::json& context);
-
-/// DIR/report.html: the table of steps, and figures before (step 0) vs after (last accepted): measured vs model,
-/// the residual against time, position and velocity on the same axes, and the RMSE per step (train and held-out
-/// bars). `position_column` as in the settings.
-void WriteImproveReport(const ImproveResult& result, const MeasurementLog& training, const MeasurementLog* validation,
-                        const std::string& title, const std::string& position_column,
-                        const std::filesystem::path& directory);
 
 }  // namespace mb
