@@ -1,4 +1,4 @@
-#include "tools/sweep.h"
+#include "tools/batch/sweep.h"
 
 #include <algorithm>
 #include <atomic>
@@ -16,13 +16,14 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "engine/diagram_document.h"
 #include "engine/diagram_loader.h"
 #include "engine/diagram_schema.h"
 #include "engine/json_limits.h"
 #include "engine/json_parsing.h"
 #include "engine/output_file.h"
-#include "tools/sweep_schema.h"
-#include "tools/output_files.h"
+#include "tools/batch/sweep_schema.h"
+#include "tools/report/output_files.h"
 
 namespace mb {
 
@@ -272,6 +273,111 @@ bool TooManyRuns(double n, std::size_t max_runs, const std::string& what, std::v
   return true;
 }
 
+// The runs of a "grid": the Cartesian product of the axes, the last key varying fastest.
+void ParseGrid(const json& sweep, std::size_t max_runs, SweepSpec* spec, std::vector<std::string>* problems) {
+  const json& grid = sweep["grid"];
+  if (!grid.is_object() || grid.empty()) {
+    problems->push_back("/grid: give an object {\"element.parameter\": [value, …], …}");
+  } else {
+    std::vector<std::vector<json>> axes;
+    for (const auto& [key, values] : grid.items()) {
+      CheckKey(key, "/grid", problems);
+      if (!values.is_array() || values.empty()) {
+        problems->push_back(fmt::format("/grid/{}: give a non-empty array of values", key));
+        continue;
+      }
+      spec->parameters.push_back(key);
+      axes.emplace_back(values.begin(), values.end());
+    }
+    double product = 1.0;  // in double: 1000 axes of 1000 values must not overflow
+    for (const auto& a : axes) product *= static_cast<double>(a.size());
+    if (problems->empty() && !TooManyRuns(product, max_runs, "/grid: the Cartesian product", problems)) {
+      const auto total = static_cast<std::size_t>(product);
+      for (std::size_t r = 0; r < total; ++r) {
+        SweepRun run;
+        run.id = RunId(r);
+        std::size_t rest = r;
+        std::vector<std::pair<std::string, json>> assignments(axes.size());
+        for (std::size_t a = axes.size(); a-- > 0;) {  // the last key varies fastest
+          assignments[a] = {spec->parameters[a], axes[a][rest % axes[a].size()]};
+          rest /= axes[a].size();
+        }
+        run.assignments = std::move(assignments);
+        spec->runs.push_back(std::move(run));
+      }
+    }
+  }
+}
+
+// The runs of a "list": one per object, each with its own keys.
+void ParseList(const json& sweep, std::size_t max_runs, SweepSpec* spec, std::vector<std::string>* problems) {
+  const json& list = sweep["list"];
+  if (list.is_array()) TooManyRuns(static_cast<double>(list.size()), max_runs, "/list", problems);
+  if (!list.is_array() || list.empty()) {
+    problems->push_back("/list: give a non-empty array of objects {\"element.parameter\": value, …}");
+  } else {
+    std::set<std::string> keys;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      if (!list[i].is_object()) {
+        problems->push_back(fmt::format("/list/{}: give an object {{\"element.parameter\": value, …}}", i));
+        continue;
+      }
+      for (const auto& [key, value] : list[i].items()) {
+        CheckKey(key, fmt::format("/list/{}", i), problems);
+        keys.insert(key);
+      }
+    }
+    spec->parameters.assign(keys.begin(), keys.end());
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      if (!list[i].is_object()) continue;
+      SweepRun run;
+      run.id = RunId(i);
+      for (const auto& key : spec->parameters) {
+        if (list[i].contains(key)) run.assignments.emplace_back(key, list[i][key]);
+      }
+      spec->runs.push_back(std::move(run));
+    }
+  }
+}
+
+// The runs of a "random" sample: `samples` draws from the distributions, reproducible from the seed.
+void ParseRandom(const json& sweep, std::size_t max_runs, SweepSpec* spec, std::vector<std::string>* problems) {
+  const json& random = sweep["random"];
+  const json samples_json = random.is_object() ? random.value("samples", json(0)) : json(0);
+  const double samples_value = samples_json.is_number() ? samples_json.get<double>() : 0.0;
+  const bool whole = samples_value == std::floor(samples_value);
+  const bool too_many = TooManyRuns(samples_value, max_runs, "/random/samples", problems);
+  const int samples = whole && !too_many && samples_value >= 1.0 ? static_cast<int>(samples_value) : 0;
+  if (!random.is_object() || !random.contains("seed") || !random["seed"].is_number_integer() ||
+      random["seed"].get<long long>() < 0) {
+    problems->push_back("/random/seed: give the seed, a non-negative integer (the same seed gives the same runs)");
+  } else {
+    spec->seed = random["seed"].get<std::uint64_t>();
+  }
+  if (samples < 1 && !too_many) problems->push_back("/random/samples: give the number of runs, a whole number >= 1");
+  std::vector<Distribution> distributions;
+  if (!random.contains("parameters") || !random["parameters"].is_object() || random["parameters"].empty()) {
+    problems->push_back("/random/parameters: give {\"element.parameter\": {\"uniform\": [low, high]}, …}");
+  } else {
+    for (const auto& [key, d] : random["parameters"].items()) {
+      CheckKey(key, "/random/parameters", problems);
+      spec->parameters.push_back(key);
+      distributions.push_back(ParseDistribution(d, "/random/parameters/" + key, problems));
+    }
+  }
+  if (problems->empty()) {
+    std::mt19937_64 engine(spec->seed);
+    for (int s = 0; s < samples; ++s) {
+      SweepRun run;
+      run.id = RunId(static_cast<std::size_t>(s));
+      for (std::size_t p = 0; p < distributions.size(); ++p) {
+        run.assignments.emplace_back(spec->parameters[p], Draw(distributions[p], engine));
+      }
+      spec->runs.push_back(std::move(run));
+    }
+  }
+}
+
 }  // namespace
 
 SweepSpec ParseSweep(const json& sweep, const std::string& source, std::size_t max_runs) {
@@ -306,101 +412,11 @@ SweepSpec ParseSweep(const json& sweep, const std::string& source, std::size_t m
   }
 
   if (spec.kind == "grid") {
-    const json& grid = sweep["grid"];
-    if (!grid.is_object() || grid.empty()) {
-      problems.push_back("/grid: give an object {\"element.parameter\": [value, …], …}");
-    } else {
-      std::vector<std::vector<json>> axes;
-      for (const auto& [key, values] : grid.items()) {
-        CheckKey(key, "/grid", &problems);
-        if (!values.is_array() || values.empty()) {
-          problems.push_back(fmt::format("/grid/{}: give a non-empty array of values", key));
-          continue;
-        }
-        spec.parameters.push_back(key);
-        axes.emplace_back(values.begin(), values.end());
-      }
-      double product = 1.0;  // in double: 1000 axes of 1000 values must not overflow
-      for (const auto& a : axes) product *= static_cast<double>(a.size());
-      if (problems.empty() && !TooManyRuns(product, max_runs, "/grid: the Cartesian product", &problems)) {
-        const auto total = static_cast<std::size_t>(product);
-        for (std::size_t r = 0; r < total; ++r) {
-          SweepRun run;
-          run.id = RunId(r);
-          std::size_t rest = r;
-          std::vector<std::pair<std::string, json>> assignments(axes.size());
-          for (std::size_t a = axes.size(); a-- > 0;) {  // the last key varies fastest
-            assignments[a] = {spec.parameters[a], axes[a][rest % axes[a].size()]};
-            rest /= axes[a].size();
-          }
-          run.assignments = std::move(assignments);
-          spec.runs.push_back(std::move(run));
-        }
-      }
-    }
+    ParseGrid(sweep, max_runs, &spec, &problems);
   } else if (spec.kind == "list") {
-    const json& list = sweep["list"];
-    if (list.is_array()) TooManyRuns(static_cast<double>(list.size()), max_runs, "/list", &problems);
-    if (!list.is_array() || list.empty()) {
-      problems.push_back("/list: give a non-empty array of objects {\"element.parameter\": value, …}");
-    } else {
-      std::set<std::string> keys;
-      for (std::size_t i = 0; i < list.size(); ++i) {
-        if (!list[i].is_object()) {
-          problems.push_back(fmt::format("/list/{}: give an object {{\"element.parameter\": value, …}}", i));
-          continue;
-        }
-        for (const auto& [key, value] : list[i].items()) {
-          CheckKey(key, fmt::format("/list/{}", i), &problems);
-          keys.insert(key);
-        }
-      }
-      spec.parameters.assign(keys.begin(), keys.end());
-      for (std::size_t i = 0; i < list.size(); ++i) {
-        if (!list[i].is_object()) continue;
-        SweepRun run;
-        run.id = RunId(i);
-        for (const auto& key : spec.parameters) {
-          if (list[i].contains(key)) run.assignments.emplace_back(key, list[i][key]);
-        }
-        spec.runs.push_back(std::move(run));
-      }
-    }
+    ParseList(sweep, max_runs, &spec, &problems);
   } else {
-    const json& random = sweep["random"];
-    const json samples_json = random.is_object() ? random.value("samples", json(0)) : json(0);
-    const double samples_value = samples_json.is_number() ? samples_json.get<double>() : 0.0;
-    const bool whole = samples_value == std::floor(samples_value);
-    const bool too_many = TooManyRuns(samples_value, max_runs, "/random/samples", &problems);
-    const int samples = whole && !too_many && samples_value >= 1.0 ? static_cast<int>(samples_value) : 0;
-    if (!random.is_object() || !random.contains("seed") || !random["seed"].is_number_integer() ||
-        random["seed"].get<long long>() < 0) {
-      problems.push_back("/random/seed: give the seed, a non-negative integer (the same seed gives the same runs)");
-    } else {
-      spec.seed = random["seed"].get<std::uint64_t>();
-    }
-    if (samples < 1 && !too_many) problems.push_back("/random/samples: give the number of runs, a whole number >= 1");
-    std::vector<Distribution> distributions;
-    if (!random.contains("parameters") || !random["parameters"].is_object() || random["parameters"].empty()) {
-      problems.push_back("/random/parameters: give {\"element.parameter\": {\"uniform\": [low, high]}, …}");
-    } else {
-      for (const auto& [key, d] : random["parameters"].items()) {
-        CheckKey(key, "/random/parameters", &problems);
-        spec.parameters.push_back(key);
-        distributions.push_back(ParseDistribution(d, "/random/parameters/" + key, &problems));
-      }
-    }
-    if (problems.empty()) {
-      std::mt19937_64 engine(spec.seed);
-      for (int s = 0; s < samples; ++s) {
-        SweepRun run;
-        run.id = RunId(static_cast<std::size_t>(s));
-        for (std::size_t p = 0; p < distributions.size(); ++p) {
-          run.assignments.emplace_back(spec.parameters[p], Draw(distributions[p], engine));
-        }
-        spec.runs.push_back(std::move(run));
-      }
-    }
+    ParseRandom(sweep, max_runs, &spec, &problems);
   }
   problems = MergeProblems(std::move(problems), schema_problems, /*own_covers_descendants=*/true);
   if (!problems.empty()) {
@@ -426,11 +442,12 @@ SweepSpec ReadSweepFile(const fs::path& path, std::size_t max_runs) {
 json ApplySweepAssignments(json diagram, const std::vector<std::pair<std::string, json>>& assignments,
                            const std::string& source) {
   std::vector<ParameterOverride> overrides;
+  DiagramDocument document(std::move(diagram), {}, source);
   for (const auto& [key, value] : assignments) {
     const auto dot = key.find('.');
     const std::string section = key.substr(0, dot);
-    if (section == kExperimentSection || section == kSolverSection) {
-      diagram[section][key.substr(dot + 1)] = value;
+    if (DiagramDocument::IsSettingSection(section)) {
+      document.SetSectionSetting(section, key.substr(dot + 1), value);
       continue;
     }
     ParameterOverride o;
@@ -439,9 +456,57 @@ json ApplySweepAssignments(json diagram, const std::vector<std::pair<std::string
     o.value = value;
     overrides.push_back(std::move(o));
   }
-  ApplyOverrides(&diagram, overrides, source);
-  return diagram;
+  json amended = document.json();
+  ApplyOverrides(&amended, overrides, source);
+  return amended;
 }
+
+namespace {
+
+// Every element named by the sweep is checked before anything runs (DiagramError lists the elements); a misspelled
+// defaultExperiment.<key> or solver.<key> would otherwise be ignored by every run.
+void CheckSweepSettings(const json& base, const SweepSpec& spec, const std::string& source) {
+  std::vector<std::pair<std::string, json>> all = spec.fixed;
+  for (const auto& run : spec.runs) all.insert(all.end(), run.assignments.begin(), run.assignments.end());
+  // A misspelled defaultExperiment.<key> or solver.<key> would otherwise be ignored by every run.
+  std::vector<std::string> problems;
+  for (const auto& p : DiagramSchemaProblems(ApplySweepAssignments(base, all, source))) {
+    if (p.pointer.rfind(fmt::format("/{}/", kExperimentSection), 0) == 0 ||
+        p.pointer.rfind(fmt::format("/{}/", kSolverSection), 0) == 0) {
+      problems.push_back(p.Text() + " (set by the sweep)");
+    }
+  }
+  if (!problems.empty()) throw DiagramError(source, problems);
+}
+
+// Rewrites runs.csv and runs.json in sweep order (one row per run), counting the runs run now and those failed.
+void WriteSweepResults(const fs::path& diagram_path, const SweepSpec& spec, const fs::path& out,
+                       SweepOutcome* outcome) {
+  const fs::path csv = out / "runs.csv";
+  std::string text = JoinCsv(Header(spec, outcome->metric_names)) + "\n";
+  json rows = json::array();
+  for (std::size_t i = 0; i < spec.runs.size(); ++i) {
+    const SweepRow& row = outcome->rows[i];
+    if (!row.resumed) ++outcome->ran;
+    if (row.status != "ok") ++outcome->failed;
+    text += RowLine(spec, spec.runs[i], row, outcome->metric_names) + "\n";
+    rows.push_back(RowJson(row));
+  }
+  WriteFileSafely(csv, text);
+  json fixed = json::object();
+  for (const auto& [k, v] : spec.fixed) fixed[k] = v;
+  const json summary = {{"diagram", fs::absolute(diagram_path).string()},
+                        {"kind", spec.kind},
+                        {"description", spec.description},
+                        {"seed", spec.seed},
+                        {"set", fixed},
+                        {"parameters", spec.parameters},
+                        {"metric_units", outcome->metric_units},
+                        {"runs", rows}};
+  WriteJsonFile(summary, out / "runs.json");
+}
+
+}  // namespace
 
 SweepOutcome RunSweep(const fs::path& diagram_path, const SweepSpec& spec, const fs::path& out,
                       const SweepOptions& options) {
@@ -454,20 +519,7 @@ SweepOutcome RunSweep(const fs::path& diagram_path, const SweepSpec& spec, const
     outcome.metric_names.push_back(m.value("name", ""));
     outcome.metric_units[m.value("name", "")] = m.value("unit", "");
   }
-  // Check every element named by the sweep before running anything (DiagramError lists the elements).
-  {
-    std::vector<std::pair<std::string, json>> all = spec.fixed;
-    for (const auto& run : spec.runs) all.insert(all.end(), run.assignments.begin(), run.assignments.end());
-    // A misspelled defaultExperiment.<key> or solver.<key> would otherwise be ignored by every run.
-    std::vector<std::string> problems;
-    for (const auto& p : DiagramSchemaProblems(ApplySweepAssignments(base, all, source))) {
-      if (p.pointer.rfind(fmt::format("/{}/", kExperimentSection), 0) == 0 ||
-          p.pointer.rfind(fmt::format("/{}/", kSolverSection), 0) == 0) {
-        problems.push_back(p.Text() + " (set by the sweep)");
-      }
-    }
-    if (!problems.empty()) throw DiagramError(source, problems);
-  }
+  CheckSweepSettings(base, spec, source);
 
   fs::create_directories(out);
   const fs::path csv = out / "runs.csv";
@@ -546,28 +598,7 @@ SweepOutcome RunSweep(const fs::path& diagram_path, const SweepSpec& spec, const
   if (options.progress && !todo.empty()) progress.Done();
   append.close();
 
-  // Rewrite both files in sweep order (one row per run).
-  std::string text = JoinCsv(Header(spec, outcome.metric_names)) + "\n";
-  json rows = json::array();
-  for (std::size_t i = 0; i < spec.runs.size(); ++i) {
-    const SweepRow& row = outcome.rows[i];
-    if (!row.resumed) ++outcome.ran;
-    if (row.status != "ok") ++outcome.failed;
-    text += RowLine(spec, spec.runs[i], row, outcome.metric_names) + "\n";
-    rows.push_back(RowJson(row));
-  }
-  WriteFileSafely(csv, text);
-  json fixed = json::object();
-  for (const auto& [k, v] : spec.fixed) fixed[k] = v;
-  const json summary = {{"diagram", fs::absolute(diagram_path).string()},
-                        {"kind", spec.kind},
-                        {"description", spec.description},
-                        {"seed", spec.seed},
-                        {"set", fixed},
-                        {"parameters", spec.parameters},
-                        {"metric_units", outcome.metric_units},
-                        {"runs", rows}};
-  WriteJsonFile(summary, out / "runs.json");
+  WriteSweepResults(diagram_path, spec, out, &outcome);
   return outcome;
 }
 
