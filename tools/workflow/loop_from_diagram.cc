@@ -1,4 +1,4 @@
-#include "tools/loop_from_diagram.h"
+#include "tools/workflow/loop_from_diagram.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,19 +9,17 @@
 
 #include <fmt/format.h>
 
+#include "engine/block_roles.h"
+
 namespace mb {
 
 namespace {
 
-// The block types the loop is made of (blocks/*.h) and the roles that name their elements (the header's table).
-constexpr const char* kLinearMotor = "linear_motor";
-constexpr const char* kRigidBody = "rigid_body";
-constexpr const char* kDob = "dob";
-constexpr const char* kPdController = "pd_controller";
-constexpr const char* kGain = "gain";
-constexpr const char* kVelocityEstimator = "velocity_estimator";
-constexpr const char* kGpFilter = "f_gp";
-constexpr const char* kNominalInverse = "nominal_inverse";
+// The block types that can be a part of the loop: those declaring the role in their own file
+// (MB_REGISTER_LOOP_ROLES, engine/block_roles.h).
+std::vector<std::string> TypesFor(const std::string& role) {
+  return BlockRoleRegistry::Global().TypesWithLoopRole(role);
+}
 
 std::string Join(const std::vector<std::string>& items, const char* separator) {
   std::string out;
@@ -34,10 +32,10 @@ class LoopFinder {
  public:
   explicit LoopFinder(const Diagram& diagram) : d_(diagram) {}
 
-  /// The block in `role`: the "roles" entry (checked against `types`), else the one block of those types; -1 if
-  /// there is none and the part is optional. Blocks in `exclude` are not candidates.
-  int Find(const std::string& role, const std::vector<std::string>& types, bool required,
-           const std::vector<int>& exclude = {}) const {
+  /// The block in `role`: the "roles" entry (checked against the types that can be it), else the one block of
+  /// those types; -1 if there is none and the part is optional. Blocks in `exclude` are not candidates.
+  int Find(const std::string& role, bool required, const std::vector<int>& exclude = {}) const {
+    const std::vector<std::string> types = TypesFor(role);
     if (const auto it = d_.roles().find(role); it != d_.roles().end()) {
       const int b = d_.FindBlock(it->second);
       if (std::find(types.begin(), types.end(), d_.block_type(b)) == types.end()) {
@@ -68,19 +66,21 @@ class LoopFinder {
     return found.empty() ? -1 : found.front();
   }
 
-  /// The block named by `role` in "roles" (-1 if the role is not given), checked to be of `type`.
-  int Role(const std::string& role, const std::string& type) const {
-    return d_.roles().count(role) ? Find(role, {type}, true) : -1;
-  }
+  /// The block named by `role` in "roles" (-1 if the role is not given), checked to be of a type that can be it.
+  int Role(const std::string& role) const { return d_.roles().count(role) ? Find(role, true) : -1; }
 
   const Parameters& Of(int b) const { return d_.block_parameters(b); }
   double Period(int b) const { return d_.blocks()[static_cast<std::size_t>(b)]->sample_time().period; }
   bool Discrete(int b) const { return d_.blocks()[static_cast<std::size_t>(b)]->sample_time().is_discrete(); }
   const std::string& Name(int b) const { return d_.blocks()[static_cast<std::size_t>(b)]->name(); }
-  /// True if a block of `type` has string parameter `parameter` equal to `value`.
-  bool HasTypeWith(const std::string& type, const std::string& parameter, const std::string& value) const {
+  /// True if a block that can be `role` has string parameter `parameter` equal to `value`.
+  bool HasRoleWith(const std::string& role, const std::string& parameter, const std::string& value) const {
+    const std::vector<std::string> types = TypesFor(role);
     for (int b = 0; b < static_cast<int>(d_.blocks().size()); ++b) {
-      if (d_.block_type(b) == type && Of(b).String(parameter) == value) return true;
+      if (std::find(types.begin(), types.end(), d_.block_type(b)) != types.end() &&
+          Of(b).String(parameter) == value) {
+        return true;
+      }
     }
     return false;
   }
@@ -91,7 +91,7 @@ class LoopFinder {
 };
 
 void ReadPlant(const LoopFinder& f, PaperLoop* l) {
-  const int b = f.Find("plant", {kLinearMotor, kRigidBody}, true);
+  const int b = f.Find("plant", true);
   const Parameters& p = f.Of(b);
   l->mass = p.Number("mass") + (p.Has("payload_mass") ? p.Number("payload_mass") : 0.0);
   l->damping = p.Number("damping");
@@ -99,7 +99,7 @@ void ReadPlant(const LoopFinder& f, PaperLoop* l) {
 
 // The DOB, if any; its period becomes Ts.
 void ReadDob(const LoopFinder& f, PaperLoop* l) {
-  const int b = f.Find("dob", {kDob}, false);
+  const int b = f.Find("dob", false);
   l->has_dob = b >= 0;
   if (b < 0) return;
   const Parameters& p = f.Of(b);
@@ -136,13 +136,13 @@ void ReadPdController(const LoopFinder& f, int b, PaperLoop* l) {
 
 // The PD: a pd_controller, else gains and a velocity estimator named in "roles". Returns the blocks it uses.
 std::vector<int> ReadPd(const LoopFinder& f, PaperLoop* l) {
-  if (const int b = f.Find("pd", {kPdController}, false); b >= 0) {
+  if (const int b = f.Find("pd", false); b >= 0) {
     ReadPdController(f, b, l);
     return {b};
   }
-  const int p = f.Role("pd_proportional_gain", kGain);
-  const int d = f.Role("pd_derivative_gain", kGain);
-  const int filter = f.Role("pd_derivative_filter", kVelocityEstimator);
+  const int p = f.Role("pd_proportional_gain");
+  const int d = f.Role("pd_derivative_gain");
+  const int filter = f.Role("pd_derivative_filter");
   if (p < 0 || d < 0 || filter < 0) {
     throw std::invalid_argument(
         "stability analysis: the diagram has no pd_controller; for a PD built of blocks name its parts in \"roles\": "
@@ -157,10 +157,10 @@ std::vector<int> ReadPd(const LoopFinder& f, PaperLoop* l) {
 }
 
 void ReadGpPath(const LoopFinder& f, const std::vector<int>& pd_blocks, PaperLoop* l) {
-  if (const int v = f.Find("gp_velocity_filter", {kVelocityEstimator}, false, pd_blocks); v >= 0) {
+  if (const int v = f.Find("gp_velocity_filter", false, pd_blocks); v >= 0) {
     l->velocity_cutoff_hz = f.Of(v).Number("cutoff_hz");
   }
-  if (const int g = f.Find("gp_filter", {kGpFilter}, false); g >= 0) {
+  if (const int g = f.Find("gp_filter", false); g >= 0) {
     const Parameters& p = f.Of(g);
     l->gp_weight = p.Number("weight");
     l->gp_cutoff_hz = p.Number("cutoff_hz");
@@ -177,8 +177,8 @@ PaperLoop PaperLoopFromDiagram(const Diagram& diagram) {
   ReadDob(finder, &l);
   const std::vector<int> pd_blocks = ReadPd(finder, &l);
   ReadGpPath(finder, pd_blocks, &l);
-  l.has_feedforward = diagram.roles().count("feedforward") ? finder.Find("feedforward", {kNominalInverse}, true) >= 0
-                                                           : finder.HasTypeWith(kNominalInverse, "form", "derivatives");
+  l.has_feedforward = diagram.roles().count("feedforward") ? finder.Find("feedforward", true) >= 0
+                                                           : finder.HasRoleWith("feedforward", "form", "derivatives");
   return l;
 }
 
