@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/block_roles.h"
 #include "hw/board_registry.h"
 
 namespace mb {
@@ -60,5 +61,8 @@ MB_REGISTER_BLOCK(AnalogOutput, BlockType{
      Bounded("limit", 10.0, "V", "output clamp: |v| ≤ limit", 1e-9, std::numeric_limits<double>::infinity())},
     SampleTimeRule::kRequired,
     [](const BlockConfig& c) { return std::make_unique<AnalogOutput>(c); }})
+
+// A board channel (engine/block_roles.h; hw/virtual_stage.h reads the I/O subsystem by it).
+MB_REGISTER_IO_CHANNEL(AnalogOutput, "analog_output", IoChannelTrait{false, "newtons_per_volt"})
 
 }  // namespace mb

@@ -1,5 +1,6 @@
 #include "blocks/dob.h"
 
+#include "engine/block_roles.h"
 #include "models/stability/dob_design.h"
 
 namespace mb {
@@ -54,5 +55,8 @@ MB_REGISTER_BLOCK(Dob, BlockType{
      Choice("discretization", "tustin", "Q∘P_n⁻¹ discretisation: \"tustin\" or \"zoh\"", {"tustin", "zoh"})},
     SampleTimeRule::kRequired,
     [](const BlockConfig& c) { return std::make_unique<Dob>(c); }})
+
+// The parts of a motion loop this block can be (engine/block_roles.h; tools/workflow/loop_from_diagram.h).
+MB_REGISTER_LOOP_ROLES(Dob, "dob", {"dob"})
 
 }  // namespace mb

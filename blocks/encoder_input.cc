@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/block_roles.h"
 #include "hw/board_registry.h"
 
 namespace mb {
@@ -54,5 +55,8 @@ MB_REGISTER_BLOCK(EncoderInput, BlockType{
              std::numeric_limits<double>::infinity())},
     SampleTimeRule::kRequired,
     [](const BlockConfig& c) { return std::make_unique<EncoderInput>(c); }})
+
+// A board channel (engine/block_roles.h; hw/virtual_stage.h reads the I/O subsystem by it).
+MB_REGISTER_IO_CHANNEL(EncoderInput, "encoder_input", IoChannelTrait{true, "counts_per_metre"})
 
 }  // namespace mb

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "engine/block_roles.h"
 #include "models/stability/dob_design.h"
 
 namespace mb {
@@ -36,5 +37,8 @@ MB_REGISTER_BLOCK(FGp, BlockType{
      Bounded("order", 1, "", "F_gp order (binomial)", 1, 8, ParamType::kInteger)},
     SampleTimeRule::kRequired,
     [](const BlockConfig& c) { return std::make_unique<FGp>(c); }})
+
+// The parts of a motion loop this block can be (engine/block_roles.h; tools/workflow/loop_from_diagram.h).
+MB_REGISTER_LOOP_ROLES(FGp, "f_gp", {"gp_filter"})
 
 }  // namespace mb

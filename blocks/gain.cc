@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "engine/block_roles.h"
+
 namespace mb {
 
 Gain::Gain(const BlockConfig& config) : Block(config.name), gain_(config.parameters.Vector("gain")) {
@@ -22,5 +24,8 @@ MB_REGISTER_BLOCK(Gain, BlockType{
      Bounded("width", 1, "", "signal width n", 1, 1e6, ParamType::kInteger)},
     SampleTimeRule::kNone,
     [](const BlockConfig& c) { return std::make_unique<Gain>(c); }})
+
+// The parts of a motion loop this block can be (engine/block_roles.h; tools/workflow/loop_from_diagram.h).
+MB_REGISTER_LOOP_ROLES(Gain, "gain", {"pd_proportional_gain", "pd_derivative_gain"})
 
 }  // namespace mb

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "engine/block_roles.h"
+
 namespace mb {
 
 namespace {
@@ -121,5 +123,8 @@ MB_REGISTER_BLOCK(LinearMotor, BlockType{
      Optional("resonance_modal_gain", 0.0, "", "structural mode participation g (0 = rigid)")},
     SampleTimeRule::kNone,
     [](const BlockConfig& c) { return std::make_unique<LinearMotor>(c); }})
+
+// The parts of a motion loop this block can be (engine/block_roles.h; tools/workflow/loop_from_diagram.h).
+MB_REGISTER_LOOP_ROLES(LinearMotor, "linear_motor", {"plant"})
 
 }  // namespace mb

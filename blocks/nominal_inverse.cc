@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "engine/block_roles.h"
 #include "models/stability/dob_design.h"
 
 namespace mb {
@@ -85,5 +86,8 @@ MB_REGISTER_BLOCK(NominalInverse, BlockType{
             {"tustin", "zoh"})},
     SampleTimeRule::kOptional,
     [](const BlockConfig& c) { return std::make_unique<NominalInverse>(c); }})
+
+// The parts of a motion loop this block can be (engine/block_roles.h; tools/workflow/loop_from_diagram.h).
+MB_REGISTER_LOOP_ROLES(NominalInverse, "nominal_inverse", {"feedforward"})
 
 }  // namespace mb

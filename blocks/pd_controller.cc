@@ -3,6 +3,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "engine/block_roles.h"
+
 namespace mb {
 
 PdController::PdController(const BlockConfig& config)
@@ -83,5 +85,8 @@ MB_REGISTER_BLOCK(PdController, BlockType{
             {"backward_euler", "tustin"})},
     SampleTimeRule::kOptional,
     [](const BlockConfig& c) { return std::make_unique<PdController>(c); }})
+
+// The parts of a motion loop this block can be (engine/block_roles.h; tools/workflow/loop_from_diagram.h).
+MB_REGISTER_LOOP_ROLES(PdController, "pd_controller", {"pd"})
 
 }  // namespace mb

@@ -2,6 +2,8 @@
 
 #include <limits>
 
+#include "engine/block_roles.h"
+
 namespace mb {
 
 RigidBody::RigidBody(const BlockConfig& config)
@@ -44,5 +46,8 @@ MB_REGISTER_BLOCK(RigidBody, BlockType{
      Optional("v0", 0.0, "m/s", "initial velocity")},
     SampleTimeRule::kNone,
     [](const BlockConfig& c) { return std::make_unique<RigidBody>(c); }})
+
+// The parts of a motion loop this block can be (engine/block_roles.h; tools/workflow/loop_from_diagram.h).
+MB_REGISTER_LOOP_ROLES(RigidBody, "rigid_body", {"plant"})
 
 }  // namespace mb

@@ -1,5 +1,6 @@
 #include "blocks/velocity_estimator.h"
 
+#include "engine/block_roles.h"
 #include "models/stability/dob_design.h"
 
 namespace mb {
@@ -36,5 +37,8 @@ MB_REGISTER_BLOCK(VelocityEstimator, BlockType{
     {Bounded("cutoff_hz", 100.0, "Hz", "low-pass cut-off f_c", 1e-9, 1e12)},
     SampleTimeRule::kRequired,
     [](const BlockConfig& c) { return std::make_unique<VelocityEstimator>(c); }})
+
+// The parts of a motion loop this block can be (engine/block_roles.h; tools/workflow/loop_from_diagram.h).
+MB_REGISTER_LOOP_ROLES(VelocityEstimator, "velocity_estimator", {"pd_derivative_filter", "gp_velocity_filter"})
 
 }  // namespace mb

@@ -94,7 +94,7 @@ class Diagram {
   const std::vector<int>& execution_order() const { return execution_order_; }
   const std::filesystem::path& path() const { return path_; }
   /// The registered type name of block `b` (its element's "type") and its validated parameters (defaults filled
-  /// in, units stripped), for analyses that read a loop's numbers (tools/loop_from_diagram.h). To edit a diagram,
+  /// in, units stripped), for analyses of a loop's numbers (tools/workflow/loop_from_diagram.h). To edit a diagram,
   /// use DiagramDocument (engine/diagram_document.h) on its JSON.
   const std::string& block_type(int b) const { return block_types_[static_cast<std::size_t>(b)]; }
   const Parameters& block_parameters(int b) const { return block_parameters_[static_cast<std::size_t>(b)]; }

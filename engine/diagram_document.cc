@@ -362,6 +362,21 @@ void DiagramDocument::SetExperimentDuration(double duration) {
   json_["defaultExperiment"]["stopTime"] = start + duration;
 }
 
+bool DiagramDocument::IsSettingSection(const std::string& section) {
+  return section == "defaultExperiment" || section == "solver";
+}
+
+void DiagramDocument::SetSectionSetting(const std::string& section, const std::string& key, const Json& value) {
+  if (!IsSettingSection(section)) {
+    throw std::invalid_argument(fmt::format("{}: '{}.{}': only defaultExperiment.<key> and solver.<key> are settings",
+                                            source_, section, key));
+  }
+  if (key.empty()) {
+    throw std::invalid_argument(fmt::format("{}: '{}.': name the setting after the dot", source_, section));
+  }
+  json_[section][key] = value;
+}
+
 void DiagramDocument::CopyExperimentFrom(const DiagramDocument& other) {
   json_.erase("defaultExperiment");
   if (other.json_.contains("defaultExperiment")) json_["defaultExperiment"] = other.json_["defaultExperiment"];

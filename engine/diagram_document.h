@@ -136,6 +136,13 @@ class DiagramDocument {
   void SetExperimentDuration(double duration);
   /// Gives this document `other`'s defaultExperiment (or none, if it has none).
   void CopyExperimentFrom(const DiagramDocument& other);
+  /// Sets `section`.`key` = `value`, `section` being "defaultExperiment" or "solver" (a sweep's
+  /// "defaultExperiment.stopTime" or "solver.step"); the section is created if absent. The key is not checked here:
+  /// the diagram's JSON Schema names the known ones (engine/diagram_schema.h). @throws std::invalid_argument for
+  /// another section (naming the two), or an empty key.
+  void SetSectionSetting(const std::string& section, const std::string& key, const nlohmann::json& value);
+  /// Whether SetSectionSetting takes `section`: "defaultExperiment" or "solver".
+  static bool IsSettingSection(const std::string& section);
   /// experiment.mode: "equation_error" or "simulation" (the default).
   std::string ExperimentMode() const;
   /// solver.step and defaultExperiment.stepSize when given and > 0 [s].

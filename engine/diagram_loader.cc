@@ -719,7 +719,7 @@ class DiagramBuilder {
     }
   }
 
-  // "roles": {"role": "element", …}; the meaning of a role is the reader's (tools/loop_from_diagram.h).
+  // "roles": {"role": "element", …}; the meaning of a role is the reader's (tools/workflow/loop_from_diagram.h).
   void ReadRoles() {
     if (!j_.contains("roles")) return;
     if (!j_["roles"].is_object()) {

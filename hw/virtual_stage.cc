@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/block_roles.h"
 #include "engine/diagram_document.h"
 #include "hw/realtime.h"
 
@@ -33,29 +34,26 @@ StageWiring StageWiring::FromIoFile(const fs::path& io_file) {
   for (std::size_t i = 0; i < names.size(); ++i) {
     const std::string& name = names[i];
     const std::string type = io.TypeOf(name);
-    if (type != "encoder_input" && type != "analog_output") continue;
+    // The I/O blocks declare their board channel in their own file (MB_REGISTER_IO_CHANNEL, engine/block_roles.h).
+    const IoChannelTrait* io_channel = BlockRoleRegistry::Global().IoChannelOf(type);
+    if (!io_channel) continue;
     const std::string pointer = fmt::format("/elements/{}", i);
     const Parameters p = io.ElementParameters(name);
     StageChannel channel;
     channel.channel = p.Integer("channel");
     for (const Connection& c : io.Connections()) {
-      if (type == "encoder_input" && c.start.element == name && c.end.is_connector()) channel.connector = c.end.port;
-      if (type == "analog_output" && c.end.element == name && c.start.is_connector()) channel.connector = c.start.port;
+      if (io_channel->measures && c.start.element == name && c.end.is_connector()) channel.connector = c.end.port;
+      if (!io_channel->measures && c.end.element == name && c.start.is_connector()) channel.connector = c.start.port;
     }
     if (channel.connector.empty()) {
       throw std::invalid_argument(fmt::format(
           "{}: {}: {} '{}' is not wired to a connector of the I/O subsystem; the virtual stage needs it to know "
           "which plant signal the channel carries ({})",
           io_file.string(), pointer, type, name,
-          type == "encoder_input" ? "connect its x to an output connector" : "feed its f from an input connector"));
+          io_channel->measures ? "connect its x to an output connector" : "feed its f from an input connector"));
     }
-    if (type == "encoder_input") {
-      channel.scale = p.Number("counts_per_metre");
-      wiring.encoders.push_back(channel);
-    } else {
-      channel.scale = p.Number("newtons_per_volt");
-      wiring.analog_outputs.push_back(channel);
-    }
+    channel.scale = p.Number(io_channel->scale_parameter);
+    (io_channel->measures ? wiring.encoders : wiring.analog_outputs).push_back(channel);
   }
   if (wiring.encoders.empty()) {
     throw std::invalid_argument(fmt::format("{}: no encoder_input element wired to an output connector: the virtual "

@@ -14,7 +14,8 @@
 #include "engine/execution_order.h"
 #include "engine/file_access.h"
 #include "engine/numerical_error.h"
-#include "tools/commands.h"
+#include "tools/commands/cli_options.h"
+#include "tools/commands/commands.h"
 
 namespace {
 

@@ -2,7 +2,7 @@
 // The catalogue of candidate missing physical effects as a registry, mirroring the block registry
 // (engine/registry.h): each effect is one file in models/diagnosis/effects/ that fills in an EffectType — its
 // name, physics, regressors, proposal rule, traits and the block that adds it to a diagram — and registers it
-// with MB_REGISTER_EFFECT. The diagnosis (diagnosis.cc), the loop (tools/suggest.cc, tools/improve.cc) and the
+// with MB_REGISTER_EFFECT. The diagnosis (diagnosis.cc), the loop (tools/workflow/: suggest.cc, improve.cc) and the
 // non-parametric fallback (models/gpr/residual_gpr.cc) ask the registry for an effect's traits and block
 // instead of comparing its name (docs/diagnosis.md, "Adding an effect").
 
@@ -51,7 +51,7 @@ struct EffectParameter {
   std::string description;
 };
 
-/// Where a suggested block goes in the diagram (tools/suggest.h).
+/// Where a suggested block goes in the diagram (tools/workflow/suggest.h).
 enum class BlockPlacement {
   kAddToOutput,         ///< its output port is summed into the signal feeding the output connector
   kInsertBeforeOutput,  ///< it is put between that signal and the output connector (ports "u" → "y")

@@ -35,7 +35,7 @@
 namespace mb {
 
 /// The linear loop the analysis needs. Plain data; units SI. Finding it in a diagram (by block types or the
-/// diagram's "roles") is tools/loop_from_diagram.h's job; this library knows no diagram.
+/// diagram's "roles") is tools/workflow/loop_from_diagram.h's job; this library knows no diagram.
 struct PaperLoop {
   double sample_time = 1e-3;       ///< Ts [s]
   double mass = 0.2621;            ///< true moving mass M + m_p [kg]

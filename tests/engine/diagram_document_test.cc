@@ -204,6 +204,21 @@ TEST(DiagramDocumentTest, ExperimentAndSolver) {
   EXPECT_EQ(bare.json()["defaultExperiment"]["stopTime"], 0.01);
 }
 
+TEST(DiagramDocumentTest, SectionSettingsSetExperimentAndSolverKeys) {
+  DiagramDocument document(Base(), ".", "d.json");
+  document.SetSectionSetting("defaultExperiment", "stopTime", 2.5);
+  document.SetSectionSetting("solver", "step", 1e-4);
+  EXPECT_DOUBLE_EQ(document.json()["defaultExperiment"]["stopTime"].get<double>(), 2.5);
+  EXPECT_DOUBLE_EQ(document.SolverStep().value(), 1e-4);
+  EXPECT_TRUE(DiagramDocument::IsSettingSection("solver"));
+  EXPECT_FALSE(DiagramDocument::IsSettingSection("body"));
+  EXPECT_THAT([&] { document.SetSectionSetting("body", "mass", 1.0); },
+              ThrowsMessage<std::invalid_argument>(
+                  HasSubstr("d.json: 'body.mass': only defaultExperiment.<key> and solver.<key> are settings")));
+  EXPECT_THAT([&] { document.SetSectionSetting("solver", "", 1.0); },
+              ThrowsMessage<std::invalid_argument>(HasSubstr("d.json: 'solver.': name the setting after the dot")));
+}
+
 TEST(DiagramDocumentTest, ConnectorsLoggingNotesAndSubsystems) {
   DiagramDocument d = Document();
   ASSERT_EQ(d.Connectors("input").size(), 1u);

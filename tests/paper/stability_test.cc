@@ -12,7 +12,7 @@
 #include "engine/diagram_loader.h"
 #include "models/stability/dob_design.h"
 #include "models/stability/stability.h"
-#include "tools/loop_from_diagram.h"
+#include "tools/workflow/loop_from_diagram.h"
 
 namespace mb {
 namespace {

@@ -1,0 +1,107 @@
+// `motionblocks improve` as users call it, on the paper's twin: the "measurement" is the twin's closed loop with
+// its cogging (diagrams/paper/cogging_scan.json, run here with `motionblocks run`; the validation record at other
+// speeds), the user's model lacks the cogging (diagrams/paper/motor_rigid_body.json). The loop must find the
+// position-periodic effect at the pole pitch (22.5 mm) and the error must fall on both records; a validation log
+// the diagram cannot read is one clear message before any fitting.
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "tests/tools/commands/run_motionblocks.h"
+
+namespace mb {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+using testing::ProcessTempDir;
+using testing::ReadJsonFile;
+using testing::RunMotionblocks;
+
+const std::string kPaper = std::string(MB_SOURCE_DIR) + "/diagrams/paper";
+constexpr double kPolePitch = 0.0225;  // the twin's τ [m] (linear_motor's pole_pitch in cogging_scan.json)
+
+TEST(ImproveCommand, FindsTheTwinsCoggingAtThePolePitchAndTheErrorFalls) {
+  const fs::path dir = ProcessTempDir("mb_improve_twin");
+  fs::remove_all(dir);
+  const auto train = RunMotionblocks("run " + kPaper + "/cogging_scan.json --out " + (dir / "scan").string());
+  ASSERT_EQ(train.exit_code, 0) << train.output;
+  const auto held = RunMotionblocks("run " + kPaper + "/cogging_scan.json --set 'reference.velocities=[0.15,0.25]' --out " +
+                                    (dir / "validation").string());
+  ASSERT_EQ(held.exit_code, 0) << held.output;
+
+  const fs::path out = dir / "improve";
+  const auto r = RunMotionblocks("improve " + kPaper + "/motor_rigid_body.json --measurement " +
+                                 (dir / "scan" / "signals.csv").string() + " --validation " +
+                                 (dir / "validation" / "signals.csv").string() + " --max-effects 1 --out " +
+                                 out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("improve: step 0:"));  // progress on stderr
+  const auto result = ReadJsonFile(out / "improve.json");
+  const auto& accepted = result["accepted"];
+  ASSERT_GE(accepted.size(), 2u) << result.dump(1);
+  const std::string first = accepted[1]["effect"];
+  EXPECT_TRUE(first == "position_periodic" || first == "velocity_dependent_ripple") << first;
+
+  // The accepted step's refit period: within 2 % of the pole pitch, with a standard error.
+  double period = 0.0, period_se = 0.0;
+  for (const auto& step : result["steps"]) {
+    if (!step["accepted"].get<bool>() || step["effect"] != first) continue;
+    for (const auto& p : step["key_parameters"]) {
+      const std::string name = p["name"];
+      if (name.ends_with(".period")) {
+        period = p["estimate"];
+        period_se = p["standard_error"];
+      }
+    }
+  }
+  EXPECT_NEAR(period, kPolePitch, 0.02 * kPolePitch);
+  EXPECT_GT(period_se, 0.0);
+  EXPECT_LT(period_se, 0.01 * kPolePitch);
+
+  // The error falls on the measurement and on the held-out record, step by step.
+  for (std::size_t k = 1; k < accepted.size(); ++k) {
+    EXPECT_LT(accepted[k]["rmse_train"].get<double>(), accepted[k - 1]["rmse_train"].get<double>()) << k;
+    EXPECT_LT(accepted[k]["rmse_heldout"].get<double>(), accepted[k - 1]["rmse_heldout"].get<double>()) << k;
+  }
+  EXPECT_LT(accepted[1]["rmse_heldout"].get<double>(), 0.5 * accepted[0]["rmse_heldout"].get<double>());
+
+  // Every accepted step's diagram, the final one, the report.
+  for (std::size_t k = 0; k < accepted.size(); ++k) {
+    EXPECT_TRUE(fs::exists(out / ("step_" + std::to_string(k)) / "diagram.json")) << k;
+  }
+  const auto improved = ReadJsonFile(out / "improved.json");
+  bool has_ripple = false;
+  for (const auto& e : improved["elements"]) has_ripple = has_ripple || e["type"] == first;
+  EXPECT_TRUE(has_ripple);
+  EXPECT_TRUE(fs::exists(out / "report.html"));
+  fs::remove_all(dir);
+}
+
+TEST(ImproveCommand, AValidationLogWithoutTheOutputColumnIsOneClearMessage) {
+  const fs::path dir = ProcessTempDir("mb_improve_bad");
+  const fs::path bad = dir / "no_force.csv";
+  {
+    std::ofstream csv(bad);
+    csv << "time_s,position_m\n";
+    for (int i = 0; i < 200; ++i) csv << i * 0.001 << "," << 0.01 * std::sin(i * 0.05) << "\n";
+  }
+  const std::string emps = std::string(MB_SOURCE_DIR) + "/diagrams/emps";
+  const auto r = RunMotionblocks("improve " + emps + "/rigid_body.json --measurement " + emps +
+                                 "/data/DATA_EMPS_PULSES.csv --validation " + bad.string() + " --out " +
+                                 (dir / "out").string());
+  EXPECT_EQ(r.exit_code, 2);  // bad input (README "Exit codes")
+  EXPECT_THAT(r.output, HasSubstr("motionblocks: error: " + bad.string() + ": no output of the diagram can be compared"));
+  EXPECT_THAT(r.output, HasSubstr("--map OUTPUT=COLUMN"));
+  EXPECT_THAT(r.output, ::testing::Not(HasSubstr("step 0:")));  // refused before any fitting
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace mb

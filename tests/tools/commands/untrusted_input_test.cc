@@ -1,0 +1,138 @@
+// A diagram from someone else, or a hostile output path, must not run anything: names, connectors and paths
+// reach gnuplot only as data (issue 11). Each case also checks that the figures were drawn, so that the test
+// fails if gnuplot is not run at all.
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "tests/tools/commands/run_motionblocks.h"
+
+namespace mb {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using testing::CommandResult;
+using testing::ProcessTempDir;
+using testing::RunMotionblocksIn;
+
+const std::string kSource = MB_SOURCE_DIR;
+
+// Names that a shell or gnuplot would run if they were pasted into a command or a double-quoted string.
+const std::vector<std::string> kHostileNames = {
+    "p`touch pwned_backquote`", "q$(touch pwned_dollar)", "r'\nsystem('touch pwned_newline')\n#", "s\"`touch pwned_dq`\""};
+
+// The files a hostile string would have created in `dir`.
+std::vector<std::string> Pwned(const fs::path& dir) {
+  std::vector<std::string> found;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    if (e.path().filename().string().rfind("pwned", 0) == 0) found.push_back(e.path().string());
+  }
+  return found;
+}
+
+bool HasPng(const fs::path& dir) {
+  for (const auto& e : fs::directory_iterator(dir)) {
+    if (e.path().extension() == ".png" && fs::file_size(e.path()) > 0) return true;
+  }
+  return false;
+}
+
+TEST(UntrustedInput, RunDrawsElementNamesAndTheOutputPathAsText) {
+  const fs::path dir = ProcessTempDir("mb_untrusted_run");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  json elements = json::array(), log = json::array();
+  for (const auto& name : kHostileNames) {
+    elements.push_back({{"name", name}, {"type", "constant"}, {"parameters", {{"value", 1.0}}}});
+    log.push_back(name + ".y");
+  }
+  const json diagram = {{"schemaVersion", "1.0"},
+                        {"name", "hostile`touch pwned_title`"},
+                        {"defaultExperiment", {{"startTime", 0.0}, {"stopTime", 0.01}}},
+                        {"solver", {{"type", "rk4"}, {"step", 0.001}}},
+                        {"elements", elements},
+                        {"log", log}};
+  std::ofstream(dir / "d.json") << diagram.dump(1);
+  const std::string out = "x$(touch pwned_out)`touch pwned_out2`";
+  const CommandResult r = RunMotionblocksIn(dir, {"run", "d.json", "--out", out});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(Pwned(dir), ::testing::IsEmpty());
+  ASSERT_TRUE(fs::exists(dir / out / "report.html")) << "the output folder is taken literally";
+  EXPECT_TRUE(HasPng(dir / out)) << r.output;
+  fs::remove_all(dir);
+}
+
+TEST(UntrustedInput, CompareDrawsAHostileOutputConnectorAsText) {
+  const fs::path dir = ProcessTempDir("mb_untrusted_compare");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  json diagram;
+  std::ifstream(kSource + "/diagrams/emps/rigid_body.json") >> diagram;
+  const std::string connector = "f`touch pwned_connector`$(touch pwned_connector2)";
+  for (auto& c : diagram["connectors"]) {
+    if (c["name"] == "force") c["name"] = connector;
+  }
+  for (auto& c : diagram["connections"]) {
+    if (c.value("endConnector", "") == "force" && !c.contains("endElement")) c["endConnector"] = connector;
+  }
+  diagram.erase("$schema");
+  std::ofstream(dir / "d.json") << diagram.dump(1);
+  {  // the first 3 s of the EMPS record
+    std::ifstream in(kSource + "/diagrams/emps/data/DATA_EMPS.csv");
+    std::ofstream f(dir / "log.csv");
+    std::string line;
+    for (int i = 0; i < 3001 && std::getline(in, line); ++i) f << line << "\n";
+  }
+  const std::string out = "o$(touch pwned_out)";
+  const CommandResult r = RunMotionblocksIn(
+      dir, {"compare", "d.json", "--measurement", "log.csv", "--no-gpr-fallback", "--out", out});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(Pwned(dir), ::testing::IsEmpty());
+  EXPECT_TRUE(HasPng(dir / out)) << r.output;
+  fs::remove_all(dir);
+}
+
+TEST(UntrustedInput, StabilityTakesTheOutputPathLiterally) {
+  const fs::path dir = ProcessTempDir("mb_untrusted_stability");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string out = "s$(touch pwned_out)`touch pwned_out2`";
+  const CommandResult r = RunMotionblocksIn(
+      dir, {"stability", kSource + "/diagrams/paper/conventional.json", "--bode-points", "10", "--out", out});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(Pwned(dir), ::testing::IsEmpty());
+  EXPECT_TRUE(HasPng(dir / out)) << r.output;
+  fs::remove_all(dir);
+}
+
+TEST(UntrustedInput, AllowPathLetsADiagramReadAFolderTheUserTrusts) {
+  const fs::path dir = ProcessTempDir("mb_untrusted_allow");
+  fs::remove_all(dir);
+  fs::create_directories(dir / "diagram");
+  fs::create_directories(dir / "profiles");
+  std::ofstream(dir / "profiles" / "p.csv") << "time_s,y\n0,1\n1,2\n";
+  const json diagram = {
+      {"schemaVersion", "1.0"},
+      {"name", "allow"},
+      {"defaultExperiment", {{"startTime", 0.0}, {"stopTime", 0.01}}},
+      {"solver", {{"type", "rk4"}, {"step", 0.001}}},
+      {"elements", {{{"name", "f"}, {"type", "from_file"}, {"parameters", {{"file", "../profiles/p.csv"}, {"column", "y"}}}}}},
+      {"log", {"f.y"}}};
+  std::ofstream(dir / "diagram" / "d.json") << diagram.dump(1);
+  CommandResult r = RunMotionblocksIn(dir, {"run", "diagram/d.json", "--out", "o"});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_THAT(r.output, ::testing::HasSubstr("outside the diagram's folder"));
+  r = RunMotionblocksIn(dir, {"run", "diagram/d.json", "--out", "o", "--allow-path", "profiles"});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace mb

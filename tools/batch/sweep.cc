@@ -1,0 +1,605 @@
+#include "tools/batch/sweep.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <mutex>
+#include <random>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "engine/diagram_document.h"
+#include "engine/diagram_loader.h"
+#include "engine/diagram_schema.h"
+#include "engine/json_limits.h"
+#include "engine/json_parsing.h"
+#include "engine/output_file.h"
+#include "tools/batch/sweep_schema.h"
+#include "tools/report/output_files.h"
+
+namespace mb {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+constexpr const char* kExperimentSection = "defaultExperiment";
+constexpr const char* kSolverSection = "solver";
+
+std::string RunId(std::size_t index) { return fmt::format("{:04d}", index); }
+
+void CheckKey(const std::string& key, const std::string& where, std::vector<std::string>* problems) {
+  const auto dot = key.find('.');
+  if (dot == std::string::npos || dot == 0 || dot + 1 == key.size()) {
+    problems->push_back(fmt::format("{}: '{}': write a swept key as element.parameter (e.g. plant.payload_mass) "
+                                    "or defaultExperiment.stopTime",
+                                    where, key));
+  }
+}
+
+// Uniform on [0, 1) from 53 random bits: the same on every standard library.
+double Uniform01(std::mt19937_64& engine) {
+  return static_cast<double>(engine() >> 11) * 0x1.0p-53;
+}
+
+struct Distribution {
+  std::string kind;  // uniform, log_uniform, integer, choice
+  double low = 0.0;
+  double high = 0.0;
+  json choices;
+};
+
+json Draw(const Distribution& d, std::mt19937_64& engine) {
+  const double u = Uniform01(engine);
+  if (d.kind == "uniform") return d.low + (d.high - d.low) * u;
+  if (d.kind == "log_uniform") return std::exp(std::log(d.low) + (std::log(d.high) - std::log(d.low)) * u);
+  if (d.kind == "integer") {
+    const auto lo = static_cast<long long>(d.low);
+    const auto count = static_cast<long long>(d.high) - lo + 1;
+    return lo + std::min(count - 1, static_cast<long long>(u * static_cast<double>(count)));
+  }
+  const auto n = d.choices.size();
+  return d.choices[std::min(n - 1, static_cast<std::size_t>(u * static_cast<double>(n)))];
+}
+
+Distribution ParseDistribution(const json& j, const std::string& where, std::vector<std::string>* problems) {
+  Distribution d;
+  if (!j.is_object() || j.size() != 1) {
+    problems->push_back(fmt::format("{}: write one distribution, e.g. {{\"uniform\": [0, 1]}} (uniform, "
+                                    "log_uniform, integer, choice)",
+                                    where));
+    return d;
+  }
+  d.kind = j.begin().key();
+  const json& v = j.begin().value();
+  if (d.kind == "choice") {
+    if (!v.is_array() || v.empty()) problems->push_back(fmt::format("{}/choice: give a non-empty array", where));
+    d.choices = v;
+    return d;
+  }
+  if (d.kind != "uniform" && d.kind != "log_uniform" && d.kind != "integer") {
+    problems->push_back(fmt::format("{}: unknown distribution '{}' (uniform, log_uniform, integer, choice)", where,
+                                    d.kind));
+    return d;
+  }
+  if (!v.is_array() || v.size() != 2 || !v[0].is_number() || !v[1].is_number()) {
+    problems->push_back(fmt::format("{}/{}: give the bounds as [low, high]", where, d.kind));
+    return d;
+  }
+  d.low = v[0].get<double>();
+  d.high = v[1].get<double>();
+  if (!(d.low < d.high) && !(d.kind == "integer" && d.low == d.high)) {
+    problems->push_back(fmt::format("{}/{}: bounds must satisfy low < high, got [{}, {}]", where, d.kind, d.low,
+                                    d.high));
+  }
+  if (d.kind == "log_uniform" && !(d.low > 0.0)) {
+    problems->push_back(fmt::format("{}/log_uniform: bounds must be positive, got [{}, {}]", where, d.low, d.high));
+  }
+  if (d.kind == "integer" && (d.low != std::floor(d.low) || d.high != std::floor(d.high))) {
+    problems->push_back(fmt::format("{}/integer: bounds must be integers, got [{}, {}]", where, d.low, d.high));
+  }
+  return d;
+}
+
+std::string CsvCell(const std::string& text) {
+  if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::vector<std::string> Header(const SweepSpec& spec, const std::vector<std::string>& metric_names) {
+  std::vector<std::string> h = {"id", "status"};
+  h.insert(h.end(), spec.parameters.begin(), spec.parameters.end());
+  h.insert(h.end(), metric_names.begin(), metric_names.end());
+  h.push_back("wall_time_s");
+  h.push_back("error");
+  return h;
+}
+
+std::string JoinCsv(const std::vector<std::string>& cells) {
+  std::string line;
+  for (std::size_t i = 0; i < cells.size(); ++i) line += (i ? "," : "") + CsvCell(cells[i]);
+  return line;
+}
+
+// The parameter cells of a run, in column order ("" where the run does not assign the key).
+std::vector<std::string> ParameterCells(const SweepSpec& spec, const SweepRun& run) {
+  std::vector<std::string> cells;
+  for (const auto& key : spec.parameters) {
+    std::string cell;
+    for (const auto& [k, v] : run.assignments) {
+      if (k == key) cell = SweepValueText(v);
+    }
+    cells.push_back(cell);
+  }
+  return cells;
+}
+
+std::string RowLine(const SweepSpec& spec, const SweepRun& run, const SweepRow& row,
+                    const std::vector<std::string>& metric_names) {
+  std::vector<std::string> cells = {row.id, row.status};
+  const auto params = ParameterCells(spec, run);
+  cells.insert(cells.end(), params.begin(), params.end());
+  for (const auto& m : metric_names) {
+    const auto it = row.metrics.find(m);
+    cells.push_back(it == row.metrics.end() ? "" : fmt::format("{:.17g}", it->second));
+  }
+  cells.push_back(fmt::format("{:.6f}", row.wall_time_s));
+  cells.push_back(row.error);
+  return JoinCsv(cells);
+}
+
+// Rows recorded "ok" in an existing runs.csv, by id (the last row of an id wins: a retried run is appended).
+std::map<std::string, SweepRow> ReadDoneRows(const fs::path& csv, const SweepSpec& spec,
+                                            const std::vector<std::string>& metric_names) {
+  std::map<std::string, SweepRow> done;
+  std::ifstream in(csv);
+  if (!in) return done;
+  std::string line;
+  if (!std::getline(in, line)) return done;
+  const auto expected = Header(spec, metric_names);
+  const auto header = SplitCsvLine(line);
+  if (header != expected) {
+    throw std::runtime_error(fmt::format("{} has the columns [{}], this sweep writes [{}]: it was written by another "
+                                         "sweep or diagram; use another --out or delete it",
+                                         csv.string(), fmt::join(header, ", "), fmt::join(expected, ", ")));
+  }
+  std::map<std::string, std::size_t> index;
+  for (std::size_t i = 0; i < spec.runs.size(); ++i) index[spec.runs[i].id] = i;
+  const std::size_t first_metric = 2 + spec.parameters.size();
+  int line_number = 1;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (line.empty()) continue;
+    const auto cells = SplitCsvLine(line);
+    if (cells.size() != expected.size()) continue;  // a row cut short by an interrupted run: run it again
+    const auto it = index.find(cells[0]);
+    if (it == index.end()) {
+      throw std::runtime_error(fmt::format("{}:{}: run id '{}' is not in this sweep ({} runs): written by another "
+                                           "sweep; use another --out or delete it",
+                                           csv.string(), line_number, cells[0], spec.runs.size()));
+    }
+    const SweepRun& run = spec.runs[it->second];
+    const auto params = ParameterCells(spec, run);
+    for (std::size_t p = 0; p < params.size(); ++p) {
+      if (cells[2 + p] != params[p]) {
+        throw std::runtime_error(fmt::format("{}:{}: run {} has {} = {} there, but this sweep gives {}: written by "
+                                             "another sweep; use another --out or delete it",
+                                             csv.string(), line_number, run.id, spec.parameters[p], cells[2 + p],
+                                             params[p]));
+      }
+    }
+    if (cells[1] != "ok") {
+      done.erase(run.id);
+      continue;
+    }
+    SweepRow row;
+    row.id = run.id;
+    row.status = "ok";
+    row.assignments = run.assignments;
+    row.resumed = true;
+    for (std::size_t m = 0; m < metric_names.size(); ++m) {
+      const std::string& cell = cells[first_metric + m];
+      if (!cell.empty()) row.metrics[metric_names[m]] = std::stod(cell);
+    }
+    row.wall_time_s = std::stod(cells[first_metric + metric_names.size()]);
+    done[run.id] = row;
+  }
+  return done;
+}
+
+json RowJson(const SweepRow& row) {
+  json params = json::object();
+  for (const auto& [k, v] : row.assignments) params[k] = v;
+  json j = {{"id", row.id},           {"status", row.status},           {"parameters", params},
+            {"metrics", row.metrics}, {"wall_time_s", row.wall_time_s}};
+  if (!row.error.empty()) j["error"] = row.error;
+  return j;
+}
+
+
+}  // namespace
+
+std::string SweepValueText(const json& value) {
+  return value.is_string() ? value.get<std::string>() : value.dump();
+}
+
+std::vector<std::string> SplitCsvLine(const std::string& line) {
+  std::vector<std::string> cells(1);
+  bool quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+        cells.back() += '"';
+        ++i;
+      } else if (c == '"') {
+        quoted = false;
+      } else {
+        cells.back() += c;
+      }
+    } else if (c == '"') {
+      quoted = true;
+    } else if (c == ',') {
+      cells.emplace_back();
+    } else if (c != '\r') {
+      cells.back() += c;
+    }
+  }
+  return cells;
+}
+
+namespace {
+
+// "<what> has N runs, more than the limit …" as a problem, if n > max_runs.
+bool TooManyRuns(double n, std::size_t max_runs, const std::string& what, std::vector<std::string>* problems) {
+  if (n <= static_cast<double>(max_runs)) return false;
+  problems->push_back(fmt::format("{} gives {:.4g} runs, more than the limit of {}: sweep fewer values (or sample "
+                                  "the space with \"random\"), or raise the limit with --max-runs N",
+                                  what, n, max_runs));
+  return true;
+}
+
+// The runs of a "grid": the Cartesian product of the axes, the last key varying fastest.
+void ParseGrid(const json& sweep, std::size_t max_runs, SweepSpec* spec, std::vector<std::string>* problems) {
+  const json& grid = sweep["grid"];
+  if (!grid.is_object() || grid.empty()) {
+    problems->push_back("/grid: give an object {\"element.parameter\": [value, …], …}");
+  } else {
+    std::vector<std::vector<json>> axes;
+    for (const auto& [key, values] : grid.items()) {
+      CheckKey(key, "/grid", problems);
+      if (!values.is_array() || values.empty()) {
+        problems->push_back(fmt::format("/grid/{}: give a non-empty array of values", key));
+        continue;
+      }
+      spec->parameters.push_back(key);
+      axes.emplace_back(values.begin(), values.end());
+    }
+    double product = 1.0;  // in double: 1000 axes of 1000 values must not overflow
+    for (const auto& a : axes) product *= static_cast<double>(a.size());
+    if (problems->empty() && !TooManyRuns(product, max_runs, "/grid: the Cartesian product", problems)) {
+      const auto total = static_cast<std::size_t>(product);
+      for (std::size_t r = 0; r < total; ++r) {
+        SweepRun run;
+        run.id = RunId(r);
+        std::size_t rest = r;
+        std::vector<std::pair<std::string, json>> assignments(axes.size());
+        for (std::size_t a = axes.size(); a-- > 0;) {  // the last key varies fastest
+          assignments[a] = {spec->parameters[a], axes[a][rest % axes[a].size()]};
+          rest /= axes[a].size();
+        }
+        run.assignments = std::move(assignments);
+        spec->runs.push_back(std::move(run));
+      }
+    }
+  }
+}
+
+// The runs of a "list": one per object, each with its own keys.
+void ParseList(const json& sweep, std::size_t max_runs, SweepSpec* spec, std::vector<std::string>* problems) {
+  const json& list = sweep["list"];
+  if (list.is_array()) TooManyRuns(static_cast<double>(list.size()), max_runs, "/list", problems);
+  if (!list.is_array() || list.empty()) {
+    problems->push_back("/list: give a non-empty array of objects {\"element.parameter\": value, …}");
+  } else {
+    std::set<std::string> keys;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      if (!list[i].is_object()) {
+        problems->push_back(fmt::format("/list/{}: give an object {{\"element.parameter\": value, …}}", i));
+        continue;
+      }
+      for (const auto& [key, value] : list[i].items()) {
+        CheckKey(key, fmt::format("/list/{}", i), problems);
+        keys.insert(key);
+      }
+    }
+    spec->parameters.assign(keys.begin(), keys.end());
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      if (!list[i].is_object()) continue;
+      SweepRun run;
+      run.id = RunId(i);
+      for (const auto& key : spec->parameters) {
+        if (list[i].contains(key)) run.assignments.emplace_back(key, list[i][key]);
+      }
+      spec->runs.push_back(std::move(run));
+    }
+  }
+}
+
+// The runs of a "random" sample: `samples` draws from the distributions, reproducible from the seed.
+void ParseRandom(const json& sweep, std::size_t max_runs, SweepSpec* spec, std::vector<std::string>* problems) {
+  const json& random = sweep["random"];
+  const json samples_json = random.is_object() ? random.value("samples", json(0)) : json(0);
+  const double samples_value = samples_json.is_number() ? samples_json.get<double>() : 0.0;
+  const bool whole = samples_value == std::floor(samples_value);
+  const bool too_many = TooManyRuns(samples_value, max_runs, "/random/samples", problems);
+  const int samples = whole && !too_many && samples_value >= 1.0 ? static_cast<int>(samples_value) : 0;
+  if (!random.is_object() || !random.contains("seed") || !random["seed"].is_number_integer() ||
+      random["seed"].get<long long>() < 0) {
+    problems->push_back("/random/seed: give the seed, a non-negative integer (the same seed gives the same runs)");
+  } else {
+    spec->seed = random["seed"].get<std::uint64_t>();
+  }
+  if (samples < 1 && !too_many) problems->push_back("/random/samples: give the number of runs, a whole number >= 1");
+  std::vector<Distribution> distributions;
+  if (!random.contains("parameters") || !random["parameters"].is_object() || random["parameters"].empty()) {
+    problems->push_back("/random/parameters: give {\"element.parameter\": {\"uniform\": [low, high]}, …}");
+  } else {
+    for (const auto& [key, d] : random["parameters"].items()) {
+      CheckKey(key, "/random/parameters", problems);
+      spec->parameters.push_back(key);
+      distributions.push_back(ParseDistribution(d, "/random/parameters/" + key, problems));
+    }
+  }
+  if (problems->empty()) {
+    std::mt19937_64 engine(spec->seed);
+    for (int s = 0; s < samples; ++s) {
+      SweepRun run;
+      run.id = RunId(static_cast<std::size_t>(s));
+      for (std::size_t p = 0; p < distributions.size(); ++p) {
+        run.assignments.emplace_back(spec->parameters[p], Draw(distributions[p], engine));
+      }
+      spec->runs.push_back(std::move(run));
+    }
+  }
+}
+
+}  // namespace
+
+SweepSpec ParseSweep(const json& sweep, const std::string& source, std::size_t max_runs) {
+  std::vector<std::string> problems;
+  SweepSpec spec;
+  if (!sweep.is_object()) throw std::invalid_argument(source + ": a sweep file is a JSON object");
+  int kinds = 0;
+  for (const char* k : {"grid", "list", "random"}) {
+    if (sweep.contains(k)) {
+      ++kinds;
+      spec.kind = k;
+    }
+  }
+  if (kinds != 1) {
+    throw std::invalid_argument(fmt::format("{}: give exactly one of \"grid\", \"list\" or \"random\" (found {})",
+                                            source, kinds));
+  }
+  // Against the schema first (unknown keys with "did you mean", types); a value of the wrong type stops here.
+  const auto schema_problems = SweepSchemaProblems(sweep);
+  if (std::any_of(schema_problems.begin(), schema_problems.end(), [](const auto& p) { return p.wrong_type; })) {
+    throw std::invalid_argument(
+        fmt::format("{}: {}", source, fmt::join(MergeProblems({}, schema_problems, false), "; ")));
+  }
+  spec.description = sweep.value("description", "");
+  spec.diagram = sweep.value("diagram", "");
+  if (sweep.contains("set")) {
+    if (!sweep["set"].is_object()) problems.push_back("/set: give an object {\"element.parameter\": value}");
+    for (const auto& [key, value] : sweep["set"].items()) {
+      CheckKey(key, "/set", &problems);
+      spec.fixed.emplace_back(key, value);
+    }
+  }
+
+  if (spec.kind == "grid") {
+    ParseGrid(sweep, max_runs, &spec, &problems);
+  } else if (spec.kind == "list") {
+    ParseList(sweep, max_runs, &spec, &problems);
+  } else {
+    ParseRandom(sweep, max_runs, &spec, &problems);
+  }
+  problems = MergeProblems(std::move(problems), schema_problems, /*own_covers_descendants=*/true);
+  if (!problems.empty()) {
+    throw std::invalid_argument(fmt::format("{}: {}", source, fmt::join(problems, "; ")));
+  }
+  return spec;
+}
+
+SweepSpec ReadSweepFile(const fs::path& path, std::size_t max_runs) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(fmt::format("{}: cannot open the sweep file", path.string()));
+  json j;
+  try {
+    j = ParseJsonRejectingDuplicateKeys(in, path.string(), /*ignore_comments=*/false);
+  } catch (const json::parse_error& e) {
+    throw std::runtime_error(fmt::format("{}: not valid JSON at byte {}: {}", path.string(), e.byte, e.what()));
+  } catch (const DuplicateKeyError& e) {
+    throw std::invalid_argument(fmt::format("{}: {}", path.string(), fmt::join(e.problems(), "; ")));
+  }
+  return ParseSweep(j, path.string(), max_runs);
+}
+
+json ApplySweepAssignments(json diagram, const std::vector<std::pair<std::string, json>>& assignments,
+                           const std::string& source) {
+  std::vector<ParameterOverride> overrides;
+  DiagramDocument document(std::move(diagram), {}, source);
+  for (const auto& [key, value] : assignments) {
+    const auto dot = key.find('.');
+    const std::string section = key.substr(0, dot);
+    if (DiagramDocument::IsSettingSection(section)) {
+      document.SetSectionSetting(section, key.substr(dot + 1), value);
+      continue;
+    }
+    ParameterOverride o;
+    o.block = section;
+    o.parameter = key.substr(dot + 1);
+    o.value = value;
+    overrides.push_back(std::move(o));
+  }
+  json amended = document.json();
+  ApplyOverrides(&amended, overrides, source);
+  return amended;
+}
+
+namespace {
+
+// Every element named by the sweep is checked before anything runs (DiagramError lists the elements); a misspelled
+// defaultExperiment.<key> or solver.<key> would otherwise be ignored by every run.
+void CheckSweepSettings(const json& base, const SweepSpec& spec, const std::string& source) {
+  std::vector<std::pair<std::string, json>> all = spec.fixed;
+  for (const auto& run : spec.runs) all.insert(all.end(), run.assignments.begin(), run.assignments.end());
+  // A misspelled defaultExperiment.<key> or solver.<key> would otherwise be ignored by every run.
+  std::vector<std::string> problems;
+  for (const auto& p : DiagramSchemaProblems(ApplySweepAssignments(base, all, source))) {
+    if (p.pointer.rfind(fmt::format("/{}/", kExperimentSection), 0) == 0 ||
+        p.pointer.rfind(fmt::format("/{}/", kSolverSection), 0) == 0) {
+      problems.push_back(p.Text() + " (set by the sweep)");
+    }
+  }
+  if (!problems.empty()) throw DiagramError(source, problems);
+}
+
+// Rewrites runs.csv and runs.json in sweep order (one row per run), counting the runs run now and those failed.
+void WriteSweepResults(const fs::path& diagram_path, const SweepSpec& spec, const fs::path& out,
+                       SweepOutcome* outcome) {
+  const fs::path csv = out / "runs.csv";
+  std::string text = JoinCsv(Header(spec, outcome->metric_names)) + "\n";
+  json rows = json::array();
+  for (std::size_t i = 0; i < spec.runs.size(); ++i) {
+    const SweepRow& row = outcome->rows[i];
+    if (!row.resumed) ++outcome->ran;
+    if (row.status != "ok") ++outcome->failed;
+    text += RowLine(spec, spec.runs[i], row, outcome->metric_names) + "\n";
+    rows.push_back(RowJson(row));
+  }
+  WriteFileSafely(csv, text);
+  json fixed = json::object();
+  for (const auto& [k, v] : spec.fixed) fixed[k] = v;
+  const json summary = {{"diagram", fs::absolute(diagram_path).string()},
+                        {"kind", spec.kind},
+                        {"description", spec.description},
+                        {"seed", spec.seed},
+                        {"set", fixed},
+                        {"parameters", spec.parameters},
+                        {"metric_units", outcome->metric_units},
+                        {"runs", rows}};
+  WriteJsonFile(summary, out / "runs.json");
+}
+
+}  // namespace
+
+SweepOutcome RunSweep(const fs::path& diagram_path, const SweepSpec& spec, const fs::path& out,
+                      const SweepOptions& options) {
+  const json base = ReadDiagramJson(diagram_path);
+  const std::string source = diagram_path.string();
+  const fs::path base_directory = diagram_path.parent_path();
+
+  SweepOutcome outcome;
+  for (const auto& m : base.value("metrics", json::array())) {
+    outcome.metric_names.push_back(m.value("name", ""));
+    outcome.metric_units[m.value("name", "")] = m.value("unit", "");
+  }
+  CheckSweepSettings(base, spec, source);
+
+  fs::create_directories(out);
+  const fs::path csv = out / "runs.csv";
+  std::map<std::string, SweepRow> done;
+  if (options.resume) {
+    done = ReadDoneRows(csv, spec, outcome.metric_names);
+  } else {
+    fs::remove(csv);
+  }
+
+  outcome.rows.resize(spec.runs.size());
+  std::vector<std::size_t> todo;
+  for (std::size_t i = 0; i < spec.runs.size(); ++i) {
+    const auto it = done.find(spec.runs[i].id);
+    if (it != done.end()) {
+      outcome.rows[i] = it->second;
+      ++outcome.resumed;
+    } else {
+      todo.push_back(i);
+    }
+  }
+
+  std::mutex mutex;  // guards the appended runs.csv, the progress line and the counters
+  const bool new_file = !fs::exists(csv) || fs::file_size(csv) == 0;
+  std::ofstream append(csv, std::ios::app);
+  if (!append) throw std::runtime_error("cannot write " + csv.string());
+  if (new_file) append << JoinCsv(Header(spec, outcome.metric_names)) << "\n" << std::flush;
+
+  ProgressLine progress(fmt::format("sweep {} ({} runs, {} to run)", diagram_path.filename().string(),
+                                    spec.runs.size(), todo.size()));
+  std::size_t finished = 0;
+  const int jobs = options.jobs > 0 ? options.jobs
+                                    : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+
+  auto run_one = [&](std::size_t i) {
+    const SweepRun& run = spec.runs[i];
+    SweepRow row;
+    row.id = run.id;
+    row.assignments = run.assignments;
+    const auto start = std::chrono::steady_clock::now();
+    try {
+      json j = ApplySweepAssignments(base, spec.fixed, source);
+      j = ApplySweepAssignments(std::move(j), run.assignments, source);
+      const Diagram diagram = BuildDiagram(j, base_directory, fmt::format("{} (sweep run {})", source, run.id));
+      Simulator simulator(diagram);
+      const SimulationResult result = simulator.Run();
+      row.metrics = result.metrics;
+      row.status = "ok";
+      if (options.save_logs) {
+        const fs::path dir = out / "runs" / run.id;
+        fs::create_directories(dir);
+        WriteSignalLog(result.log, dir / "signals.csv");
+      }
+      if (options.on_result) options.on_result(i, result);
+    } catch (const std::exception& e) {
+      row.status = "failed";
+      row.error = e.what();
+    }
+    row.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::lock_guard<std::mutex> lock(mutex);
+    append << RowLine(spec, run, row, outcome.metric_names) << "\n" << std::flush;
+    ++finished;
+    if (options.progress) progress.Update(static_cast<double>(finished) / static_cast<double>(todo.size()));
+    outcome.rows[i] = std::move(row);
+  };
+
+  if (options.progress && !todo.empty()) progress.Update(0.0);
+  tbb::task_arena arena(jobs);
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo.size(), 1),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t k = r.begin(); k != r.end(); ++k) run_one(todo[k]);
+                      },
+                      tbb::simple_partitioner());
+  });
+  if (options.progress && !todo.empty()) progress.Done();
+  append.close();
+
+  WriteSweepResults(diagram_path, spec, out, &outcome);
+  return outcome;
+}
+
+}  // namespace mb

@@ -1,0 +1,91 @@
+// The options several subcommands share (cli_options.h). --max-steps N on every command that simulates: raises
+// (or lowers) the run-length limit that Simulator checks before a run (engine/simulator.h SimulationLimits), for
+// every simulation the command starts.
+
+#include "tools/commands/cli_options.h"
+
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "engine/simulator.h"
+
+namespace mb {
+
+void AddMaxStepsOption(CLI::App* command) {
+  command
+      ->add_option_function<double>(
+          "--max-steps",
+          [](const double& n) {
+            SimulationLimits limits = DefaultSimulationLimits();
+            limits.max_steps = n;
+            SetDefaultSimulationLimits(limits);
+          },
+          fmt::format("refuse a simulation estimated to take more steps, or to log more values, than N (default "
+                      "{:.0e}; protects against a stopTime or step typo that would run for hours or exhaust memory)",
+                      SimulationLimits{}.max_steps))
+      ->type_name("N")
+      ->check(CLI::PositiveNumber);
+}
+
+CLI::Option* AddSetOption(CLI::App* command, std::vector<std::string>* overrides, const std::string& help) {
+  return command->add_option("--set", *overrides, help);
+}
+
+std::vector<ParameterOverride> ParseOverrides(const std::vector<std::string>& sets) {
+  std::vector<ParameterOverride> overrides;
+  for (const auto& s : sets) overrides.push_back(ParameterOverride::Parse(s));
+  return overrides;
+}
+
+nlohmann::json ReadDiagramWithOverrides(const std::string& path, const std::vector<std::string>& sets) {
+  const std::vector<ParameterOverride> overrides = ParseOverrides(sets);
+  nlohmann::json diagram = ReadDiagramJson(path);
+  ApplyOverrides(&diagram, overrides, path);
+  return diagram;
+}
+
+std::map<std::string, std::string> ParseColumnMap(const std::vector<std::string>& maps) {
+  std::map<std::string, std::string> column_map;
+  for (const auto& m : maps) {
+    const auto eq = m.find('=');
+    if (eq == std::string::npos) throw std::invalid_argument(fmt::format("--map '{}': write connector=column", m));
+    column_map[m.substr(0, eq)] = m.substr(eq + 1);
+  }
+  return column_map;
+}
+
+std::vector<std::string> SplitCommaLists(const std::vector<std::string>& items) {
+  std::vector<std::string> out;
+  for (const auto& item : items) {
+    std::size_t start = 0;
+    while (start <= item.size()) {
+      const auto comma = item.find(',', start);
+      const std::string name = item.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+      if (!name.empty()) out.push_back(name);
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+  }
+  return out;
+}
+
+MeasurementSettings MeasurementOptions::Settings() const {
+  return MeasurementSettings{ParseColumnMap(maps), position_column, derivative_cutoff_hz};
+}
+
+void AddMeasurementOptions(CLI::App* command, MeasurementOptions* options, const std::string& measurement_help,
+                           const std::string& set_help) {
+  command->add_option("--measurement", options->measurement, measurement_help)
+      ->required()
+      ->check(CLI::ExistingFile);
+  command->add_option("--map", options->maps, "connector=column: read a connector from another column (repeatable)");
+  AddSetOption(command, &options->overrides, set_help);
+  command->add_option("--position-column", options->position_column, "measured position column [m]")
+      ->capture_default_str();
+  command->add_option("--derivative-cutoff-hz", options->derivative_cutoff_hz,
+                      "zero-phase low-pass cut-off before differentiating the position [Hz]")
+      ->capture_default_str();
+}
+
+}  // namespace mb

@@ -1,0 +1,56 @@
+#pragma once
+// The options several `motionblocks` subcommands share, declared and parsed in one place: --set overrides,
+// --map connector=column, comma lists ("block.param,…"), the measurement options of compare, fit and improve
+// (--measurement, --map, --set, --position-column, --derivative-cutoff-hz) and --max-steps.
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "engine/diagram_loader.h"
+#include "tools/workflow/measurement.h"
+
+namespace mb {
+
+/// Adds --max-steps N (SimulationLimits::max_steps for every simulation the command runs) to a subcommand.
+void AddMaxStepsOption(CLI::App* command);
+
+/// Adds --set block.param=value (repeatable) to `command`, collected into `overrides`; `help` is the option's text.
+CLI::Option* AddSetOption(CLI::App* command, std::vector<std::string>* overrides,
+                          const std::string& help = "parameter override block.param=value (repeatable)");
+
+/// Parses every --set value. @throws std::invalid_argument as ParameterOverride::Parse (naming the bad one).
+std::vector<ParameterOverride> ParseOverrides(const std::vector<std::string>& sets);
+
+/// Reads a diagram's JSON and applies the --set values to it. @throws as ReadDiagramJson and ApplyOverrides.
+nlohmann::json ReadDiagramWithOverrides(const std::string& path, const std::vector<std::string>& sets);
+
+/// Parses --map values "connector=column" into connector → column. @throws std::invalid_argument
+/// "--map 'x': write connector=column" for a value without '='.
+std::map<std::string, std::string> ParseColumnMap(const std::vector<std::string>& maps);
+
+/// Splits comma lists ("a,b", "c" → a, b, c); empty items are dropped.
+std::vector<std::string> SplitCommaLists(const std::vector<std::string>& items);
+
+/// How compare, fit and improve read a measurement (--measurement, --map, --set, --position-column,
+/// --derivative-cutoff-hz).
+struct MeasurementOptions {
+  std::string measurement;                    ///< the measurement log CSV (time_s first)
+  std::vector<std::string> maps;              ///< --map connector=column
+  std::vector<std::string> overrides;         ///< --set block.param=value
+  std::string position_column = "position_m";
+  double derivative_cutoff_hz = 100.0;
+  /// The --map, --position-column and --derivative-cutoff-hz values as the workflow takes them.
+  /// @throws std::invalid_argument as ParseColumnMap.
+  MeasurementSettings Settings() const;
+};
+
+/// Declares the MeasurementOptions on `command` (--measurement required, an existing file; `measurement_help`
+/// its text; `set_help` the --set text).
+void AddMeasurementOptions(CLI::App* command, MeasurementOptions* options, const std::string& measurement_help,
+                           const std::string& set_help = "parameter override block.param=value (repeatable)");
+
+}  // namespace mb

@@ -1,0 +1,94 @@
+// motionblocks compare DIAGRAM --measurement LOG.csv [--map connector=column …] [--fit block.param,…]
+//                      [--suggest AMENDED.json [--suggest-effect NAME]] [--write-fitted FITTED.json]
+//                      [--no-gpr-fallback] --out DIR
+// Drives the diagram with the measured inputs, compares its outputs with the measured columns, refits the free
+// parameters, shows where the model fails and ranks the candidate missing effects (docs/diagnosis.md); then fits
+// a TISO-GPR to what the ranked effects leave and says how much of it depends on position and velocity.
+
+#include <iostream>
+
+#include <fmt/format.h>
+
+#include "engine/diagram_loader.h"
+#include "tools/commands/cli_options.h"
+#include "tools/commands/commands.h"
+#include "tools/report/compare_report.h"
+#include "tools/workflow/compare.h"
+
+namespace mb {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+struct CompareOptions {
+  std::string diagram;
+  MeasurementOptions measurement;
+  std::vector<std::string> fit;
+  bool no_fit = false;
+  std::string out = "out/compare";
+  std::string suggest;
+  std::string suggest_effect;
+  std::string write_fitted;
+  bool no_gpr_fallback = false;
+};
+
+void PrintCompareOutcome(const CompareOutcome& outcome, const fs::path& out) {
+  const ComparedOutput& before = outcome.primary_before();
+  const ComparedOutput& after = outcome.primary_after();
+  std::cout << fmt::format("{}: RMSE {:.5g} → {:.5g} {} (fit {:.1f} % → {:.1f} %)\n", after.connector, before.rmse,
+                           after.rmse, after.unit, before.fit_percent, after.fit_percent);
+  if (const auto& diagnosis = outcome.compared.diagnosis) {
+    std::cout << diagnosis->summary << "\n";
+    for (const auto& e : diagnosis->effects) {
+      std::cout << fmt::format("  {:<28} {:5.1f} %  {}\n", e.effect, 100.0 * e.score, e.description);
+    }
+  }
+  if (outcome.fallback.gpr) std::cout << outcome.fallback.gpr->description << "\n";
+  std::cout << fmt::format("wrote {}/compare.json and report.html\n", out.string());
+}
+
+void RunCompare(const CompareOptions& o) {
+  const json diagram = ReadDiagramWithOverrides(o.diagram, o.measurement.overrides);
+  CompareSettings settings;
+  settings.measurement = o.measurement.Settings();
+  const MeasurementLog log = ReadMeasurementFor(diagram, o.measurement.measurement, settings.measurement);
+  std::cerr << fmt::format("compare {} with {} ({} samples, {} mode)\n", o.diagram, o.measurement.measurement,
+                           log.rows(), ExperimentMode(diagram));
+  settings.fit = SplitCommaLists(o.fit);
+  settings.no_fit = o.no_fit;
+  settings.gpr_fallback = !o.no_gpr_fallback;
+  settings.suggest = !o.suggest.empty();
+  settings.suggest_effect = o.suggest_effect;
+  settings.fallback_model_path = fs::absolute(fs::path(o.out) / "residual_gpr.json").string();
+  const CompareOutcome outcome = Compare(diagram, fs::path(o.diagram).parent_path(), o.diagram, log, settings,
+                                         [](const std::string& line) { std::cerr << line << "\n"; });
+  const CompareFiles files{o.diagram, o.measurement.measurement, o.out, o.write_fitted, o.suggest,
+                           o.measurement.position_column};
+  WriteCompareResults(outcome, log, files);
+  PrintCompareOutcome(outcome, o.out);
+}
+
+}  // namespace
+
+void SetupCompareCommand(CLI::App& app) {
+  auto o = std::make_shared<CompareOptions>();
+  auto* cmd = app.add_subcommand("compare", "Compare a model with a measurement, refit, find the missing effect");
+  cmd->add_option("diagram", o->diagram, "diagram JSON file")->required()->check(CLI::ExistingFile);
+  AddMeasurementOptions(cmd, &o->measurement, "measurement log CSV (time_s first)");
+  cmd->add_option("--fit", o->fit, "parameters to refit: block.param,… (default: the diagram's \"free\" list)");
+  cmd->add_flag("--no-fit", o->no_fit, "compare as is, refit nothing");
+  cmd->add_flag("--no-gpr-fallback", o->no_gpr_fallback,
+                "skip the TISO-GPR fitted to what the diagnosis leaves (it writes residual_gpr.json when it helps)");
+  cmd->add_option("--suggest", o->suggest, "write the diagram amended with the top-ranked effect's block here");
+  cmd->add_option("--suggest-effect", o->suggest_effect,
+                  "with --suggest: the highest-ranked effect of this catalogue name instead of the top one "
+                  "(e.g. velocity_dependent_ripple); when no effect is named but the TISO-GPR fallback helps, "
+                  "--suggest adds its gpr block (nonparametric_fallback)");
+  cmd->add_option("--write-fitted", o->write_fitted, "write the diagram with the fitted parameters here");
+  cmd->add_option("--out", o->out, "output folder")->capture_default_str();
+  cmd->callback([o] { RunCompare(*o); });
+}
+
+}  // namespace mb

@@ -1,0 +1,118 @@
+// motionblocks improve DIAGRAM --measurement LOG.csv [--validation LOG.csv] [--max-effects N] [--out DIR]
+// The loop compare → suggest → fit → compare in one command: add the diagnosed missing effects one at a time,
+// refit jointly, keep an effect only if the held-out error falls (tools/workflow/improve.h). Writes DIR/step_<k>/diagram.json
+// as each step completes, DIR/improved.json, DIR/improve.json and DIR/report.html (before/after figures); when the
+// residual stays non-white, the TISO-GPR fallback (DIR/residual_gpr.json, DIR/improved_with_gp.json).
+
+#include <iostream>
+#include <optional>
+
+#include <fmt/format.h>
+
+#include "engine/diagram_loader.h"
+#include "tools/commands/cli_options.h"
+#include "tools/commands/commands.h"
+#include "tools/report/improve_report.h"
+#include "tools/workflow/fallback.h"
+#include "tools/workflow/improve.h"
+
+namespace mb {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+struct ImproveOptions {
+  std::string diagram;
+  MeasurementOptions measurement;
+  std::string validation;
+  std::vector<std::string> validation_fit;
+  int max_effects = 3;
+  int max_trials = 3;
+  double min_gain = 0.002;
+  bool no_refine_periods = false;
+  std::string out = "out/improve";
+};
+
+void PrintImproveResult(const ImproveResult& result, const std::optional<json>& fallback, const fs::path& out) {
+  int k = 0;
+  for (const auto& s : result.steps) {
+    std::cout << fmt::format("{:>4}  {:<28} fit RMSE {:.4g} → {:.4g}  held out {:.4g} → {:.4g} {}  {}\n",
+                             s.accepted ? fmt::format("{}", k++) : "—",
+                             s.effect.empty() ? "(as given, refit)" : s.effect,
+                             s.rmse_train_before, s.rmse_train, s.rmse_heldout_before, s.rmse_heldout, s.unit(),
+                             s.accepted ? "" : "(rejected)");
+  }
+  std::cout << "stop: " << result.stop_reason << "\n";
+  if (fallback) std::cout << (*fallback)["description"].get<std::string>() << "\n";
+  std::cout << fmt::format("wrote {}/improved.json, improve.json, step_*/diagram.json and report.html\n", out.string());
+}
+
+void RunImprove(const ImproveOptions& o) {
+  const json diagram = ReadDiagramWithOverrides(o.diagram, o.measurement.overrides);
+  ImproveSettings settings;
+  settings.measurement = o.measurement.Settings();
+  settings.max_effects = o.max_effects;
+  settings.max_trials_per_round = o.max_trials;
+  settings.min_relative_gain = o.min_gain;
+  settings.refine_periods = !o.no_refine_periods;
+  settings.validation_free = SplitCommaLists(o.validation_fit);
+
+  const MeasurementLog training = ReadMeasurementFor(diagram, o.measurement.measurement, settings.measurement);
+  std::optional<MeasurementLog> validation;
+  if (!o.validation.empty()) validation = ReadMeasurementFor(diagram, o.validation, settings.measurement);
+  const fs::path out(o.out);
+  const json context = {{"diagram", o.diagram},
+                        {"measurement", o.measurement.measurement},
+                        {"validation", o.validation.empty() ? json(nullptr) : json(o.validation)},
+                        {"mode", ExperimentMode(diagram)},
+                        {"max_effects", o.max_effects},
+                        {"min_relative_gain", o.min_gain}};
+  const auto progress = [](const std::string& line) { std::cerr << "improve: " << line << "\n"; };
+  const ImproveResult result = ImproveModel(
+      diagram, fs::path(o.diagram).parent_path(), o.diagram, training, validation ? &*validation : nullptr, settings,
+      progress, [&](const ImproveStep&, const ImproveResult& so_far) { WriteImproveProgress(so_far, out, context); });
+  // When the loop stops with a residual that is still not white: the TISO-GPR fallback (fallback.h).
+  const FallbackOutcome fallback = FitImproveFallback(result, progress);
+  std::optional<json> fallback_record;
+  if (fallback.attempted) fallback_record = WriteImproveFallback(result, fallback, out);
+  std::cerr << "improve: writing the report …\n";
+  WriteImproveReport(result, training, validation ? &*validation : nullptr,
+                     fmt::format("motionblocks improve: {} on {}", fs::path(o.diagram).filename().string(),
+                                 fs::path(o.measurement.measurement).filename().string()),
+                     o.measurement.position_column, out);
+  PrintImproveResult(result, fallback_record, out);
+}
+
+}  // namespace
+
+void SetupImproveCommand(CLI::App& app) {
+  auto o = std::make_shared<ImproveOptions>();
+  auto* cmd = app.add_subcommand(
+      "improve", "Add the missing effects one at a time (compare → suggest → fit), keep those that lower the "
+                 "held-out error; before/after report");
+  cmd->add_option("diagram", o->diagram, "diagram JSON file")->required()->check(CLI::ExistingFile);
+  AddMeasurementOptions(cmd, &o->measurement, "measurement log CSV to fit on (time_s first)");
+  cmd->add_option("--validation", o->validation,
+                  "held-out log CSV: scores each step; only the record's parameters (ripple position offsets) are "
+                  "refit on it (default: cross-validation on the measurement)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--max-effects", o->max_effects, "effects to add at most")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--max-trials", o->max_trials, "ranked effects tried per round before stopping")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--min-gain", o->min_gain, "keep an effect if the held-out RMSE falls by at least this share")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 0.999));
+  cmd->add_option("--validation-fit", o->validation_fit,
+                  "parameters refit on the validation record instead of the ripple position offsets: block.param,…");
+  cmd->add_flag("--no-refine-periods", o->no_refine_periods,
+                "keep an added ripple's period from the periodogram instead of refitting it");
+  cmd->add_option("--out", o->out, "output folder")->capture_default_str();
+  cmd->callback([o] { RunImprove(*o); });
+}
+
+}  // namespace mb

@@ -1,0 +1,66 @@
+// motionblocks sweep DIAGRAM SWEEP.json [--jobs N] [--fresh] [--save-logs] --out DIR
+// Runs a diagram over a grid, list or seeded random sample of parameter values (tools/batch/sweep.h), in parallel;
+// writes DIR/runs.csv and DIR/runs.json (one row of metrics per run). Resumable: runs already in DIR/runs.csv
+// with status ok are not run again.
+
+#include <iostream>
+
+#include <fmt/format.h>
+
+#include "tools/commands/commands.h"
+#include "tools/batch/sweep.h"
+
+namespace mb {
+
+namespace {
+
+struct SweepCommandOptions {
+  std::string diagram;
+  std::string sweep;
+  std::string out;
+  int jobs = 0;
+  bool fresh = false;
+  bool save_logs = false;
+  bool quiet = false;
+  std::size_t max_runs = kDefaultMaxSweepRuns;
+};
+
+void RunSweepCommand(const SweepCommandOptions& o) {
+  const SweepSpec spec = ReadSweepFile(o.sweep, o.max_runs);
+  SweepOptions options;
+  options.jobs = o.jobs;
+  options.resume = !o.fresh;
+  options.save_logs = o.save_logs;
+  options.progress = !o.quiet;
+  const SweepOutcome outcome = RunSweep(o.diagram, spec, o.out, options);
+  std::cout << fmt::format("{} runs ({}): {} run now, {} already done, {} failed\n", spec.runs.size(), spec.kind,
+                           outcome.ran, outcome.resumed, outcome.failed);
+  for (const auto& row : outcome.rows) {
+    if (row.status != "ok") std::cout << fmt::format("  run {} failed: {}\n", row.id, row.error);
+  }
+  std::cout << fmt::format("wrote {0}/runs.csv, {0}/runs.json{1}\n", o.out, o.save_logs ? ", runs/<id>/signals.csv" : "");
+  if (outcome.failed > 0) throw std::runtime_error(fmt::format("{} of {} runs failed", outcome.failed, spec.runs.size()));
+}
+
+}  // namespace
+
+void SetupSweepCommand(CLI::App& app) {
+  auto options = std::make_shared<SweepCommandOptions>();
+  auto* cmd = app.add_subcommand(
+      "sweep", "Run a diagram over a grid, list or seeded random sample of parameters in parallel: runs.csv, runs.json");
+  cmd->add_option("diagram", options->diagram, "diagram JSON file")->required()->check(CLI::ExistingFile);
+  cmd->add_option("sweep", options->sweep, "sweep JSON file (grid, list or random; see tools/batch/sweep.h)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--out", options->out, "output folder (runs.csv, runs.json)")->required();
+  cmd->add_option("--jobs,-j", options->jobs, "parallel runs (default: all cores)")->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--fresh", options->fresh, "run everything again (default: skip runs already in runs.csv)");
+  cmd->add_flag("--save-logs", options->save_logs, "also write DIR/runs/<id>/signals.csv for every run");
+  cmd->add_flag("--quiet", options->quiet, "no progress line");
+  cmd->add_option("--max-runs", options->max_runs, "refuse a sweep of more runs than N")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->callback([options] { RunSweepCommand(*options); });
+}
+
+}  // namespace mb

@@ -1,0 +1,104 @@
+// reproduce, steps 5–6: Table 2 and the payload case (section 5.3) as closed-loop Fig. 9 runs, and the payload study
+// as sweeps.
+
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+
+#include <stdexcept>
+
+#include "tools/batch/sweep.h"
+#include "tools/experiments/paper/reproduce_context.h"
+
+namespace mb::paper {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+void RunClosedLoopCases(ReproduceContext& c) {
+  // 5–6. Table 2 and the payload case: six closed-loop runs in parallel.
+  c.cases = {{"conventional", c.conventional, {}, {}},
+             {"DS", c.gp_loop, {{"gpr.model", c.model_paths["DS_D2"].string()}}, {}},
+             {"PS", c.gp_loop, {{"gpr.model", c.model_paths["PS_D2"].string()}}, {}},
+             {"conventional_payload", c.conventional, {{"plant.payload_mass", kPayloadMass}}, {}},
+             {"DS_payload",
+              c.gp_loop,
+              {{"gpr.model", c.model_paths["DS_D2"].string()}, {"plant.payload_mass", kPayloadMass}},
+              {}},
+             {"PS_payload",
+              c.gp_loop,
+              {{"gpr.model", c.model_paths["PS_D2"].string()}, {"plant.payload_mass", kPayloadMass}},
+              {}},
+             {"PS_true_disturbance", c.gp_loop, {{"gpr.model", c.ps_true_target_path.string()}}, {}}};
+  c.Say(
+      fmt::format("[5/{}] Table 2 and section 5.3: Fig. 9 runs, conventional / DS / PS (D(2)), without and with a "
+                  "{} kg payload",
+                  kSteps, kPayloadMass));
+  c.arena.execute([&] {
+    tbb::parallel_for(std::size_t{0}, c.cases.size(),
+                      [&](std::size_t i) { c.cases[i].result = Simulate(c.cases[i].diagram, c.cases[i].assignments); });
+  });
+  c.table2 = {{"unit", "µm"},
+              {"conventional", c.RmseUm(0)},
+              {"DS", c.RmseUm(1)},
+              {"PS", c.RmseUm(2)},
+              {"max_abs_um",
+               {{"conventional", c.cases[0].result.metrics.at("tracking_max_abs") * 1e6},
+                {"DS", c.cases[1].result.metrics.at("tracking_max_abs") * 1e6},
+                {"PS", c.cases[2].result.metrics.at("tracking_max_abs") * 1e6}}},
+              {"paper", kPaperTable2},
+              {"order_ps_ds_conventional", c.RmseUm(2) < c.RmseUm(1) && c.RmseUm(1) < c.RmseUm(0)},
+              {"ablation_ps_trained_on_true_disturbance", c.RmseUm(6)}};
+  c.payload_json = {{"unit", "µm"},
+                    {"payload_mass_kg", kPayloadMass},
+                    {"moving_mass_kg", 0.2621},
+                    {"conventional", c.RmseUm(3)},
+                    {"DS", c.RmseUm(4)},
+                    {"PS", c.RmseUm(5)},
+                    {"without_payload", {{"conventional", c.RmseUm(0)}, {"DS", c.RmseUm(1)}, {"PS", c.RmseUm(2)}}}};
+}
+
+void RunPayloadSweeps(ReproduceContext& c) {
+  const ReproduceOptions& o = c.options;
+  const int jobs = c.jobs;
+  // The payload study as sweeps (diagrams/paper/sweeps): conventional.json and gp_loop.json with each D(2) model.
+  c.Say(fmt::format("[6/{}] payload study: sweeps/payload_conventional.json and sweeps/payload_gp_loop.json (DS, PS)",
+                    kSteps));
+  {
+    struct PayloadSweep {
+      const char* name;
+      fs::path diagram;
+      fs::path sweep;
+      std::string model;
+    };
+    const PayloadSweep sweeps[] = {
+        {"conventional", c.conventional, o.diagrams / "sweeps" / "payload_conventional.json", ""},
+        {"DS", c.gp_loop, o.diagrams / "sweeps" / "payload_gp_loop.json", c.model_paths["DS_D2"].string()},
+        {"PS", c.gp_loop, o.diagrams / "sweeps" / "payload_gp_loop.json", c.model_paths["PS_D2"].string()}};
+    json study;
+    for (const PayloadSweep& ps : sweeps) {
+      SweepSpec spec = ReadSweepFile(ps.sweep);
+      if (!ps.model.empty()) spec.fixed.emplace_back("gpr.model", ps.model);
+      SweepOptions so;
+      so.jobs = jobs;
+      so.resume = false;
+      so.progress = o.progress;
+      const SweepOutcome outcome = RunSweep(ps.diagram, spec, o.out / "payload_study" / ps.name, so);
+      std::vector<double> mass, rmse;
+      for (const SweepRow& row : outcome.rows) {
+        if (row.status != "ok") {
+          throw std::runtime_error(fmt::format("payload sweep {} run {} failed: {}", ps.name, row.id, row.error));
+        }
+        for (const auto& [k, v] : row.assignments) {
+          if (k == "plant.payload_mass") mass.push_back(v.get<double>());
+        }
+        rmse.push_back(row.metrics.at("tracking_rmse") * 1e6);
+      }
+      study["payload_mass_kg"] = mass;
+      study[ps.name] = rmse;
+    }
+    study["unit"] = "µm";
+    c.payload_json["sweep"] = study;
+  }
+}
+
+}  // namespace mb::paper

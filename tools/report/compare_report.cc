@@ -1,0 +1,152 @@
+#include "tools/report/compare_report.h"
+
+#include <fmt/format.h>
+
+#include "models/gpr/gpr_io.h"
+#include "tools/report/output_files.h"
+#include "tools/report/report.h"
+#include "tools/report/residual_figures.h"
+
+namespace mb {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+// compare.json's "diagnosis" (the ranked effects) and what the diagnosis says, or why there is none.
+void AddDiagnosisJson(const DiagnosedComparison& compared, json* result) {
+  json ranked = json::array();
+  if (compared.diagnosis) {
+    const DiagnosisResult& diagnosis = *compared.diagnosis;
+    for (const auto& e : diagnosis.effects) {
+      ranked.push_back({{"effect", e.effect}, {"score", e.score}, {"parameters", e.parameters},
+                        {"description", e.description}});
+    }
+    (*result)["missing_effect_found"] = diagnosis.missing_effect_found;
+    (*result)["position_time_indistinguishable"] = diagnosis.position_time_indistinguishable;
+    (*result)["summary"] = diagnosis.summary;
+    (*result)["details"] = diagnosis.ToJson();
+  } else {
+    (*result)["missing_effect_found"] = false;
+    (*result)["summary"] = compared.diagnosis_skipped;
+  }
+  (*result)["diagnosis"] = ranked;
+}
+
+// The fallback's record (its model saved beside compare.json), the fitted and the amended diagrams.
+void WriteFallbackAndDiagrams(const CompareOutcome& outcome, const CompareFiles& files, json* result) {
+  if (outcome.fallback.gpr) {
+    json j = outcome.fallback.gpr->ToJson();
+    if (outcome.fallback.gpr->model) {
+      SaveGprModel(*outcome.fallback.gpr->model, files.out / "residual_gpr.json");
+      j["model"] = (files.out / "residual_gpr.json").string();
+    }
+    (*result)["nonparametric_fallback"] = j;
+  } else if (!outcome.fallback.skipped.empty()) {
+    (*result)["nonparametric_fallback"] = {{"useful", false}, {"skipped", outcome.fallback.skipped}};
+  }
+  if (outcome.compared.fit && !files.write_fitted.empty()) {
+    WriteJsonFile(outcome.compared.fitted_diagram, files.write_fitted);
+    (*result)["fitted_diagram"] = files.write_fitted;
+  }
+  if (files.suggest.empty() || !outcome.suggestion) return;
+  const CompareSuggestion& s = *outcome.suggestion;
+  if (s.diagram) {
+    WriteJsonFile(*s.diagram, files.suggest);
+    (*result)["suggested_diagram"] = {{"path", files.suggest}, {"effect", s.effect}};
+    if (!s.model.empty()) (*result)["suggested_diagram"]["model"] = s.model;
+  } else {
+    (*result)["suggested_diagram"] = {{"path", nullptr}, {"why_not", s.why_not}};
+  }
+  if (!s.skipped.empty()) (*result)["suggested_diagram"]["skipped"] = s.skipped;
+}
+
+std::vector<std::vector<std::string>> FittedParameterRows(const DiagnosedComparison& compared) {
+  const FitResult& fit = *compared.fit;
+  std::vector<std::vector<std::string>> rows;
+  for (std::size_t i = 0; i < compared.parameters.size(); ++i) {
+    const auto k = static_cast<Eigen::Index>(i);
+    rows.push_back({compared.parameters[i].name, fmt::format("{:.6g}", fit.initial(k)),
+                    fmt::format("{:.6g}", fit.estimate(k)), fmt::format("± {:.3g}", 1.96 * fit.standard_error(k))});
+  }
+  return rows;
+}
+
+void AddDiagnosisSection(const CompareOutcome& outcome, HtmlReport* report) {
+  const DiagnosisResult& diagnosis = *outcome.compared.diagnosis;
+  report->Paragraph(diagnosis.summary);
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& e : diagnosis.effects) {
+    std::string ps;
+    for (const auto& [k, v] : e.parameters) ps += fmt::format("{}{} = {:.5g}", ps.empty() ? "" : ", ", k, v);
+    rows.push_back({e.effect, fmt::format("{:.1f} %", 100.0 * e.score),
+                    fmt::format("{:.1f} %", 100.0 * e.cumulative_share), ps});
+  }
+  report->Table({"effect", "share of remaining held-out residual explained", "cumulative", "parameters"}, rows);
+  for (const auto& e : diagnosis.effects) report->Paragraph(e.effect + ": " + e.description);
+  for (const auto& n : diagnosis.notes) report->Paragraph(n);
+  if (outcome.fallback.gpr) {
+    report->Heading("What no catalogue effect explains (non-parametric fallback)");
+    report->Paragraph(outcome.fallback.gpr->description);
+  }
+}
+
+}  // namespace
+
+json WriteCompareResults(const CompareOutcome& outcome, const MeasurementLog& log, const CompareFiles& files) {
+  const ComparedOutput& primary_before = outcome.primary_before();
+  const ComparedOutput& primary_after = outcome.primary_after();
+  fs::create_directories(files.out);
+  json result = {{"diagram", files.diagram},
+                 {"measurement", files.measurement},
+                 {"mode", outcome.mode},
+                 {"samples", log.rows()},
+                 {"output", primary_after.connector},
+                 {"unit", primary_after.unit},
+                 {"rmse_before", primary_before.rmse},
+                 {"rmse_after", primary_after.rmse},
+                 {"fit_percent_before", primary_before.fit_percent},
+                 {"fit_percent_after", primary_after.fit_percent},
+                 {"outputs", ComparedOutputsJson(outcome.compared.before, outcome.compared.after)}};
+  if (outcome.compared.fit) result["fit"] = outcome.compared.fit->ToJson();
+  AddDiagnosisJson(outcome.compared, &result);
+  WriteFallbackAndDiagrams(outcome, files, &result);
+  WriteJsonFile(result, files.out / "compare.json");
+  WriteCompareReport(outcome, log, files);
+  return result;
+}
+
+void WriteCompareReport(const CompareOutcome& outcome, const MeasurementLog& log, const CompareFiles& files) {
+  const DiagnosedComparison& compared = outcome.compared;
+  const ComparedOutput& primary_after = outcome.primary_after();
+  HtmlReport report(fmt::format("motionblocks compare: {} vs {}", fs::path(files.diagram).filename().string(),
+                                fs::path(files.measurement).filename().string()));
+  report.Paragraph(fmt::format("{} mode; {} samples. Output '{}' compared with column '{}'.", outcome.mode, log.rows(),
+                               primary_after.connector, primary_after.column));
+  std::vector<std::vector<std::string>> rows;
+  for (std::size_t i = 0; i < compared.after.size(); ++i) {
+    const ComparedOutput &before = compared.before[i], &after = compared.after[i];
+    rows.push_back({after.connector, fmt::format("{:.5g}", before.rmse), fmt::format("{:.5g}", after.rmse),
+                    fmt::format("{:.2f}", before.fit_percent), fmt::format("{:.2f}", after.fit_percent), after.unit});
+  }
+  report.Table({"output", "RMSE before fit", "RMSE after fit", "fit % before", "fit % after", "unit"}, rows);
+  if (compared.fit) {
+    report.Heading("Fitted parameters (Levenberg–Marquardt)");
+    report.Table({"parameter", "initial", "estimate", "95 % CI"}, FittedParameterRows(compared));
+    report.Paragraph(fmt::format("{}; {} iterations; condition number of the scaled Jacobian {:.3g}.",
+                                 compared.fit->status, compared.fit->iterations, compared.fit->condition_number));
+  }
+  report.Heading("Where the model fails: what is missing");
+  if (compared.diagnosis) {
+    AddDiagnosisSection(outcome, &report);
+  } else {
+    report.Paragraph(compared.diagnosis_skipped);
+  }
+  report.Heading("Views");
+  AddResidualFigures(&report, files.out, log, primary_after, primary_after.residual(),
+                     compared.diagnosis ? &*compared.diagnosis : nullptr, files.position_column);
+  report.Write(files.out / "report.html");
+}
+
+}  // namespace mb

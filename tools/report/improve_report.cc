@@ -1,0 +1,130 @@
+#include "tools/report/improve_report.h"
+
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "models/gpr/gpr_io.h"
+#include "tools/report/output_files.h"
+#include "tools/report/report.h"
+#include "tools/report/residual_figures.h"
+#include "tools/workflow/suggest.h"
+
+namespace mb {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+void WriteImproveProgress(const ImproveResult& so_far, const fs::path& directory, const json& context) {
+  fs::create_directories(directory);
+  int k = 0;
+  for (const auto& s : so_far.steps) {
+    if (!s.accepted) continue;
+    const fs::path dir = directory / fmt::format("step_{}", k++);
+    fs::create_directories(dir);
+    WriteJsonFile(s.training.fitted_diagram, dir / "diagram.json");
+  }
+  WriteJsonFile(so_far.last_accepted().training.fitted_diagram, directory / "improved.json");
+  json j = context;
+  j.update(so_far.ToJson());
+  WriteJsonFile(j, directory / "improve.json");
+}
+
+void WriteImproveReport(const ImproveResult& result, const MeasurementLog& training, const MeasurementLog* validation,
+                        const std::string& title, const std::string& position_column, const fs::path& directory) {
+  fs::create_directories(directory);
+  const ImproveStep& first = result.first();
+  const ImproveStep& last = result.last_accepted();
+  const std::string& unit = first.unit();
+  HtmlReport report(title);
+  report.Paragraph(fmt::format(
+      "{} mode; output '{}' [{}]. Held-out error: {}. Stop: {}.", first.training.mode,
+      first.training.after.front().connector, unit,
+      validation ? "the validation record " + validation->source() +
+                       " (only the record's parameters refit: the ripple's position offset)"
+                 : "contiguous 5-fold cross-validation on the measurement",
+      result.stop_reason));
+  std::vector<std::vector<std::string>> rows;
+  int k = 0;
+  for (const auto& s : result.steps) {
+    std::string key;
+    if (s.training.fit) {
+      for (std::size_t i = 0; i < s.training.parameters.size(); ++i) {
+        if (s.element.empty() || s.training.parameters[i].block != s.element) continue;
+        const auto p = static_cast<Eigen::Index>(i);
+        if (s.training.parameters[i].parameter != "period" && s.training.parameters[i].parameter != "delay" &&
+            s.training.parameters[i].parameter != "frequency_hz" && s.training.parameters[i].parameter != "gain") {
+          continue;
+        }
+        key += fmt::format("{}{} = {:.6g} ± {:.2g}", key.empty() ? "" : "; ", s.training.parameters[i].name,
+                           s.training.fit->estimate(p), s.training.fit->standard_error(p));
+      }
+    }
+    if (key.empty() && s.diagnosed) key = DescribeParameters(s.diagnosed->parameters);
+    rows.push_back({s.accepted ? fmt::format("{}", k++) : "—", s.effect.empty() ? "(as given, refit)" : s.effect,
+                    s.diagnosed ? fmt::format("{:.1f} %", 100.0 * s.diagnosed->score) : "", key,
+                    fmt::format("{:.4g} → {:.4g}", s.rmse_train_before, s.rmse_train),
+                    fmt::format("{:.4g} → {:.4g}", s.rmse_heldout_before, s.rmse_heldout), s.verdict});
+  }
+  report.Table({"step", "effect", "share explained", "key parameters (± 1 SE)", fmt::format("RMSE fit [{}]", unit),
+                fmt::format("RMSE held out [{}]", unit), "verdict"},
+               rows);
+
+  report.Heading("RMSE per step");
+  Figure bars{"rmse_per_step.png", "RMSE per accepted step", "step", fmt::format("RMSE [{}]", unit), {}};
+  Series train{{}, {}, "fit (measurement)", "boxes"}, held{{}, {}, "held out", "boxes"};
+  k = 0;
+  for (const auto& s : result.steps) {
+    if (!s.accepted) continue;
+    train.x.push_back(k - 0.18);
+    train.y.push_back(s.rmse_train);
+    held.x.push_back(k + 0.18);
+    held.y.push_back(s.rmse_heldout);
+    bars.x_tick_labels.emplace_back(k, s.effect.empty() ? "0: as given" : fmt::format("{}: + {}", k, s.effect));
+    ++k;
+  }
+  bars.series = {train, held};
+  report.AddFigure(bars, directory);
+
+  report.Heading("Before (step 0, refit) and after (improved): the measurement");
+  AddBeforeAfterFigures(&report, directory, "", fs::path(training.source()).filename().string(), training,
+                        first.training.after.front(), last.training.after.front(), position_column);
+  if (validation && first.validation && last.validation) {
+    report.Heading("Before and after: the validation record (held out)");
+    AddBeforeAfterFigures(&report, directory, "heldout_", fs::path(validation->source()).filename().string(),
+                          *validation, first.validation->outputs.front(), last.validation->outputs.front(),
+                          position_column);
+  }
+  if (last.training.diagnosis) {
+    report.Heading("What is left");
+    report.Paragraph(last.training.diagnosis->summary);
+  }
+  report.Write(directory / "report.html");
+}
+
+
+json WriteImproveFallback(const ImproveResult& result, const FallbackOutcome& fallback, const fs::path& directory) {
+  json record;
+  if (fallback.gpr) {
+    record = fallback.gpr->ToJson();
+  } else {
+    record = {{"useful", false}, {"skipped", fallback.skipped}, {"description", "no fallback: " + fallback.skipped}};
+  }
+  if (fallback.gpr && fallback.gpr->model) {
+    const ImproveStep& last = result.last_accepted();
+    const std::string model = fs::absolute(directory / "residual_gpr.json").string();
+    SaveGprModel(*fallback.gpr->model, model);
+    const json amended =
+        SuggestGprFallbackBlock(last.training.fitted_diagram, model, last.training.after.front().connector);
+    WriteJsonFile(amended, directory / "improved_with_gp.json");
+    record["model"] = model;
+    record["diagram"] = (directory / "improved_with_gp.json").string();
+  }
+  std::ifstream in(directory / "improve.json");
+  json written = json::parse(in);
+  written["nonparametric_fallback"] = record;
+  WriteJsonFile(written, directory / "improve.json");
+  return record;
+}
+
+}  // namespace mb

@@ -1,0 +1,39 @@
+#pragma once
+// What `motionblocks improve` writes from an ImproveResult (tools/workflow/improve.h): the diagrams of the accepted
+// steps as they complete, improve.json, report.html with the before/after figures (residual_figures.h), and the
+// non-parametric fallback's files.
+
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "models/diagnosis/measurement_log.h"
+#include "tools/workflow/fallback.h"
+#include "tools/workflow/improve.h"
+
+namespace mb {
+
+/// Writes DIR/step_<k>/diagram.json for an accepted step (k = accepted steps so far, 0 = the input refit),
+/// DIR/improved.json (the best diagram so far) and DIR/improve.json (every step so far): call from on_step, so
+/// that an interrupted run keeps what it finished. `context` (the inputs: diagram, logs) heads improve.json.
+/// @throws std::runtime_error if a file cannot be written.
+void WriteImproveProgress(const ImproveResult& so_far, const std::filesystem::path& directory,
+                          const nlohmann::json& context);
+
+/// DIR/report.html: the table of steps, and figures before (step 0) vs after (last accepted): measured vs model,
+/// the residual against time, position and velocity on the same axes, and the RMSE per step (train and held-out
+/// bars). `position_column` as in the settings.
+void WriteImproveReport(const ImproveResult& result, const MeasurementLog& training, const MeasurementLog* validation,
+                        const std::string& title, const std::string& position_column,
+                        const std::filesystem::path& directory);
+
+/// The fallback's files (FitImproveFallback, fallback.h): with a model, DIR/residual_gpr.json and
+/// DIR/improved_with_gp.json (the last accepted diagram with the gpr block, SuggestGprFallbackBlock); its record
+/// (ResidualGprResult::ToJson, or {"useful": false, "skipped", "description"}) is added to DIR/improve.json under
+/// "nonparametric_fallback" and returned. Call after WriteImproveProgress. @throws std::runtime_error if a file cannot
+/// be written or DIR/improve.json read.
+nlohmann::json WriteImproveFallback(const ImproveResult& result, const FallbackOutcome& fallback,
+                                    const std::filesystem::path& directory);
+
+}  // namespace mb

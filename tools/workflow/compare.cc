@@ -1,0 +1,90 @@
+#include "tools/workflow/compare.h"
+
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "engine/diagram_document.h"
+#include "tools/workflow/suggest.h"
+
+namespace mb {
+
+using nlohmann::json;
+
+namespace {
+
+void Say(const std::function<void(const std::string&)>& progress, const std::string& line) {
+  if (progress) progress(line);
+}
+
+// An amended diagram (suggested on the comparison's copy) with the input diagram's own defaultExperiment.
+json WithExperimentOf(const json& amended, const json& input) {
+  DiagramDocument document(amended);
+  document.CopyExperimentFrom(DiagramDocument(input));
+  return document.json();
+}
+
+}  // namespace
+
+CompareSuggestion SuggestFromComparison(const json& input_diagram, const DiagnosedComparison& compared,
+                                        const FallbackOutcome& fallback, const CompareSettings& settings,
+                                        const std::function<void(const std::string&)>& progress) {
+  CompareSuggestion suggestion;
+  const std::string& output = compared.after.front().connector;
+  std::string why = "no missing effect found";
+  for (const auto& e : compared.diagnosis->effects) {
+    if (!settings.suggest_effect.empty() && e.effect != settings.suggest_effect) {
+      why = fmt::format("no effect '{}' among the ranked ones", settings.suggest_effect);
+      continue;
+    }
+    if (!HasEffectBlock(e.effect)) {
+      why = fmt::format("the top effects have no block yet (first: {})", e.effect);
+      continue;
+    }
+    json amended;
+    try {
+      amended = SuggestAmendedDiagram(compared.compared_diagram, e, output);
+    } catch (const std::invalid_argument& error) {  // e.g. a negative delay: say why, try the next effect
+      Say(progress, fmt::format("not suggesting {}: {}", e.effect, error.what()));
+      suggestion.skipped.push_back({{"effect", e.effect}, {"why_not", error.what()}});
+      why = fmt::format("no ranked effect could be added (last: {}: {})", e.effect, error.what());
+      continue;
+    }
+    suggestion.diagram = WithExperimentOf(amended, input_diagram);
+    suggestion.effect = e.effect;
+    return suggestion;
+  }
+  // Nothing in the catalogue named, but something left that depends on (x, v): the fallback's GP as a block. (Only
+  // then: with effects named, the GP learned what their corrections leave, not the residual of this diagram.)
+  const bool want_fallback = settings.suggest_effect.empty() || settings.suggest_effect == "nonparametric_fallback";
+  if (want_fallback && compared.diagnosis->effects.empty() && fallback.gpr && fallback.gpr->model) {
+    suggestion.diagram = WithExperimentOf(
+        SuggestGprFallbackBlock(compared.compared_diagram, settings.fallback_model_path, output), input_diagram);
+    suggestion.effect = "nonparametric_fallback";
+    suggestion.model = settings.fallback_model_path;
+    return suggestion;
+  }
+  suggestion.why_not = why;
+  return suggestion;
+}
+
+CompareOutcome Compare(const json& diagram, const std::filesystem::path& base_directory, const std::string& source,
+                       const MeasurementLog& log, const CompareSettings& settings,
+                       const std::function<void(const std::string&)>& progress) {
+  CompareOutcome outcome;
+  outcome.mode = ExperimentMode(diagram);
+  // Refit the free parameters (settings.fit, else the diagram's "free" list).
+  std::vector<std::string> fit_names = settings.fit;
+  if (fit_names.empty() && !settings.no_fit) fit_names = DiagramDocument(diagram).FreeParameters();
+  if (settings.no_fit) fit_names.clear();
+  Say(progress, fmt::format("fitting {} parameter(s) by Levenberg–Marquardt, diagnosing the residual …",
+                            fit_names.size()));
+  outcome.compared = CompareAndDiagnose(diagram, base_directory, source, log, settings.measurement, fit_names);
+  if (settings.gpr_fallback) outcome.fallback = FitCompareFallback(outcome.compared, progress);
+  if (settings.suggest && outcome.compared.diagnosis) {
+    outcome.suggestion = SuggestFromComparison(diagram, outcome.compared, outcome.fallback, settings, progress);
+  }
+  return outcome;
+}
+
+}  // namespace mb

@@ -1,0 +1,408 @@
+#include "tools/workflow/comparison.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <unsupported/Eigen/NonLinearOptimization>
+#include <unsupported/Eigen/NumericalDiff>
+
+#include "engine/diagram_document.h"
+#include "engine/diagram_loader.h"
+#include "engine/json_schema.h"
+#include "engine/registry.h"
+#include "models/diagnosis/signal_processing.h"
+
+namespace mb {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::vector<FreeParameter> ResolveFreeParameters(const json& diagram, const std::vector<std::string>& names) {
+  const DiagramDocument document(diagram);
+  std::vector<FreeParameter> out;
+  for (const auto& name : names) {
+    const auto dot = name.find('.');
+    if (dot == std::string::npos) {
+      throw std::invalid_argument(fmt::format("free parameter '{}': write block.parameter, e.g. mass.gain", name));
+    }
+    const std::string block = name.substr(0, dot), parameter = name.substr(dot + 1);
+    if (!document.Has(block)) throw std::invalid_argument(fmt::format("free parameter '{}': no element '{}'", name, block));
+    const json value = document.Parameter(block, parameter);
+    if (value.is_number()) {
+      out.push_back({block, parameter, -1, name});
+    } else if (value.is_array() && !value.empty() && value[0].is_number()) {
+      for (std::size_t i = 0; i < value.size(); ++i) {
+        out.push_back({block, parameter, static_cast<int>(i), fmt::format("{}[{}]", name, i)});
+      }
+    } else {
+      throw std::invalid_argument(fmt::format(
+          "free parameter '{}': element '{}' ({}) has no numeric parameter '{}'", name, block,
+          document.TypeOf(block), parameter));
+    }
+  }
+  return out;
+}
+
+Eigen::VectorXd GetParameterValues(const json& diagram, const std::vector<FreeParameter>& params) {
+  const DiagramDocument document(diagram);
+  Eigen::VectorXd v(static_cast<Eigen::Index>(params.size()));
+  for (std::size_t i = 0; i < params.size(); ++i) {
+    const json value = document.Parameter(params[i].block, params[i].parameter);
+    v(static_cast<Eigen::Index>(i)) =
+        params[i].index < 0 ? value.get<double>() : value.at(static_cast<std::size_t>(params[i].index)).get<double>();
+  }
+  return v;
+}
+
+void SetParameterValues(json* diagram, const std::vector<FreeParameter>& params,
+                        const Eigen::Ref<const Eigen::VectorXd>& values) {
+  DiagramDocument document(std::move(*diagram));
+  for (std::size_t i = 0; i < params.size(); ++i) {
+    const double x = values(static_cast<Eigen::Index>(i));
+    if (params[i].index < 0) {
+      document.SetParameter(params[i].block, params[i].parameter, x);
+    } else {
+      json vector = document.Parameter(params[i].block, params[i].parameter);
+      if (!vector.is_array()) vector = json::array({vector});
+      vector[static_cast<std::size_t>(params[i].index)] = x;
+      document.SetParameter(params[i].block, params[i].parameter, vector);
+    }
+  }
+  *diagram = document.json();
+}
+
+namespace {
+/// Every --map names a connector of the diagram (a misspelled one would silently change nothing).
+void CheckColumnMap(const Diagram& d, const std::map<std::string, std::string>& column_map) {
+  std::vector<std::string> connectors;
+  for (const auto& in : d.inputs()) connectors.push_back(in.name);
+  for (const auto& out : d.outputs()) connectors.push_back(out.name);
+  for (const auto& [connector, column] : column_map) {
+    if (std::find(connectors.begin(), connectors.end(), connector) != connectors.end()) continue;
+    const auto close = ClosestNames(connector, connectors, 1);
+    throw std::invalid_argument(fmt::format(
+        "--map {}={}: the diagram has no connector '{}'{}; its input and output connectors: {}", connector, column,
+        connector, close.empty() ? "" : fmt::format(" (did you mean '{}'?)", close.front()),
+        connectors.empty() ? "(none)" : fmt::format("{}", fmt::join(connectors, ", "))));
+  }
+}
+}  // namespace
+
+ModelComparison::ModelComparison(json diagram, fs::path base_directory, std::string source,
+                                 const MeasurementLog& log, const std::map<std::string, std::string>& column_map)
+    : diagram_(std::move(diagram)), base_(std::move(base_directory)), source_(std::move(source)), log_(log) {
+  const auto& t = log.time();
+  DiagramDocument document(std::move(diagram_));
+  document.SetExperiment(t(0), t(t.size() - 1), MedianTimeStep(t));
+  diagram_ = document.json();
+  const Diagram d = BuildDiagram(diagram_, base_, source_);
+  CheckColumnMap(d, column_map);
+  auto column_for = [&](const std::string& connector, const std::string& fallback) {
+    auto it = column_map.find(connector);
+    return it != column_map.end() ? it->second : fallback;
+  };
+  std::string present;
+  for (const auto& n : log.names()) present += (present.empty() ? "" : ", ") + n;
+  for (const auto& in : d.inputs()) {
+    const std::string column = column_for(in.name, in.measurement);
+    if (log.has_column(column)) {
+      input_columns_[in.name] = column;
+    } else if (!in.optional) {
+      throw std::invalid_argument(fmt::format(
+          "{}: the diagram's input '{}' reads column '{}', which the log lacks; columns present: {}. Map another "
+          "column with --map {}=COLUMN",
+          log.source(), in.name, column, present, in.name));
+    }
+  }
+  for (const auto& out : d.outputs()) {
+    const std::string column = column_for(out.name, out.measurement);
+    if (log.has_column(column)) output_columns_[out.name] = column;
+  }
+  if (output_columns_.empty()) {
+    std::string outs;
+    for (const auto& out : d.outputs()) outs += (outs.empty() ? "" : ", ") + out.name + " ← " + out.measurement;
+    throw std::invalid_argument(fmt::format(
+        "{}: no output of the diagram can be compared: its outputs read columns {} and the log has {}. Map one with "
+        "--map OUTPUT=COLUMN",
+        log.source(), outs.empty() ? "(none: add an output connector)" : outs, present));
+  }
+}
+
+std::vector<ComparedOutput> ModelComparison::Simulate() const {
+  const Diagram d = BuildDiagram(diagram_, base_, source_);
+  Simulator sim(d);
+  for (const auto& [connector, column] : input_columns_) sim.SetInput(connector, SeriesOf(log_, column));
+  sim.Initialize();
+  sim.AdvanceTo(d.experiment().stop_time);
+  const SignalLog& log = sim.log();
+  std::vector<ComparedOutput> out;
+  const auto& t = log_.time();
+  for (const auto& o : d.outputs()) {
+    auto it = output_columns_.find(o.name);
+    if (it == output_columns_.end()) continue;
+    ComparedOutput c;
+    c.connector = o.name;
+    c.column = it->second;
+    c.unit = o.unit;
+    c.measured = log_.column(it->second);
+    // Linear interpolation of the simulated output onto the measured time stamps.
+    const auto& st = log.time;
+    const auto& sv = log.Column(o.name);
+    c.model.resize(t.size());
+    std::size_t j = 0;
+    for (Eigen::Index i = 0; i < t.size(); ++i) {
+      while (j + 2 < st.size() && st[j + 1] < t(i)) ++j;
+      const double w = st.size() < 2 ? 0.0 : std::clamp((t(i) - st[j]) / (st[j + 1] - st[j]), 0.0, 1.0);
+      c.model(i) = st.size() < 2 ? sv[0] : sv[j] + w * (sv[j + 1] - sv[j]);
+    }
+    if (output_filter_hz_ > 0.0 && c.model.allFinite()) {
+      c.model = ZeroPhaseLowPass(c.model, MedianTimeStep(t), output_filter_hz_);
+    }
+    if (!c.model.allFinite()) {
+      throw std::runtime_error(fmt::format("the simulated output '{}' is not finite (NaN/Inf): the model diverged "
+                                           "with these parameters",
+                                           o.name));
+    }
+    c.rmse = Rmse(c.measured, c.model);
+    c.fit_percent = FitPercent(c.measured, c.model);
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+std::vector<ComparedOutput> ModelComparison::Simulate(const std::vector<FreeParameter>& params,
+                                                      const Eigen::Ref<const Eigen::VectorXd>& values) const {
+  ModelComparison copy = *this;
+  SetParameterValues(&copy.diagram_, params, values);
+  return copy.Simulate();
+}
+
+namespace {
+
+// Residual functor for Eigen's Levenberg–Marquardt: scaled residuals of all compared outputs.
+struct ResidualFunctor {
+  using Scalar = double;
+  using InputType = Eigen::VectorXd;
+  using ValueType = Eigen::VectorXd;
+  using JacobianType = Eigen::MatrixXd;
+  enum { InputsAtCompileTime = Eigen::Dynamic, ValuesAtCompileTime = Eigen::Dynamic };
+
+  const ModelComparison* comparison;
+  const std::vector<FreeParameter>* params;
+  Eigen::VectorXd scale;  // per output
+  Eigen::Index n_values;
+
+  int inputs() const { return static_cast<int>(params->size()); }
+  int values() const { return static_cast<int>(n_values); }
+  int operator()(const Eigen::VectorXd& x, Eigen::VectorXd& f) const {
+    std::vector<ComparedOutput> outs;
+    try {
+      outs = comparison->Simulate(*params, x);
+    } catch (const std::exception&) {
+      f.setConstant(1e6);  // a diverging trial point: make it very bad, LM retreats
+      return 0;
+    }
+    Eigen::Index k = 0;
+    for (std::size_t o = 0; o < outs.size(); ++o) {
+      const Eigen::Index n = outs[o].measured.size();
+      f.segment(k, n) = (outs[o].measured - outs[o].model) / scale(static_cast<Eigen::Index>(o));
+      k += n;
+    }
+    return 0;
+  }
+};
+
+}  // namespace
+
+Eigen::MatrixXd OutputJacobian(const ModelComparison& comparison, const std::vector<FreeParameter>& params,
+                               const Eigen::Ref<const Eigen::VectorXd>& values) {
+  const Eigen::Index p = values.size();
+  const Eigen::VectorXd y0 = comparison.Simulate(params, values).front().model;
+  Eigen::MatrixXd jac(y0.size(), p);
+  // A trial value the diagram refuses (a parameter at its bound, e.g. a friction level fitted to 0): nullopt.
+  const auto model_at = [&](const Eigen::VectorXd& v) -> std::optional<Eigen::VectorXd> {
+    try {
+      return comparison.Simulate(params, v).front().model;
+    } catch (const DiagramError&) {
+      return std::nullopt;
+    }
+  };
+  for (Eigen::Index j = 0; j < p; ++j) {
+    const double h = 1e-6 * std::max(1.0, std::abs(values(j)));
+    Eigen::VectorXd plus = values, minus = values;
+    plus(j) += h;
+    minus(j) -= h;
+    const auto yp = model_at(plus);
+    const auto ym = model_at(minus);
+    if (yp && ym) {
+      jac.col(j) = (*yp - *ym) / (2.0 * h);  // central
+    } else if (yp) {
+      jac.col(j) = (*yp - y0) / h;  // at a lower bound: forward
+    } else if (ym) {
+      jac.col(j) = (y0 - *ym) / h;  // at an upper bound: backward
+    } else {
+      throw std::invalid_argument(fmt::format("parameter '{}': the diagram refuses every value within {} of {}",
+                                              params[static_cast<std::size_t>(j)].name, h, values(j)));
+    }
+  }
+  return jac;
+}
+
+json FitResult::ToJson() const {
+  json params_json = json::array();
+  for (std::size_t i = 0; i < parameters.size(); ++i) {
+    const auto k = static_cast<Eigen::Index>(i);
+    params_json.push_back({{"name", parameters[i].name},
+                           {"initial", initial(k)},
+                           {"estimate", estimate(k)},
+                           {"standard_error", standard_error(k)},
+                           {"ci95", {estimate(k) - 1.96 * standard_error(k), estimate(k) + 1.96 * standard_error(k)}}});
+  }
+  return {{"parameters", params_json}, {"iterations", iterations}, {"status", status},
+          {"condition_number", condition_number}};
+}
+
+FitResult FitParameters(const ModelComparison& comparison, const std::vector<FreeParameter>& params) {
+  if (params.empty()) throw std::invalid_argument("nothing to fit: name parameters with --fit block.param,…");
+  FitResult result;
+  result.parameters = params;
+  result.initial = GetParameterValues(comparison.diagram_json(), params);
+  const auto outs = comparison.Simulate();
+  ResidualFunctor functor{&comparison, &params, Eigen::VectorXd(static_cast<Eigen::Index>(outs.size())), 0};
+  for (std::size_t o = 0; o < outs.size(); ++o) {
+    const Eigen::VectorXd& y = outs[o].measured;
+    const double sd = std::sqrt((y.array() - y.mean()).square().mean());
+    functor.scale(static_cast<Eigen::Index>(o)) = sd > 0.0 ? sd : 1.0;
+    functor.n_values += y.size();
+  }
+  Eigen::NumericalDiff<ResidualFunctor> numerical(functor);
+  Eigen::LevenbergMarquardt<Eigen::NumericalDiff<ResidualFunctor>> lm(numerical);
+  lm.parameters.maxfev = 200 * static_cast<int>(params.size() + 1);
+  lm.parameters.xtol = 1e-10;
+  lm.parameters.ftol = 1e-12;
+  Eigen::VectorXd x = result.initial;
+  const auto status = lm.minimize(x);
+  result.estimate = x;
+  result.iterations = static_cast<int>(lm.iter);
+  switch (status) {
+    case Eigen::LevenbergMarquardtSpace::RelativeReductionTooSmall: result.status = "converged (cost)"; break;
+    case Eigen::LevenbergMarquardtSpace::RelativeErrorTooSmall: result.status = "converged (parameters)"; break;
+    case Eigen::LevenbergMarquardtSpace::RelativeErrorAndReductionTooSmall: result.status = "converged"; break;
+    case Eigen::LevenbergMarquardtSpace::TooManyFunctionEvaluation: result.status = "stopped: evaluation limit"; break;
+    default: result.status = fmt::format("stopped (Levenberg–Marquardt status {})", static_cast<int>(status));
+  }
+  // Standard errors from the primary output's Jacobian at the estimate (unscaled units).
+  result.jacobian = OutputJacobian(comparison, params, x);
+  const auto at = comparison.Simulate(params, x).front();
+  const auto n = static_cast<double>(at.measured.size());
+  const double sigma2 = (at.measured - at.model).squaredNorm() / std::max(1.0, n - static_cast<double>(x.size()));
+  const Eigen::MatrixXd jtj = result.jacobian.transpose() * result.jacobian;
+  const Eigen::VectorXd col_norm = result.jacobian.colwise().norm().transpose().cwiseMax(1e-300);
+  const Eigen::MatrixXd scaled = result.jacobian * col_norm.cwiseInverse().asDiagonal();
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(scaled);
+  const auto& sv = svd.singularValues();
+  result.condition_number = sv(sv.size() - 1) > 0.0 ? sv(0) / sv(sv.size() - 1) : INFINITY;
+  const Eigen::MatrixXd cov = sigma2 * jtj.completeOrthogonalDecomposition().pseudoInverse();
+  result.standard_error = cov.diagonal().cwiseMax(0.0).cwiseSqrt();
+  return result;
+}
+
+DiagramFit FitDiagram(const json& diagram, const fs::path& base_directory, const std::string& source,
+                      const MeasurementLog& log, const std::map<std::string, std::string>& column_map,
+                      const std::vector<std::string>& parameter_names, double output_filter_hz) {
+  ModelComparison comparison(diagram, base_directory, source, log, column_map);
+  comparison.set_output_filter(output_filter_hz);
+  const auto params = ResolveFreeParameters(diagram, parameter_names);
+  DiagramFit out;
+  out.before = comparison.Simulate();
+  out.fit = FitParameters(comparison, params);
+  out.after = comparison.Simulate(params, out.fit.estimate);
+  out.fitted_diagram = diagram;
+  SetParameterValues(&out.fitted_diagram, params, out.fit.estimate);
+  return out;
+}
+
+DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base_directory, const std::string& source,
+                                       const MeasurementLog& log, const MeasurementSettings& settings,
+                                       const std::vector<std::string>& fit_names, bool diagnose) {
+  DiagnosedComparison out;
+  out.mode = ExperimentMode(diagram);
+  const bool equation_error = out.mode == "equation_error";
+  ModelComparison comparison(diagram, base_directory, source, log, settings.column_map);
+  // The model's outputs get the measured outputs' filter (parallel filtering), else every Coulomb step of the
+  // model leaves a spike in the residual that the diagnosis would try to explain.
+  if (equation_error) comparison.set_output_filter(settings.derivative_cutoff_hz);
+  out.before = comparison.Simulate();
+  out.fitted_diagram = diagram;
+  if (!fit_names.empty()) {
+    out.parameters = ResolveFreeParameters(comparison.diagram_json(), fit_names);
+    out.fit = FitParameters(comparison, out.parameters);
+    SetParameterValues(&comparison.mutable_diagram_json(), out.parameters, out.fit->estimate);
+    SetParameterValues(&out.fitted_diagram, out.parameters, out.fit->estimate);
+  }
+  out.after = comparison.Simulate();
+  out.compared_diagram = comparison.diagram_json();
+  if (!diagnose) {
+    out.diagnosis_skipped = "no diagnosis asked for";
+    return out;
+  }
+  if (!log.has_column(settings.position_column) || !log.has_column(kDerivedVelocityColumn)) {
+    out.diagnosis_skipped = fmt::format("no diagnosis: the log has no position column '{}' (set --position-column)",
+                                        settings.position_column);
+    return out;
+  }
+  const ComparedOutput& primary = out.after.front();
+  DiagnosisSignals& signals = out.signals;
+  signals.time = log.time();
+  signals.position = log.column(settings.position_column);
+  signals.velocity = log.column(kDerivedVelocityColumn);
+  signals.acceleration = log.column(kDerivedAccelerationColumn);
+  signals.residual = primary.residual();
+  signals.model_output = primary.model;
+  // The fitted parameters' sensitivities are the base regressors: the diagnosis refits them jointly with each
+  // candidate (DIAGNOSIS.md step 1).
+  BaseRegressors& base = out.base;
+  if (out.fit) {
+    base.columns = out.fit->jacobian;
+    for (const auto& p : out.parameters) base.names.push_back(p.name);
+  } else {
+    base.columns.resize(log.rows(), 0);
+  }
+  DiagnosisOptions options;
+  if (equation_error) options.regressor_filter_hz = settings.derivative_cutoff_hz;  // parallel filtering
+  out.diagnosis = DiagnoseMissingEffects(signals, base, options);
+  return out;
+}
+
+json ComparedOutputsJson(const std::vector<ComparedOutput>& before, const std::vector<ComparedOutput>& after) {
+  json outputs = json::array();
+  for (std::size_t i = 0; i < after.size(); ++i) {
+    outputs.push_back({{"connector", after[i].connector},
+                       {"column", after[i].column},
+                       {"unit", after[i].unit},
+                       {"rmse_before", before[i].rmse},
+                       {"rmse_after", after[i].rmse},
+                       {"fit_percent_before", before[i].fit_percent},
+                       {"fit_percent_after", after[i].fit_percent}});
+  }
+  return outputs;
+}
+
+json DiagramFit::ToJson() const {
+  json j = fit.ToJson();
+  j["output"] = after.front().connector;
+  j["unit"] = after.front().unit;
+  j["rmse_before"] = before.front().rmse;
+  j["rmse_after"] = after.front().rmse;
+  j["fit_percent_before"] = before.front().fit_percent;
+  j["fit_percent_after"] = after.front().fit_percent;
+  j["outputs"] = ComparedOutputsJson(before, after);
+  return j;
+}
+
+}  // namespace mb

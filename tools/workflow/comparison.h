@@ -1,0 +1,172 @@
+#pragma once
+// Model versus measurement (MATLAB System Identification Toolbox's `compare`, DIAGNOSIS.md): drive a diagram's
+// input connectors with measured columns, read its output connectors at the measured times, score them (RMSE,
+// fit %), refit chosen parameters by nonlinear least squares (Levenberg–Marquardt, Eigen's unsupported
+// NonLinearOptimization module) with confidence intervals.
+//
+// The two modes are the same mechanism with different connectors: equation-error (inverse model: measured
+// motion in, model force out, compared with the measured force) and simulation (measured reference in,
+// simulated position/force out).
+
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "engine/diagram.h"
+#include "engine/simulator.h"
+#include "models/diagnosis/diagnosis.h"
+#include "models/diagnosis/measurement_log.h"
+#include "tools/workflow/measurement.h"
+
+namespace mb {
+
+
+/// One scalar the fit may change: element `block`, parameter `parameter`, entry `index` of a vector (or -1 for
+/// a scalar). `name` is "block.param" or "block.param[i]".
+struct FreeParameter {
+  std::string block;
+  std::string parameter;
+  int index = -1;
+  std::string name;
+};
+
+/// Expands "block.param" names (a vector parameter gives one FreeParameter per entry) against the diagram JSON.
+/// @throws std::invalid_argument naming an unknown block or parameter, or a non-numeric one.
+std::vector<FreeParameter> ResolveFreeParameters(const nlohmann::json& diagram, const std::vector<std::string>& names);
+
+/// Reads / writes the current values of free parameters in the diagram JSON (values given as numbers or as
+/// {"value", "unit"}; a parameter absent from the JSON reads its block default — pass `defaults`).
+Eigen::VectorXd GetParameterValues(const nlohmann::json& diagram, const std::vector<FreeParameter>& params);
+void SetParameterValues(nlohmann::json* diagram, const std::vector<FreeParameter>& params,
+                        const Eigen::Ref<const Eigen::VectorXd>& values);
+
+/// One output connector compared with its measured column.
+struct ComparedOutput {
+  std::string connector;
+  std::string column;
+  std::string unit;
+  Eigen::VectorXd measured;
+  Eigen::VectorXd model;
+  double rmse = 0.0;
+  double fit_percent = 0.0;
+  Eigen::VectorXd residual() const { return measured - model; }
+};
+
+/// Per compared output, before and after a refit (same order and length): [{"connector", "column", "unit",
+/// "rmse_before", "rmse_after", "fit_percent_before", "fit_percent_after"}] — the "outputs" of compare.json and
+/// fit.json. RMSE in the output's unit, fit in % (FitPercent).
+nlohmann::json ComparedOutputsJson(const std::vector<ComparedOutput>& before, const std::vector<ComparedOutput>& after);
+
+/// A diagram bound to a measurement: simulate it with any parameter values along the measured record.
+class ModelComparison {
+ public:
+  /// `column_map` overrides connector → column (default: each connector's "measurement" name). The diagram's
+  /// experiment is set to the log's time span and median step. @throws std::invalid_argument if a required
+  /// input's or any output's column is missing (listing the columns present) or no output can be compared.
+  ModelComparison(nlohmann::json diagram, std::filesystem::path base_directory, std::string source,
+                  const MeasurementLog& log, const std::map<std::string, std::string>& column_map);
+
+  /// Simulates with the diagram JSON as it is and returns every compared output.
+  std::vector<ComparedOutput> Simulate() const;
+  /// Same with the given free-parameter values written in first.
+  std::vector<ComparedOutput> Simulate(const std::vector<FreeParameter>& params,
+                                       const Eigen::Ref<const Eigen::VectorXd>& values) const;
+
+  /// Equation-error parallel filtering (IDIM-LS): pass every simulated output through the same zero-phase
+  /// low-pass as the measured outputs (ReadMeasurementWithDerivatives' `filter_columns`), so that both sides of
+  /// the residual have the same band — a Coulomb step of the model is smoothed like the measured one instead of
+  /// leaving a spike at every reversal. cutoff_hz <= 0: off (the default).
+  void set_output_filter(double cutoff_hz) { output_filter_hz_ = cutoff_hz; }
+  double output_filter_hz() const { return output_filter_hz_; }
+
+  const nlohmann::json& diagram_json() const { return diagram_; }
+  nlohmann::json& mutable_diagram_json() { return diagram_; }
+  const std::map<std::string, std::string>& input_columns() const { return input_columns_; }
+  const MeasurementLog& log() const { return log_; }
+
+ private:
+  nlohmann::json diagram_;
+  std::filesystem::path base_;
+  std::string source_;
+  const MeasurementLog& log_;
+  std::map<std::string, std::string> input_columns_;
+  std::map<std::string, std::string> output_columns_;
+  double output_filter_hz_ = 0.0;
+};
+
+/// Result of a least-squares refit.
+struct FitResult {
+  std::vector<FreeParameter> parameters;
+  Eigen::VectorXd initial;
+  Eigen::VectorXd estimate;
+  Eigen::VectorXd standard_error;  ///< sqrt(diag(σ² (JᵀJ)⁻¹)), σ² = SSR/(N − p)
+  Eigen::MatrixXd jacobian;        ///< d(model output)/d(parameter) of the primary output at the estimate (N × p)
+  double condition_number = 0.0;   ///< of the column-scaled Jacobian
+  int iterations = 0;
+  std::string status;
+  nlohmann::json ToJson() const;
+};
+
+/// Minimises Σ over compared outputs of ‖(measured − model)/scale‖², scale = each output's measured standard
+/// deviation, over the free parameters (Levenberg–Marquardt, forward-difference Jacobian). The primary output is
+/// the first compared output. @throws std::invalid_argument for an empty parameter list.
+FitResult FitParameters(const ModelComparison& comparison, const std::vector<FreeParameter>& params);
+
+/// What `motionblocks fit` computes: the chosen parameters of a diagram refit against a measurement (simulation or
+/// equation-error, as the diagram's experiment.mode says), the outputs before and after, and the diagram with the
+/// estimates written in.
+struct DiagramFit {
+  FitResult fit;
+  std::vector<ComparedOutput> before, after;  ///< every compared output; the first is the primary
+  nlohmann::json fitted_diagram;              ///< the input diagram (its own defaultExperiment) with the estimates
+  /// fit.json: rmse/fit % before and after (primary and per output), the estimates with standard errors and 95 %
+  /// confidence intervals (estimate ± 1.96·SE, from the Jacobian at the estimate), iterations, status, condition
+  /// number of the scaled Jacobian.
+  nlohmann::json ToJson() const;
+};
+
+/// Refits `parameter_names` ("block.param", vectors expand to each entry) of `diagram` against `log`. In
+/// equation-error mode pass the measured outputs' filter cut-off as `output_filter_hz` (parallel filtering, see
+/// ModelComparison::set_output_filter; 0 = none). @throws std::invalid_argument as ModelComparison,
+/// ResolveFreeParameters and FitParameters (empty list).
+DiagramFit FitDiagram(const nlohmann::json& diagram, const std::filesystem::path& base_directory,
+                      const std::string& source, const MeasurementLog& log,
+                      const std::map<std::string, std::string>& column_map,
+                      const std::vector<std::string>& parameter_names, double output_filter_hz);
+
+/// One `compare`: the diagram bound to a log, its free parameters refit, its primary output's residual diagnosed.
+struct DiagnosedComparison {
+  std::string mode;                        ///< "equation_error" or "simulation"
+  std::vector<FreeParameter> parameters;   ///< what was refit (empty: nothing)
+  std::optional<FitResult> fit;            ///< set when parameters is not empty
+  std::vector<ComparedOutput> before;      ///< every compared output as given; the first is the primary
+  std::vector<ComparedOutput> after;       ///< after the refit
+  nlohmann::json fitted_diagram;           ///< the input diagram (its own defaultExperiment) with the estimates
+  nlohmann::json compared_diagram;         ///< the same, its defaultExperiment set to the log's span and step
+  std::optional<DiagnosisResult> diagnosis;
+  std::string diagnosis_skipped;           ///< why there is no diagnosis (no position column, or not asked)
+  DiagnosisSignals signals;                ///< what the diagnosis was given (residual = the primary's after the refit)
+  BaseRegressors base;                     ///< the fitted parameters' sensitivities (N × p; p = 0 if nothing fit)
+};
+
+/// What `motionblocks compare` computes: simulate `diagram` along `log` (equation-error diagrams with the output
+/// low-pass of parallel filtering), refit `fit_names` ("block.param"; empty: nothing) by Levenberg–Marquardt, and,
+/// if `diagnose` and the log has the position and derived velocity, rank the missing effects of the primary
+/// output's residual with the fitted parameters' sensitivities as base regressors (DiagnoseMissingEffects). `log`
+/// must come from ReadMeasurementFor with the same settings. @throws std::invalid_argument as ModelComparison
+/// (missing columns), ResolveFreeParameters (unknown parameter) and DiagnoseMissingEffects.
+DiagnosedComparison CompareAndDiagnose(const nlohmann::json& diagram, const std::filesystem::path& base_directory,
+                                       const std::string& source, const MeasurementLog& log,
+                                       const MeasurementSettings& settings,
+                                       const std::vector<std::string>& fit_names, bool diagnose = true);
+
+/// Jacobian d(primary model output)/d(params) by central differences at `values` (N × p).
+Eigen::MatrixXd OutputJacobian(const ModelComparison& comparison, const std::vector<FreeParameter>& params,
+                               const Eigen::Ref<const Eigen::VectorXd>& values);
+
+}  // namespace mb

@@ -1,0 +1,340 @@
+#include "tools/workflow/improve.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "engine/diagram_document.h"
+#include "models/diagnosis/effect_registry.h"
+#include "tools/workflow/suggest.h"
+
+namespace mb {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+std::vector<std::string> FreeList(const json& diagram) { return DiagramDocument(diagram).FreeParameters(); }
+
+bool HasElement(const json& diagram, const std::string& name) { return DiagramDocument(diagram).Has(name); }
+
+std::string BlockOf(const std::string& parameter) { return parameter.substr(0, parameter.find('.')); }
+
+// The held-out score of a fitted diagram on the validation record: only the record's parameters refit.
+HeldOutScore ScoreHeldOut(const json& diagram, const fs::path& base_directory, const std::string& source,
+                          const MeasurementLog& validation, const ImproveSettings& settings) {
+  ModelComparison comparison(diagram, base_directory, source, validation, settings.measurement.column_map);
+  if (ExperimentMode(diagram) == "equation_error") {
+    comparison.set_output_filter(settings.measurement.derivative_cutoff_hz);
+  }
+  std::vector<std::string> names;
+  for (const auto& n : settings.validation_free.empty() ? RecordParameters(diagram) : settings.validation_free) {
+    if (HasElement(diagram, BlockOf(n))) names.push_back(n);  // an effect element not added yet: nothing to refit
+  }
+  HeldOutScore score;
+  if (names.empty()) {
+    score.outputs = comparison.Simulate();
+    return score;
+  }
+  const auto params = ResolveFreeParameters(comparison.diagram_json(), names);
+  score.fit = FitParameters(comparison, params);
+  score.outputs = comparison.Simulate(params, score.fit->estimate);
+  return score;
+}
+
+// The held-out RMSE of a step: the validation record's, else the diagnosis' cross-validated one.
+double HeldOutRmse(const ImproveStep& step) {
+  if (step.validation) return step.validation->rmse();
+  if (step.training.diagnosis) return step.training.diagnosis->heldout_rmse_base;
+  return step.training.after.front().rmse;
+}
+
+// Runs one amended (or the input) diagram through the training comparison and the held-out score.
+ImproveStep Evaluate(const json& diagram, const fs::path& base_directory, const std::string& source,
+                     const MeasurementLog& training, const MeasurementLog* validation,
+                     const ImproveSettings& settings) {
+  ImproveStep step;
+  step.training =
+      CompareAndDiagnose(diagram, base_directory, source, training, settings.measurement, FreeList(diagram));
+  if (validation) step.validation = ScoreHeldOut(step.training.fitted_diagram, base_directory, source, *validation, settings);
+  step.rmse_train = step.training.after.front().rmse;
+  step.rmse_heldout = HeldOutRmse(step);
+  return step;
+}
+
+// The diagram amended with `effect`: suggested on the comparison's copy (the log's experiment, which the
+// delay block's sample time may need), then given back the input's own defaultExperiment; the element's name.
+json Amend(const ImproveStep& current, const DiagnosedEffect& effect, bool refine_periods, std::string* element) {
+  DiagramDocument amended(
+      SuggestAmendedDiagram(current.training.compared_diagram, effect, current.training.after.front().connector));
+  amended.CopyExperimentFrom(DiagramDocument(current.training.fitted_diagram));
+  const auto before = FreeList(current.training.fitted_diagram);
+  for (const auto& name : amended.FreeParameters()) {
+    if (std::find(before.begin(), before.end(), name) == before.end()) {
+      *element = BlockOf(name);
+      break;
+    }
+  }
+  if (refine_periods && !element->empty()) {
+    for (const auto& parameter : LookupEffect(effect.effect).block->refinable) {
+      amended.AddFreeParameter(*element + "." + parameter);
+    }
+  }
+  return amended.json();
+}
+
+}  // namespace
+
+std::string DescribeParameters(const std::map<std::string, double>& parameters) {
+  std::string s;
+  for (const auto& [k, v] : parameters) s += fmt::format("{}{} = {:.5g}", s.empty() ? "" : ", ", k, v);
+  return s;
+}
+
+std::vector<std::string> RecordParameters(const json& diagram) {
+  std::vector<std::string> names;
+  const DiagramDocument document(diagram);
+  for (const auto& element : document.ElementNames()) {
+    for (const auto& parameter : RecordSpecificParameters(document.TypeOf(element))) {
+      names.push_back(element + "." + parameter);
+    }
+  }
+  return names;
+}
+
+std::string ToString(ImproveStop stop) {
+  switch (stop) {
+    case ImproveStop::kNoMissingEffect: return "no_missing_effect";
+    case ImproveStop::kCatalogueExhausted: return "catalogue_exhausted";
+    case ImproveStop::kNoHeldOutGain: return "no_heldout_gain";
+    case ImproveStop::kMaxEffects: return "max_effects";
+  }
+  return "?";
+}
+
+const ImproveStep& ImproveResult::last_accepted() const {
+  for (auto it = steps.rbegin(); it != steps.rend(); ++it) {
+    if (it->accepted) return *it;
+  }
+  throw std::logic_error("ImproveResult without steps");
+}
+
+json ImproveStep::ToJson() const {
+  json j = {{"round", round},
+            {"accepted", accepted},
+            {"effect", effect.empty() ? json(nullptr) : json(effect)},
+            {"element", element.empty() ? json(nullptr) : json(element)},
+            {"verdict", verdict},
+            {"output", training.after.front().connector},
+            {"unit", unit()},
+            {"rmse",
+             {{"train_before", rmse_train_before},
+              {"train", rmse_train},
+              {"heldout_before", rmse_heldout_before},
+              {"heldout", rmse_heldout},
+              {"heldout_source", validation ? "validation record" : "cross-validation on the measurement"}}}};
+  if (diagnosed) {
+    j["diagnosis"] = {{"share_explained", diagnosed->score},
+                      {"cumulative_share", diagnosed->cumulative_share},
+                      {"parameters", diagnosed->parameters},
+                      {"description", diagnosed->description}};
+  }
+  if (training.fit) {
+    // The new element's parameters first (the key ones), then every refit parameter.
+    json key = json::array(), all = training.fit->ToJson();
+    for (const auto& p : all["parameters"]) {
+      if (!element.empty() && BlockOf(p["name"].get<std::string>()) == element) key.push_back(p);
+    }
+    j["key_parameters"] = key;
+    j["fit"] = all;
+  }
+  if (validation && validation->fit) j["validation_fit"] = validation->fit->ToJson();
+  if (training.diagnosis) {
+    j["diagnosis_after"] = {{"missing_effect_found", training.diagnosis->missing_effect_found},
+                            {"summary", training.diagnosis->summary},
+                            {"heldout_rmse_cross_validated", training.diagnosis->heldout_rmse_base},
+                            {"ljung_box_p", training.diagnosis->whiteness_before.p_value}};
+  }
+  return j;
+}
+
+json ImproveResult::ToJson() const {
+  json steps_json = json::array(), table = json::array();
+  int k = 0;
+  for (const auto& s : steps) {
+    json j = s.ToJson();
+    if (s.accepted) {
+      j["step"] = k;
+      table.push_back({{"step", k},
+                       {"effect", s.effect.empty() ? json(nullptr) : json(s.effect)},
+                       {"rmse_train", s.rmse_train},
+                       {"rmse_heldout", s.rmse_heldout}});
+      ++k;
+    }
+    steps_json.push_back(j);
+  }
+  return {{"steps", steps_json},
+          {"accepted", table},
+          {"stop", ToString(stop)},
+          {"stop_reason", stop_reason},
+          {"residual_not_white", residual_not_white}};
+}
+
+namespace {
+
+void CheckImproveSettings(const ImproveSettings& settings) {
+  if (settings.max_effects < 0) throw std::invalid_argument("--max-effects must be >= 0");
+  if (settings.max_trials_per_round < 1) throw std::invalid_argument("--max-trials must be >= 1");
+  if (!(settings.min_relative_gain >= 0.0 && settings.min_relative_gain < 1.0)) {
+    throw std::invalid_argument("--min-gain must be in [0, 1), a share of the held-out RMSE (e.g. 0.002)");
+  }
+}
+
+// The ranked effects of `current`'s diagnosis that a round tries (those with a block, at most max_trials_per_round),
+// or none with `result`'s stop and reason set.
+std::vector<const DiagnosedEffect*> RoundCandidates(const ImproveStep& current, const ImproveSettings& settings,
+                                                    ImproveResult* result) {
+  const DiagnosisResult* diagnosis = current.training.diagnosis ? &*current.training.diagnosis : nullptr;
+  if (!diagnosis) {
+    result->stop = ImproveStop::kNoMissingEffect;
+    result->stop_reason = current.training.diagnosis_skipped;
+    return {};
+  }
+  if (!diagnosis->missing_effect_found) {
+    result->stop = ImproveStop::kNoMissingEffect;
+    result->stop_reason = diagnosis->summary;
+    return {};
+  }
+  std::vector<const DiagnosedEffect*> candidates;
+  for (const auto& e : diagnosis->effects) {
+    if (HasEffectBlock(e.effect)) candidates.push_back(&e);
+  }
+  if (candidates.empty()) {
+    result->stop = ImproveStop::kCatalogueExhausted;
+    result->stop_reason =
+        fmt::format("the ranked effects have no block to add (first: {})", diagnosis->effects.front().effect);
+    return {};
+  }
+  if (static_cast<int>(candidates.size()) > settings.max_trials_per_round) {
+    candidates.resize(static_cast<std::size_t>(settings.max_trials_per_round));
+  }
+  return candidates;
+}
+
+// One trial of a round: `current` amended with `effect`, refit jointly, scored held out and accepted when the
+// held-out RMSE falls by min_relative_gain; a suggestion or refit that fails is a rejected step with the reason.
+ImproveStep TryEffect(const ImproveStep& current, const DiagnosedEffect& effect, int round,
+                      const fs::path& base_directory, const std::string& source, const MeasurementLog& training,
+                      const MeasurementLog* validation, const ImproveSettings& settings) {
+  ImproveStep step;
+  std::string element;
+  try {
+    const json amended = Amend(current, effect, settings.refine_periods, &element);
+    step = Evaluate(amended, base_directory, source, training, validation, settings);
+  } catch (const std::exception& e) {
+    step = ImproveStep{};
+    step.training = current.training;
+    step.validation = current.validation;
+    step.rmse_train = current.rmse_train;
+    step.rmse_heldout = current.rmse_heldout;
+    step.accepted = false;
+    step.verdict = fmt::format("could not be added: {}", e.what());
+  }
+  step.round = round;
+  step.effect = effect.effect;
+  step.diagnosed = effect;
+  step.element = element;
+  step.rmse_train_before = current.rmse_train;
+  step.rmse_heldout_before = current.rmse_heldout;
+  if (step.verdict.empty()) {
+    const double gain = 1.0 - step.rmse_heldout / current.rmse_heldout;
+    step.accepted = gain >= settings.min_relative_gain;
+    step.verdict = fmt::format("{}: held-out RMSE {:.4g} → {:.4g} {} ({:+.2f} %, {} {:.2f} %)",
+                               step.accepted ? "accepted" : "rejected", current.rmse_heldout, step.rmse_heldout,
+                               step.unit(), -100.0 * gain, step.accepted ? "≥" : "<",
+                               100.0 * settings.min_relative_gain);
+  }
+  return step;
+}
+
+// When the loop stopped before max_effects: is the last accepted residual still not white? Then the structure is
+// outside the catalogue, and a non-parametric component (TISO-GPR on x, ẋ; fallback.h) can take it.
+void NoteResidualWhiteness(ImproveResult* result) {
+  const ImproveStep& last = result->last_accepted();
+  if (!last.training.diagnosis || result->stop == ImproveStop::kMaxEffects) return;
+  result->residual_not_white = !last.training.diagnosis->whiteness_before.white;
+  if (result->residual_not_white) {
+    result->stop_reason +=
+        fmt::format("; the residual is still not white (Ljung–Box p = {:.2g}): structure outside the catalogue",
+                    last.training.diagnosis->whiteness_before.p_value);
+  }
+}
+
+}  // namespace
+
+ImproveResult ImproveModel(const json& diagram, const fs::path& base_directory, const std::string& source,
+                           const MeasurementLog& training, const MeasurementLog* validation,
+                           const ImproveSettings& settings, const std::function<void(const std::string&)>& progress,
+                           const ImproveStepCallback& on_step) {
+  CheckImproveSettings(settings);
+  const auto say = [&](const std::string& line) {
+    if (progress) progress(line);
+  };
+  // Validate the held-out record before any fitting: a wrong column shows in a second, not after the loop.
+  if (validation) ModelComparison(diagram, base_directory, source, *validation, settings.measurement.column_map);
+
+  ImproveResult result;
+  const auto finish = [&](ImproveStep step) {
+    result.steps.push_back(std::move(step));
+    if (on_step) on_step(result.steps.back(), result);
+  };
+
+  say(fmt::format("step 0: refitting {} free parameter(s) of the diagram as given on {} ({} samples) …",
+                  FreeList(diagram).size(), training.source(), training.rows()));
+  ImproveStep step0 = Evaluate(diagram, base_directory, source, training, validation, settings);
+  step0.rmse_train_before = step0.training.before.front().rmse;
+  step0.rmse_heldout_before = step0.rmse_heldout;
+  step0.verdict = "the diagram as given, its free parameters refit";
+  say(fmt::format("step 0: RMSE {:.4g} → {:.4g} {} after the refit; held out {:.4g} {}", step0.rmse_train_before,
+                  step0.rmse_train, step0.unit(), step0.rmse_heldout, step0.unit()));
+  finish(std::move(step0));
+
+  for (int round = 1, accepted = 0;; ++round) {
+    if (accepted >= settings.max_effects) {
+      result.stop = ImproveStop::kMaxEffects;
+      result.stop_reason = fmt::format("stopped after --max-effects {} effect(s)", settings.max_effects);
+      break;
+    }
+    const ImproveStep current = result.last_accepted();  // a copy: result.steps grows below
+    const std::vector<const DiagnosedEffect*> candidates = RoundCandidates(current, settings, &result);
+    if (candidates.empty()) break;
+    bool accepted_this_round = false;
+    for (const DiagnosedEffect* effect : candidates) {
+      say(fmt::format("round {}: trying {} ({}; {:.1f} % of the held-out residual) — amend, refit jointly …", round,
+                      effect->effect, DescribeParameters(effect->parameters), 100.0 * effect->score));
+      ImproveStep step = TryEffect(current, *effect, round, base_directory, source, training, validation, settings);
+      say(fmt::format("round {}: {} {}; train RMSE {:.4g} → {:.4g} {}", round, effect->effect, step.verdict,
+                      step.rmse_train_before, step.rmse_train, step.unit()));
+      accepted_this_round = step.accepted;
+      finish(std::move(step));
+      if (accepted_this_round) break;
+    }
+    if (!accepted_this_round) {
+      result.stop = ImproveStop::kNoHeldOutGain;
+      result.stop_reason = fmt::format(
+          "none of the {} effect(s) tried in round {} lowered the held-out RMSE by {:.2f} % or more", candidates.size(),
+          round, 100.0 * settings.min_relative_gain);
+      break;
+    }
+    ++accepted;
+  }
+  NoteResidualWhiteness(&result);
+  say("stop: " + result.stop_reason);
+  return result;
+}
+
+}  // namespace mb

@@ -1,0 +1,120 @@
+#pragma once
+// `motionblocks improve`: the loop compare → suggest → fit → compare in one command (DIAGNOSIS.md, forward
+// selection with the physical effect blocks in the diagram instead of regressors).
+//
+//   step 0   the diagram as given, its declared free parameters refit on the measurement (CompareAndDiagnose,
+//            the path `compare` takes), scored on the measurement and on the held-out record;
+//   round k  the ranked missing effects of the last accepted step's residual are tried in order: the diagram is
+//            amended with the effect's block (SuggestAmendedDiagram), every free parameter is refit jointly
+//            (base + all effects so far), and the amended diagram is scored again. The first effect that lowers
+//            the held-out RMSE by at least min_relative_gain is accepted and becomes step k; the ones before it
+//            are rejected (reported, not kept).
+//   stop     when the diagnosis finds no missing effect, when no ranked effect lowers the held-out error, or
+//            after max_effects accepted effects.
+//
+// Held-out error. With a validation record: the RMSE of the primary output on that record, where only the
+// parameters that belong to the record are refit — the position_offset x₀ of every position_periodic /
+// velocity_dependent_ripple element (an incremental encoder is zeroed anew at each power-up; the ripple's shape
+// belongs to the machine, its phase to the record) — everything else keeps its value from the measurement.
+// Without one: the contiguous-block (5-fold) cross-validated RMSE of the diagnosis' linearised refit of the
+// step's free parameters on the measurement (DiagnosisResult::heldout_rmse_base).
+
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "models/diagnosis/diagnosis.h"
+#include "models/diagnosis/measurement_log.h"
+#include "tools/workflow/comparison.h"
+
+namespace mb {
+
+struct ImproveSettings {
+  MeasurementSettings measurement;  ///< columns, position column, derivative cut-off (as compare)
+  int max_effects = 3;              ///< accepted effects at most (rounds), >= 0
+  int max_trials_per_round = 3;     ///< ranked effects (with a block) tried per round before giving up, >= 1
+  double min_relative_gain = 0.002;  ///< accept an effect when held-out RMSE falls by at least this share, [0, 1)
+  /// Free the refinable parameters of an added element (EffectBlockTemplate::refinable: the period of a
+  /// position-periodic ripple) in the joint refit (as suggest frees a vibration's frequency): the periodogram's
+  /// period is refined and gets a standard error.
+  bool refine_periods = true;
+  /// Parameters refit on the validation record ("block.param"); empty: RecordParameters of each step's diagram.
+  std::vector<std::string> validation_free;
+};
+
+/// The parameters that belong to a record rather than to the machine: "<element>.<parameter>" of every element whose
+/// block type an effect's block template marks record-specific (RecordSpecificParameters, effect_registry.h: the
+/// position_offset of the ripple blocks, the encoder's zero).
+std::vector<std::string> RecordParameters(const nlohmann::json& diagram);
+
+/// A diagnosed effect's parameters in words: "period = 0.0225, amplitude = 1.5" (sorted by name, 5 digits).
+std::string DescribeParameters(const std::map<std::string, double>& parameters);
+
+/// A diagram scored on the validation record.
+struct HeldOutScore {
+  std::vector<ComparedOutput> outputs;  ///< the first is the primary
+  std::optional<FitResult> fit;         ///< of the record's parameters (none: nothing refit)
+  double rmse() const { return outputs.front().rmse; }
+};
+
+/// One diagram of the loop: step 0 (the input) or an amended one, accepted or rejected.
+struct ImproveStep {
+  int round = 0;                       ///< 0 for the diagram as given
+  bool accepted = true;
+  std::string effect;                  ///< catalogue name of the added effect ("" at step 0)
+  std::optional<DiagnosedEffect> diagnosed;  ///< the effect as the previous step's diagnosis ranked it
+  std::string element;                 ///< name of the element the suggestion added
+  std::string verdict;                 ///< why accepted or rejected, in words
+  DiagnosedComparison training;        ///< joint refit and diagnosis on the measurement
+  std::optional<HeldOutScore> validation;
+  double rmse_train_before = 0.0;      ///< primary output, the last accepted step's after its refit
+  double rmse_train = 0.0;             ///< after this step's refit
+  double rmse_heldout_before = 0.0;    ///< the last accepted step's held-out RMSE
+  double rmse_heldout = 0.0;           ///< this step's (validation record, or cross-validated: see above)
+  /// Per step JSON for improve.json: effect, its diagnosis (share explained, parameters), the new element's
+  /// fitted parameters with standard errors and 95 % intervals, RMSE train/held-out before and after.
+  nlohmann::json ToJson() const;
+  /// The primary output's unit.
+  const std::string& unit() const { return training.after.front().unit; }
+};
+
+enum class ImproveStop {
+  kNoMissingEffect,     ///< the diagnosis finds nothing (residual explained, or white)
+  kCatalogueExhausted,  ///< effects found, but none has a block SuggestAmendedDiagram can insert
+  kNoHeldOutGain,       ///< no tried effect lowered the held-out error
+  kMaxEffects,          ///< max_effects accepted
+};
+std::string ToString(ImproveStop stop);
+
+struct ImproveResult {
+  std::vector<ImproveStep> steps;  ///< in the order tried; steps[0] is the diagram as given
+  ImproveStop stop = ImproveStop::kMaxEffects;
+  std::string stop_reason;         ///< in words, with the last diagnosis' whiteness when it matters
+  /// When the loop stops with a residual that is still not white (Ljung–Box p < 0.01) and no catalogue effect
+  /// explains it: the place for a non-parametric component (TISO-GPR on x, ẋ) to take over.
+  bool residual_not_white = false;
+  const ImproveStep& first() const { return steps.front(); }
+  const ImproveStep& last_accepted() const;
+  nlohmann::json ToJson() const;
+};
+
+/// Called as each step completes (accepted or rejected), before the next starts: progress and files.
+using ImproveStepCallback = std::function<void(const ImproveStep& step, const ImproveResult& so_far)>;
+
+/// Runs the loop on `diagram` (its file's folder `base_directory`, `source` for messages) against `training`
+/// and, if given, `validation` (both read with ReadMeasurementFor and the same settings). `progress` gets one line
+/// per stage (stderr in the command). @throws std::invalid_argument for settings out of range, a validation record
+/// the diagram cannot be compared with (checked before any fitting; the message names the file), and as
+/// CompareAndDiagnose for step 0. An amended diagram that fails (a suggestion that needs an input the diagram
+/// lacks, a diverging refit) is a rejected step with the reason, not an error.
+ImproveResult ImproveModel(const nlohmann::json& diagram, const std::filesystem::path& base_directory,
+                           const std::string& source, const MeasurementLog& training,
+                           const MeasurementLog* validation, const ImproveSettings& settings,
+                           const std::function<void(const std::string&)>& progress = {},
+                           const ImproveStepCallback& on_step = {});
+
+}  // namespace mb

@@ -1,0 +1,83 @@
+#include "tools/workflow/measurement.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "engine/diagram_document.h"
+#include "models/diagnosis/signal_processing.h"
+
+namespace mb {
+
+using nlohmann::json;
+
+MeasurementLog ReadMeasurementWithDerivatives(const std::string& path, const std::string& position_column,
+                                              double derivative_cutoff_hz,
+                                              const std::vector<std::string>& filter_columns) {
+  MeasurementLog raw = ReadMeasurementLog(path);
+  const double dt = MedianTimeStep(raw.time());
+  std::vector<std::string> names = raw.names();
+  std::vector<Eigen::VectorXd> columns;
+  for (const auto& name : names) {
+    const bool filter = std::find(filter_columns.begin(), filter_columns.end(), name) != filter_columns.end();
+    columns.push_back(filter ? ZeroPhaseLowPass(raw.column(name), dt, derivative_cutoff_hz) : raw.column(name));
+  }
+  MeasurementLog log(names, columns, raw.source());
+  if (log.has_column(position_column) &&
+      (!log.has_column(kDerivedVelocityColumn) || !log.has_column(kDerivedAccelerationColumn))) {
+    const MotionDerivatives m = DeriveMotion(log.time(), log.column(position_column), derivative_cutoff_hz);
+    if (!log.has_column(kDerivedVelocityColumn)) log.AddColumn(kDerivedVelocityColumn, m.velocity);
+    if (!log.has_column(kDerivedAccelerationColumn)) log.AddColumn(kDerivedAccelerationColumn, m.acceleration);
+  }
+  return log;
+}
+
+std::vector<std::string> OutputColumns(const json& diagram, const std::map<std::string, std::string>& column_map) {
+  std::vector<std::string> out;
+  for (const auto& c : DiagramDocument(diagram).Connectors("output")) {
+    auto it = column_map.find(c.name);
+    out.push_back(it != column_map.end() ? it->second : c.measurement);
+  }
+  return out;
+}
+
+InputSeries SeriesOf(const MeasurementLog& log, const std::string& column) {
+  const auto& t = log.time();
+  const auto& v = log.column(column);
+  return InputSeries{std::vector<double>(t.data(), t.data() + t.size()), std::vector<double>(v.data(), v.data() + v.size())};
+}
+
+void FeedInputsFromFiles(const Diagram& diagram, const std::vector<std::string>& specs, Simulator* sim) {
+  for (const auto& spec : specs) {
+    const auto eq = spec.find('=');
+    if (eq == std::string::npos) {
+      throw std::invalid_argument(fmt::format("--input '{}': write connector=FILE or connector=FILE:COLUMN", spec));
+    }
+    const std::string connector = spec.substr(0, eq);
+    std::string file = spec.substr(eq + 1);
+    std::string column;
+    if (const auto colon = file.rfind(':'); colon != std::string::npos) {
+      column = file.substr(colon + 1);
+      file = file.substr(0, colon);
+    }
+    if (column.empty()) {
+      for (const auto& in : diagram.inputs()) {
+        if (in.name == connector) column = in.measurement;
+      }
+    }
+    const MeasurementLog log = ReadMeasurementLog(file, MeasurementLogOptions{{column}});
+    sim->SetInput(connector, SeriesOf(log, column));
+  }
+}
+
+std::string ExperimentMode(const json& diagram) { return DiagramDocument(diagram).ExperimentMode(); }
+
+MeasurementLog ReadMeasurementFor(const json& diagram, const std::string& path, const MeasurementSettings& settings) {
+  return ReadMeasurementWithDerivatives(
+      path, settings.position_column, settings.derivative_cutoff_hz,
+      ExperimentMode(diagram) == "equation_error" ? OutputColumns(diagram, settings.column_map)
+                                                  : std::vector<std::string>{});
+}
+
+}  // namespace mb

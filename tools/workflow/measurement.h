@@ -1,0 +1,59 @@
+#pragma once
+// Measurement: a log read for a diagram (read, map connectors, derive motion). What compare, fit and improve share:
+// the log with velocity and acceleration derived from the position (zero-phase low-pass + central differences, the
+// EMPS benchmark's IDIM-LS), the measured columns a diagram's connectors are read from (their "measurement" names
+// or --map), and the experiment mode that decides which columns are filtered.
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/diagram.h"
+#include "engine/simulator.h"
+#include "models/diagnosis/measurement_log.h"
+
+namespace mb {
+
+/// Columns compare derives when the log lacks them: velocity and acceleration from the position column,
+/// zero-phase low-pass + central differences (the EMPS benchmark's IDIM-LS).
+inline constexpr const char* kDerivedVelocityColumn = "velocity_m_s";
+inline constexpr const char* kDerivedAccelerationColumn = "acceleration_m_s2";
+
+/// Reads a measurement log and adds the derived velocity/acceleration columns (if absent and the position
+/// column exists). Columns named in `filter_columns` (those present) are passed through the same zero-phase
+/// low-pass as the position — IDIM-LS's parallel filtering, so that an equation-error residual compares force
+/// and motion in the same band. @throws as ReadMeasurementLog.
+MeasurementLog ReadMeasurementWithDerivatives(const std::string& path, const std::string& position_column,
+                                              double derivative_cutoff_hz,
+                                              const std::vector<std::string>& filter_columns = {});
+
+/// The measured columns a diagram's output connectors are compared with (their "measurement" names, or the
+/// --map override).
+std::vector<std::string> OutputColumns(const nlohmann::json& diagram,
+                                       const std::map<std::string, std::string>& column_map);
+
+/// A measured column as a simulator input (time_s and the column). @throws as MeasurementLog::column.
+InputSeries SeriesOf(const MeasurementLog& log, const std::string& column);
+
+/// Feeds `run --input connector=FILE[:COLUMN]` specs. @throws std::invalid_argument on a malformed spec.
+void FeedInputsFromFiles(const Diagram& diagram, const std::vector<std::string>& specs, Simulator* sim);
+
+/// How a diagram is read against a measurement log: what compare, fit and improve share.
+struct MeasurementSettings {
+  std::map<std::string, std::string> column_map;  ///< connector → column overrides (--map)
+  std::string position_column = "position_m";      ///< measured position [m], source of velocity/acceleration
+  double derivative_cutoff_hz = 100.0;             ///< zero-phase low-pass before differentiating [Hz]
+};
+
+/// The diagram's experiment.mode: "equation_error" or "simulation" (the default).
+std::string ExperimentMode(const nlohmann::json& diagram);
+
+/// Reads `path` for `diagram`: ReadMeasurementWithDerivatives, and in equation-error mode the measured outputs
+/// through the derivative low-pass too (IDIM-LS's parallel filtering). @throws as ReadMeasurementLog (naming the
+/// file, line and column).
+MeasurementLog ReadMeasurementFor(const nlohmann::json& diagram, const std::string& path,
+                                  const MeasurementSettings& settings);
+
+}  // namespace mb

@@ -1,0 +1,117 @@
+#include "tools/workflow/suggest.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "engine/diagram_document.h"
+#include "models/diagnosis/effect_registry.h"
+
+namespace mb {
+
+using nlohmann::json;
+
+bool HasEffectBlock(const std::string& effect) {
+  const EffectType* type = EffectRegistry::Global().Find(effect);
+  return type && type->block;
+}
+
+namespace {
+
+std::string InputConnectorWithUnit(const DiagramDocument& diagram, const std::vector<std::string>& units) {
+  for (const auto& c : diagram.Connectors("input")) {
+    if (std::find(units.begin(), units.end(), c.unit) != units.end()) return c.name;
+  }
+  return {};
+}
+
+// The input connector carrying position ("m"), velocity ("m/s") or acceleration ("m/s^2"); throws naming what to add.
+std::string NeedInput(const DiagramDocument& diagram, MotionInput input, const std::string& effect) {
+  std::string quantity;
+  std::vector<std::string> units;
+  switch (input) {
+    case MotionInput::kPosition: quantity = "position"; units = {"m"}; break;
+    case MotionInput::kVelocity: quantity = "velocity"; units = {"m/s"}; break;
+    case MotionInput::kAcceleration: quantity = "acceleration"; units = {"m/s^2", "m/s²", "m/s2"}; break;
+  }
+  const std::string name = InputConnectorWithUnit(diagram, units);
+  if (name.empty()) {
+    throw std::invalid_argument(fmt::format("effect '{}' needs the {}: add an input connector with unit \"{}\"",
+                                            effect, quantity, units.front()));
+  }
+  return name;
+}
+
+// Adds `element` (its output port `port`) to the signal feeding output connector `output`, through a new sum named
+// "with_<element>". Returns the element's name.
+std::string AddToOutput(DiagramDocument* out, const ElementSpec& element, const std::string& output,
+                        const std::string& port) {
+  const std::string name = out->Add(element);
+  out->SumInto({"", output}, {name, port}, "with_" + name);
+  return name;
+}
+
+// Puts `element` (one input, one output) between the signal feeding output connector `output` and the connector.
+std::string InsertBeforeOutput(DiagramDocument* out, const ElementSpec& element, const std::string& output) {
+  const std::string name = out->Add(element);
+  out->InsertBefore({"", output}, name);
+  return name;
+}
+
+void Wire(DiagramDocument* out, const std::string& connector, const std::string& element, const std::string& port) {
+  out->Connect({"", connector}, {element, port});
+}
+
+// The diagram's time step: the solver's fixed step, else the default experiment's step size.
+double DiagramStep(const DiagramDocument& diagram, const std::string& effect, const std::string& block) {
+  if (const auto step = diagram.SolverStep()) return *step;
+  if (const auto step = diagram.ExperimentStepSize()) return *step;
+  throw std::invalid_argument(fmt::format(
+      "effect '{}' needs the diagram's sample period for its {} block: set solver.step or "
+      "defaultExperiment.stepSize",
+      effect, block));
+}
+
+}  // namespace
+
+json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, const std::string& output) {
+  const EffectType& type = LookupEffect(effect.effect);
+  if (!type.block) {
+    throw std::invalid_argument(
+        fmt::format("no block for effect '{}' yet: add it by hand (docs/diagnosis.md)", effect.effect));
+  }
+  const EffectBlockTemplate& block = *type.block;
+  DiagramDocument out(diagram);
+  std::vector<std::string> inputs;
+  for (const auto& [input, port] : block.inputs) inputs.push_back(NeedInput(out, input, effect.effect));
+  ElementSpec element{block.element_name, block.block_type, block.parameters(effect), std::nullopt, effect.description};
+  if (block.discrete) element.sample_time = std::make_pair(DiagramStep(out, effect.effect, block.element_name), 0.0);
+  const std::string name = block.placement == BlockPlacement::kInsertBeforeOutput
+                               ? InsertBeforeOutput(&out, element, output)
+                               : AddToOutput(&out, element, output, block.output_port);
+  for (std::size_t k = 0; k < inputs.size(); ++k) Wire(&out, inputs[k], name, block.inputs[k].second);
+  for (const auto& f : block.free) out.AddFreeParameter(name + "." + f);
+  out.AppendNote(fmt::format(" Amended by motionblocks compare --suggest: added '{}' ({}).", name, effect.effect));
+  return out.json();
+}
+
+json SuggestGprFallbackBlock(const json& diagram, const std::string& model_path, const std::string& output) {
+  DiagramDocument out(diagram);
+  const std::string position = NeedInput(out, MotionInput::kPosition, "nonparametric_fallback");
+  const std::string velocity = NeedInput(out, MotionInput::kVelocity, "nonparametric_fallback");
+  const std::string name = AddToOutput(
+      &out,
+      {"residual_gp", "gpr", {{"model", model_path}}, std::nullopt,
+       "TISO-GPR on (x, v) learned from what the catalogue's effects leave of the residual"},
+      output, "mean");
+  Wire(&out, position, name, "x");
+  Wire(&out, velocity, name, "xdot");
+  out.AppendDescription(
+      fmt::format(" Amended by motionblocks compare --suggest: added '{}' (non-parametric fallback).", name));
+  return out.json();
+}
+
+}  // namespace mb
