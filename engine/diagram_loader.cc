@@ -10,6 +10,7 @@
 #include "engine/file_access.h"
 #include "engine/json_limits.h"
 #include "engine/registry.h"
+#include "engine/units.h"
 
 namespace mb {
 
@@ -492,7 +493,7 @@ class DiagramBuilder {
         continue;
       }
       const std::string unit = SignalUnit(*start);
-      if (!unit.empty() && !in.unit.empty() && unit != in.unit) {
+      if (!unit.empty() && !in.unit.empty() && !PortAcceptsUnit(in.unit, unit)) {
         Problem(fmt::format("{}: unit mismatch: {} is in '{}', input {}.{} expects '{}' (insert a gain to convert)",
                             ptr, d_.SignalName(*start), unit, end_element, in.name, in.unit));
         continue;

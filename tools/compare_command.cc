@@ -67,8 +67,10 @@ void AddResidualFigures(HtmlReport* report, const fs::path& out, const Measureme
     rx.series.push_back({ToStd(log.column(position_column)), ToStd(residual_after), "residual", "dots"});
     report->AddFigure(rx, out);
   }
-  if (log.has_column(kDerivedVelocityColumn)) {
-    const BinnedResidual b = BinResidual(log.column(kDerivedVelocityColumn), residual_after, 40);
+  const std::string velocity_column = DerivedVelocityColumn(position_column);
+  const std::string acceleration_column = DerivedAccelerationColumn(position_column);
+  if (log.has_column(velocity_column)) {
+    const BinnedResidual b = BinResidual(log.column(velocity_column), residual_after, 40);
     std::vector<double> xs, ys;
     for (Eigen::Index i = 0; i < b.centers.size(); ++i) {
       if (b.count(i) > 0) {
@@ -78,14 +80,14 @@ void AddResidualFigures(HtmlReport* report, const fs::path& out, const Measureme
     }
     Figure rv{"residual_vs_velocity.png", "Residual against velocity (binned mean: the friction shape)",
               "velocity [m/s]", fmt::format("residual [{}]", before.unit), {}};
-    rv.series.push_back({ToStd(log.column(kDerivedVelocityColumn)), ToStd(residual_after), "samples", "dots"});
+    rv.series.push_back({ToStd(log.column(velocity_column)), ToStd(residual_after), "samples", "dots"});
     rv.series.push_back({xs, ys, "bin mean", "lines"});
     report->AddFigure(rv, out);
   }
-  if (log.has_column(kDerivedAccelerationColumn)) {
+  if (log.has_column(acceleration_column)) {
     Figure ra{"residual_vs_acceleration.png", "Residual against acceleration (a slope: mass mismatch)",
               "acceleration [m/s²]", fmt::format("residual [{}]", before.unit), {}};
-    ra.series.push_back({ToStd(log.column(kDerivedAccelerationColumn)), ToStd(residual_after), "samples", "dots"});
+    ra.series.push_back({ToStd(log.column(acceleration_column)), ToStd(residual_after), "samples", "dots"});
     report->AddFigure(ra, out);
   }
   if (diagnosis && !diagnosis->position_peaks.empty()) {
@@ -193,6 +195,7 @@ void RunCompare(const CompareOptions& o) {
     result["summary"] = diagnosis_skipped;
   }
   result["diagnosis"] = ranked;
+  result["notes"] = compared.notes;  // the intake's (merged rows, resampling, gaps), then the diagnosis's
   if (fallback) {
     json j = fallback->ToJson();
     if (fallback->model) {
@@ -273,6 +276,7 @@ void RunCompare(const CompareOptions& o) {
     report.Paragraph(fmt::format("{}; {} iterations; condition number of the scaled Jacobian {:.3g}.", fit->status,
                                  fit->iterations, fit->condition_number));
   }
+  for (const auto& note : log.notes()) report.Paragraph("Measurement: " + note);
   report.Heading("Where the model fails: what is missing");
   if (diagnosis) {
     report.Paragraph(diagnosis->summary);
@@ -308,6 +312,7 @@ void RunCompare(const CompareOptions& o) {
     }
   }
   if (fallback) std::cout << fallback->description << "\n";
+  for (const auto& note : log.notes()) std::cout << "note: " << note << "\n";
   std::cout << fmt::format("wrote {}/compare.json and report.html\n", out.string());
 }
 
@@ -330,7 +335,7 @@ void SetupCompareCommand(CLI::App& app) {
                   "(e.g. velocity_dependent_ripple); when no effect is named but the TISO-GPR fallback helps, "
                   "--suggest adds its gpr block (nonparametric_fallback)");
   cmd->add_option("--write-fitted", o->write_fitted, "write the diagram with the fitted parameters here");
-  cmd->add_option("--position-column", o->position_column, "measured position column [m]")->capture_default_str();
+  cmd->add_option("--position-column", o->position_column, "measured position column [m, rad, rev or deg: the unit is the name's suffix]")->capture_default_str();
   cmd->add_option("--derivative-cutoff-hz", o->derivative_cutoff_hz,
                   "zero-phase low-pass cut-off before differentiating the position [Hz]")
       ->capture_default_str();

@@ -12,6 +12,7 @@
 
 #include "engine/diagram_document.h"
 #include "engine/diagram_loader.h"
+#include "engine/units.h"
 #include "models/diagnosis/signal_processing.h"
 
 namespace mb {
@@ -19,23 +20,47 @@ namespace mb {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
+namespace {
+
+// The unit part of a derived column's name: "m", "rad", "rev" or "deg" from the position column's name.
+std::string PositionUnitToken(const std::string& position_column) {
+  const std::string unit = ColumnUnit(position_column);
+  return QuantityOfUnit(unit) == MotionQuantity::kPosition ? unit : "m";
+}
+
+}  // namespace
+
+std::string DerivedVelocityColumn(const std::string& position_column) {
+  return "velocity_" + PositionUnitToken(position_column) + "_s";
+}
+
+std::string DerivedAccelerationColumn(const std::string& position_column) {
+  return "acceleration_" + PositionUnitToken(position_column) + "_s2";
+}
+
 MeasurementLog ReadMeasurementWithDerivatives(const std::string& path, const std::string& position_column,
                                               double derivative_cutoff_hz,
                                               const std::vector<std::string>& filter_columns) {
-  MeasurementLog raw = ReadMeasurementLog(path);
+  const MeasurementLog raw = IntakeMeasurementLog(path);
   const double dt = MedianTimeStep(raw.time());
+  const auto& segments = raw.segment_starts();
   std::vector<std::string> names = raw.names();
   std::vector<Eigen::VectorXd> columns;
   for (const auto& name : names) {
     const bool filter = std::find(filter_columns.begin(), filter_columns.end(), name) != filter_columns.end();
-    columns.push_back(filter ? ZeroPhaseLowPass(raw.column(name), dt, derivative_cutoff_hz) : raw.column(name));
+    columns.push_back(filter ? ZeroPhaseLowPassBySegment(raw.column(name), dt, derivative_cutoff_hz, segments)
+                             : raw.column(name));
   }
   MeasurementLog log(names, columns, raw.source());
-  if (log.has_column(position_column) &&
-      (!log.has_column(kDerivedVelocityColumn) || !log.has_column(kDerivedAccelerationColumn))) {
-    const MotionDerivatives m = DeriveMotion(log.time(), log.column(position_column), derivative_cutoff_hz);
-    if (!log.has_column(kDerivedVelocityColumn)) log.AddColumn(kDerivedVelocityColumn, m.velocity);
-    if (!log.has_column(kDerivedAccelerationColumn)) log.AddColumn(kDerivedAccelerationColumn, m.acceleration);
+  log.SetSegmentStarts(segments);
+  for (const auto& note : raw.notes()) log.AddNote(note);
+  const std::string velocity = DerivedVelocityColumn(position_column);
+  const std::string acceleration = DerivedAccelerationColumn(position_column);
+  if (log.has_column(position_column) && (!log.has_column(velocity) || !log.has_column(acceleration))) {
+    const MotionDerivatives m =
+        DeriveMotionBySegment(log.time(), log.column(position_column), derivative_cutoff_hz, segments);
+    if (!log.has_column(velocity)) log.AddColumn(velocity, m.velocity);
+    if (!log.has_column(acceleration)) log.AddColumn(acceleration, m.acceleration);
   }
   return log;
 }
@@ -203,7 +228,7 @@ std::vector<ComparedOutput> ModelComparison::Simulate() const {
       c.model(i) = st.size() < 2 ? sv[0] : sv[j] + w * (sv[j + 1] - sv[j]);
     }
     if (output_filter_hz_ > 0.0 && c.model.allFinite()) {
-      c.model = ZeroPhaseLowPass(c.model, MedianTimeStep(t), output_filter_hz_);
+      c.model = ZeroPhaseLowPassBySegment(c.model, MedianTimeStep(t), output_filter_hz_, log_.segment_starts());
     }
     if (!c.model.allFinite()) {
       throw std::runtime_error(fmt::format("the simulated output '{}' is not finite (NaN/Inf): the model diverged "
@@ -398,11 +423,13 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
   }
   out.after = comparison.Simulate();
   out.compared_diagram = comparison.diagram_json();
+  out.notes = log.notes();
   if (!diagnose) {
     out.diagnosis_skipped = "no diagnosis asked for";
     return out;
   }
-  if (!log.has_column(settings.position_column) || !log.has_column(kDerivedVelocityColumn)) {
+  const std::string velocity_column = DerivedVelocityColumn(settings.position_column);
+  if (!log.has_column(settings.position_column) || !log.has_column(velocity_column)) {
     out.diagnosis_skipped = fmt::format("no diagnosis: the log has no position column '{}' (set --position-column)",
                                         settings.position_column);
     return out;
@@ -411,8 +438,8 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
   DiagnosisSignals& signals = out.signals;
   signals.time = log.time();
   signals.position = log.column(settings.position_column);
-  signals.velocity = log.column(kDerivedVelocityColumn);
-  signals.acceleration = log.column(kDerivedAccelerationColumn);
+  signals.velocity = log.column(velocity_column);
+  signals.acceleration = log.column(DerivedAccelerationColumn(settings.position_column));
   signals.residual = primary.residual();
   signals.model_output = primary.model;
   // The fitted parameters' sensitivities are the base regressors: the diagnosis refits them jointly with each
@@ -426,7 +453,9 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
   }
   DiagnosisOptions options;
   if (equation_error) options.regressor_filter_hz = settings.derivative_cutoff_hz;  // parallel filtering
+  options.position_unit = PositionUnitToken(settings.position_column);
   out.diagnosis = DiagnoseMissingEffects(signals, base, options);
+  out.notes.insert(out.notes.end(), out.diagnosis->notes.begin(), out.diagnosis->notes.end());
   return out;
 }
 

@@ -28,11 +28,16 @@ namespace mb {
 /// zero-phase low-pass + central differences (the EMPS benchmark's IDIM-LS).
 inline constexpr const char* kDerivedVelocityColumn = "velocity_m_s";
 inline constexpr const char* kDerivedAccelerationColumn = "acceleration_m_s2";
+/// The same for any position column: velocity_<u>_s and acceleration_<u>_s2, <u> the position's unit from its name
+/// (ColumnUnit: m, rad, rev or deg; m when the name carries none), e.g. velocity_rev_s for angle_rev.
+std::string DerivedVelocityColumn(const std::string& position_column);
+std::string DerivedAccelerationColumn(const std::string& position_column);
 
-/// Reads a measurement log and adds the derived velocity/acceleration columns (if absent and the position
-/// column exists). Columns named in `filter_columns` (those present) are passed through the same zero-phase
+/// Takes a measurement log in (IntakeMeasurementLog: repeated time stamps merged, jitter resampled, gaps split into
+/// segments, each with a note on the log) and adds the derived velocity/acceleration columns (if absent and the
+/// position column exists). Columns named in `filter_columns` (those present) are passed through the same zero-phase
 /// low-pass as the position — IDIM-LS's parallel filtering, so that an equation-error residual compares force
-/// and motion in the same band. @throws as ReadMeasurementLog.
+/// and motion in the same band. Filters and derivatives run per segment. @throws as IntakeMeasurementLog.
 MeasurementLog ReadMeasurementWithDerivatives(const std::string& path, const std::string& position_column,
                                               double derivative_cutoff_hz,
                                               const std::vector<std::string>& filter_columns = {});
@@ -185,6 +190,8 @@ struct DiagnosedComparison {
   nlohmann::json compared_diagram;         ///< the same, its defaultExperiment set to the log's span and step
   std::optional<DiagnosisResult> diagnosis;
   std::string diagnosis_skipped;           ///< why there is no diagnosis (no position column, or not asked)
+  /// The log's intake notes (MeasurementLog::notes), then the diagnosis's (candidates skipped, evidence, caveats).
+  std::vector<std::string> notes;
   DiagnosisSignals signals;                ///< what the diagnosis was given (residual = the primary's after the refit)
   BaseRegressors base;                     ///< the fitted parameters' sensitivities (N × p; p = 0 if nothing fit)
 };

@@ -367,8 +367,9 @@ void AddBeforeAfterFigures(HtmlReport* report, const fs::path& out, const std::s
     f.series.push_back({abscissa, r_after, "after", "dots"});
     report->AddFigure(f, out);
   };
-  against(position_column, "position", "m");
-  against(kDerivedVelocityColumn, "velocity", "m/s");
+  const std::string position_unit = ColumnUnit(position_column).empty() ? "m" : ColumnUnit(position_column);
+  against(position_column, "position", position_unit);
+  against(DerivedVelocityColumn(position_column), "velocity", position_unit + "/s");
 }
 
 }  // namespace

@@ -177,7 +177,7 @@ void SetupImproveCommand(CLI::App& app) {
                 "keep an added ripple's period from the periodogram instead of refitting it");
   cmd->add_option("--map", o->maps, "connector=column: read a connector from another column (repeatable)");
   cmd->add_option("--set", o->overrides, "parameter override block.param=value (repeatable)");
-  cmd->add_option("--position-column", o->position_column, "measured position column [m]")->capture_default_str();
+  cmd->add_option("--position-column", o->position_column, "measured position column [m, rad, rev or deg: the unit is the name's suffix]")->capture_default_str();
   cmd->add_option("--derivative-cutoff-hz", o->derivative_cutoff_hz,
                   "zero-phase low-pass cut-off before differentiating the position [Hz]")
       ->capture_default_str();
