@@ -343,8 +343,8 @@ TEST(Diagnosis, EmpsScrewLeadRipple) {
   }
 }
 
-// A rotary axis turned once, slowly, its speed pulled ±50 % by a 7-per-revolution cogging (the ODrive records of
-// issue 13): one revolution holds only 7 cycles. Position in rev, sampled every 2.27 ms.
+// A rotary axis turned once, slowly and speeding up, its speed pulled ±50 % by a 7-per-revolution cogging (as the
+// ODrive records of issue 13): one revolution holds only 7 cycles. Position in rev, sampled every 2.27 ms.
 struct OneRevolution {
   DiagnosisSignals s;
   explicit OneRevolution(double depth = 0.5) {
@@ -356,10 +356,13 @@ struct OneRevolution {
     s.acceleration.resize(n);
     double x = 0.0;
     for (Eigen::Index i = 0; i < n; ++i) {
-      const double v = v0 * (1.0 + depth * std::sin(kTwoPi * 7.0 * x));
+      // The mean speed rises from 0.5 to 1.5 × v0 over the revolution: at one steady speed a period in position is
+      // a period in time, and no record can tell them apart.
+      const double v = v0 * (0.5 + x) * (1.0 + depth * std::sin(kTwoPi * 7.0 * x));
       s.position(i) = x;
       s.velocity(i) = v;
-      s.acceleration(i) = v0 * depth * std::cos(kTwoPi * 7.0 * x) * kTwoPi * 7.0 * v;
+      s.acceleration(i) = v * v0 * ((1.0 + depth * std::sin(kTwoPi * 7.0 * x)) +
+                                    (0.5 + x) * depth * std::cos(kTwoPi * 7.0 * x) * kTwoPi * 7.0);
       x += v * dt;
     }
   }
