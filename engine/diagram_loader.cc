@@ -17,6 +17,7 @@
 #include "engine/json_parsing.h"
 #include "engine/json_schema.h"
 #include "engine/registry.h"
+#include "engine/units.h"
 
 namespace mb {
 
@@ -583,7 +584,7 @@ class DiagramBuilder {
         continue;
       }
       const std::string unit = SignalUnit(*start);
-      if (!unit.empty() && !in.unit.empty() && unit != in.unit) {
+      if (!unit.empty() && !in.unit.empty() && !PortAcceptsUnit(in.unit, unit)) {
         Problem(fmt::format("{}: unit mismatch: {} is in '{}', input {}.{} expects '{}' (insert a gain to convert)",
                             ptr, d_.SignalName(*start), unit, end_element, in.name, in.unit));
         continue;

@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
 
+#include "engine/units.h"
+#include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 
 namespace mb {
@@ -121,11 +124,22 @@ double Percentile(std::vector<double> v, double q) {
   return v[k];
 }
 
-std::string FormatParameters(const std::map<std::string, double>& p) {
+// A position in the diagnosis' position unit: mm for metres, else the unit itself.
+std::string FormatPosition(double x, const std::string& unit) {
+  if (unit == "m") return fmt::format("{:.4g} mm", x * 1e3);
+  return fmt::format("{:.4g} {}", x, unit);
+}
+
+std::string FormatParameters(const std::map<std::string, double>& p, const std::string& position_unit) {
   std::string out;
   for (const auto& [k, v] : p) {
     std::string item;
-    if (k == "period") item = fmt::format("period {:.4g} mm", v * 1e3);
+    if (k == "period") {
+      item = "period " + FormatPosition(v, position_unit);
+      if (const double rev = RevolutionIn(position_unit); rev > 0.0) {
+        item += fmt::format(" ({:.3f} per revolution)", rev / v);
+      }
+    }
     else if (k == "delay") item = fmt::format("delay {:.4g} ms", v * 1e3);
     else if (k == "frequency_hz") item = fmt::format("frequency {:.4g} Hz", v);
     else if (k == "harmonics") item = fmt::format("{} harmonic(s)", static_cast<int>(v));
@@ -199,7 +213,14 @@ RegressorMatrix BuildCandidateMatrix(const DiagnosisSignals& signals, const Eige
   Eigen::Index total_cols = p;
   for (const auto& e : proposed) {
     const EffectType& type = LookupEffect(e.name);
-    Candidate c{e, &type, type.regressors(e, signals), {}};
+    Candidate c{e, &type, {}, {}};
+    try {
+      c.reg = type.regressors(e, signals);
+    } catch (const std::invalid_argument& error) {  // e.g. a parameter out of range on this record: skip it, say why
+      notes->push_back(fmt::format("{} skipped: its regressors cannot be computed on this record ({})", e.name,
+                                   error.what()));
+      continue;
+    }
     // Regressors built from the model output alone are in the filtered band already. (quantization is built from
     // it too, but its rounding puts energy above the cut-off that the measured, filtered output lost.)
     if (options.regressor_filter_hz > 0.0 && !type.traits.regressor_in_output_band) {
@@ -358,7 +379,8 @@ JointFit FitJointly(const RegressorMatrix& m, const BlockGrams& grams, const std
 // 5. One chosen effect in words: its share, parameters (periodic ones also their first harmonic's amplitude),
 // coefficients, and where its fitted contribution is largest.
 DiagnosedEffect DescribeEffect(const Candidate& c, double score, double cumulative, const Eigen::VectorXd& coefficients,
-                               const Eigen::VectorXd& coefficient_std, const DiagnosisSignals& signals) {
+                               const Eigen::VectorXd& coefficient_std, const DiagnosisSignals& signals,
+                               const std::string& position_unit) {
   const Eigen::Index n = signals.size();
   DiagnosedEffect d;
   d.effect = c.effect.name;
@@ -388,40 +410,87 @@ DiagnosedEffect DescribeEffect(const Candidate& c, double score, double cumulati
   d.velocity_range[0] = Percentile(vs, 0.05); d.velocity_range[1] = Percentile(vs, 0.95);
   d.description = fmt::format(
       "{}{}: explains {:.1f} % of the held-out residual energy left before it was added ({:.1f} % "
-      "cumulative); RMS contribution {:.3g}; largest for t in [{:.3g}, {:.3g}] s, x in [{:.4g}, {:.4g}] mm, "
-      "v in [{:.3g}, {:.3g}] m/s. {}",
-      d.effect, d.parameters.empty() ? "" : " (" + FormatParameters(d.parameters) + ")", 100.0 * d.score,
-      100.0 * d.cumulative_share, d.contribution_rms, d.time_range[0], d.time_range[1],
-      1e3 * d.position_range[0], 1e3 * d.position_range[1], d.velocity_range[0], d.velocity_range[1],
-      c.type->physics);
+      "cumulative); RMS contribution {:.3g}; largest for t in [{:.3g}, {:.3g}] s, x in [{}, {}], "
+      "v in [{:.3g}, {:.3g}] {}/s. {}",
+      d.effect, d.parameters.empty() ? "" : " (" + FormatParameters(d.parameters, position_unit) + ")",
+      100.0 * d.score, 100.0 * d.cumulative_share, d.contribution_rms, d.time_range[0], d.time_range[1],
+      FormatPosition(d.position_range[0], position_unit), FormatPosition(d.position_range[1], position_unit),
+      d.velocity_range[0], d.velocity_range[1], position_unit, c.type->physics);
   return d;
 }
 
 bool IsPeriodic(const std::string& effect) { return LookupEffect(effect).traits.periodicity != Periodicity::kNone; }
 
-// 6. Can position-periodic and time-periodic be told apart? Not when the motion has essentially one speed (at one
-// speed |v| is constant too: a velocity-dependent ripple is a position-periodic one). Returns the note ("" if
-// they can) and marks the result and the periodic effects.
-std::string CheckPositionTimeAmbiguity(const DiagnosisSignals& signals, const DiagnosisOptions& options,
-                                       DiagnosisResult* result) {
-  const double v_max = signals.velocity.cwiseAbs().maxCoeff();
-  std::vector<double> speeds;
-  for (Eigen::Index j = 0; j < signals.size(); ++j) {
-    const double s = std::abs(signals.velocity(j));
-    if (s > 0.1 * v_max) speeds.push_back(s);
+// How far the record's position strays from uniform motion x ≈ x₀ + v̄·t (least squares): v̄ and the RMS deviation.
+struct UniformMotionFit {
+  double mean_velocity = 0.0, rms_deviation = 0.0;
+};
+
+UniformMotionFit FitUniformMotion(const DiagnosisSignals& signals) {
+  const Eigen::VectorXd t = signals.time.array() - signals.time.mean();
+  const Eigen::VectorXd x = signals.position.array() - signals.position.mean();
+  UniformMotionFit out;
+  out.mean_velocity = t.dot(x) / t.squaredNorm();
+  out.rms_deviation = std::sqrt((x - out.mean_velocity * t).squaredNorm() / static_cast<double>(x.size()));
+  return out;
+}
+
+// The counterpart of a periodic effect under the other hypothesis at the record's mean speed v̄: position period P ↔
+// time frequency |v̄|/P. Empty name when there is none (v̄ = 0).
+EffectInstance Counterpart(const DiagnosedEffect& e, double mean_speed) {
+  const auto harmonics = e.parameters.count("harmonics") ? e.parameters.at("harmonics") : 1.0;
+  if (!(mean_speed > 0.0)) return {};
+  if (LookupEffect(e.effect).traits.periodicity == Periodicity::kTime) {
+    return {"position_periodic", {{"period", mean_speed / e.parameters.at("frequency_hz")}, {"harmonics", harmonics}}};
   }
-  const double median = Percentile(speeds, 0.5);
-  const double spread = median > 0.0 ? (Percentile(speeds, 0.75) - Percentile(speeds, 0.25)) / median : 0.0;
-  const bool one_speed = median > 0.0 && spread < options.single_speed_spread;
-  bool periodic = false;
-  for (const auto& e : result->effects) periodic = periodic || IsPeriodic(e.effect);
-  if (!one_speed || !periodic) return {};
+  return {"time_periodic", {{"frequency_hz", mean_speed / e.parameters.at("period")}, {"harmonics", harmonics}}};
+}
+
+// 6. Can position-periodic and time-periodic be told apart? By how the residual follows the speed: a position-periodic
+// ripple's temporal frequency scales with the speed, a vibration's does not. The top periodic effect is refit (with the
+// base) against its counterpart under the other hypothesis at the record's mean speed; when their shares of the
+// residual differ by less than options.position_time_margin (relative), the record's speed did not vary enough — at one
+// steady speed they are the same regressors — and they cannot be told apart: returns that note and marks the result
+// and the effects. Otherwise a note says which one the residual follows.
+std::string CheckPositionTimeAmbiguity(const DiagnosisSignals& signals, const Eigen::VectorXd& residual,
+                                       const Eigen::MatrixXd& base, const DiagnosisOptions& options,
+                                       DiagnosisResult* result) {
+  const DiagnosedEffect* top = nullptr;
+  for (const auto& e : result->effects) {
+    if (!top && IsPeriodic(e.effect)) top = &e;
+  }
+  if (!top) return {};
+  const UniformMotionFit uniform = FitUniformMotion(signals);
+  const double mean_speed = signals.velocity.cwiseAbs().mean();
+  // Monotone motion: its average speed; back and forth: the mean |v|.
+  const double speed = std::abs(uniform.mean_velocity) > 0.5 * mean_speed ? std::abs(uniform.mean_velocity) : mean_speed;
+  const EffectInstance other = Counterpart(*top, speed);
+  if (other.name.empty()) return {};
+  const double total = (residual.array() - residual.mean()).matrix().squaredNorm();
+  const auto share = [&](const EffectInstance& e) {
+    return 1.0 - ResidualSumOfSquares(base, BuildEffectRegressors(e, signals).columns, residual) / total;
+  };
+  const double own = share({top->effect, top->parameters}), alternative = share(other);
+  const bool in_time = LookupEffect(top->effect).traits.periodicity == Periodicity::kTime;
+  const double period = in_time ? speed / top->parameters.at("frequency_hz") : top->parameters.at("period");
+  const double phase = 2.0 * std::numbers::pi * uniform.rms_deviation / period;
+  const std::string evidence = fmt::format(
+      "{} explains {:.1f} % of the base-refit residual, {} at the frequency of the mean speed {:.4g} {}/s {:.1f} %; the "
+      "position strays {:.2g} rad of phase RMS from uniform motion at the period",
+      top->effect, 100.0 * own, other.name, speed, options.position_unit, 100.0 * alternative, phase);
+  if (std::abs(own - alternative) >= options.position_time_margin * std::max(own, alternative)) {
+    result->notes.push_back(fmt::format(
+        "position- vs time-periodic told apart by how the residual follows the speed: it follows {} ({})",
+        own >= alternative ? (in_time ? "time, not the position" : "the position, not time")
+                           : (in_time ? "the position better than time" : "time better than the position"),
+        evidence));
+    return {};
+  }
   result->position_time_indistinguishable = true;
   std::string note = fmt::format(
-      "cannot tell position-periodic from time-periodic: the motion has essentially one speed (|v| ≈ {:.4g} "
-      "m/s, interquartile spread {:.1f} %), so a period P in position is a period P/|v| in time. Record "
-      "the motion at two or more speeds to tell them apart.",
-      median, 100.0 * spread);
+      "cannot tell position-periodic from time-periodic: the motion has essentially one speed ({}), so a period P in "
+      "position is a period P/|v| in time. Record the motion at two or more speeds to tell them apart.",
+      evidence);
   result->notes.push_back(note);
   for (auto& e : result->effects) {
     if (IsPeriodic(e.effect)) e.description += " (position-periodic vs time-periodic: cannot tell at one speed)";
@@ -439,16 +508,16 @@ void Summarise(const DiagnosisOptions& options, const std::string& ambiguity_not
     const auto& pk = result->position_peaks.front();
     significant_peak = pk.significant;
     result->notes.push_back(fmt::format(
-        "strongest position-periodogram peak: period {:.4g} mm, {:.1f} % of the variance, false-alarm "
+        "strongest position-periodogram peak: period {}, {:.1f} % of the variance, false-alarm "
         "probability {:.2g} ({})",
-        pk.period * 1e3, 100.0 * pk.power, pk.false_alarm_probability, pk.significant ? "significant" : "not significant"));
+        FormatPosition(pk.period, options.position_unit), 100.0 * pk.power, pk.false_alarm_probability, pk.significant ? "significant" : "not significant"));
   }
   if (result->missing_effect_found) {
     const auto& top = result->effects.front();
     result->summary = fmt::format(
         "Missing: {}{} — explains {:.1f} % of the held-out residual energy. All chosen effects together "
         "explain {:.1f} %; RMSE {:.4g} → {:.4g} (in-sample, base refit {:.4g}), held-out RMSE {:.4g} → {:.4g}.",
-        top.effect, top.parameters.empty() ? "" : " (" + FormatParameters(top.parameters) + ")",
+        top.effect, top.parameters.empty() ? "" : " (" + FormatParameters(top.parameters, options.position_unit) + ")",
         100.0 * top.score, 100.0 * result->explained_share, result->rmse_before, result->rmse_after,
         result->rmse_base_refit, result->heldout_rmse_base, result->heldout_rmse_after);
     if (result->position_time_indistinguishable) result->summary += " " + ambiguity_note;
@@ -523,7 +592,7 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
     const Candidate& c = m.cands[chosen.order[i]];
     const Eigen::Index kc = c.reg.columns.cols();
     result.effects.push_back(DescribeEffect(c, chosen.scores[i], chosen.cumulative[i], fit.coef.segment(offset, kc),
-                                            fit.coef_std.segment(offset, kc), signals));
+                                            fit.coef_std.segment(offset, kc), signals, options.position_unit));
     offset += kc;
   }
   std::stable_sort(result.effects.begin(), result.effects.end(),
@@ -531,7 +600,7 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
   result.missing_effect_found = !result.effects.empty();
 
   // 6. Can position-periodic and time-periodic be told apart?
-  const std::string ambiguity_note = CheckPositionTimeAmbiguity(signals, options, &result);
+  const std::string ambiguity_note = CheckPositionTimeAmbiguity(signals, r0, base_cols, options, &result);
 
   // 7. Evidence and summary.
   Summarise(options, ambiguity_note, &result);

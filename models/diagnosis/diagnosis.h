@@ -44,9 +44,6 @@ struct DiagnosisOptions {
   Eigen::Index folds = 5;          // contiguous cross-validation blocks, >= 2
   double min_gain = 0.01;          // stop when the best held-out gain is below this share
   Eigen::Index max_effects = 6;    // rounds of forward selection at most
-  // Motion with (IQR of |v|)/(median |v|) below this, over the samples moving faster than 10 % of
-  // max |v|, has "one speed": position- and time-periodic effects cannot be told apart.
-  double single_speed_spread = 0.1;
   CatalogueOptions catalogue{};
   // Parallel filtering for equation-error data: when > 0, every candidate's regressor columns built from the
   // motion (x, v, a, t) pass through ZeroPhaseLowPass at this cut-off [Hz], the filter the model output and the
@@ -58,6 +55,13 @@ struct DiagnosisOptions {
   // their energy (least squares) is already in the model and is not ranked (a note says so): e.g.
   // coulomb_friction when F_c is free, which would otherwise score on its dead band alone.
   double redundant_with_base = 0.98;
+  // The position's unit ("m", or "rad", "rev", "deg" on a rotary axis; engine/units.h), for the reports: periods in
+  // mm for metres, else in the unit (and per revolution for angles). Velocities are in position_unit/s.
+  std::string position_unit = "m";
+  // Position- vs time-periodic: the top periodic effect and its counterpart under the other hypothesis (at the
+  // record's mean speed) are refit to the residual; when their shares differ by less than this fraction of the larger,
+  // the record cannot tell them apart (CheckPositionTimeAmbiguity in diagnosis.cc).
+  double position_time_margin = 0.05;
 };
 
 // One effect the ranking chose.

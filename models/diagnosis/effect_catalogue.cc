@@ -74,7 +74,13 @@ CandidateSearch ProposeCandidateEffects(const DiagnosisSignals& s, const Eigen::
   const Eigen::MatrixXd base = base_columns;
   CandidateSearch out;
   ProposalContext context(s, r, base, options, &out);
-  for (const EffectType* effect : EffectRegistry::Global().Effects()) effect->propose(context);
+  for (const EffectType* effect : EffectRegistry::Global().Effects()) {
+    try {
+      effect->propose(context);
+    } catch (const std::invalid_argument& e) {  // what this record cannot support: skip the effect, say why
+      context.Note(fmt::format("{} not proposed: {}", effect->name, e.what()));
+    }
+  }
   return out;
 }
 

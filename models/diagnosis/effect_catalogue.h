@@ -77,10 +77,14 @@ struct CatalogueOptions {
   double resonance_prominence = 20.0;
   // Periodogram settings for the position- and time-domain searches. When position_periodogram's
   // max_period is automatic (<= 0), the search stops at travel/min_position_cycles: a "period" that fits
-  // fewer cycles into the travel cannot be told from a smooth position dependence.
+  // fewer cycles into the travel cannot be told from a smooth position dependence — unless its harmonics say
+  // so: periods of min_position_cycles_with_harmonics to min_position_cycles cycles in the travel are searched in
+  // a periodogram of their own and proposed when the main periodogram holds a peak at one of their harmonics P/k,
+  // k = 2..8 (a 7-per-revolution cogging on one revolution: DIAGNOSIS.md, "Few cycles").
   PeriodogramOptions position_periodogram{};
   PeriodogramOptions time_periodogram{};
   double min_position_cycles = 8.0;
+  double min_position_cycles_with_harmonics = 3.0;
   // Quantization when the measured output is not on exact levels: periodogram of the residual against ŷ
   // (max_period automatic: ŷ's range / min_quantization_levels); its strongest independent peak is proposed
   // when significant and explaining at least min_quantization_power of the residual variance.

@@ -1,8 +1,11 @@
 #include "models/diagnosis/effect_proposal.h"
 
 #include <algorithm>
+#include <cmath>
+#include <utility>
 
 #include <Eigen/Dense>
+#include <fmt/format.h>
 
 #include "models/diagnosis/signal_processing.h"
 
@@ -26,6 +29,34 @@ std::vector<ProposedPeriod> PositionPeriods(const Periodogram& pg, const Catalog
   return out;
 }
 
+// Periods of fewer cycles than the main search allows (its max_period up to travel/min_position_cycles_with_harmonics):
+// a significant peak of their own periodogram whose harmonic P/k (k = 2..8) the main periodogram holds too. Harmonics:
+// 1 + the highest such k, at most max_harmonics.
+std::vector<std::pair<ProposedPeriod, double>> FewCyclePeriods(const Eigen::VectorXd& position,
+                                                               const Eigen::VectorXd& residual, const Periodogram& main,
+                                                               double span, const CatalogueOptions& options) {
+  std::vector<std::pair<ProposedPeriod, double>> out;  // with the peak's power
+  const double longest = span / options.min_position_cycles_with_harmonics;
+  if (!(longest > main.max_period) || main.peaks.empty()) return out;
+  PeriodogramOptions po = options.position_periodogram;
+  po.min_period = main.max_period;
+  po.max_period = longest;
+  po.max_peaks = 3;
+  const Periodogram few = PositionPeriodogram(position, residual, po);
+  for (const PeriodogramPeak& peak : few.peaks) {
+    if (!peak.significant || peak.harmonic_of >= 0) continue;
+    int highest = 0;
+    for (const PeriodogramPeak& p : main.peaks) {
+      const double k = std::round(peak.period / p.period);
+      if (k >= 2.0 && k <= 8.0 && std::abs(peak.period / p.period - k) <= options.position_periodogram.harmonic_tolerance * k) {
+        highest = std::max(highest, static_cast<int>(k));
+      }
+    }
+    if (highest > 0) out.push_back({{peak.period, std::min(options.max_harmonics, highest)}, peak.power});
+  }
+  return out;
+}
+
 }  // namespace
 
 ProposalContext::ProposalContext(const DiagnosisSignals& signals, const Eigen::VectorXd& residual,
@@ -36,16 +67,54 @@ ProposalContext::ProposalContext(const DiagnosisSignals& signals, const Eigen::V
   dead_band_ = options.dead_band_fraction * max_speed_;
   position_span_ = signals.position.maxCoeff() - signals.position.minCoeff();
   sample_period_ = MedianTimeStep(signals.time);
+  // A periodogram the record cannot support (e.g. position steps so large against the travel that the period range
+  // is empty) is skipped with a note: the effects that need it are not proposed, the others are.
+  const auto skipped = [&](const char* what, const std::exception& e) {
+    Note(fmt::format("{} skipped on this record: {}", what, e.what()));
+  };
   if (position_span_ > 0.0) {
     PeriodogramOptions po = options.position_periodogram;
     if (po.max_period <= 0.0) po.max_period = position_span_ / options.min_position_cycles;
-    search->position_periodogram = PositionPeriodogram(signals.position, residual, po);
-    position_periods_ = PositionPeriods(search->position_periodogram, options);
+    try {
+      search->position_periodogram = PositionPeriodogram(signals.position, residual, po);
+      position_periods_ = PositionPeriods(search->position_periodogram, options);
+      AddFewCyclePeriods(residual);
+    } catch (const std::invalid_argument& e) {
+      skipped("the position periodogram (position-periodic candidates)", e);
+    }
   }
-  search->time_periodogram = TimePeriodogram(signals.time, residual, options.time_periodogram);
+  try {
+    search->time_periodogram = TimePeriodogram(signals.time, residual, options.time_periodogram);
+  } catch (const std::invalid_argument& e) {
+    skipped("the time periodogram (time-periodic candidates)", e);
+  }
   if (position_span_ > 0.0) {
-    search->motion_frequency_hz =
-        1.0 / TimePeriodogram(signals.time, signals.position, options.time_periodogram).best().period;
+    try {
+      search->motion_frequency_hz =
+          1.0 / TimePeriodogram(signals.time, signals.position, options.time_periodogram).best().period;
+    } catch (const std::exception& e) {
+      skipped("the motion's repetition frequency", e);
+    }
+  }
+}
+
+void ProposalContext::AddFewCyclePeriods(const Eigen::VectorXd& residual) {
+  if (options_.position_periodogram.max_period > 0.0) return;  // the user chose the band
+  const Periodogram& main = search_->position_periodogram;
+  for (const auto& [period, power] :
+       FewCyclePeriods(signals_.position, residual, main, position_span_, options_)) {
+    // In the order of power among the main periodogram's proposals (strongest first).
+    auto at = position_periods_.begin();
+    while (at != position_periods_.end()) {
+      double p = 0.0;
+      for (const auto& peak : main.peaks) if (std::abs(peak.period - at->period) <= 1e-9 * at->period) p = peak.power;
+      if (power > p) break;
+      ++at;
+    }
+    position_periods_.insert(at, period);
+    Note(fmt::format("a position period of only {:.3g} cycles in the travel ({:.4g}) proposed: the residual holds its "
+                     "harmonics too (up to {})",
+                     position_span_ / period.period, period.period, period.harmonics));
   }
 }
 

@@ -46,7 +46,8 @@ class ProposalContext {
   /// The base's regressors with a constant column appended (N × (p + 1)), for joint fits in parameter searches.
   Eigen::MatrixXd BaseWithConstant() const;
   /// Up to CatalogueOptions::max_position_periods periods from the position periodogram, strongest first
-  /// (empty when the position does not move).
+  /// (empty when the position does not move), and the few-cycle periods their harmonics confirm
+  /// (CatalogueOptions::min_position_cycles_with_harmonics), placed by their power.
   const std::vector<ProposedPeriod>& position_periods() const { return position_periods_; }
 
   /// Adds a candidate (catalogue name, SI parameters).
@@ -60,6 +61,8 @@ class ProposalContext {
   const Eigen::MatrixXd& base_columns_;
   const CatalogueOptions& options_;
   CandidateSearch* search_;
+  // Adds the periods of too few cycles for the main search that their harmonics confirm (CatalogueOptions).
+  void AddFewCyclePeriods(const Eigen::VectorXd& residual);
   double max_speed_ = 0.0, dead_band_ = 0.0, position_span_ = 0.0, sample_period_ = 0.0;
   std::vector<ProposedPeriod> position_periods_;
 };

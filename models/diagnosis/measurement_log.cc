@@ -101,6 +101,16 @@ void MeasurementLog::AddColumn(std::string name, Eigen::VectorXd values) {
   columns_.push_back(std::move(values));
 }
 
+void MeasurementLog::SetSegmentStarts(std::vector<Eigen::Index> starts) {
+  bool ok = !starts.empty() && starts.front() == 0;
+  for (std::size_t i = 1; ok && i < starts.size(); ++i) ok = starts[i] > starts[i - 1] && starts[i] < rows();
+  if (!ok) {
+    throw std::invalid_argument(fmt::format(
+        "{}: segment starts must begin with row 0 and increase strictly below the {} rows", source_, rows()));
+  }
+  segment_starts_ = std::move(starts);
+}
+
 namespace {
 
 // The header's column names (line 1): each named, not numbers, the required ones present.
@@ -141,7 +151,7 @@ void CheckTimeColumn(const std::vector<double>& t, const std::vector<std::size_t
                      const std::string& time_name, const MeasurementLogOptions& options) {
   const std::size_t nrows = t.size();
   for (std::size_t i = 1; i < nrows; ++i) {
-    if (!(t[i] > t[i - 1])) {
+    if (!(t[i] > t[i - 1]) && !(options.allow_repeated_times && t[i] == t[i - 1])) {
       throw std::invalid_argument(fmt::format(
           "{}: line {}, column '{}': time {} does not increase (previous row, line {}, has {}); sort the "
           "rows by time and remove repeated samples",

@@ -5,6 +5,7 @@
 #include <complex>
 #include <numbers>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include <boost/math/distributions/chi_squared.hpp>
@@ -127,6 +128,50 @@ MotionDerivatives DeriveMotion(const Eigen::Ref<const Eigen::VectorXd>& time,
   m.position = ZeroPhaseLowPass(position, MedianTimeStep(time), cutoff_hz);
   m.velocity = CentralDifference(time, m.position);
   m.acceleration = CentralDifference(time, m.velocity);
+  return m;
+}
+
+namespace {
+
+// [begin, end) of each segment; throws unless starts begins with 0 and increases within n.
+std::vector<std::pair<Eigen::Index, Eigen::Index>> Segments(const std::vector<Eigen::Index>& starts, Eigen::Index n) {
+  std::vector<std::pair<Eigen::Index, Eigen::Index>> out;
+  if (starts.empty()) return {{0, n}};
+  for (std::size_t k = 0; k < starts.size(); ++k) {
+    const Eigen::Index end = k + 1 < starts.size() ? starts[k + 1] : n;
+    if ((k == 0 && starts[0] != 0) || !(end > starts[k]) || end > n) {
+      throw std::invalid_argument(fmt::format(
+          "segment starts must begin with 0 and increase strictly within the {} samples (segment {} starts at {})", n,
+          k, starts[k]));
+    }
+    out.emplace_back(starts[k], end);
+  }
+  return out;
+}
+
+}  // namespace
+
+Eigen::VectorXd ZeroPhaseLowPassBySegment(const Eigen::Ref<const Eigen::VectorXd>& signal, double sample_period,
+                                          double cutoff_hz, const std::vector<Eigen::Index>& starts) {
+  Eigen::VectorXd out = signal;
+  for (const auto& [b, e] : Segments(starts, signal.size())) {
+    if (e - b >= 3) out.segment(b, e - b) = ZeroPhaseLowPass(signal.segment(b, e - b), sample_period, cutoff_hz);
+  }
+  return out;
+}
+
+MotionDerivatives DeriveMotionBySegment(const Eigen::Ref<const Eigen::VectorXd>& time,
+                                        const Eigen::Ref<const Eigen::VectorXd>& position, double cutoff_hz,
+                                        const std::vector<Eigen::Index>& starts) {
+  RequireSameSize(time, position, "DeriveMotionBySegment");
+  MotionDerivatives m{position, Eigen::VectorXd::Zero(time.size()), Eigen::VectorXd::Zero(time.size())};
+  const double ts = MedianTimeStep(time);
+  for (const auto& [b, e] : Segments(starts, time.size())) {
+    if (e - b < 3) continue;
+    m.position.segment(b, e - b) = ZeroPhaseLowPass(position.segment(b, e - b), ts, cutoff_hz);
+    m.velocity.segment(b, e - b) = CentralDifference(time.segment(b, e - b), m.position.segment(b, e - b));
+    m.acceleration.segment(b, e - b) = CentralDifference(time.segment(b, e - b), m.velocity.segment(b, e - b));
+  }
   return m;
 }
 

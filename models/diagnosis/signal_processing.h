@@ -4,6 +4,8 @@
 // All vectors are Eigen column vectors of one signal, sample i at time t(i); SI units throughout.
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Core>
 
 namespace mb {
@@ -36,6 +38,16 @@ struct MotionDerivatives {
 // Throws std::invalid_argument as ZeroPhaseLowPass and CentralDifference do, or when sizes differ.
 MotionDerivatives DeriveMotion(const Eigen::Ref<const Eigen::VectorXd>& time,
                                const Eigen::Ref<const Eigen::VectorXd>& position, double cutoff_hz);
+
+// The same per segment: rows [starts[k], starts[k+1]) (the last to N) are filtered and differentiated
+// separately, never across the gap in time between two segments (MeasurementLog::segment_starts); segments of
+// fewer than 3 samples pass unchanged (derivatives 0). starts empty or {0}: one segment. Throws as above, or
+// std::invalid_argument when starts does not begin with 0 or does not increase within N.
+Eigen::VectorXd ZeroPhaseLowPassBySegment(const Eigen::Ref<const Eigen::VectorXd>& signal, double sample_period,
+                                          double cutoff_hz, const std::vector<Eigen::Index>& starts);
+MotionDerivatives DeriveMotionBySegment(const Eigen::Ref<const Eigen::VectorXd>& time,
+                                        const Eigen::Ref<const Eigen::VectorXd>& position, double cutoff_hz,
+                                        const std::vector<Eigen::Index>& starts);
 
 // Root-mean-square error sqrt(mean((y − ŷ)²)). Throws std::invalid_argument on a size mismatch or N = 0.
 double Rmse(const Eigen::Ref<const Eigen::VectorXd>& measured,

@@ -343,5 +343,97 @@ TEST(Diagnosis, EmpsScrewLeadRipple) {
   }
 }
 
+// A rotary axis turned once, slowly and speeding up, its speed pulled ±50 % by a 7-per-revolution cogging (as the
+// ODrive records of issue 13): one revolution holds only 7 cycles. Position in rev, sampled every 2.27 ms.
+struct OneRevolution {
+  DiagnosisSignals s;
+  explicit OneRevolution(double depth = 0.5) {
+    const double dt = 2.27e-3, v0 = 0.03;
+    const auto n = static_cast<Eigen::Index>(1.0 / v0 / dt);
+    s.time = Eigen::VectorXd::LinSpaced(n, 0.0, dt * static_cast<double>(n - 1));
+    s.position.resize(n);
+    s.velocity.resize(n);
+    s.acceleration.resize(n);
+    double x = 0.0;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      // The mean speed rises from 0.5 to 1.5 × v0 over the revolution: at one steady speed a period in position is
+      // a period in time, and no record can tell them apart.
+      const double v = v0 * (0.5 + x) * (1.0 + depth * std::sin(kTwoPi * 7.0 * x));
+      s.position(i) = x;
+      s.velocity(i) = v;
+      s.acceleration(i) = v * v0 * ((1.0 + depth * std::sin(kTwoPi * 7.0 * x)) +
+                                    (0.5 + x) * depth * std::cos(kTwoPi * 7.0 * x) * kTwoPi * 7.0);
+      x += v * dt;
+    }
+  }
+  // Only an offset: the speed ripple is a sinusoid of 7x itself, so v and a as base regressors would span the
+  // ripple's fundamental (the refit would take it as viscous friction and inertia).
+  BaseRegressors Base() const { return {Eigen::MatrixXd::Ones(s.size(), 1), {"offset"}}; }
+};
+
+Eigen::VectorXd WhiteNoise(Eigen::Index n, double sigma, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n01;
+  Eigen::VectorXd e(n);
+  for (auto& v : e) v = sigma * n01(rng);
+  return e;
+}
+
+TEST(Diagnosis, SevenCyclesPerRevolutionOnOneRevolutionAreFoundWithHarmonics) {
+  OneRevolution rev;
+  const Eigen::VectorXd& x = rev.s.position;
+  rev.s.residual = (0.8 * (kTwoPi * 7.0 * x.array()).sin() + 0.3 * (kTwoPi * 14.0 * x.array()).cos() +
+                    0.15 * (kTwoPi * 28.0 * x.array()).sin()).matrix() + WhiteNoise(x.size(), 0.05, 5);
+  DiagnosisOptions options;
+  options.position_unit = "rev";
+  const DiagnosisResult r = DiagnoseMissingEffects(rev.s, rev.Base(), options);
+  ASSERT_TRUE(r.missing_effect_found) << r.summary;
+  const DiagnosedEffect& top = r.effects.front();
+  ASSERT_EQ(top.effect, "position_periodic") << Names(r);
+  EXPECT_NEAR(top.parameters.at("period"), 1.0 / 7.0, 0.03 / 7.0) << Names(r) << ::testing::PrintToString(r.notes);
+  EXPECT_GE(top.parameters.at("harmonics"), 2.0);
+  EXPECT_THAT(r.summary, HasSubstr(" rev (")); // "period 0.1429 rev (7.000 per revolution)"
+  EXPECT_THAT(r.summary, HasSubstr(" per revolution)"));
+  // Told from a vibration by how the residual follows the speed, not by the speed's spread.
+  EXPECT_FALSE(r.position_time_indistinguishable) << Names(r);
+  bool followed = false;
+  for (const auto& n : r.notes) followed = followed || n.find("follows the position, not time") != std::string::npos;
+  EXPECT_TRUE(followed) << ::testing::PrintToString(r.notes);
+}
+
+TEST(Diagnosis, AVibrationOnTheSameSlowRevolutionStaysTimePeriodic) {
+  OneRevolution rev;
+  rev.s.residual = 0.8 * (kTwoPi * 0.21 * rev.s.time.array()).sin().matrix() + WhiteNoise(rev.s.size(), 0.05, 6);
+  DiagnosisOptions options;
+  options.position_unit = "rev";
+  const DiagnosisResult r = DiagnoseMissingEffects(rev.s, rev.Base(), options);
+  ASSERT_TRUE(r.missing_effect_found) << r.summary;
+  ASSERT_EQ(r.effects.front().effect, "time_periodic") << Names(r);
+  EXPECT_NEAR(r.effects.front().parameters.at("frequency_hz"), 0.21, 0.03 * 0.21);
+  EXPECT_FALSE(r.position_time_indistinguishable) << Names(r);
+}
+
+TEST(Diagnosis, APeriodogramTheRecordCannotSupportIsSkippedWithANote) {
+  // Position steps as large as the travel: the position periodogram's period range is empty.
+  const Eigen::Index n = 4000;
+  DiagnosisSignals s;
+  s.time = Eigen::VectorXd::LinSpaced(n, 0.0, 1e-3 * static_cast<double>(n - 1));
+  s.position = Eigen::VectorXd::NullaryExpr(n, [](Eigen::Index i) { return 0.01 * static_cast<double>(i % 2); });
+  s.velocity = WhiteNoise(n, 0.1, 7);
+  s.acceleration = WhiteNoise(n, 1.0, 8);
+  s.residual = 0.5 * s.velocity + WhiteNoise(n, 0.1, 9);
+  BaseRegressors base{Eigen::MatrixXd::Ones(n, 1), {"offset"}};
+  DiagnosisResult r;
+  ASSERT_NO_THROW(r = DiagnoseMissingEffects(s, base));
+  bool noted = false;
+  for (const auto& note : r.notes) {
+    noted = noted || note.find("the position periodogram (position-periodic candidates) skipped on this record: "
+                               "LombScarglePeriodogram: the period range") != std::string::npos;
+  }
+  EXPECT_TRUE(noted) << ::testing::PrintToString(r.notes);
+  ASSERT_TRUE(r.missing_effect_found) << r.summary;
+  EXPECT_EQ(r.effects.front().effect, "viscous_friction") << Names(r);
+}
+
 }  // namespace
 }  // namespace mb

@@ -2,9 +2,12 @@
 
 #include <chrono>
 #include <filesystem>
+#include <cmath>
 #include <fstream>
+#include <random>
 #include <string>
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -157,6 +160,85 @@ TEST_F(MeasurementLogTest, WideLogReadsInLinearTimeAndErrorsStayShort) {
     EXPECT_THAT(m, HasSubstr(", c28, … (199971 more)"));
     EXPECT_LT(m.size(), 400u);
   }
+}
+
+// Users' logs (issue 13): jitter, gaps, repeated rows are taken in with a note each, not refused.
+TEST_F(MeasurementLogTest, IntakeResamplesAJitteredLogOntoItsMedianStep) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> jitter(0.6e-3, 1.4e-3);  // USB-like: ±40 % around 1 ms
+  std::string text = "time_s,angle_rev,iq_A\n";
+  double t = 0.0;
+  for (int i = 0; i < 400; ++i) {
+    text += fmt::format("{},{},{}\n", t, 0.5 * t, std::sin(2.0 * t));
+    t += jitter(rng);
+  }
+  const MeasurementLog log = IntakeMeasurementLog(Write("jitter.csv", text));
+  ASSERT_EQ(log.notes().size(), 1u);
+  EXPECT_THAT(log.notes()[0], AllOf(HasSubstr("jitter.csv: the time steps are not uniform (jitter: steps from 0.0006"),
+                                    HasSubstr("resampled onto a uniform grid of step "), HasSubstr("400 rows → ")));
+  const Eigen::VectorXd& tt = log.time();
+  const double step = tt(1) - tt(0);
+  EXPECT_NEAR(step, 1e-3, 0.05e-3);
+  for (Eigen::Index i = 1; i < log.rows(); ++i) ASSERT_NEAR(tt(i) - tt(i - 1), step, 1e-12);
+  for (Eigen::Index i = 0; i < log.rows(); ++i) {
+    ASSERT_NEAR(log.column("angle_rev")(i), 0.5 * tt(i), 1e-12);           // linear: exact
+    ASSERT_NEAR(log.column("iq_A")(i), std::sin(2.0 * tt(i)), 2e-6);        // interpolated
+  }
+  EXPECT_EQ(log.segment_starts(), std::vector<Eigen::Index>{0});
+}
+
+TEST_F(MeasurementLogTest, IntakeSplitsAtAGapAndWarnsInsteadOfRefusing) {
+  const auto path = Write("gap_intake.csv", "time_s,position_m,force_N\n" + Rows(20) + Rows(30, 40) + Rows(3, 100));
+  const MeasurementLog log = IntakeMeasurementLog(path);
+  ASSERT_EQ(log.rows(), 50);  // the 3 rows after the second gap are too few to filter: left out
+  EXPECT_EQ(log.segment_starts(), (std::vector<Eigen::Index>{0, 20}));
+  ASSERT_EQ(log.notes().size(), 2u);
+  EXPECT_THAT(log.notes()[0], AllOf(HasSubstr("2 gap(s) in time longer than 5 × the median step 0.001 s"),
+                                    HasSubstr("0.019 s → 0.04 s"), HasSubstr("split into 3 segments"),
+                                    HasSubstr("nothing is interpolated across a gap")));
+  EXPECT_THAT(log.notes()[1], HasSubstr("1 segment(s) shorter than 16 rows between gaps were left out"));
+  EXPECT_DOUBLE_EQ(log.time()(20), 0.04);  // uniform within each segment: nothing resampled
+}
+
+TEST_F(MeasurementLogTest, IntakeMergesRepeatedTimeStamps) {
+  const auto path = Write("dup.csv", "time_s,position_m,force_N\n" + Rows(5) + "0.004,3,5\n0.004,4,7\n" + Rows(20, 5));
+  const MeasurementLog log = IntakeMeasurementLog(path);
+  ASSERT_EQ(log.rows(), 25);
+  ASSERT_EQ(log.notes().size(), 1u);
+  EXPECT_THAT(log.notes()[0], AllOf(HasSubstr("1 time stamp(s) appear on more than one row (first at t = 0.004 s)"),
+                                    HasSubstr("the mean of its rows, 27 rows → 25")));
+  EXPECT_DOUBLE_EQ(log.column("position_m")(4), 3.0);  // mean of 2, 3, 4
+  EXPECT_DOUBLE_EQ(log.column("force_N")(4), (1.0 + 5.0 + 7.0) / 3.0);
+  // The strict reader still refuses them; a time going back stays an error for both.
+  EXPECT_THAT(ErrorOf([&] { ReadMeasurementLog(path); }), HasSubstr("does not increase"));
+  const auto back = Write("back.csv", "time_s,position_m,force_N\n" + Rows(5) + "0.002,1,1\n" + Rows(10, 6));
+  EXPECT_THAT(ErrorOf([&] { IntakeMeasurementLog(back); }),
+              AllOf(HasSubstr("line 7, column 'time_s': time 0.002 does not increase"), HasSubstr("sort the rows")));
+}
+
+TEST_F(MeasurementLogTest, IntakeLeavesAUniformLogAsItIs) {
+  const auto path = Write("uniform.csv", "time_s,position_m,force_N\n" + Rows(40));
+  const MeasurementLog log = IntakeMeasurementLog(path);
+  EXPECT_EQ(log.rows(), 40);
+  EXPECT_TRUE(log.notes().empty());
+  EXPECT_DOUBLE_EQ(log.time()(7), 0.007);
+  const auto gaps_only = Write("gaps_only.csv", "time_s,position_m,force_N\n" + Rows(5) + Rows(5, 20) + Rows(5, 40));
+  EXPECT_THAT(ErrorOf([&] { IntakeMeasurementLog(gaps_only); }),
+              HasSubstr("no stretch of the log between its gaps has 16 rows"));
+}
+
+TEST(ColumnUnit, ReadsLinearRotaryAndDriveUnitsFromTheSuffix) {
+  EXPECT_EQ(ColumnUnit("position_m"), "m");
+  EXPECT_EQ(ColumnUnit("angle_rev"), "rev");
+  EXPECT_EQ(ColumnUnit("theta_rad"), "rad");
+  EXPECT_EQ(ColumnUnit("angle_deg"), "deg");
+  EXPECT_EQ(ColumnUnit("iq_A"), "A");
+  EXPECT_EQ(ColumnUnit("torque_Nm"), "N·m");
+  EXPECT_EQ(ColumnUnit("force_N"), "N");
+  EXPECT_EQ(ColumnUnit("velocity_rev_s"), "rev/s");
+  EXPECT_EQ(ColumnUnit("acceleration_m_s2"), "m/s^2");
+  EXPECT_EQ(ColumnUnit("encoder_counts"), "");
+  EXPECT_EQ(ColumnUnit("speed"), "");
 }
 
 }  // namespace

@@ -81,7 +81,7 @@ void AddMeasurementOptions(CLI::App* command, MeasurementOptions* options, const
       ->check(CLI::ExistingFile);
   command->add_option("--map", options->maps, "connector=column: read a connector from another column (repeatable)");
   AddSetOption(command, &options->overrides, set_help);
-  command->add_option("--position-column", options->position_column, "measured position column [m]")
+  command->add_option("--position-column", options->position_column, "measured position column [m, rad, rev or deg: the unit is the name's suffix]")
       ->capture_default_str();
   command->add_option("--derivative-cutoff-hz", options->derivative_cutoff_hz,
                       "zero-phase low-pass cut-off before differentiating the position [Hz]")

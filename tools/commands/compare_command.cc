@@ -46,6 +46,7 @@ void PrintCompareOutcome(const CompareOutcome& outcome, const fs::path& out) {
     }
   }
   if (outcome.fallback.gpr) std::cout << outcome.fallback.gpr->description << "\n";
+  for (const auto& note : outcome.compared.notes) std::cout << "note: " << note << "\n";
   std::cout << fmt::format("wrote {}/compare.json and report.html\n", out.string());
 }
 

@@ -32,6 +32,7 @@ void AddDiagnosisJson(const DiagnosedComparison& compared, json* result) {
     (*result)["summary"] = compared.diagnosis_skipped;
   }
   (*result)["diagnosis"] = ranked;
+  (*result)["notes"] = compared.notes;  // the intake's (merged rows, resampling, gaps), then the diagnosis's
 }
 
 // The fallback's record (its model saved beside compare.json), the fitted and the amended diagrams.
@@ -137,6 +138,7 @@ void WriteCompareReport(const CompareOutcome& outcome, const MeasurementLog& log
     report.Paragraph(fmt::format("{}; {} iterations; condition number of the scaled Jacobian {:.3g}.",
                                  compared.fit->status, compared.fit->iterations, compared.fit->condition_number));
   }
+  for (const auto& note : compared.notes) report.Paragraph("Note: " + note);
   report.Heading("Where the model fails: what is missing");
   if (compared.diagnosis) {
     AddDiagnosisSection(outcome, &report);

@@ -31,8 +31,10 @@ void AddResidualFigures(HtmlReport* report, const fs::path& out, const Measureme
     rx.series.push_back({ToStd(log.column(position_column)), ToStd(residual_after), "residual", "dots"});
     report->AddFigure(rx, out);
   }
-  if (log.has_column(kDerivedVelocityColumn)) {
-    const BinnedResidual b = BinResidual(log.column(kDerivedVelocityColumn), residual_after, 40);
+  const std::string velocity_column = DerivedVelocityColumn(position_column);
+  const std::string acceleration_column = DerivedAccelerationColumn(position_column);
+  if (log.has_column(velocity_column)) {
+    const BinnedResidual b = BinResidual(log.column(velocity_column), residual_after, 40);
     std::vector<double> xs, ys;
     for (Eigen::Index i = 0; i < b.centers.size(); ++i) {
       if (b.count(i) > 0) {
@@ -42,14 +44,14 @@ void AddResidualFigures(HtmlReport* report, const fs::path& out, const Measureme
     }
     Figure rv{"residual_vs_velocity.png", "Residual against velocity (binned mean: the friction shape)",
               "velocity [m/s]", fmt::format("residual [{}]", before.unit), {}};
-    rv.series.push_back({ToStd(log.column(kDerivedVelocityColumn)), ToStd(residual_after), "samples", "dots"});
+    rv.series.push_back({ToStd(log.column(velocity_column)), ToStd(residual_after), "samples", "dots"});
     rv.series.push_back({xs, ys, "bin mean", "lines"});
     report->AddFigure(rv, out);
   }
-  if (log.has_column(kDerivedAccelerationColumn)) {
+  if (log.has_column(acceleration_column)) {
     Figure ra{"residual_vs_acceleration.png", "Residual against acceleration (a slope: mass mismatch)",
               "acceleration [m/s²]", fmt::format("residual [{}]", before.unit), {}};
-    ra.series.push_back({ToStd(log.column(kDerivedAccelerationColumn)), ToStd(residual_after), "samples", "dots"});
+    ra.series.push_back({ToStd(log.column(acceleration_column)), ToStd(residual_after), "samples", "dots"});
     report->AddFigure(ra, out);
   }
   if (diagnosis && !diagnosis->position_peaks.empty()) {
@@ -93,8 +95,9 @@ void AddBeforeAfterFigures(HtmlReport* report, const fs::path& out, const std::s
     f.series.push_back({abscissa, r_after, "after", "dots"});
     report->AddFigure(f, out);
   };
-  against(position_column, "position", "m");
-  against(kDerivedVelocityColumn, "velocity", "m/s");
+  const std::string position_unit = PositionUnitToken(position_column);
+  against(position_column, "position", position_unit);
+  against(DerivedVelocityColumn(position_column), "velocity", position_unit + "/s");
 }
 
 }  // namespace mb

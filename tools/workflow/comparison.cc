@@ -161,7 +161,7 @@ std::vector<ComparedOutput> ModelComparison::Simulate() const {
       c.model(i) = st.size() < 2 ? sv[0] : sv[j] + w * (sv[j + 1] - sv[j]);
     }
     if (output_filter_hz_ > 0.0 && c.model.allFinite()) {
-      c.model = ZeroPhaseLowPass(c.model, MedianTimeStep(t), output_filter_hz_);
+      c.model = ZeroPhaseLowPassBySegment(c.model, MedianTimeStep(t), output_filter_hz_, log_.segment_starts());
     }
     if (!c.model.allFinite()) {
       throw std::runtime_error(fmt::format("the simulated output '{}' is not finite (NaN/Inf): the model diverged "
@@ -347,11 +347,13 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
   }
   out.after = comparison.Simulate();
   out.compared_diagram = comparison.diagram_json();
+  out.notes = log.notes();
   if (!diagnose) {
     out.diagnosis_skipped = "no diagnosis asked for";
     return out;
   }
-  if (!log.has_column(settings.position_column) || !log.has_column(kDerivedVelocityColumn)) {
+  const std::string velocity_column = DerivedVelocityColumn(settings.position_column);
+  if (!log.has_column(settings.position_column) || !log.has_column(velocity_column)) {
     out.diagnosis_skipped = fmt::format("no diagnosis: the log has no position column '{}' (set --position-column)",
                                         settings.position_column);
     return out;
@@ -360,8 +362,8 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
   DiagnosisSignals& signals = out.signals;
   signals.time = log.time();
   signals.position = log.column(settings.position_column);
-  signals.velocity = log.column(kDerivedVelocityColumn);
-  signals.acceleration = log.column(kDerivedAccelerationColumn);
+  signals.velocity = log.column(velocity_column);
+  signals.acceleration = log.column(DerivedAccelerationColumn(settings.position_column));
   signals.residual = primary.residual();
   signals.model_output = primary.model;
   // The fitted parameters' sensitivities are the base regressors: the diagnosis refits them jointly with each
@@ -375,7 +377,9 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
   }
   DiagnosisOptions options;
   if (equation_error) options.regressor_filter_hz = settings.derivative_cutoff_hz;  // parallel filtering
+  options.position_unit = PositionUnitToken(settings.position_column);
   out.diagnosis = DiagnoseMissingEffects(signals, base, options);
+  out.notes.insert(out.notes.end(), out.diagnosis->notes.begin(), out.diagnosis->notes.end());
   return out;
 }
 

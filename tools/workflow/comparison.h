@@ -150,6 +150,8 @@ struct DiagnosedComparison {
   nlohmann::json compared_diagram;         ///< the same, its defaultExperiment set to the log's span and step
   std::optional<DiagnosisResult> diagnosis;
   std::string diagnosis_skipped;           ///< why there is no diagnosis (no position column, or not asked)
+  /// The log's intake notes (MeasurementLog::notes), then the diagnosis's (candidates skipped, evidence, caveats).
+  std::vector<std::string> notes;
   DiagnosisSignals signals;                ///< what the diagnosis was given (residual = the primary's after the refit)
   BaseRegressors base;                     ///< the fitted parameters' sensitivities (N × p; p = 0 if nothing fit)
 };

@@ -6,29 +6,49 @@
 #include <fmt/format.h>
 
 #include "engine/diagram_document.h"
+#include "engine/units.h"
 #include "models/diagnosis/signal_processing.h"
 
 namespace mb {
 
 using nlohmann::json;
 
+std::string PositionUnitToken(const std::string& position_column) {
+  const std::string unit = ColumnUnit(position_column);
+  return QuantityOfUnit(unit) == MotionQuantity::kPosition ? unit : "m";
+}
+
+std::string DerivedVelocityColumn(const std::string& position_column) {
+  return "velocity_" + PositionUnitToken(position_column) + "_s";
+}
+
+std::string DerivedAccelerationColumn(const std::string& position_column) {
+  return "acceleration_" + PositionUnitToken(position_column) + "_s2";
+}
+
 MeasurementLog ReadMeasurementWithDerivatives(const std::string& path, const std::string& position_column,
                                               double derivative_cutoff_hz,
                                               const std::vector<std::string>& filter_columns) {
-  MeasurementLog raw = ReadMeasurementLog(path);
+  const MeasurementLog raw = IntakeMeasurementLog(path);
   const double dt = MedianTimeStep(raw.time());
+  const auto& segments = raw.segment_starts();
   std::vector<std::string> names = raw.names();
   std::vector<Eigen::VectorXd> columns;
   for (const auto& name : names) {
     const bool filter = std::find(filter_columns.begin(), filter_columns.end(), name) != filter_columns.end();
-    columns.push_back(filter ? ZeroPhaseLowPass(raw.column(name), dt, derivative_cutoff_hz) : raw.column(name));
+    columns.push_back(filter ? ZeroPhaseLowPassBySegment(raw.column(name), dt, derivative_cutoff_hz, segments)
+                             : raw.column(name));
   }
   MeasurementLog log(names, columns, raw.source());
-  if (log.has_column(position_column) &&
-      (!log.has_column(kDerivedVelocityColumn) || !log.has_column(kDerivedAccelerationColumn))) {
-    const MotionDerivatives m = DeriveMotion(log.time(), log.column(position_column), derivative_cutoff_hz);
-    if (!log.has_column(kDerivedVelocityColumn)) log.AddColumn(kDerivedVelocityColumn, m.velocity);
-    if (!log.has_column(kDerivedAccelerationColumn)) log.AddColumn(kDerivedAccelerationColumn, m.acceleration);
+  log.SetSegmentStarts(segments);
+  for (const auto& note : raw.notes()) log.AddNote(note);
+  const std::string velocity = DerivedVelocityColumn(position_column);
+  const std::string acceleration = DerivedAccelerationColumn(position_column);
+  if (log.has_column(position_column) && (!log.has_column(velocity) || !log.has_column(acceleration))) {
+    const MotionDerivatives m =
+        DeriveMotionBySegment(log.time(), log.column(position_column), derivative_cutoff_hz, segments);
+    if (!log.has_column(velocity)) log.AddColumn(velocity, m.velocity);
+    if (!log.has_column(acceleration)) log.AddColumn(acceleration, m.acceleration);
   }
   return log;
 }

@@ -21,10 +21,18 @@ namespace mb {
 inline constexpr const char* kDerivedVelocityColumn = "velocity_m_s";
 inline constexpr const char* kDerivedAccelerationColumn = "acceleration_m_s2";
 
-/// Reads a measurement log and adds the derived velocity/acceleration columns (if absent and the position
-/// column exists). Columns named in `filter_columns` (those present) are passed through the same zero-phase
+/// The same for any position column: velocity_<u>_s and acceleration_<u>_s2, <u> the position's unit from its name
+/// (ColumnUnit: m, rad, rev or deg; m when the name carries none), e.g. velocity_rev_s for angle_rev.
+std::string DerivedVelocityColumn(const std::string& position_column);
+std::string DerivedAccelerationColumn(const std::string& position_column);
+/// The unit token of a position column's name ("m", "rad", "rev", "deg"; "m" when it carries none).
+std::string PositionUnitToken(const std::string& position_column);
+
+/// Takes a measurement log in (IntakeMeasurementLog: repeated time stamps merged, jitter resampled, gaps split into
+/// segments, each with a note on the log) and adds the derived velocity/acceleration columns (if absent and the
+/// position column exists). Columns named in `filter_columns` (those present) are passed through the same zero-phase
 /// low-pass as the position — IDIM-LS's parallel filtering, so that an equation-error residual compares force
-/// and motion in the same band. @throws as ReadMeasurementLog.
+/// and motion in the same band. Filters and derivatives run per segment. @throws as IntakeMeasurementLog.
 MeasurementLog ReadMeasurementWithDerivatives(const std::string& path, const std::string& position_column,
                                               double derivative_cutoff_hz,
                                               const std::vector<std::string>& filter_columns = {});

@@ -4,10 +4,12 @@
 #include <cmath>
 #include <optional>
 #include <stdexcept>
+#include <tuple>
 
 #include <fmt/format.h>
 
 #include "engine/diagram_document.h"
+#include "engine/units.h"
 #include "models/diagnosis/effect_registry.h"
 
 namespace mb {
@@ -21,28 +23,22 @@ bool HasEffectBlock(const std::string& effect) {
 
 namespace {
 
-std::string InputConnectorWithUnit(const DiagramDocument& diagram, const std::vector<std::string>& units) {
-  for (const auto& c : diagram.Connectors("input")) {
-    if (std::find(units.begin(), units.end(), c.unit) != units.end()) return c.name;
-  }
-  return {};
-}
-
-// The input connector carrying position ("m"), velocity ("m/s") or acceleration ("m/s^2"); throws naming what to add.
+// The input connector carrying position, velocity or acceleration (linear or rotary units, engine/units.h); throws
+// naming what to add.
 std::string NeedInput(const DiagramDocument& diagram, MotionInput input, const std::string& effect) {
-  std::string quantity;
-  std::vector<std::string> units;
-  switch (input) {
-    case MotionInput::kPosition: quantity = "position"; units = {"m"}; break;
-    case MotionInput::kVelocity: quantity = "velocity"; units = {"m/s"}; break;
-    case MotionInput::kAcceleration: quantity = "acceleration"; units = {"m/s^2", "m/s²", "m/s2"}; break;
+  const auto [quantity, wanted, example] = [&]() -> std::tuple<std::string, MotionQuantity, std::string> {
+    switch (input) {
+      case MotionInput::kPosition: return {"position", MotionQuantity::kPosition, "m"};
+      case MotionInput::kVelocity: return {"velocity", MotionQuantity::kVelocity, "m/s"};
+      case MotionInput::kAcceleration: break;
+    }
+    return {"acceleration", MotionQuantity::kAcceleration, "m/s^2"};
+  }();
+  for (const auto& c : diagram.Connectors("input")) {
+    if (QuantityOfUnit(c.unit) == wanted) return c.name;
   }
-  const std::string name = InputConnectorWithUnit(diagram, units);
-  if (name.empty()) {
-    throw std::invalid_argument(fmt::format("effect '{}' needs the {}: add an input connector with unit \"{}\"",
-                                            effect, quantity, units.front()));
-  }
-  return name;
+  throw std::invalid_argument(fmt::format("effect '{}' needs the {}: add an input connector with unit \"{}\"", effect,
+                                          quantity, example));
 }
 
 // Adds `element` (its output port `port`) to the signal feeding output connector `output`, through a new sum named
