@@ -14,11 +14,14 @@ build: deps
 demo: build
 	./scripts/demo.sh build/release/tools/motionblocks
 
-## make test: every GoogleTest suite under ASan + UBSan.
+## make test: every GoogleTest suite under ASan + UBSan, then the fuzzers of the file readers (clang, briefly).
 test: deps
 	cmake --preset asan
 	cmake --build --preset asan -j $(JOBS)
 	ctest --preset asan
+	cmake --preset fuzz
+	cmake --build --preset fuzz -j $(JOBS)
+	ctest --preset fuzz
 
 bench: build
 	./scripts/bench.sh

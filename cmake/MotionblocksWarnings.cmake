@@ -13,6 +13,10 @@ if(MB_SANITIZE)
                          -fno-sanitize-recover=undefined)
   target_link_options(mb_sanitizers INTERFACE -fsanitize=address,undefined)
 endif()
+if(MB_FUZZ)
+  # Coverage instrumentation for libFuzzer in every library; the fuzz targets link -fsanitize=fuzzer.
+  target_compile_options(mb_sanitizers INTERFACE -fsanitize=fuzzer-no-link)
+endif()
 
 add_library(mb_options INTERFACE)
 target_link_libraries(mb_options INTERFACE mb_warnings mb_sanitizers)

@@ -16,6 +16,7 @@ PACKAGES=(
   libtbb-dev               # parallel sweeps
   gnuplot-nox              # report figures
   libvalijson-dev          # JSON Schema validation of diagrams and sweeps
+  clang libclang-rt-14-dev # libFuzzer (the fuzz preset: fuzzers of the file readers)
 )
 
 missing=()

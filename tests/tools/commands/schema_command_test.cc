@@ -49,7 +49,7 @@ TEST(SchemaCommand, RunRefusesAMisspelledStopTime) {
   j["defaultExperiment"].erase("stopTime");
   j["defaultExperiment"]["stopTme"] = 0.01;
   const auto r = RunMotionblocks("run " + WriteJson(out / "d.json", j).string() + " --out " + (out / "o").string());
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.output, HasSubstr("/defaultExperiment/stopTme: unknown key 'stopTme' (did you mean 'stopTime'?)"));
   EXPECT_FALSE(fs::exists(out / "o" / "summary.json"));
   fs::remove_all(out);
@@ -61,11 +61,11 @@ TEST(SchemaCommand, SweepRefusesMisspelledKeys) {
   auto sweep = WriteJson(out / "s.json", {{"random", {{"seed", 1}, {"sampels", 3}, {"samples", 2},
                                                       {"parameters", {{"pd_p.gain", {{"uniform", {1, 2}}}}}}}}});
   auto r = RunMotionblocks("sweep " + diagram + " " + sweep.string() + " --out " + (out / "o").string());
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.output, HasSubstr("/random/sampels: unknown key 'sampels' (did you mean 'samples'?)"));
   sweep = WriteJson(out / "s2.json", {{"list", {{{"defaultExperiment.stopTme", 0.01}}}}});
   r = RunMotionblocks("sweep " + diagram + " " + sweep.string() + " --out " + (out / "o").string());
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.output, HasSubstr("/defaultExperiment/stopTme: unknown key 'stopTme' (did you mean 'stopTime'?)"));
   EXPECT_FALSE(fs::exists(out / "o" / "runs.csv"));
   fs::remove_all(out);
@@ -76,7 +76,7 @@ TEST(SchemaCommand, CompareRefusesAMapOnAnUnknownConnector) {
   const auto r = RunMotionblocks("compare " + kSource + "/diagrams/emps/rigid_body.json --measurement " + kSource +
                                  "/diagrams/emps/data/DATA_EMPS.csv --map forse=force_N --no-fit --out " +
                                  (out / "o").string());
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_THAT(r.output, HasSubstr("--map forse=force_N: the diagram has no connector 'forse' (did you mean "
                                   "'force'?); its input and output connectors: position, velocity, acceleration, "
                                   "pulse_force, force"));
