@@ -39,9 +39,9 @@ double ReproduceContext::Elapsed() const {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-const GprModel& ReproduceContext::ModelOf(int kernel, int window, bool paper_size) const {
+const GprModel& ReproduceContext::ModelOf(int kernel, int window, bool paper_sized) const {
   for (const auto& f : fits) {
-    if (f.kernel == kernel && f.window == window && f.paper_size == paper_size) return *f.model;
+    if (f.kernel == kernel && f.window == window && f.paper_size == paper_sized) return *f.model;
   }
   throw std::logic_error("missing fit");
 }

@@ -101,7 +101,7 @@ struct ReproduceContext {
   /// Seconds since the reproduction started.
   double Elapsed() const;
   /// The model of a fit of step 3. @throws std::logic_error if there is none.
-  const GprModel& ModelOf(int kernel, int window, bool paper_size) const;
+  const GprModel& ModelOf(int kernel, int window, bool paper_sized) const;
   /// cases[i]'s tracking RMSE [µm].
   double RmseUm(std::size_t i) const;
 };

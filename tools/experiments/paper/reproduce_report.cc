@@ -22,21 +22,11 @@ std::vector<double> Scaled(const std::vector<double>& v, double k) {
 }
 
 Figure MakeFigure(std::string file, std::string title, std::string xlabel, std::string ylabel) {
-  Figure f;
-  f.file = std::move(file);
-  f.title = std::move(title);
-  f.xlabel = std::move(xlabel);
-  f.ylabel = std::move(ylabel);
-  return f;
+  return Figure{std::move(file), std::move(title), std::move(xlabel), std::move(ylabel), {}};
 }
 
 Series MakeSeries(std::vector<double> x, std::vector<double> y, std::string label, std::string style = "lines") {
-  Series s;
-  s.x = std::move(x);
-  s.y = std::move(y);
-  s.label = std::move(label);
-  s.style = std::move(style);
-  return s;
+  return Series{std::move(x), std::move(y), std::move(label), std::move(style)};
 }
 
 std::string Fixed(double v, int digits) { return fmt::format("{:.{}f}", v, digits); }

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "tools/experiments/paper/reproduce_context.h"
 
 namespace mb::paper {
