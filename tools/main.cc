@@ -33,6 +33,7 @@ int ReportError(const std::exception& e, int code) {
 int main(int argc, char** argv) {
   CLI::App app{"motionblocks — block-diagram simulation, model-vs-measurement diagnosis and learned disturbance "
                "compensation for precision motion control"};
+  app.set_version_flag("--version", std::string("motionblocks ") + MB_VERSION);
   app.require_subcommand(1);
   app.fallthrough();  // global options may follow the subcommand
   app.add_option_function<std::vector<std::string>>(

@@ -22,6 +22,12 @@ using testing::RunMotionblocks;
 
 const std::string kSource = MB_SOURCE_DIR;
 
+TEST(CommandLine, VersionPrintsTheProjectVersion) {
+  const CommandResult r = RunMotionblocks("--version");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, ::testing::StartsWith("motionblocks " MB_PROJECT_VERSION));
+}
+
 TEST(StabilityCommand, ConventionalLoopIsStableAndTheReportHasTheTermsAndBodePlots) {
   const fs::path out = ProcessTempDir("mb_stability_command");
   fs::remove_all(out);
