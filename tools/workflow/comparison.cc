@@ -15,6 +15,8 @@
 #include "engine/diagram_loader.h"
 #include "engine/json_schema.h"
 #include "engine/registry.h"
+#include "engine/units.h"
+#include "models/diagnosis/measurement_log.h"
 #include "models/diagnosis/signal_processing.h"
 
 namespace mb {
@@ -77,13 +79,37 @@ void SetParameterValues(json* diagram, const std::vector<FreeParameter>& params,
 }
 
 namespace {
-/// Every --map names a connector of the diagram (a misspelled one would silently change nothing).
+/// A mapped column whose name states a unit (position_m, iq_A; ColumnUnit) must measure what the connector does:
+/// --map force=position_m would compare newtons with metres. Units outside the motion quantities are not judged.
+void CheckMappedUnit(const std::string& connector, const std::string& connector_unit, const std::string& column) {
+  const std::string column_unit = ColumnUnit(column);
+  const MotionQuantity wanted = QuantityOfUnit(connector_unit), given = QuantityOfUnit(column_unit);
+  if (wanted == MotionQuantity::kOther || given == MotionQuantity::kOther) return;
+  if (PortAcceptsUnit(connector_unit, column_unit) || PortAcceptsUnit(column_unit, connector_unit)) return;
+  throw std::invalid_argument(fmt::format(
+      "--map {}={}: the connector '{}' is in {} but the column '{}' is in {} (its name's suffix): they measure "
+      "different things; map a column in {} (or a rotary/drive unit of the same quantity)",
+      connector, column, connector, connector_unit, column, column_unit, connector_unit));
+}
+
+/// Every --map names a connector of the diagram (a misspelled one would silently change nothing) and a column of
+/// the connector's quantity when both units are known.
 void CheckColumnMap(const Diagram& d, const std::map<std::string, std::string>& column_map) {
   std::vector<std::string> connectors;
-  for (const auto& in : d.inputs()) connectors.push_back(in.name);
-  for (const auto& out : d.outputs()) connectors.push_back(out.name);
+  std::map<std::string, std::string> units;
+  for (const auto& in : d.inputs()) {
+    connectors.push_back(in.name);
+    units[in.name] = in.unit;
+  }
+  for (const auto& out : d.outputs()) {
+    connectors.push_back(out.name);
+    units[out.name] = out.unit;
+  }
   for (const auto& [connector, column] : column_map) {
-    if (std::find(connectors.begin(), connectors.end(), connector) != connectors.end()) continue;
+    if (std::find(connectors.begin(), connectors.end(), connector) != connectors.end()) {
+      CheckMappedUnit(connector, units[connector], column);
+      continue;
+    }
     const auto close = ClosestNames(connector, connectors, 1);
     throw std::invalid_argument(fmt::format(
         "--map {}={}: the diagram has no connector '{}'{}; its input and output connectors: {}", connector, column,

@@ -83,5 +83,17 @@ TEST(SchemaCommand, CompareRefusesAMapOnAnUnknownConnector) {
   fs::remove_all(out);
 }
 
+// --map force=position_m compares newtons with metres: the units in the column names say so.
+TEST(SchemaCommand, CompareRefusesAMapOfAnotherQuantity) {
+  const fs::path out = ProcessTempDir("mb_schema_map_unit");
+  const auto r = RunMotionblocks("compare " + kSource + "/diagrams/emps/rigid_body.json --measurement " + kSource +
+                                 "/diagrams/emps/data/DATA_EMPS.csv --map force=position_m --no-fit --out " +
+                                 (out / "o").string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.output, HasSubstr("--map force=position_m: the connector 'force' is in N but the column "
+                                  "'position_m' is in m (its name's suffix): they measure different things"));
+  fs::remove_all(out);
+}
+
 }  // namespace
 }  // namespace mb

@@ -123,7 +123,7 @@ TEST(ComparisonTest, MissingColumnIsReportedWithColumnsPresent) {
   }
   // --map renames a column: still nothing to compare with, but an unknown input column is named.
   try {
-    ModelComparison c(diagram, kEmps, "rigid_body.json", log, {{"position", "pos"}, {"force", "position_m"}});
+    ModelComparison c(diagram, kEmps, "rigid_body.json", log, {{"position", "pos"}, {"force", "time_s"}});
     FAIL() << "expected an error";
   } catch (const std::invalid_argument& e) {
     EXPECT_THAT(e.what(), HasSubstr("input 'position' reads column 'pos', which the log lacks"));
