@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "engine/closest_names.h"
 #include "engine/diagram_schema.h"
 #include "engine/execution_order.h"
 #include "engine/file_access.h"

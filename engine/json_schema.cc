@@ -1,5 +1,7 @@
 #include "engine/json_schema.h"
 
+#include "engine/closest_names.h"
+
 #include <algorithm>
 #include <set>
 #include <stdexcept>
@@ -37,32 +39,6 @@ std::vector<std::string> PointerTokens(const std::string& pointer) {
   std::vector<std::string> tokens;
   for (auto p = json::json_pointer(pointer); !p.empty(); p = p.parent_pointer()) tokens.insert(tokens.begin(), p.back());
   return tokens;
-}
-
-std::size_t EditDistance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    cur[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0u : 1u)});
-    }
-    std::swap(prev, cur);
-  }
-  return prev[b.size()];
-}
-
-std::vector<std::string> ClosestNames(const std::string& name, const std::vector<std::string>& candidates,
-                                      std::size_t max_suggestions) {
-  std::vector<std::pair<std::size_t, std::string>> scored;
-  for (const auto& c : candidates) scored.emplace_back(EditDistance(name, c), c);
-  std::sort(scored.begin(), scored.end());
-  std::vector<std::string> out;
-  for (const auto& [d, c] : scored) {
-    if (out.size() >= max_suggestions || d > std::max<std::size_t>(3, name.size() / 2)) break;
-    out.push_back(c);
-  }
-  return out;
 }
 
 namespace {

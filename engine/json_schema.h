@@ -54,11 +54,4 @@ std::vector<std::string> MergeProblems(std::vector<std::string> own, const std::
 /// The unescaped reference tokens of a JSON pointer ("/a/0/b~1c" → a, 0, b/c).
 std::vector<std::string> PointerTokens(const std::string& pointer);
 
-/// Edit distance (Levenshtein) between two names, for "did you mean" messages.
-std::size_t EditDistance(const std::string& a, const std::string& b);
-
-/// The candidates closest to `name` by edit distance (at most 3, within max(3, |name|/2) edits), best first.
-std::vector<std::string> ClosestNames(const std::string& name, const std::vector<std::string>& candidates,
-                                      std::size_t max_suggestions = 3);
-
 }  // namespace mb

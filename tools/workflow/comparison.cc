@@ -11,9 +11,9 @@
 #include <unsupported/Eigen/NonLinearOptimization>
 #include <unsupported/Eigen/NumericalDiff>
 
+#include "engine/closest_names.h"
 #include "engine/diagram_document.h"
 #include "engine/diagram_loader.h"
-#include "engine/json_schema.h"
 #include "engine/registry.h"
 #include "engine/units.h"
 #include "models/diagnosis/measurement_log.h"
