@@ -97,7 +97,11 @@ std::pair<double, double> LipschitzOnGrid(double a, double b, int n, double curv
 
 }  // namespace
 
-GprModel::GprModel(GprModelData data) : data_(std::move(data)) { ValidateModelData(data_); }
+GprModel::GprModel(GprModelData data) : data_(std::move(data)) {
+  ValidateModelData(data_);
+  GprSpectralWeights(data_.basis, data_.hyperparameters, &spectral_weights_);
+  prior_variance_ = data_.hyperparameters.signal_variance_x + data_.hyperparameters.signal_variance_xdot;
+}
 
 double GprModel::ClampXdot(double xdot) const noexcept {
   return std::clamp(xdot, data_.xdot_range.min, data_.xdot_range.max);
@@ -111,10 +115,7 @@ double GprModel::PredictPosteriorMean(double x, double xdot) const noexcept {
 void GprModel::Predict(double x, double xdot, double* mean, double* std) const noexcept {
   if (!std::isfinite(x) || !std::isfinite(xdot)) {
     if (mean != nullptr) *mean = data_.mean;
-    if (std != nullptr) {
-      *std = std::sqrt(data_.hyperparameters.signal_variance_x +
-                       data_.hyperparameters.signal_variance_xdot);
-    }
+    if (std != nullptr) *std = std::sqrt(prior_variance_);
     return;
   }
   std::array<double, kMaxGprFeatures> psi;  // uninitialised scratch on the stack
@@ -126,16 +127,20 @@ void GprModel::Predict(double x, double xdot, double* mean, double* std) const n
     *mean = data_.mean + acc;
   }
   if (std != nullptr) {
-    // ψᵀΣψ from the lower triangle (column-major: contiguous below the diagonal).
+    // ψᵀΣψ from the lower triangle (column-major: contiguous below the diagonal), and the
+    // prior variance carried by the basis, Σ s_k ψ_k².
     const Eigen::MatrixXd& cov = data_.weight_covariance;
     double var = 0.0;
+    double represented_prior = 0.0;
     for (Eigen::Index j = 0; j < m; ++j) {
       const double pj = psi[static_cast<std::size_t>(j)];
       double column = 0.0;
       for (Eigen::Index i = j + 1; i < m; ++i) column += cov(i, j) * psi[static_cast<std::size_t>(i)];
       var += pj * (cov(j, j) * pj + 2.0 * column);
+      represented_prior += spectral_weights_(j) * pj * pj;
     }
-    *std = std::sqrt(std::max(var, 0.0));
+    const double missing_prior = std::max(prior_variance_ - represented_prior, 0.0);
+    *std = std::sqrt(std::max(var, 0.0) + missing_prior);
   }
 }
 

@@ -77,6 +77,14 @@ class GprModel final {
 
   /// Posterior mean and the posterior standard deviation of the latent f (√ of eq. 23; add
   /// noise_variance for a new observation). O(M²), no allocation. Either pointer may be null.
+  ///
+  /// The variance is ψᵀ Cov(β) ψ plus the prior variance the truncated basis does not carry,
+  /// k(a, a) − Σ_k s_k ψ_k(a)² = σ²_x + σ²_ẋ − Σ_k s_k ψ_k(a)² (clipped at 0): the diagonal
+  /// correction of the sparse-GP literature (Quiñonero-Candela & Rasmussen 2005, JMLR 6, §6,
+  /// "FITC" predictive variance). It is ≤ tol·σ² where the basis represents the kernel (inside
+  /// the trained ranges) and restores the prior variance where it does not: "DS" beyond its
+  /// Hilbert domain, where every position feature is 0, and near the domain's Dirichlet
+  /// boundary.
   void Predict(double x, double xdot, double* mean, double* std) const noexcept;
 
   /// Batch forms; all vectors of one length. Throw std::invalid_argument on a length mismatch.
@@ -119,6 +127,8 @@ class GprModel final {
  private:
   double ClampXdot(double xdot) const noexcept;
   GprModelData data_;
+  Eigen::VectorXd spectral_weights_;  ///< s (M) at the model's hyperparameters, for the variance
+  double prior_variance_ = 0.0;       ///< k(a, a) = σ²_x + σ²_ẋ
 };
 
 }  // namespace mb
