@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "engine/block_roles.h"
 #include "engine/file_access.h"
 #include "models/gpr/gpr_io.h"
 
@@ -41,7 +42,8 @@ GprModel LoadModelParameter(const BlockConfig& config) {
 Gpr::Gpr(const BlockConfig& config)
     : Block(config.name),
       model_(LoadModelParameter(config)),
-      output_std_(config.parameters.Bool("output_std")) {
+      output_std_(config.parameters.Bool("output_std")),
+      confidence_weighting_(config.parameters.Bool("confidence_weighting")) {
   DeclareInputPort("x", 1, "m");
   DeclareInputPort("xdot", 1, "m/s");
   DeclareOutputPort("mean");
@@ -52,7 +54,8 @@ Gpr::Gpr(const BlockConfig& config)
 void Gpr::CalcOutput(const BlockContext& c) const noexcept {
   const double x = c.u(0);
   const double xdot = c.u(1);
-  c.y(0) = model_.PredictPosteriorMean(x, xdot);
+  c.y(0) = confidence_weighting_ ? model_.PredictConfidenceWeightedMean(x, xdot)
+                                 : model_.PredictPosteriorMean(x, xdot);
   if (output_std_) model_.Predict(x, xdot, nullptr, &c.y(1));
 }
 
@@ -63,8 +66,14 @@ MB_REGISTER_BLOCK(Gpr, BlockType{
     "range). Inherited sample time, or discrete with a sampleTime.",
     {Required("model", "", "GPR model file (JSON), relative to the diagram's folder", ParamType::kString),
      Optional("output_std", false, "", "also output the posterior standard deviation \"std\"",
+              ParamType::kBool),
+     Optional("confidence_weighting", false, "",
+              "scale the mean by the confidence weight g = clip(1 - std^2/prior variance, 0, 1): the compensation "
+              "fades where the model has no data",
               ParamType::kBool)},
     SampleTimeRule::kOptional,
     [](const BlockConfig& c) { return std::make_unique<Gpr>(c); }})
+
+MB_REGISTER_LOOP_ROLES(Gpr, "gpr", {"gp_model"})
 
 }  // namespace mb

@@ -18,7 +18,11 @@ namespace mb {
 ///  - model: the model file (gpr_io.h format), relative to the diagram's folder
 ///    (BlockConfig::base_directory), inside it or a folder allowed with --allow-path, a regular file
 ///    (engine/file_access.h); read once, at construction;
-///  - output_std: declare the "std" output (default false; O(M²) per call instead of O(M)).
+///  - output_std: declare the "std" output (default false; O(M²) per call instead of O(M));
+///  - confidence_weighting: output g(x, ẋ)·d̂ instead of d̂, with the confidence weight
+///    g = clip(1 − σ²/σ_f², 0, 1) of GprModel::ConfidenceWeight (default false; O(M²) per call):
+///    the compensation fades where the model has no data, α(x, ẋ) = α_max·g with α_max the f_gp
+///    weight. `motionblocks stability` then uses the Lipschitz constants of g·d̂.
 /// Sample time: inherited without a `sampleTime`, discrete with one ([Ts, offset]; outputs held
 /// between hits).
 /// Outside the trained ranges (as the model documents, gpr_model.h): ẋ is clamped to the trained
@@ -39,6 +43,7 @@ class Gpr final : public Block {
  private:
   GprModel model_;
   bool output_std_;
+  bool confidence_weighting_;
 };
 
 }  // namespace mb

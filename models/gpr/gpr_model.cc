@@ -235,6 +235,59 @@ GprLipschitzConstants GprModel::LipschitzConstants(int grid_points) const {
   return out;
 }
 
+double GprModel::ConfidenceWeight(double x, double xdot) const noexcept {
+  double std = 0.0;
+  Predict(x, xdot, nullptr, &std);
+  if (!std::isfinite(x) || !std::isfinite(xdot)) return 0.0;
+  return std::clamp(1.0 - std * std / prior_variance_, 0.0, 1.0);
+}
+
+double GprModel::PredictConfidenceWeightedMean(double x, double xdot, double* weight) const noexcept {
+  double mean = 0.0;
+  double std = 0.0;
+  Predict(x, xdot, &mean, &std);
+  const double g =
+      std::isfinite(x) && std::isfinite(xdot) ? std::clamp(1.0 - std * std / prior_variance_, 0.0, 1.0) : 0.0;
+  if (weight != nullptr) *weight = g;
+  return g * mean;
+}
+
+GprLipschitzConstants GprModel::ConfidenceWeightedLipschitzConstants(int grid_points) const {
+  if (grid_points < 16) {
+    throw std::invalid_argument("GprModel::ConfidenceWeightedLipschitzConstants: grid_points must be >= 16, got " +
+                                std::to_string(grid_points));
+  }
+  const GprBasis& basis = data_.basis;
+  const bool periodic = basis.kernel == GprKernel::kPeriodicSe;
+  const double x_lo = periodic ? 0.0 : basis.x_domain.center - basis.x_domain.half_width;
+  const double x_hi = periodic ? basis.period : basis.x_domain.center + basis.x_domain.half_width;
+  const double v_lo = data_.xdot_range.min;
+  const double v_hi = data_.xdot_range.max;
+  const int coarse = std::max(2, grid_points / 8);
+  // Largest |f(a_{i+1}) − f(a_i)| / Δa along the fine axis, over `coarse` lines of the other axis.
+  const auto largest_quotient = [&](double lo, double hi, double other_lo, double other_hi, bool along_x) {
+    const double h = (hi - lo) / (grid_points - 1);
+    double largest = 0.0;
+    for (int j = 0; j < coarse; ++j) {
+      const double other = other_lo + (other_hi - other_lo) * j / (coarse - 1);
+      const auto f = [&](double a) {
+        return along_x ? PredictConfidenceWeightedMean(a, other) : PredictConfidenceWeightedMean(other, a);
+      };
+      double previous = f(lo);
+      for (int i = 1; i < grid_points; ++i) {
+        const double current = f(lo + i * h);
+        largest = std::max(largest, std::abs(current - previous) / h);
+        previous = current;
+      }
+    }
+    return largest;
+  };
+  GprLipschitzConstants out;
+  out.position = out.position_sampled = largest_quotient(x_lo, x_hi, v_lo, v_hi, true);
+  out.velocity = out.velocity_sampled = v_hi > v_lo ? largest_quotient(v_lo, v_hi, x_lo, x_hi, false) : 0.0;
+  return out;
+}
+
 double GprModel::MaxPosteriorStd(int grid_points) const {
   if (grid_points < 2) {
     throw std::invalid_argument("GprModel::MaxPosteriorStd: grid_points must be >= 2, got " +

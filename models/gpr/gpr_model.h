@@ -87,6 +87,27 @@ class GprModel final {
   /// boundary.
   void Predict(double x, double xdot, double* mean, double* std) const noexcept;
 
+  /// Confidence weight g(x, ẋ) = clip(1 − σ²(x, ẋ)/σ_f², 0, 1) ∈ [0, 1], with σ² the posterior
+  /// variance of Predict and σ_f² = σ²_x + σ²_ẋ the prior variance: 1 where the data pin the
+  /// posterior down, 0 where nothing is known (σ² back at the prior). It scales the compensation
+  /// where the paper uses a fixed α (eq. 53): α(x, ẋ) = α_max·g(x, ẋ), trusting the GP where it has
+  /// data (the posterior variance is left to the analysis in the paper, Remark 1). O(M²), no
+  /// allocation. Non-finite inputs give 0.
+  double ConfidenceWeight(double x, double xdot) const noexcept;
+
+  /// g(x, ẋ)·d̂(x, ẋ): the posterior mean scaled by the confidence weight. O(M²), no allocation.
+  /// If `weight` is not null it receives g.
+  double PredictConfidenceWeightedMean(double x, double xdot, double* weight = nullptr) const noexcept;
+
+  /// Lipschitz constants of g·d̂ for the small-gain analysis with the confidence weight (eq. 47 with
+  /// μ replaced by g·d̂; the weighted mean is not a sum of a position and a velocity part, so each
+  /// constant is the largest difference quotient over a 2-D grid): position over one period ("PS") or
+  /// the Hilbert domain ("DS"; constant beyond it) × the trained velocity range, `grid_points`
+  /// along the differenced axis and grid_points/8 (≥ 2) along the other. A sampled estimate (a
+  /// lower bound of the supremum that converges as the grid is refined), reported in both the
+  /// bound and the sampled fields. @throws std::invalid_argument for grid_points < 16.
+  GprLipschitzConstants ConfidenceWeightedLipschitzConstants(int grid_points = 256) const;
+
   /// Batch forms; all vectors of one length. Throw std::invalid_argument on a length mismatch.
   void PredictPosteriorMean(const Eigen::Ref<const Eigen::VectorXd>& x,
                             const Eigen::Ref<const Eigen::VectorXd>& xdot,

@@ -194,7 +194,9 @@ StabilityReport AnalyseStability(const PaperLoop& loop, const GprModel* gpr, con
                         Discretization::kZeroOrderHold));
   base.alpha_max = loop.gp_weight;
   if (gpr) {
-    const GprLipschitzConstants lc = gpr->LipschitzConstants(options.lipschitz_grid);
+    const GprLipschitzConstants lc = loop.gp_confidence_weighting
+                                         ? gpr->ConfidenceWeightedLipschitzConstants(options.weighted_lipschitz_grid)
+                                         : gpr->LipschitzConstants(options.lipschitz_grid);
     base.lipschitz_x = lc.position;
     base.lipschitz_xdot = lc.velocity;
     r.b_mu = gpr->PosteriorErrorBound(options.beta_delta, options.std_grid);
@@ -240,6 +242,10 @@ StabilityReport AnalyseStability(const PaperLoop& loop, const GprModel* gpr, con
                       "gamma_d_to_x * ||C_FB||_1 >= ||T||_1 >= 1, so it cannot certify a PD loop; use the 'dob' "
                       "decomposition (conventional loop closed, only the GP path fed back)");
   }
+  if (r.has_gpr && loop.gp_confidence_weighting) {
+    r.notes.push_back("the gpr block scales its mean by the confidence weight g(x, xdot): L_x and L_xdot are those of "
+                      "g * mean, largest difference quotients on a grid (a sampled estimate, not a rigorous bound)");
+  }
   if (!r.has_gpr) {
     r.notes.push_back("no GPR model given: K = L_x + L_xdot*gamma_xdot = 0, the GP path is absent");
   }
@@ -266,6 +272,7 @@ nlohmann::json ToJson(const StabilityReport& r) {
                {"gp_weight", l.gp_weight},
                {"gp_cutoff_hz", l.gp_cutoff_hz},
                {"gp_order", l.gp_order},
+               {"gp_confidence_weighting", l.gp_confidence_weighting},
                {"has_dob", l.has_dob},
                {"has_feedforward", l.has_feedforward}};
   j["inner_loop_stable"] = r.inner_loop_stable;

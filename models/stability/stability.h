@@ -21,6 +21,8 @@
 //    GP path fed back: x = G^DOB_d→x{d − d̂_g} + G^DOB_xd→x{x_d}, so ρ_dob = γ^DOB_d→x·γ_g·α·K and
 //    α < 1/(γ^DOB_d→x γ_g K). The same Lemma 2 bound, far less conservative.
 // K = L_x + L_ẋ γ_ẋ (eq. 56) needs the GPR's Lipschitz constants (eq. 47); b_μ (Remark 1) its posterior std.
+// With the confidence weight (PaperLoop::gp_confidence_weighting, blocks/gpr.h) the GP path is α_max·g·d̂ and K uses
+// the Lipschitz constants of g·d̂ (GprModel::ConfidenceWeightedLipschitzConstants, a sampled estimate).
 
 #include <complex>
 #include <limits>
@@ -50,6 +52,7 @@ struct PaperLoop {
   double derivative_cutoff_hz = 300.0;  ///< cut-off of the PD's derivative filter [Hz]
   double velocity_cutoff_hz = 100.0;    ///< F_ẋ cut-off (GP input) [Hz]
   double gp_weight = 0.0;          ///< α_max used for ρ (the f_gp weight)
+  bool gp_confidence_weighting = false;  ///< the gpr block scales d̂ by g(x, ẋ): K uses the constants of g·d̂
   double gp_cutoff_hz = 100.0;     ///< F_gp cut-off [Hz]
   int gp_order = 1;                ///< F_gp order
   bool has_dob = true;             ///< false: no DOB (d̂_d = 0; Q and Q∘P_n⁻¹ absent, their γ terms 0)
@@ -107,6 +110,7 @@ struct StabilityOptions {
   int bode_points = 200;
   double bode_min_hz = 0.1;
   int lipschitz_grid = 8192;
+  int weighted_lipschitz_grid = 256;  ///< per axis, for the confidence-weighted mean (O(M²) per point)
   int std_grid = 64;
 };
 

@@ -2,6 +2,7 @@
 // differences, and the weight form against the exact GP at the same hyperparameters.
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 
 #include <Eigen/Dense>
@@ -246,6 +247,56 @@ TEST(GprModelStd, FollowsTheExactGpFarOutsideTheTrainedWindow) {
       // 0.675 m beyond the window: nothing is known of the position part there.
       EXPECT_GT(std_far, 0.99 * std::sqrt(hp.signal_variance_x)) << "DS far outside";
     }
+  }
+}
+
+
+// Issue 14: the confidence weight g = clip(1 − σ²/σ_f², 0, 1) that scales the compensation. Near 1 where the data
+// are, falling to the share of the prior variance still known (the velocity part, σ²_ẋ/σ_f²) far outside a "DS"
+// window, and 0 for a non-finite input; the weighted mean is g times the mean.
+TEST(GprModelConfidence, WeightTrustsTheModelWhereItHasData) {
+  const Centred c = Data(40, 13);
+  for (GprKernel kernel : {GprKernel::kPeriodicSe, GprKernel::kSeSe}) {
+    GprHyperparameters hp = Hyperparameters(kernel);
+    if (kernel == GprKernel::kSeSe) hp.length_scale_x = 0.02;
+    GprModelData data;
+    data.kernel = kernel;
+    data.hyperparameters = hp;
+    data.x_range = {0.1, 0.325};
+    data.xdot_range = {0.05, 0.5};
+    data.basis = ChooseGprBasis(kernel, hp, data.x_range, data.xdot_range, 1e-12);
+    const GprWeightPosterior post =
+        SolveGprWeightPosterior(AccumulateGprFeatureStatistics(data.basis, c.s.x, c.s.xdot, c.y), hp);
+    data.weights = post.weights;
+    data.weight_covariance = post.covariance;
+    data.mean = 0.7;
+    const GprModel model(std::move(data));
+    const double prior = hp.signal_variance_x + hp.signal_variance_xdot;
+    double weight = -1.0;
+    const double inside = model.PredictConfidenceWeightedMean(0.2, 0.3, &weight);
+    EXPECT_GT(weight, 0.95) << GprKernelName(kernel);
+    EXPECT_DOUBLE_EQ(inside, weight * model.PredictPosteriorMean(0.2, 0.3));
+    EXPECT_DOUBLE_EQ(model.ConfidenceWeight(0.2, 0.3), weight);
+    if (kernel == GprKernel::kSeSe) {
+      // 1.2 m beyond the window the position part is back at its prior, σ² ≥ σ²_x: g ≤ σ²_ẋ/σ_f², and above 0
+      // because the velocity part is still known.
+      const double far = model.ConfidenceWeight(1.5, 0.3);
+      EXPECT_LE(far, hp.signal_variance_xdot / prior + 1e-9) << "DS far outside";
+      EXPECT_GT(far, 0.2) << "DS far outside";
+    } else {
+      // PS repeats with the period: as sure 40 periods away.
+      EXPECT_NEAR(model.ConfidenceWeight(0.2 + 40 * hp.period, 0.3), weight, 1e-9) << "PS";
+    }
+    EXPECT_EQ(model.ConfidenceWeight(std::nan(""), 0.3), 0.0);
+    EXPECT_EQ(model.PredictConfidenceWeightedMean(0.2, std::numeric_limits<double>::infinity()), 0.0);
+    const GprLipschitzConstants plain = model.LipschitzConstants();
+    const GprLipschitzConstants weighted = model.ConfidenceWeightedLipschitzConstants();
+    std::printf("[ measured ] %s: L_x %.4g -> %.4g, L_xdot %.4g -> %.4g with the confidence weight\n",
+                std::string(GprKernelName(kernel)).c_str(), plain.position, weighted.position, plain.velocity,
+                weighted.velocity);
+    EXPECT_GT(weighted.position, 0.0);
+    EXPECT_GT(weighted.velocity, 0.0);
+    EXPECT_TRUE(std::isfinite(weighted.position) && std::isfinite(weighted.velocity));
   }
 }
 

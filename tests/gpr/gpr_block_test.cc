@@ -109,6 +109,25 @@ TEST_F(GprBlock, DiagramOutputsExactlyThePosteriorMeanAndStd) {
   EXPECT_NEAR(model_->PredictPosteriorMean(0.2, 0.3), testing::TrueDisturbance(0.2, 0.3), 0.05);
 }
 
+TEST_F(GprBlock, ConfidenceWeightingScalesTheMeanByTheModelsWeight) {
+  const Diagram diagram = BuildDiagram(
+      GprDiagram({{"name", "dhat"}, {"type", "gpr"},
+                  {"parameters", {{"model", "model.json"}, {"confidence_weighting", true}}}}),
+      dir_, "gpr_test.json");
+  const SimulationResult r = Simulator(diagram).Run();
+  const auto& x = r.log.Column("pos.y");
+  const auto& v = r.log.Column("vel.y");
+  const auto& mean = r.log.Column("dhat.mean");
+  for (std::size_t k = 0; k < mean.size(); ++k) {
+    double weight = -1.0;
+    ASSERT_EQ(mean[k], model_->PredictConfidenceWeightedMean(x[k], v[k], &weight)) << "t = " << r.log.time[k];
+    const double unweighted = model_->PredictPosteriorMean(x[k], v[k]);  // same sum, other summation order
+    ASSERT_NEAR(mean[k], weight * unweighted, 1e-12 * (1.0 + std::abs(unweighted))) << "t = " << r.log.time[k];
+    ASSERT_GT(weight, 0.0);
+    ASSERT_LT(weight, 1.0);  // σ² > 0 everywhere: never full trust
+  }
+}
+
 TEST_F(GprBlock, StdOutputOnlyWhenRequested) {
   const Diagram diagram =
       BuildDiagram(GprDiagram({{"name", "dhat"}, {"type", "gpr"}, {"parameters", {{"model", "model.json"}}}}), dir_,

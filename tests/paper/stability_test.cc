@@ -6,10 +6,10 @@
 #include <string>
 
 #include <gmock/gmock.h>
-
 #include <gtest/gtest.h>
 
 #include "engine/diagram_loader.h"
+#include "models/gpr/gpr_io.h"
 #include "models/stability/dob_design.h"
 #include "models/stability/stability.h"
 #include "tools/workflow/loop_from_diagram.h"
@@ -145,6 +145,30 @@ TEST(StabilityTest, FindsTheLoopByRoleNotByName) {
   const PaperLoop gp = PaperLoopFromDiagram(LoadDiagram(dir + "/gp_loop.json"));
   EXPECT_GT(gp.gp_weight, 0.0);
   EXPECT_EQ(gp.kp, l.kp);
+}
+
+// Issue 14: the gpr block's confidence weight reaches the analysis through the "gp_model" role, and K then uses
+// the Lipschitz constants of g·d̂.
+TEST(StabilityTest, ConfidenceWeightingOfTheGprBlockChangesTheLipschitzConstants) {
+  const std::string dir = std::string(MB_SOURCE_DIR) + "/diagrams/paper";
+  nlohmann::json j = ReadDiagramJson(dir + "/gp_loop.json");
+  EXPECT_FALSE(PaperLoopFromDiagram(BuildDiagram(j, dir, "gp_loop.json")).gp_confidence_weighting);
+  for (auto& e : j["elements"]) {
+    if (e["name"] == "gpr") e["parameters"]["confidence_weighting"] = true;
+  }
+  const PaperLoop weighted = PaperLoopFromDiagram(BuildDiagram(j, dir, "gp_loop.json"));
+  EXPECT_TRUE(weighted.gp_confidence_weighting);
+  PaperLoop plain = weighted;
+  plain.gp_confidence_weighting = false;
+  const GprModel model = LoadGprModel(dir + "/models/gpr_ps_d2.json");
+  StabilityOptions options;
+  options.impulse_samples = 2000;
+  options.bode_points = 4;
+  const StabilityReport a = AnalyseStability(plain, &model, options);
+  const StabilityReport b = AnalyseStability(weighted, &model, options);
+  EXPECT_NE(a.dob.lipschitz_x, b.dob.lipschitz_x);
+  EXPECT_EQ(b.dob.lipschitz_x, model.ConfidenceWeightedLipschitzConstants(options.weighted_lipschitz_grid).position);
+  EXPECT_EQ(ToJson(b)["loop"]["gp_confidence_weighting"], true);
 }
 
 TEST(StabilityTest, AnalysesThePdLoopOfTheHilDiagram) {
