@@ -136,6 +136,7 @@ json Reproduce(const ReproduceOptions& o) {
   paper::RunClosedLoopCases(c);        // 5. (reproduce_table2.cc)
   paper::RunPayloadSweeps(c);          // 6.
   paper::AnalyseStabilityOfModels(c);  // 7. (reproduce_stability.cc)
+  paper::CompareConfidenceWeighting(c);  // 7. (reproduce_confidence.cc)
   paper::TimePosteriorMean(c);         // 8.
   paper::StateFindings(c);             //    (reproduce_findings.cc)
   paper::WriteReproduceReport(c);      // 9. (reproduce_report.cc)

@@ -7,6 +7,7 @@
 //   reproduce_table1.cc     4. Table 1 along the Fig. 9 run
 //   reproduce_table2.cc     5–6. Table 2 and the payload case, the payload study as sweeps
 //   reproduce_stability.cc  7. stability; 8. the GPR's cost per control step
+//   reproduce_confidence.cc 7. variance-aware compensation (the confidence weight of blocks/gpr.h)
 //   reproduce_findings.cc   where ours differ from the paper, from the numbers
 //   reproduce_report.cc     9. report.html: tables and figures
 // reproduce.cc runs them in order.
@@ -94,6 +95,9 @@ struct ReproduceContext {
   nlohmann::json table2, payload_json;
   // 7–8. stability and timing
   nlohmann::json stability, timing;
+  // 7. variance-aware compensation
+  std::vector<ClosedLoopCase> confidence_cases;
+  nlohmann::json confidence;
   std::vector<std::string> findings;
 
   /// A step message (ReproduceOptions::message).
@@ -114,6 +118,7 @@ void ComputeTable1(ReproduceContext& c);
 void RunClosedLoopCases(ReproduceContext& c);
 void RunPayloadSweeps(ReproduceContext& c);
 void AnalyseStabilityOfModels(ReproduceContext& c);
+void CompareConfidenceWeighting(ReproduceContext& c);
 void TimePosteriorMean(ReproduceContext& c);
 void StateFindings(ReproduceContext& c);
 void WriteReproduceReport(ReproduceContext& c);

@@ -117,6 +117,40 @@ void AddTables(const ReproduceContext& c, HtmlReport& report) {
   }
 }
 
+void AddConfidenceTable(const ReproduceContext& c, HtmlReport& report) {
+  const json& k = c.confidence;
+  const json& rmse = k["tracking_rmse"];
+  const json& outside = k["tracking_rmse_outside_D2"];
+  const auto um = [](const json& v) { return Fixed(v.get<double>(), 3); };
+  report.Heading("Variance-aware compensation: α(x, ẋ) = α_max·g(σ²/σ_f²) (beyond the paper) [µm]");
+  report.Paragraph(fmt::format(
+      "The gpr block scales its posterior mean by g = clip(1 − σ²(x, ẋ)/σ_f², 0, 1) (confidence_weighting, "
+      "blocks/gpr.h): 1 where the training data pin the posterior down, falling towards the share of the prior "
+      "variance still known where they do not. Same Fig. 9 runs as Table 2 (α_max = {}); \"outside D(2)\": the "
+      "samples with x outside the 225 mm training window. \"PS, α_max = {:.3g}\": the highest α_max ≤ 0.99 (eq. 53: α < 1) with ρ < 1 "
+      "(10 % margin) in the analysis with the Lipschitz constants of g·d̂.",
+      k["alpha"].get<double>(), k["high_alpha"].get<double>()));
+  report.Table({"", "RMSE", "RMSE outside D(2)", "with payload"},
+               {{"conventional", um(rmse["conventional"]), um(outside["conventional"]), Fixed(c.RmseUm(3), 3)},
+                {"DS", um(rmse["DS"]), um(outside["DS"]), Fixed(c.RmseUm(4), 3)},
+                {"DS, weighted", um(rmse["DS_weighted"]), um(outside["DS_weighted"]), um(rmse["DS_payload_weighted"])},
+                {"PS", um(rmse["PS"]), um(outside["PS"]), Fixed(c.RmseUm(5), 3)},
+                {"PS, weighted", um(rmse["PS_weighted"]), um(outside["PS_weighted"]), um(rmse["PS_payload_weighted"])},
+                {fmt::format("PS, weighted, α_max = {:.3g}", k["high_alpha"].get<double>()),
+                 um(rmse["PS_high_alpha_weighted"]), um(outside["PS_high_alpha_weighted"]),
+                 um(rmse["PS_high_alpha_payload_weighted"])}});
+  std::vector<std::vector<std::string>> rows;
+  auto num = [](const json& v) { return v.is_null() ? std::string("∞") : fmt::format("{:.4g}", v.get<double>()); };
+  for (const char* name : {"DS", "PS", "PS_high_alpha"}) {
+    const json& s = k["stability"][name];
+    rows.push_back({name, num(s["alpha"]), num(s["lipschitz_x"]), num(s["lipschitz_xdot"]), num(s["rho"]),
+                    num(s["alpha_max_bound"])});
+  }
+  report.Table({"weighted model (D2)", "α_max", "L_x of g·d̂ [N/m]", "L_ẋ of g·d̂ [N·s/m]", "ρ (DOB loop closed)",
+                "α bound"},
+               rows);
+}
+
 void AddDisturbanceFigures(const ReproduceContext& c, HtmlReport& report) {
   const ReproduceOptions& o = c.options;
   const auto& d_true = c.conv.log.Column("plant.disturbance");
@@ -262,6 +296,7 @@ void WriteReproduceReport(ReproduceContext& c) {
   c.Say(fmt::format("[9/{}] report: results.json, report.html and figures", kSteps));
   HtmlReport report("motionblocks reproduce: TISO-GPR + DOB on the linear-motor twin");
   AddTables(c, report);
+  AddConfidenceTable(c, report);
   AddDisturbanceFigures(c, report);
   AddPosteriorMeanFigures(c, report);
   AddClosedLoopFigures(c, report);

@@ -78,7 +78,7 @@ TEST(ReproduceTest, QuickRunWritesResultsWithThePapersOrderings) {
   ASSERT_TRUE(in.good());
   const json r = json::parse(in);
   EXPECT_EQ(r["table2"], returned["table2"]);
-  for (const char* key : {"table1", "table2", "payload", "stability", "timing"}) EXPECT_TRUE(r.contains(key)) << key;
+  for (const char* key : {"table1", "table2", "payload", "stability", "timing", "confidence_weighting"}) EXPECT_TRUE(r.contains(key)) << key;
 
   // Table 2 [µm]: the calibrated conventional loop near the paper's 42.0 µm; PS < DS < conventional.
   const json& t2 = r["table2"];
@@ -123,6 +123,17 @@ TEST(ReproduceTest, QuickRunWritesResultsWithThePapersOrderings) {
     EXPECT_LT(s[k]["dob"]["rho"].get<double>(), 1.0) << k;
     EXPECT_GT(s[k]["dob"]["alpha_max_bound"].get<double>(), 0.9) << k;
   }
+  // Variance-aware compensation (issue 14): inside the trained ranges g is near 1, so the weighted runs stay within
+  // 5 % of the unweighted; the highest α it runs at is still certified (ρ < 1 with the constants of g·d̂).
+  const json& w = r["confidence_weighting"];
+  for (const char* k : {"DS", "PS"}) {
+    EXPECT_NEAR(w["tracking_rmse"][std::string(k) + "_weighted"].get<double>(), w["tracking_rmse"][k].get<double>(),
+                0.05 * w["tracking_rmse"][k].get<double>())
+        << k;
+    EXPECT_LT(w["stability"][k]["rho"].get<double>(), 1.0) << k;
+  }
+  EXPECT_GE(w["high_alpha"].get<double>(), 0.9);
+  EXPECT_LT(w["stability"]["PS_high_alpha"]["rho"].get<double>(), 1.0);
   // The GPR's posterior mean costs far less than the 1 ms control period.
   for (const char* k : {"DS", "PS"}) {
     const double ns = r["timing"][k]["posterior_mean_ns"];
