@@ -5,6 +5,7 @@
 
 #include "models/gpr/exact_gp.h"
 #include "models/gpr/gpr_fit.h"
+#include "models/gpr/gpr_recursive.h"
 #include "tests/gpr/synthetic_data.h"
 
 namespace mb {
@@ -75,6 +76,22 @@ void BM_PredictMeanAndStd(benchmark::State& state, GprKernel kernel) {
 }
 BENCHMARK_CAPTURE(BM_PredictMeanAndStd, PS, GprKernel::kPeriodicSe);
 BENCHMARK_CAPTURE(BM_PredictMeanAndStd, DS, GprKernel::kSeSe);
+
+// Learning online (models/gpr/gpr_recursive.h): one rank-one posterior update per control step, O(M²), with
+// stabilised forgetting — the budget is the 1 ms control period.
+void BM_RecursiveUpdate(benchmark::State& state, GprKernel kernel) {
+  GprRecursivePosterior online(FittedModel(kernel), 0.999);
+  double x = 0.1, v = 0.05;
+  for (auto _ : state) {
+    online.Update(x, v, 0.1 * std::sin(300.0 * x));
+    x = x > 0.325 ? 0.1 : x + 1.3e-4;
+    v = v > 0.5 ? 0.05 : v + 1e-5;
+  }
+  benchmark::DoNotOptimize(online.weights().data());
+  state.counters["M"] = online.model().feature_count();
+}
+BENCHMARK_CAPTURE(BM_RecursiveUpdate, PS, GprKernel::kPeriodicSe);
+BENCHMARK_CAPTURE(BM_RecursiveUpdate, DS, GprKernel::kSeSe);
 
 // The exact GP's prediction (eq. 22 as written, O(N)) for comparison.
 void BM_ExactPosteriorMean(benchmark::State& state) {

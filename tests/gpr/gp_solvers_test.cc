@@ -10,6 +10,7 @@
 
 #include "models/gpr/exact_gp.h"
 #include "models/gpr/gpr_model.h"
+#include "models/gpr/gpr_recursive.h"
 #include "models/gpr/weight_space.h"
 #include "tests/gpr/synthetic_data.h"
 
@@ -298,6 +299,74 @@ TEST(GprModelConfidence, WeightTrustsTheModelWhereItHasData) {
     EXPECT_GT(weighted.velocity, 0.0);
     EXPECT_TRUE(std::isfinite(weighted.position) && std::isfinite(weighted.velocity));
   }
+}
+
+
+// A model with the test's hyperparameters, posterior from `c` (mean 0: the targets are centred).
+GprModel ModelFrom(const Centred& c, GprKernel kernel) {
+  const GprHyperparameters hp = Hyperparameters(kernel);
+  GprModelData data;
+  data.kernel = kernel;
+  data.hyperparameters = hp;
+  data.x_range = {0.1, 0.325};
+  data.xdot_range = {0.05, 0.5};
+  data.basis = ChooseGprBasis(kernel, hp, data.x_range, data.xdot_range, 1e-12);
+  const GprWeightPosterior post =
+      SolveGprWeightPosterior(AccumulateGprFeatureStatistics(data.basis, c.s.x, c.s.xdot, c.y), hp);
+  data.weights = post.weights;
+  data.weight_covariance = post.covariance;
+  return GprModel(std::move(data));
+}
+
+// Issue 14, learning online: N rank-one updates from the prior give the batch posterior of the same N samples.
+TEST(GprRecursive, MatchesTheBatchPosterior) {
+  const Centred c = Data(40, 17);  // N = 400
+  for (GprKernel kernel : {GprKernel::kPeriodicSe, GprKernel::kSeSe}) {
+    const GprModel batch = ModelFrom(c, kernel);
+    GprRecursivePosterior online(batch, 1.0, /*from_prior=*/true);
+    EXPECT_EQ(online.weights().norm(), 0.0);
+    for (Eigen::Index i = 0; i < c.y.size(); ++i) ASSERT_TRUE(online.Update(c.s.x(i), c.s.xdot(i), c.y(i)));
+    EXPECT_EQ(online.updates(), c.y.size());
+    const double weight_error = (online.weights() - batch.data().weights).norm() / batch.data().weights.norm();
+    const double covariance_error = (online.covariance() - batch.data().weight_covariance).norm() /
+                                    batch.data().weight_covariance.norm();
+    std::printf("[ measured ] %s, N = 400: |m - m_batch|/|m_batch| = %.2e, |P - P_batch|/|P_batch| = %.2e\n",
+                std::string(GprKernelName(kernel)).c_str(), weight_error, covariance_error);
+    EXPECT_LT(weight_error, 1e-6) << GprKernelName(kernel);
+    EXPECT_LT(covariance_error, 1e-6) << GprKernelName(kernel);
+    EXPECT_NEAR(online.PredictPosteriorMean(0.2, 0.3), batch.PredictPosteriorMean(0.2, 0.3), 1e-6);
+    EXPECT_FALSE(online.Update(std::nan(""), 0.3, 1.0));
+    EXPECT_EQ(online.updates(), c.y.size());
+  }
+  EXPECT_THROW(GprRecursivePosterior(ModelFrom(c, GprKernel::kPeriodicSe), 0.0), std::invalid_argument);
+}
+
+// A disturbance that changes under the learner (a payload: + 1.5 N·s/m·ẋ): with stabilised forgetting the posterior
+// mean follows the new disturbance; without it the old data hold it back.
+TEST(GprRecursive, ForgettingFollowsADisturbanceThatChanges) {
+  const Centred c = Data(40, 19);
+  const GprModel model = ModelFrom(c, GprKernel::kPeriodicSe);
+  GprRecursivePosterior remembering(model, 1.0);
+  GprRecursivePosterior forgetting(model, 0.995);
+  const Centred after = Data(40, 23);
+  for (int pass = 0; pass < 2; ++pass) {
+    for (Eigen::Index i = 0; i < after.y.size(); ++i) {
+      const double d = after.y(i) + 1.5 * after.s.xdot(i);
+      remembering.Update(after.s.x(i), after.s.xdot(i), d);
+      forgetting.Update(after.s.x(i), after.s.xdot(i), d);
+    }
+  }
+  double error_remembering = 0.0;
+  double error_forgetting = 0.0;
+  for (Eigen::Index i = 0; i < after.y.size(); ++i) {
+    const double truth = after.y(i) + 1.5 * after.s.xdot(i);
+    error_remembering += std::pow(remembering.PredictPosteriorMean(after.s.x(i), after.s.xdot(i)) - truth, 2);
+    error_forgetting += std::pow(forgetting.PredictPosteriorMean(after.s.x(i), after.s.xdot(i)) - truth, 2);
+  }
+  const double n = static_cast<double>(after.y.size());
+  std::printf("[ measured ] after the change: RMSE without forgetting %.4f, with lambda = 0.995 %.4f\n",
+              std::sqrt(error_remembering / n), std::sqrt(error_forgetting / n));
+  EXPECT_LT(error_forgetting, 0.5 * error_remembering);
 }
 
 }  // namespace

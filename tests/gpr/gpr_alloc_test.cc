@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "models/gpr/gpr_fit.h"
+#include "models/gpr/gpr_recursive.h"
 #include "tests/alloc_counter.h"
 #include "tests/gpr/synthetic_data.h"
 
@@ -34,6 +35,17 @@ TEST(GprRealTime, PredictAllocatesNothing) {
       sum += mean + std + gx + gv;
     }
     EXPECT_EQ(::mb::testing::AllocationCount(), before) << GprKernelName(kernel);
+    EXPECT_TRUE(std::isfinite(sum));
+
+    // Learning online (gpr_recursive.h): the rank-one update and its prediction allocate nothing either.
+    GprRecursivePosterior online(model, 0.999);
+    const long before_online = ::mb::testing::AllocationCount();
+    for (int i = 0; i < 200; ++i) {
+      const double x = 0.1 + 0.001 * i, v = 0.05 + 0.002 * i;
+      online.Update(x, v, 0.3);
+      sum += online.PredictPosteriorMean(x, v);
+    }
+    EXPECT_EQ(::mb::testing::AllocationCount(), before_online) << GprKernelName(kernel) << " online";
     EXPECT_TRUE(std::isfinite(sum));
   }
 }

@@ -1,0 +1,54 @@
+#pragma once
+// Learning online in weight space (issue 14, beyond the paper): the posterior over the coefficients β of the model's
+// basis, updated one observation at a time. With f(x, ẋ) = ψ(x, ẋ)ᵀβ, prior β ~ N(0, S), S = diag(s) (the spectral
+// weights, models/gpr/basis.h) and an observation d = mean + ψᵀβ + ε, ε ~ N(0, σ²_n), the exact Bayesian update is
+// the Kalman / recursive-least-squares step (Särkkä 2013, "Bayesian Filtering and Smoothing", §3.4; Rasmussen &
+// Williams 2006, §2.1.1):
+//   k = Pψ / (σ²_n + ψᵀPψ),   m ← m + k (d − mean − ψᵀm),   P ← P − k (Pψ)ᵀ
+// O(M²) per observation, no allocation. After N observations from the prior with no forgetting, (m, P) equal the
+// batch posterior of models/gpr/weight_space.h on the same N samples (test GprRecursive.MatchesTheBatchPosterior).
+//
+// Drift (a payload added, a motor warming up): stabilised forgetting (Kulhavý & Zarrop 1993, Int. J. Control 58):
+// before each update P ← λP + (1 − λ)S, 0 < λ ≤ 1. The covariance relaxes towards the prior rather than growing
+// without bound in directions the data no longer excite (the wind-up of plain exponential forgetting P ← P/λ); the
+// effective memory is about 1/(1 − λ) observations. λ = 1: no forgetting.
+//
+// Hyperparameters, basis and the training mean stay those of the model the learner starts from.
+
+#include <Eigen/Core>
+
+#include "models/gpr/gpr_model.h"
+
+namespace mb {
+
+class GprRecursivePosterior final {
+ public:
+  /// Starts from `model`'s posterior (weights, covariance), or, with `from_prior`, from the prior (β = 0, P = S:
+  /// a model that knows its basis, hyperparameters and mean but no data). Allocates its M-sized state here.
+  /// @throws std::invalid_argument if forgetting is not in (0, 1].
+  explicit GprRecursivePosterior(const GprModel& model, double forgetting = 1.0, bool from_prior = false);
+
+  /// Absorbs one observation d (the disturbance, same unit as the model's) at position x [m] and velocity ẋ [m/s]
+  /// (ẋ clamped to the trained range, as the model predicts). O(M²), noexcept, no allocation. A non-finite input is
+  /// ignored and returns false.
+  bool Update(double x, double xdot, double d) noexcept;
+
+  /// Posterior mean mean + ψ(x, clamp(ẋ))ᵀm at the current state. O(M), no allocation; non-finite → the mean.
+  double PredictPosteriorMean(double x, double xdot) const noexcept;
+
+  const Eigen::VectorXd& weights() const noexcept { return weights_; }       ///< m (M)
+  const Eigen::MatrixXd& covariance() const noexcept { return covariance_; }  ///< P (M × M)
+  long long updates() const noexcept { return updates_; }
+  const GprModel& model() const noexcept { return model_; }
+
+ private:
+  GprModel model_;
+  double forgetting_;
+  Eigen::VectorXd prior_variance_;  ///< s (M)
+  Eigen::VectorXd weights_;
+  Eigen::MatrixXd covariance_;
+  Eigen::VectorXd psi_, p_psi_;  ///< scratch (M)
+  long long updates_ = 0;
+};
+
+}  // namespace mb
