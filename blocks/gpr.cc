@@ -74,6 +74,6 @@ MB_REGISTER_BLOCK(Gpr, BlockType{
     SampleTimeRule::kOptional,
     [](const BlockConfig& c) { return std::make_unique<Gpr>(c); }})
 
-MB_REGISTER_LOOP_ROLES(Gpr, "gpr", {"gp_model"})
+MB_REGISTER_LOOP_ROLES(Gpr, "gpr", {"gp"})
 
 }  // namespace mb

@@ -147,7 +147,7 @@ TEST(StabilityTest, FindsTheLoopByRoleNotByName) {
   EXPECT_EQ(gp.kp, l.kp);
 }
 
-// Issue 14: the gpr block's confidence weight reaches the analysis through the "gp_model" role, and K then uses
+// Issue 14: the gpr block's confidence weight reaches the analysis through the "gp" role, and K then uses
 // the Lipschitz constants of g·d̂.
 TEST(StabilityTest, ConfidenceWeightingOfTheGprBlockChangesTheLipschitzConstants) {
   const std::string dir = std::string(MB_SOURCE_DIR) + "/diagrams/paper";

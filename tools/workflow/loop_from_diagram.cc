@@ -166,7 +166,7 @@ void ReadGpPath(const LoopFinder& f, const std::vector<int>& pd_blocks, PaperLoo
     l->gp_cutoff_hz = p.Number("cutoff_hz");
     l->gp_order = p.Integer("order");
   }
-  if (const int m = f.Find("gp_model", false); m >= 0) {
+  if (const int m = f.Find("gp", false); m >= 0) {
     l->gp_confidence_weighting = f.Of(m).Bool("confidence_weighting");
   }
 }

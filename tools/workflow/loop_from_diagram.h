@@ -16,7 +16,7 @@
 //   gp_filter             f_gp                  weight α, cutoff_hz, order                    the one such element, or none
 //   gp_velocity_filter    velocity_estimator    F_ẋ cut-off                                   the one velocity_estimator
 //                                                                                             the PD does not use, or 100 Hz
-//   gp_model              gpr                   confidence_weighting                          the one such element, or none
+//   gp                    gpr                   confidence_weighting                          the one such element, or none
 //   feedforward           nominal_inverse       (present or not)                              has_feedforward = any
 //                                                                                             nominal_inverse of form
 //                                                                                             "derivatives"
