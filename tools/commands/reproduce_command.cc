@@ -16,6 +16,7 @@ namespace {
 struct ReproduceCommandOptions {
   std::string out = "out/reproduce";
   std::string diagrams = "diagrams/paper";
+  std::string odrive_data;
   int jobs = 0;
   bool quick = false;
   bool quiet = false;
@@ -25,6 +26,7 @@ void RunReproduceCommand(const ReproduceCommandOptions& o) {
   ReproduceOptions options;
   options.out = o.out;
   options.diagrams = o.diagrams;
+  options.odrive_data = o.odrive_data;
   options.jobs = o.jobs;
   options.quick = o.quick;
   options.progress = !o.quiet;
@@ -67,6 +69,9 @@ void SetupReproduceCommand(CLI::App& app) {
   cmd->add_option("--diagrams", options->diagrams, "folder with the paper's diagrams and sweeps/")
       ->capture_default_str()
       ->check(CLI::ExistingDirectory);
+  cmd->add_option("--odrive-data", options->odrive_data,
+                  "ODrive cogging records for the real-motor section (default: shared/data/odrive_cogging beside the "
+                  "repository)");
   cmd->add_option("--jobs,-j", options->jobs, "parallel simulations and fits (default: all cores)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--quiet", options->quiet, "no progress lines");

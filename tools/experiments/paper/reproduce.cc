@@ -138,6 +138,7 @@ json Reproduce(const ReproduceOptions& o) {
   paper::AnalyseStabilityOfModels(c);  // 7. (reproduce_stability.cc)
   paper::CompareConfidenceWeighting(c);  // 7. (reproduce_confidence.cc)
   paper::TimePosteriorMean(c);         // 8.
+  paper::RunRealMotor(c);              // 8. (reproduce_real_motor.cc)
   paper::StateFindings(c);             //    (reproduce_findings.cc)
   paper::WriteReproduceReport(c);      // 9. (reproduce_report.cc)
   return c.results;

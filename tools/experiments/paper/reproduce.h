@@ -40,6 +40,10 @@ struct ReproduceOptions {
   bool quick = false;
   int jobs = 0;           ///< parallel simulations and fits; 0 = all hardware threads
   bool progress = true;   ///< progress lines on stderr
+  /// The ODrive records of the "real motor" step (../shared/data/odrive_cogging); empty: the repository's sibling
+  /// `shared/data/odrive_cogging`, found from `diagrams` (diagrams/paper → ../../../shared/…). Missing: the step
+  /// says so and is skipped.
+  std::filesystem::path odrive_data;
   /// Step messages ("[3/8] fitting …"); the command prints them on stdout. May be empty.
   std::function<void(const std::string&)> message;
 };

@@ -8,6 +8,7 @@
 //   reproduce_table2.cc     5–6. Table 2 and the payload case, the payload study as sweeps
 //   reproduce_stability.cc  7. stability; 8. the GPR's cost per control step
 //   reproduce_confidence.cc 7. variance-aware compensation (the confidence weight of blocks/gpr.h)
+//   reproduce_real_motor.cc 8. DS and PS on a real motor's cogging (the ODrive records)
 //   reproduce_findings.cc   where ours differ from the paper, from the numbers
 //   reproduce_report.cc     9. report.html: tables and figures
 // reproduce.cc runs them in order.
@@ -98,6 +99,9 @@ struct ReproduceContext {
   // 7. variance-aware compensation
   std::vector<ClosedLoopCase> confidence_cases;
   nlohmann::json confidence;
+  // 8. real motor
+  nlohmann::json real_motor;
+  std::map<std::string, std::vector<double>> real_motor_curves;  ///< D(2) posterior means over the map's angles
   std::vector<std::string> findings;
 
   /// A step message (ReproduceOptions::message).
@@ -120,6 +124,7 @@ void RunPayloadSweeps(ReproduceContext& c);
 void AnalyseStabilityOfModels(ReproduceContext& c);
 void CompareConfidenceWeighting(ReproduceContext& c);
 void TimePosteriorMean(ReproduceContext& c);
+void RunRealMotor(ReproduceContext& c);
 void StateFindings(ReproduceContext& c);
 void WriteReproduceReport(ReproduceContext& c);
 

@@ -81,6 +81,7 @@ void StateFindings(ReproduceContext& c) {
   c.results["table2"] = c.table2;
   c.results["payload"] = c.payload_json;
   c.results["confidence_weighting"] = c.confidence;
+  c.results["real_motor"] = c.real_motor;
   c.results["stability"] = c.stability;
   c.results["timing"] = c.timing;
   c.results["paper"] = {{"table1", kPaperTable1}, {"table2", kPaperTable2}};
