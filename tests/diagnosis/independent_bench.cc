@@ -1,10 +1,12 @@
 #include "tests/diagnosis/independent_bench.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "engine/diagram_loader.h"
 #include "models/diagnosis/effect_registry.h"
@@ -48,33 +50,32 @@ double NoiseFloor(Hidden hidden, const MeasurementLog& log, const MeasurementSet
   return Rmse(log.column("force_N"), filtered);
 }
 
+// Named right: the hidden effect first outside the friction-law replacements; a law case (Stribeck): among the
+// replacements, nothing named outside them; two effects: the first two outside the replacements, in either order.
+// The key parameter is read from the hidden (first) effect's entry.
 void Judge(const DiagnosisResult& d, CaseResult* r) {
   r->parameter = std::numeric_limits<double>::quiet_NaN();
-  bool second = r->spec.second_effect.empty();
-  bool law_named = false;
+  std::vector<std::string> outside;
+  const DiagnosedEffect* key = nullptr;
   for (const auto& e : d.effects) {
     const bool law = IsLaw(e.effect);
     r->named.push_back(e.effect + (law ? " (law)" : ""));
-    second = second || e.effect == r->spec.second_effect;
-    const bool key = r->spec.law ? e.effect == r->spec.effect : !law && r->named_first.empty();
-    if (!law && r->named_first.empty()) r->named_first = e.effect;
-    if (!key) continue;
-    law_named = law_named || r->spec.law;
-    const auto it = e.parameters.find(r->spec.parameter);
-    if (it != e.parameters.end()) r->parameter = it->second;
+    if (!law) outside.push_back(e.effect);
+    if (key == nullptr && e.effect == r->spec.effect) key = &e;
   }
-  // Two effects at once: both must be named outside the law (in either order); the key parameter is the first's.
-  bool first = r->named_first == r->spec.effect;
-  if (!r->spec.second_effect.empty()) {
-    first = false;
-    for (const auto& e : d.effects) {
-      if (e.effect != r->spec.effect) continue;
-      first = true;
-      const auto it = e.parameters.find(r->spec.parameter);
-      if (it != e.parameters.end()) r->parameter = it->second;
-    }
+  if (!outside.empty()) r->named_first = outside.front();
+  if (r->spec.law) {
+    r->named_right = key != nullptr && outside.empty();
+  } else if (!r->spec.second_effect.empty()) {
+    const std::vector<std::string> pair{r->spec.effect, r->spec.second_effect};
+    r->named_right = outside.size() >= 2 && std::is_permutation(outside.begin(), outside.begin() + 2, pair.begin());
+  } else {
+    r->named_right = r->named_first == r->spec.effect;
   }
-  r->named_right = r->spec.law ? law_named && r->named_first.empty() : first && second;
+  if (key != nullptr) {
+    const auto it = key->parameters.find(r->spec.parameter);
+    if (it != key->parameters.end()) r->parameter = it->second;
+  }
   r->parameter_right = r->spec.parameter.empty()
                            ? r->named_right
                            : std::abs(r->parameter - r->spec.truth) <= r->spec.tolerance * std::abs(r->spec.truth);
@@ -114,14 +115,12 @@ namespace {
 
 // "yes", or what failed; without improve, the naming and the parameter only.
 std::string Verdict(const CaseResult& r) {
-  const bool compared = r.named_right && r.parameter_right;
-  if (!r.improve_run) {
-    return compared ? "named, parameter right (improve not run)"
-                    : fmt::format("no ({}{})", r.named_right ? "" : "name ", r.parameter_right ? "" : "parameter");
-  }
-  if (r.pass()) return "yes";
-  return fmt::format("no ({}{}{})", r.named_right ? "" : "name ", r.parameter_right ? "" : "parameter ",
-                     r.floor_reached ? "" : "floor");
+  std::vector<std::string> failed;
+  if (!r.named_right) failed.emplace_back("name");
+  if (!r.parameter_right) failed.emplace_back("parameter");
+  if (r.improve_run && !r.floor_reached) failed.emplace_back("floor");
+  if (!failed.empty()) return fmt::format("no ({})", fmt::join(failed, ", "));
+  return r.improve_run ? "yes" : "named, parameter right (improve not run)";
 }
 
 }  // namespace
