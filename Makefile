@@ -1,7 +1,7 @@
 # The two commands of the README. Both install what they need (Debian packages) and build from scratch.
 JOBS ?= $(shell nproc)
 
-.PHONY: deps build demo test bench clean
+.PHONY: deps build demo test bench bench-diagnosis clean
 
 deps:
 	./scripts/install-deps.sh
@@ -25,6 +25,13 @@ test: deps
 
 bench: build
 	./scripts/bench.sh
+
+## make bench-diagnosis: the independent hidden-effect cases (tests/diagnosis/independent_bench.h), Release: the table
+## of docs/diagnosis.md ("Independent hidden-effect cases").
+bench-diagnosis:
+	cmake --preset release
+	cmake --build --preset release -j $(JOBS) --target bench_diagnosis
+	build/release/tests/diagnosis/bench_diagnosis --out=out/bench-diagnosis
 
 clean:
 	rm -rf build

@@ -20,11 +20,24 @@ Friction::Friction(const BlockConfig& config)
                                 "(slip only), got \"" + model + "\"");
   }
   stick_ = model == "karnopp";
+  if (p.String("regularization") == "tanh") {
+    if (stick_) {
+      throw std::invalid_argument("regularization \"tanh\" is a smooth law without stiction: set stick_model to "
+                                  "\"none\" (no f_applied input), or regularization to \"none\" for Karnopp's stick");
+    }
+    regularization_velocity_ = p.Number("regularization_velocity");
+    if (!(regularization_velocity_ > 0.0)) {
+      throw std::invalid_argument("regularization_velocity must be > 0 m/s with regularization \"tanh\", got " +
+                                  std::to_string(regularization_velocity_));
+    }
+  }
   DeclareInputPort("v", 1, "m/s");
   if (stick_) DeclareInputPort("f_applied", 1, "N");
   DeclareOutputPort("f", 1, "N");
-  DeclareDiscreteState(2);  // the mode; the velocity band of the current stick (0 while slipping)
-  DeclareZeroCrossings(2);
+  if (regularization_velocity_ == 0.0) {
+    DeclareDiscreteState(2);  // the mode; the velocity band of the current stick (0 while slipping)
+    DeclareZeroCrossings(2);
+  }
   SetSampleTime(SampleTime::Continuous());
 }
 
@@ -33,10 +46,15 @@ FrictionMode Friction::Mode(const BlockContext& c) {
 }
 
 void Friction::CalcOutput(const BlockContext& c) const {
+  if (regularization_velocity_ > 0.0) {
+    c.y(0) = RegularizedFriction(friction_, regularization_velocity_, c.u(0));
+    return;
+  }
   c.y(0) = FrictionForce(friction_, Mode(c), c.u(0), AppliedForce(c));
 }
 
 void Friction::CalcZeroCrossings(const BlockContext& c) const {
+  if (regularization_velocity_ > 0.0) return;  // no modes
   auto g = c.zero_crossings();
   if (Mode(c) == FrictionMode::kStuck) {
     const double f = AppliedForce(c);
@@ -49,6 +67,7 @@ void Friction::CalcZeroCrossings(const BlockContext& c) const {
 }
 
 bool Friction::UpdateModes(const BlockContext& c) const {
+  if (regularization_velocity_ > 0.0) return false;
   auto xd = c.discrete_state();
   const FrictionMode old_mode = Mode(c);
   const double band = std::max(stick_velocity_, xd(1));
@@ -65,7 +84,7 @@ MB_REGISTER_BLOCK(Friction, BlockType{
     "friction",
     "F = s·(F_c + (F_s − F_c)e^{−(v/v_s)²}) + σv while slipping in s = ±1, F = f_applied while stuck (Karnopp); "
     "ins v [m/s], f_applied [N]; out f [N] resisting the motion (M·ẍ = f_applied − f); the mode switches at "
-    "located events.",
+    "located events; regularization \"tanh\": F = tanh(v/v_reg)·(F_c + (F_s − F_c)e^{−(v/v_s)²}) + σv, no modes.",
     {Bounded("viscous", 0.0, "N·s/m", "viscous coefficient σ", 0.0, std::numeric_limits<double>::infinity()),
      Bounded("coulomb", 0.0, "N", "Coulomb force F_c", 0.0, std::numeric_limits<double>::infinity()),
      Bounded("static", 0.0, "N", "static (breakaway) force F_s >= coulomb; 0 = equal to coulomb", 0.0,
@@ -75,6 +94,12 @@ MB_REGISTER_BLOCK(Friction, BlockType{
      Choice("stick_model", "karnopp", "\"karnopp\" (input f_applied) or \"none\" (slip only)",
             {"karnopp", "none"}),
      Bounded("stick_velocity", 1e-6, "m/s", "|v| above which a stuck body is taken to slip", 0.0,
+             std::numeric_limits<double>::infinity()),
+     Choice("regularization", "none",
+            "\"none\" (the slip direction is a mode switched at events) or \"tanh\" (sign(v) ≈ tanh(v/v_reg), "
+            "smooth, no stiction; needs stick_model \"none\")",
+            {"none", "tanh"}),
+     Bounded("regularization_velocity", 1e-3, "m/s", "v_reg of regularization \"tanh\"", 0.0,
              std::numeric_limits<double>::infinity())},
     SampleTimeRule::kNone,
     [](const BlockConfig& c) { return std::make_unique<Friction>(c); }})

@@ -28,8 +28,12 @@ namespace mb {
 /// does not chatter between stick and slip at every step (x_d[1] holds the band while stuck, 0 while slipping).
 /// The stuck body drifts at v_0 (≤ a·h): use CVODE where that drift matters. With stick_model "none" (no f_applied input) the direction follows v at each crossing and a
 /// body that should come to rest chatters; use it only for motions that keep moving.
+/// Regularisation (regularization "tanh", stick_model "none"): no modes, no events, F = RegularizedFriction
+/// (models/physics/friction.h) = tanh(v/v_reg)·(F_c + (F_s − F_c)e^{−(v/v_s)²}) + σv with v_reg =
+/// regularization_velocity [m/s] > 0 — the same law as the linear_motor's Stribeck friction, smooth through v = 0
+/// (what a fitted model of a machine that dwells at rest often needs). Default "none": the event-driven law above.
 /// @throws std::invalid_argument for negative or non-finite parameters, static < coulomb, an unknown
-/// stick_model.
+/// stick_model, regularization "tanh" with stick_model "karnopp" or regularization_velocity 0.
 class Friction final : public Block {
  public:
   explicit Friction(const BlockConfig& config);
@@ -50,6 +54,7 @@ class Friction final : public Block {
   FrictionParameters friction_;
   bool stick_ = true;
   double stick_velocity_;
+  double regularization_velocity_ = 0.0;  ///< > 0: regularization "tanh" (no modes)
 };
 
 }  // namespace mb

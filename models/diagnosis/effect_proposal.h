@@ -5,6 +5,7 @@
 // proposing. ProposeCandidateEffects (effect_catalogue.h) builds one context and calls every registered effect's
 // rule in catalogue order; the rules add candidates and notes to it.
 
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -74,5 +75,11 @@ int HarmonicCount(const Periodogram& periodogram, std::size_t index, int max_har
 /// Residual sum of squares of the least-squares fit of r on [base, extra] (normal equations, small ridge).
 double ResidualSumOfSquares(const Eigen::MatrixXd& base, const Eigen::Ref<const Eigen::MatrixXd>& extra,
                             const Eigen::VectorXd& r);
+
+/// A one-parameter scan of the joint fit: the value in [lo, hi] (log grid of `grid` points, then golden section in
+/// log between the best point's neighbours) minimising the residual sum of squares of the residual on
+/// [base, 1, columns(value)]. Returns 0 when lo or hi is not positive or lo >= hi.
+double ScanJointFit(const ProposalContext& context, double lo, double hi, int grid,
+                    const std::function<Eigen::MatrixXd(double)>& columns);
 
 }  // namespace mb

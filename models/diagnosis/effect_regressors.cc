@@ -1,5 +1,6 @@
 #include "models/diagnosis/effect_regressors.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -46,6 +47,16 @@ const Eigen::VectorXd& NeedModelOutput(const EffectInstance& e, const DiagnosisS
 
 Eigen::VectorXd SignDeadBand(const Eigen::VectorXd& v, double dead_band) {
   return v.unaryExpr([dead_band](double x) { return std::abs(x) <= dead_band ? 0.0 : (x > 0.0 ? 1.0 : -1.0); });
+}
+
+Eigen::VectorXd PlayOperator(const Eigen::VectorXd& x, double half_width) {
+  Eigen::VectorXd y(x.size());
+  double far = x.size() > 0 ? x(0) : 0.0;
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    far = std::clamp(far, x(i) - half_width, x(i) + half_width);
+    y(i) = far;
+  }
+  return y;
 }
 
 EffectRegressors SingleColumn(const std::string& effect, Eigen::VectorXd column) {

@@ -23,6 +23,10 @@ const Eigen::VectorXd& NeedModelOutput(const EffectInstance& effect, const Diagn
 /// sign(v), 0 inside the dead band |v| ≤ dead_band [m/s].
 Eigen::VectorXd SignDeadBand(const Eigen::VectorXd& velocity, double dead_band);
 
+/// The play (backlash) operator: y follows x only once |x − y| reaches half_width, y(0) = x(0) (Krasnosel'skii and
+/// Pokrovskii 1989; the far side of a gear or belt play).
+Eigen::VectorXd PlayOperator(const Eigen::VectorXd& x, double half_width);
+
 /// One column named after the effect.
 EffectRegressors SingleColumn(const std::string& effect, Eigen::VectorXd column);
 

@@ -29,13 +29,20 @@ void ValidateFrictionParameters(const FrictionParameters& p, const std::string& 
   }
 }
 
+double StribeckLevel(double coulomb, double breakaway, double stribeck_velocity, double velocity) noexcept {
+  if (!(stribeck_velocity > 0.0)) return coulomb;
+  const double r = velocity / stribeck_velocity;
+  return coulomb + (breakaway - coulomb) * std::exp(-r * r);
+}
+
+double RegularizedFriction(const FrictionParameters& p, double regularization_velocity, double velocity) noexcept {
+  return std::tanh(velocity / regularization_velocity) *
+             StribeckLevel(p.coulomb, p.breakaway, p.stribeck_velocity, velocity) +
+         p.viscous * velocity;
+}
+
 double SlidingFriction(const FrictionParameters& p, FrictionMode mode, double velocity) noexcept {
-  double level = p.coulomb;
-  if (p.stribeck_velocity > 0.0) {
-    const double r = velocity / p.stribeck_velocity;
-    level += (p.breakaway - p.coulomb) * std::exp(-r * r);
-  }
-  return Sign(mode) * level + p.viscous * velocity;
+  return Sign(mode) * StribeckLevel(p.coulomb, p.breakaway, p.stribeck_velocity, velocity) + p.viscous * velocity;
 }
 
 double FrictionForce(const FrictionParameters& p, FrictionMode mode, double velocity,

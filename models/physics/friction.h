@@ -36,6 +36,18 @@ enum class FrictionMode : int { kSlipNegative = -1, kStuck = 0, kSlipPositive = 
 /// and ≥ 0 and breakaway ≥ coulomb.
 void ValidateFrictionParameters(const FrictionParameters& p, const std::string& where);
 
+/// The Stribeck level F_c + (F_s − F_c)·exp(−(v/v_s)²) [N] (F_c when v_s = 0): the magnitude of the sliding friction
+/// at velocity v [m/s], whatever gives its sign (the mode here, tanh(v/v_reg) in RegularizedFriction and
+/// models/physics/stribeck.h). One law for every friction model of the project.
+double StribeckLevel(double coulomb, double breakaway, double stribeck_velocity, double velocity) noexcept;
+
+/// The regularised law, smooth through v = 0 and without modes (no stiction: F(0) = 0):
+///   F(v) = tanh(v/v_reg)·(F_c + (F_s − F_c)·exp(−(v/v_s)²)) + σ·v   [N],  v_reg = regularization_velocity > 0.
+/// The usual smooth approximation of Coulomb friction (e.g. Andersson, Söderberg & Björklund, "Friction models for
+/// sliding dry, boundary and mixed lubricated contacts", Tribology International 40 (2007), eq. 6). Choose v_reg so
+/// that σ_eff = F_s/v_reg keeps h·σ_eff/M inside a fixed-step solver's stability region.
+double RegularizedFriction(const FrictionParameters& p, double regularization_velocity, double velocity) noexcept;
+
 /// F_slip(v, s) [N] for a slip direction s (kSlipPositive or kSlipNegative) at velocity v [m/s]. Uses s, never
 /// sign(v). kStuck gives σ·v (no Coulomb part).
 double SlidingFriction(const FrictionParameters& p, FrictionMode mode, double velocity) noexcept;

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "models/physics/friction.h"
+
 namespace mb {
 
 StribeckFriction::StribeckFriction(StribeckParameters parameters) : p_(parameters) {
@@ -19,9 +21,8 @@ StribeckFriction::StribeckFriction(StribeckParameters parameters) : p_(parameter
 }
 
 double StribeckFriction::Force(double xdot) const noexcept {
-  const double r = xdot / p_.stribeck_velocity;
-  const double level = p_.coulomb + (p_.static_friction - p_.coulomb) * std::exp(-r * r);
-  return std::tanh(xdot / p_.regularization_velocity) * level + p_.viscous_squared * xdot * std::abs(xdot);
+  const FrictionParameters law{0.0, p_.coulomb, p_.static_friction, p_.stribeck_velocity};
+  return RegularizedFriction(law, p_.regularization_velocity, xdot) + p_.viscous_squared * xdot * std::abs(xdot);
 }
 
 }  // namespace mb

@@ -8,7 +8,8 @@
 // The force opposes motion (the plant subtracts it). The linear viscous part B·ẋ belongs to the rigid body.
 // Source: Armstrong-Hélouvry, Dupont & Canudas de Wit, "A survey of models, analysis tools and compensation
 // methods for the control of machines with friction", Automatica 30(7), 1994 (Stribeck curve, eq. 4);
-// the tanh regularisation is the usual smooth approximation (no stiction: at ẋ = 0 the force is 0).
+// the tanh regularisation is the usual smooth approximation (no stiction: at ẋ = 0 the force is 0). The law itself
+// is RegularizedFriction of models/physics/friction.h (the friction block's regularization "tanh"), plus b_2·ẋ|ẋ|.
 // Choose v_reg so that (F_s/v_reg)/M is well inside the solver's stability region (RK4: h·F_s/(v_reg·M) < 2.5).
 
 namespace mb {

@@ -1,5 +1,5 @@
 // The blocks `compare --suggest` inserts for a diagnosed missing effect: transport_delay, time_periodic,
-// velocity_dependent_ripple — each against its header's equation.
+// velocity_dependent_ripple, position_dependent_force — each against its header's equation.
 
 #include <cmath>
 #include <numbers>
@@ -93,6 +93,29 @@ TEST(VelocityDependentRippleTest, AmplitudeScalesWithSpeedInBothDirections) {
     const double th = kTwoPi * (x - x0) / period;
     EXPECT_NEAR(y[i], std::abs(v) * (a * std::cos(th) + b * std::sin(th)), 1e-9) << "t = " << t;
   }
+}
+
+// f = Σ_j c_j ξ^j, ξ = (x − x₀)/h: a hardening spring k₁(x − x₀) + k₃(x − x₀)³ with c_1 = k₁h, c_3 = k₃h³.
+TEST(PositionDependentForceTest, HardeningSpringAsPolynomialInTheNormalisedPosition) {
+  const double x0 = 0.1, h = 0.09, k1 = 30.0, k3 = 3000.0;
+  const json j = MakeDiagram(
+      {Element("x", "sine", {{"amplitude", 0.08}, {"frequency_hz", 1.0}, {"bias", x0}}),
+       Element("f", "position_dependent_force",
+               {{"center", x0}, {"half_range", h}, {"coefficients", {k1 * h, 0.0, k3 * h * h * h}}})},
+      {Connect("x.y", "f.x")}, {"f.f"}, 1.0, 1e-3);
+  const auto r = Simulator(Build(j)).Run();
+  const auto& f = r.log.Column("f.f");
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    const double d = 0.08 * std::sin(kTwoPi * r.log.time[i]);
+    EXPECT_NEAR(f[i], k1 * d + k3 * d * d * d, 1e-9) << "t = " << r.log.time[i];
+  }
+}
+
+TEST(PositionDependentForceTest, RefusesANonPositiveHalfRange) {
+  const json j = MakeDiagram({Element("x", "constant", {{"value", 0.0}}),
+                              Element("f", "position_dependent_force", {{"half_range", 0.0}})},
+                             {Connect("x.y", "f.x")}, {"f.f"}, 1.0, 1e-3);
+  EXPECT_THAT(BuildError(j), HasSubstr("half_range"));
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include "models/physics/friction.h"
 #include "models/physics/rigid_body.h"
+#include "models/physics/stribeck.h"
 
 namespace mb {
 namespace {
@@ -26,6 +27,26 @@ TEST(FrictionModelTest, SlidingFrictionUsesTheModeNotTheVelocitySign) {
   EXPECT_DOUBLE_EQ(SlidingFriction(coulomb, FrictionMode::kSlipPositive, 100.0), 1.0);
   EXPECT_DOUBLE_EQ(SteadyStateFriction(kStribeck, -0.01), -(1.0 + 0.5 * std::exp(-1.0)) - 0.005);
   EXPECT_DOUBLE_EQ(SteadyStateFriction(kStribeck, 0.0), 0.0);
+}
+
+// One law: the regularised form is the sliding law with tanh(v/v_reg) for the mode, and the linear motor's Stribeck
+// friction (models/physics/stribeck.h) is the same law plus b_2·v|v|.
+TEST(FrictionModelTest, RegularizedFrictionIsTheSlidingLawWithATanhSign) {
+  const double vreg = 1e-3;
+  for (double v : {-0.02, -0.004, -1e-4, 0.0, 3e-4, 0.01, 0.05}) {
+    const double s = std::tanh(v / vreg);
+    const double expected = s * (1.0 + 0.5 * std::exp(-(v / 0.01) * (v / 0.01))) + 0.5 * v;
+    EXPECT_NEAR(RegularizedFriction(kStribeck, vreg, v), expected, 1e-15) << v;
+    if (v != 0.0) {
+      EXPECT_NEAR(RegularizedFriction(kStribeck, vreg, v),
+                  s * (SlidingFriction(kStribeck, FrictionMode::kSlipPositive, v) - 0.5 * v) + 0.5 * v, 1e-14);
+    }
+    const StribeckFriction motor({.coulomb = 1.0, .static_friction = 1.5, .stribeck_velocity = 0.01,
+                                  .viscous_squared = 2.0, .regularization_velocity = vreg});
+    const FrictionParameters no_viscous{0.0, 1.0, 1.5, 0.01};
+    EXPECT_NEAR(motor.Force(v), RegularizedFriction(no_viscous, vreg, v) + 2.0 * v * std::abs(v), 1e-15) << v;
+  }
+  EXPECT_DOUBLE_EQ(StribeckLevel(1.0, 1.5, 0.0, 0.0), 1.0);  // v_s = 0: no hump
 }
 
 TEST(FrictionModelTest, StuckFrictionBalancesTheAppliedForceUpToBreakaway) {

@@ -264,6 +264,33 @@ TEST(FrictionTest, ParameterErrors) {
   EXPECT_THAT(fr({{"viscous", -0.1}}), HasSubstr("/elements/0/parameters/viscous: must be >= 0"));
 }
 
+// regularization "tanh": F = tanh(v/v_reg)·(F_c + (F_s − F_c)e^{−(v/v_s)²}) + σv at every instant, no events.
+TEST(FrictionTest, TanhRegularizationIsTheSmoothLawWithoutModes) {
+  const double sigma = 0.2, Fc = 1.0, Fs = 1.5, vs = 0.005, vreg = 1e-3;
+  const json j = MakeDiagram(
+      {Element("v", "sine", {{"amplitude", 0.01}, {"frequency_hz", 1.0}}),
+       Element("fr", "friction",
+               {{"viscous", sigma}, {"coulomb", Fc}, {"static", Fs}, {"stribeck_velocity", vs},
+                {"stick_model", "none"}, {"regularization", "tanh"}, {"regularization_velocity", vreg}})},
+      {Connect("v.y", "fr.v")}, {"fr.f"}, 1.0, 1e-3);
+  const auto r = Simulator(Build(j)).Run();
+  for (std::size_t i = 0; i < r.log.time.size(); ++i) {
+    const double v = 0.01 * std::sin(2.0 * std::numbers::pi * r.log.time[i]);
+    const double expected = std::tanh(v / vreg) * (Fc + (Fs - Fc) * std::exp(-(v / vs) * (v / vs))) + sigma * v;
+    EXPECT_NEAR(r.log.Column("fr.f")[i], expected, 1e-12) << "t = " << r.log.time[i];
+  }
+}
+
+TEST(FrictionTest, TanhRegularizationNeedsNoStickAndAPositiveVelocity) {
+  auto fr = [](const json& parameters) {
+    return BuildError(MakeDiagram({Element("fr", "friction", parameters)}, json::array(), json::array(), 1, 0.1));
+  };
+  EXPECT_THAT(fr({{"regularization", "tanh"}}),
+              HasSubstr("regularization \"tanh\" is a smooth law without stiction: set stick_model to \"none\""));
+  EXPECT_THAT(fr({{"regularization", "tanh"}, {"stick_model", "none"}, {"regularization_velocity", 0.0}}),
+              HasSubstr("regularization_velocity must be > 0 m/s with regularization \"tanh\", got 0"));
+}
+
 TEST(PositionPeriodicTest, MatchesTheFourierSeriesAboutItsPositionReference) {
   // x ramps at 0.01 m/s through several periods; y = Σ a_h cos(2πh(x − x₀)/P) + b_h sin(2πh(x − x₀)/P).
   const double P = 2.5e-3, x0 = 0.7e-3, v = 0.01;

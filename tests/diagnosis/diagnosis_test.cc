@@ -224,6 +224,25 @@ TEST(Diagnosis, WhiteNoiseResidualMeansNothingIsMissing) {
   EXPECT_NEAR(r.explained_share, 0.0, 1e-12);
 }
 
+bool HasNote(const DiagnosisResult& r, const std::string& text) {
+  for (const auto& n : r.notes) if (n.find(text) != std::string::npos) return true;
+  return false;
+}
+
+// A force that depends on the direction of travel and grows towards the ends of the travel (a loop against position,
+// not a constant Coulomb level): the hysteresis note; a white residual: none.
+TEST(Diagnosis, AResidualThatLoopsAgainstPositionGetsTheHysteresisNote) {
+  Scenario sc(12000);
+  const Eigen::ArrayXd xi = (sc.s.position.array() - 0.1) / 0.1;
+  sc.s.residual = (3.0 * xi.square()).matrix().cwiseProduct(sc.Sign()) + sc.Noise(0.4);
+  sc.s.model_output = sc.nominal_force;
+  sc.s.input = sc.nominal_force / 35.15;
+  const DiagnosisResult r = DiagnoseMissingEffects(sc.s, sc.Base("avs1"));
+  EXPECT_TRUE(HasNote(r, "hysteresis: the residual loops against position")) << Names(r);
+  sc.s.residual = sc.Noise(0.4);
+  EXPECT_FALSE(HasNote(DiagnoseMissingEffects(sc.s, sc.Base("avs1")), "hysteresis"));
+}
+
 TEST(Diagnosis, CorrectionTransfersToANewRecordAndJsonHasTheFields) {
   Scenario fit(12000), val(9000);
   auto ripple = [](const Eigen::VectorXd& x) { return x.unaryExpr([](double p) { return 0.3 * std::cos(kTwoPi * p / 4e-3); }); };

@@ -38,7 +38,9 @@ DiagnosisSignals Motion() {
 // test builds its regressors.
 const std::map<std::string, double> kTypical{{"period", 0.0025},   {"harmonics", 2.0},         {"frequency_hz", 7.0},
                                              {"delay", 0.004},     {"stribeck_velocity", 0.01}, {"damping_ratio", 0.05},
-                                             {"step", 0.5},        {"dead_band", 0.001}};
+                                             {"step", 0.5},        {"dead_band", 0.001},
+                                             {"backlash", 1e-3},   {"center", 0.1},            {"half_range", 0.1},
+                                             {"degree", 3.0}};
 
 bool IsSnakeCase(const std::string& name) {
   return !name.empty() && std::islower(static_cast<unsigned char>(name.front())) &&
@@ -86,7 +88,8 @@ TEST(EffectRegistry, NamesAreUniqueAndInCatalogueOrder) {
   // The catalogue's stable names (compare.json) are all there.
   for (const char* name : {"constant_offset", "viscous_friction", "coulomb_friction", "asymmetric_friction",
                            "stribeck_friction", "mass_mismatch", "position_periodic", "velocity_dependent_ripple",
-                           "time_periodic", "resonance", "time_delay", "quantization"}) {
+                           "time_periodic", "resonance", "time_delay", "quantization", "backlash",
+                           "position_dependent_force"}) {
     EXPECT_NE(EffectRegistry::Global().Find(name), nullptr) << name;
   }
 }

@@ -1,0 +1,35 @@
+#include "blocks/position_dependent_force.h"
+
+namespace mb {
+
+PositionDependentForce::PositionDependentForce(const BlockConfig& config)
+    : Block(config.name),
+      center_(config.parameters.Number("center")),
+      half_range_(config.parameters.Number("half_range")),
+      coefficients_(config.parameters.Vector("coefficients")) {
+  DeclareInputPort("x", 1, "m");
+  DeclareOutputPort("f", 1, "N");
+}
+
+void PositionDependentForce::CalcOutput(const BlockContext& c) const {
+  const double xi = (c.u(0) - center_) / half_range_;
+  double power = 1.0, f = 0.0;
+  for (Eigen::Index j = 0; j < coefficients_.size(); ++j) {
+    power *= xi;
+    f += coefficients_(j) * power;
+  }
+  c.y(0) = f;
+}
+
+MB_REGISTER_BLOCK(PositionDependentForce, BlockType{
+    "position_dependent_force",
+    "f = Σ_j c_j·((x − x₀)/h)^j: a smooth force of position (spring, cable carrier, magnet, hardening "
+    "suspension). In: x [m].",
+    {Optional("center", 0.0, "m", "x₀: the middle of the travel"),
+     Bounded("half_range", 0.1, "m", "h: half the travel (normalises the polynomial)", 1e-12, 1e9),
+     Optional("coefficients", nlohmann::json::array(), "N", "c_1…c_J, the force at ξ = 1 per power",
+              ParamType::kVector)},
+    SampleTimeRule::kNone,
+    [](const BlockConfig& c) { return std::make_unique<PositionDependentForce>(c); }})
+
+}  // namespace mb

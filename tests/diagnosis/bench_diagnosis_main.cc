@@ -1,0 +1,38 @@
+// bench_diagnosis [--out=DIR] [--compare-only] [--jitter=FRACTION] [CASE …]: the independent hidden-effect benchmark (issue 13, item 5;
+// tests/diagnosis/independent_bench.h). Prints the table of every case (or the named ones, e.g. "delay").
+// `make bench-diagnosis` builds it in Release and runs it.
+#include <algorithm>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "tests/diagnosis/independent_bench.h"
+
+int main(int argc, char** argv) {
+  std::string out = "out/bench-diagnosis";
+  bool improve = true;
+  double jitter = 0.0;
+  std::vector<std::string> only;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--compare-only") improve = false;
+    else if (a.rfind("--out=", 0) == 0) out = a.substr(6);
+    else if (a.rfind("--jitter=", 0) == 0) jitter = std::stod(a.substr(9));
+    else only.push_back(a);
+  }
+  std::vector<mb::independent::CaseResult> results;
+  for (const auto& spec : mb::independent::Cases()) {
+    if (!only.empty() && std::find(only.begin(), only.end(), spec.name) == only.end()) continue;
+    std::string folder = spec.name;
+    for (char& c : folder) if (c == ' ' || c == '(' || c == ')' || c == '+') c = '_';
+    try {
+      results.push_back(mb::independent::RunCase(spec, out + "/" + folder, improve, jitter));
+    } catch (const std::exception& e) {
+      std::cerr << spec.name << ": " << e.what() << "\n";
+      return 1;
+    }
+    std::cerr << "done: " << spec.name << "\n";
+  }
+  std::cout << mb::independent::FormatTable(results);
+  return 0;
+}

@@ -1,0 +1,153 @@
+#include "tests/diagnosis/independent_bench.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "engine/diagram_loader.h"
+#include "models/diagnosis/effect_registry.h"
+#include "models/diagnosis/signal_processing.h"
+#include "tools/workflow/comparison.h"
+#include "tools/workflow/improve.h"
+#include "tools/workflow/measurement.h"
+
+namespace mb::independent {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+const fs::path kEmps = fs::path(MB_SOURCE_DIR) / "diagrams" / "emps";
+
+// The user's diagram: the EMPS rigid body as shipped (M, Fv, Fc, offset free; sign(v) friction); with the mass
+// known, 94 kg fixed.
+json UserDiagram(bool mass_known) {
+  json d = ReadDiagramJson(kEmps / "rigid_body.json");
+  if (mass_known) {
+    d["free"] = {"friction.viscous", "friction.coulomb", "offset.value"};
+    SetParameterValues(&d, ResolveFreeParameters(d, {"inertia.gain"}), Eigen::VectorXd::Constant(1, 94.0));
+  }
+  return d;
+}
+
+double Seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+// A friction-law replacement (a new law near zero velocity, not a missing effect). Main's catalogue has none yet:
+// every named effect counts.
+bool IsLaw(const std::string& /*effect*/) { return false; }
+
+// The truth's force on the record as compare reads it (derived motion, parallel filtering) against the measured.
+double NoiseFloor(Hidden hidden, const MeasurementLog& log, const MeasurementSettings& settings) {
+  const Eigen::VectorXd truth = TruthForce(hidden, log.time(), log.column("position_m"),
+                                           log.column(kDerivedVelocityColumn), log.column(kDerivedAccelerationColumn));
+  const Eigen::VectorXd filtered = ZeroPhaseLowPass(truth, MedianTimeStep(log.time()), settings.derivative_cutoff_hz);
+  return Rmse(log.column("force_N"), filtered);
+}
+
+// Named right: the hidden effect first outside the friction-law replacements; a law case (Stribeck): among the
+// replacements, nothing named outside them; two effects: the first two outside the replacements, in either order.
+// The key parameter is read from the hidden (first) effect's entry.
+void Judge(const DiagnosisResult& d, CaseResult* r) {
+  r->parameter = std::numeric_limits<double>::quiet_NaN();
+  std::vector<std::string> outside;
+  const DiagnosedEffect* key = nullptr;
+  for (const auto& e : d.effects) {
+    const bool law = IsLaw(e.effect);
+    r->named.push_back(e.effect + (law ? " (law)" : ""));
+    if (!law) outside.push_back(e.effect);
+    if (key == nullptr && e.effect == r->spec.effect) key = &e;
+  }
+  if (!outside.empty()) r->named_first = outside.front();
+  if (r->spec.law) {
+    r->named_right = key != nullptr && outside.empty();
+  } else if (!r->spec.second_effect.empty()) {
+    const std::vector<std::string> pair{r->spec.effect, r->spec.second_effect};
+    r->named_right = outside.size() >= 2 && std::is_permutation(outside.begin(), outside.begin() + 2, pair.begin());
+  } else {
+    r->named_right = r->named_first == r->spec.effect;
+  }
+  if (key != nullptr) {
+    const auto it = key->parameters.find(r->spec.parameter);
+    if (it != key->parameters.end()) r->parameter = it->second;
+  }
+  r->parameter_right = r->spec.parameter.empty()
+                           ? r->named_right
+                           : std::abs(r->parameter - r->spec.truth) <= r->spec.tolerance * std::abs(r->spec.truth);
+}
+
+}  // namespace
+
+CaseResult RunCase(const CaseSpec& spec, const fs::path& directory, bool run_improve, double jitter) {
+  CaseResult r;
+  r.spec = spec;
+  fs::create_directories(directory);
+  const fs::path train = directory / "training.csv", valid = directory / "validation.csv";
+  WriteCsv(Generate(spec.hidden, {.jitter = jitter, .seed = 11}), train.string());
+  WriteCsv(Generate(spec.hidden, {.jitter = jitter, .seed = 23}), valid.string());
+  const json diagram = UserDiagram(spec.mass_known);
+  ImproveSettings settings;
+  const auto t0 = std::chrono::steady_clock::now();
+  const MeasurementLog training = ReadMeasurementFor(diagram, train.string(), settings.measurement);
+  const DiagnosedComparison compared = CompareAndDiagnose(diagram, kEmps, "rigid_body.json", training,
+                                                          settings.measurement, diagram["free"]);
+  r.compare_seconds = Seconds(t0);
+  Judge(*compared.diagnosis, &r);
+  const MeasurementLog validation = ReadMeasurementFor(diagram, valid.string(), settings.measurement);
+  r.noise_floor = NoiseFloor(spec.hidden, validation, settings.measurement);
+  if (!run_improve) return r;
+  r.improve_run = true;
+  const auto t1 = std::chrono::steady_clock::now();
+  const ImproveResult improved = ImproveModel(diagram, kEmps, "rigid_body.json", training, &validation, settings);
+  r.improve_seconds = Seconds(t1);
+  r.heldout_before = improved.first().rmse_heldout;
+  r.heldout_after = improved.last_accepted().rmse_heldout;
+  r.floor_reached = r.heldout_after <= 1.3 * r.noise_floor;
+  return r;
+}
+
+namespace {
+
+// "yes", or what failed; without improve, the naming and the parameter only.
+std::string Verdict(const CaseResult& r) {
+  std::vector<std::string> failed;
+  if (!r.named_right) failed.emplace_back("name");
+  if (!r.parameter_right) failed.emplace_back("parameter");
+  if (r.improve_run && !r.floor_reached) failed.emplace_back("floor");
+  if (!failed.empty()) return fmt::format("no ({})", fmt::join(failed, ", "));
+  return r.improve_run ? "yes" : "named, parameter right (improve not run)";
+}
+
+}  // namespace
+
+std::string FormatTable(const std::vector<CaseResult>& results) {
+  std::string out =
+      "| case | named (ranking; (law) = friction-law replacement) | first outside the law | key parameter found "
+      "(truth) | held-out RMSE before → after improve (noise floor) [N] | compare / improve [s] | pass |\n"
+      "|---|---|---|---|---|---|---|\n";
+  for (const auto& r : results) {
+    std::string named;
+    for (const auto& n : r.named) named += (named.empty() ? "" : ", ") + n;
+    std::string parameter = "—";
+    if (!r.spec.parameter.empty()) {
+      parameter = fmt::format("{} {:.4g} ({:.4g})", r.spec.parameter, r.parameter, r.spec.truth);
+    }
+    const std::string heldout =
+        r.improve_run ? fmt::format("{:.3f} → {:.3f} ({:.3f})", r.heldout_before, r.heldout_after, r.noise_floor)
+                      : fmt::format("not run ({:.3f})", r.noise_floor);
+    const std::string seconds = r.improve_run ? fmt::format("{:.2f} / {:.1f}", r.compare_seconds, r.improve_seconds)
+                                              : fmt::format("{:.2f} / —", r.compare_seconds);
+    out += fmt::format("| {} | {} | {} | {} | {} | {} | {} |\n", r.spec.name,
+                       named.empty() ? "nothing" : named, r.named_first.empty() ? "—" : r.named_first, parameter,
+                       heldout, seconds,
+                       Verdict(r));
+  }
+  return out;
+}
+
+}  // namespace mb::independent

@@ -1,0 +1,62 @@
+// The independent hidden-effect data (issue 13, item 5; tests/diagnosis/independent_plant.h): the generator's own
+// properties (what makes it a test of data the project did not generate). The cases themselves — a log per hidden
+// effect, diagnosed with the EMPS rigid body as the user's model — are measured by bench_diagnosis
+// (docs/diagnosis.md, "Independent hidden-effect cases"); a case becomes a test here once the diagnosis passes it.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "tests/diagnosis/independent_plant.h"
+
+namespace mb::independent {
+namespace {
+
+const GeneratorSettings kJittered{.duration = 4.0, .jitter = 0.05, .seed = 3};
+
+TEST(IndependentPlant, SameSeedSameRecordOtherSeedAnother) {
+  const Record a = Generate(Hidden::kNone, kJittered), b = Generate(Hidden::kNone, kJittered);
+  EXPECT_EQ(a.force, b.force);
+  EXPECT_EQ(a.position, b.position);
+  GeneratorSettings other = kJittered;
+  other.seed = 4;
+  EXPECT_NE(Generate(Hidden::kNone, other).position, a.position);
+}
+
+TEST(IndependentPlant, LogsAsAJitteredQuantisedNoisyLoggerWould) {
+  const Record r = Generate(Hidden::kNone, kJittered);
+  ASSERT_EQ(r.time.size(), 4000);
+  const Eigen::ArrayXd step = r.time.tail(r.time.size() - 1) - r.time.head(r.time.size() - 1);
+  EXPECT_GE(step.minCoeff(), 0.9e-3 - 1e-12);  // ±5 % on each instant: steps within 1 ms ± 10 %
+  EXPECT_LE(step.maxCoeff(), 1.1e-3 + 1e-12);
+  EXPECT_GT(step.maxCoeff() - step.minCoeff(), 0.1e-3);  // and really jittered
+  const Eigen::ArrayXd counts = r.position.array() / kJittered.encoder_step;
+  EXPECT_LT((counts - counts.round()).abs().maxCoeff(), 1e-6);  // on the encoder's grid
+  const Eigen::ArrayXd noise = (r.force - r.true_force).array();
+  const double sd = std::sqrt((noise - noise.mean()).square().mean());
+  EXPECT_NEAR(sd, kJittered.force_noise, 0.05 * kJittered.force_noise);
+  EXPECT_NEAR(noise.mean(), 0.0, 0.05);
+}
+
+TEST(IndependentPlant, PointToPointMovesDwellAtRestAndStayInTheTravel) {
+  const Record r = Generate(Hidden::kNone, {.duration = 16.0, .jitter = 0.0, .seed = 11});
+  Eigen::Index at_rest = 0;
+  for (Eigen::Index i = 50; i < r.position.size(); ++i) {
+    if (std::abs(r.position(i) - r.position(i - 50)) < 1e-5) ++at_rest;  // < 10 µm in 50 ms: dwelling
+  }
+  const double share = static_cast<double>(at_rest) / static_cast<double>(r.position.size());
+  EXPECT_GT(share, 0.1);
+  EXPECT_LT(share, 0.7);
+  EXPECT_GT(r.position.minCoeff(), 0.0);
+  EXPECT_LT(r.position.maxCoeff(), 0.2);
+}
+
+TEST(IndependentPlant, EachCaseNamesACatalogueEffectAndATolerance) {
+  ASSERT_EQ(Cases().size(), 11U);
+  for (const auto& c : Cases()) {
+    EXPECT_EQ(c.parameter.empty(), c.tolerance == 0.0) << c.name;
+    EXPECT_EQ(c.effect.empty(), c.hidden == Hidden::kNone) << c.name;
+  }
+}
+
+}  // namespace
+}  // namespace mb::independent

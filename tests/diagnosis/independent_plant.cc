@@ -1,0 +1,314 @@
+#include "tests/diagnosis/independent_plant.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <random>
+#include <stdexcept>
+
+namespace mb::independent {
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+// The truth (not the user's diagram: M 100, Fv 200, Fc 20 there, sign(v) friction).
+constexpr double kMass = 94.0, kViscous = 195.0, kCoulomb = 21.0, kCoulombVelocity = 5e-4, kOffset = -0.5;
+constexpr double kPayload = 12.0;
+constexpr double kStribeckExtra = 9.0, kStribeckVelocity = 0.01;
+constexpr double kDelay = 0.004;
+constexpr double kVibrationAmplitude = 2.0, kVibrationHz = 9.0;
+constexpr double kLoadMass = 6.0, kLoadHz = 31.7, kLoadDamping = 0.02;
+constexpr double kSpringCentre = 0.1, kSpringLinear = 30.0, kSpringCubic = 3000.0;
+constexpr double kLoadFriction = 4.0, kPlayHalfWidth = 5e-4;
+constexpr double kSubStep = 1e-4;  // plant integration [s]
+
+bool Has(Hidden h, Hidden what) {
+  return h == what || (h == Hidden::kRippleAndDelay && (what == Hidden::kPositionRipple || what == Hidden::kDelay));
+}
+
+double Mass(Hidden h) { return kMass + (Has(h, Hidden::kPayload) ? kPayload : 0.0); }
+
+// Friction law: viscous + tanh-regularised Coulomb (+ Stribeck), resisting +v.
+double FrictionLaw(Hidden h, double v) {
+  const double s = std::tanh(v / kCoulombVelocity);
+  double f = kViscous * v + kCoulomb * s;
+  if (Has(h, Hidden::kStribeck)) f += kStribeckExtra * std::exp(-(v / kStribeckVelocity) * (v / kStribeckVelocity)) * s;
+  return f;
+}
+
+// The hidden force of (x, v, t) resisting the motion (what the motor must add), without states.
+double StatelessHidden(Hidden h, double t, double x, double v) {
+  double f = 0.0;
+  if (Has(h, Hidden::kPositionRipple)) {
+    f += 1.5 * std::sin(kTwoPi * x / 0.006 + 0.3) + 0.4 * std::sin(2.0 * kTwoPi * x / 0.006);
+  }
+  if (Has(h, Hidden::kSpeedRipple)) f += 15.0 * std::abs(v) * std::sin(kTwoPi * x / 0.005);
+  if (Has(h, Hidden::kVibration)) f -= kVibrationAmplitude * std::sin(kTwoPi * kVibrationHz * t + 0.7);
+  if (Has(h, Hidden::kPositionForce)) {
+    const double d = x - kSpringCentre;
+    f += kSpringLinear * d + kSpringCubic * d * d * d;
+  }
+  return f;
+}
+
+// The play operator: the far side of a ±half-width play follows x once the play is taken up.
+double Play(double x, double previous) { return std::clamp(previous, x - kPlayHalfWidth, x + kPlayHalfWidth); }
+
+// The load's friction through the play: felt while the play is taken up (and the load slides).
+double BacklashForce(double x, double far_side, double v) {
+  const bool engaged = std::abs(x - far_side) >= kPlayHalfWidth * (1.0 - 1e-9);
+  return engaged ? kLoadFriction * std::tanh(v / kCoulombVelocity) : 0.0;
+}
+
+// The resonant load's spring–damper force on the carriage.
+struct Load {
+  double k = kLoadMass * (kTwoPi * kLoadHz) * (kTwoPi * kLoadHz);
+  double c = 2.0 * kLoadDamping * kLoadMass * kTwoPi * kLoadHz;
+  double Force(double x, double v, double xl, double vl) const { return k * (x - xl) + c * (v - vl); }
+};
+
+// A jerk-limited point-to-point reference on the fine grid kSubStep, with dwell between moves.
+struct Reference {
+  std::vector<double> x, v, a;
+  void At(double t, double* xr, double* vr, double* ar) const {
+    const auto i = std::min(x.size() - 1, static_cast<std::size_t>(std::max(0.0, t / kSubStep)));
+    *xr = x[i]; *vr = v[i]; *ar = a[i];
+  }
+};
+
+Reference MakeReference(double duration, std::mt19937* rng) {
+  const double accel = 1.5, jerk_time = 0.02;
+  std::uniform_real_distribution<double> target(0.01, 0.19), speed(0.04, 0.2), dwell(0.2, 0.6);
+  Reference r;
+  const auto n = static_cast<std::size_t>(duration / kSubStep) + 2;
+  double x = 0.1, v = 0.0;
+  std::vector<double> profile;  // acceleration of the next move on the fine grid
+  std::size_t next = 0;
+  double rest_until = 0.3;
+  while (r.a.size() < n) {
+    const double t = static_cast<double>(r.a.size()) * kSubStep;
+    if (next >= profile.size() && t >= rest_until) {  // plan a move
+      double goal = target(*rng);
+      while (std::abs(goal - x) < 0.03) goal = target(*rng);
+      const double distance = std::abs(goal - x), sign = goal > x ? 1.0 : -1.0;
+      double top = speed(*rng);
+      if (top * (top / accel + jerk_time) > distance) {
+        top = accel * (-jerk_time + std::sqrt(jerk_time * jerk_time + 4.0 * distance / accel)) / 2.0;
+      }
+      const double ramp = top / accel + jerk_time;  // duration of the acceleration phase
+      const double coast = (distance - top * ramp) / top;
+      auto phase = [&](double q) {  // trapezoidal acceleration over [0, ramp]
+        return accel * std::min({1.0, q / jerk_time, (ramp - q) / jerk_time, 1.0});
+      };
+      profile.clear();
+      for (double q = 0.0; q < 2.0 * ramp + coast; q += kSubStep) {
+        double a = 0.0;
+        if (q < ramp) a = phase(q);
+        else if (q >= ramp + coast) a = -phase(q - ramp - coast);
+        profile.push_back(sign * std::max(-accel, std::min(accel, a)));
+      }
+      next = 0;
+      rest_until = t + static_cast<double>(profile.size()) * kSubStep + dwell(*rng);
+    }
+    double a = 0.0;
+    if (next < profile.size()) a = profile[next++];
+    else v = 0.0;
+    r.a.push_back(a);
+    r.v.push_back(v);
+    r.x.push_back(x);
+    x += kSubStep * v + 0.5 * kSubStep * kSubStep * a;
+    v += kSubStep * a;
+  }
+  return r;
+}
+
+// The plant's state: carriage, resonant load, the play's far side.
+struct State {
+  double x = 0.1, v = 0.0, xl = 0.1, vl = 0.0, far = 0.1;
+};
+
+// ẋ of (x, v, xl, vl) under the force u at time t.
+std::array<double, 4> Derivative(Hidden h, double t, const std::array<double, 4>& s, double far, double u) {
+  double resist = FrictionLaw(h, s[1]) + kOffset + StatelessHidden(h, t, s[0], s[1]);
+  std::array<double, 4> d{s[1], 0.0, 0.0, 0.0};
+  if (Has(h, Hidden::kResonance)) {
+    const double fl = Load{}.Force(s[0], s[1], s[2], s[3]);
+    resist += fl;
+    d[2] = s[3];
+    d[3] = fl / kLoadMass;
+  }
+  if (Has(h, Hidden::kBacklash)) resist += BacklashForce(s[0], Play(s[0], far), s[1]);
+  d[1] = (u - resist) / Mass(h);
+  return d;
+}
+
+void Advance(Hidden h, double t0, double dt, double u, State* st) {
+  const int steps = std::max(1, static_cast<int>(std::ceil(dt / kSubStep - 1e-9)));
+  const double hstep = dt / steps;
+  std::array<double, 4> s{st->x, st->v, st->xl, st->vl};
+  for (int i = 0; i < steps; ++i) {
+    const double t = t0 + i * hstep;
+    auto add = [](const std::array<double, 4>& a, const std::array<double, 4>& b, double f) {
+      return std::array<double, 4>{a[0] + f * b[0], a[1] + f * b[1], a[2] + f * b[2], a[3] + f * b[3]};
+    };
+    const auto k1 = Derivative(h, t, s, st->far, u);
+    const auto k2 = Derivative(h, t + hstep / 2, add(s, k1, hstep / 2), st->far, u);
+    const auto k3 = Derivative(h, t + hstep / 2, add(s, k2, hstep / 2), st->far, u);
+    const auto k4 = Derivative(h, t + hstep, add(s, k3, hstep), st->far, u);
+    for (std::size_t j = 0; j < 4; ++j) s[j] += hstep / 6.0 * (k1[j] + 2 * k2[j] + 2 * k3[j] + k4[j]);
+    st->far = Play(s[0], st->far);
+  }
+  st->x = s[0]; st->v = s[1]; st->xl = s[2]; st->vl = s[3];
+}
+
+// PID on the encoder with feedforward (an imperfect guess of the mass and friction), integral action that stops
+// while the force is clipped, and the velocity from a first-order-filtered difference.
+class Controller {
+ public:
+  double Update(double t, double x_measured, const Reference& ref) {
+    double xr = 0.0, vr = 0.0, ar = 0.0;
+    ref.At(t, &xr, &vr, &ar);
+    const double dt = started_ ? t - t_prev_ : 1e-3;
+    const double raw_v = started_ ? (x_measured - x_prev_) / dt : 0.0;
+    const double alpha = dt / (dt + 1.0 / (kTwoPi * 200.0));
+    v_est_ += alpha * (raw_v - v_est_);
+    started_ = true;
+    t_prev_ = t;
+    x_prev_ = x_measured;
+    const double e = xr - x_measured;
+    const double w = kTwoPi * 15.0;
+    const double kp = kMass * w * w, kd = 2.0 * 0.7 * w * kMass, ki = kp * w / 8.0;
+    const double feedforward = 90.0 * ar + 180.0 * vr + 18.0 * std::tanh(vr / 1e-3);
+    double u = kp * e + ki * integral_ + kd * (vr - v_est_) + feedforward;
+    const double limit = 400.0;
+    if (std::abs(u) < limit) integral_ += e * dt;
+    u = std::clamp(u, -limit, limit);
+    return u;
+  }
+
+ private:
+  bool started_ = false;
+  double t_prev_ = 0.0, x_prev_ = 0.0, v_est_ = 0.0, integral_ = 0.0;
+};
+
+}  // namespace
+
+CaseSpec Case(std::string name, Hidden hidden, std::string effect, std::string parameter, double truth,
+              double tolerance) {
+  CaseSpec c;
+  c.name = std::move(name);
+  c.hidden = hidden;
+  c.effect = std::move(effect);
+  c.parameter = std::move(parameter);
+  c.truth = truth;
+  c.tolerance = tolerance;
+  return c;
+}
+
+std::vector<CaseSpec> Cases() {
+  std::vector<CaseSpec> c;
+  c.push_back(Case("position ripple", Hidden::kPositionRipple, "position_periodic", "period", 0.006, 0.03));
+  c.push_back(Case("speed-dependent ripple", Hidden::kSpeedRipple, "velocity_dependent_ripple", "period", 0.005, 0.03));
+  CaseSpec stribeck = Case("Stribeck", Hidden::kStribeck, "stribeck_friction", "stribeck_velocity", kStribeckVelocity,
+                           0.15);
+  stribeck.law = true;
+  c.push_back(stribeck);
+  c.push_back(Case("delay", Hidden::kDelay, "time_delay", "delay", kDelay, 0.15));
+  c.push_back(Case("vibration (decoy)", Hidden::kVibration, "time_periodic", "frequency_hz", kVibrationHz, 0.03));
+  c.push_back(Case("resonance", Hidden::kResonance, "resonance", "frequency_hz", kLoadHz, 0.03));
+  c.push_back(Case("position-dependent force", Hidden::kPositionForce, "position_dependent_force", "", 0.0, 0.0));
+  c.push_back(Case("backlash", Hidden::kBacklash, "backlash", "backlash", 2.0 * kPlayHalfWidth, 0.15));
+  CaseSpec payload = Case("payload", Hidden::kPayload, "mass_mismatch", "", 0.0, 0.0);
+  payload.mass_known = true;
+  c.push_back(payload);
+  CaseSpec two = Case("ripple + delay", Hidden::kRippleAndDelay, "position_periodic", "period", 0.006, 0.03);
+  two.second_effect = "time_delay";
+  c.push_back(two);
+  c.push_back(Case("nothing missing", Hidden::kNone, "", "", 0.0, 0.0));
+  return c;
+}
+
+Record Generate(Hidden hidden, const GeneratorSettings& settings) {
+  std::mt19937 rng(settings.seed);
+  const Reference ref = MakeReference(settings.duration + 0.1, &rng);
+  std::uniform_real_distribution<double> jitter(-settings.jitter, settings.jitter);
+  std::normal_distribution<double> noise(0.0, settings.force_noise);
+  const auto n = static_cast<Eigen::Index>(settings.duration / settings.sample_period);
+  Record r;
+  r.time.resize(n); r.position.resize(n); r.force.resize(n); r.true_force.resize(n);
+  std::vector<double> command_time, command;  // for the delayed log
+  State st;
+  Controller pid;
+  double t = 0.0;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const double next = (static_cast<double>(k) + 1.0 + jitter(rng)) * settings.sample_period;
+    const double x_measured = std::floor(st.x / settings.encoder_step) * settings.encoder_step;
+    const double u = pid.Update(t, x_measured, ref);
+    command_time.push_back(t);
+    command.push_back(u);
+    double logged = u;
+    if (Has(hidden, Hidden::kDelay)) {  // the amplifier reports the force it applied kDelay ago (ZOH)
+      const auto it = std::upper_bound(command_time.begin(), command_time.end(), t - kDelay);
+      logged = it == command_time.begin() ? command.front() : command[static_cast<std::size_t>(it - command_time.begin() - 1)];
+    }
+    r.time(k) = t;
+    r.position(k) = x_measured;
+    r.true_force(k) = logged;
+    r.force(k) = logged + noise(rng);
+    Advance(hidden, t, next - t, u, &st);
+    t = next;
+  }
+  return r;
+}
+
+void WriteCsv(const Record& record, const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (f == nullptr) throw std::runtime_error("WriteCsv: cannot write " + path);
+  std::fprintf(f, "time_s,position_m,force_N\n");
+  for (Eigen::Index i = 0; i < record.time.size(); ++i) {
+    std::fprintf(f, "%.17g,%.17g,%.17g\n", record.time(i), record.position(i), record.force(i));
+  }
+  if (std::fclose(f) != 0) throw std::runtime_error("WriteCsv: cannot write " + path);
+}
+
+Eigen::VectorXd TruthForce(Hidden hidden, const Eigen::VectorXd& t, const Eigen::VectorXd& x,
+                           const Eigen::VectorXd& v, const Eigen::VectorXd& a) {
+  const Eigen::Index n = t.size();
+  Eigen::VectorXd f(n);
+  double far = x(0), xl = x(0), vl = 0.0;
+  const Load load;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    f(i) = Mass(hidden) * a(i) + FrictionLaw(hidden, v(i)) + kOffset + StatelessHidden(hidden, t(i), x(i), v(i));
+    if (Has(hidden, Hidden::kBacklash)) {
+      far = Play(x(i), far);
+      f(i) += BacklashForce(x(i), far, v(i));
+    }
+    if (Has(hidden, Hidden::kResonance)) {
+      f(i) += load.Force(x(i), v(i), xl, vl);
+      if (i + 1 < n) {  // semi-implicit Euler on sub-steps, the carriage interpolated
+        const int steps = 10;
+        const double h = (t(i + 1) - t(i)) / steps;
+        for (int s = 0; s < steps; ++s) {
+          const double q = static_cast<double>(s) / steps;
+          const double xs = x(i) + q * (x(i + 1) - x(i)), vs = v(i) + q * (v(i + 1) - v(i));
+          vl += h * load.Force(xs, vs, xl, vl) / kLoadMass;
+          xl += h * vl;
+        }
+      }
+    }
+  }
+  if (!Has(hidden, Hidden::kDelay)) return f;
+  Eigen::VectorXd delayed(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double td = t(i) - kDelay;
+    const auto it = std::upper_bound(t.data(), t.data() + n, td);
+    const Eigen::Index j = std::clamp<Eigen::Index>(static_cast<Eigen::Index>(it - t.data()) - 1, 0, n - 2);
+    const double q = std::clamp((td - t(j)) / (t(j + 1) - t(j)), 0.0, 1.0);
+    delayed(i) = (1.0 - q) * f(j) + q * f(j + 1);
+  }
+  return delayed;
+}
+
+}  // namespace mb::independent
