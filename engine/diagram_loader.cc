@@ -356,7 +356,9 @@ class DiagramBuilder {
         origins_(std::move(origins)),
         schema_problems_(std::move(schema_problems)) {}
 
-  Diagram Build() {
+  /// Builds the diagram; with `algebraic_loop` non-null, a cycle of direct feedthrough is stored there (the diagram
+  /// then has no execution order) instead of thrown.
+  Diagram Build(std::optional<AlgebraicLoopError>* algebraic_loop = nullptr) {
     if (!j_.is_object()) throw DiagramError(source_, {"/: a diagram is a JSON object"});
     CheckVersion();
     d_.name_ = j_.value("name", fs::path(source_).stem().string());
@@ -371,7 +373,12 @@ class DiagramBuilder {
     ReadMetrics();
     ReadRoles();
     ThrowIfProblems();
-    Sort();
+    try {
+      Sort();
+    } catch (const AlgebraicLoopError& e) {
+      if (algebraic_loop == nullptr) throw;
+      algebraic_loop->emplace(e);
+    }
     return std::move(d_);
   }
 
@@ -770,7 +777,10 @@ class DiagramBuilder {
   std::vector<SchemaProblem> schema_problems_;
 };
 
-Diagram BuildDiagram(const json& diagram, const fs::path& base_directory, const std::string& source) {
+namespace {
+
+Diagram BuildDiagramImpl(const json& diagram, const fs::path& base_directory, const std::string& source,
+                         std::optional<AlgebraicLoopError>* algebraic_loop) {
   // The diagram as the user wrote it against the schema first; a value of the wrong JSON type stops here (the
   // builder would not know what to make of it), other schema problems are reported with the builder's.
   std::vector<SchemaProblem> schema_problems = DiagramSchemaProblems(diagram);
@@ -784,7 +794,19 @@ Diagram BuildDiagram(const json& diagram, const fs::path& base_directory, const 
   if (problems.size() > schema_count) throw DiagramError(source, problems);
   return DiagramBuilder(expanded.diagram, base_directory, source, std::move(expanded.origins),
                         std::move(schema_problems))
-      .Build();
+      .Build(algebraic_loop);
+}
+
+}  // namespace
+
+Diagram BuildDiagram(const json& diagram, const fs::path& base_directory, const std::string& source) {
+  return BuildDiagramImpl(diagram, base_directory, source, nullptr);
+}
+
+InspectedDiagram InspectDiagram(const json& diagram, const fs::path& base_directory, const std::string& source) {
+  std::optional<AlgebraicLoopError> algebraic_loop;
+  Diagram built = BuildDiagramImpl(diagram, base_directory, source, &algebraic_loop);
+  return InspectedDiagram{std::move(built), std::move(algebraic_loop)};
 }
 
 Diagram LoadDiagram(const fs::path& path, const std::vector<ParameterOverride>& overrides) {

@@ -3,6 +3,7 @@
 // first, collecting every problem with its JSON pointer, then build the blocks and sort them.
 
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -10,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/diagram.h"
+#include "engine/execution_order.h"
 
 namespace mb {
 
@@ -56,6 +58,19 @@ nlohmann::json ExpandSubsystems(const nlohmann::json& diagram, const std::filesy
 /// `source` names the file in messages. @throws DiagramError (all problems at once) or AlgebraicLoopError.
 Diagram BuildDiagram(const nlohmann::json& diagram, const std::filesystem::path& base_directory,
                      const std::string& source);
+
+/// A diagram built to be looked at (drawn), not run: everything BuildDiagram checks, except that a cycle of direct
+/// feedthrough is returned with it rather than thrown.
+struct InspectedDiagram {
+  Diagram diagram;  ///< blocks, connections and connectors; no execution order when `algebraic_loop` is set
+  std::optional<AlgebraicLoopError> algebraic_loop;  ///< the loader's refusal (its message and the cycle's blocks)
+};
+
+/// As BuildDiagram, but an algebraic loop does not throw (InspectedDiagram::algebraic_loop): `motionblocks draw`
+/// draws a diagram whose only fault is such a loop, with the loop highlighted. Never simulate a diagram that has
+/// one. @throws DiagramError (all other problems at once).
+InspectedDiagram InspectDiagram(const nlohmann::json& diagram, const std::filesystem::path& base_directory,
+                                const std::string& source);
 
 /// ReadDiagramJson + ApplyOverrides + BuildDiagram.
 Diagram LoadDiagram(const std::filesystem::path& path, const std::vector<ParameterOverride>& overrides = {});

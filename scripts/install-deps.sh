@@ -15,6 +15,7 @@ PACKAGES=(
   libnlopt-cxx-dev         # L-BFGS with bounds for MAP fits
   libtbb-dev               # parallel sweeps
   gnuplot-nox              # report figures
+  graphviz                 # motionblocks draw and the reports' diagrams (dot)
   libvalijson-dev          # JSON Schema validation of diagrams and sweeps
   clang libclang-rt-14-dev # libFuzzer (the fuzz preset: fuzzers of the file readers)
 )

@@ -58,6 +58,7 @@ int main(int argc, char** argv) {
   mb::SetupSweepCommand(app);
   mb::SetupReproduceCommand(app);
   mb::SetupSchemaCommand(app);
+  mb::SetupDrawCommand(app);
   for (const char* simulating : {"run", "compare", "fit", "improve", "sweep", "reproduce"}) {
     mb::AddMaxStepsOption(app.get_subcommand(simulating));
   }

@@ -178,13 +178,8 @@ TEST_F(VirtualStageTest, HilRunReproducesTheSimulatedRun) {
   EXPECT_NEAR(rmse_hil, rmse_sim, 0.10 * rmse_sim)
       << "missed samples: " << r.statistics.missed_samples << ", overruns: " << r.statistics.overruns;
   // Sample by sample, the typical (median) position difference is a few per cent of the RMS error.
-  const auto& x_sim = expected.log.Column("position");
-  const auto& x_hil = r.log.Column("position");
-  std::vector<double> difference(x_sim.size());
-  for (std::size_t i = 0; i < x_sim.size(); ++i) difference[i] = std::abs(x_hil[i] - x_sim[i]);
-  std::nth_element(difference.begin(), difference.begin() + static_cast<std::ptrdiff_t>(difference.size() / 2),
-                   difference.end());
-  EXPECT_LT(difference[difference.size() / 2], 0.05 * rmse_sim);
+  EXPECT_LT(testing::MedianAbsoluteDifference(r.log.Column("position"), expected.log.Column("position")),
+            0.05 * rmse_sim);
 }
 
 TEST_F(VirtualStageTest, KilledStageTriggersTheSafeStop) {

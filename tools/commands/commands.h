@@ -20,5 +20,6 @@ void SetupStabilityCommand(CLI::App& app);
 void SetupSweepCommand(CLI::App& app);
 void SetupReproduceCommand(CLI::App& app);
 void SetupSchemaCommand(CLI::App& app);
+void SetupDrawCommand(CLI::App& app);
 
 }  // namespace mb

@@ -81,7 +81,7 @@ void RunImprove(const ImproveOptions& o) {
   WriteImproveReport(result, training, validation ? &*validation : nullptr,
                      fmt::format("motionblocks improve: {} on {}", fs::path(o.diagram).filename().string(),
                                  fs::path(o.measurement.measurement).filename().string()),
-                     o.measurement.position_column, out);
+                     fs::path(o.diagram).parent_path(), o.measurement.position_column, out);
   PrintImproveResult(result, fallback_record, out);
 }
 

@@ -11,6 +11,7 @@
 #include "tools/commands/cli_options.h"
 #include "tools/commands/commands.h"
 #include "tools/workflow/comparison.h"
+#include "tools/report/diagram_drawing.h"
 #include "tools/report/output_files.h"
 #include "tools/report/report.h"
 
@@ -73,6 +74,7 @@ void RunRun(const RunOptions& o) {
   report.Paragraph(fmt::format("Diagram {} simulated from {} s to {} s with {} ({} steps) in {:.3f} s wall time.",
                                o.diagram, diagram.experiment().start_time, diagram.experiment().stop_time,
                                diagram.solver().type, result.solver_stats.steps, result.wall_time_s));
+  AddDiagramDrawing(&report, diagram, {}, out);
   if (!result.metrics.empty()) {
     std::vector<std::vector<std::string>> rows;
     for (const auto& m : diagram.metrics()) {

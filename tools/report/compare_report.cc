@@ -4,6 +4,7 @@
 
 #include "models/gpr/gpr_io.h"
 #include "tools/report/output_files.h"
+#include "tools/report/diagram_drawing.h"
 #include "tools/report/report.h"
 #include "tools/report/residual_figures.h"
 
@@ -132,6 +133,8 @@ void WriteCompareReport(const CompareOutcome& outcome, const MeasurementLog& log
                     fmt::format("{:.2f}", before.fit_percent), fmt::format("{:.2f}", after.fit_percent), after.unit});
   }
   report.Table({"output", "RMSE before fit", "RMSE after fit", "fit % before", "fit % after", "unit"}, rows);
+  AddDiagramDrawing(&report, compared.fitted_diagram, fs::path(files.diagram).parent_path(), files.diagram, {},
+                    files.out);
   if (compared.fit) {
     report.Heading("Fitted parameters (Levenberg–Marquardt)");
     report.Table({"parameter", "initial", "estimate", "95 % CI"}, FittedParameterRows(compared));

@@ -6,6 +6,7 @@
 
 #include "models/gpr/gpr_io.h"
 #include "tools/report/output_files.h"
+#include "tools/report/diagram_drawing.h"
 #include "tools/report/report.h"
 #include "tools/report/residual_figures.h"
 #include "tools/workflow/suggest.h"
@@ -31,7 +32,8 @@ void WriteImproveProgress(const ImproveResult& so_far, const fs::path& directory
 }
 
 void WriteImproveReport(const ImproveResult& result, const MeasurementLog& training, const MeasurementLog* validation,
-                        const std::string& title, const std::string& position_column, const fs::path& directory) {
+                        const std::string& title, const fs::path& diagram_directory,
+                        const std::string& position_column, const fs::path& directory) {
   fs::create_directories(directory);
   const ImproveStep& first = result.first();
   const ImproveStep& last = result.last_accepted();
@@ -69,6 +71,13 @@ void WriteImproveReport(const ImproveResult& result, const MeasurementLog& train
   report.Table({"step", "effect", "share explained", "key parameters (± 1 SE)", fmt::format("RMSE fit [{}]", unit),
                 fmt::format("RMSE held out [{}]", unit), "verdict"},
                rows);
+
+  DrawingMarks added;
+  added.added_label = "added by improve";
+  for (const auto& s : result.steps) {
+    if (s.accepted && !s.element.empty()) added.added.push_back(s.element);
+  }
+  AddDiagramDrawing(&report, last.training.fitted_diagram, diagram_directory, title, added, directory);
 
   report.Heading("RMSE per step");
   Figure bars{"rmse_per_step.png", "RMSE per accepted step", "step", fmt::format("RMSE [{}]", unit), {}};

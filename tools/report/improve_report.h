@@ -21,12 +21,13 @@ namespace mb {
 void WriteImproveProgress(const ImproveResult& so_far, const std::filesystem::path& directory,
                           const nlohmann::json& context);
 
-/// DIR/report.html: the table of steps, and figures before (step 0) vs after (last accepted): measured vs model,
-/// the residual against time, position and velocity on the same axes, and the RMSE per step (train and held-out
-/// bars). `position_column` as in the settings.
+/// DIR/report.html: the table of steps, the improved diagram drawn (diagram_drawing.h; subsystem files against
+/// `diagram_directory`, the input diagram's folder) with the elements the accepted steps added in kAddedColour, and
+/// figures before (step 0) vs after (last accepted): measured vs model, the residual against time, position and
+/// velocity on the same axes, and the RMSE per step (train and held-out bars). `position_column` as in the settings.
 void WriteImproveReport(const ImproveResult& result, const MeasurementLog& training, const MeasurementLog* validation,
-                        const std::string& title, const std::string& position_column,
-                        const std::filesystem::path& directory);
+                        const std::string& title, const std::filesystem::path& diagram_directory,
+                        const std::string& position_column, const std::filesystem::path& directory);
 
 /// The fallback's files (FitImproveFallback, fallback.h): with a model, DIR/residual_gpr.json and
 /// DIR/improved_with_gp.json (the last accepted diagram with the gpr block, SuggestGprFallbackBlock); its record

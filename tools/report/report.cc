@@ -126,6 +126,7 @@ std::string HtmlEscape(const std::string& text) {
       case '&': out += "&amp;"; break;
       case '<': out += "&lt;"; break;
       case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;  // text may end up in an attribute (alt)
       default: out += c;
     }
   }
@@ -151,12 +152,18 @@ void HtmlReport::Table(const std::vector<std::string>& header, const std::vector
 void HtmlReport::AddFigure(const Figure& figure, const fs::path& directory) {
   const std::string error = RenderFigure(figure, directory);
   if (error.empty()) {
-    body_ += fmt::format("<figure><img src=\"{}\" alt=\"{}\"><figcaption>{}</figcaption></figure>\n", figure.file,
-                         HtmlEscape(figure.title), HtmlEscape(figure.title));
+    Image(figure.file, figure.title);
   } else {
-    body_ += "<p class=\"warn\">Figure missing: " + HtmlEscape(error) + "</p>\n";
+    Warning("Figure missing: " + error);
   }
 }
+
+void HtmlReport::Image(const std::string& file, const std::string& caption) {
+  body_ += fmt::format("<figure><img src=\"{}\" alt=\"{}\"><figcaption>{}</figcaption></figure>\n", file,
+                       HtmlEscape(caption), HtmlEscape(caption));
+}
+
+void HtmlReport::Warning(const std::string& text) { body_ += "<p class=\"warn\">" + HtmlEscape(text) + "</p>\n"; }
 
 void HtmlReport::Write(const fs::path& path) const {
   const std::string page =

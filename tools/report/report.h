@@ -46,6 +46,10 @@ class HtmlReport {
   void Table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows);
   /// Renders the figure into the report's folder and embeds it (or notes why it is missing).
   void AddFigure(const Figure& figure, const std::filesystem::path& directory);
+  /// Shows the image `file` (a name inside the report's folder: PNG or SVG) with `caption`.
+  void Image(const std::string& file, const std::string& caption);
+  /// A paragraph marked as a warning (what is missing from the report and why).
+  void Warning(const std::string& text);
   /// Writes `path` (report.html). @throws std::runtime_error if it cannot be written.
   void Write(const std::filesystem::path& path) const;
 
@@ -54,7 +58,7 @@ class HtmlReport {
   std::string body_;
 };
 
-/// Escapes &, <, > for HTML text.
+/// Escapes &, <, > and " for HTML text and attribute values.
 std::string HtmlEscape(const std::string& text);
 
 }  // namespace mb

@@ -62,6 +62,11 @@ TEST(CompareCommand, NamesTheMissingEffectFitsTheFallbackAndSuggests) {
   bool has_block = false;
   for (const auto& e : amended["elements"]) has_block = has_block || e["type"] == "velocity_dependent_ripple";
   EXPECT_TRUE(has_block) << amended.dump(1);
+  // The report draws the diagram it compared (diagram_drawing.h).
+  std::ifstream report(out / "report.html");
+  const std::string html((std::istreambuf_iterator<char>(report)), std::istreambuf_iterator<char>());
+  EXPECT_THAT(html, HasSubstr("<img src=\"diagram.svg\""));
+  EXPECT_TRUE(fs::exists(out / "diagram.svg"));
   fs::remove_all(out);
 }
 

@@ -81,6 +81,14 @@ TEST(ImproveCommand, FindsTheTwinsCoggingAtThePolePitchAndTheErrorFalls) {
   for (const auto& e : improved["elements"]) has_ripple = has_ripple || e["type"] == first;
   EXPECT_TRUE(has_ripple);
   EXPECT_TRUE(fs::exists(out / "report.html"));
+  // The report draws the improved diagram, the added element in its own colour (diagram_drawing.h).
+  std::ifstream report(out / "report.html"), dot(out / "diagram.dot");
+  const std::string html((std::istreambuf_iterator<char>(report)), std::istreambuf_iterator<char>());
+  const std::string dot_text((std::istreambuf_iterator<char>(dot)), std::istreambuf_iterator<char>());
+  EXPECT_THAT(html, HasSubstr("<img src=\"diagram.svg\""));
+  EXPECT_TRUE(fs::exists(out / "diagram.svg"));
+  EXPECT_THAT(dot_text, HasSubstr("label=\"added by improve\", fillcolor=white, color=\"#ff7f0e\""));
+  EXPECT_THAT(dot_text, HasSubstr("\\n" + first));  // the added block's type under its name
   fs::remove_all(dir);
 }
 
