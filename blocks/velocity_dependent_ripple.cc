@@ -3,7 +3,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "blocks/fourier_series.h"
+#include "models/physics/fourier_series.h"
 
 namespace mb {
 
@@ -11,8 +11,8 @@ VelocityDependentRipple::VelocityDependentRipple(const BlockConfig& config)
     : Block(config.name),
       wavenumber_(2.0 * std::numbers::pi / config.parameters.Number("period")),
       offset_(config.parameters.Number("position_offset")),
-      cos_(FourierCoefficients(config.parameters, "cos_coefficients", config.parameters.Integer("harmonics"))),
-      sin_(FourierCoefficients(config.parameters, "sin_coefficients", config.parameters.Integer("harmonics"))) {
+      cos_(FourierCoefficients(config.parameters, "cos_coefficients")),
+      sin_(FourierCoefficients(config.parameters, "sin_coefficients")) {
   DeclareInputPort("x", 1, "m");
   DeclareInputPort("v", 1, "m/s");
   DeclareOutputPort("y");
