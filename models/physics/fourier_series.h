@@ -126,4 +126,22 @@ Eigen::VectorXd FourierCoefficients(const ParameterSet& parameters, const std::s
   return FourierCoefficients(parameters.Vector(name), name, static_cast<int>(parameters.Integer("harmonics")));
 }
 
+/// A Fourier series in position, y(x) = Σ_h a_h cos(hθ) + b_h sin(hθ), θ = 2π(x − x₀)/P: the shape of the
+/// position_periodic and velocity_dependent_ripple blocks (period P [m], position offset x₀ [m]).
+struct PositionFourierSeries {
+  double wavenumber = 0.0;  ///< 2π/P [rad/m]
+  double offset = 0.0;      ///< x₀ [m]
+  Eigen::VectorXd a, b;     ///< a_h, b_h, h = 1…H
+  /// y(x) at position x [m]. Allocation-free.
+  double operator()(double x) const noexcept { return FourierSeries(a, b, wavenumber * (x - offset)); }
+};
+
+/// The series of a block's parameters "period", "position_offset", "harmonics", "cos_coefficients" and
+/// "sin_coefficients" (ParameterSet as for FourierCoefficients). @throws as FourierCoefficients.
+template <typename ParameterSet>
+PositionFourierSeries PositionFourierSeriesOf(const ParameterSet& parameters) {
+  return {2.0 * std::numbers::pi / parameters.Number("period"), parameters.Number("position_offset"),
+          FourierCoefficients(parameters, "cos_coefficients"), FourierCoefficients(parameters, "sin_coefficients")};
+}
+
 }  // namespace mb
