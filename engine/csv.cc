@@ -66,7 +66,7 @@ bool CsvReader::Next(CsvRecord* record) {
   record->cells.clear();
   record->line = line_;
   record->blank = false;
-  pieces_.clear();
+  patches_.clear();
   buffer_.clear();
   std::size_t p = pos_;
   while (p < n && (IsBlank(text_[p]) || text_[p] == '\r')) ++p;
@@ -77,20 +77,25 @@ bool CsvReader::Next(CsvRecord* record) {
     if (p < n) ++line_;
     return true;
   }
+  const char* const data = text_.data();
   while (true) {
-    while (pos_ < n && IsBlank(text_[pos_])) ++pos_;
-    Piece piece{false, pos_, 0};
-    if (pos_ < n && text_[pos_] == '"') {
+    while (pos_ < n && IsBlank(data[pos_])) ++pos_;
+    if (pos_ < n && data[pos_] == '"') {
+      Piece piece{true, 0, 0};
       ReadQuoted(&piece);
+      if (piece.in_buffer) {
+        patches_.emplace_back(record->cells.size(), piece);  // set below: the buffer may still grow
+        record->cells.emplace_back();
+      } else {
+        record->cells.emplace_back(data + piece.offset, piece.size);
+      }
     } else {
-      const std::size_t next = text_.find_first_of(",\n", pos_);
-      const std::size_t stop = next == std::string_view::npos ? n : next;
-      const std::string_view cell = TrimUnquoted(text_.substr(pos_, stop - pos_));
-      piece = Piece{false, static_cast<std::size_t>(cell.data() - text_.data()), cell.size()};
+      std::size_t stop = pos_;
+      while (stop < n && data[stop] != ',' && data[stop] != '\n') ++stop;
+      record->cells.push_back(TrimUnquoted(text_.substr(pos_, stop - pos_)));
       pos_ = stop;
     }
-    pieces_.push_back(piece);
-    if (pos_ < n && text_[pos_] == ',') {
+    if (pos_ < n && data[pos_] == ',') {
       ++pos_;
       continue;
     }
@@ -101,10 +106,7 @@ bool CsvReader::Next(CsvRecord* record) {
     break;
   }
   const std::string_view buffer(buffer_);
-  for (const Piece& piece : pieces_) {
-    record->cells.push_back(piece.in_buffer ? buffer.substr(piece.offset, piece.size)
-                                            : text_.substr(piece.offset, piece.size));
-  }
+  for (const auto& [cell, piece] : patches_) record->cells[cell] = buffer.substr(piece.offset, piece.size);
   return true;
 }
 

@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace mb {
@@ -44,7 +45,7 @@ class CsvReader {
   std::size_t pos_ = 0;
   std::size_t line_ = 1;
   std::string buffer_;  // unescaped quoted cells that held a doubled quote
-  std::vector<Piece> pieces_;
+  std::vector<std::pair<std::size_t, Piece>> patches_;  // (cell index, its text in buffer_) for unescaped cells
 };
 
 /// The records of one line of CSV (a convenience for tests and short texts): SplitCsvLine("a,\"b,c\"") = {a, b,c}.
