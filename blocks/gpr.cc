@@ -1,5 +1,7 @@
 #include "blocks/gpr.h"
 
+#include "engine/block_roles.h"
+
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -73,6 +75,9 @@ MB_REGISTER_BLOCK(Gpr, BlockType{
               ParamType::kBool)},
     SampleTimeRule::kOptional,
     [](const BlockConfig& c) { return std::make_unique<Gpr>(c); }})
+// "gp": the GP model of the loop's GP path, and the block `compare --suggest` adds as the non-parametric fallback
+// (tools/workflow/suggest.cc finds it by this role).
+MB_REGISTER_LOOP_ROLES(Gpr, "gpr", {"gp"})
 
 MB_REGISTER_LOOP_ROLES(Gpr, "gpr", {"gp"})
 

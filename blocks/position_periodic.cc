@@ -1,24 +1,17 @@
 #include "blocks/position_periodic.h"
 
 #include <cmath>
-#include <numbers>
-
-#include "blocks/fourier_series.h"
 
 namespace mb {
 
 PositionPeriodic::PositionPeriodic(const BlockConfig& config)
-    : Block(config.name),
-      wavenumber_(2.0 * std::numbers::pi / config.parameters.Number("period")),
-      offset_(config.parameters.Number("position_offset")),
-      cos_(FourierCoefficients(config.parameters, "cos_coefficients", config.parameters.Integer("harmonics"))),
-      sin_(FourierCoefficients(config.parameters, "sin_coefficients", config.parameters.Integer("harmonics"))) {
+    : Block(config.name), series_(PositionFourierSeriesOf(config.parameters)) {
   DeclareInputPort("x", 1, "m");
   DeclareOutputPort("y");
 }
 
 void PositionPeriodic::CalcOutput(const BlockContext& c) const {
-  c.y(0) = FourierSeries(cos_, sin_, wavenumber_ * (c.u(0) - offset_));
+  c.y(0) = series_(c.u(0));
 }
 
 MB_REGISTER_BLOCK(PositionPeriodic, BlockType{

@@ -9,6 +9,7 @@
 
 #include "engine/block.h"
 #include "engine/registry.h"
+#include "models/physics/fourier_series.h"
 
 namespace mb {
 
@@ -22,9 +23,7 @@ class PositionPeriodic final : public Block {
   void CalcOutput(const BlockContext& context) const override;
 
  private:
-  double wavenumber_;  // 2π/P [rad/m]
-  double offset_;      // x₀ [m]
-  Eigen::VectorXd cos_, sin_;
+  PositionFourierSeries series_;
 };
 
 }  // namespace mb

@@ -3,15 +3,15 @@
 #include <cmath>
 #include <numbers>
 
-#include "blocks/fourier_series.h"
+#include "models/physics/fourier_series.h"
 
 namespace mb {
 
 TimePeriodic::TimePeriodic(const BlockConfig& config)
     : Block(config.name),
       omega_(2.0 * std::numbers::pi * config.parameters.Number("frequency_hz")),
-      cos_(FourierCoefficients(config.parameters, "cos_coefficients", config.parameters.Integer("harmonics"))),
-      sin_(FourierCoefficients(config.parameters, "sin_coefficients", config.parameters.Integer("harmonics"))) {
+      cos_(FourierCoefficients(config.parameters, "cos_coefficients")),
+      sin_(FourierCoefficients(config.parameters, "sin_coefficients")) {
   DeclareOutputPort("y");
   SetSampleTime(config.sample_time ? *config.sample_time : SampleTime::Continuous());
 }

@@ -1,25 +1,18 @@
 #include "blocks/velocity_dependent_ripple.h"
 
 #include <cmath>
-#include <numbers>
-
-#include "blocks/fourier_series.h"
 
 namespace mb {
 
 VelocityDependentRipple::VelocityDependentRipple(const BlockConfig& config)
-    : Block(config.name),
-      wavenumber_(2.0 * std::numbers::pi / config.parameters.Number("period")),
-      offset_(config.parameters.Number("position_offset")),
-      cos_(FourierCoefficients(config.parameters, "cos_coefficients", config.parameters.Integer("harmonics"))),
-      sin_(FourierCoefficients(config.parameters, "sin_coefficients", config.parameters.Integer("harmonics"))) {
+    : Block(config.name), series_(PositionFourierSeriesOf(config.parameters)) {
   DeclareInputPort("x", 1, "m");
   DeclareInputPort("v", 1, "m/s");
   DeclareOutputPort("y");
 }
 
 void VelocityDependentRipple::CalcOutput(const BlockContext& c) const {
-  c.y(0) = std::abs(c.u(1)) * FourierSeries(cos_, sin_, wavenumber_ * (c.u(0) - offset_));
+  c.y(0) = std::abs(c.u(1)) * series_(c.u(0));
 }
 
 MB_REGISTER_BLOCK(VelocityDependentRipple, BlockType{

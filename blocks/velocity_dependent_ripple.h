@@ -7,6 +7,7 @@
 
 #include "engine/block.h"
 #include "engine/registry.h"
+#include "models/physics/fourier_series.h"
 
 namespace mb {
 
@@ -21,9 +22,7 @@ class VelocityDependentRipple final : public Block {
   void CalcOutput(const BlockContext& context) const override;
 
  private:
-  double wavenumber_;  // 2π/P [rad/m]
-  double offset_;      // x₀ [m]
-  Eigen::VectorXd cos_, sin_;
+  PositionFourierSeries series_;
 };
 
 }  // namespace mb

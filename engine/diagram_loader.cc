@@ -95,6 +95,19 @@ json ReadDiagramJson(const fs::path& path) {
 
 namespace {
 
+// The block type that adds two signals (BlockType::sum_of_two, declared in its own file), for messages.
+std::string SummingTypeName() {
+  try {
+    return BlockRegistry::Global().SumOfTwo().type_name;
+  } catch (const std::logic_error&) {
+    return "summing";
+  }
+}
+
+}  // namespace
+
+namespace {
+
 // ---- Subsystem expansion -------------------------------------------------------------------------------
 
 /// Where a part of a diagram was written: "" for the file being loaded, "<subsystem file>: " for a subsystem
@@ -662,8 +675,8 @@ class DiagramBuilder {
       const auto [it, inserted] = feeding.emplace(name, k);
       if (!inserted) {
         Problem(fmt::format("{}: output connector '{}' is already connected ({}); an output takes exactly one "
-                            "signal (use a sum block to add signals)",
-                            ptr, name, At("connections", it->second)));
+                            "signal (use a {} block to add signals)",
+                            ptr, name, At("connections", it->second), SummingTypeName()));
       }
     }
     return feeding;

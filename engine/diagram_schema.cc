@@ -39,12 +39,26 @@ json ValueSchema(const ParamSpec& p) {
 
 json ParameterSchema(const ParamSpec& p) {
   const json value = ValueSchema(p);
-  const json unit = p.unit.empty() ? json{{"type", "string"}} : json{{"const", p.unit}};
+  // {"value": …, "unit": …}: a unit of the parameter's quantity is converted by the loader (engine/units.h), which
+  // then checks the bounds in the declared unit; the schema checks only the value's type there.
+  json converted = value;
+  if (!p.unit.empty()) {
+    for (json* v : {&converted, converted.contains("items") ? &converted["items"] : nullptr}) {
+      if (v != nullptr) {
+        v->erase("minimum");
+        v->erase("maximum");
+      }
+    }
+  }
+  const json unit = p.unit.empty() ? json{{"type", "string"}}
+                                   : json{{"type", "string"},
+                                          {"description", fmt::format("{} or a unit of the same quantity (converted)",
+                                                                      p.unit)}};
   json out = {{"description", p.unit.empty() ? p.description : fmt::format("{} [{}]", p.description, p.unit)},
               {"anyOf", json::array({value, {{"type", "object"},
                                              {"required", json::array({"value"})},
                                              {"additionalProperties", false},
-                                             {"properties", {{"value", value}, {"unit", unit}}}}})}};
+                                             {"properties", {{"value", converted}, {"unit", unit}}}}})}};
   if (p.default_value) out["default"] = *p.default_value;
   return out;
 }

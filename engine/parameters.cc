@@ -1,9 +1,12 @@
 #include "engine/parameters.h"
 
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
+
+#include "engine/units.h"
 
 namespace mb {
 
@@ -131,6 +134,29 @@ std::string CheckValue(const ParamSpec& spec, const nlohmann::json& v) {
   return {};
 }
 
+// Turns `value` written in `unit` into the spec's declared unit (engine/units.h: UnitFactor), numbers and arrays
+// of numbers scaled; "" when done, else the message (without the pointer).
+std::string ConvertToDeclaredUnit(const ParamSpec& spec, const nlohmann::json& unit_json, nlohmann::json* value) {
+  const std::string unit = unit_json.is_string() ? unit_json.get<std::string>() : std::string("?");
+  if (spec.unit.empty()) {
+    if (unit.empty() || unit == "1") return {};
+    return fmt::format("this parameter has no unit (a plain number), but \"unit\": \"{}\" is given; remove the "
+                       "unit",
+                       unit);
+  }
+  const std::optional<double> factor = UnitFactor(unit, spec.unit);
+  if (!factor) return fmt::format("unit mismatch: given '{}', this parameter is in '{}' (SI)", unit, spec.unit);
+  if (*factor == 1.0) return {};
+  if (value->is_number()) {
+    *value = *factor * value->get<double>();
+  } else if (value->is_array()) {
+    for (auto& e : *value) {
+      if (e.is_number()) e = *factor * e.get<double>();
+    }
+  }
+  return {};
+}
+
 }  // namespace
 
 std::map<std::string, nlohmann::json> ValidateParameters(const std::vector<ParamSpec>& specs,
@@ -165,15 +191,14 @@ std::map<std::string, nlohmann::json> ValidateParameters(const std::vector<Param
                                         ptr, spec.unit));
           continue;
         }
-        if (value.contains("unit") && !spec.unit.empty()) {
-          const auto unit = value.at("unit").is_string() ? value.at("unit").get<std::string>() : std::string("?");
-          if (unit != spec.unit) {
-            errors->push_back(fmt::format("{}: unit mismatch: given '{}', this parameter is in '{}' (SI)", ptr, unit,
-                                          spec.unit));
+        nlohmann::json written = value.at("value");
+        if (value.contains("unit")) {
+          if (auto msg = ConvertToDeclaredUnit(spec, value.at("unit"), &written); !msg.empty()) {
+            errors->push_back(fmt::format("{}: {}", ptr, msg));
             continue;
           }
         }
-        value = nlohmann::json(value.at("value"));
+        value = std::move(written);
       }
     } else if (spec.default_value) {
       value = *spec.default_value;

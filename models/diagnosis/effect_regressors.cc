@@ -2,10 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <stdexcept>
 
 #include <fmt/format.h>
+
+#include "models/physics/fourier_series.h"
 
 namespace mb {
 
@@ -68,17 +69,9 @@ EffectRegressors SingleColumn(const std::string& effect, Eigen::VectorXd column)
 
 EffectRegressors PeriodicColumns(const Eigen::VectorXd& z, double period, int harmonics, const std::string& prefix,
                                  const Eigen::VectorXd* scale) {
-  constexpr double kTwoPi = 2.0 * std::numbers::pi;
-  const Eigen::Index n = z.size();
   EffectRegressors out;
-  out.columns.resize(n, 2 * harmonics);
+  out.columns = FourierDesignMatrix(z, period, harmonics, scale);
   for (int k = 1; k <= harmonics; ++k) {
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const double th = kTwoPi * static_cast<double>(k) * z(i) / period;
-      const double g = scale ? (*scale)(i) : 1.0;
-      out.columns(i, 2 * (k - 1)) = g * std::cos(th);
-      out.columns(i, 2 * (k - 1) + 1) = g * std::sin(th);
-    }
     out.column_names.push_back(fmt::format("{}.cos{}", prefix, k));
     out.column_names.push_back(fmt::format("{}.sin{}", prefix, k));
   }

@@ -1,72 +1,19 @@
-// Measurement logs: a table of named double columns (time first), read from and written to CSV.
-//
-// The file format is the one of /work/shared/data (e.g. the EMPS benchmark's DATA_EMPS.csv):
-//   time_s,position_m,reference_m,input_V,force_N
-//   0,7.45e-06,0.00010782208,2.538628089,89.23443221
-// one header row with the column names (units in the names), then one row per sample, comma-separated
-// numbers, the first column the sample time [s], strictly increasing. Blank lines at the end are allowed.
+// Measurement logs: Tables (engine/table.h, the file format) whose first column is the sample time [s], strictly
+// increasing.
 #pragma once
 
-#include <functional>
 #include <string>
 #include <string_view>
-#include <unordered_map>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "engine/table.h"
+
 namespace mb {
 
-// A table of equally long, named double columns; column 0 is the time [s].
-// Invariants (checked by the constructor): at least one column, unique non-empty names, equal lengths.
-class MeasurementLog {
- public:
-  // Builds a table from names and columns (same count, equal lengths).
-  // `source` names where the data came from (a file path) and appears in error messages.
-  // Throws std::invalid_argument when the counts or lengths differ or a name is empty or repeated.
-  MeasurementLog(std::vector<std::string> names, std::vector<Eigen::VectorXd> columns,
-                 std::string source = "<memory>");
-
-  // Number of samples (rows).
-  Eigen::Index rows() const { return columns_.empty() ? 0 : columns_.front().size(); }
-  // Column names in file order; names()[0] is the time column.
-  const std::vector<std::string>& names() const { return names_; }
-  // Where the table came from (a file path or "<memory>").
-  const std::string& source() const { return source_; }
-  // True when a column of that exact name exists. O(1), as column().
-  bool has_column(std::string_view name) const;
-  // The column of that name. Throws std::invalid_argument naming the source and listing the columns
-  // present when there is none.
-  const Eigen::VectorXd& column(std::string_view name) const;
-  // The time column [s] (column 0).
-  const Eigen::VectorXd& time() const { return columns_.front(); }
-
-  // Appends a column (e.g. a derived velocity). Throws std::invalid_argument when the name exists
-  // already or the length differs from rows().
-  void AddColumn(std::string name, Eigen::VectorXd values);
-
-  // How the log was taken in (rows merged, resampled, gaps), one sentence each, for reports.
-  const std::vector<std::string>& notes() const { return notes_; }
-  void AddNote(std::string note) { notes_.push_back(std::move(note)); }
-  // The first row of each contiguous segment: a gap in time separates two (IntakeMeasurementLog). {0} for one
-  // segment. Filters and derivatives run per segment, never across a gap.
-  const std::vector<Eigen::Index>& segment_starts() const { return segment_starts_; }
-  // Throws std::invalid_argument unless `starts` begins with 0 and increases strictly below rows().
-  void SetSegmentStarts(std::vector<Eigen::Index> starts);
-
- private:
-  // Heterogeneous lookup by string_view: no temporary string per query.
-  struct NameHash {
-    using is_transparent = void;
-    std::size_t operator()(std::string_view s) const noexcept { return std::hash<std::string_view>{}(s); }
-  };
-  std::vector<std::string> names_;
-  std::vector<Eigen::VectorXd> columns_;
-  std::string source_;
-  std::vector<std::string> notes_;
-  std::vector<Eigen::Index> segment_starts_{0};
-  std::unordered_map<std::string, std::size_t, NameHash, std::equal_to<>> index_;  // name → column
-};
+// A measurement log is a Table (engine/table.h) whose column 0 is the time [s].
+using MeasurementLog = Table;
 
 // What ReadMeasurementLog checks.
 struct MeasurementLogOptions {

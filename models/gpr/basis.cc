@@ -5,8 +5,10 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "models/gpr/sincos.h"
+#include "models/physics/fourier_series.h"
 
 namespace mb {
 namespace {
@@ -32,61 +34,23 @@ int NegligibleHarmonic(double z) {
   return 50 + static_cast<int>(std::ceil(std::sqrt(1400.0 * z)));
 }
 
-// Calls fn(j, cos(jθ), sin(jθ), lane) for j = 1…n, θ in [0, 2π]. The rotation recurrence is latency-bound,
-// so it runs as four independent chains (lane = (j − 1) mod 4, stepped by 4θ) that the CPU
-// overlaps; callers may keep one accumulator per lane. Rounding error grows like j·eps.
+// The harmonics of one bounded phase θ in [0, 2π] (models/physics/fourier_series.h): sin θ, cos θ by
+// SinCosBounded, then four independent recurrence chains (fn(j, cos jθ, sin jθ, lane), lane = (j − 1) mod 4).
 template <typename Fn>
 inline void ForEachHarmonic(double theta, int n, Fn&& fn) noexcept {
   double s1 = 0.0;
   double c1 = 0.0;
   SinCosBounded(theta, &s1, &c1);
-  double c[4] = {c1, 0.0, 0.0, 0.0};
-  double s[4] = {s1, 0.0, 0.0, 0.0};
-  for (int k = 1; k < 4; ++k) {
-    c[k] = c[k - 1] * c1 - s[k - 1] * s1;
-    s[k] = s[k - 1] * c1 + c[k - 1] * s1;
-  }
-  const double c4 = c[3];  // cos 4θ: each lane steps by four harmonics
-  const double s4 = s[3];
-  int j = 1;
-  for (; j + 3 <= n; j += 4) {
-    for (int k = 0; k < 4; ++k) {
-      fn(j + k, c[k], s[k], k);
-      const double c_next = c[k] * c4 - s[k] * s4;
-      s[k] = s[k] * c4 + c[k] * s4;
-      c[k] = c_next;
-    }
-  }
-  for (int k = 0; j <= n; ++j, ++k) fn(j, c[k], s[k], k);
+  mb::ForEachHarmonic<4>(c1, s1, n, std::forward<Fn>(fn));
 }
 
-// Calls fn(j, sin(jθ), lane) for j = 1…n, θ in [0, 2π]: the sine-only variant for the Hilbert
-// features. Each lane runs the Chebyshev three-term recurrence sin((j+4)θ) = 2cos(4θ)·sin(jθ) −
-// sin((j−4)θ), started from sin(−kθ) = −sin(kθ): one multiply and one subtract per harmonic
-// instead of the rotation's four multiplies and two adds. Its rounding error grows like
-// (n/4)²·eps at worst (θ near 0 or π), 2e-13 for n = 160.
+// As ForEachHarmonic, sines only (fn(j, sin jθ, lane)): the Chebyshev recurrence of fourier_series.h.
 template <typename Fn>
 inline void ForEachSineHarmonic(double theta, int n, Fn&& fn) noexcept {
   double s1 = 0.0;
   double c1 = 0.0;
   SinCosBounded(theta, &s1, &c1);
-  const double s2 = 2.0 * s1 * c1;
-  const double c2 = 2.0 * c1 * c1 - 1.0;
-  const double s3 = s2 * c1 + c2 * s1;
-  const double s4 = 2.0 * s2 * c2;
-  const double two_c4 = 2.0 * (2.0 * c2 * c2 - 1.0);  // 2cos 4θ
-  double previous[4] = {-s3, -s2, -s1, 0.0};  // sin((j − 4)θ)
-  double current[4] = {s1, s2, s3, s4};       // sin(jθ)
-  int j = 1;
-  for (; j + 3 <= n; j += 4) {
-    for (int k = 0; k < 4; ++k) {
-      fn(j + k, current[k], k);
-      const double next = two_c4 * current[k] - previous[k];
-      previous[k] = current[k];
-      current[k] = next;
-    }
-  }
-  for (int k = 0; j <= n; ++j, ++k) fn(j, current[k], k);
+  mb::ForEachSineHarmonic(c1, s1, n, std::forward<Fn>(fn));
 }
 
 // Phase ωx = 2π·frac(x/τ): reduces the argument before the trigonometric calls.

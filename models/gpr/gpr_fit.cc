@@ -229,6 +229,14 @@ GprSolver ParseGprSolver(std::string_view name) {
                               "\": use \"weight_space\" (default) or \"exact\"");
 }
 
+GprRange TrainedVelocityRange(const Eigen::Ref<const Eigen::VectorXd>& xdot) {
+  const GprRange range{xdot.minCoeff(), xdot.maxCoeff()};
+  if (range.max > range.min || !std::isfinite(range.min)) return range;
+  const double v = range.min;  // one scan velocity: widened so that the velocity prior and basis are defined
+  const double half_width = std::max(kOneVelocityRelativeHalfWidth * std::abs(v), kOneVelocityMinHalfWidth);
+  return {v - half_width, v + half_width};
+}
+
 GprModel FitGpr(const Eigen::Ref<const Eigen::VectorXd>& x,
                 const Eigen::Ref<const Eigen::VectorXd>& xdot,
                 const Eigen::Ref<const Eigen::VectorXd>& y, const GprFitOptions& options) {
@@ -238,7 +246,8 @@ GprModel FitGpr(const Eigen::Ref<const Eigen::VectorXd>& x,
   const Eigen::VectorXd yc = y.array() - mean;  // eq. 14
   const double variance = yc.squaredNorm() / static_cast<double>(yc.size());
   const GprRange x_range{x.minCoeff(), x.maxCoeff()};
-  const GprRange xdot_range{xdot.minCoeff(), xdot.maxCoeff()};
+  const GprRange xdot_range =
+      options.accept_one_velocity ? TrainedVelocityRange(xdot) : GprRange{xdot.minCoeff(), xdot.maxCoeff()};
   if (!(variance > 0.0)) {
     throw std::invalid_argument("FitGpr: the targets y are constant: nothing to regress");
   }

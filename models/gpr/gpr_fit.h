@@ -45,7 +45,18 @@ struct GprFitOptions {
   int max_evaluations = 400;  ///< per start
   double tolerance = 1e-12;   ///< kernel truncation of the basis, relative to σ² (basis.h)
   std::string source;         ///< recorded in the provenance
+  /// All samples at one velocity: false refuses them (DefaultGprPriors: "the trained velocity range … must be
+  /// > 0"); true trains on the widened range of TrainedVelocityRange (FitGprToLog sets it: a table of one scan).
+  bool accept_one_velocity = false;
 };
+
+/// One scan velocity: a training set whose samples all have the same ẋ = v says nothing about the velocity
+/// dependence; its trained velocity range is then v ± max(10 % |v|, 1 mm/s) [m/s] (TrainedVelocityRange), so that
+/// the ẋ prior (length scale ≈ range/3) and the ẋ basis are defined. The model's prediction is clamped to that range.
+inline constexpr double kOneVelocityRelativeHalfWidth = 0.1;
+inline constexpr double kOneVelocityMinHalfWidth = 1e-3;  // [m/s]
+/// [min ẋ, max ẋ], widened as above when min = max (and the range is finite). xdot must not be empty.
+GprRange TrainedVelocityRange(const Eigen::Ref<const Eigen::VectorXd>& xdot);
 
 /// Fits the model to samples (x_i [m], ẋ_i [m/s], d_i) — d is the raw disturbance estimate;
 /// the fit centres it (eq. 14) and the model adds the mean back (eq. 24).

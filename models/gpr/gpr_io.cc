@@ -204,6 +204,8 @@ json GprModelToJson(const GprModel& model) {
                      {"tolerance", p.tolerance},
                      {"period_estimated", p.period_estimated},
                      {"priors", priors}};
+  if (!p.position_column.empty()) j["provenance"]["position_column"] = p.position_column;
+  if (!p.velocity_column.empty()) j["provenance"]["velocity_column"] = p.velocity_column;
   return j;
 }
 
@@ -275,6 +277,11 @@ GprModel GprModelFromJson(const json& j, std::string_view origin) {
   p.fit_seconds = r.Number("/provenance/fit_seconds");
   p.tolerance = r.Number("/provenance/tolerance");
   p.period_estimated = r.Boolean("/provenance/period_estimated");
+  for (auto [key, column] : {std::pair{"position_column", &p.position_column}, {"velocity_column", &p.velocity_column}}) {
+    if (j.contains("provenance") && j["provenance"].is_object() && j["provenance"].contains(key)) {
+      *column = r.String(std::string("/provenance/") + key);
+    }
+  }
   for (int i = 0; i < kGprParameterCount; ++i) {
     const std::string base = "/provenance/priors/" + std::string(GprParameterName(i));
     auto& prior = p.priors[static_cast<std::size_t>(i)];

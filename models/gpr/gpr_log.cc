@@ -9,6 +9,23 @@
 
 namespace mb {
 
+Table ReadGprTable(const std::string& path, const std::vector<std::string>& required_columns) {
+  TableReadOptions read;
+  read.required_columns = required_columns;
+  read.kind = "table";
+  read.drop_unnamed_index = true;
+  return ReadTable(path, read);
+}
+
+std::pair<std::string, std::string> GprInputColumns(const GprModel& model, const std::string& position,
+                                                    const std::string& velocity) {
+  const GprProvenance& p = model.data().provenance;
+  const auto pick = [](const std::string& given, const std::string& trained, const char* fallback) {
+    return !given.empty() ? given : !trained.empty() ? trained : std::string(fallback);
+  };
+  return {pick(position, p.position_column, "position_m"), pick(velocity, p.velocity_column, "velocity_m_s")};
+}
+
 GprTrainingData SelectGprTrainingData(const MeasurementLog& log, const GprTrainingSelection& selection) {
   if (selection.disturbance_column.empty()) {
     throw std::invalid_argument(log.source() + ": no disturbance column given: name the column of the "
@@ -72,7 +89,11 @@ GprTrainingData SelectGprTrainingData(const MeasurementLog& log, const GprTraini
 GprModel FitGprToLog(const MeasurementLog& log, const GprTrainingSelection& selection, GprFitOptions options) {
   const GprTrainingData data = SelectGprTrainingData(log, selection);
   options.source = data.description;
-  return FitGpr(data.x, data.xdot, data.d, options);
+  options.accept_one_velocity = true;
+  GprModelData model = FitGpr(data.x, data.xdot, data.d, options).data();
+  model.provenance.position_column = selection.position_column;
+  model.provenance.velocity_column = selection.velocity_column;
+  return GprModel(std::move(model));
 }
 
 MeasurementLog PredictGprOnLog(const GprModel& model, const MeasurementLog& log,

@@ -5,6 +5,8 @@
 
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -13,6 +15,16 @@
 #include "models/gpr/gpr_model.h"
 
 namespace mb {
+
+/// Reads a GP training or prediction table (engine/table.h) as people have it: no time column needed, rows in any
+/// order, scans that restart at t = 0 concatenated, pandas' default to_csv (an unnamed index column first, dropped).
+/// @throws as ReadTable, naming the file, line and column; a missing column lists those present.
+Table ReadGprTable(const std::string& path, const std::vector<std::string>& required_columns);
+
+/// The position and velocity columns a model reads by default: those it was trained on (its provenance), else
+/// "position_m" and "velocity_m_s". An explicit non-empty `position` or `velocity` wins.
+std::pair<std::string, std::string> GprInputColumns(const GprModel& model, const std::string& position = "",
+                                                    const std::string& velocity = "");
 
 /// Which samples of a log train the model.
 struct GprTrainingSelection {
@@ -45,7 +57,8 @@ GprTrainingData SelectGprTrainingData(const MeasurementLog& log, const GprTraini
 
 /// SelectGprTrainingData, then FitGpr (gpr_fit.h) with options.source set to the description (the
 /// model's provenance then names the file, the columns, the window, the downsampling and N; FitGpr
-/// records the date, N, solver and library version).
+/// records the date, N, solver and library version) and accept_one_velocity set (a table of one scan
+/// velocity trains). The provenance records the position and velocity columns (predict-gpr's defaults).
 /// @throws as SelectGprTrainingData and FitGpr.
 GprModel FitGprToLog(const MeasurementLog& log, const GprTrainingSelection& selection,
                      GprFitOptions options);

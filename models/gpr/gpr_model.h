@@ -21,6 +21,9 @@ struct GprProvenance {
   std::string library_version;  ///< motionblocks version that fitted it
   std::string solver;           ///< "exact" or "weight_space": which likelihood the MAP used
   std::string source;           ///< free text given by the caller (e.g. the log's file name)
+  /// The training table's columns of x and ẋ (FitGprToLog); "" when fitted from arrays. `predict-gpr` reads
+  /// these columns by default. Written to the model file only when set.
+  std::string position_column, velocity_column;
   std::int64_t sample_count = 0;
   double log_marginal_likelihood = 0.0;  ///< at the MAP, of the weight-space model
   double log_posterior = 0.0;            ///< MAP objective (up to a constant)

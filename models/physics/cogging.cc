@@ -4,6 +4,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "models/physics/fourier_series.h"
+
 namespace mb {
 
 CoggingForce::CoggingForce(CoggingParameters parameters) : p_(std::move(parameters)) {
@@ -25,16 +27,7 @@ CoggingForce::CoggingForce(CoggingParameters parameters) : p_(std::move(paramete
 }
 
 double CoggingForce::Shape(double x) const noexcept {
-  const double theta = wavenumber_ * x;
-  const double s1 = std::sin(theta), c1 = std::cos(theta);
-  double sh = s1, ch = c1, s = 0.0;
-  for (Eigen::Index h = 0; h < sin_weight_.size(); ++h) {
-    s += sin_weight_(h) * sh + cos_weight_(h) * ch;
-    const double next_s = sh * c1 + ch * s1;
-    ch = ch * c1 - sh * s1;
-    sh = next_s;
-  }
-  return s;
+  return FourierSeries(cos_weight_, sin_weight_, wavenumber_ * x);
 }
 
 double CoggingForce::Amplitude(double xdot) const noexcept { return p_.amplitude + p_.amplitude_velocity * std::abs(xdot); }

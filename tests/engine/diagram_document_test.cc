@@ -83,8 +83,8 @@ TEST(DiagramDocumentTest, AddChecksTypeParametersAndSampleTime) {
               ThrowsMessage<std::invalid_argument>(HasSubstr(
                   "adding element 'g' (gain): /elements/g/parameters/gian: unknown parameter 'gian'; this block "
                   "takes: gain, width")));
-  EXPECT_THAT([&] { d.Add({"m", "rigid_body", {{"mass", {{"value", 3.0}, {"unit", "g"}}}}, std::nullopt, ""}); },
-              ThrowsMessage<std::invalid_argument>(HasSubstr("unit mismatch: given 'g', this parameter is in 'kg'")));
+  EXPECT_THAT([&] { d.Add({"m", "rigid_body", {{"mass", {{"value", 3.0}, {"unit", "s"}}}}, std::nullopt, ""}); },
+              ThrowsMessage<std::invalid_argument>(HasSubstr("unit mismatch: given 's', this parameter is in 'kg'")));
   EXPECT_THAT([&] { d.Add({"z", "unit_delay", json::object(), std::nullopt, ""}); },
               ThrowsMessage<std::invalid_argument>(
                   HasSubstr("block type 'unit_delay' is discrete; give its sample time [Ts, offset]")));

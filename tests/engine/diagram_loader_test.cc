@@ -56,10 +56,10 @@ TEST(DiagramLoaderTest, ParameterUnitsAreChecked) {
   EXPECT_TRUE(errors.empty());
   EXPECT_EQ(ok.at("mass"), 2.0);
   EXPECT_EQ(ok.at("damping"), 3.0);  // default filled in
-  ValidateParameters(specs, {{"mass", {{"value", 2.0}, {"unit", "g"}}}, {"damping", -1.0}}, "/elements/0/parameters",
+  ValidateParameters(specs, {{"mass", {{"value", 2.0}, {"unit", "s"}}}, {"damping", -1.0}}, "/elements/0/parameters",
                      &errors);
   ASSERT_EQ(errors.size(), 2u);
-  EXPECT_EQ(errors[0], "/elements/0/parameters/mass: unit mismatch: given 'g', this parameter is in 'kg' (SI)");
+  EXPECT_EQ(errors[0], "/elements/0/parameters/mass: unit mismatch: given 's', this parameter is in 'kg' (SI)");
   EXPECT_EQ(errors[1], "/elements/0/parameters/damping: must be >= 0 [N*s/m], got -1");
 }
 

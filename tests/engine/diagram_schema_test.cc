@@ -63,7 +63,11 @@ TEST(DiagramSchemaTest, EveryBlockTypeWithItsParametersUnitsEnumsAndBounds) {
   const json& cutoff = blocks["q_filter"]["properties"]["parameters"]["properties"]["cutoff_hz"];
   EXPECT_EQ(cutoff["default"], 30.0);
   EXPECT_EQ(cutoff["anyOf"][0], json({{"type", "number"}, {"minimum", 1e-9}, {"maximum", 1e12}}));
-  EXPECT_EQ(cutoff["anyOf"][1]["properties"]["unit"], json({{"const", "Hz"}}));
+  // {"value", "unit"}: any unit string (the loader converts kHz, refuses another quantity: engine/units.h); the
+  // bounds are checked after conversion, in Hz.
+  EXPECT_EQ(cutoff["anyOf"][1]["properties"]["unit"],
+            json({{"type", "string"}, {"description", "Hz or a unit of the same quantity (converted)"}}));
+  EXPECT_EQ(cutoff["anyOf"][1]["properties"]["value"], json({{"type", "number"}}));
   EXPECT_EQ(blocks["friction"]["properties"]["parameters"]["properties"]["stick_model"]["anyOf"][0]["enum"],
             json({"karnopp", "none"}));
   EXPECT_EQ(blocks["unit_delay"]["required"], json::array({"sampleTime"}));

@@ -16,6 +16,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "engine/csv.h"
 #include "engine/diagram_document.h"
 #include "engine/diagram_loader.h"
 #include "engine/diagram_schema.h"
@@ -110,16 +111,6 @@ Distribution ParseDistribution(const json& j, const std::string& where, std::vec
   return d;
 }
 
-std::string CsvCell(const std::string& text) {
-  if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
-  std::string out = "\"";
-  for (char c : text) {
-    if (c == '"') out += '"';
-    out += c;
-  }
-  return out + "\"";
-}
-
 std::vector<std::string> Header(const SweepSpec& spec, const std::vector<std::string>& metric_names) {
   std::vector<std::string> h = {"id", "status"};
   h.insert(h.end(), spec.parameters.begin(), spec.parameters.end());
@@ -127,12 +118,6 @@ std::vector<std::string> Header(const SweepSpec& spec, const std::vector<std::st
   h.push_back("wall_time_s");
   h.push_back("error");
   return h;
-}
-
-std::string JoinCsv(const std::vector<std::string>& cells) {
-  std::string line;
-  for (std::size_t i = 0; i < cells.size(); ++i) line += (i ? "," : "") + CsvCell(cells[i]);
-  return line;
 }
 
 // The parameter cells of a run, in column order ("" where the run does not assign the key).
@@ -159,32 +144,28 @@ std::string RowLine(const SweepSpec& spec, const SweepRun& run, const SweepRow& 
   }
   cells.push_back(fmt::format("{:.6f}", row.wall_time_s));
   cells.push_back(row.error);
-  return JoinCsv(cells);
+  return CsvLine(cells);
 }
 
 // Rows recorded "ok" in an existing runs.csv, by id (the last row of an id wins: a retried run is appended).
 std::map<std::string, SweepRow> ReadDoneRows(const fs::path& csv, const SweepSpec& spec,
                                             const std::vector<std::string>& metric_names) {
   std::map<std::string, SweepRow> done;
-  std::ifstream in(csv);
-  if (!in) return done;
-  std::string line;
-  if (!std::getline(in, line)) return done;
+  if (!fs::exists(csv)) return done;
+  const CsvTextTable table = ReadCsvTextTable(csv.string());
+  if (table.header.empty()) return done;
   const auto expected = Header(spec, metric_names);
-  const auto header = SplitCsvLine(line);
-  if (header != expected) {
+  if (table.header != expected) {
     throw std::runtime_error(fmt::format("{} has the columns [{}], this sweep writes [{}]: it was written by another "
                                          "sweep or diagram; use another --out or delete it",
-                                         csv.string(), fmt::join(header, ", "), fmt::join(expected, ", ")));
+                                         csv.string(), fmt::join(table.header, ", "), fmt::join(expected, ", ")));
   }
   std::map<std::string, std::size_t> index;
   for (std::size_t i = 0; i < spec.runs.size(); ++i) index[spec.runs[i].id] = i;
   const std::size_t first_metric = 2 + spec.parameters.size();
-  int line_number = 1;
-  while (std::getline(in, line)) {
-    ++line_number;
-    if (line.empty()) continue;
-    const auto cells = SplitCsvLine(line);
+  for (std::size_t r = 0; r < table.rows.size(); ++r) {
+    const auto& cells = table.rows[r];
+    const std::size_t line_number = table.row_lines[r];
     if (cells.size() != expected.size()) continue;  // a row cut short by an interrupted run: run it again
     const auto it = index.find(cells[0]);
     if (it == index.end()) {
@@ -235,31 +216,6 @@ json RowJson(const SweepRow& row) {
 
 std::string SweepValueText(const json& value) {
   return value.is_string() ? value.get<std::string>() : value.dump();
-}
-
-std::vector<std::string> SplitCsvLine(const std::string& line) {
-  std::vector<std::string> cells(1);
-  bool quoted = false;
-  for (std::size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
-        cells.back() += '"';
-        ++i;
-      } else if (c == '"') {
-        quoted = false;
-      } else {
-        cells.back() += c;
-      }
-    } else if (c == '"') {
-      quoted = true;
-    } else if (c == ',') {
-      cells.emplace_back();
-    } else if (c != '\r') {
-      cells.back() += c;
-    }
-  }
-  return cells;
 }
 
 namespace {
@@ -483,7 +439,7 @@ void CheckSweepSettings(const json& base, const SweepSpec& spec, const std::stri
 void WriteSweepResults(const fs::path& diagram_path, const SweepSpec& spec, const fs::path& out,
                        SweepOutcome* outcome) {
   const fs::path csv = out / "runs.csv";
-  std::string text = JoinCsv(Header(spec, outcome->metric_names)) + "\n";
+  std::string text = CsvLine(Header(spec, outcome->metric_names)) + "\n";
   json rows = json::array();
   for (std::size_t i = 0; i < spec.runs.size(); ++i) {
     const SweepRow& row = outcome->rows[i];
@@ -546,7 +502,7 @@ SweepOutcome RunSweep(const fs::path& diagram_path, const SweepSpec& spec, const
   const bool new_file = !fs::exists(csv) || fs::file_size(csv) == 0;
   std::ofstream append(csv, std::ios::app);
   if (!append) throw std::runtime_error("cannot write " + csv.string());
-  if (new_file) append << JoinCsv(Header(spec, outcome.metric_names)) << "\n" << std::flush;
+  if (new_file) append << CsvLine(Header(spec, outcome.metric_names)) << "\n" << std::flush;
 
   ProgressLine progress(fmt::format("sweep {} ({} runs, {} to run)", diagram_path.filename().string(),
                                     spec.runs.size(), todo.size()));

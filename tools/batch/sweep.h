@@ -118,7 +118,4 @@ SweepOutcome RunSweep(const std::filesystem::path& diagram, const SweepSpec& spe
 /// CSV cell of a value: a JSON string without quotes, anything else as compact JSON.
 std::string SweepValueText(const nlohmann::json& value);
 
-/// Splits one CSV line (RFC 4180 quoting: "a,b" and "" for a quote). Used to read runs.csv back.
-std::vector<std::string> SplitCsvLine(const std::string& line);
-
 }  // namespace mb

@@ -9,7 +9,7 @@
 
 #include <fmt/format.h>
 
-#include "models/diagnosis/measurement_log.h"
+#include "engine/table.h"
 #include "models/gpr/gpr_io.h"
 #include "models/gpr/gpr_log.h"
 #include "tools/commands/commands.h"
@@ -49,11 +49,9 @@ void RunFitGpr(const FitGprOptions& o) {
   fit.seed = o.seed;
 
   CreateParentDirectory(o.output);  // before the fit, so that a bad path fails at once
-  MeasurementLogOptions read;
-  read.required_columns = {selection.position_column, selection.velocity_column, selection.disturbance_column};
-  read.min_rows = 2;
-  read.max_gap_ratio = 0.0;  // the regression ignores time: logs of several scans may be concatenated
-  const MeasurementLog log = ReadMeasurementLog(o.log, read);
+  // The regression ignores time: no time column needed, rows in any order, scans concatenated, a pandas index.
+  const Table log =
+      ReadGprTable(o.log, {selection.position_column, selection.velocity_column, selection.disturbance_column});
   const GprModel model = FitGprToLog(log, selection, fit);
   SaveGprModel(model, o.output);
 
@@ -77,7 +75,7 @@ void SetupFitGprCommand(CLI::App& app) {
   auto o = std::make_shared<FitGprOptions>();
   auto* cmd = app.add_subcommand("fit-gpr", "Fit the TISO-GPR disturbance model (MAP) to a DOB log; writes the "
                                             "model file the gpr block loads");
-  cmd->add_option("log", o->log, "CSV measurement log (time first)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("log", o->log, "CSV training table (any column order; time not needed)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--position", o->selection.position_column, "position column x [m]")->capture_default_str();
   cmd->add_option("--velocity", o->selection.velocity_column, "velocity column xdot [m/s]")
       ->capture_default_str();

@@ -7,7 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "models/diagnosis/measurement_log.h"
+#include "engine/table.h"
 #include "models/gpr/gpr_io.h"
 #include "models/gpr/gpr_log.h"
 #include "tools/commands/commands.h"
@@ -25,29 +25,26 @@ void CreateParentDirectory(const std::string& path) {
 struct PredictGprOptions {
   std::string model;
   std::string input;
-  std::string position = "position_m";
-  std::string velocity = "velocity_m_s";
+  std::string position;  // "": the model's own columns (GprInputColumns)
+  std::string velocity;
   std::string output;
 };
 
 void RunPredictGpr(const PredictGprOptions& o) {
   const GprModel model = LoadGprModel(o.model);
   CreateParentDirectory(o.output);
-  MeasurementLogOptions read;
-  read.required_columns = {o.position, o.velocity};
-  read.min_rows = 1;
-  read.max_gap_ratio = 0.0;
-  const MeasurementLog in = ReadMeasurementLog(o.input, read);
-  const MeasurementLog out = PredictGprOnLog(model, in, o.position, o.velocity);
-  WriteMeasurementLog(out, o.output);
+  const auto [position, velocity] = GprInputColumns(model, o.position, o.velocity);
+  const Table in = ReadGprTable(o.input, {position, velocity});
+  const Table out = PredictGprOnLog(model, in, position, velocity);
+  WriteTable(out, o.output);
 
-  const Eigen::VectorXd& xdot = in.column(o.velocity);
+  const Eigen::VectorXd& xdot = in.column(velocity);
   const GprRange trained = model.xdot_range();
   const auto clamped = (xdot.array() < trained.min || xdot.array() > trained.max).count();
   if (clamped > 0) {
     std::cout << fmt::format("note: {} of {} rows have {} outside the trained range [{:.6g}, {:.6g}] m/s; the "
                              "model clamps the velocity there (docs/gpr.md)\n",
-                             clamped, in.rows(), o.velocity, trained.min, trained.max);
+                             clamped, in.rows(), velocity, trained.min, trained.max);
   }
   std::cout << fmt::format("wrote {} ({} rows: {} columns of {} + mean, std)\n", o.output, out.rows(),
                            in.names().size(), o.input);
@@ -59,11 +56,11 @@ void SetupPredictGprCommand(CLI::App& app) {
   auto o = std::make_shared<PredictGprOptions>();
   auto* cmd = app.add_subcommand("predict-gpr", "Evaluate a GPR model file along a log: adds columns mean and std");
   cmd->add_option("model", o->model, "model file written by fit-gpr")->required()->check(CLI::ExistingFile);
-  cmd->add_option("input", o->input, "CSV log with position and velocity columns (time first)")
+  cmd->add_option("input", o->input, "CSV table with position and velocity columns (time not needed)")
       ->required()
       ->check(CLI::ExistingFile);
-  cmd->add_option("--position", o->position, "position column x [m]")->capture_default_str();
-  cmd->add_option("--velocity", o->velocity, "velocity column xdot [m/s]")->capture_default_str();
+  cmd->add_option("--position", o->position, "position column x [m] (default: the model's, else position_m)");
+  cmd->add_option("--velocity", o->velocity, "velocity column xdot [m/s] (default: the model's, else velocity_m_s)");
   cmd->add_option("-o,--output", o->output, "CSV file to write")->required();
   cmd->callback([o] { RunPredictGpr(*o); });
 }

@@ -144,10 +144,12 @@ std::vector<int> ReadPd(const LoopFinder& f, PaperLoop* l) {
   const int d = f.Role("pd_derivative_gain");
   const int filter = f.Role("pd_derivative_filter");
   if (p < 0 || d < 0 || filter < 0) {
-    throw std::invalid_argument(
-        "stability analysis: the diagram has no pd_controller; for a PD built of blocks name its parts in \"roles\": "
-        "pd_proportional_gain and pd_derivative_gain (gain elements), pd_derivative_filter (a velocity_estimator), "
-        "as diagrams/paper/conventional.json does");
+    throw std::invalid_argument(fmt::format(
+        "stability analysis: the diagram has no {}; for a PD built of blocks name its parts in \"roles\": "
+        "pd_proportional_gain and pd_derivative_gain ({} elements), pd_derivative_filter (a {}), "
+        "as diagrams/paper/conventional.json does",
+        Join(TypesFor("pd"), " or "), Join(TypesFor("pd_proportional_gain"), " or "),
+        Join(TypesFor("pd_derivative_filter"), " or ")));
   }
   l->kp = f.Of(p).Vector("gain")(0);
   l->kd = f.Of(d).Vector("gain")(0);

@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/block_roles.h"
 #include "engine/diagram_document.h"
 #include "engine/units.h"
 #include "models/diagnosis/effect_registry.h"
@@ -94,13 +95,26 @@ json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, c
   return out.json();
 }
 
+namespace {
+
+// The block type of the GP disturbance model: the one declaring the loop role "gp" in its own file (blocks/gpr.cc).
+std::string GpBlockType() {
+  const std::vector<std::string> types = BlockRoleRegistry::Global().TypesWithLoopRole("gp");
+  if (types.empty()) {
+    throw std::logic_error("no registered block type has the loop role \"gp\" (the GP model): link mb_blocks");
+  }
+  return types.front();
+}
+
+}  // namespace
+
 json SuggestGprFallbackBlock(const json& diagram, const std::string& model_path, const std::string& output) {
   DiagramDocument out(diagram);
   const std::string position = NeedInput(out, MotionInput::kPosition, "nonparametric_fallback");
   const std::string velocity = NeedInput(out, MotionInput::kVelocity, "nonparametric_fallback");
   const std::string name = AddToOutput(
       &out,
-      {"residual_gp", "gpr", {{"model", model_path}}, std::nullopt,
+      {"residual_gp", GpBlockType(), {{"model", model_path}}, std::nullopt,
        "TISO-GPR on (x, v) learned from what the catalogue's effects leave of the residual"},
       output, "mean");
   Wire(&out, position, name, "x");

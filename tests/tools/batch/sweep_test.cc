@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "engine/csv.h"
 #include "engine/diagram_loader.h"
 
 namespace mb {
