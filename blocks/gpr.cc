@@ -61,7 +61,7 @@ MB_REGISTER_BLOCK(Gpr, BlockType{
     "TISO-GPR disturbance model (paper §3): mean = μ(x, ẋ) + mean(d) (eq. 22/24), optional std (√eq. 23), "
     "from a model file written by `motionblocks fit-gpr`. In: x [m], xdot [m/s] (ẋ clamped to the trained "
     "range). Inherited sample time, or discrete with a sampleTime.",
-    {Required("model", "", "GPR model file (JSON), relative to the diagram's folder", ParamType::kString),
+    {FileName("model", "GPR model file (JSON), relative to the diagram's folder"),
      Optional("output_std", false, "", "also output the posterior standard deviation \"std\"",
               ParamType::kBool)},
     SampleTimeRule::kOptional,
