@@ -83,6 +83,7 @@ TEST_F(WorkingDirectory, ASweepFileWithoutADiagramAsksForOne) {
 
 // The fitted diagram written into another folder names its profile from there (and says it lies outside).
 TEST_F(WorkingDirectory, AFittedDiagramWrittenElsewhereStillFindsItsFile) {
+  fs::create_directories(elsewhere_ / "fitted");  // --write-fitted writes a file; its folder must exist
   const CommandResult r = RunMotionblocksIn(
       elsewhere_, {"compare", (project_ / "drive.json").string(), "--measurement", (project_ / "measured.csv").string(),
                    "--fit", "k.gain", "--write-fitted", "fitted/drive.json", "--quiet", "--out", "o"});
