@@ -90,7 +90,7 @@ MB_REGISTER_BLOCK(FromFile, BlockType{
     "from_file",
     "y(t) = a column of a CSV measurement log (time first), interpolated linearly or held (zoh); held outside "
     "the data's range.",
-    {Required("file", "", "CSV file, relative to the diagram's folder", ParamType::kString),
+    {FileName("file", "CSV file, relative to the diagram's folder"),
      Optional("time_column", "", "", "name of the time column [s] (must be the first column; \"\" = first)",
               ParamType::kString),
      Required("column", "", "name of the column to output", ParamType::kString),

@@ -1,7 +1,5 @@
 #include "blocks/gpr.h"
 
-#include "engine/block_roles.h"
-
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -66,7 +64,7 @@ MB_REGISTER_BLOCK(Gpr, BlockType{
     "TISO-GPR disturbance model (paper §3): mean = μ(x, ẋ) + mean(d) (eq. 22/24), optional std (√eq. 23), "
     "from a model file written by `motionblocks fit-gpr`. In: x [m], xdot [m/s] (ẋ clamped to the trained "
     "range). Inherited sample time, or discrete with a sampleTime.",
-    {Required("model", "", "GPR model file (JSON), relative to the diagram's folder", ParamType::kString),
+    {FileName("model", "GPR model file (JSON), relative to the diagram's folder"),
      Optional("output_std", false, "", "also output the posterior standard deviation \"std\"",
               ParamType::kBool),
      Optional("confidence_weighting", false, "",
@@ -76,9 +74,8 @@ MB_REGISTER_BLOCK(Gpr, BlockType{
     SampleTimeRule::kOptional,
     [](const BlockConfig& c) { return std::make_unique<Gpr>(c); }})
 // "gp": the GP model of the loop's GP path, and the block `compare --suggest` adds as the non-parametric fallback
-// (tools/workflow/suggest.cc finds it by this role).
-MB_REGISTER_LOOP_ROLES(Gpr, "gpr", {"gp"})
-
+// (tools/workflow/suggest.cc finds it by this role); tools/workflow/loop_from_diagram.h reads its
+// confidence_weighting through it.
 MB_REGISTER_LOOP_ROLES(Gpr, "gpr", {"gp"})
 
 }  // namespace mb

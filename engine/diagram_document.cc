@@ -27,6 +27,50 @@ std::string DidYouMean(const std::string& name, const std::vector<std::string>& 
   return close.empty() ? "" : "; did you mean: " + List(close);
 }
 
+// The name `written` (read against `base`) as a diagram in `folder` names the same file; `outside` is set when that
+// file is not inside `folder`. Absolute names outside `folder` stay absolute.
+std::string RelocatedFileName(const std::string& written, const fs::path& base, const fs::path& folder,
+                              bool* outside) {
+  const fs::path as_written(written);
+  const fs::path file = (as_written.is_absolute() ? as_written : fs::absolute(base) / as_written).lexically_normal();
+  const fs::path relative = file.lexically_relative(fs::absolute(folder).lexically_normal());
+  *outside = relative.empty() || *relative.begin() == "..";
+  if (relative.empty() || (*outside && as_written.is_absolute())) return file.string();
+  return relative.string();
+}
+
+// RelocateFiles on the "elements" of `diagram` (recursing into inline subsystems); `where` prefixes element names.
+void RelocateElementFiles(Json* diagram, const fs::path& base, const fs::path& folder, const std::string& where,
+                          std::vector<std::string>* outside_names) {
+  if (!diagram->contains("elements") || !(*diagram)["elements"].is_array()) return;
+  auto relocate = [&](Json* slot, const std::string& name) {
+    Json* value = slot->is_object() && slot->contains("value") ? &(*slot)["value"] : slot;
+    if (!value->is_string() || value->get<std::string>().empty()) return;
+    bool outside = false;
+    *value = RelocatedFileName(value->get<std::string>(), base, folder, &outside);
+    if (outside) outside_names->push_back(fmt::format("{}: {}", name, value->get<std::string>()));
+  };
+  for (auto& element : (*diagram)["elements"]) {
+    const std::string name = where + element.value("name", "?");
+    const std::string type = element.value("type", "");
+    if (type == kSubsystemType && element.contains("diagram")) {
+      if (element["diagram"].is_object()) {
+        RelocateElementFiles(&element["diagram"], base, folder, name + "/", outside_names);
+      } else {
+        relocate(&element["diagram"], name + ".diagram");
+      }
+      continue;
+    }
+    const BlockType* block_type = BlockRegistry::Global().Find(type);
+    if (!block_type || !element.contains("parameters") || !element["parameters"].is_object()) continue;
+    for (const auto& spec : block_type->parameters) {
+      if (spec.file && element["parameters"].contains(spec.name)) {
+        relocate(&element["parameters"][spec.name], name + "." + spec.name);
+      }
+    }
+  }
+}
+
 const BlockType& RegisteredType(const std::string& type, const std::string& what) {
   const BlockType* bt = BlockRegistry::Global().Find(type);
   if (!bt) {
@@ -375,6 +419,13 @@ void DiagramDocument::SetSectionSetting(const std::string& section, const std::s
     throw std::invalid_argument(fmt::format("{}: '{}.': name the setting after the dot", source_, section));
   }
   json_[section][key] = value;
+}
+
+std::vector<std::string> DiagramDocument::RelocateFiles(const fs::path& folder) {
+  std::vector<std::string> outside;
+  RelocateElementFiles(&json_, base_.empty() ? fs::current_path() : base_, folder, "", &outside);
+  base_ = folder;
+  return outside;
 }
 
 void DiagramDocument::CopyExperimentFrom(const DiagramDocument& other) {

@@ -158,6 +158,13 @@ class DiagramDocument {
   /// diagram); returns the dropped overrides as "element.param = value". @throws std::invalid_argument if the
   /// element is unknown or not a subsystem.
   std::vector<std::string> SetSubsystemDiagram(const std::string& element, const std::filesystem::path& file);
+  /// Rewrites the file names the diagram reads (file parameters, ParamSpec::file: from_file.file, gpr.model; a
+  /// subsystem's "diagram" file; inside inline subsystems too) for a copy of it written into `folder`: each names
+  /// the same file as before, relative to `folder` (an absolute name stays absolute unless it lies in `folder`).
+  /// Relative names are read against base_directory() (empty: the current directory). Returns the rewritten names
+  /// that lie outside `folder`, as "element.parameter: name": the copy reads those only with --allow-path
+  /// (engine/file_access.h).
+  std::vector<std::string> RelocateFiles(const std::filesystem::path& folder);
   /// Appends `text` to the diagram's "notes" / "description".
   void AppendNote(const std::string& text);
   void AppendDescription(const std::string& text);

@@ -11,6 +11,7 @@
 #include <fmt/ranges.h>
 
 #include "engine/closest_names.h"
+#include "engine/diagram_document.h"
 #include "engine/diagram_schema.h"
 #include "engine/execution_order.h"
 #include "engine/file_access.h"
@@ -18,6 +19,7 @@
 #include "engine/json_parsing.h"
 #include "engine/json_schema.h"
 #include "engine/registry.h"
+#include "engine/text_excerpt.h"
 #include "engine/units.h"
 
 namespace mb {
@@ -39,7 +41,8 @@ ParameterOverride ParameterOverride::Parse(const std::string& text) {
   const auto dot = text.find('.');
   if (eq == std::string::npos || dot == std::string::npos || dot > eq || dot == 0 || dot + 1 == eq) {
     throw std::invalid_argument(
-        fmt::format("'{}': write a parameter override as block.parameter=value, e.g. plant.payload_mass=21", text));
+        fmt::format("'{}': write a parameter override as block.parameter=value, e.g. plant.payload_mass=21",
+                    Excerpt(text)));
   }
   ParameterOverride o;
   // Block names may contain '/' (subsystems) but not '.', so the first '.' separates block and parameter.
@@ -54,6 +57,11 @@ ParameterOverride ParameterOverride::Parse(const std::string& text) {
 void ApplyOverrides(json* diagram, const std::vector<ParameterOverride>& overrides, const std::string& source) {
   std::vector<std::string> problems;
   for (const auto& o : overrides) {
+    if (DiagramDocument::IsSettingSection(o.block)) {  // solver.type=cvode, defaultExperiment.stopTime=2
+      if (!diagram->contains(o.block) || !(*diagram)[o.block].is_object()) (*diagram)[o.block] = json::object();
+      (*diagram)[o.block][o.parameter] = o.value;
+      continue;
+    }
     bool found = false;
     if (diagram->contains("elements") && (*diagram)["elements"].is_array()) {
       for (auto& element : (*diagram)["elements"]) {
@@ -87,7 +95,7 @@ json ReadDiagramJson(const fs::path& path) {
   try {
     return ParseJsonRejectingDuplicateKeys(in, path.string(), /*ignore_comments=*/true);
   } catch (const json::parse_error& e) {
-    throw std::runtime_error(fmt::format("{}: not valid JSON: {}", path.string(), e.what()));
+    throw std::runtime_error(fmt::format("{}: not valid JSON: {}", path.string(), JsonErrorText(e)));
   } catch (const DuplicateKeyError& e) {
     throw DiagramError(path.string(), e.problems());
   }

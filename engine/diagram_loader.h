@@ -40,7 +40,9 @@ struct ParameterOverride {
 };
 
 /// Writes the overrides into the diagram JSON (`/elements/<i>/parameters/<param>`), keeping a unit written
-/// as {"value", "unit"}. @throws DiagramError if a block is unknown (listing the blocks).
+/// as {"value", "unit"}. An override of "solver.<key>" or "defaultExperiment.<key>" (`--set solver.type=cvode`,
+/// `--set defaultExperiment.stopTime=2`) sets that key of the section, as a sweep does (the diagram's schema then
+/// checks the key). @throws DiagramError if a block is unknown (listing the blocks).
 void ApplyOverrides(nlohmann::json* diagram, const std::vector<ParameterOverride>& overrides,
                     const std::string& source);
 

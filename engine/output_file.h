@@ -2,7 +2,12 @@
 // Writing what the tools produce (model files, logs, tables, JSON summaries) without harming what is there.
 
 #include <filesystem>
+#include <fstream>
+#include <string>
 #include <string_view>
+#include <vector>
+
+#include "engine/log_sink.h"
 
 namespace mb {
 
@@ -15,5 +20,42 @@ namespace mb {
 /// @throws std::runtime_error naming the path, what is there and how to fix it, when the target is refused or
 /// cannot be written (the temporary file is removed; the original is untouched).
 void WriteFileSafely(const std::filesystem::path& path, std::string_view text);
+
+/// A file written piece by piece with WriteFileSafely's rules: into a temporary file beside `path`, renamed over it
+/// by Commit (a FIFO or character device is written through; a folder, block device, socket or dangling link is
+/// refused at once). Without Commit (an exception, a failed run) the temporary file is removed and `path` is
+/// unchanged. @throws std::runtime_error as WriteFileSafely, from the constructor, Write and Commit.
+class StreamedFile {
+ public:
+  explicit StreamedFile(const std::filesystem::path& path);
+  ~StreamedFile();
+  StreamedFile(const StreamedFile&) = delete;
+  StreamedFile& operator=(const StreamedFile&) = delete;
+  void Write(std::string_view text);
+  void Commit();
+
+ private:
+  std::filesystem::path path_;       ///< the target as given
+  std::filesystem::path target_;     ///< the file a link points to, or path_
+  std::filesystem::path temporary_;  ///< empty when written through
+  std::ofstream out_;
+  bool committed_ = false;
+};
+
+/// A simulation log streamed to CSV as it is taken (Simulator::StreamLogTo): the header "time_s,<names>", then
+/// one row per sample, numbers in their shortest round-trip form — the file WriteSignalLog writes from a log in
+/// memory, byte for byte. Buffered (64 KB); Commit when the run succeeded.
+class CsvLogFile final : public LogSink {
+ public:
+  explicit CsvLogFile(const std::filesystem::path& path) : file_(path) {}
+  void Begin(const std::vector<std::string>& names) override;
+  void Append(double t, const std::vector<double>& values) override;
+  /// Writes what is buffered and renames the file into place. @throws std::runtime_error.
+  void Commit();
+
+ private:
+  StreamedFile file_;
+  std::string buffer_;
+};
 
 }  // namespace mb

@@ -22,13 +22,13 @@ const char* ToString(ParamType type) {
 }
 
 ParamSpec Required(std::string name, std::string unit, std::string description, ParamType type) {
-  return ParamSpec{std::move(name), type, std::move(unit), std::nullopt, std::move(description), {}, {}, {}};
+  return ParamSpec{std::move(name), type, std::move(unit), std::nullopt, std::move(description), {}, {}, {}, false};
 }
 
 ParamSpec Optional(std::string name, nlohmann::json default_value, std::string unit, std::string description,
                    ParamType type) {
   return ParamSpec{std::move(name), type, std::move(unit), std::move(default_value), std::move(description),
-                   {}, {}, {}};
+                   {}, {}, {}, false};
 }
 
 ParamSpec Bounded(std::string name, nlohmann::json default_value, std::string unit, std::string description,
@@ -37,6 +37,12 @@ ParamSpec Bounded(std::string name, nlohmann::json default_value, std::string un
       Optional(std::move(name), std::move(default_value), std::move(unit), std::move(description), type);
   spec.min = min;
   spec.max = max;
+  return spec;
+}
+
+ParamSpec FileName(std::string name, std::string description) {
+  ParamSpec spec = Required(std::move(name), "", std::move(description), ParamType::kString);
+  spec.file = true;
   return spec;
 }
 

@@ -31,6 +31,9 @@ struct ParamSpec {
   /// For string parameters with a fixed set of values: the allowed values (the JSON Schema's "enum", for
   /// editors). The block checks the value itself (with its own message); empty = any string.
   std::vector<std::string> choices;
+  /// A string naming a file, relative to the diagram's folder (from_file.file, gpr.model): a diagram written to
+  /// another folder gets it rewritten (DiagramDocument::RelocateFiles).
+  bool file = false;
 };
 
 /// Builder helpers for readable block specs: Required("mass", "kg", "moving mass").
@@ -41,6 +44,9 @@ ParamSpec Optional(std::string name, nlohmann::json default_value, std::string u
 /// Same as Optional with bounds [min, max] (use ±infinity for one-sided).
 ParamSpec Bounded(std::string name, nlohmann::json default_value, std::string unit, std::string description,
                   double min, double max, ParamType type = ParamType::kNumber);
+
+/// A required string parameter naming a file relative to the diagram's folder (ParamSpec::file).
+ParamSpec FileName(std::string name, std::string description);
 
 /// A string parameter taking one of `choices` (default first or given): Choice("method", "tustin", "…",
 /// {"backward_euler", "tustin"}).

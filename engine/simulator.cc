@@ -346,13 +346,63 @@ double Simulator::NextMajorTime(double t) const {
 }
 
 void Simulator::LogNow() {
-  log_.time.push_back(time_);
   std::size_t col = 0;
   for (const auto& [ref, width] : logged_refs_) {
     const double* v = ref.is_external() ? &signals_[external_offset_ + static_cast<std::size_t>(ref.port)]
                                         : contexts_[static_cast<std::size_t>(ref.block)].outputs_[static_cast<std::size_t>(ref.port)];
-    for (int k = 0; k < width; ++k) log_.columns[col++].push_back(v[k]);
+    for (int k = 0; k < width; ++k) row_[col++] = v[k];
   }
+  const bool keep = !sink_ || (keep_every_ > 0 && logged_samples_ % keep_every_ == 0);
+  ++logged_samples_;
+  if (sink_) {
+    sink_->Append(time_, row_);
+    const auto& metrics = diagram_.metrics();
+    for (std::size_t m = 0; m < metric_sums_.size(); ++m) {
+      if (time_ < metrics[m].from || time_ > metrics[m].to) continue;
+      const auto [signal, reference] = metric_columns_[m];
+      const double x = row_[static_cast<std::size_t>(signal)];
+      metric_sums_[m].Add(reference < 0 ? x : x - row_[static_cast<std::size_t>(reference)]);
+    }
+  }
+  if (!keep) return;
+  log_.time.push_back(time_);
+  for (std::size_t c = 0; c < row_.size(); ++c) log_.columns[c].push_back(row_[c]);
+}
+
+void Simulator::StreamLogTo(LogSink* sink, std::size_t max_samples_in_memory) {
+  sink_ = sink;
+  max_samples_in_memory_ = max_samples_in_memory;
+}
+
+// Streaming's set-up at Initialize: the sink's header, the metrics' columns, the thinning of the in-memory log.
+void Simulator::BeginStreaming(double samples) {
+  metric_sums_.clear();
+  metric_columns_.clear();
+  keep_every_ = 0;
+  if (!sink_) return;
+  sink_->Begin(log_.names);
+  auto column = [&](const std::string& name) {
+    const auto it = std::find(log_.names.begin(), log_.names.end(), name);
+    if (it == log_.names.end()) (void)log_.Column(name);  // throws, listing the logged names
+    return static_cast<int>(it - log_.names.begin());
+  };
+  for (const auto& m : diagram_.metrics()) {
+    metric_columns_.emplace_back(column(m.signal), m.reference.empty() ? -1 : column(m.reference));
+  }
+  metric_sums_.assign(metric_columns_.size(), MetricAccumulator{});
+  if (max_samples_in_memory_ > 0) {
+    const double every = std::ceil(samples / static_cast<double>(max_samples_in_memory_));
+    keep_every_ = std::max(1LL, static_cast<long long>(every));
+  }
+}
+
+std::map<std::string, double> Simulator::StreamedMetrics() const {
+  std::map<std::string, double> out;
+  const auto& metrics = diagram_.metrics();
+  for (std::size_t m = 0; m < metric_sums_.size(); ++m) {
+    out[metrics[m].name] = metric_sums_[m].Value(metrics[m].type, metrics[m].name, metrics[m].from, metrics[m].to);
+  }
+  return out;
 }
 
 void Simulator::Initialize() { Initialize(diagram_.experiment().start_time); }
@@ -373,10 +423,15 @@ void Simulator::Initialize(double start_time) {
   std::fill(signals_.begin(), signals_.end(), 0.0);
   for (auto& c : input_cursor_) c = 0;
   log_ = SignalLog{{}, log_.names, std::vector<std::vector<double>>(log_.names.size())};
+  row_.assign(log_.names.size(), 0.0);
+  logged_samples_ = 0;
   CheckRunLength(start_time);
-  // The whole log (the real-time loop must not allocate), never beyond the limit CheckRunLength enforced.
+  // The whole log (the real-time loop must not allocate), never beyond the limit CheckRunLength enforced; a streamed
+  // log keeps at most max_samples_in_memory_.
   const double samples = std::max(0.0, (diagram_.experiment().stop_time - start_time) / log_step_) + 2.0;
-  const auto expected = static_cast<std::size_t>(std::min(samples, limits_.max_steps));
+  BeginStreaming(samples);
+  const double in_memory = sink_ ? std::min(samples, static_cast<double>(max_samples_in_memory_) + 1.0) : samples;
+  const auto expected = static_cast<std::size_t>(std::min(in_memory, limits_.max_steps));
   log_.time.reserve(expected);
   for (auto& c : log_.columns) c.reserve(expected);
   next_log_index_ = 0;
@@ -507,13 +562,15 @@ void Simulator::CheckRunLength(double start_time) const {
         "--max-steps N",
         diagram_.name(), start_time, ex.stop_time, finest->step, finest->what, steps, limits_.max_steps));
   }
-  const double values = (span / log_step_ + 1.0) * static_cast<double>(std::max<std::size_t>(1, log_.names.size()));
+  const double samples = sink_ ? std::min(span / log_step_ + 1.0, static_cast<double>(max_samples_in_memory_))
+                               : span / log_step_ + 1.0;  // held in memory
+  const double values = samples * static_cast<double>(std::max<std::size_t>(1, log_.names.size()));
   if (values > limits_.max_steps) {
     throw std::invalid_argument(fmt::format(
         "{}: the log would hold about {:.3g} values ({:.3g} samples every {} s × {} signals, {:.3g} MB), more than "
         "the limit of {:.3g}. Log fewer signals, a larger defaultExperiment.stepSize or a shorter run, or raise "
         "the limit with --max-steps N",
-        diagram_.name(), values, span / log_step_ + 1.0, log_step_, log_.names.size(), values * 8e-6,
+        diagram_.name(), values, samples, log_step_, log_.names.size(), values * 8e-6,
         limits_.max_steps));
   }
 }
@@ -576,7 +633,7 @@ SimulationResult Simulator::Run() {
   AdvanceTo(diagram_.experiment().stop_time);
   SimulationResult result;
   result.log = log_;
-  result.metrics = ComputeMetrics(diagram_, log_);
+  result.metrics = sink_ ? StreamedMetrics() : ComputeMetrics(diagram_, log_);
   if (solver_) {
     result.solver_stats = solver_->stats();
     result.solver_name = solver_->name();
@@ -602,27 +659,34 @@ std::map<std::string, double> Simulator::ComputeMetrics(const Diagram& diagram, 
   for (const auto& m : diagram.metrics()) {
     const auto& v = log.Column(m.signal);
     const std::vector<double>* ref = m.reference.empty() ? nullptr : &log.Column(m.reference);
-    double sum = 0.0, sum_sq = 0.0, max_abs = 0.0, last = std::numeric_limits<double>::quiet_NaN();
-    std::size_t n = 0;
+    MetricAccumulator sums;
     for (std::size_t i = 0; i < log.time.size(); ++i) {
       if (log.time[i] < m.from || log.time[i] > m.to) continue;
-      const double x = ref ? v[i] - (*ref)[i] : v[i];
-      sum += x;
-      sum_sq += x * x;
-      max_abs = std::max(max_abs, std::abs(x));
-      last = x;
-      ++n;
+      sums.Add(ref ? v[i] - (*ref)[i] : v[i]);
     }
-    if (n == 0) {
-      throw std::invalid_argument(fmt::format("metric '{}': no logged sample in the window [{}, {}] s", m.name, m.from, m.to));
-    }
-    const double nd = static_cast<double>(n);
-    if (m.type == "rmse" || m.type == "rms_difference") out[m.name] = std::sqrt(sum_sq / nd);
-    else if (m.type == "max_abs") out[m.name] = max_abs;
-    else if (m.type == "mean") out[m.name] = sum / nd;
-    else if (m.type == "final") out[m.name] = last;
+    out[m.name] = sums.Value(m.type, m.name, m.from, m.to);
   }
   return out;
+}
+
+void MetricAccumulator::Add(double x) {
+  sum += x;
+  sum_sq += x * x;
+  max_abs = std::max(max_abs, std::abs(x));
+  last = x;
+  ++n;
+}
+
+double MetricAccumulator::Value(const std::string& type, const std::string& name, double from, double to) const {
+  if (n == 0) {
+    throw std::invalid_argument(fmt::format("metric '{}': no logged sample in the window [{}, {}] s", name, from, to));
+  }
+  const double nd = static_cast<double>(n);
+  if (type == "rmse" || type == "rms_difference") return std::sqrt(sum_sq / nd);
+  if (type == "max_abs") return max_abs;
+  if (type == "mean") return sum / nd;
+  if (type == "final") return last;
+  return std::numeric_limits<double>::quiet_NaN();
 }
 
 }  // namespace mb

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "engine/diagram.h"
+#include "engine/log_sink.h"
 #include "engine/solver.h"
 
 namespace mb {
@@ -50,6 +51,17 @@ struct SimulationLimits {
   long max_events_per_major_step = 10000;
 };
 
+/// One metric (Diagram's metrics: rmse, rms_difference, max_abs, mean, final) accumulated sample by sample over its
+/// window [from, to]: what ComputeMetrics computes on a log in memory and StreamLogTo on a streamed one.
+struct MetricAccumulator {
+  double sum = 0.0, sum_sq = 0.0, max_abs = 0.0, last = 0.0;
+  std::size_t n = 0;
+  void Add(double x);
+  /// The metric of type `type` ("rmse", …). @throws std::invalid_argument without a sample (naming `name` and the
+  /// window [from, to] s).
+  double Value(const std::string& type, const std::string& name, double from, double to) const;
+};
+
 /// The limits a Simulator gets when none are given: SimulationLimits{} until SetDefaultSimulationLimits (the
 /// command line's --max-steps sets it once, before any run). Thread-safe.
 SimulationLimits DefaultSimulationLimits();
@@ -65,6 +77,18 @@ class Simulator final : private OdeSystem {
   /// or non-increasing time. Inputs not set read their connector's default value (optional inputs) or throw at
   /// Initialize (required ones).
   void SetInput(const std::string& name, InputSeries series);
+
+  /// Streams every logged sample to `sink` (it must outlive the runs) instead of holding the log in memory: log()
+  /// then keeps at most `max_samples_in_memory` samples, every k-th one (evenly thinned, for figures; 0 = none),
+  /// the metrics are accumulated sample by sample (StreamedMetrics: the values ComputeMetrics gives on the whole
+  /// log), and SimulationLimits' bound on the log's size applies to what stays in memory only (the bound on steps
+  /// still applies). Call before Initialize; nullptr returns to the in-memory log.
+  void StreamLogTo(LogSink* sink, std::size_t max_samples_in_memory = 0);
+  /// The diagram's metrics accumulated over a streamed run so far (empty without StreamLogTo).
+  /// @throws std::invalid_argument as ComputeMetrics for a metric window without a sample.
+  std::map<std::string, double> StreamedMetrics() const;
+  /// How many samples were logged since Initialize (streamed or kept).
+  long long logged_samples() const { return logged_samples_; }
 
   /// Called with (t, t_stop) roughly every 2 % of simulated time.
   void SetProgressCallback(std::function<void(double, double)> callback) { progress_ = std::move(callback); }
@@ -115,6 +139,7 @@ class Simulator final : private OdeSystem {
   void ComputeOutputs(double t, bool major);
   bool MakeModesConsistent(double t, bool major);
   void LogNow();
+  void BeginStreaming(double samples);
   double NextMajorTime(double t) const;
   double NextLogTime() const;
 
@@ -143,6 +168,15 @@ class Simulator final : private OdeSystem {
   std::vector<std::pair<SignalRef, int>> logged_refs_;
   std::function<void(double, double)> progress_;
   SimulationLimits limits_;
+  // Streaming (StreamLogTo): the sink, the in-memory thinning, a row buffer and the metrics' accumulators with
+  // their log columns (signal, reference or -1).
+  LogSink* sink_ = nullptr;
+  std::size_t max_samples_in_memory_ = 0;
+  long long keep_every_ = 0;
+  long long logged_samples_ = 0;
+  std::vector<double> row_;
+  std::vector<MetricAccumulator> metric_sums_;
+  std::vector<std::pair<int, int>> metric_columns_;
   bool initialised_ = false;
 };
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "engine/diagram_loader.h"
 #include "engine/execution_order.h"
@@ -16,6 +17,7 @@
 #include "engine/numerical_error.h"
 #include "tools/commands/cli_options.h"
 #include "tools/commands/commands.h"
+#include "tools/commands/error_text.h"
 
 namespace {
 
@@ -23,8 +25,9 @@ constexpr int kExitFailure = 1;
 constexpr int kExitBadInput = 2;
 constexpr int kExitNumericalFailure = 3;
 
-int ReportError(const std::exception& e, int code) {
-  std::cerr << "motionblocks: error: " << e.what() << "\n";
+// One message (reworded if a library's, cut if long: tools/commands/error_text.h) and the exit code.
+int ReportError(const CLI::App& app, const std::exception& e, int code) {
+  std::cerr << "motionblocks: error: " << mb::ErrorText(e, mb::CommandInputs(app)) << "\n";
   return code;
 }
 
@@ -61,21 +64,24 @@ int main(int argc, char** argv) {
   mb::SetupDrawCommand(app);
   for (const char* simulating : {"run", "compare", "fit", "improve", "sweep", "reproduce"}) {
     mb::AddMaxStepsOption(app.get_subcommand(simulating));
+    mb::AddProgressOptions(app.get_subcommand(simulating));
   }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : kExitBadInput;  // --help prints and exits 0
   } catch (const mb::NumericalError& e) {
-    return ReportError(e, kExitNumericalFailure);
+    return ReportError(app, e, kExitNumericalFailure);
   } catch (const mb::DiagramError& e) {
-    return ReportError(e, kExitBadInput);
+    return ReportError(app, e, kExitBadInput);
   } catch (const mb::AlgebraicLoopError& e) {
-    return ReportError(e, kExitBadInput);
+    return ReportError(app, e, kExitBadInput);
   } catch (const std::invalid_argument& e) {
-    return ReportError(e, kExitBadInput);
-  } catch (const std::exception& e) {
-    return ReportError(e, kExitFailure);
+    return ReportError(app, e, kExitBadInput);
+  } catch (const nlohmann::json::exception& e) {  // a JSON input of the wrong shape that no check caught
+    return ReportError(app, e, kExitBadInput);
+  } catch (const std::exception& e) {  // filesystem errors, bad_alloc, Boost.Math's: reworded
+    return ReportError(app, e, mb::IsLibraryNumericalError(e) ? kExitNumericalFailure : kExitFailure);
   }
   return 0;
 }

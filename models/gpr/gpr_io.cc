@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "engine/json_limits.h"
+#include "engine/text_excerpt.h"
 
 namespace mb {
 namespace {
@@ -317,7 +318,7 @@ GprModel LoadGprModel(const std::filesystem::path& path) {
     j = ParseJsonLimited(in, path.string());
   } catch (const json::parse_error& e) {
     throw std::runtime_error(path.string() + ": not a valid JSON file (corrupt or truncated?) at byte " +
-                             std::to_string(e.byte) + ": " + e.what());
+                             std::to_string(e.byte) + ": " + JsonErrorText(e));
   }
   return GprModelFromJson(j, path.string());
 }

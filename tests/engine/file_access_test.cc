@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "engine/diagram_document.h"
 #include "engine/diagram_loader.h"
 #include "engine/file_access.h"
 #include "engine/output_file.h"
@@ -56,8 +57,41 @@ class DiagramFiles : public ::testing::Test {
     }
     return "no error";
   }
+  static std::string BuildDiagramError(const json& j, const fs::path& folder) {
+    try {
+      BuildDiagram(j, folder, "copy.json");
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+    return "no error";
+  }
   fs::path root_, dir_;
 };
+
+// A diagram written to another folder (compare --suggest, improve) still names its files: RelocateFiles rewrites
+// them against the new folder, and says which now lie outside it (the copy reads those only with --allow-path).
+TEST_F(DiagramFiles, ADiagramWrittenElsewhereNamesTheSameFiles) {
+  const fs::path target = root_ / "elsewhere";
+  DiagramDocument document(FromFileDiagram("profile.csv"), dir_, "d.json");
+  EXPECT_THAT(BuildError(document.json()), Not(HasSubstr("profile.csv")));  // read from dir_: fine
+  EXPECT_THAT(BuildError(FromFileDiagram("profile.csv")), Not(HasSubstr("profile.csv")));
+  const std::vector<std::string> outside = document.RelocateFiles(target);
+  EXPECT_EQ(document.json()["elements"][0]["parameters"]["file"], "../diagram/profile.csv");
+  EXPECT_THAT(outside, ::testing::ElementsAre("f.file: ../diagram/profile.csv"));
+  // Loaded from the new folder, it reads the original file once that folder is allowed; unrelocated, "profile.csv"
+  // would have read elsewhere/profile.csv, another file.
+  EXPECT_THAT(BuildDiagramError(document.json(), target), HasSubstr("outside the diagram's folder"));
+  AllowDiagramFilesUnder(dir_);
+  EXPECT_EQ(BuildDiagramError(document.json(), target), "no error");
+}
+
+TEST_F(DiagramFiles, ADiagramWrittenBesideItsFileNeedsNoAllowedFolder) {
+  const fs::path target = root_ / "elsewhere";
+  DiagramDocument document(FromFileDiagram((target / "profile.csv").string()), dir_, "d.json");
+  EXPECT_TRUE(document.RelocateFiles(target).empty());
+  EXPECT_EQ(document.json()["elements"][0]["parameters"]["file"], "profile.csv");  // absolute inside → relative
+  EXPECT_EQ(BuildDiagramError(document.json(), target), "no error");
+}
 
 TEST_F(DiagramFiles, AFileBesideTheDiagramIsRead) {
   EXPECT_NO_THROW(BuildDiagram(FromFileDiagram("profile.csv"), dir_, "d.json"));

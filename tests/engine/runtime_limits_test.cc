@@ -3,14 +3,18 @@
 // and JSON nested too deeply to parse safely.
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <string>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <fmt/format.h>
+#include <unistd.h>
 
 #include "engine/json_limits.h"
 #include "engine/numerical_error.h"
+#include "engine/output_file.h"
 #include "tests/engine/test_util.h"
 
 namespace mb {
@@ -123,6 +127,49 @@ TEST(RuntimeLimitsTest, RunsBeyondTheStepLimitAreRefusedBeforeTheyStart) {
             "raise the limit with --max-steps N");
   small.max_steps = 3e4;  // raised: the same run goes
   EXPECT_EQ(MessageOf<std::invalid_argument>(Build(two_signals), small), "no exception");
+}
+
+// The same run as above streamed to disk (`run` does): the file gets every sample, memory keeps at most 100, the
+// metrics are those of the whole log, and the log-size limit that refused it in memory no longer applies.
+TEST(RuntimeLimitsTest, AStreamedLogWritesEverySampleWithinASmallMemoryBound) {
+  json two_signals = Growth({{"type", "cvode"}}, -1.0, {{"startTime", 0.0}, {"stopTime", 1.0}, {"stepSize", 1e-4}});
+  two_signals["log"] = {"x.y", "k.y"};
+  two_signals["metrics"] = {{{"name", "x_rms"}, {"type", "rmse"}, {"signal", "x.y"}},
+                            {{"name", "x_final"}, {"type", "final"}, {"signal", "x.y"}},
+                            {{"name", "sum_max"}, {"type", "max_abs"}, {"signal", "x.y"}, {"reference", "k.y"}}};
+  const Diagram d = Build(two_signals);
+  SimulationLimits raised;
+  raised.max_steps = 3e4;
+  const SimulationResult in_memory = Simulator(d, raised).Run();  // the reference
+  SimulationLimits small;
+  small.max_steps = 1.5e4;  // refuses the log in memory (above)
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / ("mb_streamed_log_" + std::to_string(::getpid()) + ".csv");
+  Simulator streamed(d, small);
+  CsvLogFile file(path);
+  streamed.StreamLogTo(&file, 100);
+  const SimulationResult result = streamed.Run();
+  file.Commit();
+  EXPECT_EQ(streamed.logged_samples(), static_cast<long long>(in_memory.log.time.size()));
+  EXPECT_LE(result.log.time.size(), 101u);
+  EXPECT_GE(result.log.time.size(), 50u);
+  EXPECT_EQ(result.log.time.front(), 0.0);
+  for (const auto& [name, value] : in_memory.metrics) EXPECT_DOUBLE_EQ(result.metrics.at(name), value) << name;
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "time_s,x.y,k.y");
+  std::size_t rows = 0;
+  std::string last;
+  while (std::getline(in, line)) {
+    ++rows;
+    last = line;
+  }
+  EXPECT_EQ(rows, in_memory.log.time.size());
+  const std::size_t n = in_memory.log.time.size() - 1;
+  EXPECT_EQ(last, fmt::format("{},{},{}", in_memory.log.time[n], in_memory.log.columns[0][n],
+                              in_memory.log.columns[1][n]));  // shortest round trip, as WriteSignalLog
+  std::filesystem::remove(path);
 }
 
 TEST(RuntimeLimitsTest, DefaultLimitsCanBeRaised) {

@@ -80,7 +80,7 @@ TEST_F(GprLog, FitAndPredictRoundTripThroughFiles) {
   const fs::path csv = dir_ / "dob_log.csv";
   WriteMeasurementLog(SyntheticLog(), csv.string());
 
-  // fit-gpr dob_log.csv --disturbance dob_N --window 0.1,0.325 --downsample 2 -o model.json
+  // fit-gpr dob_log.csv --disturbance-column dob_N --window 0.1,0.325 --downsample 2 -o model.json
   MeasurementLogOptions read;
   read.min_rows = 2;
   read.max_gap_ratio = 0.0;

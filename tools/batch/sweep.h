@@ -26,6 +26,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -42,15 +43,36 @@ struct SweepRun {
   std::vector<std::pair<std::string, nlohmann::json>> assignments;  ///< key → value, in column order
 };
 
-/// A parsed sweep file.
+/// A parsed sweep file. Its runs are generated on demand, index → run (run(i)): a grid holds only its axes, so a
+/// grid of 1000³ points costs the memory of 3000 values, not of a billion runs; a list holds its entries as
+/// written, a random sample its draws (each draw depends on the ones before; at most --max-runs of them).
 struct SweepSpec {
   std::string kind;         ///< "grid", "list" or "random"
   std::string description;
-  std::string diagram;      ///< "diagram" as written (informational; the caller chooses the diagram)
+  std::string diagram;      ///< "diagram" as written: relative to the sweep file (SweepDiagramPath); "" = none
   std::uint64_t seed = 0;   ///< "random" only
   std::vector<std::string> parameters;                         ///< the swept keys = the parameter columns
   std::vector<std::pair<std::string, nlohmann::json>> fixed;   ///< "set": applied to every run first
-  std::vector<SweepRun> runs;
+
+  /// How many runs the sweep has (after KeepRuns: how many it kept).
+  std::size_t run_count() const;
+  /// The run at `position` (0 ≤ position < run_count(), in sweep order), with its id "0000", "0001", … (its index
+  /// in the whole sweep, also after KeepRuns). A grid's run is the mixed-radix digits of its index, the last key
+  /// varying fastest. @throws std::out_of_range for a position ≥ run_count().
+  SweepRun run(std::size_t position) const;
+  /// The position of the run with id `id` ("0042"), if the sweep has it.
+  std::optional<std::size_t> PositionOf(const std::string& id) const;
+  /// Keeps only the runs at `positions` (ascending, each < run_count()); they keep their ids (reproduce --quick
+  /// takes every other scan). @throws std::invalid_argument otherwise.
+  void KeepRuns(const std::vector<std::size_t>& positions);
+  /// Every value the sweep assigns, key by key in sweep order (a grid's axes, a list's cells, the draws): what is
+  /// checked before any run. Its size is the sum of the axes' lengths for a grid, not their product.
+  std::vector<std::pair<std::string, nlohmann::json>> AllAssignments() const;
+
+  // How the runs are generated (ParseSweep fills these; run() reads them).
+  std::vector<std::vector<nlohmann::json>> grid_axes;  ///< grid: the values of each parameter, in `parameters` order
+  std::vector<std::vector<std::pair<std::string, nlohmann::json>>> entries;  ///< list, random: each run's values
+  std::vector<std::size_t> kept;  ///< KeepRuns' indices into the whole sweep (empty: every run)
 };
 
 /// Most runs a sweep may have unless the caller allows more (`sweep --max-runs`): every run is held in memory
@@ -68,6 +90,11 @@ SweepSpec ParseSweep(const nlohmann::json& sweep, const std::string& source,
 /// Reads and parses a sweep file. @throws std::runtime_error (unreadable, JSON syntax error with the byte) or
 /// std::invalid_argument (as ParseSweep; JsonDepthError for nesting beyond kMaxJsonDepth).
 SweepSpec ReadSweepFile(const std::filesystem::path& path, std::size_t max_runs = kDefaultMaxSweepRuns);
+
+/// The diagram a sweep file was written for: its "diagram", resolved against the sweep file's folder (not the working
+/// directory). @throws std::invalid_argument if the sweep names none ("give the diagram: motionblocks sweep DIAGRAM
+/// SWEEP") or it does not exist.
+std::filesystem::path SweepDiagramPath(const SweepSpec& spec, const std::filesystem::path& sweep_file);
 
 /// The diagram JSON with `assignments` written in: "defaultExperiment.*" and "solver.*" into those sections,
 /// the rest through ApplyOverrides. @throws DiagramError for an unknown element (listing the elements).

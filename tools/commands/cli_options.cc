@@ -4,11 +4,15 @@
 
 #include "tools/commands/cli_options.h"
 
+#include <cstdlib>
+#include <iostream>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
 #include "engine/simulator.h"
+#include "engine/text_excerpt.h"
+#include "tools/report/progress.h"
 
 namespace mb {
 
@@ -26,6 +30,62 @@ void AddMaxStepsOption(CLI::App* command) {
                       SimulationLimits{}.max_steps))
       ->type_name("N")
       ->check(CLI::PositiveNumber);
+}
+
+namespace {
+
+void PrintDeprecationNote(const std::string& old_name, const std::string& new_name) {
+  std::cerr << fmt::format("motionblocks: note: {} is the old name of {}; it still works, but write {}\n", old_name,
+                           new_name, new_name);
+}
+
+}  // namespace
+
+void AddDeprecatedAlias(CLI::App* command, const std::string& old_name, const std::string& new_name,
+                        std::string* target) {
+  command
+      ->add_option_function<std::string>(
+          old_name,
+          [=](const std::string& value) {
+            PrintDeprecationNote(old_name, new_name);
+            *target = value;
+          },
+          "deprecated: " + new_name)
+      ->group("");
+}
+
+void AddDeprecatedAlias(CLI::App* command, const std::string& old_name, const std::string& new_name,
+                        std::vector<std::string>* target) {
+  command
+      ->add_option_function<std::vector<std::string>>(
+          old_name,
+          [=](const std::vector<std::string>& values) {
+            PrintDeprecationNote(old_name, new_name);
+            target->insert(target->end(), values.begin(), values.end());
+          },
+          "deprecated: " + new_name)
+      ->group("");
+}
+
+std::filesystem::path ShippedDataFolder() {
+  namespace fs = std::filesystem;
+  if (const char* folder = std::getenv("MOTIONBLOCKS_DATA"); folder != nullptr && *folder != '\0') return folder;
+  std::error_code error;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", error);
+  if (!error) {
+    const fs::path installed = (exe.parent_path() / ".." / "share" / "motionblocks").lexically_normal();
+    if (fs::is_directory(installed / "diagrams", error)) return installed;
+  }
+  return MB_DATA_DIR;
+}
+
+void AddProgressOptions(CLI::App* command) {
+  auto* progress = command->add_flag_callback(
+      "--progress", [] { SetProgressMode(ProgressMode::kAlways); },
+      "show progress on stderr even when it is not a terminal (a log file, CI)");
+  auto* quiet = command->add_flag_callback(
+      "--quiet", [] { SetProgressMode(ProgressMode::kNever); }, "no progress and no stage lines on stderr");
+  progress->excludes(quiet);
 }
 
 CLI::Option* AddSetOption(CLI::App* command, std::vector<std::string>* overrides, const std::string& help) {
@@ -49,7 +109,9 @@ std::map<std::string, std::string> ParseColumnMap(const std::vector<std::string>
   std::map<std::string, std::string> column_map;
   for (const auto& m : maps) {
     const auto eq = m.find('=');
-    if (eq == std::string::npos) throw std::invalid_argument(fmt::format("--map '{}': write connector=column", m));
+    if (eq == std::string::npos) {
+      throw std::invalid_argument(fmt::format("--map '{}': write connector=column", Excerpt(m)));
+    }
     column_map[m.substr(0, eq)] = m.substr(eq + 1);
   }
   return column_map;

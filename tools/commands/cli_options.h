@@ -3,6 +3,7 @@
 // --map connector=column, comma lists ("block.param,…"), the measurement options of compare, fit and improve
 // (--measurement, --map, --set, --position-column, --derivative-cutoff-hz) and --max-steps.
 
+#include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
@@ -14,6 +15,27 @@
 #include "tools/workflow/measurement.h"
 
 namespace mb {
+
+// Option names, one per meaning across the commands (README "Command-line conventions"): --out DIR for an output
+// folder, -o/--output FILE for one output file, --fit block.param,… for the parameters to refit, --position-column /
+// --velocity-column / --disturbance-column for the columns of a table, -j/--jobs N, --quiet and --progress.
+
+/// Keeps an old option spelling working: `old_name` (hidden from --help) stores into `target` like `new_name`,
+/// and prints one line on stderr: "motionblocks: note: --params is the old name of --fit; it still works, but
+/// write --fit". A list (repeatable option) appends to what `new_name` collected.
+void AddDeprecatedAlias(CLI::App* command, const std::string& old_name, const std::string& new_name,
+                        std::string* target);
+void AddDeprecatedAlias(CLI::App* command, const std::string& old_name, const std::string& new_name,
+                        std::vector<std::string>* target);
+
+/// The folder holding the shipped data (its diagrams/ folder), found without the working directory: $MOTIONBLOCKS_DATA
+/// if set, else <the executable's folder>/../share/motionblocks when installed (`cmake --install`), else the folder
+/// the build was configured with (MB_DATA_DIR, the source tree).
+std::filesystem::path ShippedDataFolder();
+
+/// Adds --progress (progress on stderr also when it is not a terminal) and --quiet (no progress and no stage lines)
+/// to a long-running subcommand; they set the process-wide ProgressMode (tools/report/progress.h).
+void AddProgressOptions(CLI::App* command);
 
 /// Adds --max-steps N (SimulationLimits::max_steps for every simulation the command runs) to a subcommand.
 void AddMaxStepsOption(CLI::App* command);

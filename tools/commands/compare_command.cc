@@ -8,11 +8,13 @@
 #include <iostream>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "engine/diagram_loader.h"
 #include "tools/commands/cli_options.h"
 #include "tools/commands/commands.h"
 #include "tools/report/compare_report.h"
+#include "tools/report/progress.h"
 #include "tools/workflow/compare.h"
 
 namespace mb {
@@ -50,13 +52,21 @@ void PrintCompareOutcome(const CompareOutcome& outcome, const fs::path& out) {
   std::cout << fmt::format("wrote {}/compare.json and report.html\n", out.string());
 }
 
+// A diagram compare wrote elsewhere whose files lie outside its new folder: how to load it.
+void PrintReadsOutsideNote(const std::string& written, const json& outside) {
+  if (outside.empty()) return;
+  std::cerr << fmt::format("note: {} reads files outside its folder ({}): load it with --allow-path DIR, or write it "
+                           "beside the diagram\n",
+                           written, fmt::join(outside.get<std::vector<std::string>>(), ", "));
+}
+
 void RunCompare(const CompareOptions& o) {
   const json diagram = ReadDiagramWithOverrides(o.diagram, o.measurement.overrides);
   CompareSettings settings;
   settings.measurement = o.measurement.Settings();
   const MeasurementLog log = ReadMeasurementFor(diagram, o.measurement.measurement, settings.measurement);
-  std::cerr << fmt::format("compare {} with {} ({} samples, {} mode)\n", o.diagram, o.measurement.measurement,
-                           log.rows(), ExperimentMode(diagram));
+  ProgressNote(fmt::format("compare {} with {} ({} samples, {} mode)", o.diagram, o.measurement.measurement,
+                           log.rows(), ExperimentMode(diagram)));
   settings.fit = SplitCommaLists(o.fit);
   settings.no_fit = o.no_fit;
   settings.gpr_fallback = !o.no_gpr_fallback;
@@ -64,11 +74,14 @@ void RunCompare(const CompareOptions& o) {
   settings.suggest_effect = o.suggest_effect;
   settings.fallback_model_path = fs::absolute(fs::path(o.out) / "residual_gpr.json").string();
   const CompareOutcome outcome = Compare(diagram, fs::path(o.diagram).parent_path(), o.diagram, log, settings,
-                                         [](const std::string& line) { std::cerr << line << "\n"; });
+                                         ProgressNote);
   const CompareFiles files{o.diagram, o.measurement.measurement, o.out, o.write_fitted, o.suggest,
                            o.measurement.position_column};
-  WriteCompareResults(outcome, log, files);
+  const json written = WriteCompareResults(outcome, log, files);
   PrintCompareOutcome(outcome, o.out);
+  const json suggested = written.value("suggested_diagram", json::object());
+  PrintReadsOutsideNote(o.suggest, suggested.value("reads_outside_its_folder", json::array()));
+  PrintReadsOutsideNote(o.write_fitted, written.value("fitted_diagram_reads_outside_its_folder", json::array()));
 }
 
 }  // namespace

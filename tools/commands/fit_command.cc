@@ -1,4 +1,4 @@
-// motionblocks fit DIAGRAM --measurement LOG.csv [--params block.param,…] [--map connector=column …]
+// motionblocks fit DIAGRAM --measurement LOG.csv [--fit block.param,…] [--map connector=column …]
 //                  [--set block.param=value …] [--out DIR]
 // Refits chosen parameters of any diagram against a measurement (simulation or equation-error, as the diagram's
 // experiment.mode says) by Levenberg–Marquardt; writes DIR/fit.json (estimates, standard errors, 95 % confidence
@@ -16,6 +16,7 @@
 #include "tools/commands/commands.h"
 #include "tools/workflow/comparison.h"
 #include "tools/report/output_files.h"
+#include "tools/report/progress.h"
 
 namespace mb {
 
@@ -44,8 +45,8 @@ void RunFit(const FitOptions& o) {
   const bool equation_error = mode == "equation_error";
   // Equation error: the measured outputs and the model's get the same zero-phase low-pass (as compare does).
   const MeasurementLog log = ReadMeasurementFor(diagram, o.measurement.measurement, settings);
-  std::cerr << fmt::format("fit {} to {} ({} samples, {} mode): {} …\n", o.diagram, o.measurement.measurement,
-                           log.rows(), mode, fmt::join(names, ", "));
+  ProgressNote(fmt::format("fit {} to {} ({} samples, {} mode): {} …", o.diagram, o.measurement.measurement,
+                           log.rows(), mode, fmt::join(names, ", ")));
   const DiagramFit result = FitDiagram(diagram, fs::path(o.diagram).parent_path(), o.diagram, log,
                                        settings.column_map, names,
                                        equation_error ? settings.derivative_cutoff_hz : 0.0);
@@ -82,7 +83,8 @@ void SetupFitCommand(CLI::App& app) {
   cmd->add_option("diagram", o->diagram, "diagram JSON file")->required()->check(CLI::ExistingFile);
   AddMeasurementOptions(cmd, &o->measurement, "measurement log CSV (time_s first)",
                         "parameter override block.param=value before fitting (repeatable)");
-  cmd->add_option("--params", o->params, "parameters to refit: block.param,… (default: the diagram's \"free\" list)");
+  cmd->add_option("--fit", o->params, "parameters to refit: block.param,… (default: the diagram's \"free\" list)");
+  AddDeprecatedAlias(cmd, "--params", "--fit", &o->params);
   cmd->add_option("--out", o->out, "output folder (fit.json, fitted.json)")->capture_default_str();
   cmd->callback([o] { RunFit(*o); });
 }

@@ -1,10 +1,11 @@
-// motionblocks fit-gpr LOG.csv --disturbance COL [--position COL] [--velocity COL] [--kernel PS|DS]
+// motionblocks fit-gpr LOG.csv --disturbance-column COL [--position-column COL] [--velocity-column COL] [--kernel PS|DS]
 //   [--period τ] [--solver weight_space|exact] [--window xmin,xmax] [--downsample N] -o MODEL.json
 // Fits the TISO-GPR disturbance model (paper §3, MAP) to a DOB log and writes the model file that the
 // `gpr` block loads (docs/gpr.md).
 
 #include <filesystem>
 #include <iostream>
+#include <stdexcept>
 #include <vector>
 
 #include <fmt/format.h>
@@ -12,6 +13,7 @@
 #include "engine/table.h"
 #include "models/gpr/gpr_io.h"
 #include "models/gpr/gpr_log.h"
+#include "tools/commands/cli_options.h"
 #include "tools/commands/commands.h"
 
 namespace mb {
@@ -38,6 +40,9 @@ struct FitGprOptions {
 };
 
 void RunFitGpr(const FitGprOptions& o) {
+  if (o.selection.disturbance_column.empty()) {
+    throw std::invalid_argument("fit-gpr: name the disturbance column (the DOB estimate): --disturbance-column COL");
+  }
   GprTrainingSelection selection = o.selection;
   if (!o.window.empty()) selection.window = GprRange{o.window[0], o.window[1]};
   GprFitOptions fit;
@@ -76,11 +81,14 @@ void SetupFitGprCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("fit-gpr", "Fit the TISO-GPR disturbance model (MAP) to a DOB log; writes the "
                                             "model file the gpr block loads");
   cmd->add_option("log", o->log, "CSV training table (any column order; time not needed)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--position", o->selection.position_column, "position column x [m]")->capture_default_str();
-  cmd->add_option("--velocity", o->selection.velocity_column, "velocity column xdot [m/s]")
+  cmd->add_option("--position-column", o->selection.position_column, "position column x [m]")->capture_default_str();
+  cmd->add_option("--velocity-column", o->selection.velocity_column, "velocity column xdot [m/s]")
       ->capture_default_str();
-  cmd->add_option("--disturbance", o->selection.disturbance_column, "disturbance column d (the DOB estimate)")
-      ->required();
+  cmd->add_option("--disturbance-column", o->selection.disturbance_column,
+                  "disturbance column d (the DOB estimate; required)");
+  AddDeprecatedAlias(cmd, "--position", "--position-column", &o->selection.position_column);
+  AddDeprecatedAlias(cmd, "--velocity", "--velocity-column", &o->selection.velocity_column);
+  AddDeprecatedAlias(cmd, "--disturbance", "--disturbance-column", &o->selection.disturbance_column);
   cmd->add_option("--kernel", o->kernel, "PS (periodic + SE, eq. 19) or DS (SE + SE, eq. 27)")
       ->check(CLI::IsMember({"PS", "DS"}))
       ->capture_default_str();

@@ -13,6 +13,7 @@
 #include "tools/commands/cli_options.h"
 #include "tools/commands/commands.h"
 #include "tools/report/improve_report.h"
+#include "tools/report/progress.h"
 #include "tools/workflow/fallback.h"
 #include "tools/workflow/improve.h"
 
@@ -69,15 +70,15 @@ void RunImprove(const ImproveOptions& o) {
                         {"mode", ExperimentMode(diagram)},
                         {"max_effects", o.max_effects},
                         {"min_relative_gain", o.min_gain}};
-  const auto progress = [](const std::string& line) { std::cerr << "improve: " << line << "\n"; };
+  const auto progress = [](const std::string& line) { ProgressNote("improve: " + line); };
   const ImproveResult result = ImproveModel(
       diagram, fs::path(o.diagram).parent_path(), o.diagram, training, validation ? &*validation : nullptr, settings,
       progress, [&](const ImproveStep&, const ImproveResult& so_far) { WriteImproveProgress(so_far, out, context); });
   // When the loop stops with a residual that is still not white: the TISO-GPR fallback (fallback.h).
   const FallbackOutcome fallback = FitImproveFallback(result, progress);
   std::optional<json> fallback_record;
-  if (fallback.attempted) fallback_record = WriteImproveFallback(result, fallback, out);
-  std::cerr << "improve: writing the report …\n";
+  if (fallback.attempted) fallback_record = WriteImproveFallback(result, fallback, out, fs::path(o.diagram).parent_path());
+  ProgressNote("improve: writing the report …");
   WriteImproveReport(result, training, validation ? &*validation : nullptr,
                      fmt::format("motionblocks improve: {} on {}", fs::path(o.diagram).filename().string(),
                                  fs::path(o.measurement.measurement).filename().string()),

@@ -1,4 +1,4 @@
-// motionblocks predict-gpr MODEL.json IN.csv [--position COL] [--velocity COL] -o OUT.csv
+// motionblocks predict-gpr MODEL.json IN.csv [--position-column COL] [--velocity-column COL] -o OUT.csv
 // Evaluates a TISO-GPR model file along a log: OUT.csv = IN.csv's columns plus "mean" (posterior mean,
 // eq. 22/24) and "std" (latent posterior standard deviation, √eq. 23).
 
@@ -10,6 +10,7 @@
 #include "engine/table.h"
 #include "models/gpr/gpr_io.h"
 #include "models/gpr/gpr_log.h"
+#include "tools/commands/cli_options.h"
 #include "tools/commands/commands.h"
 
 namespace mb {
@@ -59,8 +60,11 @@ void SetupPredictGprCommand(CLI::App& app) {
   cmd->add_option("input", o->input, "CSV table with position and velocity columns (time not needed)")
       ->required()
       ->check(CLI::ExistingFile);
-  cmd->add_option("--position", o->position, "position column x [m] (default: the model's, else position_m)");
-  cmd->add_option("--velocity", o->velocity, "velocity column xdot [m/s] (default: the model's, else velocity_m_s)");
+  cmd->add_option("--position-column", o->position, "position column x [m] (default: the model's, else position_m)");
+  cmd->add_option("--velocity-column", o->velocity,
+                  "velocity column xdot [m/s] (default: the model's, else velocity_m_s)");
+  AddDeprecatedAlias(cmd, "--position", "--position-column", &o->position);
+  AddDeprecatedAlias(cmd, "--velocity", "--velocity-column", &o->velocity);
   cmd->add_option("-o,--output", o->output, "CSV file to write")->required();
   cmd->callback([o] { RunPredictGpr(*o); });
 }

@@ -6,30 +6,31 @@
 
 #include <fmt/format.h>
 
+#include "tools/commands/cli_options.h"
 #include "tools/commands/commands.h"
 #include "tools/experiments/paper/reproduce.h"
 
 namespace mb {
 
+namespace fs = std::filesystem;
+
 namespace {
 
 struct ReproduceCommandOptions {
   std::string out = "out/reproduce";
-  std::string diagrams = "diagrams/paper";
+  std::string diagrams;  // "" = diagrams/paper of the shipped data (ShippedDataFolder)
   std::string odrive_data;
   int jobs = 0;
   bool quick = false;
-  bool quiet = false;
 };
 
 void RunReproduceCommand(const ReproduceCommandOptions& o) {
   ReproduceOptions options;
   options.out = o.out;
-  options.diagrams = o.diagrams;
+  options.diagrams = o.diagrams.empty() ? ShippedDataFolder() / "diagrams" / "paper" : fs::path(o.diagrams);
   options.odrive_data = o.odrive_data;
   options.jobs = o.jobs;
   options.quick = o.quick;
-  options.progress = !o.quiet;
   options.message = [](const std::string& text) { std::cout << text << std::endl; };
   const nlohmann::json r = Reproduce(options);
 
@@ -66,15 +67,15 @@ void SetupReproduceCommand(CLI::App& app) {
                                  "payload, stability, timing → results.json and report.html");
   cmd->add_flag("--quick", options->quick, "five scan velocities, one MAP start per fit (under a minute)");
   cmd->add_option("--out", options->out, "output folder")->capture_default_str();
-  cmd->add_option("--diagrams", options->diagrams, "folder with the paper's diagrams and sweeps/")
-      ->capture_default_str()
+  cmd->add_option("--diagrams", options->diagrams,
+                  "folder with the paper's diagrams and sweeps/ (default: diagrams/paper of the installed data, "
+                  "or of the source tree; $MOTIONBLOCKS_DATA names another data folder)")
       ->check(CLI::ExistingDirectory);
   cmd->add_option("--odrive-data", options->odrive_data,
                   "ODrive cogging records for the real-motor section (default: shared/data/odrive_cogging beside the "
                   "repository)");
   cmd->add_option("--jobs,-j", options->jobs, "parallel simulations and fits (default: all cores)")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_flag("--quiet", options->quiet, "no progress lines");
   cmd->callback([options] { RunReproduceCommand(*options); });
 }
 

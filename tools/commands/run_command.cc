@@ -1,5 +1,6 @@
 // motionblocks run DIAGRAM [--set id.param=value …] [--input connector=FILE[:COLUMN] …] [--out DIR]
-// Simulates a diagram; writes signals.csv, summary.json (metrics in SI units) and report.html with plots.
+// Simulates a diagram; writes signals.csv (streamed as the run goes), summary.json (metrics in SI units) and
+// report.html with plots.
 
 #include <chrono>
 #include <iostream>
@@ -7,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "engine/diagram_loader.h"
+#include "engine/output_file.h"
 #include "engine/simulator.h"
 #include "tools/commands/cli_options.h"
 #include "tools/commands/commands.h"
@@ -21,12 +23,13 @@ namespace fs = std::filesystem;
 
 namespace {
 
+constexpr std::size_t kFigureSamples = 20000;  // per signal, in the report's figures
+
 struct RunOptions {
   std::string diagram;
   std::vector<std::string> overrides;
   std::vector<std::string> inputs;
   std::string out = "out/run";
-  bool quiet = false;
 };
 
 void RunRun(const RunOptions& o) {
@@ -35,25 +38,27 @@ void RunRun(const RunOptions& o) {
   Simulator sim(diagram);
   FeedInputsFromFiles(diagram, o.inputs, &sim);
   ProgressLine progress(fmt::format("run {}", diagram.name()));
-  if (!o.quiet) {
-    sim.SetProgressCallback([&](double t, double t_stop) {
-      const double t0 = diagram.experiment().start_time;
-      progress.Update((t - t0) / (t_stop - t0));
-    });
-  }
+  sim.SetProgressCallback([&](double t, double t_stop) {
+    const double t0 = diagram.experiment().start_time;
+    progress.Update((t - t0) / (t_stop - t0));
+  });
+  // The log streams to signals.csv as it is taken (memory stays bounded however long the run); the report's
+  // figures get an evenly thinned copy of at most kFigureSamples samples.
+  const fs::path out(o.out);
+  fs::create_directories(out);
+  CsvLogFile signals(out / "signals.csv");
+  sim.StreamLogTo(&signals, kFigureSamples);
   const auto start = std::chrono::steady_clock::now();
   sim.Initialize();
   sim.AdvanceTo(diagram.experiment().stop_time);
+  signals.Commit();
   SimulationResult result;
   result.log = sim.log();
-  result.metrics = Simulator::ComputeMetrics(diagram, result.log);
+  result.metrics = sim.StreamedMetrics();
   result.solver_stats = sim.solver_stats();
   result.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!o.quiet) progress.Done();
+  progress.Done();
 
-  const fs::path out(o.out);
-  fs::create_directories(out);
-  WriteSignalLog(result.log, out / "signals.csv");
   nlohmann::json summary = {
       {"diagram", fs::absolute(o.diagram).string()},
       {"name", diagram.name()},
@@ -66,7 +71,7 @@ void RunRun(const RunOptions& o) {
                   {"roots_found", result.solver_stats.roots_found},
                   {"reinitialisations", result.solver_stats.reinitialisations}}},
       {"wall_time_s", result.wall_time_s},
-      {"samples", result.log.time.size()}};
+      {"samples", sim.logged_samples()}};
   for (const auto& m : diagram.metrics()) summary["metric_units"][m.name] = m.unit;
   WriteJsonFile(summary, out / "summary.json");
 
@@ -109,7 +114,6 @@ void SetupRunCommand(CLI::App& app) {
                   "feed an input connector from a CSV log: connector=FILE[:COLUMN] (default column: the "
                   "connector's measurement name)");
   cmd->add_option("--out", options->out, "output folder")->capture_default_str();
-  cmd->add_flag("--quiet", options->quiet, "no progress line");
   cmd->callback([options] { RunRun(*options); });
 }
 

@@ -1,4 +1,5 @@
-// motionblocks sweep DIAGRAM SWEEP.json [--jobs N] [--fresh] [--save-logs] --out DIR
+// motionblocks sweep [DIAGRAM] SWEEP.json [--jobs N] [--fresh] [--save-logs] --out DIR
+// Without DIAGRAM, the sweep file's own "diagram" (relative to the sweep file) is run.
 // Runs a diagram over a grid, list or seeded random sample of parameter values (tools/batch/sweep.h), in parallel;
 // writes DIR/runs.csv and DIR/runs.json (one row of metrics per run). Resumable: runs already in DIR/runs.csv
 // with status ok are not run again.
@@ -12,34 +13,35 @@
 
 namespace mb {
 
+namespace fs = std::filesystem;
+
 namespace {
 
 struct SweepCommandOptions {
-  std::string diagram;
-  std::string sweep;
+  std::vector<std::string> files;  // [DIAGRAM] SWEEP
   std::string out;
   int jobs = 0;
   bool fresh = false;
   bool save_logs = false;
-  bool quiet = false;
   std::size_t max_runs = kDefaultMaxSweepRuns;
 };
 
 void RunSweepCommand(const SweepCommandOptions& o) {
-  const SweepSpec spec = ReadSweepFile(o.sweep, o.max_runs);
+  const std::string& sweep = o.files.back();
+  const SweepSpec spec = ReadSweepFile(sweep, o.max_runs);
+  const fs::path diagram = o.files.size() == 2 ? fs::path(o.files.front()) : SweepDiagramPath(spec, sweep);
   SweepOptions options;
   options.jobs = o.jobs;
   options.resume = !o.fresh;
   options.save_logs = o.save_logs;
-  options.progress = !o.quiet;
-  const SweepOutcome outcome = RunSweep(o.diagram, spec, o.out, options);
-  std::cout << fmt::format("{} runs ({}): {} run now, {} already done, {} failed\n", spec.runs.size(), spec.kind,
+  const SweepOutcome outcome = RunSweep(diagram, spec, o.out, options);
+  std::cout << fmt::format("{} runs ({}): {} run now, {} already done, {} failed\n", spec.run_count(), spec.kind,
                            outcome.ran, outcome.resumed, outcome.failed);
   for (const auto& row : outcome.rows) {
     if (row.status != "ok") std::cout << fmt::format("  run {} failed: {}\n", row.id, row.error);
   }
   std::cout << fmt::format("wrote {0}/runs.csv, {0}/runs.json{1}\n", o.out, o.save_logs ? ", runs/<id>/signals.csv" : "");
-  if (outcome.failed > 0) throw std::runtime_error(fmt::format("{} of {} runs failed", outcome.failed, spec.runs.size()));
+  if (outcome.failed > 0) throw std::runtime_error(fmt::format("{} of {} runs failed", outcome.failed, spec.run_count()));
 }
 
 }  // namespace
@@ -48,15 +50,17 @@ void SetupSweepCommand(CLI::App& app) {
   auto options = std::make_shared<SweepCommandOptions>();
   auto* cmd = app.add_subcommand(
       "sweep", "Run a diagram over a grid, list or seeded random sample of parameters in parallel: runs.csv, runs.json");
-  cmd->add_option("diagram", options->diagram, "diagram JSON file")->required()->check(CLI::ExistingFile);
-  cmd->add_option("sweep", options->sweep, "sweep JSON file (grid, list or random; see tools/batch/sweep.h)")
+  cmd->add_option("files", options->files,
+                  "[DIAGRAM] SWEEP: the diagram JSON file (default: the sweep file's \"diagram\", relative to the "
+                  "sweep file) and the sweep JSON file (grid, list or random; see tools/batch/sweep.h)")
       ->required()
+      ->expected(1, 2)
+      ->type_name("[DIAGRAM] SWEEP")
       ->check(CLI::ExistingFile);
   cmd->add_option("--out", options->out, "output folder (runs.csv, runs.json)")->required();
   cmd->add_option("--jobs,-j", options->jobs, "parallel runs (default: all cores)")->check(CLI::NonNegativeNumber);
   cmd->add_flag("--fresh", options->fresh, "run everything again (default: skip runs already in runs.csv)");
   cmd->add_flag("--save-logs", options->save_logs, "also write DIR/runs/<id>/signals.csv for every run");
-  cmd->add_flag("--quiet", options->quiet, "no progress line");
   cmd->add_option("--max-runs", options->max_runs, "refuse a sweep of more runs than N")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);

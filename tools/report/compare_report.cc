@@ -38,6 +38,7 @@ void AddDiagnosisJson(const DiagnosedComparison& compared, json* result) {
 
 // The fallback's record (its model saved beside compare.json), the fitted and the amended diagrams.
 void WriteFallbackAndDiagrams(const CompareOutcome& outcome, const CompareFiles& files, json* result) {
+  const fs::path folder = fs::path(files.diagram).parent_path();  // what the diagram's file names are relative to
   if (outcome.fallback.gpr) {
     json j = outcome.fallback.gpr->ToJson();
     if (outcome.fallback.gpr->model) {
@@ -49,14 +50,16 @@ void WriteFallbackAndDiagrams(const CompareOutcome& outcome, const CompareFiles&
     (*result)["nonparametric_fallback"] = {{"useful", false}, {"skipped", outcome.fallback.skipped}};
   }
   if (outcome.compared.fit && !files.write_fitted.empty()) {
-    WriteJsonFile(outcome.compared.fitted_diagram, files.write_fitted);
+    const auto outside = WriteDiagramFile(outcome.compared.fitted_diagram, folder, files.write_fitted);
     (*result)["fitted_diagram"] = files.write_fitted;
+    if (!outside.empty()) (*result)["fitted_diagram_reads_outside_its_folder"] = outside;
   }
   if (files.suggest.empty() || !outcome.suggestion) return;
   const CompareSuggestion& s = *outcome.suggestion;
   if (s.diagram) {
-    WriteJsonFile(*s.diagram, files.suggest);
+    const auto outside = WriteDiagramFile(*s.diagram, folder, files.suggest);
     (*result)["suggested_diagram"] = {{"path", files.suggest}, {"effect", s.effect}};
+    if (!outside.empty()) (*result)["suggested_diagram"]["reads_outside_its_folder"] = outside;
     if (!s.model.empty()) (*result)["suggested_diagram"]["model"] = s.model;
   } else {
     (*result)["suggested_diagram"] = {{"path", nullptr}, {"why_not", s.why_not}};

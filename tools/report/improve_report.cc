@@ -18,14 +18,15 @@ using nlohmann::json;
 
 void WriteImproveProgress(const ImproveResult& so_far, const fs::path& directory, const json& context) {
   fs::create_directories(directory);
+  const fs::path folder = fs::path(context.value("diagram", "")).parent_path();  // the diagram's file names' base
   int k = 0;
   for (const auto& s : so_far.steps) {
     if (!s.accepted) continue;
     const fs::path dir = directory / fmt::format("step_{}", k++);
     fs::create_directories(dir);
-    WriteJsonFile(s.training.fitted_diagram, dir / "diagram.json");
+    WriteDiagramFile(s.training.fitted_diagram, folder, dir / "diagram.json");
   }
-  WriteJsonFile(so_far.last_accepted().training.fitted_diagram, directory / "improved.json");
+  WriteDiagramFile(so_far.last_accepted().training.fitted_diagram, folder, directory / "improved.json");
   json j = context;
   j.update(so_far.ToJson());
   WriteJsonFile(j, directory / "improve.json");
@@ -112,7 +113,8 @@ void WriteImproveReport(const ImproveResult& result, const MeasurementLog& train
 }
 
 
-json WriteImproveFallback(const ImproveResult& result, const FallbackOutcome& fallback, const fs::path& directory) {
+json WriteImproveFallback(const ImproveResult& result, const FallbackOutcome& fallback, const fs::path& directory,
+                          const fs::path& diagram_folder) {
   json record;
   if (fallback.gpr) {
     record = fallback.gpr->ToJson();
@@ -125,7 +127,7 @@ json WriteImproveFallback(const ImproveResult& result, const FallbackOutcome& fa
     SaveGprModel(*fallback.gpr->model, model);
     const json amended =
         SuggestGprFallbackBlock(last.training.fitted_diagram, model, last.training.after.front().connector);
-    WriteJsonFile(amended, directory / "improved_with_gp.json");
+    WriteDiagramFile(amended, diagram_folder, directory / "improved_with_gp.json");
     record["model"] = model;
     record["diagram"] = (directory / "improved_with_gp.json").string();
   }

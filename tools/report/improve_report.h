@@ -16,7 +16,8 @@ namespace mb {
 
 /// Writes DIR/step_<k>/diagram.json for an accepted step (k = accepted steps so far, 0 = the input refit),
 /// DIR/improved.json (the best diagram so far) and DIR/improve.json (every step so far): call from on_step, so
-/// that an interrupted run keeps what it finished. `context` (the inputs: diagram, logs) heads improve.json.
+/// that an interrupted run keeps what it finished. `context` (the inputs: diagram, logs) heads improve.json; its
+/// "diagram" (the input diagram's path) is what the diagrams' file names are rewritten from (WriteDiagramFile).
 /// @throws std::runtime_error if a file cannot be written.
 void WriteImproveProgress(const ImproveResult& so_far, const std::filesystem::path& directory,
                           const nlohmann::json& context);
@@ -33,8 +34,10 @@ void WriteImproveReport(const ImproveResult& result, const MeasurementLog& train
 /// DIR/improved_with_gp.json (the last accepted diagram with the gpr block, SuggestGprFallbackBlock); its record
 /// (ResidualGprResult::ToJson, or {"useful": false, "skipped", "description"}) is added to DIR/improve.json under
 /// "nonparametric_fallback" and returned. Call after WriteImproveProgress. @throws std::runtime_error if a file cannot
-/// be written or DIR/improve.json read.
+/// be written or DIR/improve.json read. `diagram_folder`: the input diagram's folder (the diagrams' file names are
+/// rewritten for DIR, WriteDiagramFile).
 nlohmann::json WriteImproveFallback(const ImproveResult& result, const FallbackOutcome& fallback,
-                                    const std::filesystem::path& directory);
+                                    const std::filesystem::path& directory,
+                                    const std::filesystem::path& diagram_folder);
 
 }  // namespace mb

@@ -6,8 +6,8 @@
 #include <stdexcept>
 
 #include <fmt/format.h>
-#include <unistd.h>
 
+#include "engine/diagram_document.h"
 #include "engine/output_file.h"
 #include "models/diagnosis/measurement_log.h"
 
@@ -31,22 +31,12 @@ void WriteJsonFile(const nlohmann::json& j, const fs::path& path) {
   WriteFileSafely(path, j.dump(2) + "\n");
 }
 
-ProgressLine::ProgressLine(std::string label) : label_(std::move(label)), tty_(isatty(fileno(stderr)) != 0) {}
-
-void ProgressLine::Update(double fraction) {
-  const int percent = static_cast<int>(100.0 * std::clamp(fraction, 0.0, 1.0));
-  if (percent == last_percent_) return;
-  if (tty_) {
-    std::cerr << fmt::format("\r{}  {:3d} %", label_, percent) << std::flush;
-  } else if ((last_percent_ < 0 && percent >= 0) || (last_percent_ < 50 && percent >= 50)) {
-    std::cerr << fmt::format("{}  {:3d} %\n", label_, percent);
-  }
-  last_percent_ = percent;
-}
-
-void ProgressLine::Done() {
-  if (tty_) std::cerr << fmt::format("\r{}  100 %\n", label_);
-  else std::cerr << fmt::format("{}  done\n", label_);
+std::vector<std::string> WriteDiagramFile(const nlohmann::json& diagram, const fs::path& diagram_folder,
+                                          const fs::path& path) {
+  DiagramDocument document(diagram, diagram_folder);
+  const std::vector<std::string> outside = document.RelocateFiles(fs::absolute(path).parent_path());
+  WriteJsonFile(document.json(), path);
+  return outside;
 }
 
 }  // namespace mb

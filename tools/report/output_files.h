@@ -1,12 +1,14 @@
 #pragma once
-// Writing what commands produce: logged signals as CSV, JSON summaries, a progress line on stderr.
+// Writing what commands produce: logged signals as CSV, JSON summaries, diagrams (the progress line: progress.h).
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "engine/simulator.h"
+#include "tools/report/progress.h"
 
 namespace mb {
 
@@ -16,18 +18,11 @@ void WriteSignalLog(const SignalLog& log, const std::filesystem::path& path);
 /// Writes pretty JSON (2-space indent). @throws std::runtime_error if the file cannot be written.
 void WriteJsonFile(const nlohmann::json& j, const std::filesystem::path& path);
 
-/// A progress line "label  37 %" on stderr, rewritten in place; silent when stderr is not a terminal and
-/// `always` is false (CI logs stay short: then only 0 %, 50 % and 100 % are printed).
-class ProgressLine {
- public:
-  explicit ProgressLine(std::string label);
-  void Update(double fraction);
-  void Done();
-
- private:
-  std::string label_;
-  bool tty_;
-  int last_percent_ = -1;
-};
+/// Writes `diagram` — read from (or amended from) a diagram in `diagram_folder` — to `path`, its file names
+/// rewritten to name the same files from path's folder (DiagramDocument::RelocateFiles), so that the copy loads
+/// wherever it is written. Returns the names that lie outside path's folder ("element.parameter: name"): the copy
+/// reads those only with --allow-path. @throws std::runtime_error if the file cannot be written.
+std::vector<std::string> WriteDiagramFile(const nlohmann::json& diagram, const std::filesystem::path& diagram_folder,
+                                          const std::filesystem::path& path);
 
 }  // namespace mb

@@ -64,25 +64,56 @@ class SweepRunTest : public ::testing::Test {
 TEST(ParseSweepTest, GridIsCartesianProductLastKeyFastest) {
   const SweepSpec spec = ParseSweep(json::parse(R"({"grid": {"a.x": [1, 2], "b.y": [10, 20, 30]}})"), "s.json");
   EXPECT_EQ(spec.kind, "grid");
-  ASSERT_EQ(spec.runs.size(), 6u);
+  ASSERT_EQ(spec.run_count(), 6u);
   EXPECT_EQ(spec.parameters, (std::vector<std::string>{"a.x", "b.y"}));
-  EXPECT_EQ(spec.runs[0].id, "0000");
-  EXPECT_EQ(spec.runs[5].id, "0005");
-  EXPECT_EQ(spec.runs[1].assignments[0].second, 1);
-  EXPECT_EQ(spec.runs[1].assignments[1].second, 20);
-  EXPECT_EQ(spec.runs[3].assignments[0].second, 2);
-  EXPECT_EQ(spec.runs[3].assignments[1].second, 10);
+  EXPECT_EQ(spec.run(0).id, "0000");
+  EXPECT_EQ(spec.run(5).id, "0005");
+  EXPECT_EQ(spec.run(1).assignments[0].second, 1);
+  EXPECT_EQ(spec.run(1).assignments[1].second, 20);
+  EXPECT_EQ(spec.run(3).assignments[0].second, 2);
+  EXPECT_EQ(spec.run(3).assignments[1].second, 10);
+}
+
+// Runs are generated from their index: a billion-point grid allowed by the caller holds its 3000 axis values, not a
+// billion runs (materialised, it would need > 100 GB), and any run is there at once, in sweep order.
+TEST(ParseSweepTest, AHugeGridIsGeneratedIndexByIndex) {
+  json axis = json::array();
+  for (int v = 0; v < 1000; ++v) axis.push_back(v);
+  const json sweep = {{"grid", {{"a.x", axis}, {"b.y", axis}, {"c.z", axis}}}};
+  const SweepSpec spec = ParseSweep(sweep, "s.json", 2'000'000'000);
+  EXPECT_EQ(spec.run_count(), 1'000'000'000u);
+  EXPECT_EQ(spec.AllAssignments().size(), 3000u);
+  const SweepRun r = spec.run(123'456'789);
+  EXPECT_EQ(r.id, "123456789");
+  ASSERT_EQ(r.assignments.size(), 3u);
+  EXPECT_EQ(r.assignments[0].second, 123);  // the last key varies fastest
+  EXPECT_EQ(r.assignments[1].second, 456);
+  EXPECT_EQ(r.assignments[2].second, 789);
+  EXPECT_EQ(spec.PositionOf("123456789"), 123'456'789u);
+  EXPECT_EQ(spec.PositionOf("0123456789"), std::nullopt);  // not an id this sweep writes
+  EXPECT_THROW(spec.run(1'000'000'000), std::out_of_range);
+}
+
+TEST(ParseSweepTest, KeptRunsKeepTheirIds) {
+  SweepSpec spec = ParseSweep(json::parse(R"({"list": [{"a.x": 1}, {"a.x": 2}, {"a.x": 3}, {"a.x": 4}]})"), "s.json");
+  spec.KeepRuns({0, 2});
+  ASSERT_EQ(spec.run_count(), 2u);
+  EXPECT_EQ(spec.run(1).id, "0002");
+  EXPECT_EQ(spec.run(1).assignments[0].second, 3);
+  EXPECT_EQ(spec.PositionOf("0002"), 1u);
+  EXPECT_EQ(spec.PositionOf("0001"), std::nullopt);
+  EXPECT_THROW(spec.KeepRuns({1, 0}), std::invalid_argument);
 }
 
 TEST(ParseSweepTest, ListKeepsEntriesAndMissingKeys) {
   const SweepSpec spec = ParseSweep(
       json::parse(R"({"list": [{"a.x": [0.05]}, {"a.x": [0.1], "defaultExperiment.stopTime": 8}]})"), "s.json");
-  ASSERT_EQ(spec.runs.size(), 2u);
+  ASSERT_EQ(spec.run_count(), 2u);
   EXPECT_EQ(spec.parameters, (std::vector<std::string>{"a.x", "defaultExperiment.stopTime"}));
-  ASSERT_EQ(spec.runs[0].assignments.size(), 1u);
-  EXPECT_EQ(spec.runs[0].assignments[0].second, json::parse("[0.05]"));
-  ASSERT_EQ(spec.runs[1].assignments.size(), 2u);
-  EXPECT_EQ(spec.runs[1].assignments[1].second, 8);
+  ASSERT_EQ(spec.run(0).assignments.size(), 1u);
+  EXPECT_EQ(spec.run(0).assignments[0].second, json::parse("[0.05]"));
+  ASSERT_EQ(spec.run(1).assignments.size(), 2u);
+  EXPECT_EQ(spec.run(1).assignments[1].second, 8);
 }
 
 TEST(ParseSweepTest, RandomIsRepeatableAndWithinBounds) {
@@ -91,12 +122,12 @@ TEST(ParseSweepTest, RandomIsRepeatableAndWithinBounds) {
       "a.c": {"choice": ["x", "y"]}}}})");
   const SweepSpec first = ParseSweep(sweep, "s.json");
   const SweepSpec second = ParseSweep(sweep, "s.json");
-  ASSERT_EQ(first.runs.size(), 50u);
+  ASSERT_EQ(first.run_count(), 50u);
   std::set<long long> integers;
   std::set<std::string> choices;
-  for (std::size_t r = 0; r < first.runs.size(); ++r) {
-    EXPECT_EQ(first.runs[r].assignments, second.runs[r].assignments) << r;
-    for (const auto& [key, value] : first.runs[r].assignments) {
+  for (std::size_t r = 0; r < first.run_count(); ++r) {
+    EXPECT_EQ(first.run(r).assignments, second.run(r).assignments) << r;
+    for (const auto& [key, value] : first.run(r).assignments) {
       if (key == "a.u") {
         EXPECT_GE(value.get<double>(), 1.0);
         EXPECT_LT(value.get<double>(), 2.0);
@@ -114,7 +145,7 @@ TEST(ParseSweepTest, RandomIsRepeatableAndWithinBounds) {
   EXPECT_EQ(choices, (std::set<std::string>{"x", "y"}));
   json other = sweep;
   other["random"]["seed"] = 8;
-  EXPECT_NE(ParseSweep(other, "s.json").runs[0].assignments, first.runs[0].assignments);
+  EXPECT_NE(ParseSweep(other, "s.json").run(0).assignments, first.run(0).assignments);
 }
 
 TEST(ParseSweepTest, ErrorsNameWhereAndHowToFix) {
@@ -149,7 +180,7 @@ TEST_F(SweepRunTest, ParallelRunsGiveOneRowOfMetricsEach) {
   SweepOptions options;
   options.jobs = 3;
   options.progress = false;
-  std::vector<double> from_callback(spec.runs.size(), 0.0);
+  std::vector<double> from_callback(spec.run_count(), 0.0);
   options.on_result = [&](std::size_t i, const SimulationResult& r) { from_callback[i] = r.metrics.at("y_final"); };
   const SweepOutcome outcome = RunSweep(diagram_, spec, dir_ / "out", options);
   EXPECT_EQ(outcome.ran, 7);
@@ -261,7 +292,8 @@ TEST(ShippedSweepsTest, EverySweepParsesAndAppliesToItsDiagram) {
     ASSERT_TRUE(raw.contains("diagram")) << "a shipped sweep names its diagram (relative to the sweep)";
     const fs::path diagram = entry.path().parent_path() / raw["diagram"].get<std::string>();
     json base = ReadDiagramJson(diagram);
-    for (const auto& run : spec.runs) {
+    for (std::size_t i = 0; i < spec.run_count(); ++i) {
+      const SweepRun run = spec.run(i);
       json j = ApplySweepAssignments(ApplySweepAssignments(base, spec.fixed, diagram.string()), run.assignments,
                                      diagram.string());
       EXPECT_NO_THROW(BuildDiagram(j, diagram.parent_path(), diagram.string())) << run.id;

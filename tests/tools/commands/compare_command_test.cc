@@ -48,8 +48,9 @@ TEST(CompareCommand, NamesTheMissingEffectFitsTheFallbackAndSuggests) {
   EXPECT_LT(g["heldout_rmse_after"].get<double>(), g["heldout_rmse_before"].get<double>());
   const fs::path model = g["model"].get<std::string>();
   ASSERT_TRUE(fs::exists(model));
-  const auto p = RunMotionblocks("predict-gpr " + model.string() + " " + kEmps + "/data/DATA_EMPS.csv --velocity " +
-                                 "position_m -o " + (out / "predicted.csv").string());
+  const auto p = RunMotionblocks("predict-gpr " + model.string() + " " + kEmps +
+                                 "/data/DATA_EMPS.csv --velocity-column position_m -o " +
+                                 (out / "predicted.csv").string());
   ASSERT_EQ(p.exit_code, 0) << p.output;
   std::ifstream predicted(out / "predicted.csv");
   std::string header;

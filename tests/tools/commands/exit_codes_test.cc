@@ -94,6 +94,29 @@ TEST(ExitCodes, RunsBeyondMaxStepsAreRefusedAndTheLimitCanBeRaised) {
   fs::remove_all(dir);
 }
 
+// `run` streams its log to signals.csv: a log of 2 × 10,001 values is written whole under --max-steps 15000, which
+// bounds what a run may hold in memory (an in-memory log of that size is refused: runtime_limits_test).
+TEST(ExitCodes, RunStreamsALogLargerThanTheMemoryLimitToDisk) {
+  const fs::path dir = ProcessTempDir("mb_exit_streamed");
+  const fs::path diagram = WriteGrowthDiagram(dir, -1.0, {{"startTime", 0.0}, {"stopTime", 1.0}, {"stepSize", 1e-4}});
+  json j;
+  std::ifstream(diagram) >> j;
+  j["log"] = {"x.y", "k.y"};
+  j["solver"] = {{"type", "rk4"}, {"step", 1e-4}};  // 10,000 steps
+  std::ofstream(diagram) << j.dump(2);
+  const CommandResult r = RunDiagram(diagram, " --max-steps 15000");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(diagram.parent_path() / "out" / "signals.csv");
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "time_s,x.y,k.y");
+  std::size_t rows = 0;
+  while (std::getline(in, line)) ++rows;
+  EXPECT_EQ(rows, 10001u);
+  EXPECT_EQ(testing::ReadJsonFile(diagram.parent_path() / "out" / "summary.json")["samples"], 10001);
+  fs::remove_all(dir);
+}
+
 TEST(ExitCodes, DeeplyNestedJsonIsBadInput) {
   const fs::path dir = ProcessTempDir("mb_exit_deep");
   const fs::path deep = dir / "deep.json";

@@ -30,8 +30,8 @@ TEST(FitCommand, RefitsTheEmpsRigidBodyWithConfidenceIntervals) {
   const fs::path out = ProcessTempDir("mb_fit_command");
   fs::remove_all(out);
   const auto r = RunMotionblocks("fit " + kEmps + "/rigid_body.json --measurement " + kEmps +
-                                 "/data/DATA_EMPS.csv --params inertia.gain,friction.viscous "
-                                 "--params friction.coulomb,offset.value --out " + out.string());
+                                 "/data/DATA_EMPS.csv --fit inertia.gain,friction.viscous "
+                                 "--fit friction.coulomb,offset.value --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_THAT(r.output, HasSubstr("force: RMSE"));
   const auto fit = ReadJsonFile(out / "fit.json");
@@ -59,7 +59,7 @@ TEST(FitCommand, RefitsTheEmpsRigidBodyWithConfidenceIntervals) {
   }
   EXPECT_DOUBLE_EQ(mass, fit["parameters"][0]["estimate"].get<double>());
   const auto again = RunMotionblocks("fit " + (out / "fitted.json").string() + " --measurement " + kEmps +
-                                     "/data/DATA_EMPS.csv --params offset.value --out " + (out / "again").string());
+                                     "/data/DATA_EMPS.csv --fit offset.value --out " + (out / "again").string());
   ASSERT_EQ(again.exit_code, 0) << again.output;
   EXPECT_NEAR(ReadJsonFile(out / "again" / "fit.json")["rmse_before"].get<double>(), fit["rmse_after"].get<double>(),
               1e-6 * fit["rmse_after"].get<double>());
@@ -68,7 +68,7 @@ TEST(FitCommand, RefitsTheEmpsRigidBodyWithConfidenceIntervals) {
 
 TEST(FitCommand, UnknownParameterIsOneClearMessage) {
   const auto r = RunMotionblocks("fit " + kEmps + "/rigid_body.json --measurement " + kEmps +
-                                 "/data/DATA_EMPS_PULSES.csv --params mass.gain --out " +
+                                 "/data/DATA_EMPS_PULSES.csv --fit mass.gain --out " +
                                  ProcessTempDir("mb_fit_command_bad").string());
   EXPECT_EQ(r.exit_code, 2);  // bad input (README "Exit codes")
   EXPECT_THAT(r.output, HasSubstr("motionblocks: error: free parameter 'mass.gain': no element 'mass'"));

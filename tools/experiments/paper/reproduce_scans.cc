@@ -18,15 +18,15 @@ void RunTrainingScans(ReproduceContext& c) {
   // 1. Training scans (section 3.2): the list sweep, in parallel; logs kept in memory.
   SweepSpec scan_spec = ReadSweepFile(c.scans_sweep);
   if (o.quick) {
-    std::vector<SweepRun> every_other;
-    for (std::size_t i = 0; i < scan_spec.runs.size(); i += 2) every_other.push_back(scan_spec.runs[i]);
-    scan_spec.runs = every_other;
+    std::vector<std::size_t> every_other;
+    for (std::size_t i = 0; i < scan_spec.run_count(); i += 2) every_other.push_back(i);
+    scan_spec.KeepRuns(every_other);
   }
   c.Say(fmt::format("[1/{}] training scans: {} constant-velocity strokes over 700 mm ({})", kSteps,
-                    scan_spec.runs.size(), c.scans_sweep.string()));
-  c.scans.assign(scan_spec.runs.size(), SignalLog{});
-  for (const auto& run : scan_spec.runs) {
-    for (const auto& [k, v] : run.assignments) {
+                    scan_spec.run_count(), c.scans_sweep.string()));
+  c.scans.assign(scan_spec.run_count(), SignalLog{});
+  for (std::size_t i = 0; i < scan_spec.run_count(); ++i) {
+    for (const auto& [k, v] : scan_spec.run(i).assignments) {
       if (k == "reference.velocities") c.scan_velocities.push_back(v.at(0).get<double>());
     }
   }

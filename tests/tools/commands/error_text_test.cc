@@ -1,0 +1,76 @@
+// The command boundary's rewording of library exceptions (tools/commands/error_text.h): the inputs named, what to do,
+// no library tag, never megabytes of input.
+
+#include "tools/commands/error_text.h"
+
+#include <filesystem>
+#include <new>
+#include <stdexcept>
+#include <string>
+#include <system_error>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "engine/text_excerpt.h"
+
+namespace mb {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::Not;
+using ::testing::StartsWith;
+
+TEST(ErrorText, JsonTypeErrorsLoseTheirTagAndNameTheInputs) {
+  try {
+    (void)nlohmann::json::parse(R"({"a": 1})")["a"].get<std::string>();
+    FAIL() << "no type_error";
+  } catch (const nlohmann::json::exception& e) {
+    const std::string text = ErrorText(e, {"d.json", "log.csv"});
+    EXPECT_THAT(text, StartsWith("unexpected JSON content (reading d.json, log.csv): type must be string, but is "
+                                 "number. Check the file: a diagram against `motionblocks schema`"));
+    EXPECT_THAT(text, Not(HasSubstr("[json.exception")));
+  }
+}
+
+TEST(ErrorText, FilesystemErrorsSayThePathTheReasonAndWhatToDo) {
+  const std::filesystem::filesystem_error e("cannot create directories", "out/x",
+                                            std::make_error_code(std::errc::not_a_directory));
+  EXPECT_EQ(ErrorText(e, {"d.json"}),
+            "cannot use the file or folder out/x (reading d.json): Not a directory. Check that the path exists, is a "
+            "folder where one is expected, and that you may read and write there (--out DIR chooses another output "
+            "folder)");
+}
+
+TEST(ErrorText, OutOfMemorySaysHowToMakeTheJobSmaller) {
+  EXPECT_EQ(ErrorText(std::bad_alloc(), {"huge.csv"}),
+            "out of memory (reading huge.csv). The input or the run is too large for this machine: shorten the run or "
+            "lower --max-steps / --max-runs, log fewer signals, or cut the measurement log");
+}
+
+TEST(ErrorText, BoostMathErrorsAreNumericalFailuresWithoutTheFunctionSignature) {
+  const std::overflow_error e("Error in function boost::math::cyl_bessel_i<double>(double,double): numeric overflow");
+  EXPECT_TRUE(IsLibraryNumericalError(e));
+  EXPECT_EQ(ErrorText(e, {}),
+            "a numerical routine failed: numeric overflow. A parameter is probably far out of range (a length scale, "
+            "period or variance many orders from the data's): check the model's and the diagram's values");
+  EXPECT_FALSE(IsLibraryNumericalError(std::runtime_error("plain")));
+}
+
+TEST(ErrorText, OwnMessagesStayButNeverEchoMegabytes) {
+  EXPECT_EQ(ErrorText(std::invalid_argument("d.json: /elements/0: bad"), {"d.json"}), "d.json: /elements/0: bad");
+  const std::string huge = "x: " + std::string(5'000'000, 'a');
+  const std::string text = ErrorText(std::runtime_error(huge), {});
+  EXPECT_LE(text.size(), kMaxErrorMessage + 40);
+  EXPECT_THAT(text, HasSubstr("… (4996003 more bytes)"));
+}
+
+TEST(ErrorText, ExcerptKeepsShortTextAndCutsLongTextOnACharacterBoundary) {
+  EXPECT_EQ(Excerpt("short"), "short");
+  EXPECT_EQ(Excerpt(std::string(300, 'a')), std::string(200, 'a') + "… (100 more bytes)");
+  EXPECT_EQ(Excerpt("aé", 2), "a… (2 more bytes)");  // 'é' is two bytes: not split
+}
+
+}  // namespace
+}  // namespace mb
