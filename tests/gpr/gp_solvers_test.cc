@@ -202,6 +202,23 @@ TEST(WeightSpaceGp, PosteriorMatchesExactGp) {
 }
 
 
+// A model at `hp` whose posterior is that of `c` (mean 0: the targets are centred), trained on x in [0.1, 0.325] m
+// and ẋ in [0.05, 0.5] m/s.
+GprModel ModelFrom(const Centred& c, GprKernel kernel, const GprHyperparameters& hp) {
+  GprModelData data;
+  data.kernel = kernel;
+  data.hyperparameters = hp;
+  data.x_range = {0.1, 0.325};
+  data.xdot_range = {0.05, 0.5};
+  data.basis = ChooseGprBasis(kernel, hp, data.x_range, data.xdot_range, 1e-12);
+  const GprWeightPosterior post =
+      SolveGprWeightPosterior(AccumulateGprFeatureStatistics(data.basis, c.s.x, c.s.xdot, c.y), hp);
+  data.weights = post.weights;
+  data.weight_covariance = post.covariance;
+  return GprModel(std::move(data));
+}
+GprModel ModelFrom(const Centred& c, GprKernel kernel) { return ModelFrom(c, kernel, Hyperparameters(kernel)); }
+
 // Issue 14: the weight-space standard deviation far outside the trained x window. The truncated
 // "DS" basis is 0 beyond its Hilbert domain and small near its Dirichlet boundary, so without the
 // prior-variance correction of GprModel::Predict the std fell towards 0 there (0.057 against an
@@ -213,19 +230,7 @@ TEST(GprModelStd, FollowsTheExactGpFarOutsideTheTrainedWindow) {
   for (GprKernel kernel : {GprKernel::kPeriodicSe, GprKernel::kSeSe}) {
     GprHyperparameters hp = Hyperparameters(kernel);
     if (kernel == GprKernel::kSeSe) hp.length_scale_x = 0.02;  // a domain margin of 0.06 m
-    const GprRange x_range{0.1, 0.325};
-    const GprRange xdot_range{0.05, 0.5};
-    GprModelData data;
-    data.kernel = kernel;
-    data.hyperparameters = hp;
-    data.basis = ChooseGprBasis(kernel, hp, x_range, xdot_range, 1e-12);
-    data.x_range = x_range;
-    data.xdot_range = xdot_range;
-    const GprWeightPosterior post =
-        SolveGprWeightPosterior(AccumulateGprFeatureStatistics(data.basis, c.s.x, c.s.xdot, c.y), hp);
-    data.weights = post.weights;
-    data.weight_covariance = post.covariance;
-    const GprModel model(std::move(data));
+    const GprModel model = ModelFrom(c, kernel, hp);
     const ExactGp exact(kernel, hp, c.s.x, c.s.xdot, c.y);
     const double prior_std = std::sqrt(hp.signal_variance_x + hp.signal_variance_xdot);
     double worst = 0.0;
@@ -260,18 +265,7 @@ TEST(GprModelConfidence, WeightTrustsTheModelWhereItHasData) {
   for (GprKernel kernel : {GprKernel::kPeriodicSe, GprKernel::kSeSe}) {
     GprHyperparameters hp = Hyperparameters(kernel);
     if (kernel == GprKernel::kSeSe) hp.length_scale_x = 0.02;
-    GprModelData data;
-    data.kernel = kernel;
-    data.hyperparameters = hp;
-    data.x_range = {0.1, 0.325};
-    data.xdot_range = {0.05, 0.5};
-    data.basis = ChooseGprBasis(kernel, hp, data.x_range, data.xdot_range, 1e-12);
-    const GprWeightPosterior post =
-        SolveGprWeightPosterior(AccumulateGprFeatureStatistics(data.basis, c.s.x, c.s.xdot, c.y), hp);
-    data.weights = post.weights;
-    data.weight_covariance = post.covariance;
-    data.mean = 0.7;
-    const GprModel model(std::move(data));
+    const GprModel model = ModelFrom(c, kernel, hp);
     const double prior = hp.signal_variance_x + hp.signal_variance_xdot;
     double weight = -1.0;
     const double inside = model.PredictConfidenceWeightedMean(0.2, 0.3, &weight);
@@ -301,22 +295,6 @@ TEST(GprModelConfidence, WeightTrustsTheModelWhereItHasData) {
   }
 }
 
-
-// A model with the test's hyperparameters, posterior from `c` (mean 0: the targets are centred).
-GprModel ModelFrom(const Centred& c, GprKernel kernel) {
-  const GprHyperparameters hp = Hyperparameters(kernel);
-  GprModelData data;
-  data.kernel = kernel;
-  data.hyperparameters = hp;
-  data.x_range = {0.1, 0.325};
-  data.xdot_range = {0.05, 0.5};
-  data.basis = ChooseGprBasis(kernel, hp, data.x_range, data.xdot_range, 1e-12);
-  const GprWeightPosterior post =
-      SolveGprWeightPosterior(AccumulateGprFeatureStatistics(data.basis, c.s.x, c.s.xdot, c.y), hp);
-  data.weights = post.weights;
-  data.weight_covariance = post.covariance;
-  return GprModel(std::move(data));
-}
 
 // Issue 14, learning online: N rank-one updates from the prior give the batch posterior of the same N samples.
 TEST(GprRecursive, MatchesTheBatchPosterior) {

@@ -28,8 +28,8 @@ TEST(ErrorText, JsonTypeErrorsLoseTheirTagAndNameTheInputs) {
     FAIL() << "no type_error";
   } catch (const nlohmann::json::exception& e) {
     const std::string text = ErrorText(e, {"d.json", "log.csv"});
-    EXPECT_THAT(text, StartsWith("unexpected JSON content (reading d.json, log.csv): type must be string, but is "
-                                 "number. Check the file: a diagram against `motionblocks schema`"));
+    EXPECT_THAT(text, StartsWith("unexpected JSON content (reading d.json, log.csv): (/a) type must be string, but "
+                                 "is number. Check the file: a diagram against `motionblocks schema`"));
     EXPECT_THAT(text, Not(HasSubstr("[json.exception")));
   }
 }

@@ -94,17 +94,18 @@ TEST(ExitCodes, RunsBeyondMaxStepsAreRefusedAndTheLimitCanBeRaised) {
   fs::remove_all(dir);
 }
 
-// `run` streams its log to signals.csv: a log of 2 × 10,001 values is written whole under --max-steps 15000, which
-// bounds what a run may hold in memory (an in-memory log of that size is refused: runtime_limits_test).
+// `run` streams its log to signals.csv: a log of 2 × 50,001 values is written whole under --max-steps 60000, which
+// bounds what a run may hold in memory (an in-memory log of that size is refused: runtime_limits_test); `run` keeps
+// at most 20,000 samples per signal in memory for its figures (2 × 20,000 < 60,000).
 TEST(ExitCodes, RunStreamsALogLargerThanTheMemoryLimitToDisk) {
   const fs::path dir = ProcessTempDir("mb_exit_streamed");
-  const fs::path diagram = WriteGrowthDiagram(dir, -1.0, {{"startTime", 0.0}, {"stopTime", 1.0}, {"stepSize", 1e-4}});
+  const fs::path diagram = WriteGrowthDiagram(dir, -1.0, {{"startTime", 0.0}, {"stopTime", 5.0}, {"stepSize", 1e-4}});
   json j;
   std::ifstream(diagram) >> j;
   j["log"] = {"x.y", "k.y"};
-  j["solver"] = {{"type", "rk4"}, {"step", 1e-4}};  // 10,000 steps
+  j["solver"] = {{"type", "rk4"}, {"step", 1e-4}};  // 50,000 steps
   std::ofstream(diagram) << j.dump(2);
-  const CommandResult r = RunDiagram(diagram, " --max-steps 15000");
+  const CommandResult r = RunDiagram(diagram, " --max-steps 60000");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::ifstream in(diagram.parent_path() / "out" / "signals.csv");
   std::string line;
@@ -112,8 +113,8 @@ TEST(ExitCodes, RunStreamsALogLargerThanTheMemoryLimitToDisk) {
   EXPECT_EQ(line, "time_s,x.y,k.y");
   std::size_t rows = 0;
   while (std::getline(in, line)) ++rows;
-  EXPECT_EQ(rows, 10001u);
-  EXPECT_EQ(testing::ReadJsonFile(diagram.parent_path() / "out" / "summary.json")["samples"], 10001);
+  EXPECT_EQ(rows, 50001u);
+  EXPECT_EQ(testing::ReadJsonFile(diagram.parent_path() / "out" / "summary.json")["samples"], 50001);
   fs::remove_all(dir);
 }
 
