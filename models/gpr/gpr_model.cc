@@ -236,10 +236,9 @@ GprLipschitzConstants GprModel::LipschitzConstants(int grid_points) const {
 }
 
 double GprModel::ConfidenceWeight(double x, double xdot) const noexcept {
-  double std = 0.0;
-  Predict(x, xdot, nullptr, &std);
-  if (!std::isfinite(x) || !std::isfinite(xdot)) return 0.0;
-  return std::clamp(1.0 - std * std / prior_variance_, 0.0, 1.0);
+  double weight = 0.0;
+  PredictConfidenceWeightedMean(x, xdot, &weight);
+  return weight;
 }
 
 double GprModel::PredictConfidenceWeightedMean(double x, double xdot, double* weight) const noexcept {
