@@ -140,7 +140,7 @@ void RunRealMotor(ReproduceContext& c) {
   for (int w = 0; w < 3; ++w) {
     for (const char* kernel : {"DS", "PS", "PS_estimated_period"}) fits.push_back({kernel, w, nullptr});
   }
-  const double slowest = std::min(std::abs(fast.speed), std::abs(slow.speed)) * (slow.speed < 0 ? -1.0 : 1.0);
+  const double slowest = slow.speed;  // the 0.03 rev/s revolution: nearest the map's quasi-static holding
   c.arena.execute([&] {
     tbb::parallel_for(std::size_t{0}, fits.size(), [&](std::size_t i) {
       MotorFit& f = fits[i];
