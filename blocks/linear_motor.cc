@@ -44,6 +44,8 @@ Model Make(const BlockConfig& config, Parameters parameters) {
 LinearMotor::LinearMotor(const BlockConfig& config)
     : Block(config.name),
       mass_(config.parameters.Number("mass") + config.parameters.Number("payload_mass")),
+      mass_without_payload_(config.parameters.Number("mass")),
+      payload_time_(config.parameters.Number("payload_time")),
       damping_(config.parameters.Number("damping")),
       initial_position_(config.parameters.Number("initial_position")),
       initial_velocity_(config.parameters.Number("initial_velocity")),
@@ -60,6 +62,10 @@ LinearMotor::LinearMotor(const BlockConfig& config)
   DeclareOutputPort("velocity", 1, "m/s");
   DeclareOutputPort("disturbance", 1, "N");
   DeclareContinuousState(resonance_.enabled() ? 4 : 2);
+  if (payload_time_ > 0.0) {
+    DeclareDiscreteState(1);  // 1 once the payload is on
+    DeclareZeroCrossings(1);  // t − payload_time
+  }
   SetSampleTime(SampleTime::Continuous());
 }
 
@@ -82,12 +88,27 @@ void LinearMotor::CalcDerivatives(const BlockContext& c) const {
   const auto s = c.continuous_state();
   auto ds = c.derivatives();
   const double force = c.u(0) + Disturbance(s(0), s(1));
+  const bool payload_on = payload_time_ <= 0.0 || c.discrete_state()(0) > 0.5;
+  const double mass = payload_on ? mass_ : mass_without_payload_;
   ds(0) = s(1);
-  ds(1) = (force - damping_ * s(1)) / mass_;
+  ds(1) = (force - damping_ * s(1)) / mass;
   if (resonance_.enabled()) {
     ds(2) = s(3);
-    ds(3) = resonance_.ModalAcceleration(s(2), s(3), force / mass_);
+    ds(3) = resonance_.ModalAcceleration(s(2), s(3), force / mass);
   }
+}
+
+void LinearMotor::CalcZeroCrossings(const BlockContext& c) const {
+  if (payload_time_ > 0.0) c.zero_crossings()(0) = c.time() - payload_time_;
+}
+
+bool LinearMotor::UpdateModes(const BlockContext& c) const {
+  if (payload_time_ <= 0.0) return false;
+  auto xd = c.discrete_state();
+  const double on = c.time() >= payload_time_ ? 1.0 : 0.0;
+  const bool changed = xd(0) != on;
+  xd(0) = on;
+  return changed;
 }
 
 MB_REGISTER_BLOCK(LinearMotor, BlockType{
@@ -99,6 +120,8 @@ MB_REGISTER_BLOCK(LinearMotor, BlockType{
     {Bounded("mass", 0.2621, "kg", "true moving mass M (the DOB's M_n = 0.2621)", 1e-9, 1e9),
      Bounded("damping", 3.0, "N*s/m", "true linear viscous damping B (the DOB's B_n = 3)", 0.0, 1e9),
      Bounded("payload_mass", 0.0, "kg", "payload m_p added to the moving mass (section 5.3)", 0.0, 1e9),
+     Bounded("payload_time", 0.0, "s", "time the payload is put on (0 = from the start; > 0: picked up mid-run)", 0.0,
+             1e9),
      Optional("initial_position", 0.0, "m", "x(0)"),
      Optional("initial_velocity", 0.0, "m/s", "ẋ(0)"),
      Bounded("pole_pitch", 0.0225, "m", "magnet pole pitch τ (eq. 1)", 1e-9, 1e3),

@@ -9,7 +9,8 @@
 //
 // The DOB's nominal model is M_n = 0.2621, B_n = 3 (DESIGN.md); the twin's true M, B may differ, and the
 // payload m_p (section 5.3) adds to the moving mass only — so the DOB sees (M + m_p − M_n)ẍ + (B − B_n)ẋ − d as
-// the lumped disturbance. Continuous; u does not feed through. Defaults: the calibration of docs/paper.md.
+// the lumped disturbance. A payload_time > 0 puts the payload on mid-run (a load picked up: the moving mass steps
+// from M to M + m_p at that time, located as a zero crossing). Continuous; u does not feed through. Defaults: the calibration of docs/paper.md.
 
 #include "engine/block.h"
 #include "engine/registry.h"
@@ -29,14 +30,19 @@ class LinearMotor final : public Block {
   void Initialize(const BlockContext& context) const override;
   void CalcOutput(const BlockContext& context) const override;
   void CalcDerivatives(const BlockContext& context) const override;
+  void CalcZeroCrossings(const BlockContext& context) const override;
+  bool UpdateModes(const BlockContext& context) const override;
 
   /// d(x, ẋ) [N] (cogging minus friction).
   double Disturbance(double x, double xdot) const noexcept { return cogging_.Force(x, xdot) - friction_.Force(xdot); }
+  /// M + m_p: the moving mass once the payload is on (from payload_time).
   double moving_mass() const { return mass_; }
   double damping() const { return damping_; }
 
  private:
   double mass_;  // M + m_p
+  double mass_without_payload_;  // M: before payload_time
+  double payload_time_;          // the payload is on for t ≥ payload_time_ (mode in x_d(0) when > 0)
   double damping_;
   double initial_position_;
   double initial_velocity_;

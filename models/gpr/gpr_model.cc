@@ -108,11 +108,20 @@ double GprModel::ClampXdot(double xdot) const noexcept {
 }
 
 double GprModel::PredictPosteriorMean(double x, double xdot) const noexcept {
+  return PredictPosteriorMean(fitted_posterior(), x, xdot);
+}
+
+double GprModel::PredictPosteriorMean(const GprWeightPosterior& posterior, double x, double xdot) const noexcept {
   if (!std::isfinite(x) || !std::isfinite(xdot)) return data_.mean;
-  return data_.mean + DotGprBasis(data_.basis, data_.weights.data(), x, ClampXdot(xdot));
+  return data_.mean + DotGprBasis(data_.basis, posterior.weights, x, ClampXdot(xdot));
 }
 
 void GprModel::Predict(double x, double xdot, double* mean, double* std) const noexcept {
+  Predict(fitted_posterior(), x, xdot, mean, std);
+}
+
+void GprModel::Predict(const GprWeightPosterior& posterior, double x, double xdot, double* mean,
+                       double* std) const noexcept {
   if (!std::isfinite(x) || !std::isfinite(xdot)) {
     if (mean != nullptr) *mean = data_.mean;
     if (std != nullptr) *std = std::sqrt(prior_variance_);
@@ -123,13 +132,13 @@ void GprModel::Predict(double x, double xdot, double* mean, double* std) const n
   EvaluateGprBasis(data_.basis, x, ClampXdot(xdot), psi.data());
   if (mean != nullptr) {
     double acc = 0.0;
-    for (Eigen::Index k = 0; k < m; ++k) acc += data_.weights(k) * psi[static_cast<std::size_t>(k)];
+    for (Eigen::Index k = 0; k < m; ++k) acc += posterior.weights[k] * psi[static_cast<std::size_t>(k)];
     *mean = data_.mean + acc;
   }
   if (std != nullptr) {
     // ψᵀΣψ from the lower triangle (column-major: contiguous below the diagonal), and the
     // prior variance carried by the basis, Σ s_k ψ_k².
-    const Eigen::MatrixXd& cov = data_.weight_covariance;
+    const Eigen::Map<const Eigen::MatrixXd> cov(posterior.covariance, m, m);
     double var = 0.0;
     double represented_prior = 0.0;
     for (Eigen::Index j = 0; j < m; ++j) {
@@ -242,9 +251,14 @@ double GprModel::ConfidenceWeight(double x, double xdot) const noexcept {
 }
 
 double GprModel::PredictConfidenceWeightedMean(double x, double xdot, double* weight) const noexcept {
+  return PredictConfidenceWeightedMean(fitted_posterior(), x, xdot, weight);
+}
+
+double GprModel::PredictConfidenceWeightedMean(const GprWeightPosterior& posterior, double x, double xdot,
+                                               double* weight) const noexcept {
   double mean = 0.0;
   double std = 0.0;
-  Predict(x, xdot, &mean, &std);
+  Predict(posterior, x, xdot, &mean, &std);
   const double g =
       std::isfinite(x) && std::isfinite(xdot) ? std::clamp(1.0 - std * std / prior_variance_, 0.0, 1.0) : 0.0;
   if (weight != nullptr) *weight = g;

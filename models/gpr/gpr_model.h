@@ -56,6 +56,14 @@ struct GprLipschitzConstants {
   double velocity_sampled = 0.0;  ///< max |μ_ẋ'| on the grid
 };
 
+/// A posterior over a model's basis weights β other than the fitted one — an online learner's state
+/// (gpr_recursive.h, the gpr block's discrete state): views, not owned. weights: E[β] (M doubles);
+/// covariance: Cov β (M×M doubles, column-major, symmetric; the lower triangle is read).
+struct GprWeightPosterior {
+  const double* weights = nullptr;
+  const double* covariance = nullptr;
+};
+
 /// The fitted model. Immutable; prediction is noexcept, allocation-free and O(M) for the mean.
 ///
 /// Inputs outside the trained ranges:
@@ -110,6 +118,21 @@ class GprModel final {
   /// lower bound of the supremum that converges as the grid is refined), reported in both the
   /// bound and the sampled fields. @throws std::invalid_argument for grid_points < 16.
   GprLipschitzConstants ConfidenceWeightedLipschitzConstants(int grid_points = 256) const;
+
+  /// The fitted posterior (weights and covariance of the model file) as a view.
+  GprWeightPosterior fitted_posterior() const noexcept {
+    return {data_.weights.data(), data_.weight_covariance.data()};
+  }
+  /// PredictPosteriorMean, Predict and PredictConfidenceWeightedMean with `posterior` over this
+  /// model's basis (same M) in place of the fitted one: same formulas, same cost, no allocation.
+  double PredictPosteriorMean(const GprWeightPosterior& posterior, double x, double xdot) const noexcept;
+  void Predict(const GprWeightPosterior& posterior, double x, double xdot, double* mean,
+               double* std) const noexcept;
+  double PredictConfidenceWeightedMean(const GprWeightPosterior& posterior, double x, double xdot,
+                                       double* weight = nullptr) const noexcept;
+  /// s (M): the prior variances of the basis weights at the model's hyperparameters (basis.h), the
+  /// prior β ~ N(0, diag s) an online learner starts from or relaxes to.
+  const Eigen::VectorXd& spectral_weights() const noexcept { return spectral_weights_; }
 
   /// Batch forms; all vectors of one length. Throw std::invalid_argument on a length mismatch.
   void PredictPosteriorMean(const Eigen::Ref<const Eigen::VectorXd>& x,

@@ -9,6 +9,39 @@
 
 namespace mb {
 
+bool UpdateGprWeightPosterior(const GprModel& model, double forgetting, double x, double xdot, double d,
+                              double* weights, double* covariance) noexcept {
+  if (!std::isfinite(x) || !std::isfinite(xdot) || !std::isfinite(d)) return false;
+  if (!(forgetting > 0.0 && forgetting <= 1.0)) return false;
+  using Scratch = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxGprFeatures, 1>;  // on the stack
+  const GprModelData& data = model.data();
+  const Eigen::Index m = model.feature_count();
+  Eigen::Map<Eigen::VectorXd> mean(weights, m);
+  Eigen::Map<Eigen::MatrixXd> p(covariance, m, m);
+  Scratch psi(m);
+  Scratch p_psi(m);
+  EvaluateGprBasis(data.basis, x, std::clamp(xdot, data.xdot_range.min, data.xdot_range.max), psi.data());
+  if (forgetting < 1.0) {
+    p *= forgetting;
+    p.diagonal().noalias() += (1.0 - forgetting) * model.spectral_weights();
+  }
+  p_psi.noalias() = p.selfadjointView<Eigen::Lower>() * psi;
+  const double innovation_variance = data.hyperparameters.noise_variance + psi.dot(p_psi);
+  const double innovation = d - data.mean - psi.dot(mean);
+  mean.noalias() += (innovation / innovation_variance) * p_psi;
+  // P ← P − (Pψ)(Pψ)ᵀ / (σ²_n + ψᵀPψ), both triangles (the product above reads the lower one).
+  p.noalias() -= (1.0 / innovation_variance) * p_psi * p_psi.transpose();
+  return true;
+}
+
+void WriteGprPriorPosterior(const GprModel& model, double* weights, double* covariance) noexcept {
+  const Eigen::Index m = model.feature_count();
+  Eigen::Map<Eigen::VectorXd>(weights, m).setZero();
+  Eigen::Map<Eigen::MatrixXd> p(covariance, m, m);
+  p.setZero();
+  p.diagonal() = model.spectral_weights();
+}
+
 GprRecursivePosterior::GprRecursivePosterior(const GprModel& model, double forgetting, bool from_prior)
     : model_(model), forgetting_(forgetting) {
   if (!(forgetting > 0.0 && forgetting <= 1.0)) {
@@ -16,43 +49,24 @@ GprRecursivePosterior::GprRecursivePosterior(const GprModel& model, double forge
                                 std::to_string(forgetting));
   }
   const GprModelData& d = model_.data();
-  GprSpectralWeights(d.basis, d.hyperparameters, &prior_variance_);
-  const Eigen::Index m = prior_variance_.size();
   if (from_prior) {
-    weights_ = Eigen::VectorXd::Zero(m);
-    covariance_ = prior_variance_.asDiagonal();
+    weights_.resize(model_.feature_count());
+    covariance_.resize(model_.feature_count(), model_.feature_count());
+    WriteGprPriorPosterior(model_, weights_.data(), covariance_.data());
   } else {
     weights_ = d.weights;
     covariance_ = d.weight_covariance;
   }
-  psi_ = Eigen::VectorXd::Zero(m);
-  p_psi_ = Eigen::VectorXd::Zero(m);
 }
 
 bool GprRecursivePosterior::Update(double x, double xdot, double d) noexcept {
-  if (!std::isfinite(x) || !std::isfinite(xdot) || !std::isfinite(d)) return false;
-  const GprModelData& data = model_.data();
-  const double v = std::clamp(xdot, data.xdot_range.min, data.xdot_range.max);
-  EvaluateGprBasis(data.basis, x, v, psi_.data());
-  if (forgetting_ < 1.0) {
-    covariance_ *= forgetting_;
-    covariance_.diagonal().noalias() += (1.0 - forgetting_) * prior_variance_;
-  }
-  p_psi_.noalias() = covariance_.selfadjointView<Eigen::Lower>() * psi_;
-  const double innovation_variance = data.hyperparameters.noise_variance + psi_.dot(p_psi_);
-  const double innovation = d - data.mean - psi_.dot(weights_);
-  weights_.noalias() += (innovation / innovation_variance) * p_psi_;
-  // P ← P − (Pψ)(Pψ)ᵀ / (σ²_n + ψᵀPψ), both triangles (the product above reads the lower one).
-  covariance_.noalias() -= (1.0 / innovation_variance) * p_psi_ * p_psi_.transpose();
+  if (!UpdateGprWeightPosterior(model_, forgetting_, x, xdot, d, weights_.data(), covariance_.data())) return false;
   ++updates_;
   return true;
 }
 
 double GprRecursivePosterior::PredictPosteriorMean(double x, double xdot) const noexcept {
-  const GprModelData& data = model_.data();
-  if (!std::isfinite(x) || !std::isfinite(xdot)) return data.mean;
-  return data.mean + DotGprBasis(data.basis, weights_.data(), x,
-                                 std::clamp(xdot, data.xdot_range.min, data.xdot_range.max));
+  return model_.PredictPosteriorMean(posterior(), x, xdot);
 }
 
 }  // namespace mb

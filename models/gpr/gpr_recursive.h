@@ -21,6 +21,18 @@
 
 namespace mb {
 
+/// One observation's update of a weight posterior (m, P) held by the caller — the gpr block keeps it in its
+/// discrete state: with forgetting λ < 1 first P ← λP + (1 − λ)diag(s) (s = model.spectral_weights()), then the
+/// Kalman step above with ψ = ψ(x, clamp(ẋ)) and d − mean. `weights` m: M doubles; `covariance` P: M×M
+/// doubles, column-major, both triangles kept symmetric. O(M²), noexcept, no allocation (scratch on the stack,
+/// M ≤ kMaxGprFeatures). A non-finite input is ignored and returns false; so is λ outside (0, 1].
+bool UpdateGprWeightPosterior(const GprModel& model, double forgetting, double x, double xdot, double d,
+                              double* weights, double* covariance) noexcept;
+
+/// The prior over the weights as a posterior to start learning from: m = 0, P = diag(s) (M and M×M,
+/// column-major, written into the caller's storage).
+void WriteGprPriorPosterior(const GprModel& model, double* weights, double* covariance) noexcept;
+
 class GprRecursivePosterior final {
  public:
   /// Starts from `model`'s posterior (weights, covariance), or, with `from_prior`, from the prior (β = 0, P = S:
@@ -36,6 +48,9 @@ class GprRecursivePosterior final {
   /// Posterior mean mean + ψ(x, clamp(ẋ))ᵀm at the current state. O(M), no allocation; non-finite → the mean.
   double PredictPosteriorMean(double x, double xdot) const noexcept;
 
+  /// The current (m, P) as a view for GprModel's predictions (std, confidence weight).
+  GprWeightPosterior posterior() const noexcept { return {weights_.data(), covariance_.data()}; }
+
   const Eigen::VectorXd& weights() const noexcept { return weights_; }       ///< m (M)
   const Eigen::MatrixXd& covariance() const noexcept { return covariance_; }  ///< P (M × M)
   long long updates() const noexcept { return updates_; }
@@ -44,10 +59,8 @@ class GprRecursivePosterior final {
  private:
   GprModel model_;
   double forgetting_;
-  Eigen::VectorXd prior_variance_;  ///< s (M)
   Eigen::VectorXd weights_;
   Eigen::MatrixXd covariance_;
-  Eigen::VectorXd psi_, p_psi_;  ///< scratch (M)
   long long updates_ = 0;
 };
 

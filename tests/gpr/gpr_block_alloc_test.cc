@@ -22,8 +22,9 @@ json Connect(const std::string& se, const std::string& sc, const std::string& ee
   return {{"startElement", se}, {"startConnector", sc}, {"endElement", ee}, {"endConnector", ec}};
 }
 
-// Two sine sources; with `with_gpr` a gpr block (std output too, discrete or inherited) reads them.
-json AllocDiagram(bool with_gpr, const json& sample_time) {
+// Two sine sources; with `with_gpr` a gpr block (std output too, discrete or inherited) reads them; with `online`
+// it learns online from a third sine.
+json AllocDiagram(bool with_gpr, const json& sample_time, bool online = false) {
   json j = {{"schemaVersion", "1.0"},
             {"defaultExperiment", {{"startTime", 0.0}, {"stopTime", 1.0}, {"stepSize", 1e-3}}},
             {"elements",
@@ -37,6 +38,12 @@ json AllocDiagram(bool with_gpr, const json& sample_time) {
     if (!sample_time.is_null()) gpr["sampleTime"] = sample_time;
     j["elements"].push_back(gpr);
     j["connections"] = {Connect("pos", "y", "dhat", "x"), Connect("vel", "y", "dhat", "xdot")};
+    if (online) {
+      j["elements"].back()["parameters"]["learning"] = "online";
+      j["elements"].back()["parameters"]["forgetting"] = 0.999;
+      j["elements"].push_back({{"name", "dist"}, {"type", "sine"}, {"parameters", {{"amplitude", 0.3}}}});
+      j["connections"].push_back(Connect("dist", "y", "dhat", "d"));
+    }
   }
   return j;
 }
@@ -89,6 +96,9 @@ TEST_F(GprBlockAllocation, AdvanceToAllocatesNothing) {
     EXPECT_EQ(mean, model.PredictPosteriorMean(x, v)) << "sampleTime " << sample_time.dump();
     EXPECT_NEAR(x, 0.2, 1e-9);  // sin(2π·2·1) = 0 at the stop time
   }
+  // Learning online: 1000 rank-one updates of the posterior in the discrete state, no allocation.
+  EXPECT_EQ(AdvanceAllocations(AllocDiagram(true, json{1e-3, 0.0}, true), &mean, &x, &v), 0) << "learning online";
+  EXPECT_NE(mean, model.PredictPosteriorMean(x, v));  // it learned
 }
 
 }  // namespace

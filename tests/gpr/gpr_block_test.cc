@@ -17,6 +17,7 @@
 #include "engine/simulator.h"
 #include "models/gpr/gpr_fit.h"
 #include "models/gpr/gpr_io.h"
+#include "models/gpr/gpr_recursive.h"
 #include "tests/gpr/synthetic_data.h"
 
 namespace mb {
@@ -163,6 +164,69 @@ TEST_F(GprBlock, DiscreteBlockComputesAtHitsAndHolds) {
     ASSERT_EQ(mean[k], model_->PredictPosteriorMean(x[hit], v[hit])) << "t = " << r.log.time[k];
   }
   EXPECT_NE(mean[10], mean[9]);  // it does change at a hit
+}
+
+// learning "online": at each hit the block outputs the recursive posterior's mean after the updates of the earlier
+// hits (every `update_every`-th), from the prior or from the model file — the same sequence replayed through
+// GprRecursivePosterior gives the same outputs.
+TEST_F(GprBlock, OnlineLearningIsTheRecursivePosteriorReplayed) {
+  for (const char* learn_from : {"prior", "model"}) {
+    SCOPED_TRACE(learn_from);
+    json j = GprDiagram({{"name", "dhat"},
+                         {"type", "gpr"},
+                         {"sampleTime", {1e-3, 0.0}},
+                         {"parameters",
+                          {{"model", "model.json"},
+                           {"learning", "online"},
+                           {"learn_from", learn_from},
+                           {"forgetting", 0.999},
+                           {"update_every", 3},
+                           {"output_std", true}}}});
+    j["elements"].push_back({{"name", "dist"}, {"type", "sine"},
+                             {"parameters", {{"amplitude", 0.4}, {"frequency_hz", 5.0}, {"bias", 0.1}}}});
+    j["connections"].push_back(Connect("dist", "y", "dhat", "d"));
+    j["log"].push_back("dist.y");
+    j["log"].push_back("dhat.std");
+    const SimulationResult r = Simulator(BuildDiagram(j, dir_, "gpr_test.json")).Run();
+    const auto& x = r.log.Column("pos.y");
+    const auto& v = r.log.Column("vel.y");
+    const auto& d = r.log.Column("dist.y");
+    const auto& mean = r.log.Column("dhat.mean");
+    const auto& sd = r.log.Column("dhat.std");
+    ASSERT_EQ(mean.size(), 501u);
+    GprRecursivePosterior replay(*model_, 0.999, std::string(learn_from) == "prior");
+    for (std::size_t k = 0; k < mean.size(); ++k) {
+      const double expected = replay.PredictPosteriorMean(x[k], v[k]);
+      ASSERT_NEAR(mean[k], expected, 1e-9 * (1.0 + std::abs(expected))) << "t = " << r.log.time[k];
+      double expected_sd = -1.0;
+      model_->Predict(replay.posterior(), x[k], v[k], nullptr, &expected_sd);
+      ASSERT_NEAR(sd[k], expected_sd, 1e-9) << "t = " << r.log.time[k];
+      if ((k + 1) % 3 == 0) replay.Update(x[k], v[k], d[k]);
+    }
+    EXPECT_EQ(replay.updates(), 167);
+    // It did learn: the output moved away from where it started.
+    EXPECT_GT(std::abs(mean.back() - GprRecursivePosterior(*model_, 1.0, std::string(learn_from) == "prior")
+                                         .PredictPosteriorMean(x.back(), v.back())),
+              1e-3);
+  }
+}
+
+TEST_F(GprBlock, OnlineLearningNeedsASampleTimeAndDoesNotFeedThrough) {
+  const json element = {{"name", "dhat"}, {"type", "gpr"},
+                        {"parameters", {{"model", "model.json"}, {"learning", "online"}}}};
+  EXPECT_THAT(BuildError(GprDiagram(element)),
+              HasSubstr("learning \"online\" needs a sampleTime [Ts, 0]: the posterior is updated at the block's "
+                        "sample hits"));
+  json discrete = element;
+  discrete["sampleTime"] = {1e-3, 0.0};
+  json j = GprDiagram(discrete);
+  j["connections"].push_back(Connect("dhat", "mean", "dhat", "d"));  // its own output as the target: no loop
+  const Diagram diagram = BuildDiagram(j, dir_, "gpr_test.json");
+  const auto& block = dynamic_cast<const Gpr&>(*diagram.blocks().at(2));
+  ASSERT_EQ(block.input_ports().size(), 3u);
+  EXPECT_EQ(block.input_ports()[2].name, "d");
+  EXPECT_FALSE(block.input_ports()[2].direct_feedthrough);
+  EXPECT_EQ(block.num_discrete_states(), model_->feature_count() * (model_->feature_count() + 1) + 1);
 }
 
 TEST_F(GprBlock, MissingOrCorruptModelFileNamesElementAndFile) {

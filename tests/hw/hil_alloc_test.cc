@@ -1,6 +1,7 @@
 // The HIL loop allocates nothing: the allocation count (tests/alloc_counter.h) is read at the first sample
 // and at the safe stop of RunHilLoop, on the shipped HIL diagram with a gpr block added to the controller
-// (its output is added to the PD force), against the in-process test board.
+// (its output is added to the PD force), against the in-process test board — with the model fixed and learning
+// online (the same block as in simulation: blocks/gpr.h).
 #include <cmath>
 #include <filesystem>
 
@@ -27,7 +28,8 @@ json Connect(const std::string& se, const std::string& sc, const std::string& ee
   return {{"startElement", se}, {"startConnector", sc}, {"endElement", ee}, {"endConnector", ec}};
 }
 
-TEST(HilAllocationTest, TheLoopAllocatesNothingWithAGprBlockInTheController) {
+void ExpectNoAllocationInTheLoop(bool learning_online) {
+  SCOPED_TRACE(learning_online ? "learning online" : "model fixed");
   const fs::path dir = fs::temp_directory_path() / "mb_hil_alloc";
   fs::create_directories(dir);
   const auto data = testing::ConstantVelocityScans(0.1, 0.325, 15, 0.02, 51);
@@ -52,6 +54,11 @@ TEST(HilAllocationTest, TheLoopAllocatesNothingWithAGprBlockInTheController) {
   j["connections"].push_back(Connect("dhat", "mean", "total", "u2"));
   j["connections"].push_back(Connect("total", "y", "plant", "f"));
   j["log"] = {"dhat.mean", "dhat.std", "total.y"};
+  if (learning_online) {  // the target: the force the controller asks for (any signal will do here)
+    j["elements"][j["elements"].size() - 3]["parameters"]["learning"] = "online";
+    j["elements"][j["elements"].size() - 3]["parameters"]["forgetting"] = 0.999;
+    j["connections"].push_back(Connect("total", "y", "dhat", "d"));
+  }
 
   testing::TestBoard board;
   ScopedBoardAttachment attachment(board);
@@ -79,6 +86,11 @@ TEST(HilAllocationTest, TheLoopAllocatesNothingWithAGprBlockInTheController) {
   const long after_probe = ::mb::testing::AllocationCount();
   ::operator delete(p);
   EXPECT_EQ(after_probe - before_probe, 1);
+}
+
+TEST(HilAllocationTest, TheLoopAllocatesNothingWithAGprBlockInTheController) {
+  ExpectNoAllocationInTheLoop(false);
+  ExpectNoAllocationInTheLoop(true);
 }
 
 }  // namespace

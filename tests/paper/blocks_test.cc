@@ -218,6 +218,26 @@ TEST(LinearMotorTest, RigidBodyWithPayloadMatchesClosedForm) {
   EXPECT_NEAR(r.log.Column("plant.x").back(), 0.5 * (0.5 - tc * (1.0 - std::exp(-0.5 / tc))), 1e-9);
 }
 
+TEST(LinearMotorTest, PayloadPickedUpMidRunMatchesClosedForm) {
+  // M ẍ + B ẋ = F until t_p = 0.2 s, then (M + m_p) ẍ + B ẋ = F from the velocity reached: for CVODE (the
+  // switch located as a zero crossing) and a fixed step that lands on t_p.
+  const json p = {{"mass", 0.2621}, {"payload_mass", 0.3}, {"payload_time", 0.2}, {"damping", 3.0},
+                  {"cogging_amplitude", 0.0}, {"cogging_amplitude_velocity", 0.0}, {"coulomb_friction", 0.0},
+                  {"static_friction", 0.0}, {"viscous_squared", 0.0}, {"encoder_resolution", 0.0}};
+  const double v_inf = 1.5 / 3.0;
+  const double v_tp = v_inf * (1.0 - std::exp(-0.2 / (0.2621 / 3.0)));
+  const double tc = 0.5621 / 3.0;
+  const double v_end = v_inf + (v_tp - v_inf) * std::exp(-0.3 / tc);
+  for (const json& solver : {json{{"type", "rk4"}, {"step", 1e-4}}, json{{"type", "cvode"}, {"rtol", 1e-10},
+                                                                       {"atol", 1e-12}}}) {
+    json diagram = OpenLoopPlant(p, 1.5, 0.5);
+    diagram["solver"] = solver;
+    const auto r = Simulator(Build(diagram)).Run();
+    EXPECT_NEAR(r.log.Column("plant.velocity").back(), v_end, 1e-7) << solver.dump();
+  }
+  // Without payload_time the payload is on from the start (the existing closed form above).
+}
+
 TEST(LinearMotorTest, EncoderQuantisesAndCoggingIsPeriodicInThePolePitch) {
   const json p = {{"encoder_resolution", 0.2e-6}, {"coulomb_friction", 0.0}, {"static_friction", 0.0},
                   {"viscous_squared", 0.0}, {"cogging_amplitude_velocity", 0.0}};

@@ -9,8 +9,8 @@
 
 namespace mb {
 
-/// One curve of a figure. `style`: gnuplot's "lines", "points", "dots", "impulses" or "boxes" (bars from 0, width
-/// 0.35 in x units: place side-by-side bars at x ± 0.18).
+/// One curve of a figure. `style`: gnuplot's "lines", "linespoints", "points", "dots", "impulses" or "boxes" (bars
+/// from 0, width 0.35 in x units: place side-by-side bars at x ± 0.18).
 struct Series {
   std::vector<double> x;
   std::vector<double> y;

@@ -28,6 +28,7 @@ ReproduceContext::ReproduceContext(const ReproduceOptions& o)
       arena(jobs),
       conventional(o.diagrams / "conventional.json"),
       gp_loop(o.diagrams / "gp_loop.json"),
+      gp_loop_online(o.diagrams / "gp_loop_online.json"),
       training_scan(o.diagrams / "training_scan.json"),
       scans_sweep(o.diagrams / "sweeps" / "training_scans.json") {}
 
@@ -137,6 +138,7 @@ json Reproduce(const ReproduceOptions& o) {
   paper::RunPayloadSweeps(c);          // 6.
   paper::AnalyseStabilityOfModels(c);  // 7. (reproduce_stability.cc)
   paper::CompareConfidenceWeighting(c);  // 7. (reproduce_confidence.cc)
+  paper::LearnOnline(c);               // 7. (reproduce_online.cc)
   paper::TimePosteriorMean(c);         // 8.
   paper::RunRealMotor(c);              // 8. (reproduce_real_motor.cc)
   paper::StateFindings(c);             //    (reproduce_findings.cc)

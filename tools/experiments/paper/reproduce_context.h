@@ -8,6 +8,7 @@
 //   reproduce_table2.cc     5–6. Table 2 and the payload case, the payload study as sweeps
 //   reproduce_stability.cc  7. stability; 8. the GPR's cost per control step
 //   reproduce_confidence.cc 7. variance-aware compensation (the confidence weight of blocks/gpr.h)
+//   reproduce_online.cc     7. learning online (the gpr block's learning "online"): the payload case, a payload picked up
 //   reproduce_real_motor.cc 8. DS and PS on a real motor's cogging (the ODrive records)
 //   reproduce_findings.cc   where ours differ from the paper, from the numbers
 //   reproduce_report.cc     9. report.html: tables and figures
@@ -71,7 +72,7 @@ struct ReproduceContext {
   const std::chrono::steady_clock::time_point start;
   const int jobs;              ///< parallel simulations and fits
   tbb::task_arena arena;       ///< of `jobs` threads
-  const std::filesystem::path conventional, gp_loop, training_scan, scans_sweep;
+  const std::filesystem::path conventional, gp_loop, gp_loop_online, training_scan, scans_sweep;
   nlohmann::json results;      ///< results.json as the steps fill it
 
   // 1. training scans
@@ -99,6 +100,9 @@ struct ReproduceContext {
   // 7. variance-aware compensation
   std::vector<ClosedLoopCase> confidence_cases;
   nlohmann::json confidence;
+  // 7. learning online
+  std::vector<ClosedLoopCase> online_cases;  ///< PS_online, PS_online_payload, then the track runs
+  nlohmann::json online;
   // 8. real motor
   nlohmann::json real_motor;
   std::map<std::string, std::vector<double>> real_motor_curves;  ///< D(2) posterior means over the map's angles
@@ -123,6 +127,7 @@ void RunClosedLoopCases(ReproduceContext& c);
 void RunPayloadSweeps(ReproduceContext& c);
 void AnalyseStabilityOfModels(ReproduceContext& c);
 void CompareConfidenceWeighting(ReproduceContext& c);
+void LearnOnline(ReproduceContext& c);
 void TimePosteriorMean(ReproduceContext& c);
 void RunRealMotor(ReproduceContext& c);
 void StateFindings(ReproduceContext& c);
