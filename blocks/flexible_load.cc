@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "models/diagnosis/effect_block.h"
+
 namespace mb {
 
 FlexibleLoad::FlexibleLoad(const BlockConfig& config)
@@ -51,5 +53,35 @@ MB_REGISTER_BLOCK(FlexibleLoad, BlockType{
      Bounded("damping_ratio", 0.02, "", "damping ratio ζ = c/(2√(km))", 0.0, std::numeric_limits<double>::infinity())},
     SampleTimeRule::kNone,
     [](const BlockConfig& c) { return std::make_unique<FlexibleLoad>(c); }})
+
+// The diagnosis' suggestions made with this block (MB_REGISTER_EFFECT_BLOCK, models/diagnosis/effect_registry.h).
+namespace {
+
+// Adds the diagnosed effect resonance (models/diagnosis/effects/resonance.cc) to a diagram.
+EffectBlockTemplate ResonanceEffectBlock() {
+  EffectBlockTemplate block;
+  block.block_type = "flexible_load";
+  block.element_name = "flexible_load";
+  block.output_port = "f";
+  block.inputs = {{MotionInput::kAcceleration, "a"}};
+  block.parameters = [](const DiagnosedEffect& d) {
+    const double frequency = BlockParameter(d, "frequency_hz");
+    const double damping = BlockParameter(d, "damping_ratio");
+    if (!(frequency > 0.0) || !(damping > 0.0)) {
+      throw std::invalid_argument(fmt::format(
+          "{} with frequency_hz = {} and damping_ratio = {}: both must be > 0 to suggest a block", d.effect,
+          frequency, damping));
+    }
+    return nlohmann::json{{"mass", WithUnit(BlockCoefficient(d, "response"), "kg")},
+                          {"frequency_hz", WithUnit(frequency, "Hz")},
+                          {"damping_ratio", damping}};
+  };
+  block.free = {"mass", "frequency_hz", "damping_ratio"};
+  return block;
+}
+
+}  // namespace
+
+MB_REGISTER_EFFECT_BLOCK(resonance, ResonanceEffectBlock())
 
 }  // namespace mb

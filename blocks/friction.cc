@@ -5,6 +5,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "models/diagnosis/effect_block.h"
+
 namespace mb {
 
 Friction::Friction(const BlockConfig& config)
@@ -103,5 +105,48 @@ MB_REGISTER_BLOCK(Friction, BlockType{
              std::numeric_limits<double>::infinity())},
     SampleTimeRule::kNone,
     [](const BlockConfig& c) { return std::make_unique<Friction>(c); }})
+
+// The diagnosis' suggestions made with this block (MB_REGISTER_EFFECT_BLOCK, models/diagnosis/effect_registry.h).
+namespace {
+
+// Adds the diagnosed effect coulomb_friction (models/diagnosis/effects/coulomb_friction.cc) to a diagram.
+EffectBlockTemplate CoulombFrictionEffectBlock() {
+  EffectBlockTemplate block;
+  block.block_type = "friction";
+  block.element_name = "coulomb_extra";
+  block.output_port = "f";
+  block.inputs = {{MotionInput::kVelocity, "v"}};
+  // Forces are non-negative here, so a negative coefficient starts from 1 mN (not 0: the fit's central
+  // differences would step below the bound) and the fit moves it.
+  block.parameters = [](const DiagnosedEffect& d) {
+    return nlohmann::json{
+        {"viscous", 0.0}, {"coulomb", std::max(1e-3, BlockCoefficient(d, ""))}, {"stick_model", "none"}};
+  };
+  block.free = {"coulomb"};
+  return block;
+}
+
+// Adds the diagnosed effect stribeck_friction (models/diagnosis/effects/stribeck_friction.cc) to a diagram.
+EffectBlockTemplate StribeckFrictionEffectBlock() {
+  EffectBlockTemplate block;
+  block.block_type = "friction";
+  block.element_name = "stribeck";
+  block.output_port = "f";
+  block.inputs = {{MotionInput::kVelocity, "v"}};
+  block.parameters = [](const DiagnosedEffect& d) {
+    return nlohmann::json{{"viscous", 0.0},
+                          {"coulomb", 0.0},
+                          {"stick_model", "none"},
+                          {"static", WithUnit(std::max(1e-3, BlockCoefficient(d, "")), "N")},
+                          {"stribeck_velocity", WithUnit(BlockParameter(d, "stribeck_velocity"), "m/s")}};
+  };
+  block.free = {"static", "stribeck_velocity"};
+  return block;
+}
+
+}  // namespace
+
+MB_REGISTER_EFFECT_BLOCK(coulomb_friction, CoulombFrictionEffectBlock())
+MB_REGISTER_EFFECT_BLOCK(stribeck_friction, StribeckFrictionEffectBlock())
 
 }  // namespace mb

@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "engine/block_roles.h"
+#include "models/diagnosis/effect_block.h"
 
 namespace mb {
 
@@ -27,5 +28,34 @@ MB_REGISTER_BLOCK(Gain, BlockType{
 
 // The parts of a motion loop this block can be (engine/block_roles.h; tools/workflow/loop_from_diagram.h).
 MB_REGISTER_LOOP_ROLES(Gain, "gain", {"pd_proportional_gain", "pd_derivative_gain"})
+
+// The diagnosis' suggestions made with this block (MB_REGISTER_EFFECT_BLOCK, models/diagnosis/effect_registry.h).
+namespace {
+
+// A gain element on a motion input (port "u") summed into the output, its gain the effect's coefficient, free.
+EffectBlockTemplate GainEffectBlock(const std::string& element_name, MotionInput input) {
+  EffectBlockTemplate block;
+  block.block_type = "gain";
+  block.element_name = element_name;
+  block.inputs = {{input, "u"}};
+  block.parameters = [](const DiagnosedEffect& d) { return nlohmann::json{{"gain", BlockCoefficient(d, "")}}; };
+  block.free = {"gain"};
+  return block;
+}
+
+// Adds the diagnosed effect viscous_friction (models/diagnosis/effects/viscous_friction.cc) to a diagram.
+EffectBlockTemplate ViscousFrictionEffectBlock() {
+  return GainEffectBlock("viscous_extra", MotionInput::kVelocity);
+}
+
+// Adds the diagnosed effect mass_mismatch (models/diagnosis/effects/mass_mismatch.cc) to a diagram.
+EffectBlockTemplate MassMismatchEffectBlock() {
+  return GainEffectBlock("payload", MotionInput::kAcceleration);
+}
+
+}  // namespace
+
+MB_REGISTER_EFFECT_BLOCK(viscous_friction, ViscousFrictionEffectBlock())
+MB_REGISTER_EFFECT_BLOCK(mass_mismatch, MassMismatchEffectBlock())
 
 }  // namespace mb

@@ -1,5 +1,7 @@
 #include "blocks/position_dependent_force.h"
 
+#include "models/diagnosis/effect_block.h"
+
 namespace mb {
 
 PositionDependentForce::PositionDependentForce(const BlockConfig& config)
@@ -31,5 +33,30 @@ MB_REGISTER_BLOCK(PositionDependentForce, BlockType{
               ParamType::kVector)},
     SampleTimeRule::kNone,
     [](const BlockConfig& c) { return std::make_unique<PositionDependentForce>(c); }})
+
+// The diagnosis' suggestions made with this block (MB_REGISTER_EFFECT_BLOCK, models/diagnosis/effect_registry.h).
+namespace {
+
+// Adds the diagnosed effect position_dependent_force (models/diagnosis/effects/position_dependent_force.cc) to a diagram.
+EffectBlockTemplate PositionDependentForceEffectBlock() {
+  EffectBlockTemplate block;
+  block.block_type = "position_dependent_force";
+  block.element_name = "position_force";
+  block.output_port = "f";
+  block.inputs = {{MotionInput::kPosition, "x"}};
+  block.parameters = [](const DiagnosedEffect& d) {
+    nlohmann::json coefficients = nlohmann::json::array();
+    for (Eigen::Index j = 0; j < d.coefficients.size(); ++j) coefficients.push_back(d.coefficients(j));
+    return nlohmann::json{{"center", WithUnit(BlockParameter(d, "center"), "m")},
+                          {"half_range", WithUnit(BlockParameter(d, "half_range"), "m")},
+                          {"coefficients", coefficients}};
+  };
+  block.free = {"coefficients"};
+  return block;
+}
+
+}  // namespace
+
+MB_REGISTER_EFFECT_BLOCK(position_dependent_force, PositionDependentForceEffectBlock())
 
 }  // namespace mb

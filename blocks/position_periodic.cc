@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "models/diagnosis/effect_block.h"
+
 namespace mb {
 
 PositionPeriodic::PositionPeriodic(const BlockConfig& config)
@@ -25,5 +27,17 @@ MB_REGISTER_BLOCK(PositionPeriodic, BlockType{
      Optional("position_offset", 0.0, "m", "x₀: position reference of the ripple (encoder zero of the record)")},
     SampleTimeRule::kNone,
     [](const BlockConfig& c) { return std::make_unique<PositionPeriodic>(c); }})
+
+// The diagnosis' suggestions made with this block (MB_REGISTER_EFFECT_BLOCK, models/diagnosis/effect_registry.h).
+namespace {
+
+// Adds the diagnosed effect position_periodic (models/diagnosis/effects/position_periodic.cc) to a diagram.
+EffectBlockTemplate PositionPeriodicEffectBlock() {
+  return PositionRippleBlock("position_periodic", 3);
+}
+
+}  // namespace
+
+MB_REGISTER_EFFECT_BLOCK(position_periodic, PositionPeriodicEffectBlock())
 
 }  // namespace mb

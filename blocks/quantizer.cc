@@ -2,6 +2,9 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <fmt/format.h>
+
+#include "models/diagnosis/effect_block.h"
 
 namespace mb {
 
@@ -26,5 +29,29 @@ MB_REGISTER_BLOCK(Quantizer, BlockType{
      Bounded("width", 1, "", "signal width n", 1, 1e6, ParamType::kInteger)},
     SampleTimeRule::kNone,
     [](const BlockConfig& c) { return std::make_unique<Quantizer>(c); }})
+
+// The diagnosis' suggestions made with this block (MB_REGISTER_EFFECT_BLOCK, models/diagnosis/effect_registry.h).
+namespace {
+
+// Adds the diagnosed effect quantization (models/diagnosis/effects/quantization.cc) to a diagram.
+EffectBlockTemplate QuantizationEffectBlock() {
+  EffectBlockTemplate block;
+  block.block_type = "quantizer";
+  block.element_name = "output_quantizer";
+  block.placement = BlockPlacement::kInsertBeforeOutput;
+  block.parameters = [](const DiagnosedEffect& d) {
+    const double step = BlockParameter(d, "step");
+    if (!(step > 0.0)) {
+      throw std::invalid_argument(
+          fmt::format("{} with step {}: must be > 0 to suggest a block", d.effect, step));
+    }
+    return nlohmann::json{{"interval", step}};
+  };
+  return block;
+}
+
+}  // namespace
+
+MB_REGISTER_EFFECT_BLOCK(quantization, QuantizationEffectBlock())
 
 }  // namespace mb

@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "models/physics/fourier_series.h"
+#include "models/diagnosis/effect_block.h"
 
 namespace mb {
 
@@ -30,5 +31,26 @@ MB_REGISTER_BLOCK(TimePeriodic, BlockType{
      Optional("sin_coefficients", nlohmann::json::array(), "", "b_1…b_H ([] = zeros)", ParamType::kVector)},
     SampleTimeRule::kOptional,
     [](const BlockConfig& c) { return std::make_unique<TimePeriodic>(c); }})
+
+// The diagnosis' suggestions made with this block (MB_REGISTER_EFFECT_BLOCK, models/diagnosis/effect_registry.h).
+namespace {
+
+// Adds the diagnosed effect time_periodic (models/diagnosis/effects/time_periodic.cc) to a diagram.
+EffectBlockTemplate TimePeriodicEffectBlock() {
+  EffectBlockTemplate block;
+  block.block_type = "time_periodic";
+  block.element_name = "vibration";
+  block.parameters = [](const DiagnosedEffect& d) {
+    nlohmann::json p = FourierBlockParameters(d, BlockHarmonics(d, 1));
+    p["frequency_hz"] = WithUnit(BlockParameter(d, "frequency_hz"), "Hz");
+    return p;
+  };
+  block.free = {"frequency_hz", "cos_coefficients", "sin_coefficients"};
+  return block;
+}
+
+}  // namespace
+
+MB_REGISTER_EFFECT_BLOCK(time_periodic, TimePeriodicEffectBlock())
 
 }  // namespace mb

@@ -2,6 +2,9 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <fmt/format.h>
+
+#include "models/diagnosis/effect_block.h"
 
 namespace mb {
 
@@ -68,5 +71,33 @@ MB_REGISTER_BLOCK(TransportDelay, BlockType{
     {Bounded("delay", 0.0, "s", "delay d", 0.0, 1000.0)},
     SampleTimeRule::kRequired,
     [](const BlockConfig& c) { return std::make_unique<TransportDelay>(c); }})
+
+// The diagnosis' suggestions made with this block (MB_REGISTER_EFFECT_BLOCK, models/diagnosis/effect_registry.h).
+namespace {
+
+// Adds the diagnosed effect time_delay (models/diagnosis/effects/time_delay.cc) to a diagram.
+EffectBlockTemplate TimeDelayEffectBlock() {
+  EffectBlockTemplate block;
+  block.block_type = "transport_delay";
+  block.element_name = "delay";
+  block.placement = BlockPlacement::kInsertBeforeOutput;
+  block.discrete = true;
+  block.parameters = [](const DiagnosedEffect& d) {
+    const double delay = BlockParameter(d, "delay");
+    if (delay < 0.0) {
+      throw std::invalid_argument(fmt::format(
+          "{} of {:.4g} ms is negative: the model lags the measurement (check the time stamps, or delay the "
+          "measured inputs instead); a transport_delay block cannot advance the output",
+          d.effect, delay * 1e3));
+    }
+    return nlohmann::json{{"delay", WithUnit(delay, "s")}};
+  };
+  block.free = {"delay"};
+  return block;
+}
+
+}  // namespace
+
+MB_REGISTER_EFFECT_BLOCK(time_delay, TimeDelayEffectBlock())
 
 }  // namespace mb

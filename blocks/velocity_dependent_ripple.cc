@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "models/diagnosis/effect_block.h"
+
 namespace mb {
 
 VelocityDependentRipple::VelocityDependentRipple(const BlockConfig& config)
@@ -28,5 +30,17 @@ MB_REGISTER_BLOCK(VelocityDependentRipple, BlockType{
      Optional("position_offset", 0.0, "m", "x₀: position reference of the ripple (encoder zero of the record)")},
     SampleTimeRule::kNone,
     [](const BlockConfig& c) { return std::make_unique<VelocityDependentRipple>(c); }})
+
+// The diagnosis' suggestions made with this block (MB_REGISTER_EFFECT_BLOCK, models/diagnosis/effect_registry.h).
+namespace {
+
+// Adds the diagnosed effect velocity_dependent_ripple (models/diagnosis/effects/velocity_dependent_ripple.cc) to a diagram.
+EffectBlockTemplate VelocityDependentRippleEffectBlock() {
+  return PositionRippleBlock("velocity_dependent_ripple", 1, {{MotionInput::kVelocity, "v"}});
+}
+
+}  // namespace
+
+MB_REGISTER_EFFECT_BLOCK(velocity_dependent_ripple, VelocityDependentRippleEffectBlock())
 
 }  // namespace mb

@@ -43,16 +43,6 @@ json FourierBlockParameters(const DiagnosedEffect& effect, int harmonics) {
 
 json WithUnit(double value, const std::string& unit) { return {{"value", value}, {"unit", unit}}; }
 
-EffectBlockTemplate GainBlock(const std::string& element_name, MotionInput input) {
-  EffectBlockTemplate block;
-  block.block_type = "gain";
-  block.element_name = element_name;
-  block.inputs = {{input, "u"}};
-  block.parameters = [](const DiagnosedEffect& d) { return json{{"gain", BlockCoefficient(d, "")}}; };
-  block.free = {"gain"};
-  return block;
-}
-
 EffectBlockTemplate PositionRippleBlock(const std::string& block_type, int default_harmonics,
                                         const std::vector<std::pair<MotionInput, std::string>>& extra_inputs) {
   EffectBlockTemplate block;

@@ -1,6 +1,7 @@
 #pragma once
-// What an effect's block template (EffectBlockTemplate::parameters) reads from the diagnosis: the effect's
-// parameters and the joint fit's coefficients of its regressor columns, as block parameters.
+// What an effect's block template (EffectBlockTemplate::parameters, registered in the block's own file with
+// MB_REGISTER_EFFECT_BLOCK) reads from the diagnosis: the effect's parameters and the joint fit's coefficients of
+// its regressor columns, as block parameters.
 
 #include <string>
 
@@ -28,10 +29,6 @@ nlohmann::json FourierBlockParameters(const DiagnosedEffect& effect, int harmoni
 
 /// A parameter with its unit: {"value": v, "unit": unit}.
 nlohmann::json WithUnit(double value, const std::string& unit);
-
-/// A gain element `element_name` on a motion input (port "u"), summed into the output; its gain = the effect's
-/// single-column coefficient, free.
-EffectBlockTemplate GainBlock(const std::string& element_name, MotionInput input);
 
 /// A position-periodic ripple element "ripple" of `block_type` (blocks/position_periodic.h,
 /// blocks/velocity_dependent_ripple.h) on the position input (port "x", plus `extra_inputs`): its period from the

@@ -20,13 +20,36 @@ bool EffectRegistry::Add(EffectType type) {
   if (!type.regressors || !type.propose) {
     throw std::logic_error(fmt::format("effect '{}' registered without its regressors or proposal rule", name));
   }
-  if (type.block && !type.block->parameters) {
-    throw std::logic_error(fmt::format("effect '{}': its block template has no parameters function", name));
-  }
-  if (!effects_.emplace(name, std::move(type)).second) {
-    throw std::logic_error(fmt::format("effect '{}' registered twice", name));
+  if (type.block) throw std::logic_error(fmt::format("effect '{}': register its block with its block", name));
+  const auto [it, added] = effects_.emplace(name, std::move(type));
+  if (!added) throw std::logic_error(fmt::format("effect '{}' registered twice", name));
+  if (const auto pending = unclaimed_blocks_.find(name); pending != unclaimed_blocks_.end()) {
+    it->second.block = std::move(pending->second);
+    unclaimed_blocks_.erase(pending);
   }
   return true;
+}
+
+bool EffectRegistry::AddBlockTemplate(const std::string& effect_name, EffectBlockTemplate block) {
+  if (block.block_type.empty() || block.element_name.empty() || !block.parameters) {
+    throw std::logic_error(
+        fmt::format("the block of effect '{}' has no block type, element name or parameters function", effect_name));
+  }
+  const auto it = effects_.find(effect_name);
+  const bool taken = it != effects_.end() ? it->second.block.has_value() : unclaimed_blocks_.count(effect_name) > 0;
+  if (taken) throw std::logic_error(fmt::format("effect '{}' has a block registered twice", effect_name));
+  if (it != effects_.end()) {
+    it->second.block = std::move(block);
+  } else {
+    unclaimed_blocks_.emplace(effect_name, std::move(block));
+  }
+  return true;
+}
+
+std::vector<std::string> EffectRegistry::UnclaimedBlockTemplates() const {
+  std::vector<std::string> out;
+  for (const auto& [name, block] : unclaimed_blocks_) out.push_back(name);
+  return out;
 }
 
 const EffectType* EffectRegistry::Find(std::string_view name) const {

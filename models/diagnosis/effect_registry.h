@@ -1,8 +1,9 @@
 #pragma once
 // The catalogue of candidate missing physical effects as a registry, mirroring the block registry
 // (engine/registry.h): each effect is one file in models/diagnosis/effects/ that fills in an EffectType — its
-// name, physics, regressors, proposal rule, traits and the block that adds it to a diagram — and registers it
-// with MB_REGISTER_EFFECT. The diagnosis (diagnosis.cc), the loop (tools/workflow/: suggest.cc, improve.cc) and the
+// name, physics, regressors, proposal rule and traits — and registers it with MB_REGISTER_EFFECT. The block that
+// adds an effect to a diagram is registered beside that block, in its own file (blocks/<type>.cc), with
+// MB_REGISTER_EFFECT_BLOCK: the effect files name no block, the block files know their parameters. The diagnosis (diagnosis.cc), the loop (tools/workflow/: suggest.cc, improve.cc) and the
 // non-parametric fallback (models/gpr/residual_gpr.cc) ask the registry for an effect's traits and block
 // instead of comparing its name (docs/diagnosis.md, "Adding an effect").
 
@@ -94,7 +95,8 @@ struct EffectType {
   /// The proposal rule: estimates the effect's parameters from the residual (periodogram peaks, spectrum, a
   /// scan of the joint fit, …) and adds zero or more candidates to the context (ProposalContext::Propose).
   std::function<void(ProposalContext&)> propose;
-  /// The block that adds the effect to a diagram; nullopt when there is none (the report says to add it by hand).
+  /// The block that adds the effect to a diagram, registered by that block's file (MB_REGISTER_EFFECT_BLOCK);
+  /// nullopt when there is none (the report says to add it by hand) or the blocks are not linked.
   std::optional<EffectBlockTemplate> block;
 };
 
@@ -106,6 +108,13 @@ class EffectRegistry {
   /// Adds an effect. @throws std::logic_error if the name is taken or empty, or a function is missing.
   /// Returns true (for static registration).
   bool Add(EffectType type);
+  /// Attaches `block` as the block that adds effect `effect_name` to a diagram, whether the effect registers
+  /// before or after. @throws std::logic_error if the effect has a block already, or `block` names no block type
+  /// or has no parameters function. Returns true (for static registration).
+  bool AddBlockTemplate(const std::string& effect_name, EffectBlockTemplate block);
+  /// Block templates registered for effects that are not in the catalogue (a misspelt MB_REGISTER_EFFECT_BLOCK):
+  /// their effect names. Empty when every template found its effect.
+  std::vector<std::string> UnclaimedBlockTemplates() const;
   /// nullptr if unknown.
   const EffectType* Find(std::string_view name) const;
   /// The effect; @throws std::invalid_argument "unknown effect 'x'; did you mean 'y'? The catalogue has: …".
@@ -117,6 +126,7 @@ class EffectRegistry {
 
  private:
   std::map<std::string, EffectType, std::less<>> effects_;
+  std::map<std::string, EffectBlockTemplate, std::less<>> unclaimed_blocks_;  ///< effect not registered (yet)
 };
 
 /// EffectRegistry::Global().Get(name).
@@ -133,4 +143,12 @@ std::vector<std::string> RecordSpecificParameters(std::string_view block_type);
   namespace {                                                                       \
   [[maybe_unused]] const bool kEffectRegistered_##identifier =                      \
       ::mb::EffectRegistry::Global().Add(__VA_ARGS__);                              \
+  }
+
+/// Registers `block` (an EffectBlockTemplate expression) as the block that adds effect `effect` to a diagram
+/// (EffectRegistry::AddBlockTemplate). Use in the block's own file, beside its MB_REGISTER_BLOCK.
+#define MB_REGISTER_EFFECT_BLOCK(effect, ...)                                       \
+  namespace {                                                                       \
+  [[maybe_unused]] const bool kEffectBlockRegistered_##effect =                     \
+      ::mb::EffectRegistry::Global().AddBlockTemplate(#effect, __VA_ARGS__);        \
   }

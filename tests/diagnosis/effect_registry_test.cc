@@ -169,6 +169,63 @@ TEST(EffectRegistry, RefusesDuplicatesAndIncompleteEffects) {
   EXPECT_EQ(registry.Suggest("sprin"), std::vector<std::string>{"spring"});
 }
 
+// The message of the std::logic_error `f` throws, or "no exception".
+template <typename F>
+std::string LogicErrorOf(F f) {
+  try {
+    f();
+  } catch (const std::logic_error& e) {
+    return e.what();
+  }
+  return "no exception";
+}
+
+TEST(EffectRegistry, BlockTemplatesAttachToTheirEffectInEitherOrder) {
+  EffectRegistry registry;
+  EffectType t;
+  t.name = "spring";
+  t.physics = "a force proportional to position";
+  t.regressor_formula = "x";
+  t.regressors = [](const EffectInstance&, const DiagnosisSignals& s) { return EffectRegressors{s.position, {"spring"}}; };
+  t.propose = [](ProposalContext& c) { c.Propose("spring"); };
+  EffectBlockTemplate block;
+  block.block_type = "gain";
+  block.element_name = "spring";
+  block.parameters = [](const DiagnosedEffect&) { return nlohmann::json::object(); };
+
+  EXPECT_TRUE(registry.AddBlockTemplate("spring", block));  // the block file's static initialiser ran first
+  EXPECT_EQ(registry.UnclaimedBlockTemplates(), std::vector<std::string>{"spring"});
+  EXPECT_TRUE(registry.Add(t));
+  EXPECT_TRUE(registry.UnclaimedBlockTemplates().empty());
+  ASSERT_TRUE(registry.Get("spring").block.has_value());
+  EXPECT_EQ(registry.Get("spring").block->element_name, "spring");
+  EXPECT_EQ(LogicErrorOf([&] { registry.AddBlockTemplate("spring", block); }),
+            "effect 'spring' has a block registered twice");
+
+  t.name = "spring2";
+  EXPECT_TRUE(registry.Add(t));  // the effect first, its block after
+  EXPECT_TRUE(registry.AddBlockTemplate("spring2", block));
+  EXPECT_TRUE(registry.Get("spring2").block.has_value());
+
+  block.parameters = nullptr;
+  EXPECT_EQ(LogicErrorOf([&] { registry.AddBlockTemplate("spring3", block); }),
+            "the block of effect 'spring3' has no block type, element name or parameters function");
+  t.name = "spring4";
+  t.block = block;
+  EXPECT_EQ(LogicErrorOf([&] { registry.Add(t); }), "effect 'spring4': register its block with its block");
+}
+
+TEST(EffectRegistry, EveryBlockFileTemplateFindsItsEffect) {
+  // The blocks (linked here) register the templates of the effects they add (MB_REGISTER_EFFECT_BLOCK).
+  EXPECT_TRUE(EffectRegistry::Global().UnclaimedBlockTemplates().empty());
+  for (const char* effect : {"constant_offset", "viscous_friction", "coulomb_friction", "stribeck_friction",
+                             "mass_mismatch", "position_periodic", "velocity_dependent_ripple", "time_periodic",
+                             "time_delay", "quantization", "resonance", "position_dependent_force"}) {
+    EXPECT_TRUE(LookupEffect(effect).block.has_value()) << effect;
+  }
+  EXPECT_FALSE(LookupEffect("backlash").block.has_value());  // added by hand (the report says so)
+}
+
 TEST(EffectRegistry, RecordSpecificParametersComeFromTheBlockTemplates) {
   // The ripple blocks' encoder zero belongs to the record; a gain's parameters to the machine.
   EXPECT_EQ(RecordSpecificParameters(LookupEffect("position_periodic").block->block_type),

@@ -1,6 +1,5 @@
 // constant_offset: a constant bias of the residual (sensor offset, gravity on an incline, amplifier offset).
 // Regressor 1. Block: a constant "offset_extra" summed into the output, its value free.
-#include "models/diagnosis/effect_block.h"
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
@@ -21,12 +20,6 @@ EffectType ConstantOffset() {
   };
   // A constant belongs among the candidates, else asymmetric friction hides in the mean (DIAGNOSIS.md step 4).
   t.propose = [](ProposalContext& c) { c.Propose(kName); };
-  EffectBlockTemplate block;
-  block.block_type = "constant";
-  block.element_name = "offset_extra";
-  block.parameters = [](const DiagnosedEffect& d) { return nlohmann::json{{"value", BlockCoefficient(d, "")}}; };
-  block.free = {"value"};
-  t.block = std::move(block);
   return t;
 }
 

@@ -3,7 +3,6 @@
 // its Coulomb level free.
 #include <algorithm>
 
-#include "models/diagnosis/effect_block.h"
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
@@ -26,19 +25,6 @@ EffectType CoulombFriction() {
   t.propose = [](ProposalContext& c) {
     if (c.max_speed() > 0.0) c.Propose(kName, {{"dead_band", c.dead_band()}});
   };
-  // The friction block needs non-negative forces, so a negative coefficient starts from 1 mN (not 0: the fit's
-  // central differences would step below the bound) and the fit moves it.
-  EffectBlockTemplate block;
-  block.block_type = "friction";
-  block.element_name = "coulomb_extra";
-  block.output_port = "f";
-  block.inputs = {{MotionInput::kVelocity, "v"}};
-  block.parameters = [](const DiagnosedEffect& d) {
-    return nlohmann::json{
-        {"viscous", 0.0}, {"coulomb", std::max(1e-3, BlockCoefficient(d, ""))}, {"stick_model", "none"}};
-  };
-  block.free = {"coulomb"};
-  t.block = std::move(block);
   return t;
 }
 

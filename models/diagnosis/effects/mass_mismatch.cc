@@ -1,6 +1,5 @@
 // mass_mismatch: a force proportional to acceleration (the moving mass is wrong, e.g. a payload). Regressor a.
 // Block: a gain "payload" on the acceleration input summed into the output, its gain free.
-#include "models/diagnosis/effect_block.h"
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
@@ -22,7 +21,6 @@ EffectType MassMismatch() {
   t.propose = [](ProposalContext& c) {
     if (c.signals().acceleration.cwiseAbs().maxCoeff() > 0.0) c.Propose(kName);
   };
-  t.block = GainBlock("payload", MotionInput::kAcceleration);
   return t;
 }
 

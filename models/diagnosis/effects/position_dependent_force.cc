@@ -5,7 +5,6 @@
 // input, its coefficients free.
 #include <cmath>
 
-#include "models/diagnosis/effect_block.h"
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
@@ -62,20 +61,6 @@ EffectType PositionDependentForce() {
                       {"half_range", 0.5 * c.position_span()},
                       {"degree", kDefaultDegree}});
   };
-  EffectBlockTemplate block;
-  block.block_type = "position_dependent_force";
-  block.element_name = "position_force";
-  block.output_port = "f";
-  block.inputs = {{MotionInput::kPosition, "x"}};
-  block.parameters = [](const DiagnosedEffect& d) {
-    nlohmann::json coefficients = nlohmann::json::array();
-    for (Eigen::Index j = 0; j < d.coefficients.size(); ++j) coefficients.push_back(d.coefficients(j));
-    return nlohmann::json{{"center", WithUnit(BlockParameter(d, "center"), "m")},
-                          {"half_range", WithUnit(BlockParameter(d, "half_range"), "m")},
-                          {"coefficients", coefficients}};
-  };
-  block.free = {"coefficients"};
-  t.block = std::move(block);
   return t;
 }
 

@@ -2,7 +2,6 @@
 // cos(2πkx/P), sin(2πkx/P), k = 1..K {period P [m], harmonics K}. Proposal: the strongest independent peaks of
 // the residual's position periodogram (ProposalContext::position_periods). Block: position_periodic "ripple" on
 // the position input, its Fourier coefficients free; its position_offset (the encoder zero) belongs to the record.
-#include "models/diagnosis/effect_block.h"
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
@@ -31,7 +30,6 @@ EffectType PositionPeriodic() {
       c.Propose(kName, {{"period", p.period}, {"harmonics", p.harmonics}});
     }
   };
-  t.block = PositionRippleBlock("position_periodic", 3);
   return t;
 }
 

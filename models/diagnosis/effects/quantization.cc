@@ -10,7 +10,6 @@
 
 #include <fmt/format.h>
 
-#include "models/diagnosis/effect_block.h"
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
@@ -82,19 +81,6 @@ EffectType Quantization() {
   // The quantizer goes last, on the signal the output connector reads. Its step stays fixed (not free): the
   // least-squares cost is piecewise constant in q, so a Jacobian by finite differences carries no information about
   // it; the diagnosis finds q from the levels or the residual's periodicity in ŷ instead.
-  EffectBlockTemplate block;
-  block.block_type = "quantizer";
-  block.element_name = "output_quantizer";
-  block.placement = BlockPlacement::kInsertBeforeOutput;
-  block.parameters = [](const DiagnosedEffect& d) {
-    const double step = BlockParameter(d, "step");
-    if (!(step > 0.0)) {
-      throw std::invalid_argument(
-          fmt::format("{} with step {}: must be > 0 to suggest a block", d.effect, step));
-    }
-    return nlohmann::json{{"interval", step}};
-  };
-  t.block = std::move(block);
   return t;
 }
 

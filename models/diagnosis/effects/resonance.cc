@@ -13,7 +13,6 @@
 
 #include <fmt/format.h>
 
-#include "models/diagnosis/effect_block.h"
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
@@ -167,25 +166,6 @@ EffectType Resonance() {
   // The two-mass model seen from the motor (blocks/flexible_load.h): the regressors g and ġ/ω_r are its terms,
   // the coefficient of g its load mass. Mass, frequency and damping are refit: the frequency from the spectrum is
   // good to a fraction of a Welch bin, not of the mode's bandwidth.
-  EffectBlockTemplate block;
-  block.block_type = "flexible_load";
-  block.element_name = "flexible_load";
-  block.output_port = "f";
-  block.inputs = {{MotionInput::kAcceleration, "a"}};
-  block.parameters = [](const DiagnosedEffect& d) {
-    const double frequency = BlockParameter(d, "frequency_hz");
-    const double damping = BlockParameter(d, "damping_ratio");
-    if (!(frequency > 0.0) || !(damping > 0.0)) {
-      throw std::invalid_argument(fmt::format(
-          "{} with frequency_hz = {} and damping_ratio = {}: both must be > 0 to suggest a block", d.effect,
-          frequency, damping));
-    }
-    return nlohmann::json{{"mass", WithUnit(BlockCoefficient(d, "response"), "kg")},
-                          {"frequency_hz", WithUnit(frequency, "Hz")},
-                          {"damping_ratio", damping}};
-  };
-  block.free = {"mass", "frequency_hz", "damping_ratio"};
-  t.block = std::move(block);
   return t;
 }
 

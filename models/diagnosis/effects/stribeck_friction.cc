@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "models/diagnosis/effect_block.h"
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
@@ -50,21 +49,6 @@ EffectType StribeckFriction() {
     return SingleColumn(e.name, StribeckColumn(s.velocity, sg, vs));
   };
   t.propose = Propose;
-  // A negative coefficient starts from 1 mN (the friction block needs non-negative forces).
-  EffectBlockTemplate block;
-  block.block_type = "friction";
-  block.element_name = "stribeck";
-  block.output_port = "f";
-  block.inputs = {{MotionInput::kVelocity, "v"}};
-  block.parameters = [](const DiagnosedEffect& d) {
-    return nlohmann::json{{"viscous", 0.0},
-                          {"coulomb", 0.0},
-                          {"stick_model", "none"},
-                          {"static", WithUnit(std::max(1e-3, BlockCoefficient(d, "")), "N")},
-                          {"stribeck_velocity", WithUnit(BlockParameter(d, "stribeck_velocity"), "m/s")}};
-  };
-  block.free = {"static", "stribeck_velocity"};
-  t.block = std::move(block);
   return t;
 }
 

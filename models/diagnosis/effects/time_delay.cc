@@ -10,7 +10,6 @@
 #include <Eigen/Dense>
 #include <fmt/format.h>
 
-#include "models/diagnosis/effect_block.h"
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
@@ -97,23 +96,6 @@ EffectType TimeDelay() {
     return SingleColumn(e.name, Shifted(s.time, y, RequiredParameter(e, "delay")) - y);
   };
   t.propose = Propose;
-  EffectBlockTemplate block;
-  block.block_type = "transport_delay";
-  block.element_name = "delay";
-  block.placement = BlockPlacement::kInsertBeforeOutput;
-  block.discrete = true;
-  block.parameters = [](const DiagnosedEffect& d) {
-    const double delay = BlockParameter(d, "delay");
-    if (delay < 0.0) {
-      throw std::invalid_argument(fmt::format(
-          "{} of {:.4g} ms is negative: the model lags the measurement (check the time stamps, or delay the "
-          "measured inputs instead); a transport_delay block cannot advance the output",
-          d.effect, delay * 1e3));
-    }
-    return nlohmann::json{{"delay", WithUnit(delay, "s")}};
-  };
-  block.free = {"delay"};
-  t.block = std::move(block);
   return t;
 }
 

@@ -6,7 +6,6 @@
 
 #include <fmt/format.h>
 
-#include "models/diagnosis/effect_block.h"
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
@@ -50,16 +49,6 @@ EffectType TimePeriodic() {
   };
   t.propose = Propose;
   // The frequency is free too: over a long record a small frequency error turns into a large phase error.
-  EffectBlockTemplate block;
-  block.block_type = "time_periodic";
-  block.element_name = "vibration";
-  block.parameters = [](const DiagnosedEffect& d) {
-    nlohmann::json p = FourierBlockParameters(d, BlockHarmonics(d, 1));
-    p["frequency_hz"] = WithUnit(BlockParameter(d, "frequency_hz"), "Hz");
-    return p;
-  };
-  block.free = {"frequency_hz", "cos_coefficients", "sin_coefficients"};
-  t.block = std::move(block);
   return t;
 }
 

@@ -2,7 +2,6 @@
 // |v|·cos(2πx/P), |v|·sin(2πx/P) {period P [m]}. Proposal: at the strongest position period. Block:
 // velocity_dependent_ripple "ripple" on the position and velocity inputs, its coefficients free; its
 // position_offset (the encoder zero) belongs to the record.
-#include "models/diagnosis/effect_block.h"
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
@@ -29,7 +28,6 @@ EffectType VelocityDependentRipple() {
       c.Propose(kName, {{"period", c.position_periods().front().period}});
     }
   };
-  t.block = PositionRippleBlock("velocity_dependent_ripple", 1, {{MotionInput::kVelocity, "v"}});
   return t;
 }
 

@@ -1,6 +1,5 @@
 // viscous_friction: a force proportional to velocity. Regressor v. Block: a gain "viscous_extra" on the velocity
 // input summed into the output, its gain free.
-#include "models/diagnosis/effect_block.h"
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
@@ -20,7 +19,6 @@ EffectType ViscousFriction() {
   t.propose = [](ProposalContext& c) {
     if (c.max_speed() > 0.0) c.Propose(kName);
   };
-  t.block = GainBlock("viscous_extra", MotionInput::kVelocity);
   return t;
 }
 
