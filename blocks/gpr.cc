@@ -65,7 +65,7 @@ Gpr::Gpr(const BlockConfig& config)
   }
 }
 
-GprWeightPosterior Gpr::Posterior(const BlockContext& c) const noexcept {
+GprPosteriorView Gpr::Posterior(const BlockContext& c) const noexcept {
   if (!online_) return model_.fitted_posterior();
   const double* state = c.discrete_state().data();
   return {state, state + model_.feature_count()};
@@ -87,7 +87,7 @@ void Gpr::Initialize(const BlockContext& c) const {
 void Gpr::CalcOutput(const BlockContext& c) const noexcept {
   const double x = c.u(0);
   const double xdot = c.u(1);
-  const GprWeightPosterior posterior = Posterior(c);
+  const GprPosteriorView posterior = Posterior(c);
   c.y(0) = confidence_weighting_ ? model_.PredictConfidenceWeightedMean(posterior, x, xdot)
                                  : model_.PredictPosteriorMean(posterior, x, xdot);
   if (output_std_) model_.Predict(posterior, x, xdot, nullptr, &c.y(1));
@@ -126,7 +126,7 @@ MB_REGISTER_BLOCK(Gpr, BlockType{
             "basis, hyperparameters and mean, no data)",
             {"model", "prior"}),
      Bounded("forgetting", 1.0, "",
-             "stabilised forgetting factor λ of learning \"online\" (memory ≈ 1/(1 − λ) updates; 1 = none)", 1e-6,
+             "forgetting factor λ of learning \"online\" (memory ≈ 1/(1 − λ) updates; 1 = none)", 1e-6,
              1.0),
      Bounded("update_every", 1, "", "learning \"online\": update at every k-th sample hit", 1, 1e9,
              ParamType::kInteger)},

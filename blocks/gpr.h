@@ -28,7 +28,7 @@ namespace mb {
 ///    the basis weights is learned during the run from the observed disturbance on input "d" (e.g.
 ///    the DOB's estimate plus the compensation already applied), a recursive Bayesian update at every
 ///    `update_every`-th sample hit (models/gpr/gpr_recursive.h: O(M²), no allocation), with
-///    stabilised forgetting `forgetting` λ ∈ (0, 1] (memory ≈ 1/(1 − λ) updates; 1 = none); it
+///    exponential forgetting bounded by the prior `forgetting` λ ∈ (0, 1] (memory ≈ 1/(1 − λ) updates; 1 = none); it
 ///    starts from the model file's posterior (`learn_from` "model") or from its prior (`learn_from`
 ///    "prior": the basis, hyperparameters and mean, no data). Needs a `sampleTime`. The posterior
 ///    (m: M, P: M×M) is the block's discrete state; "d" does not feed through (read only in the
@@ -54,7 +54,7 @@ class Gpr final : public Block {
   const GprModel& model() const noexcept { return model_; }
 
  private:
-  GprWeightPosterior Posterior(const BlockContext& context) const noexcept;
+  GprPosteriorView Posterior(const BlockContext& context) const noexcept;
 
   GprModel model_;
   bool output_std_;

@@ -111,7 +111,7 @@ double GprModel::PredictPosteriorMean(double x, double xdot) const noexcept {
   return PredictPosteriorMean(fitted_posterior(), x, xdot);
 }
 
-double GprModel::PredictPosteriorMean(const GprWeightPosterior& posterior, double x, double xdot) const noexcept {
+double GprModel::PredictPosteriorMean(const GprPosteriorView& posterior, double x, double xdot) const noexcept {
   if (!std::isfinite(x) || !std::isfinite(xdot)) return data_.mean;
   return data_.mean + DotGprBasis(data_.basis, posterior.weights, x, ClampXdot(xdot));
 }
@@ -120,7 +120,7 @@ void GprModel::Predict(double x, double xdot, double* mean, double* std) const n
   Predict(fitted_posterior(), x, xdot, mean, std);
 }
 
-void GprModel::Predict(const GprWeightPosterior& posterior, double x, double xdot, double* mean,
+void GprModel::Predict(const GprPosteriorView& posterior, double x, double xdot, double* mean,
                        double* std) const noexcept {
   if (!std::isfinite(x) || !std::isfinite(xdot)) {
     if (mean != nullptr) *mean = data_.mean;
@@ -254,7 +254,7 @@ double GprModel::PredictConfidenceWeightedMean(double x, double xdot, double* we
   return PredictConfidenceWeightedMean(fitted_posterior(), x, xdot, weight);
 }
 
-double GprModel::PredictConfidenceWeightedMean(const GprWeightPosterior& posterior, double x, double xdot,
+double GprModel::PredictConfidenceWeightedMean(const GprPosteriorView& posterior, double x, double xdot,
                                                double* weight) const noexcept {
   double mean = 0.0;
   double std = 0.0;

@@ -59,7 +59,7 @@ struct GprLipschitzConstants {
 /// A posterior over a model's basis weights β other than the fitted one — an online learner's state
 /// (gpr_recursive.h, the gpr block's discrete state): views, not owned. weights: E[β] (M doubles);
 /// covariance: Cov β (M×M doubles, column-major, symmetric; the lower triangle is read).
-struct GprWeightPosterior {
+struct GprPosteriorView {
   const double* weights = nullptr;
   const double* covariance = nullptr;
 };
@@ -120,15 +120,15 @@ class GprModel final {
   GprLipschitzConstants ConfidenceWeightedLipschitzConstants(int grid_points = 256) const;
 
   /// The fitted posterior (weights and covariance of the model file) as a view.
-  GprWeightPosterior fitted_posterior() const noexcept {
+  GprPosteriorView fitted_posterior() const noexcept {
     return {data_.weights.data(), data_.weight_covariance.data()};
   }
   /// PredictPosteriorMean, Predict and PredictConfidenceWeightedMean with `posterior` over this
   /// model's basis (same M) in place of the fitted one: same formulas, same cost, no allocation.
-  double PredictPosteriorMean(const GprWeightPosterior& posterior, double x, double xdot) const noexcept;
-  void Predict(const GprWeightPosterior& posterior, double x, double xdot, double* mean,
+  double PredictPosteriorMean(const GprPosteriorView& posterior, double x, double xdot) const noexcept;
+  void Predict(const GprPosteriorView& posterior, double x, double xdot, double* mean,
                double* std) const noexcept;
-  double PredictConfidenceWeightedMean(const GprWeightPosterior& posterior, double x, double xdot,
+  double PredictConfidenceWeightedMean(const GprPosteriorView& posterior, double x, double xdot,
                                        double* weight = nullptr) const noexcept;
   /// s (M): the prior variances of the basis weights at the model's hyperparameters (basis.h), the
   /// prior β ~ N(0, diag s) an online learner starts from or relaxes to.

@@ -22,8 +22,17 @@ bool UpdateGprWeightPosterior(const GprModel& model, double forgetting, double x
   Scratch p_psi(m);
   EvaluateGprBasis(data.basis, x, std::clamp(xdot, data.xdot_range.min, data.xdot_range.max), psi.data());
   if (forgetting < 1.0) {
-    p *= forgetting;
-    p.diagonal().noalias() += (1.0 - forgetting) * model.spectral_weights();
+    // Exponential forgetting of the information, P ← P/λ, with each weight's variance bounded by its prior
+    // variance s_j: row and column j scaled by √(s_j/P_jj) where P_jj > s_j (a diagonal congruence: P stays
+    // positive semidefinite).
+    p /= forgetting;
+    const Eigen::VectorXd& s = model.spectral_weights();
+    for (Eigen::Index j = 0; j < m; ++j) {
+      if (p(j, j) <= s(j)) continue;
+      const double c = std::sqrt(s(j) / p(j, j));
+      p.col(j) *= c;
+      p.row(j) *= c;
+    }
   }
   p_psi.noalias() = p.selfadjointView<Eigen::Lower>() * psi;
   const double innovation_variance = data.hyperparameters.noise_variance + psi.dot(p_psi);

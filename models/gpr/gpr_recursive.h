@@ -8,11 +8,15 @@
 // O(M²) per observation, no allocation. After N observations from the prior with no forgetting, (m, P) equal the
 // batch posterior of models/gpr/weight_space.h on the same N samples (test GprRecursive.MatchesTheBatchPosterior).
 //
-// Drift (a payload added, a motor warming up): stabilised forgetting (Kulhavý & Zarrop 1993, Int. J. Control 58):
-// before each update P ← λP + (1 − λ)S, 0 < λ ≤ 1. The covariance relaxes towards the prior rather than growing
-// without bound in directions the data no longer excite (the wind-up of plain exponential forgetting P ← P/λ); the
-// effective memory is about 1/(1 − λ) observations. λ = 1: no forgetting.
-//
+// Drift (a motor warming up, wear): exponential forgetting of the information, P ← P/λ before each update,
+// 0 < λ ≤ 1 (Ljung & Söderström 1983, "Theory and Practice of Recursive Identification", §2.6): old observations
+// weigh λ^k, the memory is about 1/(1 − λ) observations. Directions the data no longer excite would wind P up
+// without bound; here each weight's variance is bounded by its prior variance s_j (row and column j scaled by
+// √(s_j/P_jj) when P_jj exceeds it), so an unexcited weight returns to its prior uncertainty and no further — the
+// bounded covariance of the EFRA algorithm (Salgado, Goodwin & Middleton 1988, Int. J. Control 47) in its
+// simplest form. (Adding (1 − λ)·diag(s) to P instead, as process noise, forgets far faster than 1/(1 − λ) in the
+// directions the data excite: at 1 kHz and λ = 0.9995 a memory of tens of samples.) λ = 1: no forgetting.
+
 // Hyperparameters, basis and the training mean stay those of the model the learner starts from.
 
 #include <Eigen/Core>
@@ -22,7 +26,7 @@
 namespace mb {
 
 /// One observation's update of a weight posterior (m, P) held by the caller — the gpr block keeps it in its
-/// discrete state: with forgetting λ < 1 first P ← λP + (1 − λ)diag(s) (s = model.spectral_weights()), then the
+/// discrete state: with forgetting λ < 1 first P ← P/λ with each P_jj bounded by s_j (s = model.spectral_weights()), then the
 /// Kalman step above with ψ = ψ(x, clamp(ẋ)) and d − mean. `weights` m: M doubles; `covariance` P: M×M
 /// doubles, column-major, both triangles kept symmetric. O(M²), noexcept, no allocation (scratch on the stack,
 /// M ≤ kMaxGprFeatures). A non-finite input is ignored and returns false; so is λ outside (0, 1].
@@ -49,7 +53,7 @@ class GprRecursivePosterior final {
   double PredictPosteriorMean(double x, double xdot) const noexcept;
 
   /// The current (m, P) as a view for GprModel's predictions (std, confidence weight).
-  GprWeightPosterior posterior() const noexcept { return {weights_.data(), covariance_.data()}; }
+  GprPosteriorView posterior() const noexcept { return {weights_.data(), covariance_.data()}; }
 
   const Eigen::VectorXd& weights() const noexcept { return weights_; }       ///< m (M)
   const Eigen::MatrixXd& covariance() const noexcept { return covariance_; }  ///< P (M × M)

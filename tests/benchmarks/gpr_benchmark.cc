@@ -78,7 +78,7 @@ BENCHMARK_CAPTURE(BM_PredictMeanAndStd, PS, GprKernel::kPeriodicSe);
 BENCHMARK_CAPTURE(BM_PredictMeanAndStd, DS, GprKernel::kSeSe);
 
 // Learning online (models/gpr/gpr_recursive.h): one rank-one posterior update per control step, O(M²), with
-// stabilised forgetting — the budget is the 1 ms control period.
+// exponential forgetting bounded by the prior — the budget is the 1 ms control period.
 void BM_RecursiveUpdate(benchmark::State& state, GprKernel kernel) {
   GprRecursivePosterior online(FittedModel(kernel), 0.999);
   double x = 0.1, v = 0.05;

@@ -319,7 +319,7 @@ TEST(GprRecursive, MatchesTheBatchPosterior) {
   EXPECT_THROW(GprRecursivePosterior(ModelFrom(c, GprKernel::kPeriodicSe), 0.0), std::invalid_argument);
 }
 
-// A disturbance that changes under the learner (a payload: + 1.5 N·s/m·ẋ): with stabilised forgetting the posterior
+// A disturbance that changes under the learner (a payload: + 1.5 N·s/m·ẋ): with forgetting the posterior
 // mean follows the new disturbance; without it the old data hold it back.
 TEST(GprRecursive, ForgettingFollowsADisturbanceThatChanges) {
   const Centred c = Data(40, 19);

@@ -79,7 +79,8 @@ TEST(ReproduceTest, QuickRunWritesResultsWithThePapersOrderings) {
   ASSERT_TRUE(in.good());
   const json r = json::parse(in);
   EXPECT_EQ(r["table2"], returned["table2"]);
-  for (const char* key : {"table1", "table2", "payload", "stability", "timing", "confidence_weighting"}) EXPECT_TRUE(r.contains(key)) << key;
+  for (const char* key : {"table1", "table2", "payload", "stability", "timing", "confidence_weighting",
+                          "online_learning"}) EXPECT_TRUE(r.contains(key)) << key;
 
   // Table 2 [µm]: the calibrated conventional loop near the paper's 42.0 µm; PS < DS < conventional.
   const json& t2 = r["table2"];
@@ -151,6 +152,12 @@ TEST(ReproduceTest, QuickRunWritesResultsWithThePapersOrderings) {
     EXPECT_GT(d2["PS"]["correlation_with_map"].get<double>(), 0.8);
     EXPECT_NEAR(d2["PS_estimated_period"]["period_rev"].get<double>(), 1.0 / 7.0, 0.02 / 7.0);
   }
+  // Learning online (issue 14): from no data at all, one Fig. 9 run ends well below the conventional loop; from the
+  // offline model it stays near that model (the payload's m_p·ẍ is not a function of (x, ẋ): no gain there).
+  const json& online = r["online_learning"]["table2"];
+  EXPECT_LT(online["PS_online_from_prior"].get<double>(), 0.85 * online["conventional"].get<double>());
+  EXPECT_LT(online["PS_online"].get<double>(), 1.1 * online["PS"].get<double>());
+  ASSERT_EQ(r["online_learning"]["track"]["segment_rmse_um"]["online_from_prior"].size(), 6u);
   // The GPR's posterior mean costs far less than the 1 ms control period.
   for (const char* k : {"DS", "PS"}) {
     const double ns = r["timing"][k]["posterior_mean_ns"];
