@@ -90,8 +90,8 @@ SweepShard ShardFromEnvironment(std::optional<std::size_t> given_count, const En
 // FNV-1a, 64 bits (Fowler, Noll, Vo; http://www.isthe.com/chongo/tech/comp/fnv/).
 std::uint64_t Fnv1a64(const std::string& text) {
   std::uint64_t hash = 0xcbf29ce484222325ULL;
-  for (const unsigned char c : text) {
-    hash ^= c;
+  for (const char c : text) {
+    hash ^= static_cast<unsigned char>(c);
     hash *= 0x100000001b3ULL;
   }
   return hash;

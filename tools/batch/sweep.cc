@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <memory>
 #include <mutex>
 #include <random>
 #include <set>
@@ -516,6 +517,9 @@ void WriteSweepResults(const fs::path& diagram_path, const SweepSpec& spec, cons
 }  // namespace
 
 struct SweepRunner::State {
+  State(const fs::path& diagram, const SweepSpec& sweep, const fs::path& folder, const SweepOptions& run_options)
+      : diagram_path(diagram), spec(sweep), out(folder), options(run_options), base(ReadDiagramJson(diagram)),
+        source(diagram.string()) {}
   fs::path diagram_path;
   const SweepSpec& spec;
   fs::path out;
@@ -532,7 +536,7 @@ struct SweepRunner::State {
 
 SweepRunner::SweepRunner(const fs::path& diagram_path, const SweepSpec& spec, const fs::path& out,
                          const SweepOptions& options)
-    : state_(new State{diagram_path, spec, out, options, ReadDiagramJson(diagram_path), diagram_path.string()}) {
+    : state_(std::make_unique<State>(diagram_path, spec, out, options)) {
   for (const auto& m : state_->base.value("metrics", json::array())) {
     state_->outcome.metric_names.push_back(m.value("name", ""));
     state_->outcome.metric_units[m.value("name", "")] = m.value("unit", "");
