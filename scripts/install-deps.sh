@@ -14,6 +14,7 @@ PACKAGES=(
   libcli11-dev libfmt-dev  # command line, formatting
   libnlopt-cxx-dev         # L-BFGS with bounds for MAP fits
   libtbb-dev               # parallel sweeps
+  libopenmpi-dev openmpi-bin  # sweep --mpi (optional: built only when found; its test runs mpirun)
   gnuplot-nox              # report figures
   graphviz                 # motionblocks draw and the reports' diagrams (dot)
   libvalijson-dev          # JSON Schema validation of diagrams and sweeps

@@ -59,6 +59,7 @@ int main(int argc, char** argv) {
   mb::SetupVirtualStageCommand(app);
   mb::SetupStabilityCommand(app);
   mb::SetupSweepCommand(app);
+  mb::SetupSweepMergeCommand(app);
   mb::SetupReproduceCommand(app);
   mb::SetupSchemaCommand(app);
   mb::SetupDrawCommand(app);

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <memory>
 #include <mutex>
 #include <random>
 #include <set>
@@ -24,6 +25,7 @@
 #include "engine/json_parsing.h"
 #include "engine/output_file.h"
 #include "engine/text_excerpt.h"
+#include "tools/batch/sweep_runner.h"
 #include "tools/batch/sweep_schema.h"
 #include "tools/report/output_files.h"
 
@@ -514,98 +516,135 @@ void WriteSweepResults(const fs::path& diagram_path, const SweepSpec& spec, cons
 
 }  // namespace
 
-SweepOutcome RunSweep(const fs::path& diagram_path, const SweepSpec& spec, const fs::path& out,
-                      const SweepOptions& options) {
-  const json base = ReadDiagramJson(diagram_path);
-  const std::string source = diagram_path.string();
-  const fs::path base_directory = diagram_path.parent_path();
-
+struct SweepRunner::State {
+  State(const fs::path& diagram, const SweepSpec& sweep, const fs::path& folder, const SweepOptions& run_options)
+      : diagram_path(diagram), spec(sweep), out(folder), options(run_options), base(ReadDiagramJson(diagram)),
+        source(diagram.string()) {}
+  fs::path diagram_path;
+  const SweepSpec& spec;
+  fs::path out;
+  SweepOptions options;
+  json base;
+  std::string source;
   SweepOutcome outcome;
-  for (const auto& m : base.value("metrics", json::array())) {
-    outcome.metric_names.push_back(m.value("name", ""));
-    outcome.metric_units[m.value("name", "")] = m.value("unit", "");
-  }
-  CheckSweepSettings(base, spec, source);
+  std::mutex mutex;  // guards the appended runs.csv, the progress line and the counters
+  std::ofstream append;
+  std::unique_ptr<ProgressLine> progress;
+  std::size_t todo = 0;
+  std::size_t finished = 0;
+};
 
-  fs::create_directories(out);
-  const fs::path csv = out / "runs.csv";
+SweepRunner::SweepRunner(const fs::path& diagram_path, const SweepSpec& spec, const fs::path& out,
+                         const SweepOptions& options)
+    : state_(std::make_unique<State>(diagram_path, spec, out, options)) {
+  for (const auto& m : state_->base.value("metrics", json::array())) {
+    state_->outcome.metric_names.push_back(m.value("name", ""));
+    state_->outcome.metric_units[m.value("name", "")] = m.value("unit", "");
+  }
+  CheckSweepSettings(state_->base, spec, state_->source);
+}
+
+SweepRunner::~SweepRunner() = default;
+
+const std::vector<std::string>& SweepRunner::metric_names() const { return state_->outcome.metric_names; }
+
+std::vector<std::size_t> SweepRunner::Start() {
+  State& s = *state_;
+  fs::create_directories(s.out);
+  const fs::path csv = s.out / "runs.csv";
   std::map<std::string, SweepRow> done;
-  if (options.resume) {
-    done = ReadDoneRows(csv, spec, outcome.metric_names);
+  if (s.options.resume) {
+    done = ReadDoneRows(csv, s.spec, s.outcome.metric_names);
   } else {
     fs::remove(csv);
   }
-
-  outcome.rows.resize(spec.run_count());
+  s.outcome.rows.resize(s.spec.run_count());
   std::vector<std::size_t> todo;
-  for (std::size_t i = 0; i < spec.run_count(); ++i) {
-    const auto it = done.find(RunId(spec.kept.empty() ? i : spec.kept[i]));
+  for (std::size_t i = 0; i < s.spec.run_count(); ++i) {
+    const auto it = done.find(RunId(s.spec.kept.empty() ? i : s.spec.kept[i]));
     if (it != done.end()) {
-      outcome.rows[i] = it->second;
-      ++outcome.resumed;
+      s.outcome.rows[i] = it->second;
+      ++s.outcome.resumed;
     } else {
       todo.push_back(i);
     }
   }
-
-  std::mutex mutex;  // guards the appended runs.csv, the progress line and the counters
   const bool new_file = !fs::exists(csv) || fs::file_size(csv) == 0;
-  std::ofstream append(csv, std::ios::app);
-  if (!append) throw std::runtime_error("cannot write " + csv.string());
-  if (new_file) append << CsvLine(Header(spec, outcome.metric_names)) << "\n" << std::flush;
+  s.append.open(csv, std::ios::app);
+  if (!s.append) throw std::runtime_error("cannot write " + csv.string());
+  if (new_file) s.append << CsvLine(Header(s.spec, s.outcome.metric_names)) << "\n" << std::flush;
+  s.todo = todo.size();
+  if (s.options.progress) {
+    s.progress = std::make_unique<ProgressLine>(fmt::format("sweep {} ({} runs, {} to run)",
+                                                            s.diagram_path.filename().string(),
+                                                            s.spec.run_count(), todo.size()));
+    if (!todo.empty()) s.progress->Update(0.0);
+  }
+  return todo;
+}
 
-  ProgressLine progress(fmt::format("sweep {} ({} runs, {} to run)", diagram_path.filename().string(),
-                                    spec.run_count(), todo.size()));
-  std::size_t finished = 0;
+SweepRow SweepRunner::Execute(std::size_t position) const {
+  const State& s = *state_;
+  const SweepRun run = s.spec.run(position);
+  SweepRow row;
+  row.id = run.id;
+  row.assignments = run.assignments;
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    json j = ApplySweepAssignments(s.base, s.spec.fixed, s.source);
+    j = ApplySweepAssignments(std::move(j), run.assignments, s.source);
+    const Diagram diagram =
+        BuildDiagram(j, s.diagram_path.parent_path(), fmt::format("{} (sweep run {})", s.source, run.id));
+    Simulator simulator(diagram);
+    const SimulationResult result = simulator.Run();
+    row.metrics = result.metrics;
+    row.status = "ok";
+    if (s.options.save_logs) {
+      const fs::path dir = s.out / "runs" / run.id;
+      fs::create_directories(dir);
+      WriteSignalLog(result.log, dir / "signals.csv");
+    }
+    if (s.options.on_result) s.options.on_result(position, result);
+  } catch (const std::exception& e) {
+    row.status = "failed";
+    row.error = e.what();
+  }
+  row.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return row;
+}
+
+void SweepRunner::Record(std::size_t position, SweepRow row) {
+  State& s = *state_;
+  std::lock_guard<std::mutex> lock(s.mutex);
+  s.append << RowLine(s.spec, s.spec.run(position), row, s.outcome.metric_names) << "\n" << std::flush;
+  ++s.finished;
+  if (s.progress) s.progress->Update(static_cast<double>(s.finished) / static_cast<double>(s.todo));
+  s.outcome.rows.at(position) = std::move(row);
+}
+
+SweepOutcome SweepRunner::Finish() {
+  State& s = *state_;
+  if (s.progress && s.todo > 0) s.progress->Done();
+  s.append.close();
+  WriteSweepResults(s.diagram_path, s.spec, s.out, &s.outcome);
+  return std::move(s.outcome);
+}
+
+SweepOutcome RunSweep(const fs::path& diagram_path, const SweepSpec& spec, const fs::path& out,
+                      const SweepOptions& options) {
+  SweepRunner runner(diagram_path, spec, out, options);
+  const std::vector<std::size_t> todo = runner.Start();
   const int jobs = options.jobs > 0 ? options.jobs
                                     : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-
-  auto run_one = [&](std::size_t i) {
-    const SweepRun run = spec.run(i);
-    SweepRow row;
-    row.id = run.id;
-    row.assignments = run.assignments;
-    const auto start = std::chrono::steady_clock::now();
-    try {
-      json j = ApplySweepAssignments(base, spec.fixed, source);
-      j = ApplySweepAssignments(std::move(j), run.assignments, source);
-      const Diagram diagram = BuildDiagram(j, base_directory, fmt::format("{} (sweep run {})", source, run.id));
-      Simulator simulator(diagram);
-      const SimulationResult result = simulator.Run();
-      row.metrics = result.metrics;
-      row.status = "ok";
-      if (options.save_logs) {
-        const fs::path dir = out / "runs" / run.id;
-        fs::create_directories(dir);
-        WriteSignalLog(result.log, dir / "signals.csv");
-      }
-      if (options.on_result) options.on_result(i, result);
-    } catch (const std::exception& e) {
-      row.status = "failed";
-      row.error = e.what();
-    }
-    row.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::lock_guard<std::mutex> lock(mutex);
-    append << RowLine(spec, run, row, outcome.metric_names) << "\n" << std::flush;
-    ++finished;
-    if (options.progress) progress.Update(static_cast<double>(finished) / static_cast<double>(todo.size()));
-    outcome.rows[i] = std::move(row);
-  };
-
-  if (options.progress && !todo.empty()) progress.Update(0.0);
   tbb::task_arena arena(jobs);
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo.size(), 1),
                       [&](const tbb::blocked_range<std::size_t>& r) {
-                        for (std::size_t k = r.begin(); k != r.end(); ++k) run_one(todo[k]);
+                        for (std::size_t k = r.begin(); k != r.end(); ++k) runner.Record(todo[k], runner.Execute(todo[k]));
                       },
                       tbb::simple_partitioner());
   });
-  if (options.progress && !todo.empty()) progress.Done();
-  append.close();
-
-  WriteSweepResults(diagram_path, spec, out, &outcome);
-  return outcome;
+  return runner.Finish();
 }
 
 }  // namespace mb

@@ -18,6 +18,7 @@ void SetupHilCommand(CLI::App& app);
 void SetupVirtualStageCommand(CLI::App& app);
 void SetupStabilityCommand(CLI::App& app);
 void SetupSweepCommand(CLI::App& app);
+void SetupSweepMergeCommand(CLI::App& app);
 void SetupReproduceCommand(CLI::App& app);
 void SetupSchemaCommand(CLI::App& app);
 void SetupDrawCommand(CLI::App& app);

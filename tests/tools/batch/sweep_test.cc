@@ -15,6 +15,7 @@
 
 #include "engine/csv.h"
 #include "engine/diagram_loader.h"
+#include "tests/tools/batch/sweep_test_files.h"
 
 namespace mb {
 namespace {
@@ -22,20 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 
-// y = K·c at every step; metrics: the final y and the final c.
-json GainDiagram() {
-  return json::parse(R"({
-    "schemaVersion": "1.0", "name": "gain",
-    "defaultExperiment": {"startTime": 0, "stopTime": 0.01, "stepSize": 0.001},
-    "solver": {"type": "rk4", "step": 0.001},
-    "elements": [
-      {"name": "c", "type": "constant", "parameters": {"value": 2.0}},
-      {"name": "k", "type": "gain", "parameters": {"gain": 1.0}}],
-    "connections": [{"startElement": "c", "startConnector": "y", "endElement": "k", "endConnector": "u"}],
-    "log": ["k.y", "c.y"],
-    "metrics": [{"name": "y_final", "type": "final", "signal": "k.y", "unit": "1"},
-                {"name": "c_final", "type": "final", "signal": "c.y", "unit": "1"}]})");
-}
+using mb::testing::GainDiagram;
 
 class SweepRunTest : public ::testing::Test {
  protected:

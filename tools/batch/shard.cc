@@ -1,0 +1,380 @@
+#include "tools/batch/shard.h"
+
+#include <charconv>
+#include <cstdint>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <set>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "engine/csv.h"
+#include "engine/diagram_loader.h"
+#include "engine/output_file.h"
+#include "engine/text_excerpt.h"
+#include "tools/report/output_files.h"
+
+namespace mb {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+namespace {
+
+constexpr std::size_t kListedIds = 10;  // ids named in a merge error; the rest are counted
+
+std::optional<std::size_t> WholeNumber(const std::string& text) {
+  std::size_t value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (text.empty() || error != std::errc() || end != text.data() + text.size()) return std::nullopt;
+  return value;
+}
+
+std::size_t EnvironmentNumber(const char* name, const char* value) {
+  const auto n = WholeNumber(value);
+  if (!n) {
+    throw std::invalid_argument(
+        fmt::format("--shard auto: {}='{}' is not a whole number >= 0", name, Excerpt(value)));
+  }
+  return *n;
+}
+
+// --shard auto[/N]: K (and N) from the first scheduler variable set.
+SweepShard ShardFromEnvironment(std::optional<std::size_t> given_count, const EnvironmentLookup& environment) {
+  struct Source {
+    const char* index;
+    const char* count;  // nullptr: the scheduler does not export N
+    const char* fix;
+  };
+  const Source sources[] = {
+      {"SLURM_ARRAY_TASK_ID", "SLURM_ARRAY_TASK_COUNT", "submit the array as --array=0-{last}"},
+      {"JOB_COMPLETION_INDEX", nullptr, "write --shard auto/N with N = the Job's completions"},
+      {"OMPI_COMM_WORLD_RANK", "OMPI_COMM_WORLD_SIZE", "start {count} processes"}};
+  for (const Source& s : sources) {
+    const char* index_text = environment(s.index);
+    if (index_text == nullptr) continue;
+    SweepShard shard;
+    shard.index = EnvironmentNumber(s.index, index_text);
+    const char* count_text = s.count != nullptr ? environment(s.count) : nullptr;
+    if (count_text == nullptr && !given_count) {
+      throw std::invalid_argument(fmt::format("--shard auto: {}={} gives K but nothing gives N: write --shard auto/N "
+                                              "(N = the number of shards)",
+                                              s.index, shard.index));
+    }
+    shard.count = given_count.value_or(0);
+    if (count_text != nullptr) {
+      const std::size_t count = EnvironmentNumber(s.count, count_text);
+      if (given_count && *given_count != count) {
+        throw std::invalid_argument(fmt::format("--shard auto/{}: {}={} says {} shards: give --shard auto or auto/{}",
+                                                *given_count, s.count, count, count, count));
+      }
+      shard.count = count;
+    }
+    if (shard.count == 0) throw std::invalid_argument("--shard auto: the number of shards N must be at least 1");
+    if (shard.index >= shard.count) {
+      throw std::invalid_argument(fmt::format("--shard auto: {}={} but there are {} shards (numbered 0 to {}): {}",
+                                              s.index, shard.index, shard.count, shard.count - 1,
+                                              fmt::format(fmt::runtime(s.fix), fmt::arg("last", shard.count - 1),
+                                                          fmt::arg("count", shard.count))));
+    }
+    return shard;
+  }
+  throw std::invalid_argument(
+      "--shard auto: none of SLURM_ARRAY_TASK_ID, JOB_COMPLETION_INDEX, OMPI_COMM_WORLD_RANK is set: run it as a "
+      "Slurm array task, a Kubernetes indexed Job or under mpirun, or give the shard as K/N");
+}
+
+// FNV-1a, 64 bits (Fowler, Noll, Vo; http://www.isthe.com/chongo/tech/comp/fnv/).
+std::uint64_t Fnv1a64(const std::string& text) {
+  std::uint64_t hash = 0xcbf29ce484222325ULL;
+  for (const char c : text) {
+    hash ^= static_cast<unsigned char>(c);
+    hash *= 0x100000001b3ULL;
+  }
+  return hash;
+}
+
+}  // namespace
+
+SweepShard ParseSweepShard(const std::string& text, const EnvironmentLookup& environment) {
+  const auto slash = text.find('/');
+  const std::string first = text.substr(0, slash);
+  const std::optional<std::size_t> count =
+      slash == std::string::npos ? std::nullopt : WholeNumber(text.substr(slash + 1));
+  const std::string usage = fmt::format(
+      "--shard '{}': write K/N with 0 <= K < N (e.g. 0/4), auto or auto/N (K from the scheduler)", Excerpt(text));
+  if (slash != std::string::npos && !count) throw std::invalid_argument(usage);
+  if (count && *count == 0) throw std::invalid_argument(fmt::format("--shard {}: N must be at least 1", text));
+  if (first == "auto") return ShardFromEnvironment(count, environment);
+  const std::optional<std::size_t> index = WholeNumber(first);
+  if (!index || !count) throw std::invalid_argument(usage);
+  if (*index >= *count) {
+    throw std::invalid_argument(fmt::format("--shard {}: K must be less than N (shards are numbered 0 to {})", text,
+                                            *count - 1));
+  }
+  return SweepShard{*index, *count};
+}
+
+std::vector<std::size_t> ShardPositions(std::size_t run_count, const SweepShard& shard) {
+  std::vector<std::size_t> positions;
+  for (std::size_t i = shard.index; i < run_count; i += shard.count) positions.push_back(i);
+  return positions;
+}
+
+std::string SweepFingerprint(const SweepSpec& spec, const json& diagram) {
+  json grid = json::array();
+  for (const auto& axis : spec.grid_axes) grid.push_back(axis);
+  json entries = json::array();
+  for (const auto& entry : spec.entries) entries.push_back(entry);
+  const json canonical = {{"kind", spec.kind},         {"seed", spec.seed},   {"set", spec.fixed},
+                          {"parameters", spec.parameters}, {"grid", grid},   {"entries", entries},
+                          {"kept", spec.kept},         {"diagram", diagram}};
+  return fmt::format("fnv1a64:{:016x}", Fnv1a64(canonical.dump()));
+}
+
+namespace {
+
+json ReadManifest(const fs::path& dir) {
+  const fs::path path = dir / kShardManifest;
+  std::ifstream in(path);
+  if (!in) return nullptr;
+  try {
+    json j = json::parse(in);
+    if (j.is_object() && j.value("fingerprint", json()).is_string() && j.value("shard", json()).is_number_unsigned() &&
+        j.value("shards", json()).is_number_unsigned() && j.value("runs", json()).is_number_unsigned()) {
+      return j;
+    }
+  } catch (const json::parse_error&) {
+  }
+  throw std::invalid_argument(fmt::format("{}: not a shard manifest (fingerprint, shard, shards, runs): delete the "
+                                          "folder and run the shard again",
+                                          path.string()));
+}
+
+std::string ShardText(const json& manifest) {
+  return fmt::format("{}/{}", manifest["shard"].get<std::size_t>(), manifest["shards"].get<std::size_t>());
+}
+
+// out may hold this shard of this sweep (resume), nothing, or an empty folder; anything else is refused.
+void CheckShardFolder(const fs::path& out, const json& manifest) {
+  const json old = ReadManifest(out);
+  if (old.is_null()) {
+    if (fs::exists(out / "runs.csv")) {
+      throw std::runtime_error(fmt::format("{}: holds a sweep run without --shard (runs.csv, no {}): use another "
+                                           "--out for the shard",
+                                           out.string(), kShardManifest));
+    }
+    return;
+  }
+  if (old["fingerprint"] != manifest["fingerprint"]) {
+    throw std::runtime_error(fmt::format("{}: holds shard {} of another sweep (fingerprint {}, this sweep and diagram "
+                                         "give {}): use another --out, or delete the folder to start over",
+                                         out.string(), ShardText(old), old["fingerprint"].get<std::string>(),
+                                         manifest["fingerprint"].get<std::string>()));
+  }
+  if (old["shard"] != manifest["shard"] || old["shards"] != manifest["shards"]) {
+    throw std::runtime_error(fmt::format("{}: holds shard {} of this sweep, not {}: give --shard {} to resume it, or "
+                                         "use another --out",
+                                         out.string(), ShardText(old), ShardText(manifest), ShardText(old)));
+  }
+}
+
+}  // namespace
+
+SweepOutcome RunSweepShard(const fs::path& diagram, SweepSpec spec, const SweepShard& shard, const fs::path& out,
+                           const SweepOptions& options) {
+  if (!spec.kept.empty()) throw std::invalid_argument("RunSweepShard: shard the whole sweep, not one narrowed by KeepRuns");
+  if (shard.count == 0 || shard.index >= shard.count) {
+    throw std::invalid_argument(fmt::format("shard {}/{}: K must be less than N", shard.index, shard.count));
+  }
+  const std::size_t runs = spec.run_count();
+  if (shard.index >= runs) {
+    throw std::invalid_argument(fmt::format("--shard {}/{}: the sweep has {} runs, so this shard has none: use at "
+                                            "most {} shards",
+                                            shard.index, shard.count, runs, runs));
+  }
+  const json manifest = {{"fingerprint", SweepFingerprint(spec, ReadDiagramJson(diagram))},
+                         {"shard", shard.index},
+                         {"shards", shard.count},
+                         {"runs", runs},
+                         {"partition", "run i belongs to shard i mod shards"},
+                         {"diagram", fs::absolute(diagram).string()},
+                         {"description", spec.description}};
+  CheckShardFolder(out, manifest);
+  fs::create_directories(out);
+  WriteJsonFile(manifest, out / kShardManifest);
+  spec.KeepRuns(ShardPositions(runs, shard));
+  return RunSweep(diagram, spec, out, options);
+}
+
+namespace {
+
+struct ShardRows {
+  fs::path dir;
+  json manifest;
+  CsvTextTable table;
+  std::map<std::size_t, std::size_t> rows;  // run index → row of table (the last row of an id: a retried run)
+};
+
+ShardRows ReadShard(const fs::path& dir) {
+  ShardRows shard{dir, ReadManifest(dir), {}, {}};
+  if (shard.manifest.is_null()) {
+    throw std::invalid_argument(fmt::format("{}: no {}: not the --out folder of `motionblocks sweep … --shard K/N`; "
+                                            "give the shard folders",
+                                            dir.string(), kShardManifest));
+  }
+  if (!fs::exists(dir / "runs.csv")) {
+    throw std::invalid_argument(fmt::format("{}: no runs.csv: shard {} has not run; run it (sweep … --shard {} --out "
+                                            "{}) and merge again",
+                                            dir.string(), ShardText(shard.manifest), ShardText(shard.manifest),
+                                            dir.string()));
+  }
+  shard.table = ReadCsvTextTable((dir / "runs.csv").string());
+  const std::size_t runs = shard.manifest["runs"].get<std::size_t>();
+  for (std::size_t r = 0; r < shard.table.rows.size(); ++r) {
+    const auto& cells = shard.table.rows[r];
+    if (cells.size() != shard.table.header.size()) continue;  // cut short by an interrupted run: missing
+    const auto index = WholeNumber(cells[0]);
+    if (!index || *index >= runs || fmt::format("{:04d}", *index) != cells[0]) {
+      throw std::invalid_argument(fmt::format("{}:{}: run id '{}' is not one of the sweep's {} runs: the folder was "
+                                              "edited or mixed; run the shard again into a new folder",
+                                              shard.table.source, shard.table.row_lines[r], Excerpt(cells[0]), runs));
+    }
+    shard.rows[*index] = r;
+  }
+  return shard;
+}
+
+// Every folder from the sweep of the first, with the same columns; `out` not among them.
+void CheckSameSweep(const std::vector<ShardRows>& shards, const fs::path& out) {
+  const ShardRows& first = shards.front();
+  for (const ShardRows& s : shards) {
+    if (fs::exists(out) && fs::equivalent(s.dir, out)) {
+      throw std::invalid_argument(fmt::format("--out {} is one of the shard folders: merge into a new folder",
+                                              out.string()));
+    }
+    if (s.manifest["fingerprint"] != first.manifest["fingerprint"] || s.manifest["runs"] != first.manifest["runs"]) {
+      throw std::invalid_argument(fmt::format(
+          "{}: shard {} of another sweep (fingerprint {}, {} runs) than {} (fingerprint {}, {} runs): it was run with "
+          "another sweep file or diagram; leave it out, or run that shard again with the same files",
+          s.dir.string(), ShardText(s.manifest), s.manifest["fingerprint"].get<std::string>(),
+          s.manifest["runs"].get<std::size_t>(), first.dir.string(), first.manifest["fingerprint"].get<std::string>(),
+          first.manifest["runs"].get<std::size_t>()));
+    }
+    if (s.table.header != first.table.header) {
+      throw std::invalid_argument(fmt::format("{}/runs.csv has the columns [{}], {}/runs.csv [{}]: run the shard again "
+                                              "into a new folder",
+                                              s.dir.string(), fmt::join(s.table.header, ", "), first.dir.string(),
+                                              fmt::join(first.table.header, ", ")));
+    }
+  }
+}
+
+std::string ListIds(const std::vector<std::string>& ids) {
+  const std::size_t shown = std::min(ids.size(), kListedIds);
+  std::string text = fmt::format("{}", fmt::join(ids.begin(), ids.begin() + static_cast<std::ptrdiff_t>(shown), ", "));
+  if (ids.size() > shown) text += fmt::format(" and {} more", ids.size() - shown);
+  return text;
+}
+
+// run index → (shard, row); throws listing the runs present twice and those missing.
+std::map<std::size_t, std::pair<const ShardRows*, std::size_t>> CollectRuns(const std::vector<ShardRows>& shards) {
+  std::map<std::size_t, std::pair<const ShardRows*, std::size_t>> runs;
+  std::vector<std::string> duplicates;
+  for (const ShardRows& s : shards) {
+    for (const auto& [index, row] : s.rows) {
+      const auto [it, inserted] = runs.emplace(index, std::make_pair(&s, row));
+      if (!inserted) {
+        duplicates.push_back(fmt::format("{:04d} ({} and {})", index, it->second.first->dir.string(), s.dir.string()));
+      }
+    }
+  }
+  if (!duplicates.empty()) {
+    throw std::invalid_argument(fmt::format("{} runs are in two shard folders: {}: give each shard's folder once (a "
+                                            "folder given twice, or shards of two different --shard N)",
+                                            duplicates.size(), ListIds(duplicates)));
+  }
+  const std::size_t count = shards.front().manifest["runs"].get<std::size_t>();
+  const std::size_t n = shards.front().manifest["shards"].get<std::size_t>();
+  std::vector<std::string> missing;
+  for (std::size_t i = 0; i < count; ++i) {
+    if (runs.count(i) == 0) missing.push_back(fmt::format("{:04d} (shard {}/{})", i, i % n, n));
+  }
+  if (!missing.empty()) {
+    throw std::invalid_argument(fmt::format("{} of {} runs are missing: {}: run their shard again with the same --out "
+                                            "(it resumes) or add its folder, then merge again",
+                                            missing.size(), count, ListIds(missing)));
+  }
+  return runs;
+}
+
+// The shards' runs.json rows by id; a shard whose runs.json lacks a row of its runs.csv was interrupted.
+json MergedRunsJson(const std::vector<ShardRows>& shards,
+                    const std::map<std::size_t, std::pair<const ShardRows*, std::size_t>>& runs) {
+  std::map<const ShardRows*, std::map<std::string, json>> by_shard;
+  json merged;
+  for (const ShardRows& s : shards) {
+    const fs::path path = s.dir / "runs.json";
+    std::ifstream in(path);
+    json j = in ? json::parse(in, nullptr, /*allow_exceptions=*/false) : json();
+    if (!j.is_object() || !j.value("runs", json()).is_array()) j = json{{"runs", json::array()}};
+    for (const auto& row : j["runs"]) by_shard[&s][row.value("id", "")] = row;
+    if (merged.is_null()) merged = j;
+  }
+  merged["runs"] = json::array();
+  for (const auto& [index, where] : runs) {
+    const std::string id = fmt::format("{:04d}", index);
+    const auto& rows = by_shard[where.first];
+    const auto it = rows.find(id);
+    if (it == rows.end()) {
+      throw std::invalid_argument(fmt::format("{}/runs.json lacks run {} of its runs.csv: the shard was interrupted; "
+                                              "run it again with the same --out (it resumes) and merge again",
+                                              where.first->dir.string(), id));
+    }
+    merged["runs"].push_back(it->second);
+  }
+  return merged;
+}
+
+}  // namespace
+
+SweepMergeOutcome MergeSweepShards(const std::vector<fs::path>& dirs, const fs::path& out) {
+  if (dirs.empty()) throw std::invalid_argument("sweep-merge: give the shard folders");
+  std::vector<ShardRows> shards;
+  for (const fs::path& dir : dirs) shards.push_back(ReadShard(dir));
+  CheckSameSweep(shards, out);
+  const auto runs = CollectRuns(shards);
+  const json runs_json = MergedRunsJson(shards, runs);
+
+  SweepMergeOutcome outcome;
+  std::string text = CsvLine(shards.front().table.header) + "\n";
+  for (const auto& [index, where] : runs) {
+    const auto& cells = where.first->table.rows[where.second];
+    text += CsvLine(cells) + "\n";
+    ++outcome.runs;
+    if (cells[1] != "ok") ++outcome.failed;
+  }
+  fs::create_directories(out);
+  for (const auto& [index, where] : runs) {
+    const std::string id = fmt::format("{:04d}", index);
+    const fs::path from = where.first->dir / "runs" / id;
+    if (!fs::is_directory(from)) continue;
+    fs::create_directories(out / "runs" / id);
+    fs::copy(from, out / "runs" / id, fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+    ++outcome.copied_run_folders;
+  }
+  WriteFileSafely(out / "runs.csv", text);
+  WriteJsonFile(runs_json, out / "runs.json");
+  json manifest = shards.front().manifest;
+  manifest["shard"] = 0;
+  manifest["shards"] = 1;
+  manifest["merged_from"] = json::array();
+  for (const fs::path& dir : dirs) manifest["merged_from"].push_back(fs::absolute(dir).string());
+  WriteJsonFile(manifest, out / kShardManifest);
+  return outcome;
+}
+
+}  // namespace mb

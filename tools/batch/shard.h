@@ -1,0 +1,74 @@
+#pragma once
+// Sweeps beyond one machine, on the schedulers people have (Slurm arrays, Kubernetes indexed Jobs, mpirun): a sweep
+// is cut into N shards, each run anywhere as `motionblocks sweep … --shard K/N --out DIR_K` (resumable like a whole
+// sweep), and `motionblocks sweep-merge DIR_0 … DIR_N-1 --out DIR` checks that every run is there exactly once and
+// writes the runs.csv the single-process sweep would have written (rows in run-id order; only wall_time_s differs).
+//
+// Partition: run i (its id, the index in the whole sweep) belongs to shard i mod N (round robin). Not contiguous
+// blocks: the cost of a run often grows along a grid axis (stopTime, a solver step, a payload that slows settling),
+// and the keys vary in order, so contiguous blocks would give one shard all the long runs; round robin spreads every
+// axis over every shard. The partition depends only on the run count, so the same file and seed always give it.
+//
+// Each shard folder holds sweep-shard.json: the shard K/N, the sweep's run count and a fingerprint of the sweep (its
+// kind, seed, "set", keys and values) and of the diagram JSON (parsed, so whitespace does not count; files the
+// diagram reads, such as tables, are not part of it). sweep-merge refuses folders of different fingerprints.
+
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "tools/batch/sweep.h"
+
+namespace mb {
+
+/// Shard `index` (K) of `count` (N): 0 ≤ K < N.
+struct SweepShard {
+  std::size_t index = 0;
+  std::size_t count = 1;
+};
+
+/// Looks up an environment variable: nullptr when unset (std::getenv's contract).
+using EnvironmentLookup = std::function<const char*(const char*)>;
+
+/// The shard of `--shard TEXT`: "K/N"; "auto" takes K from SLURM_ARRAY_TASK_ID (N from SLURM_ARRAY_TASK_COUNT),
+/// JOB_COMPLETION_INDEX (Kubernetes indexed Job; N must be given: "auto/N") or OMPI_COMM_WORLD_RANK (N from
+/// OMPI_COMM_WORLD_SIZE), the first one set in that order; "auto/N" gives N (it must agree with the variable's).
+/// @throws std::invalid_argument naming the text or variable and how to fix it (not K/N, N = 0, K ≥ N, no variable
+/// set, a value that is not a whole number, N missing or disagreeing).
+SweepShard ParseSweepShard(const std::string& text, const EnvironmentLookup& environment = std::getenv);
+
+/// The positions (= run indices of the whole sweep) of shard `shard` among `run_count` runs: K, K+N, K+2N, …
+std::vector<std::size_t> ShardPositions(std::size_t run_count, const SweepShard& shard);
+
+/// "fnv1a64:<16 hex digits>" over the sweep (kind, seed, set, keys, every run's values, kept runs) and the diagram
+/// JSON as parsed. Equal for the same files on any machine; the hash is not cryptographic (it catches mix-ups).
+std::string SweepFingerprint(const SweepSpec& spec, const nlohmann::json& diagram);
+
+/// The manifest file of a shard folder.
+inline constexpr const char* kShardManifest = "sweep-shard.json";
+
+/// Runs shard `shard` of the sweep into `out` (RunSweep on ShardPositions; the runs keep their global ids) after
+/// writing out/sweep-shard.json. Resumes like RunSweep when `out` holds this shard of this sweep.
+/// @throws std::invalid_argument if the spec was already narrowed (KeepRuns) or the shard has no run (N > runs);
+/// std::runtime_error if `out` holds another shard, another sweep, or a sweep run without --shard; as RunSweep.
+SweepOutcome RunSweepShard(const std::filesystem::path& diagram, SweepSpec spec, const SweepShard& shard,
+                           const std::filesystem::path& out, const SweepOptions& options = {});
+
+struct SweepMergeOutcome {
+  std::size_t runs = 0;    ///< runs in the merged runs.csv (= the sweep's run count)
+  std::size_t failed = 0;  ///< of them with status "failed"
+  std::size_t copied_run_folders = 0;  ///< runs/<id>/ folders copied (sweep --save-logs)
+};
+
+/// Merges shard folders into `out`: runs.csv (rows in run-id order, cells as the shards wrote them), runs.json,
+/// runs/<id>/ (if the shards saved logs) and a sweep-shard.json of shard 0/1. Nothing is written unless every check
+/// passes. @throws std::invalid_argument naming the folder and the fix: no manifest, another sweep's fingerprint,
+/// other columns, `out` among the inputs, runs missing or present twice (the first 10 ids listed, with their shard),
+/// a shard's runs.json behind its runs.csv (interrupted: run the shard again).
+SweepMergeOutcome MergeSweepShards(const std::vector<std::filesystem::path>& shards, const std::filesystem::path& out);
+
+}  // namespace mb
