@@ -1,5 +1,7 @@
 #include "engine/csv.h"
 
+#include "engine/file_error.h"
+
 #include <charconv>
 #include <fstream>
 #include <sstream>
@@ -145,7 +147,7 @@ void AppendCsvNumber(double value, std::string* out) {
 
 CsvTextTable ReadCsvTextTable(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot open (missing file or no permission); check the path", path));
+  if (!in) throw FileOpenError(fmt::format("{}: cannot open (missing file or no permission); check the path", path));
   std::ostringstream buffer;
   buffer << in.rdbuf();
   const std::string text = buffer.str();

@@ -14,6 +14,7 @@
 #include "engine/diagram_document.h"
 #include "engine/diagram_schema.h"
 #include "engine/execution_order.h"
+#include "engine/file_error.h"
 #include "engine/file_access.h"
 #include "engine/json_limits.h"
 #include "engine/json_parsing.h"
@@ -91,7 +92,7 @@ void ApplyOverrides(json* diagram, const std::vector<ParameterOverride>& overrid
 
 json ReadDiagramJson(const fs::path& path) {
   std::ifstream in(path);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot open the diagram file (does it exist?)", path.string()));
+  if (!in) throw FileOpenError(fmt::format("{}: cannot open the diagram file (does it exist?)", path.string()));
   try {
     return ParseJsonRejectingDuplicateKeys(in, path.string(), /*ignore_comments=*/true);
   } catch (const json::parse_error& e) {

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "engine/csv.h"
+#include "engine/file_error.h"
 #include "engine/output_file.h"
 
 namespace mb {
@@ -158,7 +159,7 @@ double ParseCell(std::string_view written, const std::string& path, std::size_t 
 std::string ReadWholeFile(const std::string& path, const TableReadOptions& options) {
   std::ifstream in(path, std::ios::binary);
   if (!in) {
-    throw std::runtime_error(fmt::format(
+    throw FileOpenError(fmt::format(
         "{}: cannot open the {} (missing file or no permission); check the path", path, options.kind));
   }
   std::ostringstream buffer;

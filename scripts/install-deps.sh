@@ -19,6 +19,8 @@ PACKAGES=(
   graphviz                 # motionblocks draw and the reports' diagrams (dot)
   libvalijson-dev          # JSON Schema validation of diagrams and sweeps
   clang libclang-rt-14-dev # libFuzzer (the fuzz preset: fuzzers of the file readers)
+  pybind11-dev python3-dev # the motionblocks Python module (python/)
+  python3-numpy python3-pytest  # its arrays and its tests (make test)
 )
 
 missing=()

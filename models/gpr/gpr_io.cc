@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/file_error.h"
 #include "engine/json_limits.h"
 #include "engine/text_excerpt.h"
 
@@ -310,7 +311,7 @@ void SaveGprModel(const GprModel& model, const std::filesystem::path& path) {
 GprModel LoadGprModel(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) {
-    throw std::runtime_error("LoadGprModel: cannot open " + path.string() +
+    throw FileOpenError("LoadGprModel: cannot open " + path.string() +
                              ": check the path (fit a model with FitGpr / motionblocks fit-gpr)");
   }
   json j;

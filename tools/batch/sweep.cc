@@ -21,6 +21,7 @@
 #include "engine/csv.h"
 #include "engine/diagram_loader.h"
 #include "engine/diagram_schema.h"
+#include "engine/file_error.h"
 #include "engine/json_limits.h"
 #include "engine/json_parsing.h"
 #include "engine/output_file.h"
@@ -429,7 +430,7 @@ SweepSpec ParseSweep(const json& sweep, const std::string& source, std::size_t m
 
 SweepSpec ReadSweepFile(const fs::path& path, std::size_t max_runs) {
   std::ifstream in(path);
-  if (!in) throw std::runtime_error(fmt::format("{}: cannot open the sweep file", path.string()));
+  if (!in) throw FileOpenError(fmt::format("{}: cannot open the sweep file", path.string()));
   json j;
   try {
     j = ParseJsonRejectingDuplicateKeys(in, path.string(), /*ignore_comments=*/false);

@@ -36,18 +36,21 @@ void AddDiagnosisJson(const DiagnosedComparison& compared, json* result) {
   (*result)["notes"] = compared.notes;  // the intake's (merged rows, resampling, gaps), then the diagnosis's
 }
 
-// The fallback's record (its model saved beside compare.json), the fitted and the amended diagrams.
+// The fallback's record (the model is saved by WriteFallbackAndDiagrams).
+void AddFallbackJson(const FallbackOutcome& fallback, json* result) {
+  if (fallback.gpr) {
+    (*result)["nonparametric_fallback"] = fallback.gpr->ToJson();
+  } else if (!fallback.skipped.empty()) {
+    (*result)["nonparametric_fallback"] = {{"useful", false}, {"skipped", fallback.skipped}};
+  }
+}
+
+// The fallback's model saved beside compare.json (its path in the record), the fitted and the amended diagrams.
 void WriteFallbackAndDiagrams(const CompareOutcome& outcome, const CompareFiles& files, json* result) {
   const fs::path folder = fs::path(files.diagram).parent_path();  // what the diagram's file names are relative to
-  if (outcome.fallback.gpr) {
-    json j = outcome.fallback.gpr->ToJson();
-    if (outcome.fallback.gpr->model) {
-      SaveGprModel(*outcome.fallback.gpr->model, files.out / "residual_gpr.json");
-      j["model"] = (files.out / "residual_gpr.json").string();
-    }
-    (*result)["nonparametric_fallback"] = j;
-  } else if (!outcome.fallback.skipped.empty()) {
-    (*result)["nonparametric_fallback"] = {{"useful", false}, {"skipped", outcome.fallback.skipped}};
+  if (outcome.fallback.gpr && outcome.fallback.gpr->model) {
+    SaveGprModel(*outcome.fallback.gpr->model, files.out / "residual_gpr.json");
+    (*result)["nonparametric_fallback"]["model"] = (files.out / "residual_gpr.json").string();
   }
   if (outcome.compared.fit && !files.write_fitted.empty()) {
     const auto outside = WriteDiagramFile(outcome.compared.fitted_diagram, folder, files.write_fitted);
@@ -99,12 +102,12 @@ void AddDiagnosisSection(const CompareOutcome& outcome, HtmlReport* report) {
 
 }  // namespace
 
-json WriteCompareResults(const CompareOutcome& outcome, const MeasurementLog& log, const CompareFiles& files) {
+json CompareResultsJson(const CompareOutcome& outcome, const MeasurementLog& log, const std::string& diagram,
+                        const std::string& measurement) {
   const ComparedOutput& primary_before = outcome.primary_before();
   const ComparedOutput& primary_after = outcome.primary_after();
-  fs::create_directories(files.out);
-  json result = {{"diagram", files.diagram},
-                 {"measurement", files.measurement},
+  json result = {{"diagram", diagram},
+                 {"measurement", measurement},
                  {"mode", outcome.mode},
                  {"samples", log.rows()},
                  {"output", primary_after.connector},
@@ -116,6 +119,13 @@ json WriteCompareResults(const CompareOutcome& outcome, const MeasurementLog& lo
                  {"outputs", ComparedOutputsJson(outcome.compared.before, outcome.compared.after)}};
   if (outcome.compared.fit) result["fit"] = outcome.compared.fit->ToJson();
   AddDiagnosisJson(outcome.compared, &result);
+  AddFallbackJson(outcome.fallback, &result);
+  return result;
+}
+
+json WriteCompareResults(const CompareOutcome& outcome, const MeasurementLog& log, const CompareFiles& files) {
+  fs::create_directories(files.out);
+  json result = CompareResultsJson(outcome, log, files.diagram, files.measurement);
   WriteFallbackAndDiagrams(outcome, files, &result);
   WriteJsonFile(result, files.out / "compare.json");
   WriteCompareReport(outcome, log, files);

@@ -1,7 +1,6 @@
 #include "tools/report/diagram_drawing.h"
 
 #include <fmt/format.h>
-#include <stdlib.h>
 
 #include <algorithm>
 #include <fstream>
@@ -17,6 +16,7 @@
 #include "engine/registry.h"
 #include "tools/report/report.h"
 #include "tools/report/run_program.h"
+#include "tools/report/temporary_folder.h"
 
 namespace mb {
 
@@ -276,26 +276,6 @@ class DotWriter {
   std::ostringstream out_;
 };
 
-// A private folder for dot's input and output, removed when it goes out of scope.
-class TemporaryFolder {
- public:
-  TemporaryFolder() {
-    std::string pattern = (fs::temp_directory_path() / "motionblocks-draw-XXXXXX").string();
-    if (mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("draw: cannot create a temporary folder");
-    path_ = pattern;
-  }
-  ~TemporaryFolder() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  TemporaryFolder(const TemporaryFolder&) = delete;
-  TemporaryFolder& operator=(const TemporaryFolder&) = delete;
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
 std::string ReadWholeFile(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
@@ -328,7 +308,7 @@ void WriteDrawing(const std::string& dot_text, DrawingFormat format, const fs::p
     WriteFileSafely(path, dot_text);
     return;
   }
-  const TemporaryFolder folder;
+  const TemporaryFolder folder("motionblocks-draw");
   const fs::path input = folder.path() / "diagram.dot";
   const fs::path output = folder.path() / fmt::format("diagram.{}", ToString(format));
   const fs::path log = folder.path() / "dot.log";

@@ -113,14 +113,14 @@ void WriteImproveReport(const ImproveResult& result, const MeasurementLog& train
 }
 
 
+json ImproveFallbackRecord(const FallbackOutcome& fallback) {
+  if (fallback.gpr) return fallback.gpr->ToJson();
+  return {{"useful", false}, {"skipped", fallback.skipped}, {"description", "no fallback: " + fallback.skipped}};
+}
+
 json WriteImproveFallback(const ImproveResult& result, const FallbackOutcome& fallback, const fs::path& directory,
                           const fs::path& diagram_folder) {
-  json record;
-  if (fallback.gpr) {
-    record = fallback.gpr->ToJson();
-  } else {
-    record = {{"useful", false}, {"skipped", fallback.skipped}, {"description", "no fallback: " + fallback.skipped}};
-  }
+  json record = ImproveFallbackRecord(fallback);
   if (fallback.gpr && fallback.gpr->model) {
     const ImproveStep& last = result.last_accepted();
     const std::string model = fs::absolute(directory / "residual_gpr.json").string();

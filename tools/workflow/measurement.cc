@@ -1,4 +1,5 @@
 #include "tools/workflow/measurement.h"
+#include "tools/workflow/measurement_in_memory.h"
 
 #include <algorithm>
 #include <stdexcept>
@@ -29,7 +30,11 @@ std::string DerivedAccelerationColumn(const std::string& position_column) {
 MeasurementLog ReadMeasurementWithDerivatives(const std::string& path, const std::string& position_column,
                                               double derivative_cutoff_hz,
                                               const std::vector<std::string>& filter_columns) {
-  const MeasurementLog raw = IntakeMeasurementLog(path);
+  return AddMeasurementDerivatives(IntakeMeasurementLog(path), position_column, derivative_cutoff_hz, filter_columns);
+}
+
+MeasurementLog AddMeasurementDerivatives(const MeasurementLog& raw, const std::string& position_column,
+                                         double derivative_cutoff_hz, const std::vector<std::string>& filter_columns) {
   const double dt = MedianTimeStep(raw.time());
   const auto& segments = raw.segment_starts();
   std::vector<std::string> names = raw.names();
@@ -93,11 +98,24 @@ void FeedInputsFromFiles(const Diagram& diagram, const std::vector<std::string>&
 
 std::string ExperimentMode(const json& diagram) { return DiagramDocument(diagram).ExperimentMode(); }
 
+namespace {
+
+// The measured outputs an equation-error diagram filters like the motion (IDIM-LS's parallel filtering).
+std::vector<std::string> FilteredColumns(const json& diagram, const MeasurementSettings& settings) {
+  return ExperimentMode(diagram) == "equation_error" ? OutputColumns(diagram, settings.column_map)
+                                                     : std::vector<std::string>{};
+}
+
+}  // namespace
+
 MeasurementLog ReadMeasurementFor(const json& diagram, const std::string& path, const MeasurementSettings& settings) {
-  return ReadMeasurementWithDerivatives(
-      path, settings.position_column, settings.derivative_cutoff_hz,
-      ExperimentMode(diagram) == "equation_error" ? OutputColumns(diagram, settings.column_map)
-                                                  : std::vector<std::string>{});
+  return ReadMeasurementWithDerivatives(path, settings.position_column, settings.derivative_cutoff_hz,
+                                        FilteredColumns(diagram, settings));
+}
+
+MeasurementLog TakeMeasurementFor(const json& diagram, const MeasurementLog& raw, const MeasurementSettings& settings) {
+  return AddMeasurementDerivatives(IntakeMeasurementLog(raw), settings.position_column, settings.derivative_cutoff_hz,
+                                   FilteredColumns(diagram, settings));
 }
 
 }  // namespace mb

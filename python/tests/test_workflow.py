@@ -1,0 +1,171 @@
+"""compare, fit, improve on the EMPS record (diagrams/emps/data, as the C++ tests read it): the same outcome as
+the command line's compare.json and fit.json, and the measurement taken as a path, a dict or a structured array."""
+
+import csv
+
+import numpy as np
+import pytest
+
+import motionblocks as mb
+from conftest import EMPS, read_json
+
+RIGID_BODY = EMPS / "rigid_body.json"
+DATA = EMPS / "data" / "DATA_EMPS.csv"
+
+# compare.json's entries that name the files the command wrote.
+WRITTEN = {"fitted_diagram", "fitted_diagram_reads_outside_its_folder", "suggested_diagram"}
+
+
+def read_columns(path):
+    with open(path, newline="", encoding="utf-8") as f:
+        rows = list(csv.reader(f))
+    header, values = rows[0], np.array(rows[1:], dtype=float)
+    return {name: values[:, j] for j, name in enumerate(header)}
+
+
+def approx_json(expected):
+    """pytest.approx through nested dicts and lists (numbers to 1e-9 relative)."""
+    if isinstance(expected, dict):
+        return {k: approx_json(v) for k, v in expected.items()}
+    if isinstance(expected, list):
+        return [approx_json(v) for v in expected]
+    if isinstance(expected, float):
+        return pytest.approx(expected, rel=1e-9, abs=1e-12)
+    return expected
+
+
+@pytest.fixture(scope="module")
+def emps_compare():
+    return mb.compare(mb.Diagram.load(RIGID_BODY), DATA)
+
+
+def test_compare_names_the_same_first_effect_as_the_command_line(emps_compare):
+    # tests/tools/commands/compare_command_test.cc: the EMPS record's first effect.
+    assert emps_compare.diagnosis[0].effect == "velocity_dependent_ripple"
+    assert emps_compare.to_dict()["diagnosis"][0]["effect"] == "velocity_dependent_ripple"
+    assert 0.0 < emps_compare.diagnosis[0].score < 1.0
+    assert emps_compare.rmse_after < emps_compare.rmse_before
+    assert emps_compare.unit == "N" and emps_compare.output == "force"
+
+
+def test_compare_to_dict_is_the_commands_compare_json(emps_compare, command, tmp_path):
+    command("compare", RIGID_BODY, "--measurement", DATA, "--out", tmp_path)
+    written = read_json(tmp_path / "compare.json")
+    if "nonparametric_fallback" in written:
+        written["nonparametric_fallback"].pop("model", None)
+    ours = emps_compare.to_dict()
+    for key in WRITTEN:
+        written.pop(key, None)
+    assert ours.keys() == written.keys()
+    assert ours == approx_json(written)
+
+
+def test_compare_gives_the_fitted_parameters_with_intervals(emps_compare):
+    fitted = {p.name: p for p in emps_compare.parameters}
+    assert set(fitted) == {"inertia.gain", "friction.viscous", "friction.coulomb", "offset.value"}
+    mass = fitted["inertia.gain"]
+    low, high = mass.interval
+    assert low < mass.estimate < high
+    assert high - low == pytest.approx(2 * 1.96 * mass.standard_error)
+    assert mass.estimate == pytest.approx(95.1, abs=0.1)  # README, demo step 1
+    expected = emps_compare.to_dict()["fit"]
+    assert emps_compare.fitted_diagram.get("inertia", "gain") == pytest.approx(mass.estimate, rel=1e-12)
+    assert len(expected["parameters"]) == 4
+
+
+def test_the_measurement_as_a_dict_or_a_structured_array_is_the_csv():
+    diagram = mb.Diagram.load(RIGID_BODY)
+    columns = read_columns(DATA)
+    from_csv = mb.compare(diagram, DATA, no_fit=True, gpr_fallback=False)
+    from_dict = mb.compare(diagram, columns, no_fit=True, gpr_fallback=False)
+    table = np.zeros(len(columns["time_s"]), dtype=[(name, "f8") for name in columns])
+    for name, values in columns.items():
+        table[name] = values
+    from_table = mb.compare(diagram, table, no_fit=True, gpr_fallback=False)
+    assert from_dict.rmse_before == pytest.approx(from_csv.rmse_before, rel=1e-12)
+    assert from_table.rmse_before == pytest.approx(from_csv.rmse_before, rel=1e-12)
+    assert from_dict.measured.shape == from_csv.time.shape
+
+
+def test_map_reads_a_connector_from_another_column():
+    columns = read_columns(DATA)
+    columns["f_measured"] = columns.pop("force_N")
+    with pytest.raises(ValueError) as e:
+        mb.compare(mb.Diagram.load(RIGID_BODY), columns, no_fit=True, gpr_fallback=False)
+    assert "force_N" in str(e.value)
+    mapped = mb.compare(mb.Diagram.load(RIGID_BODY), columns, no_fit=True, gpr_fallback=False,
+                        map={"force": "f_measured"})
+    assert mapped.rmse_before > 0
+
+
+def test_a_bad_cell_in_the_log_names_the_file_line_and_column(tmp_path):
+    lines = DATA.read_text().splitlines()[:200]
+    lines[5] = lines[5].replace(lines[5].split(",")[4], "nan")
+    bad = tmp_path / "bad.csv"
+    bad.write_text("\n".join(lines) + "\n")
+    with pytest.raises(ValueError) as e:
+        mb.compare(mb.Diagram.load(RIGID_BODY), bad, no_fit=True)
+    assert str(bad) in str(e.value) and "line 6" in str(e.value) and "force_N" in str(e.value)
+
+
+def test_arrays_with_a_nan_or_time_going_back_name_the_column_and_row():
+    columns = {name: values[:500].copy() for name, values in read_columns(DATA).items()}
+    columns["force_N"][7] = np.nan
+    with pytest.raises(ValueError) as e:
+        mb.compare(mb.Diagram.load(RIGID_BODY), columns, no_fit=True)
+    assert str(e.value) == ("measurement: column 'force_N' row 7 is nan: give finite values (drop or interpolate that "
+                            "sample)")
+    columns["force_N"][7] = 0.0
+    columns["time_s"][9] = 0.0
+    with pytest.raises(ValueError) as e:
+        mb.compare(mb.Diagram.load(RIGID_BODY), columns, no_fit=True)
+    assert str(e.value).startswith("measurement: time 'time_s' decreases at row 9 (0 s after ")
+
+
+def test_fit_gives_the_commands_fit_json(command, tmp_path):
+    names = ["inertia.gain", "friction.viscous"]
+    outcome = mb.fit(mb.Diagram.load(RIGID_BODY), DATA, fit=names)
+    command("fit", RIGID_BODY, "--measurement", DATA, "--fit", ",".join(names), "--out", tmp_path)
+    written = read_json(tmp_path / "fit.json")
+    written.pop("fitted_diagram")
+    assert outcome.to_dict() == approx_json(written)
+    assert [p.name for p in outcome.parameters] == names
+    assert outcome.rmse_after < outcome.rmse_before
+
+
+def test_improve_refuses_settings_out_of_range_before_fitting():
+    with pytest.raises(ValueError) as e:
+        mb.improve(mb.Diagram.load(RIGID_BODY), DATA, max_trials=0)
+    assert str(e.value) == IMPROVE_BAD_TRIALS
+
+
+IMPROVE_BAD_TRIALS = "--max-trials must be >= 1"
+
+
+def test_improve_on_simulated_arrays_finds_the_twins_cogging_as_the_command_does(command, tmp_path):
+    # tests/tools/commands/improve_command_test.cc from Python: the twin's closed loop with its cogging is the
+    # "measurement" (here simulated and passed as arrays), the model lacks the cogging.
+    paper = EMPS.parent / "paper"
+    scan = mb.Diagram.load(paper / "cogging_scan.json")
+    train = mb.simulate(scan)
+    scan.set("reference.velocities", [0.15, 0.25])
+    held = mb.simulate(scan)
+    as_columns = lambda r: {"time_s": r.time, **r.signals}  # noqa: E731
+    outcome = mb.improve(mb.Diagram.load(paper / "motor_rigid_body.json"), as_columns(train),
+                         validation=as_columns(held), max_effects=1)
+    ours = outcome.to_dict()
+    accepted = [s for s in outcome.steps if s.accepted]
+    assert len(accepted) == 2 and accepted[1].effect in ("position_periodic", "velocity_dependent_ripple")
+    assert accepted[1].rmse_heldout < accepted[0].rmse_heldout
+    period = [p for p in accepted[1].parameters if p.name.endswith(".period")][0]
+    assert period.estimate == pytest.approx(0.0225, rel=0.02)
+
+    command("run", paper / "cogging_scan.json", "--out", tmp_path / "scan")
+    command("run", paper / "cogging_scan.json", "--set", "reference.velocities=[0.15,0.25]", "--out",
+            tmp_path / "validation")
+    command("improve", paper / "motor_rigid_body.json", "--measurement", tmp_path / "scan" / "signals.csv",
+            "--validation", tmp_path / "validation" / "signals.csv", "--max-effects", "1", "--out", tmp_path / "imp")
+    written = read_json(tmp_path / "imp" / "improve.json")
+    assert [s["effect"] for s in ours["steps"]] == [s["effect"] for s in written["steps"]]
+    assert ours["stop"] == written["stop"]
+    assert ours.keys() - {"nonparametric_fallback"} == written.keys() - {"nonparametric_fallback"}
