@@ -144,9 +144,29 @@ EffectBlockTemplate StribeckFrictionEffectBlock() {
   return block;
 }
 
+// Adds the diagnosed effect regularized_coulomb_friction (models/diagnosis/effects/regularized_coulomb_friction.cc):
+// the smooth law tanh(v/v_c) in place of sign(v).
+EffectBlockTemplate RegularizedCoulombFrictionEffectBlock() {
+  EffectBlockTemplate block;
+  block.block_type = "friction";
+  block.element_name = "smooth_coulomb";
+  block.output_port = "f";
+  block.inputs = {{MotionInput::kVelocity, "v"}};
+  block.parameters = [](const DiagnosedEffect& d) {
+    return nlohmann::json{{"viscous", 0.0},
+                          {"coulomb", WithUnit(std::max(1e-3, BlockCoefficient(d, "")), "N")},
+                          {"stick_model", "none"},
+                          {"regularization", "tanh"},
+                          {"regularization_velocity", WithUnit(BlockParameter(d, "regularization_velocity"), "m/s")}};
+  };
+  block.free = {"coulomb", "regularization_velocity"};
+  return block;
+}
+
 }  // namespace
 
 MB_REGISTER_EFFECT_BLOCK(coulomb_friction, CoulombFrictionEffectBlock())
 MB_REGISTER_EFFECT_BLOCK(stribeck_friction, StribeckFrictionEffectBlock())
+MB_REGISTER_EFFECT_BLOCK(regularized_coulomb_friction, RegularizedCoulombFrictionEffectBlock())
 
 }  // namespace mb

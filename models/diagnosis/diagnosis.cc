@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 
 #include <Eigen/Dense>
@@ -54,6 +55,24 @@ class BlockGrams {
       total_yty_ += yty_[b];
     }
     n_ = static_cast<double>(n);
+    folds_ = folds;
+  }
+
+  // The held-out residuals r_b − X_b(idx)·θ_{−b} of every block, on the rows the Grams were built from.
+  Eigen::VectorXd HeldOutErrors(const std::vector<Eigen::Index>& idx, const Eigen::MatrixXd& x,
+                                const Eigen::VectorXd& r) const {
+    Eigen::VectorXd e = r;
+    if (idx.empty()) return e;
+    const Eigen::Index n = x.rows();
+    for (Eigen::Index b = 0; b < folds_; ++b) {
+      const Eigen::Index start = b * n / folds_, end = (b + 1) * n / folds_;
+      const auto ub = static_cast<std::size_t>(b);
+      const Eigen::VectorXd theta = Solve(SubMatrix(total_gram_ - gram_[ub], idx), SubVector(total_xty_ - xty_[ub], idx));
+      for (std::size_t j = 0; j < idx.size(); ++j) {
+        e.segment(start, end - start) -= theta(static_cast<Eigen::Index>(j)) * x.col(idx[j]).segment(start, end - start);
+      }
+    }
+    return e;
   }
 
   // Held-out mean squared error of the least-squares fit on the columns `idx`.
@@ -115,6 +134,7 @@ class BlockGrams {
   Eigen::VectorXd total_xty_;
   double total_yty_ = 0.0;
   double n_ = 0.0;
+  Eigen::Index folds_ = 0;
 };
 
 double Percentile(std::vector<double> v, double q) {
@@ -156,6 +176,42 @@ AutocorrelationTest Whiteness(const Eigen::VectorXd& r) {
   return ResidualAutocorrelation(r, lag);
 }
 
+// Huber weights of a residual: w = min(1, k·σ/|e|), σ = 1.4826·MAD (all 1 when k <= 0 or σ = 0).
+Eigen::VectorXd HuberWeights(const Eigen::VectorXd& e, double k) {
+  Eigen::VectorXd w = Eigen::VectorXd::Ones(e.size());
+  if (!(k > 0.0)) return w;
+  const std::vector<double> values(e.data(), e.data() + e.size());
+  const double median = Percentile(values, 0.5);
+  std::vector<double> deviation(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) deviation[i] = std::abs(values[i] - median);
+  const double sigma = 1.4826 * Percentile(deviation, 0.5);
+  if (!(sigma > 0.0)) return w;
+  for (Eigen::Index i = 0; i < e.size(); ++i) {
+    const double a = std::abs(e(i));
+    if (a > k * sigma) w(i) = k * sigma / a;
+  }
+  return w;
+}
+
+// Iteratively reweighted least squares of r on the columns x (N × q, q may be 0) with Huber weights (at most 10
+// iterations, until no weight moves by 1e-3): the weights, and in `residual` r minus the weighted fit.
+Eigen::VectorXd RobustWeights(const Eigen::MatrixXd& x, const Eigen::VectorXd& r, double k, Eigen::VectorXd* residual) {
+  Eigen::VectorXd w = Eigen::VectorXd::Ones(r.size());
+  *residual = r;
+  for (int iteration = 0; iteration < 10; ++iteration) {
+    if (x.cols() > 0) {
+      const Eigen::VectorXd sw = w.cwiseSqrt();
+      *residual = r - x * (sw.asDiagonal() * x).colPivHouseholderQr().solve(sw.cwiseProduct(r));
+    }
+    if (!(k > 0.0)) break;
+    const Eigen::VectorXd next = HuberWeights(*residual, k);
+    const double change = (next - w).cwiseAbs().maxCoeff();
+    w = next;
+    if (change < 1e-3) break;
+  }
+  return w;
+}
+
 // 0. What DiagnoseMissingEffects refuses.
 void CheckDiagnosisInput(const DiagnosisSignals& signals, const BaseRegressors& base, const DiagnosisOptions& options) {
   signals.Validate();
@@ -180,6 +236,11 @@ void CheckDiagnosisInput(const DiagnosisSignals& signals, const BaseRegressors& 
   if (!(options.min_gain >= 0.0 && options.min_gain < 1.0)) {
     throw std::invalid_argument(fmt::format("DiagnoseMissingEffects: min_gain = {} must lie in [0, 1)", options.min_gain));
   }
+  if (!(options.huber_k >= 0.0) || !(options.significance_t >= 0.0) || options.significance_batches < 2) {
+    throw std::invalid_argument(fmt::format(
+        "DiagnoseMissingEffects: huber_k = {} and significance_t = {} must be >= 0 and significance_batches = {} >= 2",
+        options.huber_k, options.significance_t, options.significance_batches));
+  }
   if (!(options.redundant_with_base > 0.0 && options.redundant_with_base <= 1.0)) {
     throw std::invalid_argument(fmt::format("DiagnoseMissingEffects: redundant_with_base = {} must lie in (0, 1]",
                                             options.redundant_with_base));
@@ -199,6 +260,14 @@ struct RegressorMatrix {
   std::vector<Candidate> cands;
   Eigen::MatrixXd x;
   Eigen::VectorXd scale;
+  // The rows weighted by √w (Huber weights): what the Grams, held-out errors and significance test see.
+  Eigen::MatrixXd wx;
+  Eigen::VectorXd wr;
+  void Weigh(const Eigen::VectorXd& r, const Eigen::VectorXd& w) {
+    const Eigen::VectorXd sw = w.cwiseSqrt();
+    wx = sw.asDiagonal() * x;
+    wr = sw.cwiseProduct(r);
+  }
 };
 
 // 2. The candidates' regressors; those the base already spans are not candidates (a note says so).
@@ -305,42 +374,132 @@ std::size_t PickByBic(const RegressorMatrix& m, const BlockGrams& grams, const s
   return pick;
 }
 
-// 3. Forward selection on the held-out error: each round adds the candidate with the lowest held-out MSE (near-ties
-// to the lower BIC) while its gain reaches min_gain.
-Selection SelectEffects(const RegressorMatrix& m, const BlockGrams& grams, Eigen::Index p,
-                        const DiagnosisOptions& options, std::vector<std::string>* notes) {
+// A selection holding the base's p columns.
+Selection StartSelection(const BlockGrams& grams, Eigen::Index p) {
   Selection s;
   for (Eigen::Index j = 0; j < p; ++j) s.selected.push_back(j);
-  s.mse_base = grams.HeldOutMse(s.selected);
-  double mse_prev = s.mse_base;
-  std::vector<bool> used(m.cands.size(), false);
-  for (Eigen::Index round = 0; round < options.max_effects; ++round) {
-    std::vector<double> mse(m.cands.size(), std::numeric_limits<double>::infinity());
+  s.mse_base = s.mse_last = grams.HeldOutMse(s.selected);
+  return s;
+}
+
+// No invented effect: is the held-out gain of `trial` over `selected` significant against the residual's own
+// autocorrelation? Diebold–Mariano on the per-sample held-out loss differences δ = e_prev² − e_new², the variance of
+// their mean from contiguous batch means (batches ≈ the effective sample size). Returns the one-sided t.
+double GainSignificance(const RegressorMatrix& m, const BlockGrams& grams, const std::vector<Eigen::Index>& selected,
+                        const std::vector<Eigen::Index>& trial, Eigen::Index batches) {
+  const Eigen::VectorXd before = grams.HeldOutErrors(selected, m.wx, m.wr);
+  const Eigen::VectorXd after = grams.HeldOutErrors(trial, m.wx, m.wr);
+  const Eigen::VectorXd delta = before.array().square() - after.array().square();
+  const Eigen::Index n = delta.size();
+  batches = std::clamp<Eigen::Index>(batches, 2, std::max<Eigen::Index>(2, n / 8));
+  Eigen::VectorXd means(batches);
+  for (Eigen::Index b = 0; b < batches; ++b) {
+    const Eigen::Index lo = b * n / batches, hi = (b + 1) * n / batches;
+    means(b) = delta.segment(lo, hi - lo).mean();
+  }
+  const double mean = means.mean();
+  const double var = (means.array() - mean).square().sum() / static_cast<double>(batches - 1);
+  const double se = std::sqrt(var / static_cast<double>(batches));
+  return se > 0.0 ? mean / se : (mean > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
+}
+
+// The held-out MSE of every candidate not `used` added to `selected` (infinity for the used ones; a candidate whose
+// coefficient is implausible is marked used).
+std::vector<double> TrialErrors(const RegressorMatrix& m, const BlockGrams& grams, const std::vector<Eigen::Index>& selected,
+                                std::vector<bool>* used, std::vector<std::string>* notes) {
+  std::vector<double> mse(m.cands.size(), std::numeric_limits<double>::infinity());
+  for (std::size_t c = 0; c < m.cands.size(); ++c) {
+    if ((*used)[c]) continue;
+    std::vector<Eigen::Index> trial = selected;
+    trial.insert(trial.end(), m.cands[c].idx.begin(), m.cands[c].idx.end());
+    if (ImplausibleCoefficient(m.cands[c], m, grams, trial, notes)) {
+      (*used)[c] = true;  // never chosen; not in `order`
+      continue;
+    }
+    mse[c] = grams.HeldOutMse(trial);
+  }
+  return mse;
+}
+
+// One round: adds the best candidate not `used` (near-ties to the lower BIC) whose gain reaches min_gain and is
+// significant (GainSignificance; an insignificant best is set aside with a note and the next one tried). False when
+// none passes.
+bool AddBestEffect(const RegressorMatrix& m, const BlockGrams& grams, const DiagnosisOptions& options,
+                   std::vector<bool>* used, Selection* s, std::vector<std::string>* notes) {
+  const std::vector<double> mse = TrialErrors(m, grams, s->selected, used, notes);
+  for (;;) {
     double best_mse = std::numeric_limits<double>::infinity();
     for (std::size_t c = 0; c < m.cands.size(); ++c) {
-      if (used[c]) continue;
-      std::vector<Eigen::Index> trial = s.selected;
-      trial.insert(trial.end(), m.cands[c].idx.begin(), m.cands[c].idx.end());
-      if (ImplausibleCoefficient(m.cands[c], m, grams, trial, notes)) {
-        used[c] = true;  // never chosen; not in `order`
+      if (!(*used)[c]) best_mse = std::min(best_mse, mse[c]);
+    }
+    if (!std::isfinite(best_mse)) return false;
+    const std::size_t pick = PickByBic(m, grams, s->selected, mse, *used, best_mse);
+    const double gain = s->mse_last > 0.0 ? 1.0 - mse[pick] / s->mse_last : 0.0;
+    if (!(gain >= options.min_gain) || gain <= 0.0) return false;
+    std::vector<Eigen::Index> trial = s->selected;
+    trial.insert(trial.end(), m.cands[pick].idx.begin(), m.cands[pick].idx.end());
+    (*used)[pick] = true;
+    if (options.significance_t > 0.0 && gain < options.significance_exempt_gain) {
+      const double t = GainSignificance(m, grams, s->selected, trial, options.significance_batches);
+      if (t < options.significance_t) {
+        notes->push_back(fmt::format(
+            "{} not chosen: its held-out gain ({:.1f} %) is not significant against the residual's autocorrelation "
+            "(Diebold–Mariano t = {:.2f} < {:.2f} over {} batches)",
+            m.cands[pick].effect.name, 100.0 * gain, t, options.significance_t, options.significance_batches));
         continue;
       }
-      mse[c] = grams.HeldOutMse(trial);
-      best_mse = std::min(best_mse, mse[c]);
     }
-    if (!std::isfinite(best_mse)) break;
-    const std::size_t pick = PickByBic(m, grams, s.selected, mse, used, best_mse);
-    const double gain = mse_prev > 0.0 ? 1.0 - mse[pick] / mse_prev : 0.0;
-    if (!(gain >= options.min_gain) || gain <= 0.0) break;
-    used[pick] = true;
-    s.order.push_back(pick);
-    s.selected.insert(s.selected.end(), m.cands[pick].idx.begin(), m.cands[pick].idx.end());
-    s.scores.push_back(gain);
-    s.cumulative.push_back(s.mse_base > 0.0 ? 1.0 - mse[pick] / s.mse_base : 0.0);
-    mse_prev = mse[pick];
+    s->order.push_back(pick);
+    s->selected = std::move(trial);
+    s->scores.push_back(gain);
+    s->cumulative.push_back(s->mse_base > 0.0 ? 1.0 - mse[pick] / s->mse_base : 0.0);
+    s->mse_last = mse[pick];
+    return true;
   }
-  s.mse_last = mse_prev;
-  return s;
+}
+
+// 3. Forward selection on the held-out error among the candidates not `used`, continuing `s`: rounds of AddBestEffect
+// until options.max_effects effects are chosen or none passes.
+void SelectEffects(const RegressorMatrix& m, const BlockGrams& grams, std::vector<bool> used,
+                   const DiagnosisOptions& options, Selection* s, std::vector<std::string>* notes) {
+  while (static_cast<Eigen::Index>(s->order.size()) < options.max_effects) {
+    if (!AddBestEffect(m, grams, options, &used, s, notes)) break;
+  }
+}
+
+// The friction-law replacements chosen so far (DiagnoseMissingEffects, step 3a): instances, scores, and the base's
+// columns with theirs appended (their raw columns, as the base's).
+struct LawSearch {
+  std::vector<EffectInstance> effects;
+  std::vector<double> scores, cumulative;
+  Eigen::MatrixXd columns;
+};
+
+// One round of forward selection among the friction-law replacements not chosen yet (at most 3 in all; the chosen
+// ones are the first candidates of `m`): true, with `law` extended, when one passes.
+bool AddFrictionLaw(const RegressorMatrix& m, const BlockGrams& grams, const Selection& chosen,
+                    const DiagnosisOptions& options, LawSearch* law, std::vector<std::string>* notes) {
+  const std::size_t l = law->effects.size();
+  if (l >= 3) return false;
+  std::vector<bool> used(m.cands.size());
+  for (std::size_t c = 0; c < m.cands.size(); ++c) {
+    bool taken = c < l;
+    for (const auto& e : law->effects) taken = taken || e.name == m.cands[c].effect.name;
+    used[c] = taken || !m.cands[c].type->traits.friction_law_replacement;
+  }
+  Selection trial = chosen;
+  if (!AddBestEffect(m, grams, options, &used, &trial, notes)) return false;
+  const Candidate& c = m.cands[trial.order.back()];
+  law->effects.push_back(c.effect);
+  law->scores.push_back(trial.scores.back());
+  law->cumulative.push_back(trial.cumulative.back());
+  const Eigen::Index k = law->columns.cols(), kc = static_cast<Eigen::Index>(c.idx.size());
+  law->columns.conservativeResize(Eigen::NoChange, k + kc);
+  for (Eigen::Index j = 0; j < kc; ++j) {
+    const Eigen::Index col = c.idx[static_cast<std::size_t>(j)];
+    law->columns.col(k + j) = m.x.col(col) * m.scale(col);
+  }
+  return true;
 }
 
 // The final joint fit: coefficients in the columns' own units, their standard deviations, the fitted correction.
@@ -380,7 +539,7 @@ JointFit FitJointly(const RegressorMatrix& m, const BlockGrams& grams, const std
 // coefficients, and where its fitted contribution is largest.
 DiagnosedEffect DescribeEffect(const Candidate& c, double score, double cumulative, const Eigen::VectorXd& coefficients,
                                const Eigen::VectorXd& coefficient_std, const DiagnosisSignals& signals,
-                               const std::string& position_unit) {
+                               const std::string& position_unit, bool friction_law) {
   const Eigen::Index n = signals.size();
   DiagnosedEffect d;
   d.effect = c.effect.name;
@@ -409,11 +568,11 @@ DiagnosedEffect DescribeEffect(const Candidate& c, double score, double cumulati
   d.position_range[0] = Percentile(xs, 0.05); d.position_range[1] = Percentile(xs, 0.95);
   d.velocity_range[0] = Percentile(vs, 0.05); d.velocity_range[1] = Percentile(vs, 0.95);
   d.description = fmt::format(
-      "{}{}: explains {:.1f} % of the held-out residual energy left before it was added ({:.1f} % "
+      "{}{}{}: explains {:.1f} % of the held-out residual energy left before it was added ({:.1f} % "
       "cumulative); RMS contribution {:.3g}; largest for t in [{:.3g}, {:.3g}] s, x in [{}, {}], "
       "v in [{:.3g}, {:.3g}] {}/s. {}",
-      d.effect, d.parameters.empty() ? "" : " (" + FormatParameters(d.parameters, position_unit) + ")",
-      100.0 * d.score, 100.0 * d.cumulative_share, d.contribution_rms, d.time_range[0], d.time_range[1],
+      friction_law ? "the friction law near zero velocity is wrong: " : "", d.effect,
+      d.parameters.empty() ? "" : " (" + FormatParameters(d.parameters, position_unit) + ")", 100.0 * d.score, 100.0 * d.cumulative_share, d.contribution_rms, d.time_range[0], d.time_range[1],
       FormatPosition(d.position_range[0], position_unit), FormatPosition(d.position_range[1], position_unit),
       d.velocity_range[0], d.velocity_range[1], position_unit, c.type->physics);
   return d;
@@ -552,13 +711,38 @@ void Summarise(const DiagnosisOptions& options, const std::string& ambiguity_not
         "probability {:.2g} ({})",
         FormatPosition(pk.period, options.position_unit), 100.0 * pk.power, pk.false_alarm_probability, pk.significant ? "significant" : "not significant"));
   }
-  if (result->missing_effect_found) {
-    const auto& top = result->effects.front();
-    result->summary = fmt::format(
+  if (result->robust_weight_share < 0.999) {
+    result->notes.push_back(fmt::format(
+        "robust refit (Huber, k = {}): badly modelled samples are down-weighted, mean weight {:.3f}; held-out errors "
+        "and shares are of the weighted residual",
+        options.huber_k, result->robust_weight_share));
+  }
+  const auto is_law = [&](const DiagnosedEffect& e) {
+    return std::find(result->friction_law.begin(), result->friction_law.end(), e.effect) != result->friction_law.end();
+  };
+  std::string law;
+  const DiagnosedEffect* top = nullptr;
+  for (const auto& e : result->effects) {
+    if (!is_law(e)) {
+      if (top == nullptr) top = &e;
+      continue;
+    }
+    law += fmt::format("{}{}{}", law.empty() ? "" : ", ", e.effect,
+                       e.parameters.empty() ? "" : " (" + FormatParameters(e.parameters, options.position_unit) + ")");
+  }
+  if (!law.empty()) {
+    result->summary = fmt::format("The friction law near zero velocity is wrong: {} replaces the model's; the other "
+                                  "effects were searched in what it leaves. ", law);
+  }
+  if (result->missing_effect_found && top == nullptr) {
+    result->summary += fmt::format("Nothing else is missing. Held-out RMSE {:.4g} → {:.4g}.", result->heldout_rmse_base,
+                                   result->heldout_rmse_after);
+  } else if (result->missing_effect_found) {
+    result->summary += fmt::format(
         "Missing: {}{} — explains {:.1f} % of the held-out residual energy. All chosen effects together "
         "explain {:.1f} %; RMSE {:.4g} → {:.4g} (in-sample, base refit {:.4g}), held-out RMSE {:.4g} → {:.4g}.",
-        top.effect, top.parameters.empty() ? "" : " (" + FormatParameters(top.parameters, options.position_unit) + ")",
-        100.0 * top.score, 100.0 * result->explained_share, result->rmse_before, result->rmse_after,
+        top->effect, top->parameters.empty() ? "" : " (" + FormatParameters(top->parameters, options.position_unit) + ")",
+        100.0 * top->score, 100.0 * result->explained_share, result->rmse_before, result->rmse_after,
         result->rmse_base_refit, result->heldout_rmse_base, result->heldout_rmse_after);
     if (result->position_time_indistinguishable) result->summary += " " + ambiguity_note;
   } else if (wb.white && !significant_peak) {
@@ -574,6 +758,74 @@ void Summarise(const DiagnosisOptions& options, const std::string& ambiguity_not
         100.0 * options.min_gain, wb.white ? "white" : "not white", significant_peak ? " and has a significant position-periodic peak" : "",
         result->rmse_base_refit);
   }
+}
+
+// What the ranking (steps 1–3) leaves for the final fit.
+struct Ranking {
+  RegressorMatrix m;
+  std::optional<BlockGrams> grams;
+  Selection chosen;
+  Eigen::VectorXd weights;         // the Huber weights of the search
+  Eigen::MatrixXd law_columns;     // the base's columns and the chosen friction-law replacements'
+  Eigen::VectorXd law_residual;    // the residual after their robust fit
+};
+
+// 1.–3a. Robust base refit, candidates, and the friction law near zero velocity first: each pass refits the base with
+// the replacements chosen so far (Huber IRLS), proposes the candidates anew in what is left (ŷ corrected by that fit,
+// so that an effect built from ŷ — a delay — sees the corrected model), and adds the best replacement if one passes;
+// then 3b. the other effects are ranked in what the replacements leave. Fills rmse_base_refit, whiteness_before, the
+// candidates, periodograms, notes and friction_law of `result`.
+Ranking RankEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols, const DiagnosisOptions& options,
+                    DiagnosisResult* result) {
+  const Eigen::Index n = signals.size(), p = base_cols.cols();
+  const Eigen::VectorXd& r = signals.residual;
+  CatalogueOptions catalogue = options.catalogue;
+  if (options.regressor_filter_hz > 0.0 && !(catalogue.band_limit_hz > 0.0)) {
+    catalogue.band_limit_hz = options.regressor_filter_hz;
+  }
+  DiagnosisSignals corrected = signals;
+  LawSearch law;
+  law.columns = base_cols;
+  Ranking out;
+  // Without a Coulomb law in the model there is no law to replace: the replacements (Stribeck) are ranked as the
+  // other effects are.
+  const bool replace_law = HasCoulombLaw(base_cols, signals.velocity);
+  for (int pass = 0;; ++pass) {
+    out.weights = RobustWeights(law.columns, r, options.huber_k, &out.law_residual);
+    if (pass == 0) {
+      result->rmse_base_refit = std::sqrt(out.law_residual.squaredNorm() / static_cast<double>(n));
+      result->whiteness_before = Whiteness(out.law_residual);
+    }
+    if (signals.model_output.size() == n) corrected.model_output = signals.model_output + (r - out.law_residual);
+    const CandidateSearch search = ProposeCandidateEffects(corrected, out.law_residual, law.columns, catalogue);
+    result->candidates.insert(result->candidates.end(), search.candidates.begin(), search.candidates.end());
+    result->position_peaks = search.position_periodogram.peaks;
+    result->time_peaks = search.time_periodogram.peaks;
+    if (pass == 0) result->notes = search.notes;
+    std::vector<EffectInstance> list = law.effects;  // the replacements chosen are the first candidates
+    list.insert(list.end(), search.candidates.begin(), search.candidates.end());
+    out.m = BuildCandidateMatrix(corrected, base_cols, list, options, &result->notes);
+    out.m.Weigh(r, out.weights);
+    out.grams.emplace(out.m.wx, out.m.wr, options.folds);
+    out.chosen = StartSelection(*out.grams, p);
+    for (std::size_t i = 0; i < law.effects.size(); ++i) {
+      out.chosen.order.push_back(i);
+      out.chosen.selected.insert(out.chosen.selected.end(), out.m.cands[i].idx.begin(), out.m.cands[i].idx.end());
+      out.chosen.scores.push_back(law.scores[i]);
+      out.chosen.cumulative.push_back(law.cumulative[i]);
+    }
+    out.chosen.mse_last = out.grams->HeldOutMse(out.chosen.selected);
+    if (!replace_law || !AddFrictionLaw(out.m, *out.grams, out.chosen, options, &law, &result->notes)) break;
+  }
+  out.law_columns = law.columns;
+  for (const auto& e : law.effects) result->friction_law.push_back(e.name);
+  std::vector<bool> used(out.m.cands.size());
+  for (std::size_t c = 0; c < out.m.cands.size(); ++c) {
+    used[c] = (replace_law && out.m.cands[c].type->traits.friction_law_replacement) ||
+              std::find(out.chosen.order.begin(), out.chosen.order.end(), c) != out.chosen.order.end();
+  }
+  SelectEffects(out.m, *out.grams, used, options, &out.chosen, &result->notes);
+  return out;
 }
 
 }  // namespace
@@ -596,34 +848,34 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
   result.base_names = base.names;
   result.rmse_before = std::sqrt(r.squaredNorm() / static_cast<double>(n));
 
-  // 1. Base refit (in-sample) for the candidate search.
-  Eigen::VectorXd r0 = r;
-  if (p > 0) r0 -= base_cols * base_cols.colPivHouseholderQr().solve(r);
-  result.rmse_base_refit = std::sqrt(r0.squaredNorm() / static_cast<double>(n));
-
-  // 2. Candidates and their regressors.
-  const CandidateSearch search = ProposeCandidateEffects(signals, r0, base_cols, options.catalogue);
-  result.candidates = search.candidates;
-  result.position_peaks = search.position_periodogram.peaks;
-  result.time_peaks = search.time_periodogram.peaks;
-  result.notes = search.notes;
-  const RegressorMatrix m = BuildCandidateMatrix(signals, base_cols, search.candidates, options, &result.notes);
-  const BlockGrams grams(m.x, r, options.folds);
-
-  // 3. Forward selection on the held-out error.
-  const Selection chosen = SelectEffects(m, grams, p, options, &result.notes);
+  // 1.–3. Robust base refit, the friction law near zero velocity, the other effects.
+  Ranking ranked = RankEffects(signals, base_cols, options, &result);
+  const RegressorMatrix& m = ranked.m;
+  const Selection& chosen = ranked.chosen;
   result.heldout_rmse_base = std::sqrt(chosen.mse_base);
   result.heldout_rmse_after = std::sqrt(chosen.mse_last);
   result.explained_share = chosen.mse_base > 0.0 ? 1.0 - chosen.mse_last / chosen.mse_base : 0.0;
 
-  // 4. Final joint fit on all data.
-  const JointFit fit = FitJointly(m, grams, chosen.selected);
+  // 4. Final joint fit on all data, its Huber weights refit with the chosen effects in (the weights of the search
+  // came from the base's residual, where the missing effects themselves looked like outliers).
+  Eigen::VectorXd weights = ranked.weights;
+  if (!chosen.selected.empty()) {
+    Eigen::MatrixXd selected(n, static_cast<Eigen::Index>(chosen.selected.size()));
+    for (std::size_t j = 0; j < chosen.selected.size(); ++j) {
+      selected.col(static_cast<Eigen::Index>(j)) = m.x.col(chosen.selected[j]);
+    }
+    Eigen::VectorXd rest;
+    weights = RobustWeights(selected, r, options.huber_k, &rest);
+    ranked.m.Weigh(r, weights);
+    ranked.grams.emplace(ranked.m.wx, ranked.m.wr, options.folds);
+  }
+  const JointFit fit = FitJointly(m, *ranked.grams, chosen.selected);
   result.condition_number = fit.condition_number;
+  result.robust_weight_share = weights.mean();
   const Eigen::VectorXd r_after = r - fit.fitted;
   result.rmse_after = std::sqrt(r_after.squaredNorm() / static_cast<double>(n));
   result.base_coefficients = fit.coef.head(p);
   result.base_coefficient_std = fit.coef_std.head(p);
-  result.whiteness_before = Whiteness(r0);
   result.whiteness_after = Whiteness(r_after);
 
   // 5. Describe each chosen effect, highest score first.
@@ -632,15 +884,24 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
     const Candidate& c = m.cands[chosen.order[i]];
     const Eigen::Index kc = c.reg.columns.cols();
     result.effects.push_back(DescribeEffect(c, chosen.scores[i], chosen.cumulative[i], fit.coef.segment(offset, kc),
-                                            fit.coef_std.segment(offset, kc), signals, options.position_unit));
+                                            fit.coef_std.segment(offset, kc), signals, options.position_unit,
+                                            i < result.friction_law.size()));
     offset += kc;
   }
-  std::stable_sort(result.effects.begin(), result.effects.end(),
-                   [](const DiagnosedEffect& a, const DiagnosedEffect& b) { return a.score > b.score; });
+  // What is missing first (by score), then the friction-law replacements (by score): a replacement changes the
+  // model's law rather than adding an effect (the summary names it; `--suggest` takes the first effect).
+  const auto is_law = [&](const DiagnosedEffect& e) {
+    return std::find(result.friction_law.begin(), result.friction_law.end(), e.effect) != result.friction_law.end();
+  };
+  std::stable_sort(result.effects.begin(), result.effects.end(), [&](const DiagnosedEffect& a, const DiagnosedEffect& b) {
+    if (is_law(a) != is_law(b)) return !is_law(a);
+    return a.score > b.score;
+  });
   result.missing_effect_found = !result.effects.empty();
 
   // 6. Can position-periodic and time-periodic be told apart?
-  const std::string ambiguity_note = CheckPositionTimeAmbiguity(signals, r0, base_cols, options, &result);
+  const std::string ambiguity_note =
+      CheckPositionTimeAmbiguity(signals, ranked.law_residual, ranked.law_columns, options, &result);
   NoteHysteresis(signals, r_after, &result);
 
   // 7. Evidence and summary.
@@ -755,6 +1016,8 @@ nlohmann::json DiagnosisResult::ToJson() const {
   nlohmann::json cands = nlohmann::json::array();
   for (const auto& c : candidates) cands.push_back({{"effect", c.name}, {"parameters", c.parameters}});
   j["candidates"] = cands;
+  j["friction_law"] = friction_law;
+  j["robust_weight_share"] = robust_weight_share;
   return j;
 }
 

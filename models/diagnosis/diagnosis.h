@@ -15,6 +15,11 @@
 //     its score = 1 − MSE(S ∪ {c})/MSE(S), the share of the held-out residual energy left by the previous
 //     round that it explains. Stop when the best score < min_gain (default 1 %).
 //  5. Final coefficients: one joint least-squares fit of base + chosen effects on all data.
+// Robust to a wrong base model (DIAGNOSIS.md, "When the base model is wrong elsewhere"): every fit is weighted by
+// Huber weights (IRLS, DiagnosisOptions::huber_k); when the base has a Coulomb law, the friction-law replacements
+// (EffectTraits::friction_law_replacement) are ranked first and the candidates re-proposed in what they leave; a
+// candidate is chosen only when its held-out gain is significant against the residual's autocorrelation
+// (Diebold–Mariano with batch-mean variance, DiagnosisOptions::significance_t). docs/diagnosis.md, "Ranking".
 // Nothing passing: "no missing effect" (with the residual's whiteness and the periodogram's
 // significance as supporting evidence). A position-periodic and a time-periodic effect cannot be told
 // apart when the motion has essentially one speed: then position_time_indistinguishable is set.
@@ -62,6 +67,24 @@ struct DiagnosisOptions {
   // record's mean speed) are refit to the residual; when their shares differ by less than this fraction of the larger,
   // the record cannot tell them apart (CheckPositionTimeAmbiguity in diagnosis.cc).
   double position_time_margin = 0.05;
+  // Robust loss (DIAGNOSIS.md, "When the base model is wrong elsewhere"): every least-squares fit of the ranking is
+  // weighted by Huber weights w = min(1, k·σ/|r|) (σ = 1.4826·MAD of the residual, k = huber_k), found by
+  // iteratively reweighted least squares of the base (then of the base with the friction-law replacements chosen,
+  // and for the final joint fit with every chosen effect): a few badly modelled samples (the model's sign(v) flipping
+  // ±F_c on velocity noise while the machine dwells) no longer drag the base refit. The held-out errors and shares
+  // are then of the weighted residual. 0 = plain least squares.
+  double huber_k = 3.0;
+  // No invented effect: a candidate is chosen only when its held-out gain is significant against the residual's own
+  // autocorrelation — a Diebold–Mariano test (Diebold & Mariano 1995) on the per-sample held-out loss differences,
+  // the variance of their mean from significance_batches contiguous batch means (the effective sample size is then
+  // about the number of batches, whatever the residual's correlation time below N/batches). One-sided t at least
+  // this (2.33: p ≈ 0.01). 0 = off.
+  double significance_t = 2.33;
+  Eigen::Index significance_batches = 40;
+  // A gain of at least this share of the held-out residual energy needs no test: noise fitted by a column does not
+  // explain a quarter of the held-out energy, while a real effect that acts at rare instants (a delay's error at the
+  // few reversals of a slow back-and-forth) makes the batch means scatter and would fail the test.
+  double significance_exempt_gain = 0.25;
 };
 
 // One effect the ranking chose.
@@ -104,6 +127,10 @@ struct DiagnosisResult {
   std::vector<PeriodogramPeak> position_peaks;  // position periodogram of the base-refit residual [m]
   std::vector<PeriodogramPeak> time_peaks;      // time periodogram [s]
   std::vector<EffectInstance> candidates;       // everything that was tried
+  // The friction-law replacements chosen (EffectTraits::friction_law_replacement; also in `effects`): the model's
+  // friction law near zero velocity is wrong; the other effects were searched in what they leave.
+  std::vector<std::string> friction_law;
+  double robust_weight_share = 1.0;             // mean Huber weight of the final fit (1 = no sample down-weighted)
 
   // The chosen effects as instances (to rebuild regressors on new data).
   std::vector<EffectInstance> chosen() const;

@@ -96,6 +96,10 @@ struct CatalogueOptions {
   // A residual time period within 1 % of k × the motion's own repetition frequency (k = 1..this) is
   // "motion-locked": any effect of x, v or a repeats there too, so it is not proposed as time_periodic.
   int motion_harmonics = 8;
+  // The band the motion signals carry [Hz] (0 = up to Nyquist): with parallel filtering (DiagnosisOptions::
+  // regressor_filter_hz, which sets it) nothing above the cut-off is a property of the motion — a resonance peak up
+  // there is the controller's noise leaking through the filter's skirt, and is not proposed.
+  double band_limit_hz = 0.0;
 };
 
 // What the proposal found on the way (for reports): the periodograms searched.

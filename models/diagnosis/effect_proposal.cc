@@ -9,6 +9,7 @@
 #include <Eigen/Dense>
 #include <fmt/format.h>
 
+#include "models/diagnosis/effect_regressors.h"
 #include "models/diagnosis/signal_processing.h"
 
 namespace mb {
@@ -150,6 +151,23 @@ double ResidualSumOfSquares(const Eigen::MatrixXd& base, const Eigen::Ref<const 
   g.diagonal().array() += 1e-10;
   const Eigen::VectorXd beta = g.ldlt().solve(x.transpose() * r);
   return (r - x * beta).squaredNorm();
+}
+
+bool HasCoulombLaw(const Eigen::MatrixXd& base_columns, const Eigen::VectorXd& velocity) {
+  const double max_speed = velocity.size() > 0 ? velocity.cwiseAbs().maxCoeff() : 0.0;
+  if (!(max_speed > 0.0)) return false;
+  const Eigen::VectorXd mask = (velocity.array().abs() > 0.1 * max_speed).cast<double>();
+  const Eigen::VectorXd sign = SignDeadBand(velocity, 0.0).cwiseProduct(mask);
+  for (Eigen::Index j = 0; j < base_columns.cols(); ++j) {  // one column that is sign(v) while moving
+    const Eigen::VectorXd c = base_columns.col(j).cwiseProduct(mask);
+    const double denominator = c.squaredNorm() * sign.squaredNorm();
+    if (denominator > 0.0 && c.dot(sign) * c.dot(sign) / denominator >= 0.97) return true;
+  }
+  return false;
+}
+
+bool BaseHasCoulombLaw(const ProposalContext& context) {
+  return HasCoulombLaw(context.base_columns(), context.signals().velocity);
 }
 
 double ScanJointFit(const ProposalContext& context, double lo, double hi, int grid,

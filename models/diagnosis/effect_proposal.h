@@ -76,6 +76,13 @@ int HarmonicCount(const Periodogram& periodogram, std::size_t index, int max_har
 double ResidualSumOfSquares(const Eigen::MatrixXd& base, const Eigen::Ref<const Eigen::MatrixXd>& extra,
                             const Eigen::VectorXd& r);
 
+/// Does the model have a Coulomb law (sign(v)) to replace? One base column is sign(v) over the moving samples
+/// (faster than 10 % of max |v|: squared correlation ≥ 0.97; at rest the model's law chatters on velocity noise,
+/// which is what the friction-law replacements are about). The replacements and coulomb_friction ask this.
+bool BaseHasCoulombLaw(const ProposalContext& context);
+/// The same on the base's columns (N × p) and the velocity (N) themselves.
+bool HasCoulombLaw(const Eigen::MatrixXd& base_columns, const Eigen::VectorXd& velocity);
+
 /// A one-parameter scan of the joint fit: the value in [lo, hi] (log grid of `grid` points, then golden section in
 /// log between the best point's neighbours) minimising the residual sum of squares of the residual on
 /// [base, 1, columns(value)]. Returns 0 when lo or hi is not positive or lo >= hi.

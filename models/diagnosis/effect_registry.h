@@ -43,6 +43,11 @@ struct EffectTraits {
   /// The regressor is built from the model output ŷ alone, which is in the output filter's band already: it is
   /// not low-passed with the motion's regressors (DiagnosisOptions::regressor_filter_hz).
   bool regressor_in_output_band = false;
+  /// A friction-law replacement: the effect replaces the model's friction law near zero velocity (regularised
+  /// Coulomb, pre-sliding, Stribeck) rather than adding a force the model lacks. The diagnosis tries these first,
+  /// reports them as "the friction law near zero velocity is wrong", and searches for the other effects in what they
+  /// leave (DIAGNOSIS.md, "When the base model is wrong elsewhere"). Their catalogue names end in "_friction".
+  bool friction_law_replacement = false;
 };
 
 /// One parameter of an effect instance (EffectInstance::parameters), SI units.

@@ -1,5 +1,6 @@
-// bench_diagnosis [--out=DIR] [--compare-only] [--jitter=FRACTION] [CASE …]: the independent hidden-effect benchmark (issue 13, item 5;
-// tests/diagnosis/independent_bench.h). Prints the table of every case (or the named ones, e.g. "delay").
+// bench_diagnosis [--out=DIR] [--compare-only] [--verbose] [--jitter=FRACTION] [CASE …]: the independent hidden-effect benchmark (issue 13, item 5;
+// tests/diagnosis/independent_bench.h). Prints the table of every case (or the named ones, e.g. "delay");
+// --verbose: each case's named effects with their scores and compare's notes on stderr.
 // `make bench-diagnosis` builds it in Release and runs it.
 #include <algorithm>
 #include <iostream>
@@ -10,12 +11,13 @@
 
 int main(int argc, char** argv) {
   std::string out = "out/bench-diagnosis";
-  bool improve = true;
+  bool improve = true, verbose = false;
   double jitter = 0.0;
   std::vector<std::string> only;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--compare-only") improve = false;
+    else if (a == "--verbose") verbose = true;
     else if (a.rfind("--out=", 0) == 0) out = a.substr(6);
     else if (a.rfind("--jitter=", 0) == 0) jitter = std::stod(a.substr(9));
     else only.push_back(a);
@@ -32,6 +34,9 @@ int main(int argc, char** argv) {
       return 1;
     }
     std::cerr << "done: " << spec.name << "\n";
+    if (verbose) {
+      for (const auto& line : results.back().details) std::cerr << "  " << line << "\n";
+    }
   }
   std::cout << mb::independent::FormatTable(results);
   return 0;

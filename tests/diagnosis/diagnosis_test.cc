@@ -285,6 +285,46 @@ TEST(Diagnosis, RejectsInconsistentInput) {
   EXPECT_THROW(BuildEffectRegressors({"cogging", {}}, sc.s), std::invalid_argument);
 }
 
+TEST(Diagnosis, RejectsRobustOptionsOutOfRange) {
+  Scenario sc(1000);
+  sc.s.residual = sc.Noise(1.0);
+  DiagnosisOptions options;
+  options.huber_k = -1.0;
+  try {
+    DiagnoseMissingEffects(sc.s, sc.Base("avs1"), options);
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "DiagnoseMissingEffects: huber_k = -1 and significance_t = 2.33 must be >= 0 and "
+                           "significance_batches = 40 >= 2");
+  }
+}
+
+// The user's model has sign(v) friction, the machine a smooth law, and it dwells at rest: the residual chatters ±F_c
+// on the dwell samples. The law is replaced (regularized_coulomb_friction, its v_c), not called a missing Coulomb
+// force, and the ripple behind it is named first.
+TEST(Diagnosis, ASmoothFrictionLawAtRestIsReplacedAndTheRippleBehindItNamed) {
+  Scenario sc(12000);
+  const Eigen::Index n = sc.s.time.size();
+  for (Eigen::Index i = 0; i < n; ++i) {  // dwell: 0.4 s at rest every 2 s, velocity noise only
+    if (std::fmod(sc.s.time(i), 2.0) < 0.4) {
+      sc.s.velocity(i) = 2e-5 * sc.n01(sc.rng);
+      sc.s.acceleration(i) = 0.0;
+    }
+  }
+  const Eigen::VectorXd smooth = (sc.s.velocity.array() / 5e-4).tanh();
+  const Eigen::VectorXd sign = sc.Sign();
+  const Eigen::VectorXd ripple = 1.5 * (kTwoPi * sc.s.position.array() / 0.006).sin();
+  sc.s.residual = 21.0 * (smooth - sign) + ripple + sc.Noise(0.5);
+  const DiagnosisResult r = DiagnoseMissingEffects(sc.s, sc.Base("avs1"));
+  ASSERT_TRUE(r.missing_effect_found) << Names(r);
+  ASSERT_FALSE(r.friction_law.empty()) << Names(r);
+  EXPECT_EQ(r.friction_law.front(), "regularized_coulomb_friction") << Names(r);
+  EXPECT_FALSE(Named(r, "coulomb_friction")) << Names(r);
+  EXPECT_EQ(r.effects.front().effect, "position_periodic") << Names(r);
+  EXPECT_NEAR(r.effects.front().parameters.at("period"), 0.006, 0.03 * 0.006);
+  EXPECT_THAT(r.summary, HasSubstr("The friction law near zero velocity is wrong: regularized_coulomb_friction"));
+}
+
 // The real EMPS data (IDIM-LS style): position low-passed at 50 Hz and differentiated, the force through
 // the same zero-phase filter (parallel filtering), rigid body + viscous + Coulomb + offset fitted to the
 // force by least squares. The screw-lead ripple (position-periodic, 2.5 mm) must be found; the printed

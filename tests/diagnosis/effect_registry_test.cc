@@ -40,7 +40,8 @@ const std::map<std::string, double> kTypical{{"period", 0.0025},   {"harmonics",
                                              {"delay", 0.004},     {"stribeck_velocity", 0.01}, {"damping_ratio", 0.05},
                                              {"step", 0.5},        {"dead_band", 0.001},
                                              {"backlash", 1e-3},   {"center", 0.1},            {"half_range", 0.1},
-                                             {"degree", 3.0}};
+                                             {"degree", 3.0},      {"regularization_velocity", 5e-4},
+                                             {"presliding_displacement", 2e-5}};
 
 bool IsSnakeCase(const std::string& name) {
   return !name.empty() && std::islower(static_cast<unsigned char>(name.front())) &&
@@ -89,7 +90,7 @@ TEST(EffectRegistry, NamesAreUniqueAndInCatalogueOrder) {
   for (const char* name : {"constant_offset", "viscous_friction", "coulomb_friction", "asymmetric_friction",
                            "stribeck_friction", "mass_mismatch", "position_periodic", "velocity_dependent_ripple",
                            "time_periodic", "resonance", "time_delay", "quantization", "backlash",
-                           "position_dependent_force"}) {
+                           "position_dependent_force", "regularized_coulomb_friction", "presliding_friction"}) {
     EXPECT_NE(EffectRegistry::Global().Find(name), nullptr) << name;
   }
 }
@@ -220,7 +221,8 @@ TEST(EffectRegistry, EveryBlockFileTemplateFindsItsEffect) {
   EXPECT_TRUE(EffectRegistry::Global().UnclaimedBlockTemplates().empty());
   for (const char* effect : {"constant_offset", "viscous_friction", "coulomb_friction", "stribeck_friction",
                              "mass_mismatch", "position_periodic", "velocity_dependent_ripple", "time_periodic",
-                             "time_delay", "quantization", "resonance", "position_dependent_force"}) {
+                             "time_delay", "quantization", "resonance", "position_dependent_force",
+                             "regularized_coulomb_friction"}) {
     EXPECT_TRUE(LookupEffect(effect).block.has_value()) << effect;
   }
   EXPECT_FALSE(LookupEffect("backlash").block.has_value());  // added by hand (the report says so)

@@ -38,9 +38,8 @@ double Seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
 }
 
-// A friction-law replacement (a new law near zero velocity, not a missing effect). Main's catalogue has none yet:
-// every named effect counts.
-bool IsLaw(const std::string& /*effect*/) { return false; }
+// A friction-law replacement (a new law near zero velocity, not a missing effect): the registry's trait.
+bool IsLaw(const std::string& effect) { return LookupEffect(effect).traits.friction_law_replacement; }
 
 // The truth's force on the record as compare reads it (derived motion, parallel filtering) against the measured.
 double NoiseFloor(Hidden hidden, const MeasurementLog& log, const MeasurementSettings& settings) {
@@ -60,9 +59,11 @@ void Judge(const DiagnosisResult& d, CaseResult* r) {
   for (const auto& e : d.effects) {
     const bool law = IsLaw(e.effect);
     r->named.push_back(e.effect + (law ? " (law)" : ""));
+    r->details.push_back(fmt::format("{}: score {:.4f}, {}", e.effect, e.score, fmt::join(e.parameters, ", ")));
     if (!law) outside.push_back(e.effect);
     if (key == nullptr && e.effect == r->spec.effect) key = &e;
   }
+  r->details.insert(r->details.end(), d.notes.begin(), d.notes.end());
   if (!outside.empty()) r->named_first = outside.front();
   if (r->spec.law) {
     r->named_right = key != nullptr && outside.empty();
@@ -83,27 +84,37 @@ void Judge(const DiagnosisResult& d, CaseResult* r) {
 
 }  // namespace
 
+fs::path UserDiagramDirectory() { return kEmps; }
+
+PreparedCase PrepareCase(const CaseSpec& spec, const fs::path& directory, double jitter, double duration) {
+  fs::create_directories(directory);
+  const fs::path train = directory / "training.csv", valid = directory / "validation.csv";
+  WriteCsv(Generate(spec.hidden, {.duration = duration, .jitter = jitter, .seed = 11}), train.string());
+  WriteCsv(Generate(spec.hidden, {.duration = duration, .jitter = jitter, .seed = 23}), valid.string());
+  const json diagram = UserDiagram(spec.mass_known);
+  const ImproveSettings settings;
+  return {diagram, settings, ReadMeasurementFor(diagram, train.string(), settings.measurement),
+          ReadMeasurementFor(diagram, valid.string(), settings.measurement)};
+}
+
 CaseResult RunCase(const CaseSpec& spec, const fs::path& directory, bool run_improve, double jitter) {
   CaseResult r;
   r.spec = spec;
-  fs::create_directories(directory);
-  const fs::path train = directory / "training.csv", valid = directory / "validation.csv";
-  WriteCsv(Generate(spec.hidden, {.jitter = jitter, .seed = 11}), train.string());
-  WriteCsv(Generate(spec.hidden, {.jitter = jitter, .seed = 23}), valid.string());
-  const json diagram = UserDiagram(spec.mass_known);
-  ImproveSettings settings;
+  const PreparedCase prepared = PrepareCase(spec, directory, jitter);
+  const json& diagram = prepared.diagram;
+  const ImproveSettings& settings = prepared.settings;
   const auto t0 = std::chrono::steady_clock::now();
-  const MeasurementLog training = ReadMeasurementFor(diagram, train.string(), settings.measurement);
-  const DiagnosedComparison compared = CompareAndDiagnose(diagram, kEmps, "rigid_body.json", training,
+  const DiagnosedComparison compared = CompareAndDiagnose(diagram, kEmps, kUserDiagramFile, prepared.training,
                                                           settings.measurement, diagram["free"]);
   r.compare_seconds = Seconds(t0);
   Judge(*compared.diagnosis, &r);
-  const MeasurementLog validation = ReadMeasurementFor(diagram, valid.string(), settings.measurement);
+  const MeasurementLog& training = prepared.training;
+  const MeasurementLog& validation = prepared.validation;
   r.noise_floor = NoiseFloor(spec.hidden, validation, settings.measurement);
   if (!run_improve) return r;
   r.improve_run = true;
   const auto t1 = std::chrono::steady_clock::now();
-  const ImproveResult improved = ImproveModel(diagram, kEmps, "rigid_body.json", training, &validation, settings);
+  const ImproveResult improved = ImproveModel(diagram, kEmps, kUserDiagramFile, training, &validation, settings);
   r.improve_seconds = Seconds(t1);
   r.heldout_before = improved.first().rmse_heldout;
   r.heldout_after = improved.last_accepted().rmse_heldout;

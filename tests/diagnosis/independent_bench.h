@@ -11,13 +11,18 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "tests/diagnosis/independent_plant.h"
+#include "tools/workflow/improve.h"
+#include "tools/workflow/measurement.h"
 
 namespace mb::independent {
 
 struct CaseResult {
   CaseSpec spec;
   std::vector<std::string> named;      ///< compare's ranking, friction-law replacements marked "(law)"
+  std::vector<std::string> details;    ///< each named effect with its score and parameters, then compare's notes
   std::string named_first;             ///< first outside the friction-law replacements ("" = none)
   double parameter = 0.0;              ///< its key parameter as compare found it (NaN if not named)
   double heldout_before = 0.0;         ///< improve, step 0 (validation RMSE) [N]
@@ -28,6 +33,22 @@ struct CaseResult {
   bool named_right = false, parameter_right = false, floor_reached = false;
   bool pass() const { return named_right && parameter_right && floor_reached; }
 };
+
+/// A case's logs as `compare` reads them, with the user's diagram (diagrams/emps/rigid_body.json) and the settings.
+struct PreparedCase {
+  nlohmann::json diagram;
+  ImproveSettings settings;
+  MeasurementLog training, validation;
+};
+
+/// Generates the training (seed 11) and validation (seed 23) records of `spec` (duration [s], jitter as in
+/// GeneratorSettings), writes them as CSV to `directory` and reads them back as `compare` does.
+PreparedCase PrepareCase(const CaseSpec& spec, const std::filesystem::path& directory, double jitter = 0.0,
+                         double duration = 16.0);
+
+/// The directory the user's diagram lives in (diagrams/emps) and its file name, for CompareAndDiagnose/ImproveModel.
+std::filesystem::path UserDiagramDirectory();
+inline constexpr const char* kUserDiagramFile = "rigid_body.json";
 
 /// Runs one case in `directory` (logs written there). `run_improve` false: compare only (heldout_* = 0). `jitter`:
 /// the timestamps' jitter as a fraction of the sample period (GeneratorSettings::jitter; 0 by default: the intake

@@ -1,11 +1,17 @@
 // The independent hidden-effect data (issue 13, item 5; tests/diagnosis/independent_plant.h): the generator's own
 // properties (what makes it a test of data the project did not generate). The cases themselves — a log per hidden
 // effect, diagnosed with the EMPS rigid body as the user's model — are measured by bench_diagnosis
-// (docs/diagnosis.md, "Independent hidden-effect cases"); a case becomes a test here once the diagnosis passes it.
+// (docs/diagnosis.md, "Independent hidden-effect cases"); the cases that `compare` passes are tests here too
+// (IndependentCase.*: named first outside the friction-law replacements, key parameter within tolerance; `improve` and
+// its noise floor are measured by the benchmark only — under ASan it takes minutes per case).
+#include <cctype>
 #include <cmath>
+#include <filesystem>
+#include <string>
 
 #include <gtest/gtest.h>
 
+#include "tests/diagnosis/independent_bench.h"
 #include "tests/diagnosis/independent_plant.h"
 
 namespace mb::independent {
@@ -57,6 +63,37 @@ TEST(IndependentPlant, EachCaseNamesACatalogueEffectAndATolerance) {
     EXPECT_EQ(c.effect.empty(), c.hidden == Hidden::kNone) << c.name;
   }
 }
+
+// The cases compare passes (docs/diagnosis.md's table), each on its full 16 s training record as the benchmark runs it.
+// Not here: delay (found at 2.2 ms for 4: the friction-law replacement takes part of its effect at the reversals),
+// position-dependent force (not named), backlash (named, gap 1.31 mm for 1 mm).
+class IndependentCase : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(IndependentCase, NamedFirstWithItsParameter) {
+  const CaseSpec* spec = nullptr;
+  for (const auto& c : Cases()) {
+    if (c.name == GetParam()) spec = &c;
+  }
+  ASSERT_NE(spec, nullptr) << GetParam();
+  std::string folder = spec->name;
+  for (char& c : folder) if (c == ' ' || c == '(' || c == ')' || c == '+') c = '_';
+  const auto dir = std::filesystem::temp_directory_path() / "mb_independent_cases" / folder;
+  const CaseResult r = RunCase(*spec, dir, /*run_improve=*/false);
+  std::string named;
+  for (const auto& n : r.named) named += n + "; ";
+  EXPECT_TRUE(r.named_right) << named;
+  EXPECT_TRUE(r.parameter_right) << spec->parameter << " = " << r.parameter << " (truth " << spec->truth << ")";
+  std::filesystem::remove_all(dir);
+}
+
+INSTANTIATE_TEST_SUITE_P(ComparePasses, IndependentCase,
+                         ::testing::Values("position ripple", "speed-dependent ripple", "Stribeck", "vibration (decoy)",
+                                           "resonance", "payload", "ripple + delay", "nothing missing"),
+                         [](const ::testing::TestParamInfo<std::string>& info) {
+                           std::string name;
+                           for (char c : info.param) if (std::isalnum(static_cast<unsigned char>(c))) name += c;
+                           return name;
+                         });
 
 }  // namespace
 }  // namespace mb::independent

@@ -22,8 +22,16 @@ EffectType CoulombFriction() {
   t.regressors = [](const EffectInstance& e, const DiagnosisSignals& s) {
     return SingleColumn(e.name, SignDeadBand(s.velocity, RequiredParameter(e, "dead_band")));
   };
+  // Not proposed when the model has a Coulomb law already: what it would add is its dead band, i.e. the friction law
+  // near zero velocity, which the friction-law replacements (regularized_coulomb_friction, …) model.
   t.propose = [](ProposalContext& c) {
-    if (c.max_speed() > 0.0) c.Propose(kName, {{"dead_band", c.dead_band()}});
+    if (!(c.max_speed() > 0.0)) return;
+    if (BaseHasCoulombLaw(c)) {
+      c.Note("coulomb_friction not proposed: the model has a Coulomb law; what it would add is its dead band, the "
+             "friction law near zero velocity (see the friction-law replacements)");
+      return;
+    }
+    c.Propose(kName, {{"dead_band", c.dead_band()}});
   };
   return t;
 }

@@ -1,7 +1,7 @@
 // position_dependent_force: a smooth force of position — a spring, a cable carrier, a magnet's attraction, a
 // hardening suspension (Duffing's cubic stiffness k₁(x − x₀) + k₃(x − x₀)³). Regressors ξ, ξ², ξ³ with
 // ξ = (x − center)/half_range over the record's travel {center [m], half_range [m], degree (3)}. Proposed when the
-// position moves over more than a millimetre and the residual holds no significant position period. Block: position_dependent_force "position_force" on the position
+// position moves over more than a millimetre and the residual holds no position period of 8 cycles or more. Block: position_dependent_force "position_force" on the position
 // input, its coefficients free.
 #include <cmath>
 
@@ -52,10 +52,14 @@ EffectType PositionDependentForce() {
                   {"degree", "", "J, 3 when absent"}};
   t.regressors = Columns;
   t.propose = [](ProposalContext& c) {
-    // Only when the residual holds no significant position period: on EMPS (DATA_EMPS, the rigid body) the
-    // polynomial takes 18.6 % of the held-out residual and the plain held-out ranking names it before the screw
-    // lead's ripple; a smooth force and a ripple together need the robust, significance-tested ranking (not yet).
-    if (!(c.position_span() > 1e-3) || !c.position_periods().empty()) return;
+    // Only when the residual holds no position period of 8 cycles or more in the travel: on EMPS (DATA_EMPS, the
+    // rigid body) the polynomial takes 18.6 % of the held-out residual and the held-out ranking names it before the
+    // screw lead's ripple. A "period" of a few cycles in the travel is what a smooth force of position looks like to
+    // the periodogram: it does not stop the polynomial.
+    if (!(c.position_span() > 1e-3)) return;
+    for (const auto& p : c.position_periods()) {
+      if (p.period <= c.position_span() / 8.0) return;
+    }
     const Eigen::VectorXd& x = c.signals().position;
     c.Propose(kName, {{"center", 0.5 * (x.maxCoeff() + x.minCoeff())},
                       {"half_range", 0.5 * c.position_span()},

@@ -1,6 +1,6 @@
 // stribeck_friction: extra friction at low speed decaying with the Stribeck velocity. Regressor
 // exp(−(v/v_s)²)·s_db(v) {stribeck_velocity v_s [m/s], dead_band [m/s]}. Proposal: the trial v_s (fractions of
-// max |v|) whose regressor correlates best with the residual. Block: a friction element "stribeck" (slip model,
+// max |v|) whose regressor correlates best with the residual. A friction-law replacement (EffectTraits). Block: a friction element "stribeck" (slip model,
 // Coulomb 0) on the velocity input, its static level and Stribeck velocity free.
 #include <algorithm>
 #include <cmath>
@@ -49,6 +49,7 @@ EffectType StribeckFriction() {
     return SingleColumn(e.name, StribeckColumn(s.velocity, sg, vs));
   };
   t.propose = Propose;
+  t.traits.friction_law_replacement = true;  // extra friction at low speed: the law near zero velocity
   return t;
 }
 
