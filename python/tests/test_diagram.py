@@ -157,9 +157,9 @@ def test_inputs_feed_the_input_connectors():
 
 UNKNOWN_ELEMENT = f"{CONVENTIONAL}: no element named 'plnat'; did you mean: plant"
 UNKNOWN_PARAMETER = (
-    f"{CONVENTIONAL}: element 'plant' (linear_motor) has no parameter 'payload_mas'; did you mean: payload_mass; "
-    "it takes: mass, damping, payload_mass, initial_position, initial_velocity, pole_pitch, cogging_amplitude, "
-    "cogging_amplitude_velocity, cogging_harmonics, cogging_phases, cogging_offset, cogging_offset_velocity, "
+    f"{CONVENTIONAL}: element 'plant' (linear_motor) has no parameter 'payload_mas'; did you mean: payload_mass, "
+    "payload_time; it takes: mass, damping, payload_mass, payload_time, initial_position, initial_velocity, pole_pitch, "
+    "cogging_amplitude, cogging_amplitude_velocity, cogging_harmonics, cogging_phases, cogging_offset, cogging_offset_velocity, "
     "cogging_offset_velocity_squared, coulomb_friction, static_friction, stribeck_velocity, viscous_squared, "
     "friction_regularization_velocity, encoder_resolution, resonance_frequency_hz, resonance_damping_ratio, "
     "resonance_modal_gain")

@@ -70,8 +70,9 @@ TEST(IndependentPlant, EachCaseNamesACatalogueEffectAndATolerance) {
 class IndependentCase : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(IndependentCase, NamedFirstWithItsParameter) {
+  const auto cases = Cases();  // spec points into it
   const CaseSpec* spec = nullptr;
-  for (const auto& c : Cases()) {
+  for (const auto& c : cases) {
     if (c.name == GetParam()) spec = &c;
   }
   ASSERT_NE(spec, nullptr) << GetParam();
@@ -89,9 +90,9 @@ TEST_P(IndependentCase, NamedFirstWithItsParameter) {
 INSTANTIATE_TEST_SUITE_P(ComparePasses, IndependentCase,
                          ::testing::Values("position ripple", "speed-dependent ripple", "Stribeck", "vibration (decoy)",
                                            "resonance", "payload", "ripple + delay", "nothing missing"),
-                         [](const ::testing::TestParamInfo<std::string>& info) {
+                         [](const ::testing::TestParamInfo<std::string>& case_info) {
                            std::string name;
-                           for (char c : info.param) if (std::isalnum(static_cast<unsigned char>(c))) name += c;
+                           for (char c : case_info.param) if (std::isalnum(static_cast<unsigned char>(c))) name += c;
                            return name;
                          });
 

@@ -22,6 +22,10 @@ namespace mb {
 namespace {
 
 constexpr const char* kName = "resonance";
+// A mode found by the scan (no prominent spectral peak) must be lightly damped: structural modes have ζ of a few per
+// cent; the twin's closed loop with nothing missing gives a best scan at ζ = 0.15 that explains a broad shape of the
+// spectrum (HiddenEffect.NothingMissingSaysSoAndInventsNothing).
+constexpr double kMaxScannedDamping = 0.1;
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 // Resonant low-pass ω²/(s² + 2ζωs + ω²), bilinear transform pre-warped at ω, zero initial state.
@@ -130,9 +134,9 @@ void ProposeAt(ProposalContext& c, double f, double bin, bool scanned = false) {
     zeta = std::exp(GoldenSectionMinimum(sse_log_zeta, std::log(0.002), std::log(0.3), scanned ? 1e-2 : 1e-3));
     f = GoldenSectionMinimum(sse_f, f - bin, f + bin, scanned ? 1e-4 : 1e-5);
   }
-  if (scanned && zeta > 0.2) {  // the scan's best is a broad shape of the spectrum, not a mode
-    c.Note(fmt::format("{} not proposed: the scan of the joint fit found {:.4g} Hz with damping ratio {:.2g} (> 0.2: "
-                       "not a mode)", kName, f, zeta));
+  if (scanned && zeta > kMaxScannedDamping) {  // the scan's best is a broad shape of the spectrum, not a mode
+    c.Note(fmt::format("{} not proposed: the scan of the joint fit found {:.4g} Hz with damping ratio {:.2g} (> {}: "
+                       "not a lightly damped mode)", kName, f, zeta, kMaxScannedDamping));
     return;
   }
   c.Propose(kName, {{"frequency_hz", f}, {"damping_ratio", zeta}});
@@ -155,7 +159,8 @@ void Propose(ProposalContext& c) {
   }
   // A mode that the closed loop damps shows no prominent peak in the residual: scan the joint fit over 4 bins … half
   // the band limit (or an eighth of the sample rate) instead — near the parallel filter's cut-off the regressors are
-  // distorted; a best fit with ζ > 0.2 is a broad shape, not a mode; the ranking's significance test judges the rest.
+  // distorted; a best fit with ζ > kMaxScannedDamping is a broad shape, not a mode; the ranking's significance test
+  // judges the rest.
   const double ts = c.sample_period();
   const double hi = c.options().band_limit_hz > 0.0 ? 0.5 * c.options().band_limit_hz : 0.125 / ts;
   const double zeta = c.options().resonance_damping_ratio;
