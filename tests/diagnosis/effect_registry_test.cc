@@ -144,13 +144,19 @@ TEST(EffectRegistry, UnknownEffectSaysDidYouMean) {
   EXPECT_THROW(EffectPhysics("Stribeck"), std::invalid_argument);
 }
 
-TEST(EffectRegistry, RefusesDuplicatesAndIncompleteEffects) {
-  EffectRegistry registry;
+// A made-up effect "spring" without its proposal rule.
+EffectType SpringWithoutProposal() {
   EffectType t;
   t.name = "spring";
   t.physics = "a force proportional to position";
   t.regressor_formula = "x";
   t.regressors = [](const EffectInstance&, const DiagnosisSignals& s) { return EffectRegressors{s.position, {"spring"}}; };
+  return t;
+}
+
+TEST(EffectRegistry, RefusesDuplicatesAndIncompleteEffects) {
+  EffectRegistry registry;
+  EffectType t = SpringWithoutProposal();
   EffectType incomplete = t;
   incomplete.name = "spring2";
   try {
@@ -183,11 +189,7 @@ std::string LogicErrorOf(F f) {
 
 TEST(EffectRegistry, BlockTemplatesAttachToTheirEffectInEitherOrder) {
   EffectRegistry registry;
-  EffectType t;
-  t.name = "spring";
-  t.physics = "a force proportional to position";
-  t.regressor_formula = "x";
-  t.regressors = [](const EffectInstance&, const DiagnosisSignals& s) { return EffectRegressors{s.position, {"spring"}}; };
+  EffectType t = SpringWithoutProposal();
   t.propose = [](ProposalContext& c) { c.Propose("spring"); };
   EffectBlockTemplate block;
   block.block_type = "gain";
