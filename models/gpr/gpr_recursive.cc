@@ -25,14 +25,13 @@ bool UpdateGprWeightPosterior(const GprModel& model, double forgetting, double x
     // Exponential forgetting of the information, P ← P/λ, with each weight's variance bounded by its prior
     // variance s_j: row and column j scaled by √(s_j/P_jj) where P_jj > s_j (a diagonal congruence: P stays
     // positive semidefinite).
-    p /= forgetting;
     const Eigen::VectorXd& s = model.spectral_weights();
+    // P ← D·P·D in one pass, column by column: D_j = 1/√λ, or √(s_j/P_jj) where P_jj/λ would exceed s_j.
+    Scratch scale(m);
     for (Eigen::Index j = 0; j < m; ++j) {
-      if (p(j, j) <= s(j)) continue;
-      const double c = std::sqrt(s(j) / p(j, j));
-      p.col(j) *= c;
-      p.row(j) *= c;
+      scale(j) = p(j, j) > forgetting * s(j) ? std::sqrt(s(j) / p(j, j)) : 1.0 / std::sqrt(forgetting);
     }
+    for (Eigen::Index j = 0; j < m; ++j) p.col(j).array() *= scale(j) * scale.array();
   }
   p_psi.noalias() = p.selfadjointView<Eigen::Lower>() * psi;
   const double innovation_variance = data.hyperparameters.noise_variance + psi.dot(p_psi);
