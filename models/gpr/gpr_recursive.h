@@ -26,10 +26,11 @@
 namespace mb {
 
 /// One observation's update of a weight posterior (m, P) held by the caller — the gpr block keeps it in its
-/// discrete state: with forgetting λ < 1 first P ← P/λ with each P_jj bounded by s_j (s = model.spectral_weights()), then the
-/// Kalman step above with ψ = ψ(x, clamp(ẋ)) and d − mean. `weights` m: M doubles; `covariance` P: M×M
-/// doubles, column-major, both triangles kept symmetric. O(M²), noexcept, no allocation (scratch on the stack,
-/// M ≤ kMaxGprFeatures). A non-finite input is ignored and returns false; so is λ outside (0, 1].
+/// discrete state. The observation: d (the model's disturbance unit, e.g. N) at position x [m] and velocity ẋ [m/s].
+/// With forgetting λ < 1, first P ← P/λ with each P_jj bounded by s_j (s = model.spectral_weights()); then the
+/// Kalman step above with ψ = ψ(x, clamp(ẋ)) and d − mean. `weights` m: M doubles; `covariance` P: M×M doubles,
+/// column-major, both triangles kept symmetric (M = model.feature_count()). O(M²), noexcept, no allocation (scratch
+/// on the stack, M ≤ kMaxGprFeatures). A non-finite input is ignored and returns false; so is λ outside (0, 1].
 bool UpdateGprWeightPosterior(const GprModel& model, double forgetting, double x, double xdot, double d,
                               double* weights, double* covariance) noexcept;
 

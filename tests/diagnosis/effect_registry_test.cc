@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "models/diagnosis/effect_proposal.h"
+#include "tests/error_message.h"
 
 namespace mb {
 namespace {
@@ -176,17 +177,6 @@ TEST(EffectRegistry, RefusesDuplicatesAndIncompleteEffects) {
   EXPECT_EQ(registry.Suggest("sprin"), std::vector<std::string>{"spring"});
 }
 
-// The message of the std::logic_error `f` throws, or "no exception".
-template <typename F>
-std::string LogicErrorOf(F f) {
-  try {
-    f();
-  } catch (const std::logic_error& e) {
-    return e.what();
-  }
-  return "no exception";
-}
-
 TEST(EffectRegistry, BlockTemplatesAttachToTheirEffectInEitherOrder) {
   EffectRegistry registry;
   EffectType t = SpringWithoutProposal();
@@ -202,7 +192,7 @@ TEST(EffectRegistry, BlockTemplatesAttachToTheirEffectInEitherOrder) {
   EXPECT_TRUE(registry.UnclaimedBlockTemplates().empty());
   ASSERT_TRUE(registry.Get("spring").block.has_value());
   EXPECT_EQ(registry.Get("spring").block->element_name, "spring");
-  EXPECT_EQ(LogicErrorOf([&] { registry.AddBlockTemplate("spring", block); }),
+  EXPECT_EQ(::mb::testing::ErrorOf<std::logic_error>([&] { registry.AddBlockTemplate("spring", block); }),
             "effect 'spring' has a block registered twice");
 
   t.name = "spring2";
@@ -211,11 +201,11 @@ TEST(EffectRegistry, BlockTemplatesAttachToTheirEffectInEitherOrder) {
   EXPECT_TRUE(registry.Get("spring2").block.has_value());
 
   block.parameters = nullptr;
-  EXPECT_EQ(LogicErrorOf([&] { registry.AddBlockTemplate("spring3", block); }),
+  EXPECT_EQ(::mb::testing::ErrorOf<std::logic_error>([&] { registry.AddBlockTemplate("spring3", block); }),
             "the block of effect 'spring3' has no block type, element name or parameters function");
   t.name = "spring4";
   t.block = block;
-  EXPECT_EQ(LogicErrorOf([&] { registry.Add(t); }), "effect 'spring4': register its block with its block");
+  EXPECT_EQ(::mb::testing::ErrorOf<std::logic_error>([&] { registry.Add(t); }), "effect 'spring4': register its block with its block");
 }
 
 TEST(EffectRegistry, EveryBlockFileTemplateFindsItsEffect) {

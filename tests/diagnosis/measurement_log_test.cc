@@ -11,6 +11,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "tests/error_message.h"
+
 namespace mb {
 namespace {
 
@@ -35,12 +37,7 @@ class MeasurementLogTest : public ::testing::Test {
   }
   template <typename F>
   static std::string ErrorOf(F&& f) {
-    try {
-      f();
-    } catch (const std::exception& e) {
-      return e.what();
-    }
-    return "no exception";
+    return ::mb::testing::ErrorOf(std::forward<F>(f));
   }
 };
 

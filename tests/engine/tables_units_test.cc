@@ -19,6 +19,7 @@
 #include "engine/units.h"
 #include "models/physics/cogging.h"
 #include "models/physics/fourier_series.h"
+#include "tests/error_message.h"
 
 namespace mb {
 namespace {
@@ -26,14 +27,7 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::ElementsAre;
 
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "no error";
-}
+using ::mb::testing::ErrorOf;
 
 fs::path WriteText(const std::string& name, const std::string& text) {
   const fs::path dir = fs::temp_directory_path() / ("mb_tables_" + std::to_string(::getpid()));

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "models/gpr/gpr_io.h"
+#include "tests/error_message.h"
 #include "tests/gpr/synthetic_data.h"
 
 namespace mb {
@@ -30,14 +31,7 @@ MeasurementLog SyntheticLog() {
   return MeasurementLog({"time_s", "position_m", "velocity_m_s", "dob_N"}, {t, s.x, s.xdot, s.d});
 }
 
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "no error";
-}
+using ::mb::testing::ErrorOf;
 
 class GprLog : public ::testing::Test {
  protected:
