@@ -141,16 +141,32 @@ int HarmonicCount(const Periodogram& pg, std::size_t index, int max_harmonics) {
   return std::min(h, max_harmonics);
 }
 
+JointFitResidual::JointFitResidual(const Eigen::MatrixXd& base, const Eigen::VectorXd& r)
+    : base_(base), r_(r), base_gram_(base.transpose() * base), base_moment_(base.transpose() * r),
+      r_squared_(r.squaredNorm()) {}
+
+double JointFitResidual::operator()(const Eigen::Ref<const Eigen::MatrixXd>& extra) const {
+  const Eigen::Index p = base_.cols(), k = extra.cols();
+  Eigen::MatrixXd gram(p + k, p + k);
+  gram.topLeftCorner(p, p) = base_gram_;
+  gram.bottomLeftCorner(k, p) = extra.transpose() * base_;
+  gram.topRightCorner(p, k) = gram.bottomLeftCorner(k, p).transpose();
+  gram.bottomRightCorner(k, k) = extra.transpose() * extra;
+  Eigen::VectorXd moment(p + k);
+  moment << base_moment_, extra.transpose() * r_;
+  // Unit column norms (the scaling that keeps the ridge relative), then the ridge.
+  const Eigen::VectorXd scale = (gram.diagonal().array().sqrt() + 1e-300).inverse();
+  const Eigen::MatrixXd scaled = scale.asDiagonal() * gram * scale.asDiagonal();
+  const Eigen::VectorXd scaled_moment = scale.cwiseProduct(moment);
+  Eigen::MatrixXd ridged = scaled;
+  ridged.diagonal().array() += 1e-10;
+  const Eigen::VectorXd beta = ridged.ldlt().solve(scaled_moment);
+  return std::max(0.0, r_squared_ - 2.0 * beta.dot(scaled_moment) + beta.dot(scaled * beta));
+}
+
 double ResidualSumOfSquares(const Eigen::MatrixXd& base, const Eigen::Ref<const Eigen::MatrixXd>& extra,
                             const Eigen::VectorXd& r) {
-  Eigen::MatrixXd x(r.size(), base.cols() + extra.cols());
-  x << base, extra;
-  const Eigen::VectorXd scale = (x.colwise().norm().array() + 1e-300).inverse();
-  x = x * scale.asDiagonal();
-  Eigen::MatrixXd g = x.transpose() * x;
-  g.diagonal().array() += 1e-10;
-  const Eigen::VectorXd beta = g.ldlt().solve(x.transpose() * r);
-  return (r - x * beta).squaredNorm();
+  return JointFitResidual(base, r)(extra);
 }
 
 bool HasCoulombLaw(const Eigen::MatrixXd& base_columns, const Eigen::VectorXd& velocity) {
@@ -174,7 +190,8 @@ double ScanJointFit(const ProposalContext& context, double lo, double hi, int gr
                     const std::function<Eigen::MatrixXd(double)>& columns) {
   if (!(lo > 0.0) || !(hi > lo) || grid < 3) return 0.0;
   const Eigen::MatrixXd base = context.BaseWithConstant();
-  auto sse = [&](double log_value) { return ResidualSumOfSquares(base, columns(std::exp(log_value)), context.residual()); };
+  const JointFitResidual joint_fit(base, context.residual());
+  auto sse = [&](double log_value) { return joint_fit(columns(std::exp(log_value))); };
   const double a = std::log(lo), step = (std::log(hi) - a) / (grid - 1);
   int best = 0;
   double best_sse = std::numeric_limits<double>::infinity();

@@ -76,6 +76,24 @@ int HarmonicCount(const Periodogram& periodogram, std::size_t index, int max_har
 double ResidualSumOfSquares(const Eigen::MatrixXd& base, const Eigen::Ref<const Eigen::MatrixXd>& extra,
                             const Eigen::VectorXd& r);
 
+/// ResidualSumOfSquares for many `extra` with one base B (N × p) and one r (N): BᵀB, Bᵀr and rᵀr are formed once
+/// (N·p²), so each fit costs N·k·(p + k) for k extra columns instead of N·(p + k)² — what a one-parameter scan of
+/// the joint fit repeats tens of times. The normal equations of [B, extra] are scaled to unit column norms and
+/// given a ridge of 1e-10 on the diagonal; the sum of squares is rᵀr − 2βᵀXᵀr + βᵀXᵀXβ. Keeps references to
+/// `base` and `r`, which must outlive it; extra must have N rows.
+class JointFitResidual {
+ public:
+  JointFitResidual(const Eigen::MatrixXd& base, const Eigen::VectorXd& r);
+  double operator()(const Eigen::Ref<const Eigen::MatrixXd>& extra) const;
+
+ private:
+  const Eigen::MatrixXd& base_;
+  const Eigen::VectorXd& r_;
+  Eigen::MatrixXd base_gram_;      // BᵀB (p × p)
+  Eigen::VectorXd base_moment_;    // Bᵀr (p)
+  double r_squared_ = 0.0;         // rᵀr
+};
+
 /// Does the model have a Coulomb law (sign(v)) to replace? One base column is sign(v) over the moving samples
 /// (faster than 10 % of max |v|: squared correlation ≥ 0.97; at rest the model's law chatters on velocity noise,
 /// which is what the friction-law replacements are about). The replacements and coulomb_friction ask this.

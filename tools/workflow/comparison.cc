@@ -2,14 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <tbb/parallel_for.h>
 #include <unsupported/Eigen/NonLinearOptimization>
-#include <unsupported/Eigen/NumericalDiff>
 
 #include "engine/closest_names.h"
 #include "engine/diagram_document.h"
@@ -241,6 +242,24 @@ struct ResidualFunctor {
     }
     return 0;
   }
+
+  // The forward-difference Jacobian of Eigen::NumericalDiff (the same steps h = √ε·|x_j|, or √ε at 0, hence the
+  // same numbers), with its p + 1 runs in parallel: each is an independent simulation of its own copy of the
+  // diagram. Returns the evaluations made, which Levenberg–Marquardt counts against maxfev.
+  int df(const Eigen::VectorXd& x, Eigen::MatrixXd& jac) const {
+    const Eigen::Index p = x.size();
+    const double eps = std::sqrt(std::numeric_limits<double>::epsilon());
+    std::vector<Eigen::VectorXd> f(static_cast<std::size_t>(p + 1), Eigen::VectorXd(values()));
+    Eigen::VectorXd h(p);
+    for (Eigen::Index j = 0; j < p; ++j) h(j) = x(j) == 0.0 ? eps : eps * std::abs(x(j));
+    tbb::parallel_for(Eigen::Index{0}, p + 1, [&](Eigen::Index j) {
+      Eigen::VectorXd trial = x;
+      if (j < p) trial(j) += h(j);
+      (*this)(trial, f[static_cast<std::size_t>(j)]);
+    });
+    for (Eigen::Index j = 0; j < p; ++j) jac.col(j) = (f[static_cast<std::size_t>(j)] - f.back()) / h(j);
+    return static_cast<int>(p + 1);
+  }
 };
 
 }  // namespace
@@ -258,13 +277,18 @@ Eigen::MatrixXd OutputJacobian(const ModelComparison& comparison, const std::vec
       return std::nullopt;
     }
   };
+  // The 2p runs are independent simulations: in parallel.
+  std::vector<std::optional<Eigen::VectorXd>> runs(static_cast<std::size_t>(2 * p));
+  tbb::parallel_for(Eigen::Index{0}, 2 * p, [&](Eigen::Index k) {
+    const Eigen::Index j = k / 2;
+    Eigen::VectorXd v = values;
+    v(j) += (k % 2 == 0 ? 1.0 : -1.0) * 1e-6 * std::max(1.0, std::abs(values(j)));
+    runs[static_cast<std::size_t>(k)] = model_at(v);
+  });
   for (Eigen::Index j = 0; j < p; ++j) {
     const double h = 1e-6 * std::max(1.0, std::abs(values(j)));
-    Eigen::VectorXd plus = values, minus = values;
-    plus(j) += h;
-    minus(j) -= h;
-    const auto yp = model_at(plus);
-    const auto ym = model_at(minus);
+    const auto& yp = runs[static_cast<std::size_t>(2 * j)];
+    const auto& ym = runs[static_cast<std::size_t>(2 * j + 1)];
     if (yp && ym) {
       jac.col(j) = (*yp - *ym) / (2.0 * h);  // central
     } else if (yp) {
@@ -306,8 +330,7 @@ FitResult FitParameters(const ModelComparison& comparison, const std::vector<Fre
     functor.scale(static_cast<Eigen::Index>(o)) = sd > 0.0 ? sd : 1.0;
     functor.n_values += y.size();
   }
-  Eigen::NumericalDiff<ResidualFunctor> numerical(functor);
-  Eigen::LevenbergMarquardt<Eigen::NumericalDiff<ResidualFunctor>> lm(numerical);
+  Eigen::LevenbergMarquardt<ResidualFunctor> lm(functor);
   lm.parameters.maxfev = 200 * static_cast<int>(params.size() + 1);
   lm.parameters.xtol = 1e-10;
   lm.parameters.ftol = 1e-12;
