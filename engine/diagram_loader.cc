@@ -802,10 +802,12 @@ class DiagramBuilder {
 namespace {
 
 Diagram BuildDiagramImpl(const json& diagram, const fs::path& base_directory, const std::string& source,
-                         std::optional<AlgebraicLoopError>* algebraic_loop) {
+                         std::optional<AlgebraicLoopError>* algebraic_loop,
+                         SchemaCheck schema = SchemaCheck::kValidate) {
   // The diagram as the user wrote it against the schema first; a value of the wrong JSON type stops here (the
   // builder would not know what to make of it), other schema problems are reported with the builder's.
-  std::vector<SchemaProblem> schema_problems = DiagramSchemaProblems(diagram);
+  std::vector<SchemaProblem> schema_problems;
+  if (schema == SchemaCheck::kValidate) schema_problems = DiagramSchemaProblems(diagram);
   std::vector<std::string> problems;
   for (const auto& p : schema_problems) problems.push_back(p.Text());
   const bool wrong_type = std::any_of(schema_problems.begin(), schema_problems.end(),
@@ -821,8 +823,9 @@ Diagram BuildDiagramImpl(const json& diagram, const fs::path& base_directory, co
 
 }  // namespace
 
-Diagram BuildDiagram(const json& diagram, const fs::path& base_directory, const std::string& source) {
-  return BuildDiagramImpl(diagram, base_directory, source, nullptr);
+Diagram BuildDiagram(const json& diagram, const fs::path& base_directory, const std::string& source,
+                     SchemaCheck schema) {
+  return BuildDiagramImpl(diagram, base_directory, source, nullptr, schema);
 }
 
 InspectedDiagram InspectDiagram(const json& diagram, const fs::path& base_directory, const std::string& source) {

@@ -56,10 +56,19 @@ nlohmann::json ReadDiagramJson(const std::filesystem::path& path);
 nlohmann::json ExpandSubsystems(const nlohmann::json& diagram, const std::filesystem::path& base_directory,
                                 const std::string& source);
 
+/// Whether BuildDiagram checks the JSON against the diagram schema first.
+enum class SchemaCheck {
+  kValidate,  ///< always, for a diagram as read (the default)
+  /// For a diagram that passed the schema before and since had only numbers replaced by numbers (a refit's trial
+  /// values, SetParameterValues): the schema's answer cannot have changed. The builder's own checks (each block's
+  /// parameter ranges, connections, loops) still run. Never for JSON from a file or a user.
+  kSkipRevalidation,
+};
+
 /// Validates and builds a diagram from JSON. `base_directory` resolves relative file parameters;
 /// `source` names the file in messages. @throws DiagramError (all problems at once) or AlgebraicLoopError.
 Diagram BuildDiagram(const nlohmann::json& diagram, const std::filesystem::path& base_directory,
-                     const std::string& source);
+                     const std::string& source, SchemaCheck schema = SchemaCheck::kValidate);
 
 /// A diagram built to be looked at (drawn), not run: everything BuildDiagram checks, except that a cycle of direct
 /// feedthrough is returned with it rather than thrown.

@@ -184,6 +184,8 @@ Simulator::Simulator(const Diagram& diagram, SimulationLimits limits) : diagram_
   input_series_.resize(diagram.inputs().size());
   input_set_.assign(diagram.inputs().size(), 0);
   input_cursor_.assign(diagram.inputs().size(), 0);
+  input_weight_.assign(diagram.inputs().size(), 0.0);
+  input_grid_.resize(diagram.inputs().size());
 
   // Log grid: the experiment's step size, else the fastest discrete period, else 1000 intervals.
   const auto& ex = diagram.experiment();
@@ -230,12 +232,25 @@ void Simulator::SetInput(const std::string& name, InputSeries series) {
     input_series_[k] = std::move(series);
     input_set_[k] = 1;
     input_cursor_[k] = 0;
+    GroupInputGrids();
     return;
   }
   std::string names;
   for (const auto& in : inputs) names += (names.empty() ? "" : ", ") + in.name;
   throw std::invalid_argument(fmt::format("diagram '{}' has no input connector '{}'; its inputs: {}", diagram_.name(),
                                           name, names.empty() ? "(none)" : names));
+}
+
+void Simulator::GroupInputGrids() {
+  for (std::size_t k = 0; k < input_grid_.size(); ++k) {
+    input_grid_[k] = k;
+    for (std::size_t j = 0; j < k && input_set_[k]; ++j) {
+      if (input_set_[j] && input_series_[j].time == input_series_[k].time) {
+        input_grid_[k] = j;
+        break;
+      }
+    }
+  }
 }
 
 void Simulator::UpdateInputs(double t) {
@@ -255,13 +270,19 @@ void Simulator::UpdateInputs(double t) {
       slot = vs.back();
       continue;
     }
-    // Time mostly moves forward: walk the cursor, fall back to bisection on a jump back.
     std::size_t& i = input_cursor_[k];
-    if (i + 1 >= ts.size() || ts[i] > t) {
-      i = static_cast<std::size_t>(std::upper_bound(ts.begin(), ts.end(), t) - ts.begin()) - 1;
+    double& w = input_weight_[k];
+    if (const std::size_t g = input_grid_[k]; g != k) {  // the time grid of an earlier input: its interval
+      i = input_cursor_[g];
+      w = input_weight_[g];
+    } else {
+      // Time mostly moves forward: walk the cursor, fall back to bisection on a jump back.
+      if (i + 1 >= ts.size() || ts[i] > t) {
+        i = static_cast<std::size_t>(std::upper_bound(ts.begin(), ts.end(), t) - ts.begin()) - 1;
+      }
+      while (ts[i + 1] < t) ++i;
+      w = (t - ts[i]) / (ts[i + 1] - ts[i]);
     }
-    while (ts[i + 1] < t) ++i;
-    const double w = (t - ts[i]) / (ts[i + 1] - ts[i]);
     slot = vs[i] + w * (vs[i + 1] - vs[i]);
   }
 }

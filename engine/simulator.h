@@ -136,6 +136,7 @@ class Simulator final : private OdeSystem {
   std::string DescribeState(int i) const;
   std::string DescribeRoot(int i) const;
   void UpdateInputs(double t);
+  void GroupInputGrids();  // input_grid_ from the inputs set so far
   void ComputeOutputs(double t, bool major);
   bool MakeModesConsistent(double t, bool major);
   void LogNow();
@@ -156,6 +157,10 @@ class Simulator final : private OdeSystem {
   std::vector<InputSeries> input_series_;
   std::vector<char> input_set_;
   std::vector<std::size_t> input_cursor_;
+  // Inputs read from one log share its time grid: input k interpolates at the interval and weight that the first
+  // input with the same time stamps found (input_grid_[k] = that input; itself if none). Set by SetInput.
+  std::vector<std::size_t> input_grid_;
+  std::vector<double> input_weight_;
   std::size_t external_offset_ = 0;
   int num_continuous_ = 0;
   int num_roots_ = 0;

@@ -149,10 +149,20 @@ TEST_F(VirtualStageTest, HilRunReproducesTheSimulatedRun) {
   Simulator sim(simulated);
   const SimulationResult expected = sim.Run();
 
-  const std::uint16_t port = StartStage();
-  ASSERT_NE(port, 0) << stage_->Output();
-  const HilResult r = RunHil(port, simulated.experiment().stop_time, 200);
-  ASSERT_TRUE(r.completed) << r.stop_reason << "\nstage:\n" << stage_->Output();
+  // The stage integrates in wall-clock time, as a real plant does: a loop that fell behind on any tick ran a
+  // different experiment, and the comparison below says nothing about the HIL path. Seen under load: 14 overruns
+  // of 1000 ticks and no missed sample gave a 75 % different RMS error; 28 overruns and 3 missed samples, 16 %.
+  // So only a run without overruns and missed samples is compared; up to three attempts (a fresh stage each),
+  // and a machine that keeps none in real time skips the comparison.
+  HilResult r;
+  bool real_time = false;
+  for (int attempt = 0; attempt < 3 && !real_time; ++attempt) {
+    const std::uint16_t port = StartStage();
+    ASSERT_NE(port, 0) << stage_->Output();
+    r = RunHil(port, simulated.experiment().stop_time, 200);
+    ASSERT_TRUE(r.completed) << r.stop_reason << "\nstage:\n" << stage_->Output();
+    real_time = r.statistics.overruns == 0 && r.statistics.missed_samples == 0;
+  }
   ASSERT_EQ(r.log.time.size(), expected.log.time.size());
 
   const double rmse_sim = expected.metrics.at("tracking_rmse");
@@ -164,17 +174,12 @@ TEST_F(VirtualStageTest, HilRunReproducesTheSimulatedRun) {
   EXPECT_TRUE(r.log.Has("plant/encoder.counts"));
   EXPECT_TRUE(r.log.Has("plant/amplifier.voltage"));
   EXPECT_EQ(r.statistics.ticks, 1000);
-  // The stage integrates in wall-clock time, as a real plant does: a loop that missed its deadline on many
-  // ticks ran a different experiment, and the comparison below says nothing about the HIL path.
-  // A missed sample (the stage's reply came after the controller's deadline) applies a stale input for a whole
-  // period: seen under load with 28 overruns and 3 missed samples, a 16 % different run.
-  if (r.statistics.overruns > r.statistics.ticks / 20 || r.statistics.missed_samples > 0) {
-    GTEST_SKIP() << "this machine did not keep the 1 kHz deadline (" << r.statistics.overruns << " of "
-                 << r.statistics.ticks << " ticks overran, " << r.statistics.missed_samples
-                 << " samples missed): the HIL-vs-simulation comparison needs real time";
+  if (!real_time) {
+    GTEST_SKIP() << "this machine did not keep the 1 kHz deadline in three attempts (the last: "
+                 << r.statistics.overruns << " of " << r.statistics.ticks << " ticks overran, "
+                 << r.statistics.missed_samples << " samples missed): the HIL-vs-simulation comparison needs real time";
   }
-  // RMS tracking error within 10 %: on an idle machine the two agree to < 1 %; a scheduler stall of a few
-  // milliseconds on a loaded one (counted as overruns) perturbs a few hundred samples.
+  // RMS tracking error within 10 % (a run in real time agrees to < 1 %).
   EXPECT_NEAR(rmse_hil, rmse_sim, 0.10 * rmse_sim)
       << "missed samples: " << r.statistics.missed_samples << ", overruns: " << r.statistics.overruns;
   // Sample by sample, the typical (median) position difference is a few per cent of the RMS error.

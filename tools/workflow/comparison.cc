@@ -161,7 +161,7 @@ ModelComparison::ModelComparison(json diagram, fs::path base_directory, std::str
 }
 
 std::vector<ComparedOutput> ModelComparison::Simulate() const {
-  const Diagram d = BuildDiagram(diagram_, base_, source_);
+  const Diagram d = BuildDiagram(diagram_, base_, source_, SchemaCheck::kSkipRevalidation);
   Simulator sim(d);
   for (const auto& [connector, column] : input_columns_) sim.SetInput(connector, SeriesOf(log_, column));
   sim.Initialize();
@@ -205,8 +205,13 @@ std::vector<ComparedOutput> ModelComparison::Simulate() const {
 std::vector<ComparedOutput> ModelComparison::Simulate(const std::vector<FreeParameter>& params,
                                                       const Eigen::Ref<const Eigen::VectorXd>& values) const {
   ModelComparison copy = *this;
-  SetParameterValues(&copy.diagram_, params, values);
+  copy.SetParameterValues(params, values);
   return copy.Simulate();
+}
+
+void ModelComparison::SetParameterValues(const std::vector<FreeParameter>& params,
+                                         const Eigen::Ref<const Eigen::VectorXd>& values) {
+  mb::SetParameterValues(&diagram_, params, values);
 }
 
 namespace {
@@ -391,7 +396,7 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
   if (!fit_names.empty()) {
     out.parameters = ResolveFreeParameters(comparison.diagram_json(), fit_names);
     out.fit = FitParameters(comparison, out.parameters);
-    SetParameterValues(&comparison.mutable_diagram_json(), out.parameters, out.fit->estimate);
+    comparison.SetParameterValues(out.parameters, out.fit->estimate);
     SetParameterValues(&out.fitted_diagram, out.parameters, out.fit->estimate);
   }
   out.after = comparison.Simulate();

@@ -85,7 +85,8 @@ class ModelComparison {
   double output_filter_hz() const { return output_filter_hz_; }
 
   const nlohmann::json& diagram_json() const { return diagram_; }
-  nlohmann::json& mutable_diagram_json() { return diagram_; }
+  /// Writes free-parameter values into the diagram (as the refit's trial values are written).
+  void SetParameterValues(const std::vector<FreeParameter>& params, const Eigen::Ref<const Eigen::VectorXd>& values);
   const std::map<std::string, std::string>& input_columns() const { return input_columns_; }
   const MeasurementLog& log() const { return log_; }
 
@@ -97,6 +98,8 @@ class ModelComparison {
   std::map<std::string, std::string> input_columns_;
   std::map<std::string, std::string> output_columns_;
   double output_filter_hz_ = 0.0;
+  // The diagram passed the schema at construction and has since had only numbers replaced: each simulation
+  // (hundreds per refit) builds it without validating it again (SchemaCheck::kSkipRevalidation).
 };
 
 /// Result of a least-squares refit.

@@ -63,7 +63,7 @@ TEST_F(EmpsFixture, RigidBodyRefitFindsScrewLeadRippleAndAddingItLowersTheError)
   EXPECT_NEAR(fit.estimate(0), 94.0, 4.0);    // M [kg]
   EXPECT_NEAR(fit.estimate(1), 195.0, 15.0);  // Fv [N·s/m]
   EXPECT_NEAR(fit.estimate(2), 21.0, 3.0);    // Fc [N]
-  SetParameterValues(&base.mutable_diagram_json(), params, fit.estimate);
+  base.SetParameterValues(params, fit.estimate);
   const auto fitted = base.Simulate().front();
 
   BaseRegressors regressors{fit.jacobian, {}};
@@ -85,7 +85,7 @@ TEST_F(EmpsFixture, RigidBodyRefitFindsScrewLeadRippleAndAddingItLowersTheError)
   ModelComparison with_effect(amended, kEmps, "amended.json", *estimation, {});
   const auto all = ResolveFreeParameters(amended, amended["free"].get<std::vector<std::string>>());
   const FitResult joint = FitParameters(with_effect, all);
-  SetParameterValues(&with_effect.mutable_diagram_json(), all, joint.estimate);
+  with_effect.SetParameterValues(all, joint.estimate);
   EXPECT_LT(with_effect.Simulate().front().rmse, fitted.rmse);
 
   // Held out, DATA_EMPS_PULSES: nothing of the base refit. The ripple keeps the shape learned on DATA_EMPS;
@@ -96,7 +96,7 @@ TEST_F(EmpsFixture, RigidBodyRefitFindsScrewLeadRippleAndAddingItLowersTheError)
   const double rmse_base = validate_base.Simulate().front().rmse;
   const auto zero = ResolveFreeParameters(with_effect.diagram_json(), {"ripple.position_offset"});
   const FitResult reference = FitParameters(validate_effect, zero);
-  SetParameterValues(&validate_effect.mutable_diagram_json(), zero, reference.estimate);
+  validate_effect.SetParameterValues(zero, reference.estimate);
   const double rmse_effect = validate_effect.Simulate().front().rmse;
   EXPECT_LT(rmse_effect, rmse_base - 0.02) << "held-out RMSE " << rmse_base << " N → " << rmse_effect << " N";
   // The ripple's variance (≈ 0.4 N²) is what leaves the residual; one refit parameter could not take that much

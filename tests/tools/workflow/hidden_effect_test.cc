@@ -233,7 +233,7 @@ Loop CompareSuggestRefit(const json& user, const MeasurementLog& log) {
   loop.rmse_as_given = comparison.Simulate().front().rmse;
   const auto params = ResolveFreeParameters(user, user["free"].get<std::vector<std::string>>());
   const FitResult fit = FitParameters(comparison, params);
-  SetParameterValues(&comparison.mutable_diagram_json(), params, fit.estimate);
+  comparison.SetParameterValues(params, fit.estimate);
   const ComparedOutput fitted = comparison.Simulate().front();
   loop.rmse_refit = fitted.rmse;
 
@@ -260,7 +260,7 @@ Loop CompareSuggestRefit(const json& user, const MeasurementLog& log) {
   loop.amended_parameters =
       ResolveFreeParameters(loop.amended, loop.amended["free"].get<std::vector<std::string>>());
   loop.joint = FitParameters(amended, loop.amended_parameters);
-  SetParameterValues(&amended.mutable_diagram_json(), loop.amended_parameters, loop.joint.estimate);
+  amended.SetParameterValues(loop.amended_parameters, loop.joint.estimate);
   loop.rmse_amended = amended.Simulate().front().rmse;
   return loop;
 }
@@ -271,7 +271,7 @@ double RefitRmse(const json& user, const MeasurementLog& log) {
   ModelComparison comparison(user, kEmps, "user.json", log, {});
   comparison.set_output_filter(kDerivativeCutoffHz);
   const auto params = ResolveFreeParameters(user, user["free"].get<std::vector<std::string>>());
-  SetParameterValues(&comparison.mutable_diagram_json(), params, FitParameters(comparison, params).estimate);
+  comparison.SetParameterValues(params, FitParameters(comparison, params).estimate);
   return comparison.Simulate().front().rmse;
 }
 
@@ -360,7 +360,7 @@ TEST(HiddenEffect, WhatNoCatalogueEffectNamesTheGprFallbackLearns) {
   amended.set_output_filter(kDerivativeCutoffHz);
   const auto params = ResolveFreeParameters(amended_json, amended_json["free"].get<std::vector<std::string>>());
   const FitResult joint = FitParameters(amended, params);
-  SetParameterValues(&amended.mutable_diagram_json(), params, joint.estimate);
+  amended.SetParameterValues(params, joint.estimate);
   const double rmse = amended.Simulate().front().rmse;
   fs::remove(model);
   std::cout << fmt::format("[hidden effect] cable carrier (no catalogue entry): ranking {}; GP held out {:.1f} %; "
