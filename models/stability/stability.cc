@@ -202,7 +202,8 @@ void AnalyseAdaptiveMass(const PaperLoop& loop, int n, StabilityReport* r) {
     }
     verdicts += fmt::format("{}Delta_m_hat = {:g} kg: {}", k ? "; " : "", ends[k],
                             r->adaptive_mass_loop_stable[k]
-                                ? fmt::format("stable, rho_dob = {:.4g}", r->adaptive_mass_rho_dob[k])
+                                ? fmt::format("stable, rho_dob = {:.4g} ({})", r->adaptive_mass_rho_dob[k],
+                                              r->adaptive_mass_rho_dob[k] < 1.0 ? "certified" : "not certified")
                                 : std::string("NOT stable"));
   }
   r->notes.push_back(fmt::format(
