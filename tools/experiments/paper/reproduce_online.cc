@@ -9,6 +9,9 @@
 //      each constant-speed segment for the conventional loop, the fixed PS model, the learner started from it and
 //      the learner started from no data. (Measured: learning online does not absorb the payload, whose force m_p·ẍ
 //      is not a function of (x, ẋ); docs/paper.md.)
+//  (c) The mass learned online (blocks/adaptive_mass_feedforward.h, diagrams/paper/gp_loop_adaptive_mass.json: the
+//      command scaled by (M_n + Δm̂)/M_n) with the PS models trained on the DOB estimate and on the smoothed estimate,
+//      in (a)'s Fig. 9 runs (and with α = 0: the conventional loop plus the mass) and in (b)'s track.
 
 #include <cmath>
 #include <vector>
