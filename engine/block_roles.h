@@ -2,7 +2,8 @@
 // What a block type can be in a larger structure, declared in the block's own file (beside MB_REGISTER_BLOCK) so
 // that nobody else names the type (STYLE.md, "no type name compared as a string outside its own file"):
 //  - loop roles: the parts of a motion control loop the type can be ("plant", "dob", "pd", "pd_proportional_gain",
-//    "pd_derivative_gain", "pd_derivative_filter", "gp_velocity_filter", "gp_filter", "gp", "feedforward"), by which
+//    "pd_derivative_gain", "pd_derivative_filter", "gp_velocity_filter", "gp_filter", "gp", "feedforward",
+//    "adaptive_feedforward"), by which
 //    tools/workflow/loop_from_diagram.h finds the loop, and against which a diagram's "roles" map is checked;
 //  - I/O channels: for a hardware I/O block, which way its board channel goes and the parameter that scales it
 //    (hw/virtual_stage.h reads an I/O subsystem's channels by this).

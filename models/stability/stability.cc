@@ -178,6 +178,44 @@ std::vector<BodePoint> ClosedLoopBode(const PaperLoop& l, const std::vector<doub
   return out;
 }
 
+namespace {
+
+// The "dob" decomposition with the adaptive mass frozen at each end of its clamp (StabilityReport's fields).
+void AnalyseAdaptiveMass(const PaperLoop& loop, int n, StabilityReport* r) {
+  const double ends[2] = {loop.adaptive_mass_min, loop.adaptive_mass_max};
+  std::string verdicts;
+  for (int k = 0; k < 2; ++k) {
+    const double scale = loop.nominal_mass / (loop.nominal_mass + ends[k]);
+    PaperLoop scaled = loop;
+    scaled.mass *= scale;
+    scaled.damping *= scale;
+    const bool finite = std::isfinite(scale) && scale > 0.0;
+    const Eigen::VectorXd h_d =
+        finite ? LoopImpulseResponse(scaled, LoopPath::kDisturbanceToPosition, true, n) : Eigen::VectorXd();
+    const Eigen::VectorXd h_r =
+        finite ? LoopImpulseResponse(scaled, LoopPath::kReferenceToPosition, true, n) : Eigen::VectorXd();
+    r->adaptive_mass_loop_stable[k] = finite && Decayed(h_d) && Decayed(h_r);
+    if (r->adaptive_mass_loop_stable[k]) {
+      SmallGainTerms t = r->dob;
+      t.gamma_d_to_x = scale * L1Norm(h_d);
+      r->adaptive_mass_rho_dob[k] = t.gamma_d_to_x * t.gamma_g * t.alpha_max * LipschitzGain(t);
+    }
+    verdicts += fmt::format("{}Delta_m_hat = {:g} kg: {}", k ? "; " : "", ends[k],
+                            r->adaptive_mass_loop_stable[k]
+                                ? fmt::format("stable, rho_dob = {:.4g} ({})", r->adaptive_mass_rho_dob[k],
+                                              r->adaptive_mass_rho_dob[k] < 1.0 ? "certified" : "not certified")
+                                : std::string("NOT stable"));
+  }
+  r->notes.push_back(fmt::format(
+      "adaptive mass: with the command scaled by (M_n + Delta_m_hat)/M_n and the estimate frozen, the loop is the "
+      "designed one on a plant of mass and damping scaled by M_n/(M_n + Delta_m_hat); at the ends of the clamp: {}. "
+      "(Fed by the reference acceleration instead, the block is a bounded exogenous input and changes no gamma term.) "
+      "The adaptation's own dynamics (a slowly varying gain) are not covered by this analysis",
+      verdicts));
+}
+
+}  // namespace
+
 StabilityReport AnalyseStability(const PaperLoop& loop, const GprModel* gpr, const StabilityOptions& options) {
   StabilityReport r;
   r.loop = loop;
@@ -246,6 +284,7 @@ StabilityReport AnalyseStability(const PaperLoop& loop, const GprModel* gpr, con
     r.notes.push_back("the gpr block scales its mean by the confidence weight g(x, xdot): L_x and L_xdot are those of "
                       "g * mean, largest difference quotients on a grid (a sampled estimate, not a rigorous bound)");
   }
+  if (loop.has_adaptive_mass) AnalyseAdaptiveMass(loop, n, &r);
   if (!r.has_gpr) {
     r.notes.push_back("no GPR model given: K = L_x + L_xdot*gamma_xdot = 0, the GP path is absent");
   }
@@ -274,7 +313,14 @@ nlohmann::json ToJson(const StabilityReport& r) {
                {"gp_order", l.gp_order},
                {"gp_confidence_weighting", l.gp_confidence_weighting},
                {"has_dob", l.has_dob},
-               {"has_feedforward", l.has_feedforward}};
+               {"has_feedforward", l.has_feedforward},
+               {"has_adaptive_mass", l.has_adaptive_mass},
+               {"adaptive_mass_min_kg", l.adaptive_mass_min},
+               {"adaptive_mass_max_kg", l.adaptive_mass_max}};
+  if (l.has_adaptive_mass) {
+    j["adaptive_mass"] = {{"loop_stable_at_min_max", {r.adaptive_mass_loop_stable[0], r.adaptive_mass_loop_stable[1]}},
+                          {"rho_dob_at_min_max", {r.adaptive_mass_rho_dob[0], r.adaptive_mass_rho_dob[1]}}};
+  }
   j["inner_loop_stable"] = r.inner_loop_stable;
   j["dob_loop_stable"] = r.dob_loop_stable;
   j["has_gpr"] = r.has_gpr;

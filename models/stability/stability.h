@@ -57,6 +57,11 @@ struct PaperLoop {
   int gp_order = 1;                ///< F_gp order
   bool has_dob = true;             ///< false: no DOB (d̂_d = 0; Q and Q∘P_n⁻¹ absent, their γ terms 0)
   bool has_feedforward = true;     ///< false: no C_FF = P_n⁻¹ on the reference (a plain PD loop)
+  /// An adaptive mass block (blocks/adaptive_mass_feedforward.h) scaling the command by (M_n + Δm̂)/M_n, Δm̂ clamped
+  /// to [adaptive_mass_min, adaptive_mass_max] [kg]: the analysis repeats the "dob" decomposition at both ends.
+  bool has_adaptive_mass = false;
+  double adaptive_mass_min = 0.0;
+  double adaptive_mass_max = 0.0;
 };
 
 /// The constants of section 4.2.
@@ -127,6 +132,12 @@ struct StabilityReport {
   double alpha_max_bound_paper = std::numeric_limits<double>::quiet_NaN();  ///< eq. 62
   double rho_dob = std::numeric_limits<double>::quiet_NaN();
   double alpha_max_bound_dob = std::numeric_limits<double>::quiet_NaN();
+  /// With an adaptive mass: the "dob" decomposition with Δm̂ frozen at each end of its clamp {min, max}: the loop is
+  /// the designed one on a plant of mass M·s and damping B·s, s = M_n/(M_n + Δm̂), and the GP force enters it scaled
+  /// by s, so γ_d→x = s·‖G_d→x‖₁ of that loop. Stable flags and ρ_dob at each end (NaN if unstable).
+  bool adaptive_mass_loop_stable[2] = {true, true};
+  double adaptive_mass_rho_dob[2] = {std::numeric_limits<double>::quiet_NaN(),
+                                     std::numeric_limits<double>::quiet_NaN()};
   std::vector<BodePoint> bode;
   std::vector<std::string> notes;  ///< plain-language verdicts and caveats
 };

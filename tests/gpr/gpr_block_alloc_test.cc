@@ -101,5 +101,24 @@ TEST_F(GprBlockAllocation, AdvanceToAllocatesNothing) {
   EXPECT_NE(mean, model.PredictPosteriorMean(x, v));  // it learned
 }
 
+// The adaptive mass feedforward (blocks/adaptive_mass_feedforward.h): its recursive least squares and the two
+// Q-filters run in the discrete state, allocation-free.
+TEST_F(GprBlockAllocation, AdaptiveMassFeedforwardAllocatesNothing) {
+  json j = AllocDiagram(false, nullptr);
+  j["elements"].push_back({{"name", "mass_ff"},
+                           {"type", "adaptive_mass_feedforward"},
+                           {"sampleTime", {1e-3, 0.0}},
+                           {"parameters", {{"forgetting", 0.999}}}});
+  j["connections"] = {Connect("pos", "y", "mass_ff", "acceleration"), Connect("pos", "y", "mass_ff", "x"),
+                      Connect("vel", "y", "mass_ff", "d_hat")};
+  const Diagram diagram = BuildDiagram(j, dir_, "alloc.json");
+  Simulator sim(diagram);
+  sim.Initialize();
+  const long before = ::mb::testing::AllocationCount();
+  sim.AdvanceTo(diagram.experiment().stop_time);
+  EXPECT_EQ(::mb::testing::AllocationCount() - before, 0);
+  EXPECT_NE(sim.SignalValue(diagram.ResolveSignal("mass_ff.mass")), 0.0);  // it adapted
+}
+
 }  // namespace
 }  // namespace mb

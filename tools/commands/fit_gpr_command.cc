@@ -1,7 +1,10 @@
 // motionblocks fit-gpr LOG.csv --disturbance-column COL [--position-column COL] [--velocity-column COL] [--kernel PS|DS]
 //   [--period τ] [--solver weight_space|exact] [--window xmin,xmax] [--downsample N] -o MODEL.json
-// Fits the TISO-GPR disturbance model (paper §3, MAP) to a DOB log and writes the model file that the
-// `gpr` block loads (docs/gpr.md).
+// motionblocks fit-gpr LOG.csv --target smoothed --force-column COL (--nominal-mass M_n --nominal-damping B_n |
+//   --diagram LOOP.json) [--time-column COL] [--smoothing-cutoff-hz F] ... -o MODEL.json
+// Fits the TISO-GPR disturbance model (paper §3, MAP) to a DOB log — or to the smoothed (zero-phase) inverse-model
+// estimate computed from the log's time, position and force (models/gpr/disturbance_target.h) — and writes the model
+// file that the `gpr` block loads (docs/gpr.md).
 
 #include <filesystem>
 #include <iostream>
@@ -10,11 +13,14 @@
 
 #include <fmt/format.h>
 
+#include "engine/diagram_loader.h"
 #include "engine/table.h"
+#include "models/gpr/disturbance_target.h"
 #include "models/gpr/gpr_io.h"
 #include "models/gpr/gpr_log.h"
 #include "tools/commands/cli_options.h"
 #include "tools/commands/commands.h"
+#include "tools/workflow/loop_from_diagram.h"
 
 namespace mb {
 
@@ -37,10 +43,62 @@ struct FitGprOptions {
   int restarts = 2;
   std::uint64_t seed = 1;
   std::string output;
+  // --target smoothed
+  std::string target = "dob";
+  std::string time_column = "time_s";
+  std::string force_column;
+  std::string diagram;  // the loop whose DOB gives M_n, B_n
+  double nominal_mass = 0.0, nominal_damping = -1.0;
+  double smoothing_cutoff_hz = SmoothedDisturbanceOptions{}.cutoff_hz;
 };
 
+constexpr const char* kSmoothedColumn = "smoothed_disturbance";
+
+// The smoothed target's options: M_n, B_n given, or read from the DOB of --diagram.
+SmoothedDisturbanceOptions SmoothedTargetOptions(const FitGprOptions& o) {
+  SmoothedDisturbanceOptions so;
+  so.cutoff_hz = o.smoothing_cutoff_hz;
+  if (!o.diagram.empty()) {
+    const PaperLoop loop = PaperLoopFromDiagram(LoadDiagram(o.diagram));
+    if (!loop.has_dob) {
+      throw std::invalid_argument(fmt::format("fit-gpr --diagram {}: the diagram has no dob block to read the nominal "
+                                              "plant from: give --nominal-mass and --nominal-damping",
+                                              o.diagram));
+    }
+    so.nominal_mass = loop.nominal_mass;
+    so.nominal_damping = loop.nominal_damping;
+  }
+  if (o.nominal_mass > 0.0) so.nominal_mass = o.nominal_mass;
+  if (o.nominal_damping >= 0.0) so.nominal_damping = o.nominal_damping;
+  if (!(so.nominal_mass > 0.0) || o.force_column.empty()) {
+    throw std::invalid_argument("fit-gpr --target smoothed: give --force-column COL (the force the plant received "
+                                "[N]) and the nominal plant: --nominal-mass M_n [kg] and --nominal-damping B_n "
+                                "[N*s/m], or --diagram LOOP.json (its dob block's)");
+  }
+  if (so.nominal_damping < 0.0) so.nominal_damping = 0.0;
+  return so;
+}
+
+// Reads the log; with --target smoothed, appends the smoothed estimate and points the selection at it.
+Table ReadTrainingTable(const FitGprOptions& o, GprTrainingSelection* selection) {
+  if (o.target != "smoothed") {
+    return ReadGprTable(o.log, {selection->position_column, selection->velocity_column,
+                                selection->disturbance_column});
+  }
+  const SmoothedDisturbanceOptions so = SmoothedTargetOptions(o);
+  Table log = ReadGprTable(o.log, {o.time_column, selection->position_column, selection->velocity_column,
+                                   o.force_column});
+  AddSmoothedDisturbanceColumn(log, o.time_column, selection->position_column, o.force_column, so, kSmoothedColumn);
+  selection->disturbance_column = kSmoothedColumn;
+  return log;
+}
+
 void RunFitGpr(const FitGprOptions& o) {
-  if (o.selection.disturbance_column.empty()) {
+  if (o.target == "smoothed" && !o.selection.disturbance_column.empty()) {
+    throw std::invalid_argument("fit-gpr: --target smoothed computes the disturbance from time, position and force: "
+                                "drop --disturbance-column (or use --target dob)");
+  }
+  if (o.target != "smoothed" && o.selection.disturbance_column.empty()) {
     throw std::invalid_argument("fit-gpr: name the disturbance column (the DOB estimate): --disturbance-column COL");
   }
   GprTrainingSelection selection = o.selection;
@@ -55,8 +113,7 @@ void RunFitGpr(const FitGprOptions& o) {
 
   CreateParentDirectory(o.output);  // before the fit, so that a bad path fails at once
   // The regression ignores time: no time column needed, rows in any order, scans concatenated, a pandas index.
-  const Table log =
-      ReadGprTable(o.log, {selection.position_column, selection.velocity_column, selection.disturbance_column});
+  const Table log = ReadTrainingTable(o, &selection);
   const GprModel model = FitGprToLog(log, selection, fit);
   SaveGprModel(model, o.output);
 
@@ -109,6 +166,25 @@ void SetupFitGprCommand(CLI::App& app) {
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_option("--seed", o->seed, "seed of the restart draws")->capture_default_str();
+  cmd->add_option("--target", o->target,
+                  "what the GP learns: dob (the --disturbance-column, e.g. the DOB estimate) or smoothed (the "
+                  "zero-phase inverse-model estimate M_n*xddot + B_n*xdot - u from --time-column, --position-column "
+                  "and --force-column: no Q-filter lag)")
+      ->check(CLI::IsMember({"dob", "smoothed"}))
+      ->capture_default_str();
+  cmd->add_option("--time-column", o->time_column, "time column [s] (--target smoothed; one scan after another)")
+      ->capture_default_str();
+  cmd->add_option("--force-column", o->force_column, "force the plant received u [N] (--target smoothed)");
+  cmd->add_option("--nominal-mass", o->nominal_mass, "nominal mass M_n [kg] (--target smoothed)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--nominal-damping", o->nominal_damping, "nominal damping B_n [N*s/m] (--target smoothed)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--diagram", o->diagram, "read M_n, B_n from this loop's dob block (--target smoothed)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--smoothing-cutoff-hz", o->smoothing_cutoff_hz,
+                  "zero-phase low-pass cut-off of --target smoothed [Hz] (above the disturbance's band)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   cmd->add_option("-o,--output", o->output, "model file to write (JSON)")->required();
   cmd->callback([o] { RunFitGpr(*o); });
 }

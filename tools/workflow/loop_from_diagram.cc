@@ -171,6 +171,11 @@ void ReadGpPath(const LoopFinder& f, const std::vector<int>& pd_blocks, PaperLoo
   if (const int m = f.Find("gp", false); m >= 0) {
     l->gp_confidence_weighting = f.Of(m).Bool("confidence_weighting");
   }
+  if (const int a = f.Find("adaptive_feedforward", false); a >= 0) {
+    l->has_adaptive_mass = true;
+    l->adaptive_mass_min = f.Of(a).Number("min_mass");
+    l->adaptive_mass_max = f.Of(a).Number("max_mass");
+  }
 }
 
 }  // namespace

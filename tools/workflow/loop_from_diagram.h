@@ -17,6 +17,7 @@
 //   gp_velocity_filter    velocity_estimator    F_ẋ cut-off                                   the one velocity_estimator
 //                                                                                             the PD does not use, or 100 Hz
 //   gp                    gpr                   confidence_weighting                          the one such element, or none
+//   adaptive_feedforward  adaptive_mass_feedforward  min_mass, max_mass (the clamp of Δm̂)  the one such element, or none
 //   feedforward           nominal_inverse       (present or not)                              has_feedforward = any
 //                                                                                             nominal_inverse of form
 //                                                                                             "derivatives"

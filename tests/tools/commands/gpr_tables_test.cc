@@ -77,6 +77,36 @@ TEST_F(GprTables, FitWithoutTimeColumnRowsInAnyOrderThenPredictWithTheModelsColu
   EXPECT_EQ(header, "v_m_s,x_m,mean,std");
 }
 
+// --target smoothed: the disturbance is computed from time, position and force (M_n·ẍ + B_n·ẋ − u, zero-phase), each
+// scan (restarting at t = 0) separately; at constant velocity u = B_n·v − d.
+TEST_F(GprTables, FitsTheSmoothedTargetFromTimePositionAndForce) {
+  std::ostringstream csv;
+  csv << "time_s,x_m,v_m_s,u_N\n";
+  for (const auto& r : Scans({0.05, 0.1})) csv << r.t << ',' << r.x << ',' << r.v << ',' << 3.0 * r.v - r.d << '\n';
+  Write("scans.csv", csv.str());
+  const CommandResult fit =
+      Run({"fit-gpr", "scans.csv", "--position-column", "x_m", "--velocity-column", "v_m_s", "--target", "smoothed",
+           "--force-column", "u_N", "--nominal-mass", "0.2621", "--nominal-damping", "3", "--smoothing-cutoff-hz",
+           "5", "--restarts", "0", "-o", "model.json"});
+  ASSERT_EQ(fit.exit_code, 0) << fit.output;
+  EXPECT_THAT(fit.output, HasSubstr("to 240 samples"));
+  std::ifstream model(dir_ / "model.json");
+  const std::string text((std::istreambuf_iterator<char>(model)), std::istreambuf_iterator<char>());
+  EXPECT_THAT(text, HasSubstr("disturbance: smoothed_disturbance"));
+
+  const CommandResult missing = Run({"fit-gpr", "scans.csv", "--position-column", "x_m", "--velocity-column",
+                                     "v_m_s", "--target", "smoothed", "--nominal-mass", "0.2621", "-o", "m.json"});
+  EXPECT_EQ(missing.exit_code, 2) << missing.output;
+  EXPECT_THAT(missing.output, HasSubstr("fit-gpr --target smoothed: give --force-column COL (the force the plant "
+                                        "received [N]) and the nominal plant: --nominal-mass M_n [kg] and "
+                                        "--nominal-damping B_n [N*s/m], or --diagram LOOP.json (its dob block's)"));
+  const CommandResult both = Run({"fit-gpr", "scans.csv", "--target", "smoothed", "--disturbance-column", "u_N",
+                                  "-o", "m.json"});
+  EXPECT_EQ(both.exit_code, 2) << both.output;
+  EXPECT_THAT(both.output, HasSubstr("fit-gpr: --target smoothed computes the disturbance from time, position and "
+                                     "force: drop --disturbance-column (or use --target dob)"));
+}
+
 TEST_F(GprTables, FitTakesScansThatRestartAtZeroAndPandasIndex) {
   const auto rows = Scans({0.05, 0.1});
   std::ostringstream restarting, pandas;

@@ -29,6 +29,7 @@ ReproduceContext::ReproduceContext(const ReproduceOptions& o)
       conventional(o.diagrams / "conventional.json"),
       gp_loop(o.diagrams / "gp_loop.json"),
       gp_loop_online(o.diagrams / "gp_loop_online.json"),
+      gp_loop_adaptive_mass(o.diagrams / "gp_loop_adaptive_mass.json"),
       training_scan(o.diagrams / "training_scan.json"),
       scans_sweep(o.diagrams / "sweeps" / "training_scans.json") {}
 

@@ -43,7 +43,11 @@ inline constexpr const char* kWindowName[3] = {"D1", "D2", "D3"};
 inline constexpr const char* kKernelName[2] = {"DS", "PS"};
 inline constexpr GprKernel kKernel[2] = {GprKernel::kSeSe, GprKernel::kPeriodicSe};
 inline constexpr double kPayloadMass = 0.2621;  // = M: doubles the moving mass (docs/paper.md on the paper's 21 kg)
-inline constexpr int kSteps = 9;                // the "[k/9]" step messages
+inline constexpr int kSteps = 9;
+/// The scans' column of the smoothed (non-causal) disturbance estimate (models/gpr/disturbance_target.h) and its
+/// zero-phase cut-off [Hz] (above the cogging's third harmonic at 500 mm/s, 67 Hz).
+inline constexpr const char* kSmoothedTarget = "smoothed_disturbance";
+inline constexpr double kSmoothedTargetCutoffHz = 200.0;                // the "[k/9]" step messages
 
 using Assignments = std::vector<std::pair<std::string, nlohmann::json>>;
 
@@ -72,7 +76,7 @@ struct ReproduceContext {
   const std::chrono::steady_clock::time_point start;
   const int jobs;              ///< parallel simulations and fits
   tbb::task_arena arena;       ///< of `jobs` threads
-  const std::filesystem::path conventional, gp_loop, gp_loop_online, training_scan, scans_sweep;
+  const std::filesystem::path conventional, gp_loop, gp_loop_online, gp_loop_adaptive_mass, training_scan, scans_sweep;
   nlohmann::json results;      ///< results.json as the steps fill it
 
   // 1. training scans
@@ -85,6 +89,8 @@ struct ReproduceContext {
   std::map<std::string, std::filesystem::path> model_paths;  ///< "DS_D2" → the saved model (absolute)
   std::unique_ptr<GprModel> ps_true_target;                   ///< the ablation: PS on D(2), target the true d
   std::filesystem::path ps_true_target_path;
+  std::unique_ptr<GprModel> ps_smoothed_target;  ///< PS on D(2), target the smoothed estimate (measured signals only)
+  std::filesystem::path ps_smoothed_target_path;
   // 4. Table 1
   SimulationResult conv;  ///< the Fig. 9 run of the conventional loop
   nlohmann::json table1;

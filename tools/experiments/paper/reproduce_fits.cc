@@ -18,18 +18,27 @@ using json = nlohmann::json;
 
 namespace {
 
-void FitAblationModel(ReproduceContext& c) {
+// PS on D(2) with another training target (a column of the scans); saved as models/<file>.
+void FitPsOnTarget(ReproduceContext& c, const std::string& target, const std::string& what, const std::string& file,
+                   std::unique_ptr<GprModel>* model, fs::path* path) {
   const ReproduceOptions& o = c.options;
+  const GprTrainingSet data = SelectTrainingWindow(c.scans, kWindowLength[1], 1, target);
+  GprFitOptions options;
+  options.kernel = GprKernel::kPeriodicSe;
+  options.restarts = o.quick ? 0 : 2;
+  options.source = "motionblocks reproduce: D2 window, target = " + what;
+  *model = std::make_unique<GprModel>(FitGpr(data.x, data.xdot, data.d, options));
+  *path = fs::absolute(o.out / "models" / file);
+  SaveGprModel(**model, *path);
+}
+
+void FitAblationModel(ReproduceContext& c) {
   // Ablation (simulation only): PS on D(2) trained on the true disturbance instead of the DOB estimate.
-  const GprTrainingSet true_target = SelectTrainingWindow(c.scans, kWindowLength[1], 1, "plant.disturbance");
-  GprFitOptions ablation_options;
-  ablation_options.kernel = GprKernel::kPeriodicSe;
-  ablation_options.restarts = o.quick ? 0 : 2;
-  ablation_options.source = "motionblocks reproduce: ablation, D2 window, target = true disturbance";
-  c.ps_true_target =
-      std::make_unique<GprModel>(FitGpr(true_target.x, true_target.xdot, true_target.d, ablation_options));
-  c.ps_true_target_path = fs::absolute(o.out / "models" / "PS_D2_true_disturbance.json");
-  SaveGprModel(*c.ps_true_target, c.ps_true_target_path);
+  FitPsOnTarget(c, "plant.disturbance", "true disturbance (ablation)", "PS_D2_true_disturbance.json",
+                &c.ps_true_target, &c.ps_true_target_path);
+  // Beyond the paper, from measured signals only: the smoothed (zero-phase) inverse-model estimate.
+  FitPsOnTarget(c, kSmoothedTarget, "smoothed inverse-model estimate (zero-phase)", "PS_D2_smoothed.json",
+                &c.ps_smoothed_target, &c.ps_smoothed_target_path);
 }
 
 }  // namespace

@@ -9,6 +9,9 @@
 //      each constant-speed segment for the conventional loop, the fixed PS model, the learner started from it and
 //      the learner started from no data. (Measured: learning online does not absorb the payload, whose force m_p·ẍ
 //      is not a function of (x, ẋ); docs/paper.md.)
+//  (c) The mass learned online (blocks/adaptive_mass_feedforward.h, diagrams/paper/gp_loop_adaptive_mass.json: the
+//      command scaled by (M_n + Δm̂)/M_n) with the PS models trained on the DOB estimate and on the smoothed estimate,
+//      in (a)'s Fig. 9 runs (and with α = 0: the conventional loop plus the mass) and in (b)'s track.
 
 #include <cmath>
 #include <vector>
@@ -22,10 +25,12 @@ namespace mb::paper {
 
 namespace {
 
+namespace fs = std::filesystem;
 using json = nlohmann::json;
 
 constexpr double kSegment = 1.2;      // [s] between speed changes (Fig. 9's transition starts)
 constexpr double kForgetting = 0.9999;  // λ: a memory of about 10 s at 1 kHz
+constexpr std::size_t kFirstTrackCase = 9;  // online_cases[0..8]: Fig. 9 runs; from 9: the track runs
 
 // The endless-track reference: 150 and 350 mm/s alternating every 1.2 s, `segments` segments, and the payload
 // picked up at half time.
@@ -71,6 +76,9 @@ std::vector<double> SegmentRmseUm(const SignalLog& log, int segments) {
   return rmse;
 }
 
+// The adaptive feedforward's mass estimate at the end of a run [kg].
+double FinalMass(const SignalLog& log) { return log.Column("mass_ff.mass").back(); }
+
 }  // namespace
 
 void LearnOnline(ReproduceContext& c) {
@@ -79,15 +87,27 @@ void LearnOnline(ReproduceContext& c) {
                     "run",
                     kSteps, 0.5 * kSegment * segments, kSegment * segments));
   const std::string ps = c.model_paths.at("PS_D2").string();
+  const std::string ps_smoothed = c.ps_smoothed_target_path.string();
   const Assignments track = TrackRun(segments);
+  const Assignments payload = {{"plant.payload_mass", kPayloadMass}};
+  const fs::path& mass = c.gp_loop_adaptive_mass;
   c.online_cases = {
       {"PS_online", c.gp_loop_online, Learner(ps), {}},
-      {"PS_online_payload", c.gp_loop_online, With(Learner(ps), {{"plant.payload_mass", kPayloadMass}}), {}},
+      {"PS_online_payload", c.gp_loop_online, With(Learner(ps), payload), {}},
       {"PS_online_from_prior", c.gp_loop_online, Learner(ps, "prior"), {}},
+      {"PS_mass", mass, {{"gpr.model", ps}}, {}},
+      {"PS_mass_payload", mass, With({{"gpr.model", ps}}, payload), {}},
+      {"PS_smoothed_mass", mass, {{"gpr.model", ps_smoothed}}, {}},
+      {"PS_smoothed_mass_payload", mass, With({{"gpr.model", ps_smoothed}}, payload), {}},
+      {"mass_only", mass, {{"gpr.model", ps}, {"f_gp.weight", 0.0}}, {}},
+      {"mass_only_payload", mass, With({{"gpr.model", ps}, {"f_gp.weight", 0.0}}, payload), {}},
       {"track_conventional", c.conventional, track, {}},
       {"track_PS", c.gp_loop, With(track, {{"gpr.model", ps}}), {}},
       {"track_PS_online", c.gp_loop_online, With(track, Learner(ps)), {}},
-      {"track_online_from_prior", c.gp_loop_online, With(track, Learner(ps, "prior")), {}}};
+      {"track_online_from_prior", c.gp_loop_online, With(track, Learner(ps, "prior")), {}},
+      {"track_PS_mass", mass, With(track, {{"gpr.model", ps}}), {}},
+      {"track_PS_smoothed", c.gp_loop, With(track, {{"gpr.model", ps_smoothed}}), {}},
+      {"track_PS_smoothed_mass", mass, With(track, {{"gpr.model", ps_smoothed}}), {}}};
   c.arena.execute([&] {
     tbb::parallel_for(std::size_t{0}, c.online_cases.size(), [&](std::size_t i) {
       c.online_cases[i].result = Simulate(c.online_cases[i].diagram, c.online_cases[i].assignments);
@@ -102,7 +122,7 @@ void LearnOnline(ReproduceContext& c) {
     track_json["segment_start_s"].push_back(kSegment * k);
     track_json["segment_speed_m_s"].push_back(k % 2 == 0 ? 0.15 : 0.35);
   }
-  for (std::size_t i = 3; i < c.online_cases.size(); ++i) {
+  for (std::size_t i = kFirstTrackCase; i < c.online_cases.size(); ++i) {
     const ClosedLoopCase& k = c.online_cases[i];
     track_json["segment_rmse_um"][k.name.substr(6)] = SegmentRmseUm(k.result.log, segments);
     track_json["rmse_um"][k.name.substr(6)] = rmse(i);
@@ -120,6 +140,21 @@ void LearnOnline(ReproduceContext& c) {
                 {"PS_online_over_conventional", rmse(0) / c.RmseUm(0)},
                 {"payload_over_no_payload_fixed", c.RmseUm(5) / ps_no_payload},
                 {"payload_over_no_payload_online", rmse(1) / ps_no_payload}}},
+              {"adaptive_mass_feedforward",
+               {{"PS_mass", rmse(3)},
+                {"PS_mass_payload", rmse(4)},
+                {"PS_smoothed_mass", rmse(5)},
+                {"PS_smoothed_mass_payload", rmse(6)},
+                {"mass_only", rmse(7)},
+                {"mass_only_payload", rmse(8)},
+                {"PS_smoothed", c.RmseUm(7)},
+                {"PS_smoothed_payload", c.RmseUm(8)},
+                {"mass_estimate_payload_kg", FinalMass(c.online_cases[4].result.log)},
+                {"mass_estimate_no_payload_kg", FinalMass(c.online_cases[3].result.log)},
+                {"mass_estimate_smoothed_payload_kg", FinalMass(c.online_cases[6].result.log)},
+                {"payload_over_no_payload_PS_mass", rmse(4) / ps_no_payload},
+                {"payload_over_no_payload_PS_smoothed_mass", rmse(6) / c.RmseUm(7)},
+                {"PS_smoothed_mass_payload_over_conventional", rmse(6) / c.RmseUm(0)}}},
               {"track", track_json}};
   c.results["online_learning"] = c.online;
 }
