@@ -170,27 +170,33 @@ bool BaseHasCoulombLaw(const ProposalContext& context) {
   return HasCoulombLaw(context.base_columns(), context.signals().velocity);
 }
 
-double ScanJointFit(const ProposalContext& context, double lo, double hi, int grid,
-                    const std::function<Eigen::MatrixXd(double)>& columns) {
-  if (!(lo > 0.0) || !(hi > lo) || grid < 3) return 0.0;
-  const Eigen::MatrixXd base = context.BaseWithConstant();
-  auto sse = [&](double log_value) { return ResidualSumOfSquares(base, columns(std::exp(log_value)), context.residual()); };
+double MinimiseOnLogGrid(double lo, double hi, int grid, int iterations, const std::function<double(double)>& sse) {
+  const auto sse_log = [&](double log_value) { return sse(std::exp(log_value)); };
   const double a = std::log(lo), step = (std::log(hi) - a) / (grid - 1);
   int best = 0;
   double best_sse = std::numeric_limits<double>::infinity();
   for (int i = 0; i < grid; ++i) {
-    const double e = sse(a + i * step);
+    const double e = sse_log(a + i * step);
     if (e < best_sse) { best_sse = e; best = i; }
   }
   double l = a + std::max(0, best - 1) * step, h = a + std::min(grid - 1, best + 1) * step;
   const double g = 0.5 * (std::sqrt(5.0) - 1.0);
-  double x1 = h - g * (h - l), x2 = l + g * (h - l), e1 = sse(x1), e2 = sse(x2);
-  for (int it = 0; it < 20; ++it) {
-    if (e1 < e2) { h = x2; x2 = x1; e2 = e1; x1 = h - g * (h - l); e1 = sse(x1); }
-    else { l = x1; x1 = x2; e1 = e2; x2 = l + g * (h - l); e2 = sse(x2); }
+  double x1 = h - g * (h - l), x2 = l + g * (h - l), e1 = sse_log(x1), e2 = sse_log(x2);
+  for (int it = 0; it < iterations; ++it) {
+    if (e1 < e2) { h = x2; x2 = x1; e2 = e1; x1 = h - g * (h - l); e1 = sse_log(x1); }
+    else { l = x1; x1 = x2; e1 = e2; x2 = l + g * (h - l); e2 = sse_log(x2); }
   }
   const double found = 0.5 * (l + h);
-  return std::exp(sse(found) <= best_sse ? found : a + best * step);
+  return std::exp(sse_log(found) <= best_sse ? found : a + best * step);
+}
+
+double ScanJointFit(const ProposalContext& context, double lo, double hi, int grid,
+                    const std::function<Eigen::MatrixXd(double)>& columns) {
+  if (!(lo > 0.0) || !(hi > lo) || grid < 3) return 0.0;
+  const Eigen::MatrixXd base = context.BaseWithConstant();
+  return MinimiseOnLogGrid(lo, hi, grid, 20, [&](double value) {
+    return ResidualSumOfSquares(base, columns(value), context.residual());
+  });
 }
 
 }  // namespace mb

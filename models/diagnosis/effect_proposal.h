@@ -83,6 +83,10 @@ bool BaseHasCoulombLaw(const ProposalContext& context);
 /// The same on the base's columns (N × p) and the velocity (N) themselves.
 bool HasCoulombLaw(const Eigen::MatrixXd& base_columns, const Eigen::VectorXd& velocity);
 
+/// The minimum of sse(value) over [lo, hi] (0 < lo < hi): a log grid of `grid` points (>= 3), then a golden-section
+/// search in log between the best point's neighbours (`iterations` steps); the grid's best when the search ends higher.
+double MinimiseOnLogGrid(double lo, double hi, int grid, int iterations, const std::function<double(double)>& sse);
+
 /// A one-parameter scan of the joint fit: the value in [lo, hi] (log grid of `grid` points, then golden section in
 /// log between the best point's neighbours) minimising the residual sum of squares of the residual on
 /// [base, 1, columns(value)]. Returns 0 when lo or hi is not positive or lo >= hi.

@@ -59,7 +59,9 @@ void Judge(const DiagnosisResult& d, CaseResult* r) {
   for (const auto& e : d.effects) {
     const bool law = IsLaw(e.effect);
     r->named.push_back(e.effect + (law ? " (law)" : ""));
-    r->details.push_back(fmt::format("{}: score {:.4f}, {}", e.effect, e.score, fmt::join(e.parameters, ", ")));
+    r->details.push_back(fmt::format("{}: score {:.4f}, {}; coefficients {:.4g}", e.effect, e.score,
+                                     fmt::join(e.parameters, ", "),
+                                     fmt::join(e.coefficients.data(), e.coefficients.data() + e.coefficients.size(), ", ")));
     if (!law) outside.push_back(e.effect);
     if (key == nullptr && e.effect == r->spec.effect) key = &e;
   }
