@@ -63,7 +63,7 @@ class ProposalContext {
   const CatalogueOptions& options_;
   CandidateSearch* search_;
   // Adds the periods of too few cycles for the main search that their harmonics confirm (CatalogueOptions).
-  void AddFewCyclePeriods(const Eigen::VectorXd& residual);
+  void AddFewCyclePeriods(const Eigen::VectorXd& position, const Eigen::VectorXd& residual);
   double max_speed_ = 0.0, dead_band_ = 0.0, position_span_ = 0.0, sample_period_ = 0.0;
   std::vector<ProposedPeriod> position_periods_;
 };

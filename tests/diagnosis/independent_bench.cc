@@ -65,6 +65,9 @@ void Judge(const DiagnosisResult& d, CaseResult* r) {
     if (!law) outside.push_back(e.effect);
     if (key == nullptr && e.effect == r->spec.effect) key = &e;
   }
+  for (const auto& c : d.candidates) {
+    if (!c.parameters.empty()) r->details.push_back(fmt::format("candidate {}: {}", c.name, fmt::join(c.parameters, ", ")));
+  }
   r->details.insert(r->details.end(), d.notes.begin(), d.notes.end());
   if (!outside.empty()) r->named_first = outside.front();
   if (r->spec.law) {
