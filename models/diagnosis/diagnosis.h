@@ -14,7 +14,8 @@
 //  4. Each round adds the candidate with the lowest MSE(S ∪ {c}) (ties within 0.1 % go to the lower BIC);
 //     its score = 1 − MSE(S ∪ {c})/MSE(S), the share of the held-out residual energy left by the previous
 //     round that it explains. Stop when the best score < min_gain (default 1 %).
-//  5. Final coefficients: one joint least-squares fit of base + chosen effects on all data.
+//  5. Final coefficients: one joint least-squares fit of base + chosen effects on all data, after the chosen effects'
+//     nonlinear parameters are re-estimated in it (DiagnosisOptions::refinement_sweeps).
 // Robust to a wrong base model (DIAGNOSIS.md, "When the base model is wrong elsewhere"): every fit is weighted by
 // Huber weights (IRLS, DiagnosisOptions::huber_k); when the base has a Coulomb law, the friction-law replacements
 // (EffectTraits::friction_law_replacement) are ranked first and the candidates re-proposed in what they leave; a
@@ -85,6 +86,10 @@ struct DiagnosisOptions {
   // explain a quarter of the held-out energy, while a real effect that acts at rare instants (a delay's error at the
   // few reversals of a slow back-and-forth) makes the batch means scatter and would fail the test.
   double significance_exempt_gain = 0.25;
+  // Step 3c: the chosen effects' nonlinear parameters (EffectTraits::refined_parameter: a delay, a gap, the law's v_c)
+  // re-estimated in the joint fit with every other chosen effect in, by at most this many coordinate passes; the
+  // scores are then recomputed with the refined parameters (a note per parameter that moved). 0 = off.
+  int refinement_sweeps = 2;
 };
 
 // One effect the ranking chose.

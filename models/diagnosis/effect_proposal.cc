@@ -60,6 +60,22 @@ std::vector<std::pair<ProposedPeriod, double>> FewCyclePeriods(const Eigen::Vect
   return out;
 }
 
+// The position and residual of the samples moving faster than `dead_band` (all samples when fewer than a quarter move).
+std::pair<Eigen::VectorXd, Eigen::VectorXd> MovingSamples(const DiagnosisSignals& signals, const Eigen::VectorXd& residual,
+                                                          double dead_band) {
+  std::vector<Eigen::Index> moving;
+  for (Eigen::Index i = 0; i < signals.size(); ++i) {
+    if (std::abs(signals.velocity(i)) > dead_band) moving.push_back(i);
+  }
+  if (4 * static_cast<Eigen::Index>(moving.size()) < signals.size()) return {signals.position, residual};
+  Eigen::VectorXd x(static_cast<Eigen::Index>(moving.size())), r(x.size());
+  for (std::size_t k = 0; k < moving.size(); ++k) {
+    x(static_cast<Eigen::Index>(k)) = signals.position(moving[k]);
+    r(static_cast<Eigen::Index>(k)) = residual(moving[k]);
+  }
+  return {x, r};
+}
+
 }  // namespace
 
 ProposalContext::ProposalContext(const DiagnosisSignals& signals, const Eigen::VectorXd& residual,
@@ -78,10 +94,14 @@ ProposalContext::ProposalContext(const DiagnosisSignals& signals, const Eigen::V
   if (position_span_ > 0.0) {
     PeriodogramOptions po = options.position_periodogram;
     if (po.max_period <= 0.0) po.max_period = position_span_ / options.min_position_cycles;
+    // Only the samples in motion: while the machine dwells its samples pile up at a few positions, and a fine period
+    // fits their means by chance (a "ripple" of 0.4 mm was named first on a point-to-point record whose dwells hold a
+    // smooth spring force).
+    const auto [position, moving_residual] = MovingSamples(signals, residual, dead_band_);
     try {
-      search->position_periodogram = PositionPeriodogram(signals.position, residual, po);
+      search->position_periodogram = PositionPeriodogram(position, moving_residual, po);
       position_periods_ = PositionPeriods(search->position_periodogram, options);
-      AddFewCyclePeriods(residual);
+      AddFewCyclePeriods(position, moving_residual);
     } catch (const std::invalid_argument& e) {
       skipped("the position periodogram (position-periodic candidates)", e);
     }
@@ -101,11 +121,11 @@ ProposalContext::ProposalContext(const DiagnosisSignals& signals, const Eigen::V
   }
 }
 
-void ProposalContext::AddFewCyclePeriods(const Eigen::VectorXd& residual) {
+void ProposalContext::AddFewCyclePeriods(const Eigen::VectorXd& position, const Eigen::VectorXd& residual) {
   if (options_.position_periodogram.max_period > 0.0) return;  // the user chose the band
   const Periodogram& main = search_->position_periodogram;
   for (const auto& [period, power] :
-       FewCyclePeriods(signals_.position, residual, main, position_span_, options_)) {
+       FewCyclePeriods(position, residual, main, position_span_, options_)) {
     // In the order of power among the main periodogram's proposals (strongest first).
     auto at = position_periods_.begin();
     while (at != position_periods_.end()) {
@@ -186,28 +206,32 @@ bool BaseHasCoulombLaw(const ProposalContext& context) {
   return HasCoulombLaw(context.base_columns(), context.signals().velocity);
 }
 
+double MinimiseOnLogGrid(double lo, double hi, int grid, int iterations, const std::function<double(double)>& sse) {
+  const auto sse_log = [&](double log_value) { return sse(std::exp(log_value)); };
+  const double a = std::log(lo), step = (std::log(hi) - a) / (grid - 1);
+  int best = 0;
+  double best_sse = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < grid; ++i) {
+    const double e = sse_log(a + i * step);
+    if (e < best_sse) { best_sse = e; best = i; }
+  }
+  double l = a + std::max(0, best - 1) * step, h = a + std::min(grid - 1, best + 1) * step;
+  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+  double x1 = h - g * (h - l), x2 = l + g * (h - l), e1 = sse_log(x1), e2 = sse_log(x2);
+  for (int it = 0; it < iterations; ++it) {
+    if (e1 < e2) { h = x2; x2 = x1; e2 = e1; x1 = h - g * (h - l); e1 = sse_log(x1); }
+    else { l = x1; x1 = x2; e1 = e2; x2 = l + g * (h - l); e2 = sse_log(x2); }
+  }
+  const double found = 0.5 * (l + h);
+  return std::exp(sse_log(found) <= best_sse ? found : a + best * step);
+}
+
 double ScanJointFit(const ProposalContext& context, double lo, double hi, int grid,
                     const std::function<Eigen::MatrixXd(double)>& columns) {
   if (!(lo > 0.0) || !(hi > lo) || grid < 3) return 0.0;
   const Eigen::MatrixXd base = context.BaseWithConstant();
   const JointFitResidual joint_fit(base, context.residual());
-  auto sse = [&](double log_value) { return joint_fit(columns(std::exp(log_value))); };
-  const double a = std::log(lo), step = (std::log(hi) - a) / (grid - 1);
-  int best = 0;
-  double best_sse = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < grid; ++i) {
-    const double e = sse(a + i * step);
-    if (e < best_sse) { best_sse = e; best = i; }
-  }
-  double l = a + std::max(0, best - 1) * step, h = a + std::min(grid - 1, best + 1) * step;
-  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
-  double x1 = h - g * (h - l), x2 = l + g * (h - l), e1 = sse(x1), e2 = sse(x2);
-  for (int it = 0; it < 20; ++it) {
-    if (e1 < e2) { h = x2; x2 = x1; e2 = e1; x1 = h - g * (h - l); e1 = sse(x1); }
-    else { l = x1; x1 = x2; e1 = e2; x2 = l + g * (h - l); e2 = sse(x2); }
-  }
-  const double found = 0.5 * (l + h);
-  return std::exp(sse(found) <= best_sse ? found : a + best * step);
+  return MinimiseOnLogGrid(lo, hi, grid, 20, [&](double value) { return joint_fit(columns(value)); });
 }
 
 }  // namespace mb

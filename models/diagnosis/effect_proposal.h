@@ -63,7 +63,7 @@ class ProposalContext {
   const CatalogueOptions& options_;
   CandidateSearch* search_;
   // Adds the periods of too few cycles for the main search that their harmonics confirm (CatalogueOptions).
-  void AddFewCyclePeriods(const Eigen::VectorXd& residual);
+  void AddFewCyclePeriods(const Eigen::VectorXd& position, const Eigen::VectorXd& residual);
   double max_speed_ = 0.0, dead_band_ = 0.0, position_span_ = 0.0, sample_period_ = 0.0;
   std::vector<ProposedPeriod> position_periods_;
 };
@@ -100,6 +100,10 @@ class JointFitResidual {
 bool BaseHasCoulombLaw(const ProposalContext& context);
 /// The same on the base's columns (N × p) and the velocity (N) themselves.
 bool HasCoulombLaw(const Eigen::MatrixXd& base_columns, const Eigen::VectorXd& velocity);
+
+/// The minimum of sse(value) over [lo, hi] (0 < lo < hi): a log grid of `grid` points (>= 3), then a golden-section
+/// search in log between the best point's neighbours (`iterations` steps); the grid's best when the search ends higher.
+double MinimiseOnLogGrid(double lo, double hi, int grid, int iterations, const std::function<double(double)>& sse);
 
 /// A one-parameter scan of the joint fit: the value in [lo, hi] (log grid of `grid` points, then golden section in
 /// log between the best point's neighbours) minimising the residual sum of squares of the residual on

@@ -48,6 +48,14 @@ struct EffectTraits {
   /// reports them as "the friction law near zero velocity is wrong", and searches for the other effects in what they
   /// leave (DIAGNOSIS.md, "When the base model is wrong elsewhere"). Their catalogue names end in "_friction".
   bool friction_law_replacement = false;
+  /// A nonlinear parameter that the ranking re-estimates once every effect is chosen (DiagnoseMissingEffects, step
+  /// 3c): a scan of the joint fit with the base and every other chosen effect in, over [value/range, value·range]
+  /// (log grid, golden section), coordinate-wise, the friction-law replacements first. Its first estimate was made in
+  /// what the effects chosen before it left, without those found after it: a law replacement chosen first absorbs part
+  /// of a delay (a smoothed sign(v) looks like a delayed one at the reversals) and the delay found behind it is biased.
+  /// "" = none.
+  std::string refined_parameter;
+  double refinement_range = 4.0;  ///< > 1: how far (a factor either way) the re-estimate may move the parameter
 };
 
 /// One parameter of an effect instance (EffectInstance::parameters), SI units.

@@ -59,9 +59,14 @@ void Judge(const DiagnosisResult& d, CaseResult* r) {
   for (const auto& e : d.effects) {
     const bool law = IsLaw(e.effect);
     r->named.push_back(e.effect + (law ? " (law)" : ""));
-    r->details.push_back(fmt::format("{}: score {:.4f}, {}", e.effect, e.score, fmt::join(e.parameters, ", ")));
+    r->details.push_back(fmt::format("{}: score {:.4f}, {}; coefficients {:.4g}", e.effect, e.score,
+                                     fmt::join(e.parameters, ", "),
+                                     fmt::join(e.coefficients.data(), e.coefficients.data() + e.coefficients.size(), ", ")));
     if (!law) outside.push_back(e.effect);
     if (key == nullptr && e.effect == r->spec.effect) key = &e;
+  }
+  for (const auto& c : d.candidates) {
+    if (!c.parameters.empty()) r->details.push_back(fmt::format("candidate {}: {}", c.name, fmt::join(c.parameters, ", ")));
   }
   r->details.insert(r->details.end(), d.notes.begin(), d.notes.end());
   if (!outside.empty()) r->named_first = outside.front();

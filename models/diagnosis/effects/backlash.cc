@@ -52,6 +52,8 @@ EffectType Backlash() {
   t.regressor_formula = "e_g(x)·s_db(v), e_g = 1 once the play of width g is taken up";
   t.parameters = {{"backlash", "m", "g: the full gap crossed after each reversal"},
                   {"dead_band", "m/s", "v_db: sign(v) is 0 below it"}};
+  t.traits.refined_parameter = "backlash";
+  t.traits.refinement_range = 4.0;
   t.regressors = [](const EffectInstance& e, const DiagnosisSignals& s) {
     const Eigen::VectorXd sign = SignDeadBand(s.velocity, RequiredParameter(e, "dead_band"));
     return SingleColumn(e.name, Column(s.position, sign, PositiveParameter(e, "backlash")));

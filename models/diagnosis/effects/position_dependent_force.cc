@@ -1,7 +1,7 @@
 // position_dependent_force: a smooth force of position — a spring, a cable carrier, a magnet's attraction, a
 // hardening suspension (Duffing's cubic stiffness k₁(x − x₀) + k₃(x − x₀)³). Regressors ξ, ξ², ξ³ with
 // ξ = (x − center)/half_range over the record's travel {center [m], half_range [m], degree (3)}. Proposed when the
-// position moves over more than a millimetre and the residual holds no position period of 8 cycles or more. Block: position_dependent_force "position_force" on the position
+// position moves over more than a millimetre and the residual holds no position period of 16 cycles or more. Block: position_dependent_force "position_force" on the position
 // input, its coefficients free.
 #include <cmath>
 
@@ -14,6 +14,7 @@ namespace {
 
 constexpr const char* kName = "position_dependent_force";
 constexpr int kDefaultDegree = 3;
+constexpr double kMinCycles = 16.0;  // a position period of this many cycles in the travel is a ripple, not a smooth force
 
 int Degree(const EffectInstance& e) {
   const auto it = e.parameters.find("degree");
@@ -52,13 +53,13 @@ EffectType PositionDependentForce() {
                   {"degree", "", "J, 3 when absent"}};
   t.regressors = Columns;
   t.propose = [](ProposalContext& c) {
-    // Only when the residual holds no position period of 8 cycles or more in the travel: on EMPS (DATA_EMPS, the
-    // rigid body) the polynomial takes 18.6 % of the held-out residual and the held-out ranking names it before the
-    // screw lead's ripple. A "period" of a few cycles in the travel is what a smooth force of position looks like to
-    // the periodogram: it does not stop the polynomial.
+    // Only when the residual holds no position period of kMinCycles cycles or more in the travel: on EMPS (DATA_EMPS,
+    // the rigid body) the polynomial takes 18.6 % of the held-out residual and the held-out ranking names it before the
+    // screw lead's ripple (80 cycles). A "period" of a few cycles in the travel is what a smooth force of position looks
+    // like to the periodogram (a hardening spring over 0.18 m: 18.7 mm, 9.6 cycles): it does not stop the polynomial.
     if (!(c.position_span() > 1e-3)) return;
     for (const auto& p : c.position_periods()) {
-      if (p.period <= c.position_span() / 8.0) return;
+      if (p.period <= c.position_span() / kMinCycles) return;
     }
     const Eigen::VectorXd& x = c.signals().position;
     c.Propose(kName, {{"center", 0.5 * (x.maxCoeff() + x.minCoeff())},

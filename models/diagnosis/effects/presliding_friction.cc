@@ -3,8 +3,13 @@
 // of the Dahl and LuGre models; Dahl 1968, Canudas de Wit et al. 1995). A friction-law replacement. Regressor
 // z = (x − p_δ(x))/δ ∈ [−1, 1], p_δ the play operator of half-width δ {presliding_displacement δ [m]}. Proposed only
 // when the base has a Coulomb law to replace (BaseHasCoulombLaw); δ from a scan of the joint fit over 0.5 µm…2 mm
-// (at most 1 % of the travel). No block: a state-holding friction law (LuGre) is added by hand.
+// (at most 1 % of the travel and the median displacement of a start, StartDisplacement), not proposed when the best δ
+// is the longest tried. No block: a state-holding friction law (LuGre) is added by hand.
 #include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <fmt/format.h>
 
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
@@ -17,13 +22,46 @@ constexpr const char* kName = "presliding_friction";
 
 Eigen::VectorXd Column(const Eigen::VectorXd& x, double delta) { return (x - PlayOperator(x, delta)) / delta; }
 
+// The median displacement from the last sample at rest (|v| at most the dead band) to where the speed first exceeds 10 %
+// of max |v| (the start of each move or reversal): pre-sliding is the micro-displacement regime before gross sliding, so
+// its δ lies well within it. 0 when the record holds no such start.
+double StartDisplacement(const ProposalContext& c) {
+  const Eigen::VectorXd& x = c.signals().position;
+  const Eigen::VectorXd& v = c.signals().velocity;
+  std::vector<double> travelled;
+  double at_rest = x(0);
+  bool resting = std::abs(v(0)) <= c.dead_band();
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    const double speed = std::abs(v(i));
+    if (speed <= c.dead_band()) {
+      at_rest = x(i);
+      resting = true;
+    } else if (resting && speed > 0.1 * c.max_speed()) {
+      travelled.push_back(std::abs(x(i) - at_rest));
+      resting = false;
+    }
+  }
+  if (travelled.empty()) return 0.0;
+  std::nth_element(travelled.begin(), travelled.begin() + static_cast<std::ptrdiff_t>(travelled.size() / 2),
+                   travelled.end());
+  return travelled[travelled.size() / 2];
+}
+
 void Propose(ProposalContext& c) {
   if (!(c.max_speed() > 0.0) || !(c.position_span() > 0.0)) return;
   if (!BaseHasCoulombLaw(c)) return;  // no Coulomb law in the model to replace
   const Eigen::VectorXd& x = c.signals().position;
-  const double hi = std::min(2e-3, 0.01 * c.position_span());
+  const double start = StartDisplacement(c);
+  const double hi = std::min({2e-3, 0.01 * c.position_span(), start});
   const double delta = ScanJointFit(c, 5e-7, hi, 15, [&](double value) { return Eigen::MatrixXd(Column(x, value)); });
-  if (delta > 0.0) c.Propose(kName, {{"presliding_displacement", delta}});
+  if (!(delta > 0.0)) return;
+  if (delta > hi / 1.05) {  // the best δ is the longest tried: a force of the position after each start, not pre-sliding
+    c.Note(fmt::format("presliding_friction not proposed: the joint fit's best δ is the longest tried ({:.3g}, the "
+                       "median displacement before the speed exceeds 10 % of its maximum), i.e. a force of the position "
+                       "after each start (a play, a spring) rather than pre-sliding", delta));
+    return;
+  }
+  c.Propose(kName, {{"presliding_displacement", delta}});
 }
 
 EffectType PreslidingFriction() {
@@ -35,6 +73,8 @@ EffectType PreslidingFriction() {
   t.regressor_formula = "(x − p_δ(x))/δ, p_δ the play operator of half-width δ";
   t.parameters = {{"presliding_displacement", "m", "δ: the displacement over which the friction builds up"}};
   t.traits.friction_law_replacement = true;
+  t.traits.refined_parameter = "presliding_displacement";
+  t.traits.refinement_range = 8.0;
   t.regressors = [](const EffectInstance& e, const DiagnosisSignals& s) {
     return SingleColumn(e.name, Column(s.position, PositiveParameter(e, "presliding_displacement")));
   };

@@ -36,6 +36,8 @@ EffectType RegularizedCoulombFriction() {
   t.regressor_formula = "tanh(v/v_c)";
   t.parameters = {{"regularization_velocity", "m/s", "v_c: below it the friction grows about linearly with v"}};
   t.traits.friction_law_replacement = true;
+  t.traits.refined_parameter = "regularization_velocity";
+  t.traits.refinement_range = 64.0;
   t.regressors = [](const EffectInstance& e, const DiagnosisSignals& s) {
     return SingleColumn(e.name, Column(s.velocity, PositiveParameter(e, "regularization_velocity")));
   };

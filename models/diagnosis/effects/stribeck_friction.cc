@@ -43,6 +43,8 @@ EffectType StribeckFriction() {
   t.regressor_formula = "exp(−(v/v_s)²)·s_db(v)";
   t.parameters = {{"stribeck_velocity", "m/s", "v_s: where the extra low-speed friction has decayed to 1/e"},
                   {"dead_band", "m/s", "v_db: sign(v) is 0 below it"}};
+  t.traits.refined_parameter = "stribeck_velocity";
+  t.traits.refinement_range = 4.0;
   t.regressors = [](const EffectInstance& e, const DiagnosisSignals& s) {
     const double vs = PositiveParameter(e, "stribeck_velocity");
     const Eigen::VectorXd sg = SignDeadBand(s.velocity, RequiredParameter(e, "dead_band"));

@@ -91,6 +91,8 @@ EffectType TimeDelay() {
   t.parameters = {{"delay", "s", "d: how long the measurement lags the model"}};
   t.traits.regressor_is_error = true;
   t.traits.regressor_in_output_band = true;
+  t.traits.refined_parameter = "delay";
+  t.traits.refinement_range = 4.0;
   t.regressors = [](const EffectInstance& e, const DiagnosisSignals& s) {
     const Eigen::VectorXd& y = NeedModelOutput(e, s);
     return SingleColumn(e.name, Shifted(s.time, y, RequiredParameter(e, "delay")) - y);
