@@ -256,7 +256,10 @@ struct ResidualFunctor {
     const double eps = std::sqrt(std::numeric_limits<double>::epsilon());
     std::vector<Eigen::VectorXd> f(static_cast<std::size_t>(p + 1), Eigen::VectorXd(values()));
     Eigen::VectorXd h(p);
-    for (Eigen::Index j = 0; j < p; ++j) h(j) = x(j) == 0.0 ? eps : eps * std::abs(x(j));
+    for (Eigen::Index j = 0; j < p; ++j) {
+      const double step = eps * std::abs(x(j));
+      h(j) = step == 0.0 ? eps : step;
+    }
     tbb::parallel_for(Eigen::Index{0}, p + 1, [&](Eigen::Index j) {
       Eigen::VectorXd trial = x;
       if (j < p) trial(j) += h(j);

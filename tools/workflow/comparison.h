@@ -116,7 +116,8 @@ struct FitResult {
 };
 
 /// Minimises Σ over compared outputs of ‖(measured − model)/scale‖², scale = each output's measured standard
-/// deviation, over the free parameters (Levenberg–Marquardt, forward-difference Jacobian). The primary output is
+/// deviation, over the free parameters (Levenberg–Marquardt, forward-difference Jacobian whose p + 1 simulations run
+/// in parallel on TBB's threads). The primary output is
 /// the first compared output. @throws std::invalid_argument for an empty parameter list.
 FitResult FitParameters(const ModelComparison& comparison, const std::vector<FreeParameter>& params);
 
@@ -170,7 +171,8 @@ DiagnosedComparison CompareAndDiagnose(const nlohmann::json& diagram, const std:
                                        const MeasurementSettings& settings,
                                        const std::vector<std::string>& fit_names, bool diagnose = true);
 
-/// Jacobian d(primary model output)/d(params) by central differences at `values` (N × p).
+/// Jacobian d(primary model output)/d(params) by central differences at `values` (N × p); the 2p simulations run in
+/// parallel.
 Eigen::MatrixXd OutputJacobian(const ModelComparison& comparison, const std::vector<FreeParameter>& params,
                                const Eigen::Ref<const Eigen::VectorXd>& values);
 
