@@ -1190,6 +1190,9 @@ Ranking RankEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base
   // Without a Coulomb law in the model there is no law to replace: the replacements (Stribeck) are ranked as the
   // other effects are.
   const bool replace_law = HasCoulombLaw(base_cols, signals.velocity);
+  // The candidate matrix's notes of the last pass only (the one ranked): each pass rebuilds it, and the earlier
+  // passes' notes would repeat.
+  std::vector<std::string> matrix_notes;
   for (int pass = 0;; ++pass) {
     out.weights = RobustWeights(law.columns, r, options.huber_k, &out.law_residual);
     if (pass == 0) {
@@ -1204,7 +1207,8 @@ Ranking RankEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base
     if (pass == 0) result->notes = search.notes;
     std::vector<EffectInstance> list = law.effects;  // the replacements chosen are the first candidates
     list.insert(list.end(), search.candidates.begin(), search.candidates.end());
-    out.m = BuildCandidateMatrix(corrected, base_cols, list, options, &result->notes);
+    matrix_notes.clear();
+    out.m = BuildCandidateMatrix(corrected, base_cols, list, options, &matrix_notes);
     out.m.Weigh(r, out.weights);
     out.grams.emplace(out.m.wx, out.m.wr, options.folds);
     out.chosen = StartSelection(*out.grams, p);
@@ -1217,6 +1221,7 @@ Ranking RankEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base
     out.chosen.mse_last = out.grams->HeldOutMse(out.chosen.selected);
     if (!replace_law || !AddFrictionLaw(out.m, *out.grams, out.chosen, options, &law, &result->notes)) break;
   }
+  result->notes.insert(result->notes.end(), matrix_notes.begin(), matrix_notes.end());
   out.law_columns = law.columns;
   std::vector<bool> used(out.m.cands.size());
   for (std::size_t c = 0; c < out.m.cands.size(); ++c) {
