@@ -79,8 +79,10 @@ double ResidualSumOfSquares(const Eigen::MatrixXd& base, const Eigen::Ref<const 
 /// ResidualSumOfSquares for many `extra` with one base B (N × p) and one r (N): BᵀB, Bᵀr and rᵀr are formed once
 /// (N·p²), so each fit costs N·k·(p + k) for k extra columns instead of N·(p + k)² — what a one-parameter scan of
 /// the joint fit repeats tens of times. The normal equations of [B, extra] are scaled to unit column norms and
-/// given a ridge of 1e-10 on the diagonal; the sum of squares is rᵀr − 2βᵀXᵀr + βᵀXᵀXβ. Keeps references to
-/// `base` and `r`, which must outlive it; extra must have N rows.
+/// given a ridge of 1e-10 on the diagonal; the sum of squares is rᵀr − 2βᵀXᵀr + βᵀXᵀXβ (clamped at 0), in r's
+/// unit squared. Keeps references to `base` and `r`, which must outlive it; `extra` (N × k, k ≥ 0) must have N rows
+/// (a shape error is Eigen's assertion, not an exception). Throws nothing else. Source: the normal equations of
+/// linear least squares (Björck, "Numerical Methods for Least Squares Problems", SIAM 1996, §2.1).
 class JointFitResidual {
  public:
   JointFitResidual(const Eigen::MatrixXd& base, const Eigen::VectorXd& r);

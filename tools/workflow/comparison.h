@@ -85,7 +85,9 @@ class ModelComparison {
   double output_filter_hz() const { return output_filter_hz_; }
 
   const nlohmann::json& diagram_json() const { return diagram_; }
-  /// Writes free-parameter values into the diagram (as the refit's trial values are written).
+  /// Writes free-parameter values (one per entry of `params`, in the units the diagram stores them in) into the
+  /// diagram, as the refit's trial values are written; numbers replace numbers, so the schema check made at
+  /// construction still holds. @throws as the free SetParameterValues.
   void SetParameterValues(const std::vector<FreeParameter>& params, const Eigen::Ref<const Eigen::VectorXd>& values);
   const std::map<std::string, std::string>& input_columns() const { return input_columns_; }
   const MeasurementLog& log() const { return log_; }
@@ -98,8 +100,8 @@ class ModelComparison {
   std::map<std::string, std::string> input_columns_;
   std::map<std::string, std::string> output_columns_;
   double output_filter_hz_ = 0.0;
-  // The diagram passed the schema at construction and has since had only numbers replaced: each simulation
-  // (hundreds per refit) builds it without validating it again (SchemaCheck::kSkipRevalidation).
+  // Invariant: diagram_ passed the schema at construction and can since change only through SetParameterValues
+  // (numbers for numbers), so each simulation (hundreds per refit) builds it with SchemaCheck::kSkipRevalidation.
 };
 
 /// Result of a least-squares refit.
