@@ -2,6 +2,7 @@
 // logged signals, and a counting global operator new around Simulator::AdvanceTo after Initialize.
 // The same diagram without the gpr block measures the engine's own allocations in AdvanceTo.
 #include <filesystem>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -51,7 +52,10 @@ json AllocDiagram(bool with_gpr, const json& sample_time, bool online = false) {
 class GprBlockAllocation : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / "mb_gpr_block_alloc";
+    // One folder per test: ctest runs the tests of this fixture as parallel processes, and one's TearDown must not
+    // remove the model another is loading.
+    dir_ = fs::temp_directory_path() /
+           ("mb_gpr_block_alloc_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::create_directories(dir_);
     const auto data = testing::ConstantVelocityScans(0.1, 0.325, 15, 0.02, 51);
     GprFitOptions options;
