@@ -103,11 +103,12 @@ MeasurementLog MeasurementFor(const json& diagram, const py::handle& measurement
 }
 
 MeasurementSettings SettingsOf(const std::map<std::string, std::string>& column_map, const std::string& position_column,
-                               double derivative_cutoff_hz) {
+                               double derivative_cutoff_hz, const std::string& intersample) {
   MeasurementSettings s;
   s.column_map = column_map;
   s.position_column = position_column;
   s.derivative_cutoff_hz = derivative_cutoff_hz;
+  s.intersample = ParseIntersample(intersample);
   return s;
 }
 
@@ -165,9 +166,9 @@ struct PyImprove {
 PyCompare Compare(const PyDiagram& d, const py::object& measurement, const std::vector<std::string>& fit, bool no_fit,
                   bool gpr_fallback, bool suggest, const std::string& suggest_effect,
                   const std::map<std::string, std::string>& column_map, const std::string& position_column,
-                  double derivative_cutoff_hz, bool progress) {
+                  double derivative_cutoff_hz, const std::string& intersample, bool progress) {
   CompareSettings settings;
-  settings.measurement = SettingsOf(column_map, position_column, derivative_cutoff_hz);
+  settings.measurement = SettingsOf(column_map, position_column, derivative_cutoff_hz, intersample);
   settings.fit = fit;
   settings.no_fit = no_fit;
   settings.gpr_fallback = gpr_fallback;
@@ -183,14 +184,14 @@ PyCompare Compare(const PyDiagram& d, const py::object& measurement, const std::
 
 PyFit Fit(const PyDiagram& d, const py::object& measurement, std::vector<std::string> names,
           const std::map<std::string, std::string>& column_map, const std::string& position_column,
-          double derivative_cutoff_hz) {
+          double derivative_cutoff_hz, const std::string& intersample) {
   const json& diagram = d.document.json();
   if (names.empty()) names = d.document.FreeParameters();
   if (names.empty()) {
     throw std::invalid_argument(fmt::format(
         "nothing to fit: name parameters with fit=['block.param', …] ({} has no \"free\" list)", SourceOf(d)));
   }
-  const MeasurementSettings settings = SettingsOf(column_map, position_column, derivative_cutoff_hz);
+  const MeasurementSettings settings = SettingsOf(column_map, position_column, derivative_cutoff_hz, intersample);
   const std::string mode = d.document.ExperimentMode();
   std::string name;
   const MeasurementLog log = MeasurementFor(diagram, measurement, settings, &name);
@@ -365,12 +366,13 @@ void BindWorkflow(py::module_& m) {
   static const std::string kMeasurement =
       " `measurement`: a CSV path, a dict of columns {name: 1-D array} or a NumPy structured array — time_s [s] "
       "(or the first column), then the measured columns (position_m [m], force_N [N], …); `map` = {connector: "
-      "column} as --map; velocity and acceleration are derived from `position_column` when absent.";
+      "column} as --map; velocity and acceleration are derived from `position_column` when absent; `intersample` 'zoh' "
+      "when the measured outputs are held commands (a logged force or current reference), as --intersample.";
   m.def("compare", &Compare, py::arg("diagram"), py::arg("measurement"), py::kw_only(),
         py::arg("fit") = std::vector<std::string>{}, py::arg("no_fit") = false, py::arg("gpr_fallback") = true,
         py::arg("suggest") = false, py::arg("suggest_effect") = "",
         py::arg("map") = std::map<std::string, std::string>{}, py::arg("position_column") = "position_m",
-        py::arg("derivative_cutoff_hz") = 100.0, py::arg("progress") = false,
+        py::arg("derivative_cutoff_hz") = 100.0, py::arg("intersample") = "foh", py::arg("progress") = false,
         (kCompareDoc = std::string("Compares `diagram` with a measurement as `motionblocks compare` does: refits `fit` "
                      "('block.param'; default the diagram's free list), ranks the missing effects, fits the TISO-GPR "
                      "fallback. Returns a CompareOutcome.") +
@@ -379,6 +381,7 @@ void BindWorkflow(py::module_& m) {
   m.def("fit", &Fit, py::arg("diagram"), py::arg("measurement"), py::kw_only(),
         py::arg("fit") = std::vector<std::string>{}, py::arg("map") = std::map<std::string, std::string>{},
         py::arg("position_column") = "position_m", py::arg("derivative_cutoff_hz") = 100.0,
+        py::arg("intersample") = "foh",
         (kFitDoc = std::string("Refits parameters of `diagram` (`fit`: 'block.param'; default its free list) by "
                      "Levenberg–Marquardt, as `motionblocks fit`. Returns a FitOutcome.") +
          kMeasurement)
@@ -388,9 +391,9 @@ void BindWorkflow(py::module_& m) {
       [](const PyDiagram& d, const py::object& measurement, const py::object& validation, int max_effects,
          int max_trials, double min_gain, bool refine_periods, const std::vector<std::string>& validation_fit,
          bool fallback, const std::map<std::string, std::string>& column_map, const std::string& position_column,
-         double derivative_cutoff_hz, bool progress) {
+         double derivative_cutoff_hz, const std::string& intersample, bool progress) {
         ImproveSettings s;
-        s.measurement = SettingsOf(column_map, position_column, derivative_cutoff_hz);
+        s.measurement = SettingsOf(column_map, position_column, derivative_cutoff_hz, intersample);
         s.max_effects = max_effects;
         s.max_trials_per_round = max_trials;
         s.min_relative_gain = min_gain;
@@ -402,7 +405,8 @@ void BindWorkflow(py::module_& m) {
       py::arg("max_effects") = 3, py::arg("max_trials") = 3, py::arg("min_gain") = 0.002,
       py::arg("refine_periods") = true, py::arg("validation_fit") = std::vector<std::string>{},
       py::arg("fallback") = true, py::arg("map") = std::map<std::string, std::string>{},
-      py::arg("position_column") = "position_m", py::arg("derivative_cutoff_hz") = 100.0, py::arg("progress") = false,
+      py::arg("position_column") = "position_m", py::arg("derivative_cutoff_hz") = 100.0,
+      py::arg("intersample") = "foh", py::arg("progress") = false,
       (kImproveDoc = std::string("The loop compare → suggest → fit → compare of `motionblocks improve`: adds ranked effects one at "
                    "a time, keeps those that lower the held-out RMSE (on `validation`, same forms as `measurement`, "
                    "else cross-validated). Returns an ImproveOutcome.") +

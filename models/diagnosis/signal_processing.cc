@@ -160,6 +160,15 @@ Eigen::VectorXd ZeroPhaseLowPassBySegment(const Eigen::Ref<const Eigen::VectorXd
   return out;
 }
 
+Eigen::VectorXd HeldSignalAtSampleInstants(const Eigen::Ref<const Eigen::VectorXd>& signal,
+                                          const std::vector<Eigen::Index>& starts) {
+  Eigen::VectorXd out = signal;
+  for (const auto& [b, e] : Segments(starts, signal.size())) {
+    for (Eigen::Index i = b + 1; i < e; ++i) out(i) = 0.5 * (signal(i - 1) + signal(i));
+  }
+  return out;
+}
+
 MotionDerivatives DeriveMotionBySegment(const Eigen::Ref<const Eigen::VectorXd>& time,
                                         const Eigen::Ref<const Eigen::VectorXd>& position, double cutoff_hz,
                                         const std::vector<Eigen::Index>& starts) {

@@ -49,6 +49,16 @@ MotionDerivatives DeriveMotionBySegment(const Eigen::Ref<const Eigen::VectorXd>&
                                         const Eigen::Ref<const Eigen::VectorXd>& position, double cutoff_hz,
                                         const std::vector<Eigen::Index>& starts);
 
+// A zero-order-held signal (a command logged at t_k and held over [t_k, t_k+1): a controller's force or current
+// reference) at the sample instants as a motion derivative sees it: its mean over the sample period centred on t_k,
+// (y[k−1] + y[k])/2 on a uniform grid — half a sample later than the raw samples (MATLAB iddata's InterSample
+// 'zoh'). Central differences of the position see the held force so (for a double integrator the second difference
+// x[k+1] − 2x[k] + x[k−1] is exactly h²·(u[k−1] + u[k])/2), whereas the raw sample leads the motion by half a
+// period: a 0.5 ms lead at 1 kHz, taken for a shorter delay or a friction law by the diagnosis. Per segment (as
+// ZeroPhaseLowPassBySegment); the first sample of each segment is kept. Throws std::invalid_argument on bad starts.
+Eigen::VectorXd HeldSignalAtSampleInstants(const Eigen::Ref<const Eigen::VectorXd>& signal,
+                                          const std::vector<Eigen::Index>& starts);
+
 // Root-mean-square error sqrt(mean((y − ŷ)²)). Throws std::invalid_argument on a size mismatch or N = 0.
 double Rmse(const Eigen::Ref<const Eigen::VectorXd>& measured,
             const Eigen::Ref<const Eigen::VectorXd>& model);

@@ -97,7 +97,9 @@ PreparedCase PrepareCase(const CaseSpec& spec, const fs::path& directory, double
   WriteCsv(Generate(spec.hidden, {.duration = duration, .jitter = jitter, .seed = 11}), train.string());
   WriteCsv(Generate(spec.hidden, {.duration = duration, .jitter = jitter, .seed = 23}), valid.string());
   const json diagram = UserDiagram(spec.mass_known);
-  const ImproveSettings settings;
+  ImproveSettings settings;
+  // The generator logs the controller's force command, held by the amplifier until the next sample (--intersample zoh).
+  settings.measurement.intersample = Intersample::kZeroOrderHold;
   return {diagram, settings, ReadMeasurementFor(diagram, train.string(), settings.measurement),
           ReadMeasurementFor(diagram, valid.string(), settings.measurement)};
 }

@@ -1,5 +1,6 @@
 #include "models/diagnosis/signal_processing.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -49,6 +50,36 @@ TEST(CentralDifference, ExactForQuadraticsOnNonUniformGrid) {
   const Eigen::VectorXd d = CentralDifference(t, y);
   const Eigen::VectorXd expected = 4.0 * t.array() - 1.0;
   EXPECT_LT((d - expected).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+// A force held over each sample period drives a mass exactly (closed form between samples): the second difference of
+// the sampled position is h²/m times the mean of the two forces around each instant, i.e. the held force as
+// HeldSignalAtSampleInstants gives it, not the raw sample (which leads by half a period).
+TEST(HeldSignalAtSampleInstants, IsWhatTheSecondDifferenceOfTheMotionSees) {
+  const double h = 1e-3, m = 2.0;
+  const Eigen::Index n = 400;
+  Eigen::VectorXd u(n), x(n);
+  double position = 0.0, velocity = 0.0;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    u(k) = std::sin(2.0 * kPi * 17.0 * static_cast<double>(k) * h) + (k % 7 == 0 ? 0.5 : 0.0);
+    x(k) = position;
+    position += h * velocity + 0.5 * h * h * u(k) / m;  // u(k) held over [t_k, t_k+1)
+    velocity += h * u(k) / m;
+  }
+  const Eigen::VectorXd held = HeldSignalAtSampleInstants(u, {0});
+  double worst_held = 0.0, worst_raw = 0.0;
+  for (Eigen::Index k = 1; k + 1 < n; ++k) {
+    const double seen = m * (x(k + 1) - 2.0 * x(k) + x(k - 1)) / (h * h);
+    worst_held = std::max(worst_held, std::abs(seen - held(k)));
+    worst_raw = std::max(worst_raw, std::abs(seen - u(k)));
+  }
+  EXPECT_LT(worst_held, 1e-6);
+  EXPECT_GT(worst_raw, 0.1);
+  EXPECT_EQ(held(0), u(0));
+  // Per segment: the first sample of each is kept, nothing is averaged across a gap.
+  const Eigen::VectorXd split = HeldSignalAtSampleInstants(u, {0, 100});
+  EXPECT_EQ(split(100), u(100));
+  EXPECT_EQ(split(101), 0.5 * (u(100) + u(101)));
 }
 
 TEST(DeriveMotion, RecoversVelocityAndAccelerationOfSmoothMotion) {

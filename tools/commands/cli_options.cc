@@ -133,7 +133,7 @@ std::vector<std::string> SplitCommaLists(const std::vector<std::string>& items) 
 }
 
 MeasurementSettings MeasurementOptions::Settings() const {
-  return MeasurementSettings{ParseColumnMap(maps), position_column, derivative_cutoff_hz};
+  return MeasurementSettings{ParseColumnMap(maps), position_column, derivative_cutoff_hz, ParseIntersample(intersample)};
 }
 
 void AddMeasurementOptions(CLI::App* command, MeasurementOptions* options, const std::string& measurement_help,
@@ -147,6 +147,12 @@ void AddMeasurementOptions(CLI::App* command, MeasurementOptions* options, const
       ->capture_default_str();
   command->add_option("--derivative-cutoff-hz", options->derivative_cutoff_hz,
                       "zero-phase low-pass cut-off before differentiating the position [Hz]")
+      ->capture_default_str();
+  command->add_option("--intersample", options->intersample,
+                      "the measured outputs between samples (equation-error diagrams): foh = a sample is the value at "
+                      "its instant (a sensor), zoh = a sample is held until the next (a logged command, e.g. a force "
+                      "or current reference): compared half a sample later")
+      ->check(CLI::IsMember({"foh", "zoh"}))
       ->capture_default_str();
 }
 

@@ -58,14 +58,15 @@ std::map<std::string, std::string> ParseColumnMap(const std::vector<std::string>
 std::vector<std::string> SplitCommaLists(const std::vector<std::string>& items);
 
 /// How compare, fit and improve read a measurement (--measurement, --map, --set, --position-column,
-/// --derivative-cutoff-hz).
+/// --derivative-cutoff-hz, --intersample).
 struct MeasurementOptions {
   std::string measurement;                    ///< the measurement log CSV (time_s first)
   std::vector<std::string> maps;              ///< --map connector=column
   std::vector<std::string> overrides;         ///< --set block.param=value
   std::string position_column = "position_m";
   double derivative_cutoff_hz = 100.0;
-  /// The --map, --position-column and --derivative-cutoff-hz values as the workflow takes them.
+  std::string intersample = "foh";            ///< --intersample foh|zoh (MeasurementSettings::intersample)
+  /// The --map, --position-column, --derivative-cutoff-hz and --intersample values as the workflow takes them.
   /// @throws std::invalid_argument as ParseColumnMap.
   MeasurementSettings Settings() const;
 };

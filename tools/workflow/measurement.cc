@@ -29,24 +29,41 @@ std::string DerivedAccelerationColumn(const std::string& position_column) {
 
 MeasurementLog ReadMeasurementWithDerivatives(const std::string& path, const std::string& position_column,
                                               double derivative_cutoff_hz,
-                                              const std::vector<std::string>& filter_columns) {
-  return AddMeasurementDerivatives(IntakeMeasurementLog(path), position_column, derivative_cutoff_hz, filter_columns);
+                                              const std::vector<std::string>& filter_columns,
+                                              const std::vector<std::string>& held_columns) {
+  return AddMeasurementDerivatives(IntakeMeasurementLog(path), position_column, derivative_cutoff_hz, filter_columns,
+                                   held_columns);
 }
 
 MeasurementLog AddMeasurementDerivatives(const MeasurementLog& raw, const std::string& position_column,
-                                         double derivative_cutoff_hz, const std::vector<std::string>& filter_columns) {
+                                         double derivative_cutoff_hz, const std::vector<std::string>& filter_columns,
+                                         const std::vector<std::string>& held_columns) {
   const double dt = MedianTimeStep(raw.time());
   const auto& segments = raw.segment_starts();
   std::vector<std::string> names = raw.names();
   std::vector<Eigen::VectorXd> columns;
+  std::vector<std::string> held;
+  const auto listed = [](const std::vector<std::string>& list, const std::string& name) {
+    return std::find(list.begin(), list.end(), name) != list.end();
+  };
   for (const auto& name : names) {
-    const bool filter = std::find(filter_columns.begin(), filter_columns.end(), name) != filter_columns.end();
-    columns.push_back(filter ? ZeroPhaseLowPassBySegment(raw.column(name), dt, derivative_cutoff_hz, segments)
-                             : raw.column(name));
+    Eigen::VectorXd column = raw.column(name);
+    if (listed(held_columns, name)) {
+      column = HeldSignalAtSampleInstants(column, segments);
+      held.push_back(name);
+    }
+    if (listed(filter_columns, name)) column = ZeroPhaseLowPassBySegment(column, dt, derivative_cutoff_hz, segments);
+    columns.push_back(std::move(column));
   }
   MeasurementLog log(names, columns, raw.source());
   log.SetSegmentStarts(segments);
   for (const auto& note : raw.notes()) log.AddNote(note);
+  for (const auto& name : held) {
+    log.AddNote(fmt::format("{} is a held command (intersample zoh): compared at the mean of each pair of samples, the "
+                            "held value over the sample period centred on each instant, where the motion's central "
+                            "differences see it (half a sample, {:.3g} ms, later than logged)",
+                            name, 500.0 * dt));
+  }
   const std::string velocity = DerivedVelocityColumn(position_column);
   const std::string acceleration = DerivedAccelerationColumn(position_column);
   if (log.has_column(position_column) && (!log.has_column(velocity) || !log.has_column(acceleration))) {
@@ -106,16 +123,34 @@ std::vector<std::string> FilteredColumns(const json& diagram, const MeasurementS
                                                      : std::vector<std::string>{};
 }
 
+// Those of them that are held commands (settings.intersample zoh).
+std::vector<std::string> HeldColumns(const json& diagram, const MeasurementSettings& settings) {
+  return settings.intersample == Intersample::kZeroOrderHold ? FilteredColumns(diagram, settings)
+                                                             : std::vector<std::string>{};
+}
+
 }  // namespace
+
+Intersample ParseIntersample(const std::string& text) {
+  if (text == "foh") return Intersample::kFirstOrderHold;
+  if (text == "zoh") return Intersample::kZeroOrderHold;
+  throw std::invalid_argument(fmt::format("intersample '{}': write foh (a sample is the value at its instant: a "
+                                          "sensor) or zoh (a sample is held until the next: a logged command)",
+                                          text.substr(0, 40)));
+}
+
+const char* IntersampleName(Intersample intersample) {
+  return intersample == Intersample::kZeroOrderHold ? "zoh" : "foh";
+}
 
 MeasurementLog ReadMeasurementFor(const json& diagram, const std::string& path, const MeasurementSettings& settings) {
   return ReadMeasurementWithDerivatives(path, settings.position_column, settings.derivative_cutoff_hz,
-                                        FilteredColumns(diagram, settings));
+                                        FilteredColumns(diagram, settings), HeldColumns(diagram, settings));
 }
 
 MeasurementLog TakeMeasurementFor(const json& diagram, const MeasurementLog& raw, const MeasurementSettings& settings) {
   return AddMeasurementDerivatives(IntakeMeasurementLog(raw), settings.position_column, settings.derivative_cutoff_hz,
-                                   FilteredColumns(diagram, settings));
+                                   FilteredColumns(diagram, settings), HeldColumns(diagram, settings));
 }
 
 }  // namespace mb

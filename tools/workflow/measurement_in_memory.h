@@ -15,7 +15,8 @@ namespace mb {
 /// ReadMeasurementWithDerivatives on a log taken in already (IntakeMeasurementLog): its segments are kept.
 MeasurementLog AddMeasurementDerivatives(const MeasurementLog& raw, const std::string& position_column,
                                          double derivative_cutoff_hz,
-                                         const std::vector<std::string>& filter_columns = {});
+                                         const std::vector<std::string>& filter_columns = {},
+                                         const std::vector<std::string>& held_columns = {});
 
 /// ReadMeasurementFor on a log in memory (column 0 the time [s], not decreasing, every value finite):
 /// IntakeMeasurementLog, then as ReadMeasurementFor. @throws as IntakeMeasurementLog.
