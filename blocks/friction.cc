@@ -127,8 +127,8 @@ EffectBlockTemplate CoulombFrictionEffectBlock() {
 }
 
 // Adds the diagnosed effect stribeck_friction (models/diagnosis/effects/stribeck_friction.cc) to a diagram: the hump
-// tanh(v/v_reg)·F_s·exp(−(v/v_s)²), smooth through v = 0 (regularization "tanh", v_reg starting at the diagnosis'
-// dead band, free). With the slip direction as a mode (sign(v)) the full hump flips on the velocity noise while the
+// tanh(v/v_reg)·F_s·exp(−(v/v_s)²), smooth through v = 0 (regularization "tanh", v_reg starting at a quarter of the
+// diagnosis' dead band, as its regressor, free). With the slip direction as a mode (sign(v)) the full hump flips on the velocity noise while the
 // machine dwells, and the refit shrinks F_s to a tenth to keep that chatter small (the independent Stribeck case:
 // 0.7 N for 9 N, held-out error 1.6 × the floor).
 EffectBlockTemplate StribeckFrictionEffectBlock() {
@@ -146,7 +146,8 @@ EffectBlockTemplate StribeckFrictionEffectBlock() {
         {"static", WithUnit(std::max(1e-3, BlockCoefficient(d, "")), "N")},
         {"stribeck_velocity", WithUnit(BlockParameter(d, "stribeck_velocity"), "m/s")},
         {"regularization", "tanh"},
-        {"regularization_velocity", WithUnit(dead_band > 0.0 ? dead_band : 1e-3, "m/s")}};
+        // The diagnosis' regressor smooths the hump over a quarter of the dead band (stribeck_friction.cc).
+        {"regularization_velocity", WithUnit(dead_band > 0.0 ? 0.25 * dead_band : 1e-3, "m/s")}};
   };
   block.free = {"static", "stribeck_velocity", "regularization_velocity"};
   return block;

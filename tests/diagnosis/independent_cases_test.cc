@@ -64,8 +64,8 @@ TEST(IndependentPlant, EachCaseNamesACatalogueEffectAndATolerance) {
   }
 }
 
-// The cases compare passes (docs/diagnosis.md's table), each on its full 16 s training record as the benchmark runs it.
-// Not here: backlash (named first, gap 1.23 mm for 1 mm: the Stribeck law chosen before it pulls the gap long).
+// Every case, each on its full 16 s training record as the benchmark runs it (docs/diagnosis.md's table), the force
+// read as the held command it is (--intersample zoh).
 class IndependentCase : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(IndependentCase, NamedFirstWithItsParameter) {
@@ -88,7 +88,7 @@ TEST_P(IndependentCase, NamedFirstWithItsParameter) {
 
 INSTANTIATE_TEST_SUITE_P(ComparePasses, IndependentCase,
                          ::testing::Values("position ripple", "speed-dependent ripple", "Stribeck", "delay",
-                                           "vibration (decoy)", "resonance", "position-dependent force", "payload",
+                                           "vibration (decoy)", "resonance", "position-dependent force", "backlash", "payload",
                                            "ripple + delay", "nothing missing"),
                          [](const ::testing::TestParamInfo<std::string>& case_info) {
                            std::string name;
