@@ -2,7 +2,7 @@
 // before it drives the load again, so the load's friction is felt only once the play is taken up — the force jumps
 // when the relative motion has crossed the gap. Regressor e_g(x)·s_db(v), e_g = 1 when the play operator of
 // half-width g/2 is engaged (|x − p(x)| = g/2), else 0 {backlash g [m] (the full gap), dead_band [m/s]}. Proposal: a
-// scan of the joint fit over 0.25 % (at least 2 µm)…5 % of the travel. No block: a play element is added by hand (the report says so).
+// scan of the joint fit over 0.25 % (at least 2 µm)…5 % of the travel. Block: backlash_friction (blocks/), the same law.
 #include <algorithm>
 
 #include <fmt/format.h>
@@ -48,7 +48,7 @@ EffectType Backlash() {
   t.name = kName;
   t.catalogue_order = 62;
   t.physics = "a load behind a play (backlash, dead zone): after each reversal its friction is felt only once the "
-              "gap is crossed; add a play element (gap g) between the motor and the load";
+              "gap is crossed; add a play (a backlash_friction block of gap g) between the motor and the load's friction";
   t.regressor_formula = "e_g(x)·s_db(v), e_g = 1 once the play of width g is taken up";
   t.parameters = {{"backlash", "m", "g: the full gap crossed after each reversal"},
                   {"dead_band", "m/s", "v_db: sign(v) is 0 below it"}};
