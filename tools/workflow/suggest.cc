@@ -42,12 +42,42 @@ std::string NeedInput(const DiagramDocument& diagram, MotionInput input, const s
                                           quantity, example));
 }
 
-// Adds `element` (its output port `port`) to the signal feeding output connector `output`, through a new sum named
-// "with_<element>". Returns the element's name.
+// Whether blocks of `type` are what effects insert between the model and its output (placement kInsertBeforeOutput:
+// the measurement chain — a logger's delay, a quantizer), as the registry's block templates say.
+bool IsMeasurementChainBlock(const std::string& type) {
+  for (const auto& name : EffectNames()) {
+    const EffectType& t = LookupEffect(name);
+    if (t.block && t.block->placement == BlockPlacement::kInsertBeforeOutput && t.block->block_type == type) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// Where a force is added: the output connector, or, when a measurement chain was inserted before it, that chain's
+// input — a force found after a delay is logged through the same delay as the rest of the model's force (on the
+// independent delay log a Coulomb law summed after the delay block left 1.1 N against a 0.45 N floor).
+Endpoint ForceEnd(const DiagramDocument& d, const std::string& output) {
+  Endpoint end{"", output};
+  for (std::size_t guard = 0; guard < d.ElementNames().size(); ++guard) {
+    const auto driver = d.DriverOf(end);
+    if (!driver || driver->is_connector() || !IsMeasurementChainBlock(d.TypeOf(driver->element))) break;
+    std::optional<Endpoint> input;
+    for (const auto& c : d.Connections()) {
+      if (c.end.element == driver->element) input = c.end;
+    }
+    if (!input) break;
+    end = *input;
+  }
+  return end;
+}
+
+// Adds `element` (its output port `port`) to the model's force feeding output connector `output` (ForceEnd), through
+// a new sum named "with_<element>". Returns the element's name.
 std::string AddToOutput(DiagramDocument* out, const ElementSpec& element, const std::string& output,
                         const std::string& port) {
   const std::string name = out->Add(element);
-  out->SumInto({"", output}, {name, port}, "with_" + name);
+  out->SumInto(ForceEnd(*out, output), {name, port}, "with_" + name);
   return name;
 }
 
