@@ -8,6 +8,15 @@
 # -DMB_PCH=OFF (e.g. to check that every file includes what it uses).
 option(MB_PCH "Compile the heavy third-party headers once (precompiled headers)" ON)
 
+# ccache caches a compile that uses a precompiled header only with these sloppiness settings (ccache manual,
+# "Precompiled headers"): the header's defines and time macros are not hashed, and the just-built .gch is not
+# "too new". Without them every compile is uncacheable and rebuilds start from nothing.
+if(MB_PCH AND CMAKE_CXX_COMPILER_LAUNCHER MATCHES "ccache$")
+  set(CMAKE_CXX_COMPILER_LAUNCHER
+      ${CMAKE_COMMAND} -E env CCACHE_SLOPPINESS=pch_defines,time_macros,include_file_mtime,include_file_ctime
+      ${CMAKE_CXX_COMPILER_LAUNCHER})
+endif()
+
 set(MB_PCH_HEADERS
     <algorithm> <cmath> <functional> <map> <memory> <optional> <stdexcept> <string> <string_view> <utility>
     <vector> <Eigen/Core> <Eigen/Dense> <nlohmann/json.hpp> <fmt/format.h>)
