@@ -394,6 +394,17 @@ void DiagramDocument::AddFreeParameter(const std::string& name) {
   if (std::find(names.begin(), names.end(), name) == names.end()) json_["free"].push_back(name);
 }
 
+void DiagramDocument::RemoveFreeParameter(const std::string& name) {
+  if (!json_.contains("free")) return;
+  Json& free = json_["free"];
+  for (auto it = free.begin(); it != free.end(); ++it) {
+    if (it->is_string() && it->get<std::string>() == name) {
+      free.erase(it);
+      return;
+    }
+  }
+}
+
 // ---- Experiment, solver, logging, text ----------------------------------------------------------------
 
 void DiagramDocument::SetExperiment(double start, double stop, double step) {

@@ -128,6 +128,8 @@ class DiagramDocument {
   /// Appends "element.parameter" (if not listed yet). @throws std::invalid_argument as Parameter, or for a name
   /// without '.'.
   void AddFreeParameter(const std::string& name);
+  /// Removes `name` from the free parameters (no-op when it is not one).
+  void RemoveFreeParameter(const std::string& name);
 
   // ---- Experiment and solver ----------------------------------------------------------------------------
   /// Sets defaultExperiment to startTime `start`, stopTime `stop`, stepSize `step` [s].

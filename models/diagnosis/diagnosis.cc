@@ -1288,7 +1288,8 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
   result.base_coefficient_std = fit.coef_std.head(p);
   result.whiteness_after = Whiteness(r_after);
 
-  // 5. Describe each chosen effect, highest score first.
+  // 5. Describe each chosen effect, highest score first; a law that takes over the model's Coulomb level names it.
+  const Eigen::Index coulomb_column = CoulombLawColumn(base_cols, signals.velocity);
   Eigen::Index offset = p;
   for (std::size_t i = 0; i < chosen.order.size(); ++i) {
     const Candidate& c = m.cands[chosen.order[i]];
@@ -1296,6 +1297,9 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
     result.effects.push_back(DescribeEffect(c, chosen.scores[i], chosen.cumulative[i], fit.coef.segment(offset, kc),
                                             fit.coef_std.segment(offset, kc), signals, options.position_unit,
                                             i < result.friction_law.size()));
+    if (c.type->traits.replaces_coulomb_law && coulomb_column >= 0) {
+      result.effects.back().replaced_parameter = base.names[static_cast<std::size_t>(coulomb_column)];
+    }
     offset += kc;
   }
   // What is missing first (by score), then the friction-law replacements (by score): a replacement changes the
@@ -1417,6 +1421,7 @@ nlohmann::json DiagnosisResult::ToJson() const {
                     {"time_range", {e.time_range[0], e.time_range[1]}},
                     {"position_range", {e.position_range[0], e.position_range[1]}},
                     {"velocity_range", {e.velocity_range[0], e.velocity_range[1]}}, {"description", e.description}});
+    if (!e.replaced_parameter.empty()) effs.back()["replaces"] = e.replaced_parameter;
   }
   j["effects"] = effs;
   j["whiteness_before"] = WhitenessJson(whiteness_before);

@@ -101,6 +101,9 @@ struct DiagnosedEffect {
   std::vector<std::string> column_names;
   Eigen::VectorXd coefficients;              // from the final joint fit, unit of residual per unit of column
   Eigen::VectorXd coefficient_std;           // their standard deviations (σ²(XᵀX)⁻¹)
+  // The base's free parameter that this effect takes over (EffectTraits::replaces_coulomb_law: the model's Coulomb
+  // level, e.g. "friction.coulomb"); "" for an effect that adds to the model.
+  std::string replaced_parameter;
   // Where the effect's fitted contribution is largest: 5–95 % ranges of t, x, v over the 10 % of samples
   // where |contribution| is largest, and its RMS.
   double contribution_rms = 0.0;

@@ -189,17 +189,21 @@ double ResidualSumOfSquares(const Eigen::MatrixXd& base, const Eigen::Ref<const 
   return JointFitResidual(base, r)(extra);
 }
 
-bool HasCoulombLaw(const Eigen::MatrixXd& base_columns, const Eigen::VectorXd& velocity) {
+Eigen::Index CoulombLawColumn(const Eigen::MatrixXd& base_columns, const Eigen::VectorXd& velocity) {
   const double max_speed = velocity.size() > 0 ? velocity.cwiseAbs().maxCoeff() : 0.0;
-  if (!(max_speed > 0.0)) return false;
+  if (!(max_speed > 0.0)) return -1;
   const Eigen::VectorXd mask = (velocity.array().abs() > 0.1 * max_speed).cast<double>();
   const Eigen::VectorXd sign = SignDeadBand(velocity, 0.0).cwiseProduct(mask);
   for (Eigen::Index j = 0; j < base_columns.cols(); ++j) {  // one column that is sign(v) while moving
     const Eigen::VectorXd c = base_columns.col(j).cwiseProduct(mask);
     const double denominator = c.squaredNorm() * sign.squaredNorm();
-    if (denominator > 0.0 && c.dot(sign) * c.dot(sign) / denominator >= 0.97) return true;
+    if (denominator > 0.0 && c.dot(sign) * c.dot(sign) / denominator >= 0.97) return j;
   }
-  return false;
+  return -1;
+}
+
+bool HasCoulombLaw(const Eigen::MatrixXd& base_columns, const Eigen::VectorXd& velocity) {
+  return CoulombLawColumn(base_columns, velocity) >= 0;
 }
 
 bool BaseHasCoulombLaw(const ProposalContext& context) {

@@ -102,6 +102,8 @@ class JointFitResidual {
 bool BaseHasCoulombLaw(const ProposalContext& context);
 /// The same on the base's columns (N × p) and the velocity (N) themselves.
 bool HasCoulombLaw(const Eigen::MatrixXd& base_columns, const Eigen::VectorXd& velocity);
+/// The index of the base column that is the model's Coulomb law (as HasCoulombLaw judges it; the first such), or −1.
+Eigen::Index CoulombLawColumn(const Eigen::MatrixXd& base_columns, const Eigen::VectorXd& velocity);
 
 /// The minimum of sse(value) over [lo, hi] (0 < lo < hi): a log grid of `grid` points (>= 3), then a golden-section
 /// search in log between the best point's neighbours (`iterations` steps); the grid's best when the search ends higher.

@@ -48,6 +48,10 @@ struct EffectTraits {
   /// reports them as "the friction law near zero velocity is wrong", and searches for the other effects in what they
   /// leave (DIAGNOSIS.md, "When the base model is wrong elsewhere"). Their catalogue names end in "_friction".
   bool friction_law_replacement = false;
+  /// The effect's regressor is the whole Coulomb law, level and shape (F_c·tanh(v/v_c)), not a correction to the
+  /// model's: its block takes over the model's Coulomb parameter, which the amended diagram sets to 0 and no longer
+  /// refits (DiagnosedEffect::replaced_parameter). Left in, the two levels trade against each other in the refit.
+  bool replaces_coulomb_law = false;
   /// A nonlinear parameter that the ranking re-estimates once every effect is chosen (DiagnoseMissingEffects, step
   /// 3c): a scan of the joint fit with the base and every other chosen effect in, over [value/range, value·range]
   /// (log grid, golden section), coordinate-wise, the friction-law replacements first. Its first estimate was made in

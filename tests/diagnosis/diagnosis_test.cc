@@ -328,6 +328,10 @@ TEST(Diagnosis, ASmoothFrictionLawAtRestIsReplacedAndTheRippleBehindItNamed) {
   EXPECT_EQ(r.effects.front().effect, "position_periodic") << Names(r);
   EXPECT_NEAR(r.effects.front().parameters.at("period"), 0.006, 0.03 * 0.006);
   EXPECT_THAT(r.summary, HasSubstr("The friction law near zero velocity is wrong: regularized_coulomb_friction"));
+  // The smooth law is the whole Coulomb law: it takes over the base's sign(v) parameter; the ripple adds to the model.
+  for (const auto& e : r.effects) {
+    EXPECT_EQ(e.replaced_parameter, e.effect == "regularized_coulomb_friction" ? "coulomb" : "") << e.effect;
+  }
 }
 
 // The real EMPS data (IDIM-LS style): position low-passed at 50 Hz and differentiated, the force through

@@ -102,6 +102,16 @@ double DiagramStep(const DiagramDocument& diagram, const std::string& effect, co
       effect, block));
 }
 
+// The model's parameter `replaced` (element.parameter) taken over by the new element: set to 0 and no longer refit,
+// with a note. A diagram that no longer has it (edited since the diagnosis) is left as it is.
+void TakeOver(DiagramDocument* out, const std::string& replaced, const std::string& by) {
+  const auto dot = replaced.find('.');
+  if (dot == std::string::npos || !out->Has(replaced.substr(0, dot))) return;
+  out->SetParameter(replaced.substr(0, dot), replaced.substr(dot + 1), 0.0);
+  out->RemoveFreeParameter(replaced);
+  out->AppendNote(fmt::format(" '{}' takes over {} (now 0, no longer refit).", by, replaced));
+}
+
 }  // namespace
 
 json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, const std::string& output) {
@@ -121,6 +131,7 @@ json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, c
                                : AddToOutput(&out, element, output, block.output_port);
   for (std::size_t k = 0; k < inputs.size(); ++k) Wire(&out, inputs[k], name, block.inputs[k].second);
   for (const auto& f : block.free) out.AddFreeParameter(name + "." + f);
+  if (!effect.replaced_parameter.empty()) TakeOver(&out, effect.replaced_parameter, name);
   out.AppendNote(fmt::format(" Amended by motionblocks compare --suggest: added '{}' ({}).", name, effect.effect));
   return out.json();
 }

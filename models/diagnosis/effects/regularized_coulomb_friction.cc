@@ -4,7 +4,8 @@
 // {regularization_velocity v_c [m/s]}, fitted jointly with the base's sign(v) (whose coefficient then drops).
 // Proposed only when the base has a Coulomb law to replace (BaseHasCoulombLaw); v_c from a scan of the joint fit
 // over 1e-4…0.1 × max |v|. Block (blocks/friction.cc): a friction element "smooth_coulomb" with regularization
-// "tanh" on the velocity input (models/physics/friction.h, RegularizedFriction), its Coulomb level and v_c free.
+// "tanh" on the velocity input (models/physics/friction.h, RegularizedFriction), its Coulomb level and v_c free; the
+// model's own Coulomb level, which it replaces, is set to 0 and no longer refit (EffectTraits::replaces_coulomb_law).
 #include <algorithm>
 
 #include "models/diagnosis/effect_proposal.h"
@@ -36,6 +37,7 @@ EffectType RegularizedCoulombFriction() {
   t.regressor_formula = "tanh(v/v_c)";
   t.parameters = {{"regularization_velocity", "m/s", "v_c: below it the friction grows about linearly with v"}};
   t.traits.friction_law_replacement = true;
+  t.traits.replaces_coulomb_law = true;
   t.traits.refined_parameter = "regularization_velocity";
   t.traits.refinement_range = 64.0;
   t.regressors = [](const EffectInstance& e, const DiagnosisSignals& s) {

@@ -8,6 +8,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "engine/diagram_document.h"
 #include "engine/diagram_loader.h"
 #include "models/diagnosis/diagnosis.h"
 #include "tools/workflow/comparison.h"
@@ -102,6 +103,31 @@ TEST_F(EmpsFixture, RigidBodyRefitFindsScrewLeadRippleAndAddingItLowersTheError)
   // The ripple's variance (≈ 0.4 N²) is what leaves the residual; one refit parameter could not take that much
   // noise away from 24,841 samples.
   EXPECT_GT(rmse_base * rmse_base - rmse_effect * rmse_effect, 0.2);
+}
+
+// A smooth Coulomb law replaces the model's sign(v) law: the amended diagram carries one Coulomb level, the new
+// element's (the diagnosis' coefficient), and the base's is 0 and no longer refit — left free, the two levels trade
+// against each other in the refit (the independent backlash case stalled at 2.5 × the noise floor that way).
+TEST(SuggestTest, ASmoothCoulombLawTakesOverTheModelsCoulombLevel) {
+  const auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
+  DiagnosedEffect law;
+  law.effect = "regularized_coulomb_friction";
+  law.parameters = {{"regularization_velocity", 4e-4}};
+  law.column_names = {"regularized_coulomb_friction"};
+  law.coefficients = Eigen::VectorXd::Constant(1, 22.0);
+  law.replaced_parameter = "friction.coulomb";
+  const DiagramDocument amended(SuggestAmendedDiagram(diagram, law, "force"));
+  EXPECT_EQ(amended.Parameter("friction", "coulomb"), 0.0);
+  EXPECT_EQ(amended.Parameter("smooth_coulomb", "coulomb"), 22.0);
+  const auto free = amended.FreeParameters();
+  EXPECT_THAT(free, ::testing::Not(::testing::Contains("friction.coulomb")));
+  EXPECT_THAT(free, ::testing::Contains("smooth_coulomb.coulomb"));
+  EXPECT_THAT(free, ::testing::Contains("friction.viscous"));  // the rest of the model's friction is kept
+
+  law.replaced_parameter.clear();  // an effect that adds to the model leaves the model's parameters as they are
+  const DiagramDocument added(SuggestAmendedDiagram(diagram, law, "force"));
+  EXPECT_EQ(added.Parameter("friction", "coulomb"), 20.0);
+  EXPECT_THAT(added.FreeParameters(), ::testing::Contains("friction.coulomb"));
 }
 
 TEST(ComparisonTest, MissingColumnIsReportedWithColumnsPresent) {
