@@ -97,6 +97,10 @@ std::string RenderFigure(const Figure& figure, const fs::path& directory) {
       const auto [lo, hi] = std::minmax_element(figure.x_tick_labels.begin(), figure.x_tick_labels.end());
       gp << fmt::format("set xrange [{:.10g}:{:.10g}]\n", lo->first - 0.6, hi->first + 0.6);
     }
+    for (const auto& [x0, x1] : figure.shaded_x_ranges) {
+      gp << fmt::format("set object rect from {:.10g}, graph 0 to {:.10g}, graph 1 behind fillcolor rgb '#e4e4e4' "
+                        "fillstyle solid 1.0 noborder\n", x0, x1);
+    }
     const bool bars = std::any_of(figure.series.begin(), figure.series.end(),
                                   [](const Series& s) { return s.style == "boxes"; });
     if (bars) gp << "set style fill solid 0.7 border -1\nset boxwidth 0.35 absolute\nset yrange [0:*]\n";

@@ -29,6 +29,8 @@ struct Figure {
   bool log_y = false;
   /// Named x ticks (position, label) instead of numbers, e.g. the steps of a bar chart; empty: numeric ticks.
   std::vector<std::pair<double, std::string>> x_tick_labels{};
+  /// Ranges of x [x0, x1] shaded behind the series (e.g. a training window), in x's unit; empty: none.
+  std::vector<std::pair<double, double>> shaded_x_ranges{};
   std::size_t max_points = 4000;
 };
 

@@ -260,14 +260,13 @@ void AddRealMotor(const ReproduceContext& c, HtmlReport& report) {
       h["36"].get<double>(), 100.0 * m["map_power_share_not_multiple_of_7"].get<double>()));
   const auto& curves = c.real_motor_curves;
   Figure f = MakeFigure("real_motor_posterior_mean.png",
-                        "Posterior mean over one revolution, trained on D(2) = [0, 0.5) rev (window edge at 0.5 rev)",
+                        "Posterior mean over one revolution, trained on D(2) = [0, 0.5) rev (shaded)",
                         "angle [rev]", "Iq [A]");
   const std::vector<double>& angle = curves.at("map_angle");
   const std::vector<double>& map = curves.at("map");
   f.series.push_back(MakeSeries(angle, map, "quasi-static map (holding current)", "points"));
   for (const char* k : {"DS", "PS", "PS_estimated_period"}) f.series.push_back(MakeSeries(angle, curves.at(k), k));
-  const auto [lo, hi] = std::minmax_element(map.begin(), map.end());
-  f.series.push_back(MakeSeries({0.5, 0.5}, {*lo, *hi}, "training window edge"));
+  f.shaded_x_ranges = {{0.0, 0.5}};  // the training window D(2)
   report.AddFigure(f, c.options.out);
 }
 
