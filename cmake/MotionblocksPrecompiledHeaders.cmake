@@ -11,9 +11,11 @@ option(MB_PCH "Compile the heavy third-party headers once (precompiled headers)"
 # ccache caches a compile that uses a precompiled header only with these sloppiness settings (ccache manual,
 # "Precompiled headers"): the header's defines and time macros are not hashed, and the just-built .gch is not
 # "too new". Without them every compile is uncacheable and rebuilds start from nothing. CCACHE_BASEDIR (paths below
-# the source folder hashed as relative ones) and CCACHE_NOHASHDIR (the build folder not hashed into -g compiles) let
-# another clone of the same commit on the same machine — CI's fresh clone — reuse the cache ("Compiling in different
-# directories"); the debug information then names the files relative to the build folder.
+# the source folder hashed as relative ones) and CCACHE_NOHASHDIR (the build folder not hashed into -g compiles) make
+# the compile commands of another clone on the same machine — CI's fresh clone — hash alike ("Compiling in different
+# directories"). GCC's .gch embeds its build folder and every object's hash includes the .gch's bytes, so a clone
+# reuses the objects only when its .gch came from the cache too, i.e. once one whole tree was built with these
+# settings. The debug information then names the files relative to the build folder.
 if(MB_PCH AND CMAKE_CXX_COMPILER_LAUNCHER MATCHES "ccache$")
   set(CMAKE_CXX_COMPILER_LAUNCHER
       ${CMAKE_COMMAND} -E env CCACHE_SLOPPINESS=pch_defines,time_macros,include_file_mtime,include_file_ctime

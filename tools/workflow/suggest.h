@@ -23,7 +23,10 @@ bool HasEffectBlock(const std::string& effect);
 /// its free parameters appended to the diagram's "free" list so that the next compare refits them jointly with the
 /// base model. An additive element is summed into the signal feeding output connector `output` through a new sum
 /// element; one that acts on the model's output (a delay, a quantizer) is inserted between that signal and the
-/// connector. docs/diagnosis.md lists each effect's block.
+/// connector. An effect that takes over a base parameter (DiagnosedEffect::replaced_parameter, e.g. the smooth
+/// Coulomb law taking over "friction.coulomb") sets that parameter to 0 and removes it from "free", with a note; a
+/// diagram without that element (edited since the diagnosis) keeps its parameters. docs/diagnosis.md lists each
+/// effect's block.
 /// @throws std::invalid_argument if the effect is unknown or has no block, its template refuses the diagnosed
 /// parameters (a key parameter missing or out of range, a negative delay), or the diagram lacks the needed input
 /// connector, sample period or a connection into `output` (the message says what to add).
