@@ -43,8 +43,12 @@ MeasurementLog ReadMeasurementLog(const std::string& path, const MeasurementLogO
 struct MeasurementIntakeOptions {
   std::vector<std::string> required_columns;  // besides the time column
   Eigen::Index min_rows = 10;
-  // Steps within ±jitter_tolerance × the median step are uniform; a segment with a step outside is resampled.
+  // Steps within ±jitter_tolerance × the median step are uniform; a segment with a step outside is either noisy
+  // stamps on a regular clock or irregular sampling (below).
   double jitter_tolerance = 0.01;
+  // Noisy stamps on a regular clock: the stamps minus a straight line fitted against the sample index stay within
+  // ±stamp_noise_bound × the fitted step and do not drift. 0 = never (every non-uniform segment is resampled).
+  double stamp_noise_bound = 0.5;
   // A step above gap_ratio × the median step is a gap: the log is split there into segments.
   double gap_ratio = 5.0;
   // Segments with fewer rows than this are dropped (a note says so): too short to filter or differentiate.
@@ -56,8 +60,18 @@ struct MeasurementIntakeOptions {
 //  2. a step above gap_ratio × the median step is a gap: the log is split into segments there
 //     (MeasurementLog::segment_starts) — a warning, not an error; nothing is interpolated across a gap; segments
 //     shorter than min_segment_rows are dropped;
-//  3. a segment whose steps are not uniform (jitter beyond ±jitter_tolerance, e.g. USB logging) is resampled onto
-//     the uniform grid t_0 + k·Δt, Δt = the median step, by linear interpolation of every column.
+//  3. a segment whose steps are not uniform (jitter beyond ±jitter_tolerance) is one of two cases, told apart by the
+//     line t0 + k·T fitted to its stamps against the sample index k (least squares):
+//     - noisy stamps on a regular clock (a logger stamping on arrival, USB or Ethernet): the residual stays within
+//       ±stamp_noise_bound × T and does not drift (von Neumann's ratio Σ(Δr)²/Σr² at least 1; about 2 for
+//       independent stamp noise). The fitted clock t_k = t0 + k·T replaces the stamps and the samples are kept as
+//       logged (Lab Streaming Layer's dejitter): interpolating at noisy stamps adds noise in proportion to the
+//       signal's slope;
+//     - irregular sampling with accurate stamps (a polled sensor: the residual wanders, each step's error stays in
+//       the stamps that follow): every column is resampled onto the uniform grid t_0 + k·Δt, Δt = the median step,
+//       by linear interpolation.
+//     Each segment is fitted and judged on its own; the note says which case was found, with the step and the
+//     residual stamp jitter.
 // A log already uniform, without repeats or gaps, passes unchanged. Throws as ReadMeasurementLog (bad cells, a
 // time that decreases, too few rows), and std::invalid_argument when no segment has min_segment_rows rows.
 MeasurementLog IntakeMeasurementLog(const std::string& path, const MeasurementIntakeOptions& options = {});

@@ -1,8 +1,11 @@
 #include "models/diagnosis/measurement_log.h"
 
 #include <chrono>
-#include <filesystem>
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <numbers>
 #include <fstream>
 #include <random>
 #include <string>
@@ -171,7 +174,10 @@ TEST_F(MeasurementLogTest, IntakeResamplesAJitteredLogOntoItsMedianStep) {
   }
   const MeasurementLog log = IntakeMeasurementLog(Write("jitter.csv", text));
   ASSERT_EQ(log.notes().size(), 1u);
+  // Accurate stamps of uneven steps (each step's error stays in the stamps after it): irregular sampling, not noise.
   EXPECT_THAT(log.notes()[0], AllOf(HasSubstr("jitter.csv: the time steps are not uniform (jitter: steps from 0.0006"),
+                                    HasSubstr("irregular sampling: stamp − a line fitted against the sample index "
+                                              "reaches "),
                                     HasSubstr("resampled onto a uniform grid of step "), HasSubstr("400 rows → ")));
   const Eigen::VectorXd& tt = log.time();
   const double step = tt(1) - tt(0);
@@ -182,6 +188,76 @@ TEST_F(MeasurementLogTest, IntakeResamplesAJitteredLogOntoItsMedianStep) {
     ASSERT_NEAR(log.column("iq_A")(i), std::sin(2.0 * tt(i)), 2e-6);        // interpolated
   }
   EXPECT_EQ(log.segment_starts(), std::vector<Eigen::Index>{0});
+}
+
+// Issue 25 item 7: a regular clock whose stamps are noisy (a logger stamping on arrival, ±20 % of the step) is not
+// irregular sampling. Two segments split at a gap, each fitted on its own: the fitted clock is kept and the samples
+// as logged, far closer to the truth than interpolating them at the noisy stamps.
+TEST_F(MeasurementLogTest, IntakeKeepsTheFittedClockOfNoisyStampsOnARegularClock) {
+  constexpr double kStep = 1e-3, kHz = 5.0;
+  constexpr Eigen::Index kRows = 1000;  // per segment
+  const double starts[2] = {0.5, 2.0};  // the gap between them: 0.5 s
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> stamp_noise(-0.2 * kStep, 0.2 * kStep);
+  Eigen::VectorXd stamps(2 * kRows), truth_time(2 * kRows), y(2 * kRows);
+  for (Eigen::Index i = 0; i < 2 * kRows; ++i) {
+    truth_time(i) = starts[i / kRows] + static_cast<double>(i % kRows) * kStep;  // when the sample was taken
+    stamps(i) = truth_time(i) + stamp_noise(rng);                                // when it was stamped
+    y(i) = std::sin(2.0 * std::numbers::pi * kHz * truth_time(i));
+  }
+  const MeasurementLog raw({"time_s", "y_V"}, {stamps, y}, "noisy_stamps.csv");
+  const MeasurementLog log = IntakeMeasurementLog(raw);
+
+  ASSERT_EQ(log.rows(), 2 * kRows);
+  EXPECT_EQ(log.segment_starts(), (std::vector<Eigen::Index>{0, kRows}));
+  ASSERT_EQ(log.notes().size(), 2u);  // the gap, then the clock
+  EXPECT_THAT(log.notes()[1],
+              AllOf(HasSubstr("noisy_stamps.csv: the time stamps are noisy on a regular clock"),
+                    HasSubstr("in 2 segments, each fitted on its own"), HasSubstr("% of the step; RMS "),
+                    HasSubstr("the fitted clock t_k = t0 + k·T (T from "), HasSubstr("Lab Streaming Layer")));
+  EXPECT_EQ((log.column("y_V") - y).cwiseAbs().maxCoeff(), 0.0);  // the samples untouched
+  for (Eigen::Index i = 1; i < log.rows(); ++i) {
+    if (i == kRows) continue;
+    ASSERT_NEAR(log.time()(i) - log.time()(i - 1), kStep, 1e-3 * kStep);  // one clock per segment
+  }
+  EXPECT_LT((log.time() - truth_time).cwiseAbs().maxCoeff(), 0.05 * kStep);
+
+  // The values against the truth at the times the log now gives them, and what interpolating the samples at their
+  // noisy stamps onto the true grid gives (the intake's resampling before).
+  const auto rms_error = [&](const Eigen::VectorXd& t, const Eigen::VectorXd& v) {
+    return std::sqrt((v.array() - (2.0 * std::numbers::pi * kHz * t.array()).sin()).square().mean());
+  };
+  Eigen::VectorXd interpolated(2 * kRows);
+  for (Eigen::Index i = 0; i < 2 * kRows; ++i) {
+    const Eigen::Index first = (i / kRows) * kRows, last = first + kRows - 1;
+    Eigen::Index j = std::clamp<Eigen::Index>(i, first + 1, last);
+    while (j > first + 1 && stamps(j - 1) > truth_time(i)) --j;
+    while (j < last && stamps(j) < truth_time(i)) ++j;
+    const double w = (truth_time(i) - stamps(j - 1)) / (stamps(j) - stamps(j - 1));
+    interpolated(i) = y(j - 1) + w * (y(j) - y(j - 1));
+  }
+  const double fitted_error = rms_error(log.time(), log.column("y_V"));
+  const double interpolation_error = rms_error(truth_time, interpolated);
+  std::cout << fmt::format("noisy stamps ±20 %: RMS error of the values, fitted clock {:.3g}, interpolated at the "
+                           "stamps {:.3g} (amplitude 1)\n",
+                           fitted_error, interpolation_error);
+  EXPECT_LT(fitted_error, 0.05 * interpolation_error);
+  std::cout << log.notes()[1] << "\n";
+}
+
+// A regular clock with exact stamps that drops a sample now and then is irregular sampling: the residual against the
+// fitted line steps at each drop (it drifts), so the rows are resampled, not put on a fitted clock.
+TEST_F(MeasurementLogTest, IntakeResamplesARegularClockThatDropsSamples) {
+  Eigen::VectorXd t(300), y(300);
+  for (Eigen::Index i = 0, k = 0; i < 300; ++i, ++k) {
+    if (i % 50 == 25) ++k;  // a sample missed (6 in all)
+    t(i) = 1e-3 * static_cast<double>(k);
+    y(i) = 2.0 * t(i);
+  }
+  const MeasurementLog log = IntakeMeasurementLog(MeasurementLog({"time_s", "position_m"}, {t, y}));
+  ASSERT_EQ(log.notes().size(), 1u);
+  EXPECT_THAT(log.notes()[0], AllOf(HasSubstr("irregular sampling"), HasSubstr("300 rows → 306")));
+  for (Eigen::Index i = 0; i < log.rows(); ++i) ASSERT_NEAR(log.column("position_m")(i), 2.0 * log.time()(i), 1e-12);
 }
 
 TEST_F(MeasurementLogTest, IntakeSplitsAtAGapAndWarnsInsteadOfRefusing) {
