@@ -36,8 +36,18 @@ EffectBlockTemplate PositionPeriodicEffectBlock() {
   return PositionRippleBlock("position_periodic", 3);
 }
 
+// Adds the diagnosed effect gravity (models/diagnosis/effects/gravity.cc): one harmonic of one revolution, its two
+// coefficients (m·g·l·sin φ, m·g·l·cos φ) free; the period is the revolution, fixed (not refined).
+EffectBlockTemplate GravityEffectBlock() {
+  EffectBlockTemplate block = PositionRippleBlock("position_periodic", 1);
+  block.element_name = "gravity";
+  block.refinable.clear();
+  return block;
+}
+
 }  // namespace
 
 MB_REGISTER_EFFECT_BLOCK(position_periodic, PositionPeriodicEffectBlock())
+MB_REGISTER_EFFECT_BLOCK(gravity, GravityEffectBlock())
 
 }  // namespace mb

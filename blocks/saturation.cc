@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "models/diagnosis/effect_block.h"
+
 namespace mb {
 
 Saturation::Saturation(const BlockConfig& config)
@@ -26,5 +28,25 @@ MB_REGISTER_BLOCK(Saturation, BlockType{
      Bounded("width", 1, "", "signal width n", 1, 1e6, ParamType::kInteger)},
     SampleTimeRule::kNone,
     [](const BlockConfig& c) { return std::make_unique<Saturation>(c); }})
+
+// The diagnosis' suggestions made with this block (MB_REGISTER_EFFECT_BLOCK, models/diagnosis/effect_registry.h).
+namespace {
+
+// Adds the diagnosed effect drive_saturation (models/diagnosis/effects/drive_saturation.cc): the drive's limits on
+// the command path (BlockPlacement::kOnCommand), in the command's unit.
+EffectBlockTemplate DriveSaturationEffectBlock() {
+  EffectBlockTemplate block;
+  block.block_type = "saturation";
+  block.element_name = "drive_limit";
+  block.placement = BlockPlacement::kOnCommand;
+  block.parameters = [](const DiagnosedEffect& d) {
+    return nlohmann::json{{"lower", BlockParameter(d, "lower_limit")}, {"upper", BlockParameter(d, "upper_limit")}};
+  };
+  return block;
+}
+
+}  // namespace
+
+MB_REGISTER_EFFECT_BLOCK(drive_saturation, DriveSaturationEffectBlock())
 
 }  // namespace mb

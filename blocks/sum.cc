@@ -35,6 +35,7 @@ MB_REGISTER_BLOCK(Sum, BlockType{
      Bounded("width", 1, "", "signal width n", 1, 1e6, ParamType::kInteger)},
     SampleTimeRule::kNone,
     [](const BlockConfig& c) { return std::make_unique<Sum>(c); },
-    nlohmann::json{{"signs", "++"}}})
+    nlohmann::json{{"signs", "++"}},
+    nlohmann::json{{"signs", "+-"}}})
 
 }  // namespace mb

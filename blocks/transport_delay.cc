@@ -86,8 +86,9 @@ EffectBlockTemplate TimeDelayEffectBlock() {
     const double delay = BlockParameter(d, "delay");
     if (delay < 0.0) {
       throw std::invalid_argument(fmt::format(
-          "{} of {:.4g} ms is negative: the model lags the measurement (check the time stamps, or delay the "
-          "measured inputs instead); a transport_delay block cannot advance the output",
+          "{} of {:.4g} ms is negative: the model lags the measurement, which is an actuator lag (the command "
+          "acts later than logged: effect actuator_lag) or a time-stamp offset; a transport_delay block cannot "
+          "advance the output",
           d.effect, delay * 1e3));
     }
     return nlohmann::json{{"delay", WithUnit(delay, "s")}};
@@ -96,8 +97,27 @@ EffectBlockTemplate TimeDelayEffectBlock() {
   return block;
 }
 
+// Adds the diagnosed effect actuator_lag (models/diagnosis/effects/actuator_lag.cc): the delay on the command path,
+// between the logged command and the force that acts (BlockPlacement::kOnCommand).
+EffectBlockTemplate ActuatorLagEffectBlock() {
+  EffectBlockTemplate block;
+  block.block_type = "transport_delay";
+  block.element_name = "actuator_lag";
+  block.placement = BlockPlacement::kOnCommand;
+  block.discrete = true;
+  block.parameters = [](const DiagnosedEffect& d) {
+    const double lag = BlockParameter(d, "lag");
+    if (!(lag > 0.0)) {
+      throw std::invalid_argument(fmt::format("{} of {:.4g} ms: a lag must be positive", d.effect, lag * 1e3));
+    }
+    return nlohmann::json{{"delay", WithUnit(lag, "s")}};
+  };
+  return block;
+}
+
 }  // namespace
 
 MB_REGISTER_EFFECT_BLOCK(time_delay, TimeDelayEffectBlock())
+MB_REGISTER_EFFECT_BLOCK(actuator_lag, ActuatorLagEffectBlock())
 
 }  // namespace mb

@@ -310,6 +310,24 @@ std::string DiagramDocument::SumInto(const Endpoint& end, const Endpoint& given_
   return name;
 }
 
+std::string DiagramDocument::AddDifference(const Endpoint& minuend, const Endpoint& subtrahend,
+                                           const std::string& name) {
+  const BlockType& difference = BlockRegistry::Global().DifferenceOfTwo();
+  const std::string added = Add({name, difference.type_name, *difference.difference_of_two, std::nullopt, ""});
+  const auto inputs = Ports(added, true);
+  Connect(minuend, {added, inputs.at(0)});
+  Connect(subtrahend, {added, inputs.at(1)});
+  return added;
+}
+
+Endpoint DiagramDocument::OutputOf(const std::string& element) const {
+  const auto outputs = Ports(element, false);
+  if (outputs.empty()) {
+    throw std::invalid_argument(fmt::format("{}: element '{}' has no output port", source_, element));
+  }
+  return {element, outputs.front()};
+}
+
 void DiagramDocument::InsertBefore(const Endpoint& end, const std::string& element) {
   const std::size_t feed = FeedOf(end);
   const auto inputs = Ports(element, true);
@@ -333,6 +351,25 @@ std::vector<DocumentConnector> DiagramDocument::Connectors(const std::string& ki
     out.push_back({name, kind, c.value("unit", ""), c.value("measurement", name)});
   }
   return out;
+}
+
+void DiagramDocument::AddConnector(const DocumentConnector& connector) {
+  if (connector.name.empty() || (connector.kind != "input" && connector.kind != "output")) {
+    throw std::invalid_argument(fmt::format("{}: a connector needs a name and the kind \"input\" or \"output\"",
+                                            source_));
+  }
+  for (const auto& c : json_.value("connectors", Json::array())) {
+    if (c.value("name", "") == connector.name) {
+      throw std::invalid_argument(
+          fmt::format("{}: a connector named '{}' exists already; choose another name", source_, connector.name));
+    }
+  }
+  Json c = {{"name", connector.name}, {"kind", connector.kind}};
+  if (!connector.unit.empty()) c["unit"] = connector.unit;
+  if (!connector.measurement.empty() && connector.measurement != connector.name) {
+    c["measurement"] = connector.measurement;
+  }
+  json_["connectors"].push_back(std::move(c));
 }
 
 // ---- Parameters ----------------------------------------------------------------------------------------

@@ -105,10 +105,21 @@ class DiagramDocument {
   /// Puts `element` (already added; exactly one input and one output port) between `end` and what drives it.
   /// @throws std::invalid_argument if nothing drives `end` or the element has not one input and one output.
   void InsertBefore(const Endpoint& end, const std::string& element);
+  /// Adds a two-input difference (the type declaring BlockType::difference_of_two, named UniqueName(name)) of
+  /// `minuend` − `subtrahend` (element outputs or input connectors). Returns its name; OutputOf gives its output.
+  /// @throws std::invalid_argument as Connect.
+  std::string AddDifference(const Endpoint& minuend, const Endpoint& subtrahend, const std::string& name);
+  /// The first output port of `element`. @throws std::invalid_argument for an unknown element or one without outputs.
+  Endpoint OutputOf(const std::string& element) const;
+
 
   // ---- Connectors --------------------------------------------------------------------------------------
   /// The connectors of kind "input" or "output", in file order.
   std::vector<DocumentConnector> Connectors(const std::string& kind) const;
+  /// Appends a connector (name, kind "input" or "output", unit, measured column; the column is left out when it is the
+  /// name). @throws std::invalid_argument for an empty name, another kind, or a name a connector already has.
+  void AddConnector(const DocumentConnector& connector);
+
 
   // ---- Parameters --------------------------------------------------------------------------------------
   /// The value of `element.parameter` as written (a unit wrapper stripped), else the type's default, else null

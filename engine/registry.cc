@@ -41,6 +41,14 @@ const BlockType& BlockRegistry::SumOfTwo() const {
   throw std::logic_error("no registered block type adds two signals (sum_of_two): link mb_blocks into the program");
 }
 
+const BlockType& BlockRegistry::DifferenceOfTwo() const {
+  for (const auto& [name, type] : types_) {
+    if (type.difference_of_two) return type;
+  }
+  throw std::logic_error(
+      "no registered block type subtracts two signals (difference_of_two): link mb_blocks into the program");
+}
+
 std::vector<std::string> BlockRegistry::Suggest(const std::string& type_name, std::size_t max_suggestions) const {
   return ClosestNames(type_name, TypeNames(), max_suggestions);
 }

@@ -44,6 +44,9 @@ struct BlockType {
   /// y = u_0 + u_1 (its input ports in declared order, its output port 0). DiagramDocument::SumInto splices such
   /// an element into a signal path; nobody outside the block's own file names its type or ports.
   std::optional<nlohmann::json> sum_of_two = std::nullopt;
+  /// Set by the same type: the parameters that make an instance the difference y = u_0 − u_1 (what the log holds
+  /// beyond what a command-path block passes on: compare --suggest, BlockPlacement::kOnCommand).
+  std::optional<nlohmann::json> difference_of_two = std::nullopt;
 };
 
 class BlockRegistry {
@@ -58,6 +61,8 @@ class BlockRegistry {
   std::vector<std::string> TypeNames() const;
   /// The type that declares `sum_of_two`. @throws std::logic_error if none is registered (link mb_blocks).
   const BlockType& SumOfTwo() const;
+  /// The type that declares `difference_of_two`. @throws std::logic_error if none is registered (link mb_blocks).
+  const BlockType& DifferenceOfTwo() const;
   /// The registered names closest to `type_name` (edit distance), for "did you mean" messages.
   std::vector<std::string> Suggest(const std::string& type_name, std::size_t max_suggestions = 3) const;
 

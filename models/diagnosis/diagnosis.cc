@@ -160,7 +160,8 @@ std::string FormatParameters(const std::map<std::string, double>& p, const std::
         item += fmt::format(" ({:.3f} per revolution)", rev / v);
       }
     }
-    else if (k == "delay") item = fmt::format("delay {:.4g} ms", v * 1e3);
+    else if (k == "delay") item = fmt::format("delay {:.4g} ms (the measurement lags the model)", v * 1e3);
+    else if (k == "lag") item = fmt::format("lag {:.4g} ms (the logged command acts later)", v * 1e3);
     else if (k == "frequency_hz") item = fmt::format("frequency {:.4g} Hz", v);
     else if (k == "harmonics") item = fmt::format("{} harmonic(s)", static_cast<int>(v));
     else if (k == "amplitude") item = fmt::format("amplitude {:.3g}", v);
@@ -556,7 +557,11 @@ DiagnosedEffect DescribeEffect(const Candidate& c, double score, double cumulati
   d.column_names = c.reg.column_names;
   d.coefficients = coefficients;
   d.coefficient_std = coefficient_std;
-  if (c.type->traits.periodicity != Periodicity::kNone) {
+  // The amplitude of the first harmonic for every effect whose first columns are Fourier columns (PeriodicColumns:
+  // the periodic effects, gravity's m·g·l).
+  const bool fourier = d.column_names.size() >= 2 && d.column_names[0].ends_with(".cos1") &&
+                       d.column_names[1].ends_with(".sin1");
+  if (c.type->traits.periodicity != Periodicity::kNone || fourier) {
     d.parameters["amplitude"] = std::hypot(d.coefficients(0), d.coefficients(1));
   }
   const Eigen::VectorXd contribution = c.reg.columns * d.coefficients;
@@ -1180,6 +1185,7 @@ Ranking RankEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base
   const Eigen::Index n = signals.size(), p = base_cols.cols();
   const Eigen::VectorXd& r = signals.residual;
   CatalogueOptions catalogue = options.catalogue;
+  if (!(catalogue.revolution > 0.0)) catalogue.revolution = std::max(0.0, RevolutionIn(options.position_unit));
   if (options.regressor_filter_hz > 0.0 && !(catalogue.band_limit_hz > 0.0)) {
     catalogue.band_limit_hz = options.regressor_filter_hz;
   }

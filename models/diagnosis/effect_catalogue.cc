@@ -40,6 +40,7 @@ void DiagnosisSignals::Validate() const {
   CheckLength(residual, n, "residual", false);
   CheckLength(model_output, n, "model_output", true);
   CheckLength(input, n, "input", true);
+  CheckLength(logged_command, n, "logged_command", true);
   for (Eigen::Index i = 1; i < n; ++i) {
     if (!(time(i) > time(i - 1))) {
       throw std::invalid_argument(fmt::format(

@@ -29,6 +29,8 @@ struct DiagnosisSignals {
   Eigen::VectorXd residual;      // r = measured − model output [unit of the output, e.g. N]
   Eigen::VectorXd model_output;  // ŷ (optional; needed by time_delay and quantization)
   Eigen::VectorXd input;         // u (optional; excitation of a resonance, input–residual correlation)
+  Eigen::VectorXd logged_command;  // equation-error mode: the measured output, the command the drive was given
+                                   // (optional; needed by drive_saturation)
 
   // Throws std::invalid_argument naming the signal when a length differs, N < 64, a value is NaN/Inf or
   // time does not increase.
@@ -100,6 +102,9 @@ struct CatalogueOptions {
   // regressor_filter_hz, which sets it) nothing above the cut-off is a property of the motion — a resonance peak up
   // there is the controller's noise leaking through the filter's skirt, and is not proposed.
   double band_limit_hz = 0.0;
+  // One revolution in the position's unit on a rotary axis (2π for rad, 1 for rev, 360 for deg), 0 on a linear one:
+  // the period of a force of the angle such as gravity on an unbalanced arm (DiagnosisOptions::position_unit sets it).
+  double revolution = 0.0;
 };
 
 // What the proposal found on the way (for reports): the periodograms searched.

@@ -238,4 +238,47 @@ double ScanJointFit(const ProposalContext& context, double lo, double hi, int gr
   return MinimiseOnLogGrid(lo, hi, grid, 20, [&](double value) { return joint_fit(columns(value)); });
 }
 
+double EstimateModelOutputDelay(const ProposalContext& c) {
+  const DiagnosisSignals& s = c.signals();
+  const Eigen::Index n = c.size();
+  if (s.model_output.size() != n) return 0.0;
+  const Eigen::VectorXd& y = s.model_output;
+  const Eigen::VectorXd& r = c.residual();
+  const double ts = c.sample_period();
+  const Eigen::MatrixXd base = c.BaseWithConstant();
+  const Eigen::VectorXd dy = CentralDifference(s.time, y);
+  Eigen::MatrixXd x(n, 2);
+  x << Eigen::VectorXd::Ones(n), dy;
+  const Eigen::Vector2d beta = x.colPivHouseholderQr().solve(r);
+  const double d0 = -beta(1);
+  if (!std::isfinite(d0) || !(std::abs(d0) > 1e-3 * ts)) return 0.0;
+  const double sign = d0 > 0.0 ? 1.0 : -1.0;
+  auto sse = [&](double magnitude) {
+    return ResidualSumOfSquares(base, ShiftedInTime(s.time, y, sign * magnitude) - y, r);
+  };
+  constexpr int kGrid = 25;
+  const double lo_grid = std::abs(d0) / 8.0, ratio = std::pow(64.0, 1.0 / (kGrid - 1));
+  int best = 0;
+  double best_sse = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < kGrid; ++i) {
+    const double e = sse(lo_grid * std::pow(ratio, i));
+    if (e < best_sse) { best_sse = e; best = i; }
+  }
+  double lo = lo_grid * std::pow(ratio, best - 1), hi = lo_grid * std::pow(ratio, best + 1);
+  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+  double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
+  double e1 = sse(x1), e2 = sse(x2);
+  for (int it = 0; it < 30 && hi - lo > 1e-4 * lo; ++it) {
+    if (e1 < e2) {
+      hi = x2; x2 = x1; e2 = e1; x1 = hi - g * (hi - lo); e1 = sse(x1);
+    } else {
+      lo = x1; x1 = x2; e1 = e2; x2 = lo + g * (hi - lo); e2 = sse(x2);
+    }
+  }
+  // A delay far below the sample period is not resolved by the data: what it "explains" is a free multiple of
+  // dŷ/dt (on EMPS, −0.04 ms at 1 ms sampling), not a lag.
+  const double delay = sign * 0.5 * (lo + hi);
+  return std::abs(delay) >= c.options().min_delay_samples * ts ? delay : 0.0;
+}
+
 }  // namespace mb

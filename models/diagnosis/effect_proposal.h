@@ -115,4 +115,13 @@ double MinimiseOnLogGrid(double lo, double hi, int grid, int iterations, const s
 double ScanJointFit(const ProposalContext& context, double lo, double hi, int grid,
                     const std::function<Eigen::MatrixXd(double)>& columns);
 
+/// The lag of the measured output behind the model output ŷ that the residual holds, signed [s]: d > 0 when the
+/// measurement lags the model (measured ≈ ŷ(t − d): a sensor or logging delay), d < 0 when it leads it (measured ≈
+/// ŷ(t + |d|): in equation-error mode, a logged command that acts |d| later — an actuator lag). A first guess d0 = −c
+/// from the least-squares fit of r on [1, dŷ/dt] (for a small delay r ≈ −d·dŷ/dt; DIAGNOSIS.md, `resid`), then a
+/// log-grid scan of |d| over [|d0|/8, 8|d0|] and a golden-section refinement of the joint fit of r on
+/// [base, 1, ŷ(t − d) − ŷ(t)]. 0 when the signals carry no model output, the guess is not finite, or |d| stays
+/// below CatalogueOptions::min_delay_samples sample periods (what the data do not resolve). Throws nothing.
+double EstimateModelOutputDelay(const ProposalContext& context);
+
 }  // namespace mb

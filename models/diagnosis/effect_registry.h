@@ -73,6 +73,13 @@ struct EffectParameter {
 enum class BlockPlacement {
   kAddToOutput,         ///< its output port is summed into the signal feeding the output connector
   kInsertBeforeOutput,  ///< it is put between that signal and the output connector (ports "u" → "y")
+  /// It acts on the logged command before the command moves the axis (a drive's lag, its current limit; ports "u" →
+  /// "y"). In equation-error mode, where the logged command is the compared output and the model computes the force
+  /// that acted from the motion, the amended diagram reads the logged command through an input connector on the
+  /// output's column (added when absent), passes it through the block, and adds what the log holds beyond what acted,
+  /// u − y, to the model's output: the residual becomes y − ŷ. Simulation mode is refused (put the block between the
+  /// command's input connector and the plant by hand).
+  kOnCommand,
 };
 
 /// A measured motion quantity that a suggested block reads from the diagram's input connectors (found by unit).

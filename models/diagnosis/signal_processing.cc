@@ -80,6 +80,24 @@ Eigen::VectorXd ZeroPhaseLowPass(const Eigen::Ref<const Eigen::VectorXd>& signal
   return Eigen::Map<const Eigen::VectorXd>(x.data() + pad, n);
 }
 
+Eigen::VectorXd ShiftedInTime(const Eigen::Ref<const Eigen::VectorXd>& time,
+                              const Eigen::Ref<const Eigen::VectorXd>& values, double delay) {
+  const Eigen::Index n = time.size();
+  Eigen::VectorXd out(n);
+  Eigen::Index j = 0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double tq = time(i) - delay;
+    if (tq <= time(0)) { out(i) = values(0); continue; }
+    if (tq >= time(n - 1)) { out(i) = values(n - 1); continue; }
+    j = std::clamp<Eigen::Index>(j, 0, n - 2);
+    while (j > 0 && time(j) > tq) --j;
+    while (j + 1 < n - 1 && time(j + 1) < tq) ++j;
+    const double w = (tq - time(j)) / (time(j + 1) - time(j));
+    out(i) = (1.0 - w) * values(j) + w * values(j + 1);
+  }
+  return out;
+}
+
 Eigen::VectorXd CentralDifference(const Eigen::Ref<const Eigen::VectorXd>& time,
                                   const Eigen::Ref<const Eigen::VectorXd>& values) {
   RequireSameSize(time, values, "CentralDifference");

@@ -26,6 +26,12 @@ Eigen::VectorXd ZeroPhaseLowPass(const Eigen::Ref<const Eigen::VectorXd>& signal
 Eigen::VectorXd CentralDifference(const Eigen::Ref<const Eigen::VectorXd>& time,
                                   const Eigen::Ref<const Eigen::VectorXd>& values);
 
+// y(t − delay) on the samples' own time grid by linear interpolation, held at the first (last) value before (after)
+// the record: a signal delayed (delay > 0) or advanced (delay < 0) by `delay` [s]. time: N >= 2 samples, strictly
+// increasing (not checked); values: N. Throws nothing.
+Eigen::VectorXd ShiftedInTime(const Eigen::Ref<const Eigen::VectorXd>& time,
+                              const Eigen::Ref<const Eigen::VectorXd>& values, double delay);
+
 // Position, velocity and acceleration derived from a measured position.
 struct MotionDerivatives {
   Eigen::VectorXd position;      // zero-phase low-passed position [m]

@@ -25,8 +25,15 @@ const fs::path kEmps = fs::path(MB_SOURCE_DIR) / "diagrams" / "emps";
 
 // The user's diagram: the EMPS rigid body as shipped (M, Fv, Fc, offset free; sign(v) friction); with the mass
 // known, 94 kg fixed.
-json UserDiagram(bool mass_known) {
-  json d = ReadDiagramJson(kEmps / "rigid_body.json");
+const fs::path kRotary = fs::path(MB_SOURCE_DIR) / "diagrams" / "rotary";
+
+// The user's diagram's folder and file: the EMPS rigid body, or on a rotary case the rigid arm (rad, N·m).
+fs::path DiagramFolder(const CaseSpec& spec) { return IsRotary(spec.hidden) ? kRotary : kEmps; }
+const char* DiagramFile(const CaseSpec& spec) { return IsRotary(spec.hidden) ? "rigid_arm.json" : kUserDiagramFile; }
+
+json UserDiagram(const CaseSpec& spec) {
+  const bool mass_known = spec.mass_known;
+  json d = ReadDiagramJson(DiagramFolder(spec) / DiagramFile(spec));
   if (mass_known) {
     d["free"] = {"friction.viscous", "friction.coulomb", "offset.value"};
     SetParameterValues(&d, ResolveFreeParameters(d, {"inertia.gain"}), Eigen::VectorXd::Constant(1, 94.0));
@@ -43,10 +50,13 @@ bool IsLaw(const std::string& effect) { return LookupEffect(effect).traits.frict
 
 // The truth's force on the record as compare reads it (derived motion, parallel filtering) against the measured.
 double NoiseFloor(Hidden hidden, const MeasurementLog& log, const MeasurementSettings& settings) {
-  const Eigen::VectorXd truth = TruthForce(hidden, log.time(), log.column("position_m"),
-                                           log.column(kDerivedVelocityColumn), log.column(kDerivedAccelerationColumn));
+  const std::string& x = settings.position_column;
+  const std::string force = IsRotary(hidden) ? "torque_Nm" : "force_N";
+  const Eigen::VectorXd logged = log.column(force);
+  const Eigen::VectorXd truth = TruthForce(hidden, log.time(), log.column(x), log.column(DerivedVelocityColumn(x)),
+                                           log.column(DerivedAccelerationColumn(x)), &logged);
   const Eigen::VectorXd filtered = ZeroPhaseLowPass(truth, MedianTimeStep(log.time()), settings.derivative_cutoff_hz);
-  return Rmse(log.column("force_N"), filtered);
+  return Rmse(logged, filtered);
 }
 
 // Named right: the hidden effect first outside the friction-law replacements; a law case (Stribeck): among the
@@ -96,8 +106,9 @@ PreparedCase PrepareCase(const CaseSpec& spec, const fs::path& directory, double
   const fs::path train = directory / "training.csv", valid = directory / "validation.csv";
   WriteCsv(Generate(spec.hidden, {.duration = duration, .jitter = jitter, .seed = 11}), train.string());
   WriteCsv(Generate(spec.hidden, {.duration = duration, .jitter = jitter, .seed = 23}), valid.string());
-  const json diagram = UserDiagram(spec.mass_known);
+  const json diagram = UserDiagram(spec);
   ImproveSettings settings;
+  if (IsRotary(spec.hidden)) settings.measurement.position_column = "angle_rad";
   // The generator logs the controller's force command, held by the amplifier until the next sample (--intersample zoh).
   settings.measurement.intersample = Intersample::kZeroOrderHold;
   return {diagram, settings, ReadMeasurementFor(diagram, train.string(), settings.measurement),
@@ -111,7 +122,8 @@ CaseResult RunCase(const CaseSpec& spec, const fs::path& directory, bool run_imp
   const json& diagram = prepared.diagram;
   const ImproveSettings& settings = prepared.settings;
   const auto t0 = std::chrono::steady_clock::now();
-  const DiagnosedComparison compared = CompareAndDiagnose(diagram, kEmps, kUserDiagramFile, prepared.training,
+  const DiagnosedComparison compared = CompareAndDiagnose(diagram, DiagramFolder(spec), DiagramFile(spec),
+                                                          prepared.training,
                                                           settings.measurement, diagram["free"]);
   r.compare_seconds = Seconds(t0);
   Judge(*compared.diagnosis, &r);
@@ -121,7 +133,8 @@ CaseResult RunCase(const CaseSpec& spec, const fs::path& directory, bool run_imp
   if (!run_improve) return r;
   r.improve_run = true;
   const auto t1 = std::chrono::steady_clock::now();
-  const ImproveResult improved = ImproveModel(diagram, kEmps, kUserDiagramFile, training, &validation, settings);
+  const ImproveResult improved =
+      ImproveModel(diagram, DiagramFolder(spec), DiagramFile(spec), training, &validation, settings);
   r.improve_seconds = Seconds(t1);
   r.heldout_before = improved.first().rmse_heldout;
   r.heldout_after = improved.last_accepted().rmse_heldout;

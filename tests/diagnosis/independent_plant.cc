@@ -23,6 +23,9 @@ constexpr double kLoadMass = 6.0, kLoadHz = 31.7, kLoadDamping = 0.02;
 constexpr double kSpringCentre = 0.1, kSpringLinear = 30.0, kSpringCubic = 3000.0;
 constexpr double kLoadFriction = 4.0, kPlayHalfWidth = 5e-4;
 constexpr double kSubStep = 1e-4;  // plant integration [s]
+constexpr double kActuatorLag = 0.004;
+constexpr double kUpperLimit = 120.0, kLowerLimit = -135.0;
+constexpr double kGravityTorque = 7.5, kGravityPhase = 0.4;  // [N·m], [rad]
 
 bool Has(Hidden h, Hidden what) {
   return h == what || (h == Hidden::kRippleAndDelay && (what == Hidden::kPositionRipple || what == Hidden::kDelay));
@@ -49,6 +52,9 @@ double StatelessHidden(Hidden h, double t, double x, double v) {
   if (Has(h, Hidden::kPositionForce)) {
     const double d = x - kSpringCentre;
     f += kSpringLinear * d + kSpringCubic * d * d * d;
+  }
+  if (Has(h, Hidden::kGravity)) {  // the arm's torque as a force on the carriage: τ·dθ/dx
+    f += kRadPerMetre * kGravityTorque * std::sin(kRadPerMetre * (x - 0.1) + kGravityPhase);
   }
   return f;
 }
@@ -226,6 +232,9 @@ std::vector<CaseSpec> Cases() {
   CaseSpec two = Case("ripple + delay", Hidden::kRippleAndDelay, "position_periodic", "period", 0.006, 0.03);
   two.second_effect = "time_delay";
   c.push_back(two);
+  c.push_back(Case("actuator lag", Hidden::kActuatorLag, "actuator_lag", "lag", kActuatorLag, 0.15));
+  c.push_back(Case("drive saturation", Hidden::kSaturation, "drive_saturation", "upper_limit", kUpperLimit, 0.10));
+  c.push_back(Case("rotary gravity", Hidden::kGravity, "gravity", "amplitude", kGravityTorque, 0.05));
   c.push_back(Case("nothing missing", Hidden::kNone, "", "", 0.0, 0.0));
   return c;
 }
@@ -237,6 +246,7 @@ Record Generate(Hidden hidden, const GeneratorSettings& settings) {
   std::normal_distribution<double> noise(0.0, settings.force_noise);
   const auto n = static_cast<Eigen::Index>(settings.duration / settings.sample_period);
   Record r;
+  r.rotary = IsRotary(hidden);
   r.time.resize(n); r.position.resize(n); r.force.resize(n); r.true_force.resize(n);
   std::vector<double> command_time, command;  // for the delayed log
   State st;
@@ -248,16 +258,24 @@ Record Generate(Hidden hidden, const GeneratorSettings& settings) {
     const double u = pid.Update(t, x_measured, ref);
     command_time.push_back(t);
     command.push_back(u);
+    double applied = u;  // what the drive makes of the command
+    if (Has(hidden, Hidden::kActuatorLag)) {  // the command acts kActuatorLag later (ZOH)
+      const auto it = std::upper_bound(command_time.begin(), command_time.end(), t - kActuatorLag + 1e-12);
+      applied = it == command_time.begin() ? command.front()
+                                           : command[static_cast<std::size_t>(it - command_time.begin() - 1)];
+    }
+    if (Has(hidden, Hidden::kSaturation)) applied = std::clamp(u, kLowerLimit, kUpperLimit);
     double logged = u;
     if (Has(hidden, Hidden::kDelay)) {  // the amplifier reports the force it applied kDelay ago (ZOH)
       const auto it = std::upper_bound(command_time.begin(), command_time.end(), t - kDelay);
       logged = it == command_time.begin() ? command.front() : command[static_cast<std::size_t>(it - command_time.begin() - 1)];
     }
+    const double scale = IsRotary(hidden) ? 1.0 / kRadPerMetre : 1.0;  // N → N·m on the rotary axis
     r.time(k) = t;
-    r.position(k) = x_measured;
-    r.true_force(k) = logged;
-    r.force(k) = logged + noise(rng);
-    Advance(hidden, t, next - t, u, &st);
+    r.position(k) = IsRotary(hidden) ? kRadPerMetre * (x_measured - 0.1) : x_measured;
+    r.true_force(k) = scale * logged;
+    r.force(k) = scale * (logged + noise(rng));
+    Advance(hidden, t, next - t, applied, &st);
     t = next;
   }
   return r;
@@ -266,15 +284,18 @@ Record Generate(Hidden hidden, const GeneratorSettings& settings) {
 void WriteCsv(const Record& record, const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (f == nullptr) throw std::runtime_error("WriteCsv: cannot write " + path);
-  std::fprintf(f, "time_s,position_m,force_N\n");
+  std::fprintf(f, record.rotary ? "time_s,angle_rad,torque_Nm\n" : "time_s,position_m,force_N\n");
   for (Eigen::Index i = 0; i < record.time.size(); ++i) {
     std::fprintf(f, "%.17g,%.17g,%.17g\n", record.time(i), record.position(i), record.force(i));
   }
   if (std::fclose(f) != 0) throw std::runtime_error("WriteCsv: cannot write " + path);
 }
 
-Eigen::VectorXd TruthForce(Hidden hidden, const Eigen::VectorXd& t, const Eigen::VectorXd& x,
-                           const Eigen::VectorXd& v, const Eigen::VectorXd& a) {
+namespace {
+
+// TruthForce on the carriage's own coordinates (m, N).
+Eigen::VectorXd CarriageForce(Hidden hidden, const Eigen::VectorXd& t, const Eigen::VectorXd& x,
+                              const Eigen::VectorXd& v, const Eigen::VectorXd& a, const Eigen::VectorXd* logged) {
   const Eigen::Index n = t.size();
   Eigen::VectorXd f(n);
   double far = x(0), xl = x(0), vl = 0.0;
@@ -299,6 +320,20 @@ Eigen::VectorXd TruthForce(Hidden hidden, const Eigen::VectorXd& t, const Eigen:
       }
     }
   }
+  if (Has(hidden, Hidden::kSaturation) && logged != nullptr) {  // the log holds the command beyond what acted
+    f += *logged - logged->cwiseMax(kLowerLimit).cwiseMin(kUpperLimit);
+  }
+  if (Has(hidden, Hidden::kActuatorLag)) {  // the log leads the applied force by the lag
+    Eigen::VectorXd advanced(n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double ta = t(i) + kActuatorLag;
+      const auto it = std::upper_bound(t.data(), t.data() + n, ta);
+      const Eigen::Index j = std::clamp<Eigen::Index>(static_cast<Eigen::Index>(it - t.data()) - 1, 0, n - 2);
+      const double q = std::clamp((ta - t(j)) / (t(j + 1) - t(j)), 0.0, 1.0);
+      advanced(i) = (1.0 - q) * f(j) + q * f(j + 1);
+    }
+    return advanced;
+  }
   if (!Has(hidden, Hidden::kDelay)) return f;
   Eigen::VectorXd delayed(n);
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -309,6 +344,22 @@ Eigen::VectorXd TruthForce(Hidden hidden, const Eigen::VectorXd& t, const Eigen:
     delayed(i) = (1.0 - q) * f(j) + q * f(j + 1);
   }
   return delayed;
+}
+
+}  // namespace
+
+bool IsRotary(Hidden hidden) { return hidden == Hidden::kGravity; }
+
+Eigen::VectorXd TruthForce(Hidden hidden, const Eigen::VectorXd& t, const Eigen::VectorXd& angle_or_x,
+                           const Eigen::VectorXd& v_in, const Eigen::VectorXd& a_in, const Eigen::VectorXd* logged) {
+  const Eigen::Index n = t.size();
+  if (IsRotary(hidden)) {  // the carriage's own coordinates, the force back to a torque
+    const Eigen::VectorXd x = (angle_or_x.array() / kRadPerMetre + 0.1).matrix();
+    const Eigen::VectorXd logged_force = logged ? Eigen::VectorXd(*logged * kRadPerMetre) : Eigen::VectorXd();
+    return CarriageForce(hidden, t, x, v_in / kRadPerMetre, a_in / kRadPerMetre, logged ? &logged_force : nullptr) /
+           kRadPerMetre;
+  }
+  return CarriageForce(hidden, t, angle_or_x, v_in, a_in, logged);
 }
 
 }  // namespace mb::independent

@@ -6,7 +6,8 @@
 // profiles and dwell at rest, encoder quantisation, force noise and timestamp jitter — with one hidden effect
 // (or two, or none). Only the standard library and Eigen (for the returned vectors) are used.
 //
-// Units: SI (m, s, N, kg). The log's columns: time_s, position_m, force_N (the logged motor force).
+// Units: SI (m, s, N, kg). The log's columns: time_s, position_m, force_N (the logged motor force); a rotary case
+// (kGravity) logs time_s, angle_rad, torque_Nm: the same carriage seen through a gear of kRadPerMetre.
 
 #include <string>
 #include <vector>
@@ -28,7 +29,15 @@ enum class Hidden {
   kBacklash,        ///< a load's 4 N friction felt only once a ±0.5 mm play is taken up
   kPayload,         ///< 12 kg more than the user's (known) 94 kg
   kRippleAndDelay,  ///< kPositionRipple and kDelay at once
+  kActuatorLag,     ///< the applied force is the logged command 4 ms later (current loop, PWM, fieldbus)
+  kSaturation,      ///< the drive delivers at most +120 N / −135 N while the logged command goes beyond
+  kGravity,         ///< a rotary arm (rad, N·m): the stage seen through 20 rad/m, with 7.5 N·m·sin(θ + 0.4) of gravity
 };
+
+/// Whether a case's record is of a rotary axis (time_s, angle_rad, torque_Nm; Record::rotary).
+bool IsRotary(Hidden hidden);
+/// The rotary axis' gear: θ = kRadPerMetre·(x − 0.1 m), torque = force / kRadPerMetre (virtual work).
+inline constexpr double kRadPerMetre = 20.0;
 
 /// One case of the benchmark: what is hidden, the key parameter and its truth.
 struct CaseSpec {
@@ -54,6 +63,7 @@ struct Record {
   Eigen::VectorXd position;  ///< [m], quantised to the encoder step
   Eigen::VectorXd force;     ///< [N], the motor force with noise (what the amplifier reports)
   Eigen::VectorXd true_force;  ///< [N], the applied force at the logged instants without noise (for the floor)
+  bool rotary = false;         ///< written as angle_rad and torque_Nm (IsRotary)
 };
 
 struct GeneratorSettings {
@@ -74,7 +84,9 @@ void WriteCsv(const Record& record, const std::string& path);
 /// The truth's force as an equation-error model would give it, evaluated on (derived) motion signals:
 /// M·a + viscous + friction law + offset + the hidden effect (the resonance's load filtered from a, the play
 /// operator on x, the delay by interpolation). What the best model can reach on the measured motion.
+/// On a rotary case x, v, a are the angle [rad] and its derivatives and the result is a torque [N·m]. `logged` (the
+/// logged command as compared, or nullptr) adds, for kSaturation, what the log holds beyond the drive's limits.
 Eigen::VectorXd TruthForce(Hidden hidden, const Eigen::VectorXd& t, const Eigen::VectorXd& x,
-                           const Eigen::VectorXd& v, const Eigen::VectorXd& a);
+                           const Eigen::VectorXd& v, const Eigen::VectorXd& a, const Eigen::VectorXd* logged = nullptr);
 
 }  // namespace mb::independent

@@ -423,6 +423,7 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
   signals.acceleration = log.column(DerivedAccelerationColumn(settings.position_column));
   signals.residual = primary.residual();
   signals.model_output = primary.model;
+  if (equation_error) signals.logged_command = primary.measured;
   // The fitted parameters' sensitivities are the base regressors: the diagnosis refits them jointly with each
   // candidate (DIAGNOSIS.md step 1).
   BaseRegressors& base = out.base;

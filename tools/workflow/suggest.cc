@@ -88,6 +88,49 @@ std::string InsertBeforeOutput(DiagramDocument* out, const ElementSpec& element,
   return name;
 }
 
+// The input connector that reads the logged command compared at output connector `output` (the same measured column),
+// added as "logged_<output>" when the diagram has none.
+std::string CommandInput(DiagramDocument* out, const std::string& output) {
+  std::optional<DocumentConnector> compared;
+  for (const auto& c : out->Connectors("output")) {
+    if (c.name == output) compared = c;
+  }
+  if (!compared) throw std::invalid_argument(fmt::format("the diagram has no output connector '{}'", output));
+  for (const auto& c : out->Connectors("input")) {
+    if (c.measurement == compared->measurement) return c.name;
+  }
+  DocumentConnector command{"", "input", compared->unit, compared->measurement};
+  command.name = "logged_" + output;
+  for (int k = 2; [&] {
+         for (const auto& c : out->Connectors("input")) if (c.name == command.name) return true;
+         for (const auto& c : out->Connectors("output")) if (c.name == command.name) return true;
+         return false;
+       }();
+       ++k) {
+    command.name = fmt::format("logged_{}_{}", output, k);
+  }
+  out->AddConnector(command);
+  return command.name;
+}
+
+// Puts `element` (ports u → y) on the command path (BlockPlacement::kOnCommand): fed by the logged command, and what the
+// log holds beyond what the element passes on, u − y, summed into the model's force (ForceEnd).
+std::string AddOnCommand(DiagramDocument* out, const ElementSpec& element, const std::string& output,
+                         const std::string& effect) {
+  if (out->ExperimentMode() != "equation_error") {
+    throw std::invalid_argument(fmt::format(
+        "effect '{}' acts on the command path; in simulation mode put a {} block between the command's input "
+        "connector and the plant by hand (docs/diagnosis.md, \"Adding an effect\")",
+        effect, element.type));
+  }
+  const std::string command = CommandInput(out, output);
+  const std::string name = out->Add(element);
+  out->Connect({"", command}, {name, "u"});
+  const std::string excess = out->AddDifference({"", command}, {name, "y"}, "beyond_" + name);
+  out->SumInto(ForceEnd(*out, output), out->OutputOf(excess), "with_" + name);
+  return name;
+}
+
 void Wire(DiagramDocument* out, const std::string& connector, const std::string& element, const std::string& port) {
   out->Connect({"", connector}, {element, port});
 }
@@ -126,9 +169,12 @@ json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, c
   for (const auto& [input, port] : block.inputs) inputs.push_back(NeedInput(out, input, effect.effect));
   ElementSpec element{block.element_name, block.block_type, block.parameters(effect), std::nullopt, effect.description};
   if (block.discrete) element.sample_time = std::make_pair(DiagramStep(out, effect.effect, block.element_name), 0.0);
-  const std::string name = block.placement == BlockPlacement::kInsertBeforeOutput
-                               ? InsertBeforeOutput(&out, element, output)
-                               : AddToOutput(&out, element, output, block.output_port);
+  std::string name;
+  switch (block.placement) {
+    case BlockPlacement::kInsertBeforeOutput: name = InsertBeforeOutput(&out, element, output); break;
+    case BlockPlacement::kOnCommand: name = AddOnCommand(&out, element, output, effect.effect); break;
+    case BlockPlacement::kAddToOutput: name = AddToOutput(&out, element, output, block.output_port); break;
+  }
   for (std::size_t k = 0; k < inputs.size(); ++k) Wire(&out, inputs[k], name, block.inputs[k].second);
   for (const auto& f : block.free) out.AddFreeParameter(name + "." + f);
   if (!effect.replaced_parameter.empty()) TakeOver(&out, effect.replaced_parameter, name);
