@@ -93,9 +93,6 @@ std::vector<std::string> SpecNames(const BlockType& type) {
   return names;
 }
 
-// The written value of a parameter slot: a unit wrapper {"value", "unit"} stripped.
-Json Unwrapped(const Json& slot) { return slot.is_object() && slot.contains("value") ? slot["value"] : slot; }
-
 Endpoint Start(const Json& c) { return {c.value("startElement", ""), c.value("startConnector", "")}; }
 Endpoint End(const Json& c) { return {c.value("endElement", ""), c.value("endConnector", "")}; }
 
@@ -385,7 +382,7 @@ Json DiagramDocument::Parameter(const std::string& element, const std::string& p
                                             List(SpecNames(bt))));
   }
   const Json params = e.value("parameters", Json::object());
-  if (params.contains(parameter)) return Unwrapped(params[parameter]);
+  if (params.contains(parameter)) return ParameterValueInSi(*spec, params[parameter]);
   return spec->default_value ? *spec->default_value : Json();
 }
 
@@ -397,11 +394,7 @@ void DiagramDocument::SetParameter(const std::string& element, const std::string
                      fmt::format("/elements/{}/parameters", element), &problems);
   if (!problems.empty()) throw DiagramError(source_, problems);
   Json& slot = (*FindElement(element))["parameters"][parameter];
-  if (slot.is_object() && slot.contains("value")) {
-    slot["value"] = value;
-  } else {
-    slot = value;
-  }
+  slot = ReplacedParameterSlot(FindSpec(bt, parameter), slot, value);
 }
 
 Parameters DiagramDocument::ElementParameters(const std::string& element) const {

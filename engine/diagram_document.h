@@ -112,7 +112,6 @@ class DiagramDocument {
   /// The first output port of `element`. @throws std::invalid_argument for an unknown element or one without outputs.
   Endpoint OutputOf(const std::string& element) const;
 
-
   // ---- Connectors --------------------------------------------------------------------------------------
   /// The connectors of kind "input" or "output", in file order.
   std::vector<DocumentConnector> Connectors(const std::string& kind) const;
@@ -120,13 +119,14 @@ class DiagramDocument {
   /// name). @throws std::invalid_argument for an empty name, another kind, or a name a connector already has.
   void AddConnector(const DocumentConnector& connector);
 
-
   // ---- Parameters --------------------------------------------------------------------------------------
-  /// The value of `element.parameter` as written (a unit wrapper stripped), else the type's default, else null
-  /// (a required parameter not given). @throws std::invalid_argument for an unknown element or a parameter the
+  /// The value of `element.parameter` in its SI unit (a quantity {"value", "unit"} converted:
+  /// ParameterValueInSi), else the type's default, else null (a required parameter not given). @throws std::invalid_argument for an unknown element or a parameter the
   /// type does not declare ("did you mean").
   nlohmann::json Parameter(const std::string& element, const std::string& parameter) const;
-  /// Sets `element.parameter` to `value`, keeping a unit written as {"value", "unit"}. @throws
+  /// Sets `element.parameter` to `value`: a number (or array) in the parameter's SI unit, written in the unit the
+  /// diagram used if it wrote a quantity {"value", "unit"}; or a quantity object, written as given
+  /// (ReplacedParameterSlot). @throws
   /// std::invalid_argument as Parameter; DiagramError if the value does not fit the parameter's spec (type,
   /// bounds) — the same error BuildDiagram would give.
   void SetParameter(const std::string& element, const std::string& parameter, const nlohmann::json& value);

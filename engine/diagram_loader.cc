@@ -55,6 +55,20 @@ ParameterOverride ParameterOverride::Parse(const std::string& text) {
   return o;
 }
 
+namespace {
+
+// The spec of parameter `parameter` of block type `type`; null for an unknown type (a subsystem) or parameter.
+const ParamSpec* FindParamSpec(const std::string& type, const std::string& parameter) {
+  const BlockType* bt = BlockRegistry::Global().Find(type);
+  if (bt == nullptr) return nullptr;
+  for (const auto& spec : bt->parameters) {
+    if (spec.name == parameter) return &spec;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
 void ApplyOverrides(json* diagram, const std::vector<ParameterOverride>& overrides, const std::string& source) {
   std::vector<std::string> problems;
   for (const auto& o : overrides) {
@@ -71,11 +85,7 @@ void ApplyOverrides(json* diagram, const std::vector<ParameterOverride>& overrid
         auto& params = element["parameters"];
         if (params.is_null()) params = json::object();
         auto& slot = params[o.parameter];
-        if (slot.is_object() && slot.contains("value")) {
-          slot["value"] = o.value;
-        } else {
-          slot = o.value;
-        }
+        slot = ReplacedParameterSlot(FindParamSpec(element.value("type", ""), o.parameter), slot, o.value);
       }
     }
     if (!found) {
@@ -463,6 +473,7 @@ class DiagramBuilder {
 
   void ReadInputConnectors() {
     const json cs = j_.value("connectors", json::array());
+    std::map<std::string, std::size_t> connector_index;  // name → where first declared
     for (std::size_t i = 0; i < cs.size(); ++i) {
       const std::string ptr = fmt::format("/connectors/{}", i);
       const json& c = cs[i];
@@ -473,6 +484,14 @@ class DiagramBuilder {
       }
       if (!c.contains("name") || !c["name"].is_string()) {
         Problem(fmt::format("{}/name: a connector needs a name", ptr));
+        continue;
+      }
+      // Signals, measured columns and --input name a connector: one name, one connector, of either kind.
+      const auto [first, unique] = connector_index.emplace(c["name"].get<std::string>(), i);
+      if (!unique) {
+        Problem(fmt::format("{}/name: connector '{}' is declared twice (also /connectors/{}); connector names must be "
+                            "unique: rename or remove one",
+                            ptr, Excerpt(first->first), first->second));
         continue;
       }
       if (kind != "input") continue;
@@ -657,6 +676,16 @@ class DiagramBuilder {
         if (it == feeding.end()) {
           Problem(fmt::format("/connectors/{}: output connector '{}' is connected to nothing", i, out.name));
         }
+        continue;
+      }
+      // The connector declares what it carries, as an input port does: a unit of another quantity (kg for a signal
+      // in m) would label the logged and compared values wrongly. A linear signal may leave through a rotary
+      // connector of its quantity and back (units.h PortAcceptsUnit: the blocks' linear units stand for both).
+      const std::string unit = SignalUnit(*start);
+      if (!unit.empty() && !out.unit.empty() && !PortAcceptsUnit(out.unit, unit) && !PortAcceptsUnit(unit, out.unit)) {
+        Problem(fmt::format("/connectors/{}/unit: unit mismatch: output connector '{}' is in '{}', but the signal "
+                            "wired to it, {}, is in '{}' (write the signal's unit, or insert a gain to convert)",
+                            i, Excerpt(out.name), Excerpt(out.unit), d_.SignalName(*start), unit));
         continue;
       }
       out.source = *start;

@@ -39,8 +39,10 @@ struct ParameterOverride {
   static ParameterOverride Parse(const std::string& text);
 };
 
-/// Writes the overrides into the diagram JSON (`/elements/<i>/parameters/<param>`), keeping a unit written
-/// as {"value", "unit"}. An override of "solver.<key>" or "defaultExperiment.<key>" (`--set solver.type=cvode`,
+/// Writes the overrides into the diagram JSON (`/elements/<i>/parameters/<param>`): a number (or array of numbers)
+/// is in the parameter's SI unit whatever unit the diagram wrote (written in that unit when the diagram wrote a
+/// quantity {"value", "unit"}), a quantity object `{"value": 2, "unit": "kg"}` replaces the written value as given
+/// (ReplacedParameterSlot, engine/parameters.h). An override of "solver.<key>" or "defaultExperiment.<key>" (`--set solver.type=cvode`,
 /// `--set defaultExperiment.stopTime=2`) sets that key of the section, as a sweep does (the diagram's schema then
 /// checks the key). @throws DiagramError if a block is unknown (listing the blocks).
 void ApplyOverrides(nlohmann::json* diagram, const std::vector<ParameterOverride>& overrides,

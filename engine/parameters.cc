@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "engine/closest_names.h"
+#include "engine/text_excerpt.h"
 #include "engine/units.h"
 
 namespace mb {
@@ -163,7 +165,76 @@ std::string ConvertToDeclaredUnit(const ParamSpec& spec, const nlohmann::json& u
   return {};
 }
 
+// A JSON pointer's reference token for `key` ("~" as "~0", "/" as "~1").
+std::string PointerToken(const std::string& key) {
+  std::string out;
+  for (const char c : key) out += c == '~' ? std::string("~0") : c == '/' ? std::string("~1") : std::string(1, c);
+  return out;
+}
+
+// The problems of a quantity object's keys: only "value" and "unit" ({"value": 500, "unti": "g"} would otherwise be
+// read as 500 in the SI unit). Each is "<ptr>/<key>: …" with the closest key.
+std::vector<std::string> QuantityKeyProblems(const ParamSpec& spec, const nlohmann::json& quantity,
+                                             const std::string& ptr) {
+  std::vector<std::string> problems;
+  for (const auto& [key, unused] : quantity.items()) {
+    if (key == "value" || key == "unit") continue;
+    const auto close = ClosestNames(key, {"value", "unit"}, 1);
+    problems.push_back(fmt::format(
+        "{}/{}: a quantity takes only \"value\" and \"unit\", not '{}'{}; write {{\"value\": …, \"unit\": \"{}\"}}",
+        ptr, PointerToken(Excerpt(key)), Excerpt(key),
+        close.empty() ? "" : fmt::format(" (did you mean \"{}\"?)", close.front()), spec.unit.empty() ? "1" : spec.unit));
+  }
+  return problems;
+}
+
+// The value scaled by `factor` (a number, or each number of an array).
+nlohmann::json Scaled(nlohmann::json value, double factor) {
+  if (value.is_number()) return factor * value.get<double>();
+  if (value.is_array()) {
+    for (auto& e : value) {
+      if (e.is_number()) e = factor * e.get<double>();
+    }
+  }
+  return value;
+}
+
+bool IsNumberOrNumbers(const nlohmann::json& value) {
+  if (value.is_number()) return true;
+  if (!value.is_array()) return false;
+  for (const auto& e : value) {
+    if (!e.is_number()) return false;
+  }
+  return true;
+}
+
+// The factor from the unit of quantity `slot` to `spec`'s SI unit; nullopt when `slot` is no quantity with a unit,
+// or the unit does not convert.
+std::optional<double> QuantityFactor(const ParamSpec& spec, const nlohmann::json& slot) {
+  if (!slot.is_object() || !slot.contains("value") || !slot.contains("unit") || !slot["unit"].is_string()) {
+    return std::nullopt;
+  }
+  if (spec.unit.empty()) return std::nullopt;
+  return UnitFactor(slot["unit"].get<std::string>(), spec.unit);
+}
+
 }  // namespace
+
+nlohmann::json ParameterValueInSi(const ParamSpec& spec, const nlohmann::json& slot) {
+  if (!slot.is_object() || !slot.contains("value")) return slot;
+  const auto factor = QuantityFactor(spec, slot);
+  return factor && *factor != 1.0 ? Scaled(slot["value"], *factor) : slot["value"];
+}
+
+nlohmann::json ReplacedParameterSlot(const ParamSpec* spec, const nlohmann::json& slot, const nlohmann::json& value) {
+  if (value.is_object() || !IsNumberOrNumbers(value)) return value;
+  if (!slot.is_object() || !slot.contains("value")) return value;
+  const auto factor = spec ? QuantityFactor(*spec, slot) : std::nullopt;
+  if (!factor || !(*factor > 0.0)) return value;  // the SI number alone: its meaning needs no unit
+  nlohmann::json out = slot;
+  out["value"] = *factor == 1.0 ? value : Scaled(value, 1.0 / *factor);
+  return out;
+}
 
 std::map<std::string, nlohmann::json> ValidateParameters(const std::vector<ParamSpec>& specs,
                                                          const nlohmann::json& raw,
@@ -192,6 +263,10 @@ std::map<std::string, nlohmann::json> ValidateParameters(const std::vector<Param
     if (given.contains(spec.name)) {
       value = given.at(spec.name);
       if (value.is_object()) {
+        if (const auto key_problems = QuantityKeyProblems(spec, value, ptr); !key_problems.empty()) {
+          errors->insert(errors->end(), key_problems.begin(), key_problems.end());
+          continue;
+        }
         if (!value.contains("value")) {
           errors->push_back(fmt::format("{}: write a parameter as a value or as {{\"value\": …, \"unit\": \"{}\"}}",
                                         ptr, spec.unit));

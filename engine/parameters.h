@@ -76,12 +76,30 @@ class Parameters {
 };
 
 /// Validates raw JSON parameter values against the specs: unknown (extra) names, missing required ones,
-/// wrong types, unit mismatch (a value may be written as {"value": 94, "unit": "kg"}; the unit must equal the
-/// declared one), bounds, NaN. Each problem is appended to `errors` as "<pointer>: <message>" where pointer is
+/// wrong types, unit mismatch (a value may be written as a quantity {"value": 94, "unit": "kg"}, converted from any
+/// unit of the declared one's quantity: engine/units.h; a quantity with another key, such as "unti", is refused
+/// with the closest key), bounds, NaN. Each problem is appended to `errors` as "<pointer>: <message>" where pointer is
 /// `json_pointer` + "/<param>". Returns the values with defaults filled in (and units stripped).
 std::map<std::string, nlohmann::json> ValidateParameters(const std::vector<ParamSpec>& specs,
                                                          const nlohmann::json& raw,
                                                          const std::string& json_pointer,
                                                          std::vector<std::string>* errors);
+
+/// The one meaning of a number (issue 30): a bare number (or array of numbers) given for a parameter is in the
+/// parameter's SI unit (ParamSpec::unit), whatever unit the diagram wrote; a quantity {"value": v, "unit": "g"} is
+/// in its own unit. The two functions below read and write a parameter's slot (its JSON as written in a diagram's
+/// "parameters") by that rule; the loader (ValidateParameters) converts the same way.
+
+/// The value of `slot` in `spec`'s SI unit: a quantity's value converted from its unit, a bare value as it is. A
+/// quantity whose unit does not convert (unknown, or of another quantity) gives its value unconverted: loading the
+/// diagram reports it. Throws nothing.
+nlohmann::json ParameterValueInSi(const ParamSpec& spec, const nlohmann::json& slot);
+
+/// The slot that holds `value` for a parameter now written as `slot` (`spec` null when the parameter's spec is not
+/// known, as for a subsystem's inner overrides). A quantity object `value` replaces the slot as given. A number or
+/// array of numbers is in SI: when `slot` is a quantity whose unit converts to `spec`'s, the value is written in that
+/// unit (2 kg into {"value": 2000, "unit": "g"} stays in g: {"value": 2000, "unit": "g"}), so that the diagram keeps
+/// the unit its author chose; otherwise the bare `value` replaces the slot. Throws nothing.
+nlohmann::json ReplacedParameterSlot(const ParamSpec* spec, const nlohmann::json& slot, const nlohmann::json& value);
 
 }  // namespace mb

@@ -177,14 +177,16 @@ void BindDiagram(py::module_& m) {
           "A diagram from its JSON as a dict; relative file names resolve against `base_directory`.")
       .def("set", [](PyDiagram& d, const std::string& key, const py::object& value) { d.Set(key, ToJson(value)); },
            py::arg("key"), py::arg("value"),
-           "Sets 'element.parameter' (in the parameter's SI unit, or {'value': v, 'unit': 'mm'}), 'solver.<key>' or "
+           "Sets 'element.parameter' (a number in the parameter's SI unit whatever unit the diagram wrote, as "
+           "`motionblocks --set` reads it; or {'value': v, 'unit': 'mm'}), 'solver.<key>' or "
            "'defaultExperiment.<key>' (e.g. 'defaultExperiment.stopTime' [s]). Raises ValueError for an unknown "
            "element or parameter (naming the closest), DiagramError for a value the parameter refuses.")
       .def("get", [](const PyDiagram& d, const std::string& element, const std::string& parameter) {
              return FromJson(d.document.Parameter(element, parameter));
            },
            py::arg("element"), py::arg("parameter"),
-           "The value of element.parameter as written (unit wrapper stripped), else the block type's default.")
+           "The value of element.parameter in its SI unit (a value written as {'value': v, 'unit': 'g'} converted), "
+           "else the block type's default.")
       .def("blocks", &BlockList, "The elements, in file order: list of {'name', 'type'}.")
       .def("free_parameters", [](const PyDiagram& d) { return d.document.FreeParameters(); },
            "The diagram's \"free\" list ('element.parameter'): what compare and fit refit by default.")

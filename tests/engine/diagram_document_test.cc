@@ -174,6 +174,24 @@ TEST(DiagramDocumentTest, ParametersAreCheckedAgainstTheBlockType) {
   EXPECT_DOUBLE_EQ(p.Number("x0"), 0.0);
 }
 
+// Issue 30, one meaning per number: a bare number is in the parameter's SI unit whatever unit the diagram wrote;
+// it is written back in the diagram's unit; a quantity object is taken as given.
+TEST(DiagramDocumentTest, NumbersAreInTheSiUnitWhateverUnitTheDiagramWrote) {
+  json base = Base();
+  base["elements"][2]["parameters"]["mass"] = {{"value", 2000.0}, {"unit", "g"}};
+  DiagramDocument d(base, ".", "g.json");
+  EXPECT_DOUBLE_EQ(d.Parameter("body", "mass").get<double>(), 2.0);  // read in kg
+  d.SetParameter("body", "mass", 3.0);                                // 3 kg, not 3 g
+  EXPECT_EQ(d.json()["elements"][2]["parameters"]["mass"]["unit"], "g");
+  EXPECT_DOUBLE_EQ(d.json()["elements"][2]["parameters"]["mass"]["value"].get<double>(), 3000.0);
+  EXPECT_DOUBLE_EQ(d.ElementParameters("body").Number("mass"), 3.0);
+  d.SetParameter("body", "mass", json{{"value", 500.0}, {"unit", "g"}});  // a quantity, as given
+  EXPECT_DOUBLE_EQ(d.ElementParameters("body").Number("mass"), 0.5);
+  EXPECT_THAT([&] { d.SetParameter("body", "mass", json{{"value", 500.0}, {"unti", "g"}}); },
+              ThrowsMessage<DiagramError>(HasSubstr("/elements/body/parameters/mass/unti: a quantity takes only "
+                                                    "\"value\" and \"unit\", not 'unti' (did you mean \"unit\"?)")));
+}
+
 TEST(DiagramDocumentTest, FreeParametersAreChecked) {
   DiagramDocument d = Document();
   EXPECT_THAT(d.FreeParameters(), ElementsAre("k.gain"));

@@ -117,6 +117,51 @@ TEST(DiagramLoaderTest, OverridesApplyAndUnknownBlockIsReported) {
   EXPECT_EQ(ParameterOverride::Parse("plant.mode=fast").value, "fast");
 }
 
+// Issue 30: `--set mass.mass=2` on a mass written {"value": 2000, "unit": "g"} is 2 kg, not 2 g; a quantity object
+// is accepted and converted.
+TEST(DiagramLoaderTest, OverrideNumbersAreInTheSiUnit) {
+  json j = Minimal();
+  j["elements"].push_back({{"name", "mass"}, {"type", "rigid_body"},
+                           {"parameters", {{"mass", {{"value", 2000.0}, {"unit", "g"}}}}}});
+  j["connections"].push_back(Connect("g.y", "mass.f"));
+  ApplyOverrides(&j, {ParameterOverride::Parse("mass.mass=2")}, "g.json");
+  EXPECT_DOUBLE_EQ(Build(j).block_parameters(2).Number("mass"), 2.0);
+  EXPECT_EQ(j["elements"][2]["parameters"]["mass"]["unit"], "g");  // the diagram's unit kept
+  ApplyOverrides(&j, {ParameterOverride::Parse(R"(mass.mass={"value": 0.5, "unit": "kg"})")}, "g.json");
+  EXPECT_DOUBLE_EQ(Build(j).block_parameters(2).Number("mass"), 0.5);
+  ApplyOverrides(&j, {ParameterOverride::Parse(R"(mass.mass={"value": 250, "unit": "g"})")}, "g.json");
+  EXPECT_DOUBLE_EQ(Build(j).block_parameters(2).Number("mass"), 0.25);
+}
+
+TEST(DiagramLoaderTest, QuantityWithAnotherKeyIsRefused) {
+  json j = Minimal();
+  j["elements"].push_back({{"name", "mass"}, {"type", "rigid_body"},
+                           {"parameters", {{"mass", {{"value", 500.0}, {"unti", "g"}}}}}});
+  j["connections"].push_back(Connect("g.y", "mass.f"));
+  EXPECT_THAT(ErrorOf(j), HasSubstr("/elements/2/parameters/mass/unti: a quantity takes only \"value\" and "
+                                    "\"unit\", not 'unti' (did you mean \"unit\"?); write {\"value\": …, "
+                                    "\"unit\": \"kg\"}"));
+  j["elements"][2]["parameters"]["mass"] = {{"value", 500.0}, {"unit", "g"}, {"note", "scale"}};
+  EXPECT_THAT(ErrorOf(j), HasSubstr("/elements/2/parameters/mass/note: a quantity takes only"));
+}
+
+// Issue 30: an output connector is unit-checked like an input port; connector names are unique.
+TEST(DiagramLoaderTest, OutputConnectorUnitAndNameAreChecked) {
+  json j = Minimal();
+  j["elements"].push_back({{"name", "mass"}, {"type", "rigid_body"}, {"parameters", {{"mass", 1.0}}}});
+  j["connections"].push_back(Connect("g.y", "mass.f"));
+  j["connectors"] = {{{"name", "position"}, {"kind", "output"}, {"unit", "kg"}}};
+  j["connections"].push_back({{"startElement", "mass"}, {"startConnector", "x"}, {"endConnector", "position"}});
+  EXPECT_THAT(ErrorOf(j), HasSubstr("/connectors/0/unit: unit mismatch: output connector 'position' is in 'kg', but "
+                                    "the signal wired to it, mass.x, is in 'm'"));
+  j["connectors"][0]["unit"] = "rad";  // a linear block on a rotary axis
+  EXPECT_NO_THROW(Build(j));
+  j["connectors"][0]["unit"] = "m";
+  EXPECT_NO_THROW(Build(j));
+  j["connectors"].push_back({{"name", "position"}, {"kind", "input"}, {"unit", "m"}, {"optional", true}});
+  EXPECT_THAT(ErrorOf(j), HasSubstr("/connectors/1/name: connector 'position' is declared twice (also /connectors/0)"));
+}
+
 TEST(DiagramLoaderTest, SubsystemIsExpandedAndRewired) {
   json inner = {{"schemaVersion", "1.0"},
                 {"connectors", {{{"name", "in"}, {"kind", "input"}}, {{"name", "out"}, {"kind", "output"}}}},

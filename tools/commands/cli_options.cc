@@ -89,7 +89,7 @@ void AddProgressOptions(CLI::App* command) {
 }
 
 CLI::Option* AddSetOption(CLI::App* command, std::vector<std::string>* overrides, const std::string& help) {
-  return command->add_option("--set", *overrides, help);
+  return command->add_option("--set", *overrides, help + ". " + std::string(kSetUnitRule))->type_name("BLOCK.PARAM=VALUE");
 }
 
 std::vector<ParameterOverride> ParseOverrides(const std::vector<std::string>& sets) {

@@ -40,7 +40,14 @@ void AddProgressOptions(CLI::App* command);
 /// Adds --max-steps N (SimulationLimits::max_steps for every simulation the command runs) to a subcommand.
 void AddMaxStepsOption(CLI::App* command);
 
-/// Adds --set block.param=value (repeatable) to `command`, collected into `overrides`; `help` is the option's text.
+/// How --set reads a value (the one meaning of a number, engine/parameters.h ReplacedParameterSlot); every --set help
+/// ends with it.
+inline constexpr const char* kSetUnitRule =
+    "A number is in the parameter's SI unit (kg, m, N*s/m, as `motionblocks blocks TYPE` lists), whatever unit the "
+    "diagram wrote it in; or give a quantity: --set 'mass.mass={\"value\": 2000, \"unit\": \"g\"}'";
+
+/// Adds --set block.param=value (repeatable) to `command`, collected into `overrides`; `help` is the option's text,
+/// kSetUnitRule is appended.
 CLI::Option* AddSetOption(CLI::App* command, std::vector<std::string>* overrides,
                           const std::string& help = "parameter override block.param=value (repeatable)");
 

@@ -42,6 +42,47 @@ fs::path WriteDecayDiagram(const fs::path& dir) {
   return path;
 }
 
+// A 1 N force on a mass the diagram writes in grams, {"value": 2000, "unit": "g"}, for 1 s: the final velocity
+// [m/s] is 1/mass [kg].
+fs::path WriteGramMassDiagram(const fs::path& dir) {
+  const json j = {
+      {"schemaVersion", "1.0"},
+      {"defaultExperiment", {{"startTime", 0.0}, {"stopTime", 1.0}, {"stepSize", 0.01}}},
+      {"solver", {{"type", "rk4"}, {"step", 0.01}}},
+      {"elements",
+       {{{"name", "force"}, {"type", "constant"}, {"parameters", {{"value", 1.0}}}},
+        {{"name", "mass"}, {"type", "rigid_body"}, {"parameters", {{"mass", {{"value", 2000}, {"unit", "g"}}}}}}}},
+      {"connections", {{{"startElement", "force"}, {"startConnector", "y"}, {"endElement", "mass"}, {"endConnector", "f"}}}},
+      {"log", {"mass.v"}},
+      {"metrics", {{{"name", "final_velocity"}, {"type", "final"}, {"signal", "mass.v"}, {"unit", "m/s"}}}}};
+  const fs::path path = dir / "g.json";
+  std::ofstream(path) << j.dump(2);
+  return path;
+}
+
+// Issue 30: a --set number is in the parameter's SI unit whatever unit the diagram wrote (2 means 2 kg, not 2 g); a
+// quantity object is accepted and converted; --help says so.
+TEST(CommandOptions, SetNumbersAreInTheSiUnitAndQuantitiesAreConverted) {
+  const fs::path dir = ProcessTempDir("mb_options_set_units");
+  const fs::path diagram = WriteGramMassDiagram(dir);
+  auto final_velocity = [&](const std::string& set, const std::string& name) {
+    const CommandResult r =
+        RunMotionblocks("run " + diagram.string() + " " + set + " --quiet --out " + (dir / name).string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return r.exit_code == 0 ? ReadJsonFile(dir / name / "summary.json")["metrics"]["final_velocity"].get<double>() : 0.0;
+  };
+  EXPECT_NEAR(final_velocity("--set mass.mass=4", "kg"), 0.25, 1e-9);  // 4 kg (4 g would give 250 m/s)
+  EXPECT_NEAR(final_velocity(R"(--set 'mass.mass={"value": 500, "unit": "g"}')", "g"), 2.0, 1e-9);
+  const CommandResult typo =
+      RunMotionblocks("run " + diagram.string() + R"( --set 'mass.mass={"value": 500, "unti": "g"}' --out )" +
+                      (dir / "typo").string());
+  EXPECT_EQ(typo.exit_code, 2);
+  EXPECT_THAT(typo.output, HasSubstr("/elements/1/parameters/mass/unti: a quantity takes only \"value\" and "
+                                     "\"unit\", not 'unti' (did you mean \"unit\"?)"));
+  EXPECT_THAT(RunMotionblocks("run --help").output, HasSubstr("A number is in the parameter's SI unit"));
+  fs::remove_all(dir);
+}
+
 TEST(CommandOptions, SetChangesTheSolverAndTheExperimentOfRun) {
   const fs::path dir = ProcessTempDir("mb_options_set");
   const fs::path diagram = WriteDecayDiagram(dir);
