@@ -14,6 +14,7 @@
 #include "tools/commands/cli_options.h"
 #include "tools/commands/commands.h"
 #include "tools/report/compare_report.h"
+#include "tools/report/output_files.h"
 #include "tools/report/progress.h"
 #include "tools/workflow/compare.h"
 
@@ -61,6 +62,9 @@ void PrintReadsOutsideNote(const std::string& written, const json& outside) {
 }
 
 void RunCompare(const CompareOptions& o) {
+  RefuseOutputsOverInputs({{"DIAGRAM", o.diagram}, {"--measurement", o.measurement.measurement}},
+                          {{"--suggest", o.suggest}, {"--write-fitted", o.write_fitted}},
+                          {{"--out", o.out, CompareOutputNames()}});
   const json diagram = ReadDiagramWithOverrides(o.diagram, o.measurement.overrides);
   CompareSettings settings;
   settings.measurement = o.measurement.Settings();

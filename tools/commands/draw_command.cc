@@ -10,6 +10,7 @@
 #include "tools/commands/cli_options.h"
 #include "tools/commands/commands.h"
 #include "tools/report/diagram_drawing.h"
+#include "tools/report/output_files.h"
 
 namespace mb {
 
@@ -28,6 +29,7 @@ void RunDraw(const DrawOptions& o) {
   const DrawingFormat format = ParseDrawingFormat(o.format);
   const fs::path output =
       o.output.empty() ? fs::path(fs::path(o.diagram).stem().string() + "." + ToString(format)) : fs::path(o.output);
+  RefuseOutputsOverInputs({{"DIAGRAM", o.diagram}}, {{"-o", output}});
   const DrawnDiagram drawn = DrawDiagram(ReadDiagramWithOverrides(o.diagram, o.overrides),
                                          fs::path(o.diagram).parent_path(), o.diagram, format, output);
   std::cout << fmt::format("wrote {}\n", output.string());

@@ -25,6 +25,10 @@ using nlohmann::json;
 
 namespace {
 
+// The files a fit writes into --out.
+constexpr const char* kFitSummary = "fit.json";
+constexpr const char* kFittedDiagram = "fitted.json";
+
 struct FitOptions {
   std::string diagram;
   MeasurementOptions measurement;
@@ -33,6 +37,8 @@ struct FitOptions {
 };
 
 void RunFit(const FitOptions& o) {
+  RefuseOutputsOverInputs({{"DIAGRAM", o.diagram}, {"--measurement", o.measurement.measurement}}, {},
+                          {{"--out", o.out, {kFitSummary, kFittedDiagram}}});
   const json diagram = ReadDiagramWithOverrides(o.diagram, o.measurement.overrides);
   const MeasurementSettings settings = o.measurement.Settings();
   std::vector<std::string> names = SplitCommaLists(o.params);
@@ -58,9 +64,9 @@ void RunFit(const FitOptions& o) {
   summary["measurement"] = o.measurement.measurement;
   summary["mode"] = mode;
   summary["samples"] = log.rows();
-  summary["fitted_diagram"] = (out / "fitted.json").string();
-  WriteJsonFile(summary, out / "fit.json");
-  WriteJsonFile(result.fitted_diagram, out / "fitted.json");
+  summary["fitted_diagram"] = (out / kFittedDiagram).string();
+  WriteJsonFile(summary, out / kFitSummary);
+  WriteJsonFile(result.fitted_diagram, out / kFittedDiagram);
 
   const auto& before = result.before.front();
   const auto& after = result.after.front();
@@ -71,7 +77,7 @@ void RunFit(const FitOptions& o) {
   }
   std::cout << fmt::format("{}: RMSE {:.5g} → {:.5g} {} (fit {:.1f} % → {:.1f} %); {}\n", after.connector, before.rmse,
                            after.rmse, after.unit, before.fit_percent, after.fit_percent, result.fit.status);
-  std::cout << fmt::format("wrote {} and {}\n", (out / "fit.json").string(), (out / "fitted.json").string());
+  std::cout << fmt::format("wrote {} and {}\n", (out / kFitSummary).string(), (out / kFittedDiagram).string());
 }
 
 }  // namespace

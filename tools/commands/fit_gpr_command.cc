@@ -20,6 +20,7 @@
 #include "models/gpr/gpr_log.h"
 #include "tools/commands/cli_options.h"
 #include "tools/commands/commands.h"
+#include "tools/report/output_files.h"
 #include "tools/workflow/loop_from_diagram.h"
 
 namespace mb {
@@ -94,6 +95,7 @@ Table ReadTrainingTable(const FitGprOptions& o, GprTrainingSelection* selection)
 }
 
 void RunFitGpr(const FitGprOptions& o) {
+  RefuseOutputsOverInputs({{"LOG", o.log}, {"--diagram", o.diagram}}, {{"-o", o.output}});
   if (o.target == "smoothed" && !o.selection.disturbance_column.empty()) {
     throw std::invalid_argument("fit-gpr: --target smoothed computes the disturbance from time, position and force: "
                                 "drop --disturbance-column (or use --target dob)");

@@ -12,6 +12,7 @@
 #include "models/gpr/gpr_log.h"
 #include "tools/commands/cli_options.h"
 #include "tools/commands/commands.h"
+#include "tools/report/output_files.h"
 
 namespace mb {
 
@@ -32,6 +33,7 @@ struct PredictGprOptions {
 };
 
 void RunPredictGpr(const PredictGprOptions& o) {
+  RefuseOutputsOverInputs({{"MODEL", o.model}, {"INPUT", o.input}}, {{"-o", o.output}});
   const GprModel model = LoadGprModel(o.model);
   CreateParentDirectory(o.output);
   const auto [position, velocity] = GprInputColumns(model, o.position, o.velocity);

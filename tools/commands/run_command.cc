@@ -25,6 +25,32 @@ namespace {
 
 constexpr std::size_t kFigureSamples = 20000;  // per signal, in the report's figures
 
+// The files a run writes into --out.
+constexpr const char* kSignalsFile = "signals.csv";
+constexpr const char* kSummaryFile = "summary.json";
+constexpr const char* kReportFile = "report.html";
+constexpr const char* kSignalFigures = "signal_{}.png";  // one per logged signal, numbered
+
+std::vector<std::string> RunOutputNames() {
+  std::vector<std::string> names{kSignalsFile, kSummaryFile, kReportFile};
+  for (const auto& name : FigureFileNames(fmt::format(kSignalFigures, "*"))) names.push_back(name);
+  for (const auto& name : DiagramDrawingFileNames()) names.push_back(name);
+  return names;
+}
+
+// The input files a run reads: the diagram and each --input connector=FILE[:COLUMN]'s FILE (split as
+// FeedInputsFromFiles does: at the last ':').
+std::vector<CommandFile> RunInputFiles(const std::string& diagram, const std::vector<std::string>& inputs) {
+  std::vector<CommandFile> files{{"DIAGRAM", diagram}};
+  for (const auto& spec : inputs) {
+    const auto eq = spec.find('=');
+    if (eq == std::string::npos) continue;  // FeedInputsFromFiles refuses it
+    const std::string file = spec.substr(eq + 1);
+    files.push_back({"--input", file.substr(0, file.rfind(':'))});
+  }
+  return files;
+}
+
 struct RunOptions {
   std::string diagram;
   std::vector<std::string> overrides;
@@ -33,6 +59,7 @@ struct RunOptions {
 };
 
 void RunRun(const RunOptions& o) {
+  RefuseOutputsOverInputs(RunInputFiles(o.diagram, o.inputs), {}, {{"--out", o.out, RunOutputNames()}});
   const std::vector<ParameterOverride> overrides = ParseOverrides(o.overrides);
   const Diagram diagram = LoadDiagram(o.diagram, overrides);
   Simulator sim(diagram);
@@ -46,7 +73,7 @@ void RunRun(const RunOptions& o) {
   // figures get an evenly thinned copy of at most kFigureSamples samples.
   const fs::path out(o.out);
   fs::create_directories(out);
-  CsvLogFile signals(out / "signals.csv");
+  CsvLogFile signals(out / kSignalsFile);
   sim.StreamLogTo(&signals, kFigureSamples);
   const auto start = std::chrono::steady_clock::now();
   sim.Initialize();
@@ -73,7 +100,7 @@ void RunRun(const RunOptions& o) {
       {"wall_time_s", result.wall_time_s},
       {"samples", sim.logged_samples()}};
   for (const auto& m : diagram.metrics()) summary["metric_units"][m.name] = m.unit;
-  WriteJsonFile(summary, out / "summary.json");
+  WriteJsonFile(summary, out / kSummaryFile);
 
   HtmlReport report(fmt::format("motionblocks run: {}", diagram.name()));
   report.Paragraph(fmt::format("Diagram {} simulated from {} s to {} s with {} ({} steps) in {:.3f} s wall time.",
@@ -91,14 +118,14 @@ void RunRun(const RunOptions& o) {
   report.Heading("Logged signals");
   for (std::size_t i = 0; i < result.log.names.size(); ++i) {
     Figure f;
-    f.file = fmt::format("signal_{}.png", i);
+    f.file = fmt::format(kSignalFigures, i);
     f.title = result.log.names[i];
     f.xlabel = "time [s]";
     f.ylabel = result.log.names[i];
     f.series.push_back({result.log.time, result.log.columns[i], result.log.names[i], "lines"});
     report.AddFigure(f, out);
   }
-  report.Write(out / "report.html");
+  report.Write(out / kReportFile);
   for (const auto& [name, value] : result.metrics) std::cout << fmt::format("{} = {:.6g}\n", name, value);
   std::cout << fmt::format("wrote {}/signals.csv, summary.json, report.html\n", out.string());
 }

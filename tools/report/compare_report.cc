@@ -10,6 +10,13 @@
 
 namespace mb {
 
+// The files of a compare in its folder (CompareOutputNames lists them with the figures and the drawing).
+namespace {
+constexpr const char* kCompareJson = "compare.json";
+constexpr const char* kCompareReport = "report.html";
+constexpr const char* kFallbackModel = "residual_gpr.json";
+}  // namespace
+
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -49,8 +56,8 @@ void AddFallbackJson(const FallbackOutcome& fallback, json* result) {
 void WriteFallbackAndDiagrams(const CompareOutcome& outcome, const CompareFiles& files, json* result) {
   const fs::path folder = fs::path(files.diagram).parent_path();  // what the diagram's file names are relative to
   if (outcome.fallback.gpr && outcome.fallback.gpr->model) {
-    SaveGprModel(*outcome.fallback.gpr->model, files.out / "residual_gpr.json");
-    (*result)["nonparametric_fallback"]["model"] = (files.out / "residual_gpr.json").string();
+    SaveGprModel(*outcome.fallback.gpr->model, files.out / kFallbackModel);
+    (*result)["nonparametric_fallback"]["model"] = (files.out / kFallbackModel).string();
   }
   if (outcome.compared.fit && !files.write_fitted.empty()) {
     const auto outside = WriteDiagramFile(outcome.compared.fitted_diagram, folder, files.write_fitted);
@@ -123,11 +130,18 @@ json CompareResultsJson(const CompareOutcome& outcome, const MeasurementLog& log
   return result;
 }
 
+std::vector<std::string> CompareOutputNames() {
+  std::vector<std::string> names{kCompareJson, kCompareReport, kFallbackModel};
+  for (const auto& name : DiagramDrawingFileNames()) names.push_back(name);
+  for (const auto& name : FigureFileNames("*.png")) names.push_back(name);  // the residual figures
+  return names;
+}
+
 json WriteCompareResults(const CompareOutcome& outcome, const MeasurementLog& log, const CompareFiles& files) {
   fs::create_directories(files.out);
   json result = CompareResultsJson(outcome, log, files.diagram, files.measurement);
   WriteFallbackAndDiagrams(outcome, files, &result);
-  WriteJsonFile(result, files.out / "compare.json");
+  WriteJsonFile(result, files.out / kCompareJson);
   WriteCompareReport(outcome, log, files);
   return result;
 }
@@ -164,7 +178,7 @@ void WriteCompareReport(const CompareOutcome& outcome, const MeasurementLog& log
   report.Heading("Views");
   AddResidualFigures(&report, files.out, log, primary_after, primary_after.residual(),
                      compared.diagnosis ? &*compared.diagnosis : nullptr, files.position_column);
-  report.Write(files.out / "report.html");
+  report.Write(files.out / kCompareReport);
 }
 
 }  // namespace mb

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -28,6 +29,10 @@ struct CompareFiles {
 /// record (no "model" path, no fitted or suggested diagram). What the Python module's CompareOutcome.to_dict() gives.
 nlohmann::json CompareResultsJson(const CompareOutcome& outcome, const MeasurementLog& log, const std::string& diagram,
                                   const std::string& measurement);
+
+/// The names of the files WriteCompareResults writes into CompareFiles::out (patterns with '*' for the figures), for
+/// RefuseOutputsOverInputs (output_files.h).
+std::vector<std::string> CompareOutputNames();
 
 /// Writes every file of a compare (the folder is created) and returns compare.json's content: diagram,
 /// CompareResultsJson plus the fallback's model path and the fitted and suggested diagrams' entries.

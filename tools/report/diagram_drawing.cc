@@ -334,16 +334,20 @@ DrawnDiagram DrawDiagram(const nlohmann::json& diagram, const fs::path& base_dir
   return DrawnDiagram{inspected.diagram.name(), std::move(inspected.algebraic_loop)};
 }
 
+std::vector<std::string> DiagramDrawingFileNames(const std::string& file_stem) {
+  return {file_stem + ".dot", file_stem + ".svg"};
+}
+
 void AddDiagramDrawing(HtmlReport* report, const Diagram& diagram, const DrawingMarks& marks, const fs::path& directory,
                        const std::string& file_stem) {
   report->Heading("Diagram");
   const std::string dot_text = DiagramGraphvizString(diagram, marks);
+  const std::vector<std::string> names = DiagramDrawingFileNames(file_stem);
   try {
     fs::create_directories(directory);
-    WriteDrawing(dot_text, DrawingFormat::kDot, directory / (file_stem + ".dot"));
-    WriteDrawing(dot_text, DrawingFormat::kSvg, directory / (file_stem + ".svg"));
-    report->Image(file_stem + ".svg",
-                  fmt::format("The diagram {} (Graphviz; its DOT text: {}.dot)", diagram.name(), file_stem));
+    WriteDrawing(dot_text, DrawingFormat::kDot, directory / names[0]);
+    WriteDrawing(dot_text, DrawingFormat::kSvg, directory / names[1]);
+    report->Image(names[1], fmt::format("The diagram {} (Graphviz; its DOT text: {})", diagram.name(), names[0]));
   } catch (const std::exception& e) {
     report->Warning(fmt::format("Diagram drawing missing: {}", e.what()));
   }

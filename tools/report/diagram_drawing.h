@@ -73,6 +73,9 @@ struct DrawnDiagram {
 DrawnDiagram DrawDiagram(const nlohmann::json& diagram, const std::filesystem::path& base_directory,
                          const std::string& source, DrawingFormat format, const std::filesystem::path& path);
 
+/// The files AddDiagramDrawing writes: `file_stem`.dot and `file_stem`.svg.
+std::vector<std::string> DiagramDrawingFileNames(const std::string& file_stem = "diagram");
+
 /// Adds a "Diagram" section to `report`: `directory`/`file_stem`.svg (and .dot beside it) drawn from `diagram` with
 /// `marks`, shown as an image. A drawing that fails (no Graphviz) becomes a note in the report, never an error.
 void AddDiagramDrawing(HtmlReport* report, const Diagram& diagram, const DrawingMarks& marks,

@@ -39,4 +39,82 @@ std::vector<std::string> WriteDiagramFile(const nlohmann::json& diagram, const f
   return outside;
 }
 
+bool FileNameMatches(std::string_view name, std::string_view pattern) {
+  const auto star = pattern.find('*');
+  if (star == std::string_view::npos) return name == pattern;
+  const std::string_view head = pattern.substr(0, star), rest = pattern.substr(star + 1);
+  if (!name.starts_with(head)) return false;
+  for (std::size_t at = head.size(); at <= name.size(); ++at) {  // '*' takes name[head.size(), at)
+    if (FileNameMatches(name.substr(at), rest)) return true;
+  }
+  return false;
+}
+
+namespace {
+
+// `path` made absolute with "..", "." and symbolic links resolved as far as it exists (weakly_canonical); the
+// lexically normal absolute path if that fails (a permission error on the way).
+fs::path Resolved(const fs::path& path) {
+  std::error_code error;
+  const fs::path absolute = fs::absolute(path, error);
+  if (error) return path.lexically_normal();
+  fs::path resolved = fs::weakly_canonical(absolute, error);
+  if (error || resolved.empty()) return absolute.lexically_normal();
+  return resolved;
+}
+
+// The names a path goes by: resolved through and through, and with only its folder resolved (a symbolic link as the
+// file itself names the link, which an output written by rename replaces).
+std::vector<fs::path> Spellings(const fs::path& path) {
+  const fs::path name = path.filename();
+  std::vector<fs::path> out{Resolved(path)};
+  if (!name.empty() && name != "." && name != "..") {
+    out.push_back(Resolved(path.parent_path().empty() ? fs::path(".") : path.parent_path()) / name);
+  }
+  return out;
+}
+
+bool SameFile(const fs::path& a, const fs::path& b) {
+  std::error_code error;
+  if (fs::exists(a, error) && fs::exists(b, error) && fs::equivalent(a, b, error) && !error) return true;
+  for (const auto& sa : Spellings(a)) {
+    for (const auto& sb : Spellings(b)) {
+      if (sa == sb) return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+void RefuseOutputsOverInputs(const std::vector<CommandFile>& inputs, const std::vector<CommandFile>& outputs,
+                             const std::vector<OutputFolder>& folders) {
+  for (const auto& in : inputs) {
+    if (in.path.empty()) continue;
+    for (const auto& out : outputs) {
+      if (out.path.empty() || !SameFile(in.path, out.path)) continue;
+      throw OutputReplacesInputError(fmt::format(
+          "{} {} is the input {} {}: writing it would destroy the input; nothing was done: write the output elsewhere "
+          "(another {})",
+          out.option, out.path.string(), in.option, in.path.string(), out.option));
+    }
+    for (const auto& folder : folders) {
+      if (folder.folder.empty()) continue;
+      const fs::path resolved_folder = Resolved(folder.folder);
+      for (const auto& spelling : Spellings(in.path)) {
+        if (spelling.parent_path() != resolved_folder) continue;
+        const std::string name = spelling.filename().string();
+        for (const auto& pattern : folder.names) {
+          if (!FileNameMatches(name, pattern)) continue;
+          throw OutputReplacesInputError(fmt::format(
+              "{} {} holds the input {} {}, and the command writes {} there: it would destroy the input; nothing was "
+              "done: choose another {} folder (or move the input out of it)",
+              folder.option, folder.folder.string(), in.option, in.path.string(),
+              pattern == name ? name : fmt::format("{} ({})", name, pattern), folder.option));
+        }
+      }
+    }
+  }
+}
+
 }  // namespace mb

@@ -1,8 +1,11 @@
 #pragma once
-// Writing what commands produce: logged signals as CSV, JSON summaries, diagrams (the progress line: progress.h).
+// Writing what commands produce: logged signals as CSV, JSON summaries, diagrams (the progress line: progress.h),
+// and the one check that what a command writes never replaces what it reads (RefuseOutputsOverInputs).
 
 #include <filesystem>
+#include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -24,5 +27,41 @@ void WriteJsonFile(const nlohmann::json& j, const std::filesystem::path& path);
 /// reads those only with --allow-path. @throws std::runtime_error if the file cannot be written.
 std::vector<std::string> WriteDiagramFile(const nlohmann::json& diagram, const std::filesystem::path& diagram_folder,
                                           const std::filesystem::path& path);
+
+// ---- Outputs never replace inputs (issue 30) -------------------------------------------------------------------
+
+/// A file a command reads or writes, with what names it on the command line ("DIAGRAM", "--measurement", "-o",
+/// "--suggest"). An empty path is no file (an option not given) and is skipped.
+struct CommandFile {
+  std::string option;
+  std::filesystem::path path;
+};
+
+/// The files a command writes into a folder (--out DIR): their names, each exact ("compare.json") or a pattern in
+/// which '*' stands for any characters ("signal_*.png"), as the writers name them (e.g. CompareOutputNames).
+struct OutputFolder {
+  std::string option;
+  std::filesystem::path folder;
+  std::vector<std::string> names;
+};
+
+/// An output that would replace one of the command's inputs: bad usage (exit code 2).
+class OutputReplacesInputError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
+/// Refuses, before a command does any work, an output that would replace one of its inputs: an output file that is an
+/// input (the same path once "..", "." and symbolic links are resolved: std::filesystem::weakly_canonical; or the
+/// same file under another name, a hard link: std::filesystem::equivalent), or an input that lies in an output folder
+/// under a name the command writes there. Paths need not exist.
+/// @throws OutputReplacesInputError naming the output and the input as given and how to fix it (another output):
+/// "-o d.json is the input DIAGRAM d.json: writing it would destroy the input; nothing was done: write the output
+/// elsewhere (another -o)".
+void RefuseOutputsOverInputs(const std::vector<CommandFile>& inputs, const std::vector<CommandFile>& outputs,
+                             const std::vector<OutputFolder>& folders = {});
+
+/// Whether file name `name` matches `pattern`, in which '*' stands for any run of characters ("signal_*.png").
+bool FileNameMatches(std::string_view name, std::string_view pattern);
 
 }  // namespace mb

@@ -61,11 +61,17 @@ std::string CommentText(std::string s) {
 
 }  // namespace
 
+std::vector<std::string> FigureFileNames(const std::string& file) {
+  const std::string stem = fs::path(file).stem().string();
+  return {file, stem + ".dat", stem + ".gp"};
+}
+
 std::string RenderFigure(const Figure& figure, const fs::path& directory) {
   fs::create_directories(directory);
-  const fs::path png = directory / figure.file;
-  const fs::path data = directory / (fs::path(figure.file).stem().string() + ".dat");
-  const fs::path script = directory / (fs::path(figure.file).stem().string() + ".gp");
+  const std::vector<std::string> names = FigureFileNames(figure.file);
+  const fs::path png = directory / names[0];
+  const fs::path data = directory / names[1];
+  const fs::path script = directory / names[2];
   {
     std::ostringstream out;
     for (const auto& s : figure.series) {

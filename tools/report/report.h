@@ -38,6 +38,10 @@ struct Figure {
 /// missing or failing) — the caller notes it in the report; a missing figure never loses the numbers.
 std::string RenderFigure(const Figure& figure, const std::filesystem::path& directory);
 
+/// The files RenderFigure writes for a figure named `file` (a name or a pattern such as "signal_*.png"): `file`, and
+/// its data and gnuplot script, <stem>.dat and <stem>.gp.
+std::vector<std::string> FigureFileNames(const std::string& file);
+
 /// An HTML report assembled in order and written once.
 class HtmlReport {
  public:
