@@ -42,6 +42,7 @@ EffectBlockTemplate DriveSaturationEffectBlock() {
   block.parameters = [](const DiagnosedEffect& d) {
     return nlohmann::json{{"lower", BlockParameter(d, "lower_limit")}, {"upper", BlockParameter(d, "upper_limit")}};
   };
+  block.free = {"lower", "upper"};
   return block;
 }
 
