@@ -199,7 +199,8 @@ std::string JitterNote(const Eigen::VectorXd& t, double median, Eigen::Index row
 
 }  // namespace
 
-MeasurementLog IntakeMeasurementLog(const MeasurementLog& raw, const MeasurementIntakeOptions& options) {
+MeasurementLog IntakeMeasurementLog(const MeasurementLog& given, const MeasurementIntakeOptions& options) {
+  const MeasurementLog raw = WithTimeInSeconds(given);
   Columns columns = ColumnsOf(raw);
   std::vector<std::string> notes;
   double first_repeat = 0.0;
@@ -262,6 +263,7 @@ MeasurementLog IntakeMeasurementLog(const MeasurementLog& raw, const Measurement
   if (!fitted_clocks.empty()) notes.push_back(NoisyStampsNote(fitted_clocks));
   if (resampled > 0) notes.push_back(JitterNote(t, median, t.size(), rows, drift_steps, options));
   MeasurementLog log(raw.names(), std::move(out), raw.source());
+  for (const auto& n : raw.notes()) log.AddNote(n);  // as read: the time converted to seconds
   for (auto& n : notes) log.AddNote(fmt::format("{}: {}", raw.source(), n));
   log.SetSegmentStarts(std::move(starts));
   return log;
@@ -278,13 +280,14 @@ MeasurementLog IntakeMeasurementLog(const std::string& path, const MeasurementIn
 
 std::string ColumnUnit(std::string_view name) {
   // Longest suffixes first: "_m_s2" before "_s2", "_rad_s" before "_s".
-  static constexpr std::array<std::pair<std::string_view, std::string_view>, 24> kSuffixes{{
+  static constexpr std::array<std::pair<std::string_view, std::string_view>, 28> kSuffixes{{
       {"_m_s2", "m/s^2"}, {"_rad_s2", "rad/s^2"}, {"_rev_s2", "rev/s^2"}, {"_deg_s2", "deg/s^2"},
       {"_m_s", "m/s"},    {"_rad_s", "rad/s"},    {"_rev_s", "rev/s"},    {"_deg_s", "deg/s"},
       {"_Nm", "N·m"},     {"_N_m", "N·m"},        {"_mm", "mm"},          {"_rad", "rad"},
       {"_rev", "rev"},    {"_deg", "deg"},        {"_m", "m"},            {"_N", "N"},
       {"_A", "A"},        {"_V", "V"},            {"_s", "s"},            {"_Hz", "Hz"},
       {"_kg", "kg"},      {"_W", "W"},            {"_counts", ""},        {"_mA", "mA"},
+      {"_um", "um"},      {"_cm", "cm"},          {"_ms", "ms"},          {"_us", "us"},
   }};
   for (const auto& [suffix, unit] : kSuffixes) {
     if (name.size() > suffix.size() && name.substr(name.size() - suffix.size()) == suffix) return std::string(unit);

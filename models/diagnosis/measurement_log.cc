@@ -1,9 +1,12 @@
 #include "models/diagnosis/measurement_log.h"
 
 #include <algorithm>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
+
+#include "engine/units.h"
 
 namespace mb {
 namespace {
@@ -49,8 +52,35 @@ void CheckTimeColumn(const std::vector<double>& t, const std::vector<std::size_t
 
 }  // namespace
 
+MeasurementLog WithTimeInSeconds(MeasurementLog log) {
+  const std::string name = log.names().front();
+  const std::string unit = ColumnUnit(name);
+  const std::optional<double> factor = unit.empty() ? std::nullopt : UnitFactor(unit, "s");
+  if (!factor || *factor == 1.0) return log;
+  if (log.has_column("time_s")) {
+    throw std::invalid_argument(fmt::format(
+        "{}: the time column '{}' is in {} (its name's suffix) and another column is named time_s; rename one of "
+        "them (the time column, column 1, is converted to seconds and named time_s)",
+        log.source(), name, unit));
+  }
+  std::vector<std::string> names = log.names();
+  std::vector<Eigen::VectorXd> columns;
+  for (const auto& n : names) columns.push_back(log.column(n));
+  columns.front() *= *factor;
+  names.front() = "time_s";
+  MeasurementLog out(std::move(names), std::move(columns), log.source());
+  out.SetRowLines(log.row_lines());
+  out.SetSegmentStarts(log.segment_starts());
+  for (const auto& note : log.notes()) out.AddNote(note);
+  out.AddNote(fmt::format("{}: the time column '{}' is in {} (its name's suffix): converted to seconds (× {:g}) "
+                          "and named time_s",
+                          log.source(), name, unit, *factor));
+  return out;
+}
+
 MeasurementLog ReadMeasurementLog(const std::string& path, const MeasurementLogOptions& options) {
-  MeasurementLog log = ReadTable(path, TableReadOptions{options.required_columns, "measurement log"});
+  MeasurementLog log =
+      WithTimeInSeconds(ReadTable(path, TableReadOptions{options.required_columns, "measurement log"}));
   if (log.rows() < options.min_rows) {
     throw std::invalid_argument(fmt::format(
         "{}: only {} data row(s), at least {} are needed; record a longer log", path, log.rows(),

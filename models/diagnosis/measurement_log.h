@@ -12,7 +12,8 @@
 
 namespace mb {
 
-// A measurement log is a Table (engine/table.h) whose column 0 is the time [s].
+// A measurement log is a Table (engine/table.h) whose column 0 is the time [s]. A time column named in another
+// time unit (time_ms, time_us: ColumnUnit) is converted to seconds when the log is read (WithTimeInSeconds).
 using MeasurementLog = Table;
 
 // What ReadMeasurementLog checks.
@@ -27,7 +28,14 @@ struct MeasurementLogOptions {
   bool allow_repeated_times = false;
 };
 
-// Reads a CSV measurement log (format above) into a MeasurementLog, validating as it goes.
+// The log with its time column (column 0) in seconds: a name whose suffix is another time unit (time_ms, time_us;
+// ColumnUnit, UnitFactor of engine/units.h) has its values converted and is renamed time_s, with a note
+// (MeasurementLog::notes); any other log is returned as it is (a name without a unit is taken as seconds). Throws
+// std::invalid_argument when the time must be renamed and another column is named time_s already.
+MeasurementLog WithTimeInSeconds(MeasurementLog log);
+
+// Reads a CSV measurement log (format above) into a MeasurementLog, validating as it goes; the time in seconds
+// (WithTimeInSeconds) before it is checked.
 // Throws std::runtime_error when the file cannot be opened, and std::invalid_argument, with the file,
 // the 1-based line number, the column name and a fix, for: an empty file or header, an empty or
 // repeated column name, a missing required column (the message lists the columns present), a row
@@ -72,6 +80,7 @@ struct MeasurementIntakeOptions {
 //       by linear interpolation.
 //     Each segment is fitted and judged on its own; the note says which case was found, with the step and the
 //     residual stamp jitter.
+// The time is first converted to seconds (WithTimeInSeconds); the log's own notes are kept, before the intake's.
 // A log already uniform, without repeats or gaps, passes unchanged. Throws as ReadMeasurementLog (bad cells, a
 // time that decreases, too few rows), and std::invalid_argument when no segment has min_segment_rows rows.
 MeasurementLog IntakeMeasurementLog(const std::string& path, const MeasurementIntakeOptions& options = {});
@@ -80,8 +89,8 @@ MeasurementLog IntakeMeasurementLog(const MeasurementLog& raw, const Measurement
 
 // The unit written as the suffix of a column name (the text after the last '_' of names such as position_m,
 // angle_rev, iq_A, torque_Nm, velocity_rad_s → "rad/s", acceleration_m_s2 → "m/s^2"), normalised to the
-// diagram connectors' spelling: "m", "rad", "rev", "deg", "N", "N·m", "A", "V", "s", "m/s", "rev/s", …; ""
-// when the name carries none of these.
+// diagram connectors' spelling: "m", "mm", "um", "cm", "rad", "rev", "deg", "N", "N·m", "A", "mA", "V", "s", "ms",
+// "us", "m/s", "rev/s", …; "" when the name carries none of these.
 std::string ColumnUnit(std::string_view column_name);
 
 // Writes a MeasurementLog as CSV (header row, then rows; each number in the shortest form that reads

@@ -312,6 +312,39 @@ TEST(ColumnUnit, ReadsLinearRotaryAndDriveUnitsFromTheSuffix) {
   EXPECT_EQ(ColumnUnit("acceleration_m_s2"), "m/s^2");
   EXPECT_EQ(ColumnUnit("encoder_counts"), "");
   EXPECT_EQ(ColumnUnit("speed"), "");
+  // Issue 30: the other units of a position and of the time.
+  EXPECT_EQ(ColumnUnit("position_mm"), "mm");
+  EXPECT_EQ(ColumnUnit("position_um"), "um");
+  EXPECT_EQ(ColumnUnit("position_cm"), "cm");
+  EXPECT_EQ(ColumnUnit("time_ms"), "ms");
+  EXPECT_EQ(ColumnUnit("time_us"), "us");
+  EXPECT_EQ(ColumnUnit("velocity_m_s"), "m/s");
+}
+
+// Issue 30: a time column named time_ms was read as seconds (a 1000 times too slow record: "cut-off 100 Hz must lie
+// in (0, 0.5 Hz)"). It is converted to seconds and named time_s, with a note, by the strict reader and the intake.
+TEST_F(MeasurementLogTest, TimeInMillisecondsIsReadInSeconds) {
+  std::string text = "time_ms,position_m,force_N\n";
+  for (int i = 0; i < 20; ++i) text += fmt::format("{},{},1\n", 2 * i, 0.5 * i);  // 2 ms steps
+  const auto path = Write("time_ms.csv", text);
+  for (const MeasurementLog& log : {ReadMeasurementLog(path), IntakeMeasurementLog(path)}) {
+    EXPECT_EQ(log.names().front(), "time_s");
+    EXPECT_DOUBLE_EQ(log.time()(3), 0.006);
+    EXPECT_DOUBLE_EQ(log.column("position_m")(3), 1.5);
+    ASSERT_EQ(log.notes().size(), 1u);
+    EXPECT_THAT(log.notes()[0], AllOf(HasSubstr("time_ms.csv: the time column 'time_ms' is in ms (its name's suffix): "
+                                                "converted to seconds (× 0.001) and named time_s")));
+  }
+  Eigen::VectorXd t_us = Eigen::VectorXd::LinSpaced(20, 0.0, 19e3);  // 1 ms steps in µs, in memory
+  const MeasurementLog in_memory =
+      IntakeMeasurementLog(MeasurementLog({"time_us", "y_V"}, {t_us, Eigen::VectorXd::Ones(20)}));
+  EXPECT_DOUBLE_EQ(in_memory.time()(19), 0.019);
+  // A column named time_s beside it: refused, naming both.
+  const auto both = Write("both.csv", "time_ms,time_s,force_N\n" + Rows(20));
+  EXPECT_THAT(ErrorOf([&] { ReadMeasurementLog(both); }),
+              AllOf(HasSubstr("both.csv: the time column 'time_ms' is in ms"), HasSubstr("named time_s; rename one")));
+  // Seconds, or no unit: as before, without a note.
+  EXPECT_TRUE(ReadMeasurementLog(Write("plain.csv", "t,position_m,force_N\n" + Rows(20))).notes().empty());
 }
 
 }  // namespace
