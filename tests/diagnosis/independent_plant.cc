@@ -31,7 +31,12 @@ bool Has(Hidden h, Hidden what) {
   return h == what || (h == Hidden::kRippleAndDelay && (what == Hidden::kPositionRipple || what == Hidden::kDelay));
 }
 
-double Mass(Hidden h) { return kMass + (Has(h, Hidden::kPayload) ? kPayload : 0.0); }
+constexpr double kPayloadStep = 31.0, kPayloadStepTime = 8.0;
+
+double Mass(Hidden h, double t) {
+  return kMass + (Has(h, Hidden::kPayload) ? kPayload : 0.0) +
+         (Has(h, Hidden::kPayloadStep) && t >= kPayloadStepTime ? kPayloadStep : 0.0);
+}
 
 // Friction law: viscous + tanh-regularised Coulomb (+ Stribeck), resisting +v.
 double FrictionLaw(Hidden h, double v) {
@@ -146,7 +151,7 @@ std::array<double, 4> Derivative(Hidden h, double t, const std::array<double, 4>
     d[3] = fl / kLoadMass;
   }
   if (Has(h, Hidden::kBacklash)) resist += BacklashForce(s[0], Play(s[0], far), s[1]);
-  d[1] = (u - resist) / Mass(h);
+  d[1] = (u - resist) / Mass(h, t);
   return d;
 }
 
@@ -234,6 +239,7 @@ std::vector<CaseSpec> Cases() {
   c.push_back(two);
   c.push_back(Case("actuator lag", Hidden::kActuatorLag, "actuator_lag", "lag", kActuatorLag, 0.15));
   c.push_back(Case("drive saturation", Hidden::kSaturation, "drive_saturation", "upper_limit", kUpperLimit, 0.10));
+  c.push_back(Case("payload step", Hidden::kPayloadStep, "mass_change", "change_time", kPayloadStepTime, 0.0625));
   c.push_back(Case("rotary gravity", Hidden::kGravity, "gravity", "amplitude", kGravityTorque, 0.05));
   c.push_back(Case("nothing missing", Hidden::kNone, "", "", 0.0, 0.0));
   return c;
@@ -301,7 +307,7 @@ Eigen::VectorXd CarriageForce(Hidden hidden, const Eigen::VectorXd& t, const Eig
   double far = x(0), xl = x(0), vl = 0.0;
   const Load load;
   for (Eigen::Index i = 0; i < n; ++i) {
-    f(i) = Mass(hidden) * a(i) + FrictionLaw(hidden, v(i)) + kOffset + StatelessHidden(hidden, t(i), x(i), v(i));
+    f(i) = Mass(hidden, t(i)) * a(i) + FrictionLaw(hidden, v(i)) + kOffset + StatelessHidden(hidden, t(i), x(i), v(i));
     if (Has(hidden, Hidden::kBacklash)) {
       far = Play(x(i), far);
       f(i) += BacklashForce(x(i), far, v(i));

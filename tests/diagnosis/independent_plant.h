@@ -31,6 +31,7 @@ enum class Hidden {
   kRippleAndDelay,  ///< kPositionRipple and kDelay at once
   kActuatorLag,     ///< the applied force is the logged command 4 ms later (current loop, PWM, fieldbus)
   kSaturation,      ///< the drive delivers at most +120 N / −135 N while the logged command goes beyond
+  kPayloadStep,     ///< 31 kg picked up at t = 8 s (the moving mass steps by a third)
   kGravity,         ///< a rotary arm (rad, N·m): the stage seen through 20 rad/m, with 7.5 N·m·sin(θ + 0.4) of gravity
 };
 
