@@ -2,6 +2,7 @@
 #include "tools/workflow/measurement_in_memory.h"
 
 #include <algorithm>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -35,10 +36,45 @@ MeasurementLog ReadMeasurementWithDerivatives(const std::string& path, const std
                                    held_columns);
 }
 
+double DerivativeCutoffHz(double cutoff_hz, double sample_period, const std::string& source) {
+  if (!(sample_period > 0.0)) {
+    throw std::invalid_argument(fmt::format("{}: the sample period {} s is not positive", source, sample_period));
+  }
+  const double rate = 1.0 / sample_period;
+  if (cutoff_hz == kAutomaticCutoffHz) {
+    const double share = kAutomaticCutoffShare * rate;  // exactly 100 Hz from 500 Hz up, whatever the rounding
+    return share < kAutomaticCutoffHz * (1.0 - 1e-9) ? share : kAutomaticCutoffHz;
+  }
+  if (!(cutoff_hz > 0.0 && cutoff_hz < 0.5 * rate)) {
+    throw std::invalid_argument(fmt::format(
+        "{}: the derivative cut-off {:g} Hz must lie above 0 and below the Nyquist frequency {:.4g} Hz of this log "
+        "(sampled at {:.4g} Hz); pass a cut-off below {:.4g} Hz, e.g. --derivative-cutoff-hz {:.3g} ({:g} × the sample "
+        "rate), or leave it out: the default follows the sample rate",
+        source, cutoff_hz, 0.5 * rate, rate, 0.5 * rate, kAutomaticCutoffShare * rate, kAutomaticCutoffShare));
+  }
+  return cutoff_hz;
+}
+
+double DerivativeCutoffHz(const MeasurementSettings& settings, const MeasurementLog& log) {
+  return DerivativeCutoffHz(settings.derivative_cutoff_hz, MedianTimeStep(log.time()), log.source());
+}
+
+double PositionToMetres(const std::string& position_column) {
+  const std::string unit = ColumnUnit(position_column);
+  const std::optional<double> factor = unit.empty() ? std::nullopt : UnitFactor(unit, "m");
+  return factor.value_or(1.0);
+}
+
 MeasurementLog AddMeasurementDerivatives(const MeasurementLog& raw, const std::string& position_column,
                                          double derivative_cutoff_hz, const std::vector<std::string>& filter_columns,
                                          const std::vector<std::string>& held_columns) {
   const double dt = MedianTimeStep(raw.time());
+  // Resolved when first needed: a log that is neither filtered nor differentiated needs no cut-off.
+  std::optional<double> cutoff_hz;
+  const auto cutoff = [&] {
+    if (!cutoff_hz) cutoff_hz = DerivativeCutoffHz(derivative_cutoff_hz, dt, raw.source());
+    return *cutoff_hz;
+  };
   const auto& segments = raw.segment_starts();
   std::vector<std::string> names = raw.names();
   std::vector<Eigen::VectorXd> columns;
@@ -46,31 +82,45 @@ MeasurementLog AddMeasurementDerivatives(const MeasurementLog& raw, const std::s
   const auto listed = [](const std::vector<std::string>& list, const std::string& name) {
     return std::find(list.begin(), list.end(), name) != list.end();
   };
+  const double to_metres = PositionToMetres(position_column);
   for (const auto& name : names) {
     Eigen::VectorXd column = raw.column(name);
+    if (name == position_column) column *= to_metres;
     if (listed(held_columns, name)) {
       column = HeldSignalAtSampleInstants(column, segments);
       held.push_back(name);
     }
-    if (listed(filter_columns, name)) column = ZeroPhaseLowPassBySegment(column, dt, derivative_cutoff_hz, segments);
+    if (listed(filter_columns, name)) column = ZeroPhaseLowPassBySegment(column, dt, cutoff(), segments);
     columns.push_back(std::move(column));
   }
   MeasurementLog log(names, columns, raw.source());
   log.SetSegmentStarts(segments);
   for (const auto& note : raw.notes()) log.AddNote(note);
+  const std::string velocity = DerivedVelocityColumn(position_column);
+  const std::string acceleration = DerivedAccelerationColumn(position_column);
+  if (to_metres != 1.0 && log.has_column(position_column)) {
+    log.AddNote(fmt::format("{}: the position column '{}' is in {} (its name's suffix): converted to metres (× {:g}) "
+                            "and keeps its name; the derived {} and {} are in m/s and m/s²",
+                            raw.source(), position_column, ColumnUnit(position_column), to_metres, velocity,
+                            acceleration));
+  }
   for (const auto& name : held) {
     log.AddNote(fmt::format("{} is a held command (intersample zoh): compared at the mean of each pair of samples, the "
                             "held value over the sample period centred on each instant, where the motion's central "
                             "differences see it (half a sample, {:.3g} ms, later than logged)",
                             name, 500.0 * dt));
   }
-  const std::string velocity = DerivedVelocityColumn(position_column);
-  const std::string acceleration = DerivedAccelerationColumn(position_column);
   if (log.has_column(position_column) && (!log.has_column(velocity) || !log.has_column(acceleration))) {
-    const MotionDerivatives m =
-        DeriveMotionBySegment(log.time(), log.column(position_column), derivative_cutoff_hz, segments);
+    const MotionDerivatives m = DeriveMotionBySegment(log.time(), log.column(position_column), cutoff(), segments);
     if (!log.has_column(velocity)) log.AddColumn(velocity, m.velocity);
     if (!log.has_column(acceleration)) log.AddColumn(acceleration, m.acceleration);
+  }
+  if (cutoff_hz && *cutoff_hz != derivative_cutoff_hz) {
+    log.AddNote(fmt::format("{}: sampled at {:.4g} Hz (Nyquist {:.4g} Hz): the default derivative cut-off {:g} Hz "
+                            "became {:g} × the sample rate, {:.4g} Hz, for the zero-phase low-pass before "
+                            "differentiating and for the filtered columns (choose another with "
+                            "--derivative-cutoff-hz)",
+                            raw.source(), 1.0 / dt, 0.5 / dt, kAutomaticCutoffHz, kAutomaticCutoffShare, *cutoff_hz));
   }
   return log;
 }

@@ -1,0 +1,162 @@
+// Reading a log for a diagram (tools/workflow/measurement.h): column units from the names' suffixes (issue 30) and a
+// derivative cut-off that follows the sample rate (issue 25 item 1). Every log is made here, not by the code tested.
+#include "tools/workflow/measurement.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <string>
+
+#include <fmt/format.h>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "engine/diagram_loader.h"
+#include "models/diagnosis/signal_processing.h"
+#include "tests/error_message.h"
+#include "tools/workflow/measurement_in_memory.h"
+
+namespace mb {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+using ::testing::Not;
+
+constexpr double kPi = std::numbers::pi;
+const fs::path kDiagram = fs::path(MB_SOURCE_DIR) / "diagrams" / "emps" / "rigid_body.json";  // equation error
+
+// A back-and-forth of 10 mm amplitude at 0.5 Hz sampled every `step` [s], `rows` rows: time, position, force.
+struct Motion {
+  Eigen::VectorXd t, x, force;
+};
+Motion Sampled(double step, Eigen::Index rows) {
+  Motion m{Eigen::VectorXd(rows), Eigen::VectorXd(rows), Eigen::VectorXd(rows)};
+  for (Eigen::Index i = 0; i < rows; ++i) {
+    m.t(i) = static_cast<double>(i) * step;
+    m.x(i) = 0.01 * std::sin(kPi * m.t(i));
+    m.force(i) = 50.0 * std::cos(kPi * m.t(i));
+  }
+  return m;
+}
+
+std::string WriteCsv(const std::string& name, const std::string& header, const Eigen::VectorXd& a,
+                     const Eigen::VectorXd& b, const Eigen::VectorXd& c) {
+  const fs::path dir = fs::temp_directory_path() /
+                       ("mb_measurement_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+  fs::create_directories(dir);
+  const fs::path path = dir / name;
+  std::ofstream out(path);
+  out << header << "\n";
+  for (Eigen::Index i = 0; i < a.size(); ++i) out << fmt::format("{},{},{}\n", a(i), b(i), c(i));
+  return path.string();
+}
+
+bool AnyNoteHas(const MeasurementLog& log, const std::string& text) {
+  for (const auto& n : log.notes()) {
+    if (n.find(text) != std::string::npos) return true;
+  }
+  return false;
+}
+
+// Issue 30: position_mm was read as metres ("period 8001 mm", a fit of −15979 %).
+TEST(MeasurementUnits, APositionInMillimetresIsReadInMetres) {
+  const Motion m = Sampled(1e-3, 2000);
+  const MeasurementLog in_m = AddMeasurementDerivatives(
+      IntakeMeasurementLog(MeasurementLog({"time_s", "position_m", "force_N"}, {m.t, m.x, m.force})), "position_m",
+      kAutomaticCutoffHz);
+  const MeasurementLog in_mm = AddMeasurementDerivatives(
+      IntakeMeasurementLog(MeasurementLog({"time_s", "position_mm", "force_N"}, {m.t, 1e3 * m.x, m.force})),
+      "position_mm", kAutomaticCutoffHz);
+  EXPECT_DOUBLE_EQ(PositionToMetres("position_mm"), 1e-3);
+  EXPECT_DOUBLE_EQ(PositionToMetres("position_um"), 1e-6);
+  EXPECT_DOUBLE_EQ(PositionToMetres("position_cm"), 1e-2);
+  EXPECT_EQ(DerivedVelocityColumn("position_mm"), "velocity_m_s");
+  EXPECT_EQ(DerivedAccelerationColumn("position_mm"), "acceleration_m_s2");
+  // The column keeps its name and holds metres; the derived motion is in m/s and m/s², as from a log in metres.
+  EXPECT_LT((in_mm.column("position_mm") - m.x).cwiseAbs().maxCoeff(), 1e-17);
+  EXPECT_LT((in_mm.column("velocity_m_s") - in_m.column("velocity_m_s")).cwiseAbs().maxCoeff(), 1e-13);
+  EXPECT_NEAR(in_mm.column("velocity_m_s")(1000), 0.01 * kPi * std::cos(kPi * 1.0), 1e-5);
+  ASSERT_EQ(in_mm.notes().size(), 1u);
+  EXPECT_THAT(in_mm.notes()[0],
+              HasSubstr("the position column 'position_mm' is in mm (its name's suffix): converted to metres (× 0.001) "
+                        "and keeps its name; the derived velocity_m_s and acceleration_m_s2 are in m/s and m/s²"));
+  EXPECT_TRUE(in_m.notes().empty());
+}
+
+// The code base's convention for rotary axes (engine/units.h): rad, rev and deg stay in their own unit.
+TEST(MeasurementUnits, ARotaryPositionKeepsItsUnit) {
+  const Motion m = Sampled(1e-3, 500);
+  const MeasurementLog log = AddMeasurementDerivatives(
+      IntakeMeasurementLog(MeasurementLog({"time_s", "angle_deg", "torque_Nm"}, {m.t, 360.0 * m.x, m.force})),
+      "angle_deg", kAutomaticCutoffHz);
+  EXPECT_DOUBLE_EQ(PositionToMetres("angle_deg"), 1.0);
+  EXPECT_EQ((log.column("angle_deg") - 360.0 * m.x).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_TRUE(log.has_column("velocity_deg_s"));
+  EXPECT_TRUE(log.notes().empty());
+}
+
+// Issue 30: a time column time_ms ended in "cut-off 100 Hz must lie in (0, 0.5 Hz)"; now read in seconds.
+TEST(MeasurementUnits, ATimeInMillisecondsIsReadInSeconds) {
+  const Motion m = Sampled(1e-3, 2000);
+  const std::string path = WriteCsv("time_ms.csv", "time_ms,position_mm,force_N", 1e3 * m.t, 1e3 * m.x, m.force);
+  MeasurementSettings settings;
+  settings.position_column = "position_mm";
+  const MeasurementLog log = ReadMeasurementFor(ReadDiagramJson(kDiagram), path, settings);
+  EXPECT_EQ(log.names().front(), "time_s");
+  EXPECT_NEAR(log.time()(1000), 1.0, 1e-12);
+  EXPECT_NEAR(log.column("velocity_m_s")(1000), 0.01 * kPi * std::cos(kPi * 1.0), 1e-5);
+  EXPECT_TRUE(AnyNoteHas(log, "the time column 'time_ms' is in ms (its name's suffix): converted to seconds"));
+  EXPECT_TRUE(AnyNoteHas(log, "the position column 'position_mm' is in mm"));
+}
+
+// Issue 25 item 1: on a log sampled at 100 Hz, compare stopped with "ZeroPhaseLowPass: cut-off 100 Hz must lie in
+// (0, 50 Hz)". The default now follows the sample rate, with a note; a cut-off the user chose stays an error.
+TEST(AutomaticCutoff, A100HzLogIsReadWithACutoffBelowItsNyquistFrequency) {
+  const Motion m = Sampled(1e-2, 1000);
+  const std::string path = WriteCsv("rate_100hz.csv", "time_s,position_m,force_N", m.t, m.x, m.force);
+  const MeasurementSettings settings;  // the default cut-off
+  const MeasurementLog log = ReadMeasurementFor(ReadDiagramJson(kDiagram), path, settings);
+  EXPECT_NEAR(DerivativeCutoffHz(settings, log), 20.0, 1e-9);
+  EXPECT_TRUE(AnyNoteHas(log, "rate_100hz.csv: sampled at 100 Hz (Nyquist 50 Hz): the default derivative cut-off "
+                              "100 Hz became 0.2 × the sample rate, 20 Hz"));
+  EXPECT_NEAR(log.column("velocity_m_s")(500), 0.01 * kPi * std::cos(kPi * 5.0), 1e-4);
+  // The same in memory.
+  const MeasurementLog memory = AddMeasurementDerivatives(
+      IntakeMeasurementLog(MeasurementLog({"time_s", "position_m", "force_N"}, {m.t, m.x, m.force})), "position_m",
+      kAutomaticCutoffHz, {"force_N"});
+  EXPECT_EQ((memory.column("velocity_m_s") - log.column("velocity_m_s")).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_TRUE(AnyNoteHas(memory, "became 0.2 × the sample rate, 20 Hz"));
+
+  MeasurementSettings chosen;
+  chosen.derivative_cutoff_hz = 60.0;
+  EXPECT_THAT(::mb::testing::ErrorOf([&] { ReadMeasurementFor(ReadDiagramJson(kDiagram), path, chosen); }),
+              AllOf(HasSubstr("rate_100hz.csv: the derivative cut-off 60 Hz must lie above 0 and below the Nyquist "
+                              "frequency 50 Hz of this log (sampled at 100 Hz)"),
+                    HasSubstr("e.g. --derivative-cutoff-hz 20"), Not(HasSubstr("ZeroPhaseLowPass"))));
+  chosen.derivative_cutoff_hz = 10.0;  // a chosen cut-off below Nyquist: as given, no note
+  const MeasurementLog at_10 = ReadMeasurementFor(ReadDiagramJson(kDiagram), path, chosen);
+  EXPECT_DOUBLE_EQ(DerivativeCutoffHz(chosen, at_10), 10.0);
+  EXPECT_FALSE(AnyNoteHas(at_10, "derivative cut-off"));
+}
+
+// At 500 Hz and above the default stays 100 Hz: the 1 kHz results (EMPS) are bit-identical to a 100 Hz low-pass.
+TEST(AutomaticCutoff, At1kHzTheDefaultIs100HzBitForBit) {
+  EXPECT_EQ(DerivativeCutoffHz(kAutomaticCutoffHz, 1e-3, "log"), 100.0);
+  EXPECT_EQ(DerivativeCutoffHz(kAutomaticCutoffHz, 2e-3, "log"), 100.0);
+  EXPECT_DOUBLE_EQ(DerivativeCutoffHz(kAutomaticCutoffHz, 1.0 / 250.0, "log"), 50.0);
+  const Motion m = Sampled(1e-3, 3000);
+  const MeasurementLog log = AddMeasurementDerivatives(
+      IntakeMeasurementLog(MeasurementLog({"time_s", "position_m", "force_N"}, {m.t, m.x, m.force})), "position_m",
+      kAutomaticCutoffHz, {"force_N"});
+  const MotionDerivatives direct = DeriveMotion(m.t, m.x, 100.0);
+  EXPECT_EQ((log.column("velocity_m_s") - direct.velocity).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((log.column("acceleration_m_s2") - direct.acceleration).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((log.column("force_N") - ZeroPhaseLowPass(m.force, MedianTimeStep(m.t), 100.0)).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_TRUE(log.notes().empty());
+}
+
+}  // namespace
+}  // namespace mb
