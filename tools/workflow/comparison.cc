@@ -188,7 +188,10 @@ std::vector<ComparedOutput> ModelComparison::Simulate() const {
       c.model(i) = st.size() < 2 ? sv[0] : sv[j] + w * (sv[j + 1] - sv[j]);
     }
     if (output_filter_hz_ > 0.0 && c.model.allFinite()) {
-      c.model = ZeroPhaseLowPassBySegment(c.model, MedianTimeStep(t), output_filter_hz_, log_.segment_starts());
+      // The cut-off the log's measured outputs were filtered with (the default follows the sample rate).
+      const double dt = MedianTimeStep(t);
+      c.model = ZeroPhaseLowPassBySegment(c.model, dt, DerivativeCutoffHz(output_filter_hz_, dt, log_.source()),
+                                          log_.segment_starts());
     }
     if (!c.model.allFinite()) {
       throw std::runtime_error(fmt::format("the simulated output '{}' is not finite (NaN/Inf): the model diverged "
@@ -434,7 +437,7 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
     base.columns.resize(log.rows(), 0);
   }
   DiagnosisOptions options;
-  if (equation_error) options.regressor_filter_hz = settings.derivative_cutoff_hz;  // parallel filtering
+  if (equation_error) options.regressor_filter_hz = DerivativeCutoffHz(settings, log);  // parallel filtering
   options.position_unit = PositionUnitToken(settings.position_column);
   out.diagnosis = DiagnoseMissingEffects(signals, base, options);
   out.notes.insert(out.notes.end(), out.diagnosis->notes.begin(), out.diagnosis->notes.end());

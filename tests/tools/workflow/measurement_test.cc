@@ -15,6 +15,7 @@
 #include "engine/diagram_loader.h"
 #include "models/diagnosis/signal_processing.h"
 #include "tests/error_message.h"
+#include "tools/workflow/comparison.h"
 #include "tools/workflow/measurement_in_memory.h"
 
 namespace mb {
@@ -136,6 +137,13 @@ TEST(AutomaticCutoff, A100HzLogIsReadWithACutoffBelowItsNyquistFrequency) {
               AllOf(HasSubstr("rate_100hz.csv: the derivative cut-off 60 Hz must lie above 0 and below the Nyquist "
                               "frequency 50 Hz of this log (sampled at 100 Hz)"),
                     HasSubstr("e.g. --derivative-cutoff-hz 20"), Not(HasSubstr("ZeroPhaseLowPass"))));
+  // compare goes through: the model output and the diagnosis' regressors are filtered like the log.
+  const nlohmann::json diagram = ReadDiagramJson(kDiagram);
+  const DiagnosedComparison c = CompareAndDiagnose(diagram, kDiagram.parent_path(), kDiagram.string(), log, settings,
+                                                   {"inertia.gain", "friction.viscous"});
+  EXPECT_TRUE(c.diagnosis.has_value()) << c.diagnosis_skipped;
+  EXPECT_LT(c.after.front().rmse, c.before.front().rmse);
+
   chosen.derivative_cutoff_hz = 10.0;  // a chosen cut-off below Nyquist: as given, no note
   const MeasurementLog at_10 = ReadMeasurementFor(ReadDiagramJson(kDiagram), path, chosen);
   EXPECT_DOUBLE_EQ(DerivativeCutoffHz(chosen, at_10), 10.0);
