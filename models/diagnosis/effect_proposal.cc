@@ -55,8 +55,44 @@ std::vector<std::pair<ProposedPeriod, double>> FewCyclePeriods(const Eigen::Vect
         highest = std::max(highest, static_cast<int>(k));
       }
     }
-    if (highest > 0) out.push_back({{peak.period, std::min(options.max_harmonics, highest)}, peak.power});
+    // Without harmonics (harmonics 0 here): a candidate only if it beats a smooth function of the position on
+    // held-out blocks (ProposalContext::AddFewCyclePeriods).
+    out.push_back({{peak.period, highest > 0 ? std::min(options.max_harmonics, highest) : 0}, peak.power});
   }
+  return out;
+}
+
+// The contiguous-block cross-validated sum of squares of the least-squares fit of r on [base, extra] (`folds` blocks,
+// each predicted from the others; a small ridge on the unit-scaled normal equations).
+double HeldOutSumOfSquares(const Eigen::MatrixXd& base, const Eigen::MatrixXd& extra, const Eigen::VectorXd& r,
+                           int folds) {
+  const Eigen::Index n = r.size(), p = base.cols() + extra.cols();
+  Eigen::MatrixXd x(n, p);
+  x << base, extra;
+  const Eigen::MatrixXd gram = x.transpose() * x;
+  const Eigen::VectorXd moment = x.transpose() * r;
+  double sse = 0.0;
+  for (int f = 0; f < folds; ++f) {
+    const Eigen::Index begin = n * f / folds, end = n * (f + 1) / folds;
+    const auto block = x.middleRows(begin, end - begin);
+    Eigen::MatrixXd g = gram - block.transpose() * block;
+    const Eigen::VectorXd m = moment - block.transpose() * r.segment(begin, end - begin);
+    const Eigen::VectorXd scale = (g.diagonal().array().sqrt() + 1e-300).inverse();
+    g = scale.asDiagonal() * g * scale.asDiagonal();
+    g.diagonal().array() += 1e-10;
+    const Eigen::VectorXd beta = scale.cwiseProduct(g.ldlt().solve(scale.cwiseProduct(m)));
+    sse += (r.segment(begin, end - begin) - block * beta).squaredNorm();
+  }
+  return sse;
+}
+
+// A smooth function of the position over the travel: ξ, ξ², ξ³ with ξ = (x − centre)/half-range (what
+// position_dependent_force proposes).
+Eigen::MatrixXd SmoothOfPosition(const Eigen::VectorXd& x) {
+  const double centre = 0.5 * (x.maxCoeff() + x.minCoeff()), half = 0.5 * (x.maxCoeff() - x.minCoeff());
+  const Eigen::ArrayXd xi = (x.array() - centre) / half;
+  Eigen::MatrixXd out(x.size(), 3);
+  out << xi.matrix(), (xi * xi).matrix(), (xi * xi * xi).matrix();
   return out;
 }
 
@@ -124,8 +160,20 @@ ProposalContext::ProposalContext(const DiagnosisSignals& signals, const Eigen::V
 void ProposalContext::AddFewCyclePeriods(const Eigen::VectorXd& position, const Eigen::VectorXd& residual) {
   if (options_.position_periodogram.max_period > 0.0) return;  // the user chose the band
   const Periodogram& main = search_->position_periodogram;
-  for (const auto& [period, power] :
-       FewCyclePeriods(position, residual, main, position_span_, options_)) {
+  for (auto [period, power] : FewCyclePeriods(position, residual, main, position_span_, options_)) {
+    if (period.harmonics == 0) {  // a short stroke's period on its own: only if it beats a smooth force of position
+      const Eigen::MatrixXd base = BaseWithConstant();
+      const double periodic =
+          HeldOutSumOfSquares(base, PeriodicColumns(signals_.position, period.period, 1, "p").columns, residual_, 5);
+      const double smooth = HeldOutSumOfSquares(base, SmoothOfPosition(signals_.position), residual_, 5);
+      if (!(periodic < smooth)) {
+        Note(fmt::format("a position period of {:.3g} cycles in the travel ({:.4g}) not proposed: without harmonics it "
+                         "does not beat a smooth force of position (cubic) on held-out blocks",
+                         position_span_ / period.period, period.period));
+        continue;
+      }
+      period.harmonics = 1;
+    }
     // In the order of power among the main periodogram's proposals (strongest first).
     auto at = position_periods_.begin();
     while (at != position_periods_.end()) {
@@ -135,9 +183,13 @@ void ProposalContext::AddFewCyclePeriods(const Eigen::VectorXd& position, const 
       ++at;
     }
     position_periods_.insert(at, period);
-    Note(fmt::format("a position period of only {:.3g} cycles in the travel ({:.4g}) proposed: the residual holds its "
-                     "harmonics too (up to {})",
-                     position_span_ / period.period, period.period, period.harmonics));
+    Note(period.harmonics > 1
+             ? fmt::format("a position period of only {:.3g} cycles in the travel ({:.4g}) proposed: the residual holds "
+                           "its harmonics too (up to {})",
+                           position_span_ / period.period, period.period, period.harmonics)
+             : fmt::format("a position period of only {:.3g} cycles in the travel ({:.4g}) proposed: significant, and "
+                           "it beats a smooth force of position on held-out blocks",
+                           position_span_ / period.period, period.period));
   }
 }
 

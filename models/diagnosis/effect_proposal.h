@@ -47,8 +47,10 @@ class ProposalContext {
   /// The base's regressors with a constant column appended (N × (p + 1)), for joint fits in parameter searches.
   Eigen::MatrixXd BaseWithConstant() const;
   /// Up to CatalogueOptions::max_position_periods periods from the position periodogram, strongest first
-  /// (empty when the position does not move), and the few-cycle periods their harmonics confirm
-  /// (CatalogueOptions::min_position_cycles_with_harmonics), placed by their power.
+  /// (empty when the position does not move), and the few-cycle periods (CatalogueOptions::
+  /// min_position_cycles_with_harmonics to min_position_cycles cycles in the travel: a short stroke) that their
+  /// harmonics confirm, or that, without harmonics, fit the residual better than a cubic of the position on held-out
+  /// contiguous blocks (5 folds, jointly with the base), placed by their power.
   const std::vector<ProposedPeriod>& position_periods() const { return position_periods_; }
 
   /// Adds a candidate (catalogue name, SI parameters).

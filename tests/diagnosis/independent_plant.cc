@@ -24,6 +24,7 @@ constexpr double kSpringCentre = 0.1, kSpringLinear = 30.0, kSpringCubic = 3000.
 constexpr double kLoadFriction = 4.0, kPlayHalfWidth = 5e-4;
 constexpr double kSubStep = 1e-4;  // plant integration [s]
 constexpr double kActuatorLag = 0.004;
+constexpr double kShortStrokePeriod = 0.025;  // 7.2 cycles in the 0.18 m travel
 constexpr double kUpperLimit = 120.0, kLowerLimit = -135.0;
 constexpr double kGravityTorque = 7.5, kGravityPhase = 0.4;  // [N·m], [rad]
 
@@ -53,6 +54,7 @@ double StatelessHidden(Hidden h, double t, double x, double v) {
     f += 1.5 * std::sin(kTwoPi * x / 0.006 + 0.3) + 0.4 * std::sin(2.0 * kTwoPi * x / 0.006);
   }
   if (Has(h, Hidden::kSpeedRipple)) f += 15.0 * std::abs(v) * std::sin(kTwoPi * x / 0.005);
+  if (Has(h, Hidden::kShortStroke)) f += 15.0 * std::abs(v) * std::sin(kTwoPi * x / kShortStrokePeriod);
   if (Has(h, Hidden::kVibration)) f -= kVibrationAmplitude * std::sin(kTwoPi * kVibrationHz * t + 0.7);
   if (Has(h, Hidden::kPositionForce)) {
     const double d = x - kSpringCentre;
@@ -239,6 +241,8 @@ std::vector<CaseSpec> Cases() {
   c.push_back(two);
   c.push_back(Case("actuator lag", Hidden::kActuatorLag, "actuator_lag", "lag", kActuatorLag, 0.15));
   c.push_back(Case("drive saturation", Hidden::kSaturation, "drive_saturation", "upper_limit", kUpperLimit, 0.10));
+  c.push_back(Case("short stroke", Hidden::kShortStroke, "velocity_dependent_ripple", "period", kShortStrokePeriod,
+                   0.03));
   c.push_back(Case("payload step", Hidden::kPayloadStep, "mass_change", "change_time", kPayloadStepTime, 0.0625));
   c.push_back(Case("rotary gravity", Hidden::kGravity, "gravity", "amplitude", kGravityTorque, 0.05));
   c.push_back(Case("nothing missing", Hidden::kNone, "", "", 0.0, 0.0));

@@ -31,6 +31,7 @@ enum class Hidden {
   kRippleAndDelay,  ///< kPositionRipple and kDelay at once
   kActuatorLag,     ///< the applied force is the logged command 4 ms later (current loop, PWM, fieldbus)
   kSaturation,      ///< the drive delivers at most +120 N / −135 N while the logged command goes beyond
+  kShortStroke,     ///< 15 N·s/m·|v|·sin(2πx/25 mm): a speed-dependent cogging of 7 cycles in the travel, no harmonics
   kPayloadStep,     ///< 31 kg picked up at t = 8 s (the moving mass steps by a third)
   kGravity,         ///< a rotary arm (rad, N·m): the stage seen through 20 rad/m, with 7.5 N·m·sin(θ + 0.4) of gravity
 };

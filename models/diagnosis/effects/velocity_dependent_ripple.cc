@@ -1,5 +1,5 @@
 // velocity_dependent_ripple: a position-periodic ripple whose amplitude grows with speed. Regressors
-// |v|·cos(2πx/P), |v|·sin(2πx/P) {period P [m]}. Proposal: at the strongest position period. Block:
+// |v|·cos(2πx/P), |v|·sin(2πx/P) {period P [m]}. Proposal: at every proposed position period. Block:
 // velocity_dependent_ripple "ripple" on the position and velocity inputs, its coefficients free; its
 // position_offset (the encoder zero) belongs to the record.
 #include "models/diagnosis/effect_proposal.h"
@@ -24,9 +24,10 @@ EffectType VelocityDependentRipple() {
     return PeriodicColumns(s.position, PositiveParameter(e, "period"), 1, e.name, &speed);
   };
   t.propose = [](ProposalContext& c) {
-    if (!c.position_periods().empty() && c.max_speed() > 0.0) {
-      c.Propose(kName, {{"period", c.position_periods().front().period}});
-    }
+    // Every proposed period: the strongest peak of the residual's periodogram need not be the speed-dependent one (a
+    // short stroke's few-cycle period is placed by its power among the others).
+    if (!(c.max_speed() > 0.0)) return;
+    for (const ProposedPeriod& p : c.position_periods()) c.Propose(kName, {{"period", p.period}});
   };
   return t;
 }
