@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/diagram_document.h"
 #include "models/gpr/gpr_io.h"
 #include "tools/report/output_files.h"
 #include "tools/report/diagram_drawing.h"
@@ -122,14 +123,26 @@ json WriteImproveFallback(const ImproveResult& result, const FallbackOutcome& fa
                           const fs::path& diagram_folder) {
   json record = ImproveFallbackRecord(fallback);
   if (fallback.gpr && fallback.gpr->model) {
-    const ImproveStep& last = result.last_accepted();
-    const std::string model = fs::absolute(directory / "residual_gpr.json").string();
-    SaveGprModel(*fallback.gpr->model, model);
-    const json amended =
-        SuggestGprFallbackBlock(last.training.fitted_diagram, model, last.training.after.front().connector);
-    WriteDiagramFile(amended, diagram_folder, directory / "improved_with_gp.json");
-    record["model"] = model;
-    record["diagram"] = (directory / "improved_with_gp.json").string();
+    // The model and the amended diagram side by side in DIR: the diagram names the model by its file name and its
+    // other files relative to DIR, so that it loads from there (an absolute name outside the diagram's folder is
+    // refused by the loader). A fallback that cannot be added (no position or velocity input) is a note: the loop's
+    // result stands, and improve ends normally.
+    try {
+      const ImproveStep& last = result.last_accepted();
+      const fs::path model = directory / "residual_gpr.json";
+      SaveGprModel(*fallback.gpr->model, model.string());
+      record["model"] = fs::absolute(model).string();
+      DiagramDocument fitted(last.training.fitted_diagram, diagram_folder);
+      fitted.RelocateFiles(fs::absolute(directory));
+      const json amended =
+          SuggestGprFallbackBlock(fitted.json(), model.filename().string(), last.training.after.front().connector);
+      WriteDiagramFile(amended, directory, directory / "improved_with_gp.json");
+      record["diagram"] = (directory / "improved_with_gp.json").string();
+    } catch (const std::exception& e) {
+      record["diagram_skipped"] = e.what();
+      record["description"] = record.value("description", std::string()) +
+                              " The fallback was not added to a diagram: " + std::string(e.what());
+    }
   }
   std::ifstream in(directory / "improve.json");
   json written = json::parse(in);
