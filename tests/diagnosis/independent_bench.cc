@@ -55,7 +55,8 @@ double NoiseFloor(Hidden hidden, const MeasurementLog& log, const MeasurementSet
   const Eigen::VectorXd logged = log.column(force);
   const Eigen::VectorXd truth = TruthForce(hidden, log.time(), log.column(x), log.column(DerivedVelocityColumn(x)),
                                            log.column(DerivedAccelerationColumn(x)), &logged);
-  const Eigen::VectorXd filtered = ZeroPhaseLowPass(truth, MedianTimeStep(log.time()), settings.derivative_cutoff_hz);
+  const Eigen::VectorXd filtered =
+      ZeroPhaseLowPass(truth, MedianTimeStep(log.time()), DerivativeCutoffHz(settings, log));
   return Rmse(logged, filtered);
 }
 
@@ -104,13 +105,20 @@ fs::path UserDiagramDirectory() { return kEmps; }
 PreparedCase PrepareCase(const CaseSpec& spec, const fs::path& directory, double jitter, double duration) {
   fs::create_directories(directory);
   const fs::path train = directory / "training.csv", valid = directory / "validation.csv";
-  WriteCsv(Generate(spec.hidden, {.duration = duration, .jitter = jitter, .seed = 11}), train.string());
-  WriteCsv(Generate(spec.hidden, {.duration = duration, .jitter = jitter, .seed = 23}), valid.string());
+  for (const auto& [path, seed] : {std::pair{train, 11U}, std::pair{valid, 23U}}) {
+    WriteCsv(Generate(spec.hidden, {.duration = duration,
+                                    .sample_period = spec.sample_period,
+                                    .jitter = jitter,
+                                    .stamp_noise = spec.stamp_noise,
+                                    .seed = seed}),
+             path.string());
+  }
   const json diagram = UserDiagram(spec);
   ImproveSettings settings;
   if (IsRotary(spec.hidden)) settings.measurement.position_column = "angle_rad";
-  // The generator logs the controller's force command, held by the amplifier until the next sample (--intersample zoh).
-  settings.measurement.intersample = Intersample::kZeroOrderHold;
+  // The generator logs the controller's force command, held by the amplifier until the next sample (--intersample zoh);
+  // a log slower than the controller samples the command (foh).
+  if (spec.sample_period <= 1e-3) settings.measurement.intersample = Intersample::kZeroOrderHold;
   return {diagram, settings, ReadMeasurementFor(diagram, train.string(), settings.measurement),
           ReadMeasurementFor(diagram, valid.string(), settings.measurement)};
 }

@@ -57,7 +57,7 @@ TEST(IndependentPlant, PointToPointMovesDwellAtRestAndStayInTheTravel) {
 }
 
 TEST(IndependentPlant, EachCaseNamesACatalogueEffectAndATolerance) {
-  ASSERT_EQ(Cases().size(), 16U);
+  ASSERT_EQ(Cases().size(), 20U);
   for (const auto& c : Cases()) {
     EXPECT_EQ(c.parameter.empty(), c.tolerance == 0.0) << c.name;
     EXPECT_EQ(c.effect.empty(), c.hidden == Hidden::kNone) << c.name;

@@ -24,6 +24,7 @@ constexpr double kSpringCentre = 0.1, kSpringLinear = 30.0, kSpringCubic = 3000.
 constexpr double kLoadFriction = 4.0, kPlayHalfWidth = 5e-4;
 constexpr double kSubStep = 1e-4;  // plant integration [s]
 constexpr double kActuatorLag = 0.004;
+constexpr double kHumAmplitude = 1.5, kHumHz = 50.0;
 constexpr double kShortStrokePeriod = 0.025;  // 7.2 cycles in the 0.18 m travel
 constexpr double kUpperLimit = 120.0, kLowerLimit = -135.0;
 constexpr double kGravityTorque = 7.5, kGravityPhase = 0.4;  // [N·m], [rad]
@@ -245,7 +246,17 @@ std::vector<CaseSpec> Cases() {
                    0.03));
   c.push_back(Case("payload step", Hidden::kPayloadStep, "mass_change", "change_time", kPayloadStepTime, 0.0625));
   c.push_back(Case("rotary gravity", Hidden::kGravity, "gravity", "amplitude", kGravityTorque, 0.05));
+  c.push_back(Case("mains hum", Hidden::kMainsHum, "time_periodic", "frequency_hz", kHumHz, 0.03));
+  CaseSpec stamps = Case("noisy stamps", Hidden::kPositionRipple, "position_periodic", "period", 0.006, 0.03);
+  stamps.stamp_noise = 0.2;
+  c.push_back(stamps);
   c.push_back(Case("nothing missing", Hidden::kNone, "", "", 0.0, 0.0));
+  CaseSpec slow = Case("nothing missing, 100 Hz", Hidden::kNone, "", "", 0.0, 0.0);
+  slow.sample_period = 0.01;
+  c.push_back(slow);
+  CaseSpec fast = Case("nothing missing, 2 kHz", Hidden::kNone, "", "", 0.0, 0.0);
+  fast.sample_period = 0.0005;
+  c.push_back(fast);
   return c;
 }
 
@@ -253,7 +264,11 @@ Record Generate(Hidden hidden, const GeneratorSettings& settings) {
   std::mt19937 rng(settings.seed);
   const Reference ref = MakeReference(settings.duration + 0.1, &rng);
   std::uniform_real_distribution<double> jitter(-settings.jitter, settings.jitter);
+  std::uniform_real_distribution<double> stamp_noise(-settings.stamp_noise, settings.stamp_noise);
   std::normal_distribution<double> noise(0.0, settings.force_noise);
+  // The controller's steps per logged sample: 1 up to 1 kHz, else every k-th 1 ms step is logged.
+  const int per_sample = std::max(1, static_cast<int>(std::lround(settings.sample_period / 1e-3)));
+  const double control_period = settings.sample_period / per_sample;
   const auto n = static_cast<Eigen::Index>(settings.duration / settings.sample_period);
   Record r;
   r.rotary = IsRotary(hidden);
@@ -262,8 +277,12 @@ Record Generate(Hidden hidden, const GeneratorSettings& settings) {
   State st;
   Controller pid;
   double t = 0.0;
-  for (Eigen::Index k = 0; k < n; ++k) {
-    const double next = (static_cast<double>(k) + 1.0 + jitter(rng)) * settings.sample_period;
+  const auto steps = static_cast<Eigen::Index>(n) * per_sample;
+  for (Eigen::Index step = 0; step < steps; ++step) {
+    const Eigen::Index k = step / per_sample;
+    const bool logged_now = step % per_sample == 0;
+    const double next = per_sample == 1 ? (static_cast<double>(step) + 1.0 + jitter(rng)) * control_period
+                                        : static_cast<double>(step + 1) * control_period;
     const double x_measured = std::floor(st.x / settings.encoder_step) * settings.encoder_step;
     const double u = pid.Update(t, x_measured, ref);
     command_time.push_back(t);
@@ -280,11 +299,14 @@ Record Generate(Hidden hidden, const GeneratorSettings& settings) {
       const auto it = std::upper_bound(command_time.begin(), command_time.end(), t - kDelay);
       logged = it == command_time.begin() ? command.front() : command[static_cast<std::size_t>(it - command_time.begin() - 1)];
     }
+    if (Has(hidden, Hidden::kMainsHum)) logged += kHumAmplitude * std::sin(kTwoPi * kHumHz * t + 0.2);
     const double scale = IsRotary(hidden) ? 1.0 / kRadPerMetre : 1.0;  // N → N·m on the rotary axis
-    r.time(k) = t;
-    r.position(k) = IsRotary(hidden) ? kRadPerMetre * (x_measured - 0.1) : x_measured;
-    r.true_force(k) = scale * logged;
-    r.force(k) = scale * (logged + noise(rng));
+    if (logged_now) {
+      r.time(k) = t + stamp_noise(rng) * settings.sample_period;
+      r.position(k) = IsRotary(hidden) ? kRadPerMetre * (x_measured - 0.1) : x_measured;
+      r.true_force(k) = scale * logged;
+      r.force(k) = scale * (logged + noise(rng));
+    }
     Advance(hidden, t, next - t, applied, &st);
     t = next;
   }
@@ -329,6 +351,9 @@ Eigen::VectorXd CarriageForce(Hidden hidden, const Eigen::VectorXd& t, const Eig
         }
       }
     }
+  }
+  if (Has(hidden, Hidden::kMainsHum)) {
+    for (Eigen::Index i = 0; i < n; ++i) f(i) += kHumAmplitude * std::sin(kTwoPi * kHumHz * t(i) + 0.2);
   }
   if (Has(hidden, Hidden::kSaturation) && logged != nullptr) {  // the log holds the command beyond what acted
     f += *logged - logged->cwiseMax(kLowerLimit).cwiseMin(kUpperLimit);

@@ -33,6 +33,7 @@ enum class Hidden {
   kSaturation,      ///< the drive delivers at most +120 N / −135 N while the logged command goes beyond
   kShortStroke,     ///< 15 N·s/m·|v|·sin(2πx/25 mm): a speed-dependent cogging of 7 cycles in the travel, no harmonics
   kPayloadStep,     ///< 31 kg picked up at t = 8 s (the moving mass steps by a third)
+  kMainsHum,        ///< 1.5 N of 50 Hz mains hum picked up by the force measurement (not on the carriage)
   kGravity,         ///< a rotary arm (rad, N·m): the stage seen through 20 rad/m, with 7.5 N·m·sin(θ + 0.4) of gravity
 };
 
@@ -54,6 +55,8 @@ struct CaseSpec {
   /// A friction-law replacement that must be named instead (Stribeck): its parameter is the key one, and nothing may
   /// be named outside the friction-law replacements.
   bool law = false;
+  double sample_period = 1e-3;  ///< [s] of the log (GeneratorSettings::sample_period)
+  double stamp_noise = 0.0;     ///< GeneratorSettings::stamp_noise
 };
 
 /// The benchmark's cases, in table order.
@@ -70,8 +73,13 @@ struct Record {
 
 struct GeneratorSettings {
   double duration = 16.0;             ///< [s]
-  double sample_period = 1e-3;        ///< [s], nominal
+  /// [s], nominal, of the log. The controller runs at the log's rate up to 1 kHz; a slower log keeps every k-th of
+  /// its 1 ms steps (the command logged as sampled, not held over the log's period).
+  double sample_period = 1e-3;
   double jitter = 0.05;               ///< uniform ± this fraction of the sample period on every instant
+  /// Uniform ± this fraction of the sample period on every time stamp while the samples are taken on the regular
+  /// clock (a logger stamping on arrival); < 0.5 keeps the stamps increasing.
+  double stamp_noise = 0.0;
   double encoder_step = 2e-7;         ///< [m]
   double force_noise = 0.5;           ///< [N], standard deviation of the logged force's noise
   unsigned seed = 1;                  ///< moves, jitter and noise
