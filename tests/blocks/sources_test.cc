@@ -66,6 +66,18 @@ TEST(StepTest, FixedStepSolverSwitchesWithinOneIntegrationStep) {
   EXPECT_NEAR(r.log.Column("x.y").back(), 1.0 - T, h);
 }
 
+// switched_gain: 0 before its time, gain·u from it on (a payload picked up: its mass times the acceleration).
+TEST(SwitchedGainTest, ZeroBeforeTheTimeThenGainTimesTheInput) {
+  const json j = MakeDiagram({Element("u", "constant", {{"value", 3.0}}),
+                              Element("g", "switched_gain", {{"gain", 31.0}, {"time", 0.45}})},
+                             {Connect("u.y", "g.u")}, {"g.y"}, 1.0, 0.05);
+  const auto r = Simulator(Build(j)).Run();
+  const auto& y = r.log.Column("g.y");
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    EXPECT_EQ(y[i], r.log.time[i] >= 0.45 - 1e-12 ? 93.0 : 0.0) << "t = " << r.log.time[i];
+  }
+}
+
 TEST(SineTest, MatchesClosedForm) {
   const double A = 1.5, f = 2.0, phi = 0.3, b = -0.25;
   const json j = MakeDiagram(

@@ -10,6 +10,7 @@
 
 #include "engine/diagram_document.h"
 #include "engine/diagram_loader.h"
+#include "engine/simulator.h"
 #include "models/diagnosis/diagnosis.h"
 #include "tools/workflow/comparison.h"
 #include "tools/workflow/suggest.h"
@@ -128,6 +129,44 @@ TEST(SuggestTest, ASmoothCoulombLawTakesOverTheModelsCoulombLevel) {
   const DiagramDocument added(SuggestAmendedDiagram(diagram, law, "force"));
   EXPECT_EQ(added.Parameter("friction", "coulomb"), 20.0);
   EXPECT_THAT(added.FreeParameters(), ::testing::Contains("friction.coulomb"));
+}
+
+// An effect on the command path (a drive's current limit): in equation-error mode the amended diagram reads the logged
+// command through a new input connector on the output's column, passes it through the saturation, and adds what the
+// log holds beyond what acted to the model's force; simulation mode is refused with what to do.
+TEST(SuggestTest, ACommandPathEffectAddsWhatTheLogHoldsBeyondWhatActed) {
+  auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
+  DiagnosedEffect saturation;
+  saturation.effect = "drive_saturation";
+  saturation.parameters = {{"upper_limit", 120.0}, {"lower_limit", -135.0}};
+  saturation.column_names = {"drive_saturation"};
+  saturation.coefficients = Eigen::VectorXd::Ones(1);
+  const nlohmann::json amended = SuggestAmendedDiagram(diagram, saturation, "force");
+  const DiagramDocument document(amended);
+  bool reads_command = false;
+  for (const auto& c : document.Connectors("input")) reads_command |= c.measurement == "force_N";
+  EXPECT_TRUE(reads_command);
+  EXPECT_EQ(document.Parameter("drive_limit", "upper"), 120.0);
+  EXPECT_THAT(document.FreeParameters(), ::testing::Contains("drive_limit.lower"));
+
+  // Measured motion at rest and a logged command of 200 N: the model's force is what the drive did not deliver.
+  const Diagram built = BuildDiagram(amended, kEmps, "amended.json");
+  Simulator sim(built);
+  for (const auto& in : built.inputs()) {
+    const double value = in.measurement == "force_N" ? 200.0 : 0.0;
+    sim.SetInput(in.name, InputSeries{{0.0, 1.0}, {value, value}});
+  }
+  sim.Initialize();
+  sim.AdvanceTo(0.01);
+  EXPECT_NEAR(sim.log().Column("force").back(), 200.0 - 120.0, 1e-9);
+
+  diagram["experiment"]["mode"] = "simulation";
+  try {
+    SuggestAmendedDiagram(diagram, saturation, "force");
+    FAIL() << "a command-path effect in simulation mode was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), HasSubstr("in simulation mode put a saturation block between the command's input"));
+  }
 }
 
 TEST(ComparisonTest, MissingColumnIsReportedWithColumnsPresent) {
