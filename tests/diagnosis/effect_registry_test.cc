@@ -32,6 +32,7 @@ DiagnosisSignals Motion() {
   s.acceleration = -0.1 * std::numbers::pi * std::numbers::pi * phase.sin();
   s.residual = Eigen::VectorXd::Zero(n);
   s.model_output = 90.0 * s.acceleration + 200.0 * s.velocity;
+  s.logged_command = s.model_output;  // equation-error mode: the command the drive was given
   return s;
 }
 
@@ -42,7 +43,8 @@ const std::map<std::string, double> kTypical{{"period", 0.0025},   {"harmonics",
                                              {"step", 0.5},        {"dead_band", 0.001},
                                              {"backlash", 1e-3},   {"center", 0.1},            {"half_range", 0.1},
                                              {"degree", 3.0},      {"regularization_velocity", 5e-4},
-                                             {"presliding_displacement", 2e-5}};
+                                             {"presliding_displacement", 2e-5}, {"lag", 0.004},
+                                             {"upper_limit", 50.0}, {"lower_limit", -60.0}, {"change_time", 2.0}};
 
 bool IsSnakeCase(const std::string& name) {
   return !name.empty() && std::islower(static_cast<unsigned char>(name.front())) &&
