@@ -2,7 +2,7 @@
 // before it drives the load again, so the load's friction is felt only once the play is taken up — the force jumps
 // when the relative motion has crossed the gap. Regressor e_g(x)·s_db(v), e_g = 1 when the play operator of
 // half-width g/2 is engaged (|x − p(x)| = g/2), else 0 {backlash g [m] (the full gap), dead_band [m/s]}. Proposal: a
-// scan of the joint fit over 0.25 % (at least 2 µm)…5 % of the travel; a best gap at either end is not a play. Block: backlash_friction (blocks/), the same law.
+// scan of the joint fit over 0.25 %…5 % of the travel; a best gap at either end is not a play. Block: backlash_friction (blocks/), the same law.
 #include <algorithm>
 
 #include <fmt/format.h>
@@ -31,13 +31,13 @@ void Propose(ProposalContext& c) {
   // Gaps below 0.25 % of the travel are crossed within a few milliseconds of each reversal: there the regressor is
   // the friction law near zero velocity (pre-sliding, a lagging velocity estimate), which the friction-law
   // replacements model; on logs with nothing missing such "gaps" of 10–20 µm were named.
-  const double lo = std::max(2e-6, 0.0025 * c.position_span());
+  const double lo = 0.0025 * c.position_span();
   const double hi = 0.05 * c.position_span();
   const double gap = ScanJointFit(c, lo, hi, 21,
                                   [&](double value) { return Eigen::MatrixXd(Column(x, sign, value)); });
   if (!(gap > 0.0)) return;
   if (gap < 1.05 * lo) {  // the best gap is the smallest tried: no gap of its own, the law near zero velocity
-    c.Note(fmt::format("backlash not proposed: the joint fit's best gap is the smallest tried ({:.3g} m, 0.25 % of the "
+    c.Note(fmt::format("backlash not proposed: the joint fit's best gap is the smallest tried ({:.3g}, 0.25 % of the "
                        "travel), i.e. the friction law near zero velocity rather than a play", gap));
     return;
   }

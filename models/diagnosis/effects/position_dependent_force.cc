@@ -1,9 +1,13 @@
 // position_dependent_force: a smooth force of position — a spring, a cable carrier, a magnet's attraction, a
 // hardening suspension (Duffing's cubic stiffness k₁(x − x₀) + k₃(x − x₀)³). Regressors ξ, ξ², ξ³ with
 // ξ = (x − center)/half_range over the record's travel {center [m], half_range [m], degree (3)}. Proposed when the
-// position moves over more than a millimetre and the residual holds no position period of 16 cycles or more. Block: position_dependent_force "position_force" on the position
+// position moves over more than 100 of its median steps and the residual holds no position period of 16 cycles or more. Block: position_dependent_force "position_force" on the position
 // input, its coefficients free.
+#include <algorithm>
 #include <cmath>
+#include <vector>
+
+#include <fmt/format.h>
 
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
@@ -15,6 +19,20 @@ namespace {
 constexpr const char* kName = "position_dependent_force";
 constexpr int kDefaultDegree = 3;
 constexpr double kMinCycles = 16.0;  // a position period of this many cycles in the travel is a ripple, not a smooth force
+
+constexpr double kMinSteps = 100.0;  // the travel in median sample-to-sample steps of the position, at least
+
+// The median of |x(k+1) − x(k)| over the steps that move (the position's own scale: a step of the motion or of the
+// encoder); 0 when it never moves.
+double MedianNonzeroStep(const Eigen::VectorXd& x) {
+  std::vector<double> steps;
+  for (Eigen::Index k = 1; k < x.size(); ++k) {
+    if (const double d = std::abs(x(k) - x(k - 1)); d > 0.0) steps.push_back(d);
+  }
+  if (steps.empty()) return 0.0;
+  std::nth_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2), steps.end());
+  return steps[steps.size() / 2];
+}
 
 int Degree(const EffectInstance& e) {
   const auto it = e.parameters.find("degree");
@@ -57,9 +75,16 @@ EffectType PositionDependentForce() {
     // the rigid body) the polynomial takes 18.6 % of the held-out residual and the held-out ranking names it before the
     // screw lead's ripple (80 cycles). A "period" of a few cycles in the travel is what a smooth force of position looks
     // like to the periodogram (a hardening spring over 0.18 m: 18.7 mm, 9.6 cycles): it does not stop the polynomial.
-    if (!(c.position_span() > 1e-3)) return;
+    // The position must move over many of its own steps (in the record's unit: metres, radians or volts alike): a
+    // record at rest spans a few steps of noise.
+    if (!(c.position_span() > kMinSteps * MedianNonzeroStep(c.signals().position))) return;
     for (const auto& p : c.position_periods()) {
-      if (p.period <= c.position_span() / kMinCycles) return;
+      if (p.period <= c.position_span() / kMinCycles) {
+        c.Note(fmt::format("position_dependent_force not proposed: the residual holds a position period of {:.3g} "
+                           "cycles in the travel ({:.4g}), a ripple the polynomial would only blur",
+                           c.position_span() / p.period, p.period));
+        return;
+      }
     }
     const Eigen::VectorXd& x = c.signals().position;
     c.Propose(kName, {{"center", 0.5 * (x.maxCoeff() + x.minCoeff())},
