@@ -162,6 +162,8 @@ std::string FormatParameters(const std::map<std::string, double>& p, const std::
     }
     else if (k == "delay") item = fmt::format("delay {:.4g} ms (the measurement lags the model)", v * 1e3);
     else if (k == "lag") item = fmt::format("lag {:.4g} ms (the logged command acts later)", v * 1e3);
+    else if (k == "change_time") item = fmt::format("from t = {:.4g} s on", v);
+    else if (k == "upper_limit" || k == "lower_limit") item = fmt::format("{} limit {:.4g}", k.substr(0, 5), v);
     else if (k == "frequency_hz") item = fmt::format("frequency {:.4g} Hz", v);
     else if (k == "harmonics") item = fmt::format("{} harmonic(s)", static_cast<int>(v));
     else if (k == "amplitude") item = fmt::format("amplitude {:.3g}", v);
