@@ -135,7 +135,8 @@ json WriteImproveFallback(const ImproveResult& result, const FallbackOutcome& fa
       DiagramDocument fitted(last.training.fitted_diagram, diagram_folder);
       fitted.RelocateFiles(fs::absolute(directory));
       const json amended =
-          SuggestGprFallbackBlock(fitted.json(), model.filename().string(), last.training.after.front().connector);
+          SuggestGprFallbackBlock(fitted.json(), model.filename().string(), last.training.after.front().connector,
+                                  directory);
       WriteDiagramFile(amended, directory, directory / "improved_with_gp.json");
       record["diagram"] = (directory / "improved_with_gp.json").string();
     } catch (const std::exception& e) {

@@ -195,8 +195,9 @@ std::string GpBlockType() {
 
 }  // namespace
 
-json SuggestGprFallbackBlock(const json& diagram, const std::string& model_path, const std::string& output) {
-  DiagramDocument out(diagram);
+json SuggestGprFallbackBlock(const json& diagram, const std::string& model_path, const std::string& output,
+                             const std::filesystem::path& base_directory) {
+  DiagramDocument out(diagram, base_directory);
   const std::string position = NeedInput(out, MotionInput::kPosition, "nonparametric_fallback");
   const std::string velocity = NeedInput(out, MotionInput::kVelocity, "nonparametric_fallback");
   const std::string name = AddToOutput(

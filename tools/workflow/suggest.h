@@ -3,6 +3,7 @@
 // from the diagnosis, its coefficients added to the diagram's free parameters so that the next compare refits
 // them jointly with the base model (DIAGNOSIS.md step 1).
 
+#include <filesystem>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -35,11 +36,12 @@ nlohmann::json SuggestAmendedDiagram(const nlohmann::json& diagram, const Diagno
 
 /// The non-parametric fallback as a block: the diagram with a `gpr` element "residual_gp" (blocks/gpr.h) that loads
 /// `model_path` (a TISO-GPR fitted to the residual, models/gpr/residual_gpr.h; pass an absolute path or one relative
-/// to the diagram's folder), fed by the position ("m") and velocity ("m/s") input connectors, its posterior mean
-/// summed into the signal feeding output connector `output`. Nothing is added to "free": the model is fitted.
+/// to `base_directory`, the folder the amended diagram will be read from; empty: the current folder), fed by the
+/// position ("m") and velocity ("m/s") input connectors, its posterior mean summed into the signal feeding output
+/// connector `output`. Nothing is added to "free": the model is fitted.
 /// @throws std::invalid_argument if the diagram lacks a position or velocity input connector or a connection into
-/// `output` (the message says what to add).
+/// `output` (the message says what to add), or the model file is not there.
 nlohmann::json SuggestGprFallbackBlock(const nlohmann::json& diagram, const std::string& model_path,
-                                       const std::string& output);
+                                       const std::string& output, const std::filesystem::path& base_directory = {});
 
 }  // namespace mb
