@@ -17,6 +17,7 @@ PACKAGES=(
   libopenmpi-dev openmpi-bin  # sweep --mpi (optional: built only when found; its test runs mpirun)
   gnuplot-nox              # report figures
   graphviz                 # motionblocks draw and the reports' diagrams (dot)
+  libjs-dygraphs           # the reports' interactive charts: dygraph.min.js, read and embedded when a report is written
   libvalijson-dev          # JSON Schema validation of diagrams and sweeps
   clang libclang-rt-14-dev # libFuzzer (the fuzz preset: fuzzers of the file readers)
   pybind11-dev python3-dev # the motionblocks Python module (python/)

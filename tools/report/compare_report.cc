@@ -150,7 +150,8 @@ void WriteCompareReport(const CompareOutcome& outcome, const MeasurementLog& log
   const DiagnosedComparison& compared = outcome.compared;
   const ComparedOutput& primary_after = outcome.primary_after();
   HtmlReport report(fmt::format("motionblocks compare: {} vs {}", fs::path(files.diagram).filename().string(),
-                                fs::path(files.measurement).filename().string()));
+                                fs::path(files.measurement).filename().string()),
+                    InteractiveCharts{});
   report.Paragraph(fmt::format("{} mode; {} samples. Output '{}' compared with column '{}'.", outcome.mode, log.rows(),
                                primary_after.connector, primary_after.column));
   std::vector<std::vector<std::string>> rows;

@@ -40,7 +40,7 @@ void WriteImproveReport(const ImproveResult& result, const MeasurementLog& train
   const ImproveStep& first = result.first();
   const ImproveStep& last = result.last_accepted();
   const std::string& unit = first.unit();
-  HtmlReport report(title);
+  HtmlReport report(title, InteractiveCharts{});
   report.Paragraph(fmt::format(
       "{} mode; output '{}' [{}]. Held-out error: {}. Stop: {}.", first.training.mode,
       first.training.after.front().connector, unit,

@@ -1,13 +1,16 @@
 #include "tools/report/report.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
 #include "engine/output_file.h"
+#include "tools/report/chart_data.h"
 #include "tools/report/run_program.h"
 
 namespace mb {
@@ -16,26 +19,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Keeps the first/last point and, per bucket, the points with the smallest and largest y, so that peaks
-// survive thinning.
+// The points drawn by gnuplot: min/max per bucket (DecimateMinMax, max_points / 2 buckets), so that peaks survive.
 std::vector<std::pair<double, double>> Thin(const Series& s, std::size_t max_points) {
-  std::vector<std::pair<double, double>> out;
   const std::size_t n = std::min(s.x.size(), s.y.size());
-  if (n <= max_points || max_points < 4) {
-    for (std::size_t i = 0; i < n; ++i) out.emplace_back(s.x[i], s.y[i]);
-    return out;
-  }
-  const std::size_t buckets = max_points / 2;
-  for (std::size_t b = 0; b < buckets; ++b) {
-    const std::size_t lo = b * n / buckets, hi = (b + 1) * n / buckets;
-    std::size_t imin = lo, imax = lo;
-    for (std::size_t i = lo; i < hi; ++i) {
-      if (s.y[i] < s.y[imin]) imin = i;
-      if (s.y[i] > s.y[imax]) imax = i;
-    }
-    out.emplace_back(s.x[std::min(imin, imax)], s.y[std::min(imin, imax)]);
-    if (imin != imax) out.emplace_back(s.x[std::max(imin, imax)], s.y[std::max(imin, imax)]);
-  }
+  const std::vector<double> y(s.y.begin(), s.y.begin() + static_cast<std::ptrdiff_t>(n));
+  std::vector<std::pair<double, double>> out;
+  for (std::size_t i : DecimateMinMax(y, max_points < 4 ? 0 : max_points / 2)) out.emplace_back(s.x[i], s.y[i]);
   return out;
 }
 
@@ -59,11 +48,147 @@ std::string CommentText(std::string s) {
   return s;
 }
 
+
+// A file's text, or "" if it cannot be read.
+std::string ReadTextFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return {};
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// The charting library's text ready to stand inside <script>: its source-map comment dropped (the map is not
+// embedded), and "</" written "<\/" wherever "</script" occurs in any case (inside a JavaScript string or regular
+// expression, where the library could hold it, both mean the same). "" and `why` set if the file cannot be read or
+// is no dygraphs.
+std::string ReadChartLibrary(const fs::path& path, std::string* why) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) {
+    *why = path.string() + " not found";
+    return {};
+  }
+  std::string text = ReadTextFile(path);
+  if (text.find("Dygraph") == std::string::npos) {
+    *why = path.string() + " is no dygraphs library";
+    return {};
+  }
+  const std::size_t map = text.rfind("//# sourceMappingURL=");
+  if (map != std::string::npos) text.erase(map);
+  std::string lower = text;
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+  for (std::size_t at = lower.find("</script"); at != std::string::npos; at = lower.find("</script", at + 1)) {
+    text.replace(at, 2, "<\\/");
+    lower.replace(at, 2, "<\\/");
+  }
+  return text;
+}
+
+// The charts' style: a chart above its legend and toggles; the PNG shown instead without script (or when a chart
+// fails), and in print.
+constexpr const char* kChartCss =
+    ".mb-title{font-weight:bold;margin:.3em 0}.mb-plot{width:100%;height:340px}"
+    ".mb-legend{font-size:12px;min-height:1.4em}.mb-toggles{font-size:12px}.mb-toggles label{margin-right:1em}"
+    "figcaption{font-size:12px;color:#555}.mb-js .mb-static{display:none}.mb-js .mb-failed .mb-static{display:block}"
+    "@media print{.mb-chart{display:none}.mb-js .mb-static{display:block}}";
+
+// The page's script: one dygraphs chart per <div class="mb-chart" data-chart="i">, drawn from the JSON in
+// #mb-charts (ChartJson). Text reaches the page as text (textContent, canvas fillText) or escaped (dygraphs writes
+// axis labels as HTML; it escapes legend labels itself).
+constexpr const char* kChartScript = R"JS((function () {
+  'use strict';
+  var specs = JSON.parse(document.getElementById('mb-charts').textContent);
+  var palette = ['#1f77b4', '#d62728', '#2ca02c', '#9467bd', '#ff7f0e', '#8c564b', '#e377c2', '#7f7f7f'];
+  var groups = {}, syncing = false;
+  function esc(s) {
+    return String(s).replace(/[&<>"']/g, function (c) {
+      return {'&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;', "'": '&#39;'}[c];
+    });
+  }
+  function num(v) {
+    if (v === null || !isFinite(v)) return String(v);
+    var a = Math.abs(v);
+    if (a !== 0 && (a >= 1e6 || a < 1e-4)) return v.toExponential(4).replace(/\.?0+e/, 'e');
+    return String(parseFloat(v.toPrecision(6)));
+  }
+  function underlay(spec) {
+    return function (ctx, area, g) {
+      ctx.save();
+      ctx.fillStyle = 'rgba(0,0,0,0.08)';
+      spec.shaded.forEach(function (r) {
+        var a = g.toDomXCoord(r[0]), b = g.toDomXCoord(r[1]);
+        ctx.fillRect(Math.min(a, b), area.y, Math.abs(b - a), area.h);
+      });
+      ctx.strokeStyle = '#b00'; ctx.fillStyle = '#b00'; ctx.font = '11px sans-serif'; ctx.setLineDash([4, 3]);
+      spec.marks.forEach(function (m) {
+        var x = g.toDomXCoord(m[0]);
+        if (!(x >= area.x && x <= area.x + area.w)) return;
+        ctx.beginPath(); ctx.moveTo(x, area.y); ctx.lineTo(x, area.y + area.h); ctx.stroke();
+        ctx.fillText(m[1], x + 3, area.y + 12);
+      });
+      ctx.restore();
+    };
+  }
+  function link(g, initial) {  // the x range of one chart of a group set on the others
+    if (initial || syncing || !g.mbLink) return;
+    syncing = true;
+    var r = g.xAxisRange();
+    groups[g.mbLink].forEach(function (o) {
+      var q = o.xAxisRange();
+      if (o !== g && (q[0] !== r[0] || q[1] !== r[1])) o.updateOptions({dateWindow: r});
+    });
+    syncing = false;
+  }
+  function draw(box, spec) {
+    var toggles = document.createElement('div'), plot = document.createElement('div'),
+        legend = document.createElement('div');
+    toggles.className = 'mb-toggles'; plot.className = 'mb-plot'; legend.className = 'mb-legend';
+    box.appendChild(toggles); box.appendChild(plot); box.appendChild(legend);
+    var series = {}, colors = [];
+    spec.labels.slice(1).forEach(function (label, k) {
+      colors.push(palette[k % palette.length]);
+      series[label] = spec.points[k] ? {strokeWidth: 0, drawPoints: true, pointSize: 1.5, highlightCircleSize: 3}
+                                     : {strokeWidth: 1.2};
+    });
+    var g = new Dygraph(plot, spec.data, {
+      labels: spec.labels, colors: colors, series: series, xlabel: esc(spec.xlabel), ylabel: esc(spec.ylabel),
+      labelsDiv: legend, legend: 'always', connectSeparatedPoints: true, logscale: spec.logy,
+      axes: {x: {logscale: spec.logx, valueFormatter: num, axisLabelFormatter: num},
+             y: {valueFormatter: num, axisLabelFormatter: num}},
+      underlayCallback: underlay(spec), drawCallback: link
+    });
+    g.mbLink = spec.link;
+    if (spec.link) (groups[spec.link] = groups[spec.link] || []).push(g);
+    spec.labels.slice(1).forEach(function (label, k) {
+      var l = document.createElement('label'), c = document.createElement('input'), swatch = document.createElement('span');
+      c.type = 'checkbox'; c.checked = true;
+      c.addEventListener('change', function () { g.setVisibility(k, c.checked); });
+      swatch.style.color = colors[k]; swatch.textContent = '\u25A0 ';
+      l.appendChild(c); l.appendChild(swatch); l.appendChild(document.createTextNode(label));
+      toggles.appendChild(l);
+    });
+    var hint = document.createElement('span');
+    hint.textContent = ' drag: zoom · shift-drag: pan · double-click: reset' + (spec.link ? ' (time axes linked)' : '');
+    hint.style.color = '#777';
+    toggles.appendChild(hint);
+  }
+  document.documentElement.className += ' mb-js';
+  var boxes = document.querySelectorAll('.mb-chart');
+  for (var i = 0; i < boxes.length; ++i) {
+    try {
+      draw(boxes[i], specs[+boxes[i].getAttribute('data-chart')]);
+    } catch (e) {  // that figure falls back to its PNG
+      boxes[i].parentNode.className += ' mb-failed';
+      boxes[i].textContent = 'chart failed: ' + e;
+    }
+  }
+})();
+)JS";
 }  // namespace
 
 std::vector<std::string> FigureFileNames(const std::string& file) {
   const std::string stem = fs::path(file).stem().string();
-  return {file, stem + ".dat", stem + ".gp"};
+  return {file, stem + ".dat", stem + ".gp", stem + ".csv"};
 }
 
 std::string RenderFigure(const Figure& figure, const fs::path& directory) {
@@ -106,6 +231,11 @@ std::string RenderFigure(const Figure& figure, const fs::path& directory) {
     for (const auto& [x0, x1] : figure.shaded_x_ranges) {
       gp << fmt::format("set object rect from {:.10g}, graph 0 to {:.10g}, graph 1 behind fillcolor rgb '#e4e4e4' "
                         "fillstyle solid 1.0 noborder\n", x0, x1);
+    }
+    for (const auto& [x, text] : figure.x_marks) {
+      gp << fmt::format("set arrow from {0:.10g}, graph 0 to {0:.10g}, graph 1 nohead dashtype 2 lc rgb '#bb0000'\n", x);
+      gp << "set label " << GnuplotQuote(text) << fmt::format(" at {:.10g}, graph 0.96 offset 0.4,0 ", x)
+         << "textcolor rgb '#bb0000' font 'Sans,8' noenhanced\n";
     }
     const bool bars = std::any_of(figure.series.begin(), figure.series.end(),
                                   [](const Series& s) { return s.style == "boxes"; });
@@ -161,11 +291,38 @@ void HtmlReport::Table(const std::vector<std::string>& header, const std::vector
 
 void HtmlReport::AddFigure(const Figure& figure, const fs::path& directory) {
   const std::string error = RenderFigure(figure, directory);
-  if (error.empty()) {
-    Image(figure.file, figure.title);
-  } else {
-    Warning("Figure missing: " + error);
+  const bool bars = std::any_of(figure.series.begin(), figure.series.end(),
+                                [](const Series& s) { return s.style == "boxes" || s.style == "impulses"; });
+  if (!interactive_ || figure.series.empty() || bars || !figure.x_tick_labels.empty()) {
+    if (error.empty()) {
+      Image(figure.file, figure.title);
+    } else {
+      Warning("Figure missing: " + error);
+    }
+    return;
   }
+  const std::string csv = FigureFileNames(figure.file)[3];
+  WriteFileSafely(directory / csv, FigureCsv(figure));
+  const nlohmann::json spec = ChartJson(figure, csv, interactive_->columns);
+  body_ += fmt::format("<figure class=\"mb-figure\"><div class=\"mb-title\">{}</div>"
+                       "<div class=\"mb-chart\" data-chart=\"{}\"></div>\n",
+                       HtmlEscape(figure.title), charts_.size());
+  if (error.empty()) {
+    body_ += fmt::format("<img class=\"mb-static\" loading=\"lazy\" src=\"{}\" alt=\"{}\">\n",
+                         HtmlEscape(figure.file), HtmlEscape(figure.title));
+  } else {
+    body_ += "<p class=\"warn mb-static\">Static figure missing: " + HtmlEscape(error) + "</p>\n";
+  }
+  const std::size_t samples = spec["samples"].get<std::size_t>(), rows = spec["data"].size();
+  body_ += fmt::format("<figcaption>{} samples{}. Full data: <a href=\"{}\">{}</a>{}</figcaption></figure>\n",
+                       samples,
+                       spec["decimated"].get<bool>()
+                           ? fmt::format(", drawn as {} rows (the extremes of each pixel column kept)", rows)
+                           : std::string(),
+                       HtmlEscape(csv), HtmlEscape(csv),
+                       error.empty() ? fmt::format(" · static: <a href=\"{0}\">{0}</a>", HtmlEscape(figure.file))
+                                     : std::string());
+  charts_.push_back(ScriptSafeJson(spec));
 }
 
 void HtmlReport::Image(const std::string& file, const std::string& caption) {
@@ -176,12 +333,33 @@ void HtmlReport::Image(const std::string& file, const std::string& caption) {
 void HtmlReport::Warning(const std::string& text) { body_ += "<p class=\"warn\">" + HtmlEscape(text) + "</p>\n"; }
 
 void HtmlReport::Write(const fs::path& path) const {
+  std::string head_extra, scripts, warning;
+  if (!charts_.empty()) {
+    std::string why;
+    const std::string library = ReadChartLibrary(interactive_->library, &why);
+    if (library.empty()) {
+      warning = "<p class=\"warn\">" +
+                HtmlEscape(fmt::format("Interactive charts unavailable: {}. Install Debian's libjs-dygraphs "
+                                       "(scripts/install-deps.sh); the figures below are the static PNGs.",
+                                       why)) +
+                "</p>\n";
+    } else {
+      std::string css = ReadTextFile(interactive_->library.parent_path() / "dygraph.min.css");
+      css.erase(std::remove(css.begin(), css.end(), '<'), css.end());  // no "</style>" from a file
+      head_extra = "<style>" + css + kChartCss + "</style>\n";
+      std::string data = "[";
+      for (std::size_t i = 0; i < charts_.size(); ++i) data += (i ? ",\n" : "") + charts_[i];
+      data += "]";
+      scripts = "<script>\n" + library + "\n</script>\n<script type=\"application/json\" id=\"mb-charts\">" + data +
+                "</script>\n<script>\n" + kChartScript + "</script>\n";
+    }
+  }
   const std::string page =
       "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>" + HtmlEscape(title_) + "</title>\n" +
       "<style>body{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222}"
       "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}"
-      "th{background:#eee}figure{margin:1em 0}img{max-width:100%}.warn{color:#a00}</style></head><body>\n" +
-      "<h1>" + HtmlEscape(title_) + "</h1>\n" + body_ + "</body></html>\n";
+      "th{background:#eee}figure{margin:1em 0}img{max-width:100%}.warn{color:#a00}</style>\n" + head_extra +
+      "</head><body>\n<h1>" + HtmlEscape(title_) + "</h1>\n" + warning + body_ + scripts + "</body></html>\n";
   WriteFileSafely(path, page);
 }
 

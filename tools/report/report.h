@@ -1,8 +1,12 @@
 #pragma once
 // Reports that people look at: figures rendered by gnuplot (PNG, pngcairo) and one self-contained HTML page
-// per command (tables, paragraphs, figures). No hand-drawn charts.
+// per command (tables, paragraphs, figures). No hand-drawn charts. With InteractiveCharts, each figure is also an
+// interactive chart (zoom, pan, hover read-out, series toggles, x axes linked) drawn by Debian's libjs-dygraphs, read
+// at report time from its installed path and embedded inline; the PNGs stay as the static fallback and for print.
 
+#include <cstddef>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -32,36 +36,62 @@ struct Figure {
   /// Ranges of x [x0, x1] shaded behind the series (e.g. a training window), in x's unit; empty: none.
   std::vector<std::pair<double, double>> shaded_x_ranges{};
   std::size_t max_points = 4000;
+  /// Vertical lines at x with a label (e.g. the periods a diagnosis chose), in x's unit; empty: none.
+  std::vector<std::pair<double, std::string>> x_marks{};
+  /// Interactive charts with the same non-empty `x_link` zoom and pan together (the time plots of one record).
+  std::string x_link{};
 };
 
 /// Renders `figure` to `directory/figure.file` with gnuplot. Returns "" on success, else the reason (gnuplot
 /// missing or failing) — the caller notes it in the report; a missing figure never loses the numbers.
 std::string RenderFigure(const Figure& figure, const std::filesystem::path& directory);
 
-/// The files RenderFigure writes for a figure named `file` (a name or a pattern such as "signal_*.png"): `file`, and
-/// its data and gnuplot script, <stem>.dat and <stem>.gp.
+/// The files a report writes for a figure named `file` (a name or a pattern such as "signal_*.png"): `file`, its
+/// data and gnuplot script, <stem>.dat and <stem>.gp (RenderFigure), and its full data <stem>.csv (interactive
+/// reports).
 std::vector<std::string> FigureFileNames(const std::string& file);
+
+/// Where Debian's libjs-dygraphs (scripts/install-deps.sh) installs the charting library.
+inline constexpr const char* kDygraphsPath = "/usr/share/javascript/dygraphs/dygraph.min.js";
+
+/// How a report draws its figures interactively.
+struct InteractiveCharts {
+  /// The charting library (dygraphs 2.x, minified), read when the report is written and embedded inline. Missing or
+  /// unreadable: the report shows the PNGs and says why.
+  std::filesystem::path library = kDygraphsPath;
+  /// Pixel columns a line is decimated to (min/max per column: chart_data.h); dots keep ~1.5 px cells.
+  std::size_t columns = 2000;
+};
 
 /// An HTML report assembled in order and written once.
 class HtmlReport {
  public:
-  explicit HtmlReport(std::string title) : title_(std::move(title)) {}
+  /// `interactive`: draw figures as interactive charts (each figure's full data in <stem>.csv beside the report),
+  /// with the PNGs as fallback; none: PNGs only.
+  explicit HtmlReport(std::string title, std::optional<InteractiveCharts> interactive = std::nullopt)
+      : title_(std::move(title)), interactive_(std::move(interactive)) {}
   void Heading(const std::string& text);
   void Paragraph(const std::string& text);
   /// A table: header row and rows of cells (already formatted).
   void Table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows);
-  /// Renders the figure into the report's folder and embeds it (or notes why it is missing).
+  /// Renders the figure into the report's folder and embeds it (or notes why it is missing). Interactive (and the
+  /// figure no bar chart and without named x ticks): also writes directory/<stem>.csv (FigureCsv) and adds the chart
+  /// (ChartJson), linked to the CSV. @throws std::runtime_error if the CSV cannot be written.
   void AddFigure(const Figure& figure, const std::filesystem::path& directory);
   /// Shows the image `file` (a name inside the report's folder: PNG or SVG) with `caption`.
   void Image(const std::string& file, const std::string& caption);
   /// A paragraph marked as a warning (what is missing from the report and why).
   void Warning(const std::string& text);
-  /// Writes `path` (report.html). @throws std::runtime_error if it cannot be written.
+  /// Writes `path` (report.html): one file, the charting library, the charts' data (ScriptSafeJson) and the page's
+  /// script inline. With charts and the library missing or unreadable, no script: the PNGs and a warning naming the
+  /// file and the package. @throws std::runtime_error if it cannot be written.
   void Write(const std::filesystem::path& path) const;
 
  private:
   std::string title_;
+  std::optional<InteractiveCharts> interactive_;
   std::string body_;
+  std::vector<std::string> charts_;  // ChartJson of each interactive chart (ScriptSafeJson text), in page order
 };
 
 /// Escapes &, <, > and " for HTML text and attribute values.

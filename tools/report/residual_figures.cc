@@ -19,11 +19,13 @@ void AddResidualFigures(HtmlReport* report, const fs::path& out, const Measureme
                  fmt::format("{} [{}]", before.connector, before.unit), {}};
   overlay.series.push_back({t, ToStd(before.measured), "measured (" + before.column + ")", "lines"});
   overlay.series.push_back({t, ToStd(before.model), "model", "lines"});
+  overlay.x_link = "time";
   report->AddFigure(overlay, out);
 
   Figure rt{"residual_vs_time.png", "Residual against time (after the fit)", "time [s]",
             fmt::format("measured − model [{}]", before.unit), {}};
   rt.series.push_back({t, ToStd(residual_after), "residual", "lines"});
+  rt.x_link = "time";
   report->AddFigure(rt, out);
   if (log.has_column(position_column)) {
     Figure rx{"residual_vs_position.png", "Residual against position", "position [m]",
@@ -61,6 +63,14 @@ void AddResidualFigures(HtmlReport* report, const fs::path& out, const Measureme
               "period [m]", "power", {}};
     fp.log_x = true;
     fp.series.push_back({ToStd(pg.periods), ToStd(pg.power), "floating-mean Lomb–Scargle", "lines"});
+    for (const auto& e : diagnosis->effects) {  // the periods the ranking chose, where the text names them
+      const auto period = e.parameters.find("period");
+      if (period != e.parameters.end()) {
+        const std::string unit = PositionUnitToken(position_column);
+        fp.x_marks.emplace_back(period->second, unit == "m" ? fmt::format("{} {:.4g} mm", e.effect, 1e3 * period->second)
+                                                            : fmt::format("{} {:.4g} {}", e.effect, period->second, unit));
+      }
+    }
     report->AddFigure(fp, out);
   }
 }
@@ -76,6 +86,7 @@ void AddBeforeAfterFigures(HtmlReport* report, const fs::path& out, const std::s
   overlay.series.push_back({t, ToStd(before.measured), "measured (" + before.column + ")", "lines"});
   overlay.series.push_back({t, ToStd(before.model), "model before", "lines"});
   overlay.series.push_back({t, ToStd(after.model), "model after", "lines"});
+  overlay.x_link = prefix + "time";
   report->AddFigure(overlay, out);
 
   const auto r_before = ToStd(before.residual()), r_after = ToStd(after.residual());
@@ -83,6 +94,7 @@ void AddBeforeAfterFigures(HtmlReport* report, const fs::path& out, const std::s
             fmt::format("measured − model [{}]", unit), {}};
   rt.series.push_back({t, r_before, "before", "lines"});
   rt.series.push_back({t, r_after, "after", "lines"});
+  rt.x_link = prefix + "time";
   report->AddFigure(rt, out);
   // The residual against a logged column (position, velocity), before and after on the same axes.
   const auto against = [&](const std::string& column, const std::string& quantity, const std::string& axis_unit) {
