@@ -1,6 +1,7 @@
 #include "engine/csv.h"
 
 #include "engine/file_error.h"
+#include "engine/input_file.h"
 
 #include <charconv>
 #include <fstream>
@@ -146,11 +147,7 @@ void AppendCsvNumber(double value, std::string* out) {
 }
 
 CsvTextTable ReadCsvTextTable(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw FileOpenError(fmt::format("{}: cannot open (missing file or no permission); check the path", path));
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  const std::string text = buffer.str();
+  const std::string text = ReadInputFile(path, "CSV table");  // a regular file within the size limit
   CsvTextTable table;
   table.source = path;
   CsvReader reader(text);

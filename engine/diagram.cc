@@ -7,10 +7,8 @@
 namespace mb {
 
 int Diagram::FindBlock(const std::string& block_name) const {
-  for (std::size_t i = 0; i < blocks_.size(); ++i) {
-    if (blocks_[i]->name() == block_name) return static_cast<int>(i);
-  }
-  return -1;
+  const auto it = block_index_.find(block_name);
+  return it == block_index_.end() ? -1 : it->second;
 }
 
 SignalRef Diagram::ResolveSignal(const std::string& signal) const {

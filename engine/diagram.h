@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <unordered_map>
 #include <string>
 #include <vector>
 
@@ -102,7 +103,8 @@ class Diagram {
   /// engine checks only that each names an element; what a role means belongs to the analysis that reads it.
   const std::map<std::string, std::string>& roles() const { return roles_; }
 
-  /// Index of the block with this instance name, or -1.
+  /// Index of the block with this instance name, or -1. O(1) (a hash map: a diagram of 100,000 blocks loads in
+  /// linear time).
   int FindBlock(const std::string& block_name) const;
   /// Resolves "block.port", "block" (its only/first output) or an input/output connector name.
   /// @throws std::invalid_argument naming the signal and listing close alternatives.
@@ -116,6 +118,7 @@ class Diagram {
   friend class DiagramBuilder;
   std::string name_;
   std::vector<std::unique_ptr<Block>> blocks_;
+  std::unordered_map<std::string, int> block_index_;  ///< name → index in blocks_ (the first of a name)
   std::vector<std::vector<SignalRef>> sources_;
   std::vector<ExternalInput> inputs_;
   std::vector<ExternalOutput> outputs_;

@@ -16,6 +16,7 @@
 #include "engine/execution_order.h"
 #include "engine/file_error.h"
 #include "engine/file_access.h"
+#include "engine/input_file.h"
 #include "engine/json_limits.h"
 #include "engine/json_parsing.h"
 #include "engine/json_schema.h"
@@ -101,8 +102,11 @@ void ApplyOverrides(json* diagram, const std::vector<ParameterOverride>& overrid
 }
 
 json ReadDiagramJson(const fs::path& path) {
-  std::ifstream in(path);
-  if (!in) throw FileOpenError(fmt::format("{}: cannot open the diagram file (does it exist?)", path.string()));
+  CheckInputFile(path, "diagram file");  // a regular file within the size limit: /dev/zero or a FIFO is never opened
+  if (!fs::exists(path)) {
+    throw FileOpenError(fmt::format("{}: cannot open the diagram file (does it exist?)", path.string()));
+  }
+  std::istringstream in(ReadInputFile(path, "diagram file"));
   try {
     return ParseJsonRejectingDuplicateKeys(in, path.string(), /*ignore_comments=*/true);
   } catch (const json::parse_error& e) {
@@ -553,6 +557,7 @@ class DiagramBuilder {
       try {
         BlockConfig config{name, Parameters(name, std::move(values)), st, base_};
         d_.blocks_.push_back(bt->factory(config));
+        d_.block_index_.emplace(d_.blocks_.back()->name(), static_cast<int>(d_.blocks_.size() - 1));
         d_.block_types_.push_back(type);
         d_.block_parameters_.push_back(config.parameters);
         element_pointer_.push_back(ptr);

@@ -55,10 +55,12 @@ std::vector<int> SortBlocks(int num_blocks, const std::vector<FeedthroughEdge>& 
       graph, boost::make_iterator_property_map(component.begin(), boost::get(boost::vertex_index, graph)));
   std::vector<std::vector<int>> members(static_cast<std::size_t>(num_components));
   for (std::size_t v = 0; v < n; ++v) members[static_cast<std::size_t>(component[v])].push_back(static_cast<int>(v));
+  std::vector<bool> feeds_itself(n, false);  // one pass over the edges (not one per block: 100k blocks)
+  for (const auto& e : edges) {
+    if (e.from == e.to) feeds_itself[static_cast<std::size_t>(e.from)] = true;
+  }
   for (const auto& comp : members) {
-    const bool self_loop = comp.size() == 1 && std::any_of(edges.begin(), edges.end(), [&](const auto& e) {
-                             return e.from == comp[0] && e.to == comp[0];
-                           });
+    const bool self_loop = comp.size() == 1 && feeds_itself[static_cast<std::size_t>(comp[0])];
     if (comp.size() < 2 && !self_loop) continue;
     const auto cycle_edges = CycleInComponent(edges, comp, comp.front());
     std::vector<int> cycle;

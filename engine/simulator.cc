@@ -48,7 +48,21 @@ struct RunGrid {
 
 SimulationLimits DefaultSimulationLimits() { return {g_default_max_steps.load(), g_default_max_events.load()}; }
 
+void CheckSimulationLimits(const SimulationLimits& limits) {
+  if (!(limits.max_steps >= 1.0 && limits.max_steps <= kMaxSimulationSteps)) {  // NaN fails too
+    throw std::invalid_argument(fmt::format(
+        "--max-steps {}: the step limit must be a finite number in [1, {:g}] (default {:g}); give the number of "
+        "steps a run may take",
+        limits.max_steps, kMaxSimulationSteps, SimulationLimits{}.max_steps));
+  }
+  if (limits.max_events_per_major_step < 1) {
+    throw std::invalid_argument(fmt::format("the limit of zero-crossing events per major step must be >= 1, got {}",
+                                            limits.max_events_per_major_step));
+  }
+}
+
 void SetDefaultSimulationLimits(const SimulationLimits& limits) {
+  CheckSimulationLimits(limits);
   g_default_max_steps.store(limits.max_steps);
   g_default_max_events.store(limits.max_events_per_major_step);
 }
@@ -69,6 +83,10 @@ bool SignalLog::Has(const std::string& name) const {
 }
 
 Simulator::Simulator(const Diagram& diagram, SimulationLimits limits) : diagram_(diagram), limits_(limits) {
+  if (!(limits_.max_steps >= 1.0)) {  // NaN would pass every "steps > max_steps" check
+    throw std::invalid_argument(fmt::format("the step limit of a run must be >= 1 (or +infinity: none), got {}",
+                                            limits_.max_steps));
+  }
   const auto& blocks = diagram.blocks();
   const std::size_t nb = blocks.size();
   // Signal storage: every output port, then one slot per external input.

@@ -44,7 +44,9 @@ struct InputSeries {
 struct SimulationLimits {
   /// Refuse a run estimated to take more major or fixed solver steps than this (the finest of the log interval,
   /// the discrete sample times and a fixed solver step over the run), or to log more values (samples × logged
-  /// scalars; 8 bytes each) than this. The command line's --max-steps.
+  /// scalars; 8 bytes each) than this. The command line's --max-steps, which must be finite and lie in
+  /// [1, kMaxSimulationSteps]; a Simulator built in code also takes +infinity (no limit: the virtual stage, which
+  /// runs until stopped), never NaN (which would turn the check off without a word).
   double max_steps = 1e8;
   /// Refuse more than this many zero-crossing events between two major steps (a Zeno loop: events that do not
   /// let time advance).
@@ -62,14 +64,24 @@ struct MetricAccumulator {
   double Value(const std::string& type, const std::string& name, double from, double to) const;
 };
 
+/// The ceiling of SimulationLimits::max_steps: 1e13 steps (days of computing at any step rate; 80 TB of one logged
+/// signal).
+inline constexpr double kMaxSimulationSteps = 1e13;
+
+/// Checks limits: max_steps finite in [1, kMaxSimulationSteps], max_events_per_major_step >= 1.
+/// @throws std::invalid_argument "--max-steps nan: the step limit must be a finite number in [1, 1e+13] …".
+void CheckSimulationLimits(const SimulationLimits& limits);
+
 /// The limits a Simulator gets when none are given: SimulationLimits{} until SetDefaultSimulationLimits (the
 /// command line's --max-steps sets it once, before any run). Thread-safe.
 SimulationLimits DefaultSimulationLimits();
+/// @throws std::invalid_argument as CheckSimulationLimits (the defaults are then unchanged).
 void SetDefaultSimulationLimits(const SimulationLimits& limits);
 
 class Simulator final : private OdeSystem {
  public:
   /// Lays out all signal and state storage (the only allocation). The diagram must outlive the simulator.
+  /// @throws std::invalid_argument if limits.max_steps is NaN or below 1 (+infinity: no limit).
   explicit Simulator(const Diagram& diagram, SimulationLimits limits = DefaultSimulationLimits());
   ~Simulator() override;
 

@@ -11,6 +11,7 @@
 
 #include "engine/csv.h"
 #include "engine/file_error.h"
+#include "engine/input_file.h"
 #include "engine/output_file.h"
 
 namespace mb {
@@ -156,15 +157,9 @@ double ParseCell(std::string_view written, const std::string& path, std::size_t 
   return value;
 }
 
+// A regular file within the input size limit only (engine/input_file.h).
 std::string ReadWholeFile(const std::string& path, const TableReadOptions& options) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw FileOpenError(fmt::format(
-        "{}: cannot open the {} (missing file or no permission); check the path", path, options.kind));
-  }
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
+  return ReadInputFile(path, options.kind);
 }
 
 }  // namespace

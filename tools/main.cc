@@ -14,6 +14,7 @@
 #include "engine/diagram_loader.h"
 #include "engine/execution_order.h"
 #include "engine/file_access.h"
+#include "engine/input_file.h"
 #include "engine/numerical_error.h"
 #include "tools/commands/cli_options.h"
 #include "tools/commands/commands.h"
@@ -47,6 +48,18 @@ int main(int argc, char** argv) {
          "A folder outside the diagram's own whose files the diagram's file parameters (from_file.file, gpr.model, "
          "subsystem diagram) may read; repeat for several")
       ->type_name("DIR")
+      ->allow_extra_args(false);
+  app.add_option_function<double>(
+         "--max-input-mb",
+         [](double megabytes) {
+           if (!(megabytes >= 1e-6 && megabytes <= 1e9)) {  // NaN fails too
+             throw CLI::ValidationError("--max-input-mb", "the input size limit must lie in [1e-6, 1e9] MB");
+           }
+           mb::SetMaxInputFileBytes(static_cast<std::uintmax_t>(megabytes * 1e6));
+         },
+         "Largest input file read (diagram, measurement log, table, GP model, sweep file), in MB (default 1074, "
+         "1 GiB); devices and FIFOs are never read")
+      ->type_name("MB")
       ->allow_extra_args(false);
   mb::SetupRunCommand(app);
   mb::SetupCompareCommand(app);

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "models/gpr/basis.h"
 #include "models/gpr/exact_gp.h"
 #include "models/gpr/weight_space.h"
@@ -163,12 +165,20 @@ void ValidateInputs(const Eigen::Ref<const Eigen::VectorXd>& x,
                                   ", y = " + std::to_string(y(i)) + "): remove it from the data");
     }
   }
-  if (!(options.period > 0.0) || !std::isfinite(options.period)) {
-    throw std::invalid_argument("FitGpr: period must be finite and > 0 [m], got " +
-                                std::to_string(options.period));
+  if (!(options.period >= kMinGprPeriod && options.period <= kMaxGprPeriod)) {  // NaN fails too
+    throw std::invalid_argument(fmt::format(
+        "the period {:g} m is outside the valid range [{:g}, {:g}] m; give the spatial period of the disturbance in "
+        "metres (e.g. the pole pitch, 0.0225 for 22.5 mm: fit-gpr --period)",
+        options.period, kMinGprPeriod, kMaxGprPeriod));
   }
-  if (options.restarts < 0 || options.max_evaluations < 1) {
-    throw std::invalid_argument("FitGpr: restarts must be >= 0 and max_evaluations >= 1");
+  if (options.restarts < 0 || options.restarts > kMaxGprRestarts) {
+    throw std::invalid_argument(fmt::format(
+        "{} restarts is outside the valid range [0, {}] (each start runs up to {} evaluations of the posterior); "
+        "give fewer (fit-gpr --restarts; 2 to 10 is usual)",
+        options.restarts, kMaxGprRestarts, options.max_evaluations));
+  }
+  if (options.max_evaluations < 1) {
+    throw std::invalid_argument("FitGpr: max_evaluations must be >= 1");
   }
   if (!(options.tolerance > 0.0 && options.tolerance < 1.0)) {
     throw std::invalid_argument("FitGpr: tolerance must lie in (0, 1), got " +

@@ -29,10 +29,17 @@ std::string_view GprSolverName(GprSolver solver) noexcept;
 /// Parses "exact" or "weight_space"; throws std::invalid_argument naming both.
 GprSolver ParseGprSolver(std::string_view name);
 
+/// The ceiling of GprFitOptions::restarts: each start runs up to max_evaluations (400) evaluations of the posterior.
+inline constexpr int kMaxGprRestarts = 1000;
+/// The range of GprFitOptions::period [m]: 1 µm to 1000 km (a pole pitch is millimetres; below 1 µm the phase
+/// 2πx/τ of any position measured in metres is noise).
+inline constexpr double kMinGprPeriod = 1e-6;
+inline constexpr double kMaxGprPeriod = 1e6;
+
 struct GprFitOptions {
   GprKernel kernel = GprKernel::kPeriodicSe;
   GprSolver solver = GprSolver::kWeightSpace;
-  double period = 0.0225;        ///< τ [m] (eq. 20): fixed unless estimate_period
+  double period = 0.0225;        ///< τ [m] (eq. 20) in [kMinGprPeriod, kMaxGprPeriod]: fixed unless estimate_period
   bool estimate_period = false;  ///< free τ under priors[kLogPeriod] ("PS" only). In weight
                                  ///< space each evaluation then re-reads the data (O(N·M²)).
   std::optional<GprPriors> priors;  ///< default: DefaultGprPriors(kernel, period, ranges, var(y))
@@ -40,7 +47,7 @@ struct GprFitOptions {
   /// built at exactly these hyperparameters (except the period, which is always `period`).
   std::optional<GprHyperparameters> initial;
   bool optimize = true;
-  int restarts = 2;        ///< extra starts drawn from the priors (within the bounds)
+  int restarts = 2;        ///< extra starts drawn from the priors (within the bounds), 0 … kMaxGprRestarts
   std::uint64_t seed = 1;  ///< of the restart draws (std::mt19937_64)
   int max_evaluations = 400;  ///< per start
   double tolerance = 1e-12;   ///< kernel truncation of the basis, relative to σ² (basis.h)
@@ -64,7 +71,8 @@ GprRange TrainedVelocityRange(const Eigen::Ref<const Eigen::VectorXd>& xdot);
 /// optimisation the basis is checked at the optimum and, if too small (a length scale moved),
 /// rebuilt there and the optimisation resumed from the optimum (at most 4 rounds).
 /// Throws std::invalid_argument for mismatched lengths, N < 2, a non-finite sample (with its
-/// index), no spread in x, ẋ or d, or invalid options/priors; std::runtime_error if every
+/// index), no spread in x, ẋ or d, or invalid options/priors (a period outside [kMinGprPeriod, kMaxGprPeriod], more
+/// than kMaxGprRestarts restarts); std::runtime_error if every
 /// start fails (the messages of the failures are included).
 GprModel FitGpr(const Eigen::Ref<const Eigen::VectorXd>& x,
                 const Eigen::Ref<const Eigen::VectorXd>& xdot,

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "engine/file_error.h"
+#include "engine/input_file.h"
 #include "engine/json_limits.h"
 #include "engine/text_excerpt.h"
 
@@ -309,14 +310,14 @@ void SaveGprModel(const GprModel& model, const std::filesystem::path& path) {
 }
 
 GprModel LoadGprModel(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw FileOpenError("LoadGprModel: cannot open " + path.string() +
-                             ": check the path (fit a model with FitGpr / motionblocks fit-gpr)");
+  if (!std::filesystem::exists(path)) {
+    throw FileOpenError(path.string() + ": cannot open the GP model file (does it exist?); check the path, or fit a "
+                        "model with motionblocks fit-gpr");
   }
+  const std::string text = ReadInputFile(path, "GP model file");  // a regular file within the size limit
   json j;
   try {
-    j = ParseJsonLimited(in, path.string());
+    j = ParseJsonLimited(text, path.string());
   } catch (const json::parse_error& e) {
     throw std::runtime_error(path.string() + ": not a valid JSON file (corrupt or truncated?) at byte " +
                              std::to_string(e.byte) + ": " + JsonErrorText(e));

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 
 #include <gmock/gmock.h>
@@ -180,6 +181,29 @@ TEST(RuntimeLimitsTest, DefaultLimitsCanBeRaised) {
   EXPECT_EQ(DefaultSimulationLimits().max_steps, 1e12);
   SetDefaultSimulationLimits(before);
   EXPECT_EQ(DefaultSimulationLimits().max_steps, 1e8);
+}
+
+// NaN would turn the step limit off (every "steps > limit" is false): refused, as infinity and 0 on the command line.
+TEST(RuntimeLimitsTest, ANanOrInfiniteStepLimitIsRefused) {
+  const SimulationLimits before = DefaultSimulationLimits();
+  for (double bad : {std::nan(""), std::numeric_limits<double>::infinity(), 0.0, 1e14}) {
+    SimulationLimits limits = before;
+    limits.max_steps = bad;
+    try {
+      SetDefaultSimulationLimits(limits);
+      ADD_FAILURE() << "accepted " << bad;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_EQ(std::string(e.what()),
+                fmt::format("--max-steps {}: the step limit must be a finite number in [1, 1e+13] (default 1e+08); "
+                            "give the number of steps a run may take",
+                            bad));
+    }
+  }
+  EXPECT_EQ(DefaultSimulationLimits().max_steps, before.max_steps);  // unchanged
+  SimulationLimits nan_limit;
+  nan_limit.max_steps = std::nan("");
+  Diagram d;
+  EXPECT_THROW(Simulator(d, nan_limit), std::invalid_argument);
 }
 
 // A body at rest under 5 N against 10 N of Coulomb friction with stick_model "none": each located v = 0 flips

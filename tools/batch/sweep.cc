@@ -22,6 +22,7 @@
 #include "engine/diagram_loader.h"
 #include "engine/diagram_schema.h"
 #include "engine/file_error.h"
+#include "engine/input_file.h"
 #include "engine/json_limits.h"
 #include "engine/json_parsing.h"
 #include "engine/output_file.h"
@@ -429,8 +430,9 @@ SweepSpec ParseSweep(const json& sweep, const std::string& source, std::size_t m
 }
 
 SweepSpec ReadSweepFile(const fs::path& path, std::size_t max_runs) {
-  std::ifstream in(path);
-  if (!in) throw FileOpenError(fmt::format("{}: cannot open the sweep file", path.string()));
+  CheckInputFile(path, "sweep file");  // a regular file within the size limit (engine/input_file.h)
+  if (!fs::exists(path)) throw FileOpenError(fmt::format("{}: cannot open the sweep file", path.string()));
+  std::istringstream in(ReadInputFile(path, "sweep file"));
   json j;
   try {
     j = ParseJsonRejectingDuplicateKeys(in, path.string(), /*ignore_comments=*/false);

@@ -28,8 +28,7 @@ void AddMaxStepsOption(CLI::App* command) {
           fmt::format("refuse a simulation estimated to take more steps, or to log more values, than N (default "
                       "{:.0e}; protects against a stopTime or step typo that would run for hours or exhaust memory)",
                       SimulationLimits{}.max_steps))
-      ->type_name("N")
-      ->check(CLI::PositiveNumber);
+      ->type_name("N");  // the range (finite, [1, 1e13]) is SetDefaultSimulationLimits' check: NaN and inf too
 }
 
 namespace {
