@@ -7,6 +7,7 @@
 #include <optional>
 #include <set>
 #include <stdexcept>
+#include <utility>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -84,7 +85,7 @@ SweepShard ShardFromEnvironment(std::optional<std::size_t> given_count, const En
   }
   throw std::invalid_argument(
       "--shard auto: none of SLURM_ARRAY_TASK_ID, JOB_COMPLETION_INDEX, OMPI_COMM_WORLD_RANK is set: run it as a "
-      "Slurm array task, a Kubernetes indexed Job or under mpirun, or give the shard as K/N");
+      "Slurm array task, a Kubernetes indexed Job or under mpirun, or give the shard as x/y (counted from 1)");
 }
 
 // FNV-1a, 64 bits (Fowler, Noll, Vo; http://www.isthe.com/chongo/tech/comp/fnv/).
@@ -97,26 +98,59 @@ std::uint64_t Fnv1a64(const std::string& text) {
   return hash;
 }
 
+// "A/B" as two whole numbers; nullopt for either part that is not one (B is nullopt without a '/').
+std::pair<std::optional<std::size_t>, std::optional<std::size_t>> Fraction(const std::string& text,
+                                                                           std::string* first) {
+  const auto slash = text.find('/');
+  *first = text.substr(0, slash);
+  return {WholeNumber(*first), slash == std::string::npos ? std::nullopt : WholeNumber(text.substr(slash + 1))};
+}
+
+constexpr const char* kOtherNumbering = "--shard-index K/N counts from 0 (0 <= K < N)";
+
 }  // namespace
 
 SweepShard ParseSweepShard(const std::string& text, const EnvironmentLookup& environment) {
-  const auto slash = text.find('/');
-  const std::string first = text.substr(0, slash);
-  const std::optional<std::size_t> count =
-      slash == std::string::npos ? std::nullopt : WholeNumber(text.substr(slash + 1));
-  const std::string usage = fmt::format(
-      "--shard '{}': write K/N with 0 <= K < N (e.g. 0/4), auto or auto/N (K from the scheduler)", Excerpt(text));
-  if (slash != std::string::npos && !count) throw std::invalid_argument(usage);
-  if (count && *count == 0) throw std::invalid_argument(fmt::format("--shard {}: N must be at least 1", text));
-  if (first == "auto") return ShardFromEnvironment(count, environment);
-  const std::optional<std::size_t> index = WholeNumber(first);
-  if (!index || !count) throw std::invalid_argument(usage);
-  if (*index >= *count) {
-    throw std::invalid_argument(fmt::format("--shard {}: K must be less than N (shards are numbered 0 to {})", text,
-                                            *count - 1));
+  std::string first;
+  const auto [x, y] = Fraction(text, &first);
+  const std::string usage =
+      fmt::format("--shard '{}': write x/y, shard x of y counted from 1 (1 <= x <= y, e.g. 1/4 to 4/4, as Jest and "
+                  "Playwright count), or auto or auto/N (index from the scheduler, counted from 0); {}",
+                  Excerpt(text), kOtherNumbering);
+  const bool has_slash = text.find('/') != std::string::npos;
+  if (has_slash && !y) throw std::invalid_argument(usage);
+  if (y && *y == 0) throw std::invalid_argument(fmt::format("--shard {}: the number of shards must be at least 1", text));
+  if (first == "auto") return ShardFromEnvironment(y, environment);
+  if (!x || !y) throw std::invalid_argument(usage);
+  if (*x == 0 || *x > *y) {
+    throw std::invalid_argument(fmt::format("--shard {}: --shard x/y counts from 1, so x runs from 1 to {} (write "
+                                            "--shard 1/{} … {}/{}); {}",
+                                            text, *y, *y, *y, *y, kOtherNumbering));
   }
-  return SweepShard{*index, *count};
+  return SweepShard{*x - 1, *y};
 }
+
+SweepShard ParseSweepShardIndex(const std::string& text) {
+  std::string first;
+  const auto [k, n] = Fraction(text, &first);
+  if (!k || !n) {
+    throw std::invalid_argument(fmt::format("--shard-index '{}': write K/N, shard index K of N counted from 0 "
+                                            "(0 <= K < N, e.g. 0/4 to 3/4); --shard x/y counts from 1",
+                                            Excerpt(text)));
+  }
+  if (*n == 0) {
+    throw std::invalid_argument(fmt::format("--shard-index {}: the number of shards must be at least 1", text));
+  }
+  if (*k >= *n) {
+    throw std::invalid_argument(fmt::format("--shard-index {}: --shard-index counts from 0, so K runs from 0 to {} "
+                                            "(write --shard-index 0/{} … {}/{}); --shard x/y counts from 1 (1 <= x "
+                                            "<= y)",
+                                            text, *n - 1, *n, *n - 1, *n));
+  }
+  return SweepShard{*k, *n};
+}
+
+std::string ShardLabel(const SweepShard& shard) { return fmt::format("{}/{}", shard.index + 1, shard.count); }
 
 std::vector<std::size_t> ShardPositions(std::size_t run_count, const SweepShard& shard) {
   std::vector<std::size_t> positions;
@@ -154,8 +188,9 @@ json ReadManifest(const fs::path& dir) {
                                           path.string()));
 }
 
+// The manifest's shard as `--shard` writes it (counted from 1).
 std::string ShardText(const json& manifest) {
-  return fmt::format("{}/{}", manifest["shard"].get<std::size_t>(), manifest["shards"].get<std::size_t>());
+  return ShardLabel({manifest["shard"].get<std::size_t>(), manifest["shards"].get<std::size_t>()});
 }
 
 // out may hold this shard of this sweep (resume), nothing, or an empty folder; anything else is refused.
@@ -188,19 +223,21 @@ SweepOutcome RunSweepShard(const fs::path& diagram, SweepSpec spec, const SweepS
                            const SweepOptions& options) {
   if (!spec.kept.empty()) throw std::invalid_argument("RunSweepShard: shard the whole sweep, not one narrowed by KeepRuns");
   if (shard.count == 0 || shard.index >= shard.count) {
-    throw std::invalid_argument(fmt::format("shard {}/{}: K must be less than N", shard.index, shard.count));
+    throw std::invalid_argument(fmt::format("shard index {} of {}: the index counts from 0 and must be less than the "
+                                            "number of shards",
+                                            shard.index, shard.count));
   }
   const std::size_t runs = spec.run_count();
   if (shard.index >= runs) {
-    throw std::invalid_argument(fmt::format("--shard {}/{}: the sweep has {} runs, so this shard has none: use at "
+    throw std::invalid_argument(fmt::format("--shard {}: the sweep has {} runs, so this shard has none: use at "
                                             "most {} shards",
-                                            shard.index, shard.count, runs, runs));
+                                            ShardLabel(shard), runs, runs));
   }
   const json manifest = {{"fingerprint", SweepFingerprint(spec, ReadDiagramJson(diagram))},
                          {"shard", shard.index},
                          {"shards", shard.count},
                          {"runs", runs},
-                         {"partition", "run i belongs to shard i mod shards"},
+                         {"partition", "run i belongs to shard index i mod shards (counted from 0; --shard x/y is index x-1)"},
                          {"diagram", fs::absolute(diagram).string()},
                          {"description", spec.description}};
   CheckShardFolder(out, manifest);
@@ -222,7 +259,7 @@ struct ShardRows {
 ShardRows ReadShard(const fs::path& dir) {
   ShardRows shard{dir, ReadManifest(dir), {}, {}};
   if (shard.manifest.is_null()) {
-    throw std::invalid_argument(fmt::format("{}: no {}: not the --out folder of `motionblocks sweep … --shard K/N`; "
+    throw std::invalid_argument(fmt::format("{}: no {}: not the --out folder of `motionblocks sweep … --shard x/y`; "
                                             "give the shard folders",
                                             dir.string(), kShardManifest));
   }
@@ -301,7 +338,7 @@ std::map<std::size_t, std::pair<const ShardRows*, std::size_t>> CollectRuns(cons
   const std::size_t n = shards.front().manifest["shards"].get<std::size_t>();
   std::vector<std::string> missing;
   for (std::size_t i = 0; i < count; ++i) {
-    if (runs.count(i) == 0) missing.push_back(fmt::format("{:04d} (shard {}/{})", i, i % n, n));
+    if (runs.count(i) == 0) missing.push_back(fmt::format("{:04d} (shard {})", i, ShardLabel({i % n, n})));
   }
   if (!missing.empty()) {
     throw std::invalid_argument(fmt::format("{} of {} runs are missing: {}: run their shard again with the same --out "

@@ -1,15 +1,20 @@
 #pragma once
 // Sweeps beyond one machine, on the schedulers people have (Slurm arrays, Kubernetes indexed Jobs, mpirun): a sweep
-// is cut into N shards, each run anywhere as `motionblocks sweep … --shard K/N --out DIR_K` (resumable like a whole
-// sweep), and `motionblocks sweep-merge DIR_0 … DIR_N-1 --out DIR` checks that every run is there exactly once and
+// is cut into N shards, each run anywhere as `motionblocks sweep … --shard x/N --out DIR_x` (resumable like a whole
+// sweep), and `motionblocks sweep-merge DIR_1 … DIR_N --out DIR` checks that every run is there exactly once and
 // writes the runs.csv the single-process sweep would have written (rows in run-id order; only wall_time_s differs).
+//
+// Numbering: `--shard x/y` counts from 1 (1 ≤ x ≤ y), as Jest's and Playwright's --shard do; `--shard-index K/N` and
+// the schedulers' variables (`--shard auto`) count from 0 (0 ≤ K < N), as array task ids and MPI ranks do. Shard
+// x/y is shard index x−1 of y. Inside (SweepShard, sweep-shard.json's "shard") the index counts from 0; messages
+// name a shard as `--shard` writes it (1-based).
 //
 // Partition: run i (its id, the index in the whole sweep) belongs to shard i mod N (round robin). Not contiguous
 // blocks: the cost of a run often grows along a grid axis (stopTime, a solver step, a payload that slows settling),
 // and the keys vary in order, so contiguous blocks would give one shard all the long runs; round robin spreads every
 // axis over every shard. The partition depends only on the run count, so the same file and seed always give it.
 //
-// Each shard folder holds sweep-shard.json: the shard K/N, the sweep's run count and a fingerprint of the sweep (its
+// Each shard folder holds sweep-shard.json: the shard index K (from 0) and N, the sweep's run count and a fingerprint of the sweep (its
 // kind, seed, "set", keys and values) and of the diagram JSON (parsed, so whitespace does not count; files the
 // diagram reads, such as tables, are not part of it). sweep-merge refuses folders of different fingerprints.
 
@@ -25,7 +30,7 @@
 
 namespace mb {
 
-/// Shard `index` (K) of `count` (N): 0 ≤ K < N.
+/// Shard index `index` (K, counted from 0) of `count` (N): 0 ≤ K < N. `--shard x/y` is {x − 1, y}.
 struct SweepShard {
   std::size_t index = 0;
   std::size_t count = 1;
@@ -34,14 +39,23 @@ struct SweepShard {
 /// Looks up an environment variable: nullptr when unset (std::getenv's contract).
 using EnvironmentLookup = std::function<const char*(const char*)>;
 
-/// The shard of `--shard TEXT`: "K/N"; "auto" takes K from SLURM_ARRAY_TASK_ID (N from SLURM_ARRAY_TASK_COUNT),
+/// The shard of `--shard TEXT`: "x/y", shard x of y counted from 1 (1 ≤ x ≤ y; "1/2" and "2/2" are the two halves);
+/// "auto" takes the index K (counted from 0) from SLURM_ARRAY_TASK_ID (N from SLURM_ARRAY_TASK_COUNT),
 /// JOB_COMPLETION_INDEX (Kubernetes indexed Job; N must be given: "auto/N") or OMPI_COMM_WORLD_RANK (N from
 /// OMPI_COMM_WORLD_SIZE), the first one set in that order; "auto/N" gives N (it must agree with the variable's).
-/// @throws std::invalid_argument naming the text or variable and how to fix it (not K/N, N = 0, K ≥ N, no variable
-/// set, a value that is not a whole number, N missing or disagreeing).
+/// @throws std::invalid_argument naming the text or variable, the numbering that applies and how to fix it (not x/y,
+/// y = 0, x = 0 or x > y, no variable set, a value that is not a whole number, N missing or disagreeing).
 SweepShard ParseSweepShard(const std::string& text, const EnvironmentLookup& environment = std::getenv);
 
-/// The positions (= run indices of the whole sweep) of shard `shard` among `run_count` runs: K, K+N, K+2N, …
+/// The shard of `--shard-index TEXT`: "K/N", shard index K of N counted from 0 (0 ≤ K < N; "0/2" and "1/2" are the
+/// two halves), for scripts that number from 0. @throws std::invalid_argument naming the text, the numbering and the
+/// fix (not K/N, N = 0, K ≥ N).
+SweepShard ParseSweepShardIndex(const std::string& text);
+
+/// The shard as `--shard` writes it, counted from 1: "2/3" for index 1 of 3.
+std::string ShardLabel(const SweepShard& shard);
+
+/// The positions (= run indices of the whole sweep, from 0) of shard `shard` among `run_count` runs: K, K+N, K+2N, …
 std::vector<std::size_t> ShardPositions(std::size_t run_count, const SweepShard& shard);
 
 /// "fnv1a64:<16 hex digits>" over the sweep (kind, seed, set, keys, every run's values, kept runs) and the diagram

@@ -1,8 +1,10 @@
-// motionblocks sweep [DIAGRAM] SWEEP.json [--jobs N] [--fresh] [--save-logs] [--shard K/N|auto[/N] | --mpi] --out DIR
+// motionblocks sweep [DIAGRAM] SWEEP.json [--jobs N] [--fresh] [--save-logs]
+//                    [--shard x/y|auto[/N] | --shard-index K/N | --mpi] --out DIR
 // Without DIAGRAM, the sweep file's own "diagram" (relative to the sweep file) is run.
 // Runs a diagram over a grid, list or seeded random sample of parameter values (tools/batch/sweep.h), in parallel;
 // writes DIR/runs.csv and DIR/runs.json (one row of metrics per run). Resumable: runs already in DIR/runs.csv
-// with status ok are not run again. --shard runs one share of the runs (tools/batch/shard.h; merged by sweep-merge),
+// with status ok are not run again. --shard x/y (counted from 1) or --shard-index K/N (from 0) runs one share of the
+// runs (tools/batch/shard.h; merged by sweep-merge),
 // --mpi spreads them over the ranks of `mpirun` (tools/batch/sweep_mpi.h).
 
 #include <iostream>
@@ -27,15 +29,23 @@ struct SweepCommandOptions {
   bool fresh = false;
   bool save_logs = false;
   std::size_t max_runs = kDefaultMaxSweepRuns;
-  std::string shard;  // "" = the whole sweep
+  std::string shard;        // --shard x/y (from 1) or auto[/N]; "" = not given
+  std::string shard_index;  // --shard-index K/N (from 0); "" = not given
   bool mpi = false;
 };
 
+// The shard of --shard or --shard-index; nullopt for the whole sweep.
+std::optional<SweepShard> ShardOf(const SweepCommandOptions& o) {
+  if (!o.shard.empty()) return ParseSweepShard(o.shard);
+  if (!o.shard_index.empty()) return ParseSweepShardIndex(o.shard_index);
+  return std::nullopt;
+}
+
 // The outcome on this process: the whole sweep, one shard, or (MPI) nothing on ranks > 0.
 std::optional<SweepOutcome> RunSweepOn(const fs::path& diagram, const SweepSpec& spec, const SweepCommandOptions& o,
-                                       const SweepOptions& options) {
+                                       const std::optional<SweepShard>& shard, const SweepOptions& options) {
   if (o.mpi) return RunSweepMpi(diagram, spec, o.out, options);
-  if (!o.shard.empty()) return RunSweepShard(diagram, spec, ParseSweepShard(o.shard), o.out, options);
+  if (shard) return RunSweepShard(diagram, spec, *shard, o.out, options);
   return RunSweep(diagram, spec, o.out, options);
 }
 
@@ -47,11 +57,12 @@ void RunSweepCommand(const SweepCommandOptions& o) {
   options.jobs = o.jobs;
   options.resume = !o.fresh;
   options.save_logs = o.save_logs;
-  const std::optional<SweepOutcome> result = RunSweepOn(diagram, spec, o, options);
+  const std::optional<SweepShard> shard = ShardOf(o);
+  const std::optional<SweepOutcome> result = RunSweepOn(diagram, spec, o, shard, options);
   if (!result) return;  // an MPI worker: rank 0 reports
   const SweepOutcome& outcome = *result;
   std::cout << fmt::format("{} runs ({}{}): {} run now, {} already done, {} failed\n", outcome.rows.size(), spec.kind,
-                           o.shard.empty() ? "" : ", shard " + o.shard, outcome.ran, outcome.resumed, outcome.failed);
+                           shard ? ", shard " + ShardLabel(*shard) : "", outcome.ran, outcome.resumed, outcome.failed);
   for (const auto& row : outcome.rows) {
     if (row.status != "ok") std::cout << fmt::format("  run {} failed: {}\n", row.id, row.error);
   }
@@ -82,13 +93,20 @@ void SetupSweepCommand(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   auto* shard = cmd->add_option("--shard", options->shard,
-                                 "run only shard K of N (run i belongs to shard i mod N) into --out, for a cluster "
-                                 "array job; auto or auto/N takes K from SLURM_ARRAY_TASK_ID, JOB_COMPLETION_INDEX or "
-                                 "OMPI_COMM_WORLD_RANK; merge the folders with sweep-merge")
-                        ->type_name("K/N|auto[/N]");
+                                 "run only shard x of y, counted from 1 as Jest and Playwright do (1/2 and 2/2 are the "
+                                 "halves; run i belongs to shard i mod y + 1), into --out, for a cluster array job; "
+                                 "auto or auto/N takes the index (from 0) from SLURM_ARRAY_TASK_ID, "
+                                 "JOB_COMPLETION_INDEX or OMPI_COMM_WORLD_RANK; merge the folders with sweep-merge")
+                        ->type_name("x/y|auto[/N]");
+  auto* shard_index = cmd->add_option("--shard-index", options->shard_index,
+                                       "as --shard, counted from 0: shard index K of N, 0 <= K < N (0/2 and 1/2 are "
+                                       "the halves)")
+                              ->type_name("K/N")
+                              ->excludes(shard);
   cmd->add_flag("--mpi", options->mpi,
                 "under mpirun: rank 0 hands out the runs and writes runs.csv, the other ranks simulate")
-      ->excludes(shard);
+      ->excludes(shard)
+      ->excludes(shard_index);
   cmd->callback([options] { RunSweepCommand(*options); });
 }
 

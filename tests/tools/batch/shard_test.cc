@@ -1,6 +1,6 @@
-// tools/batch/shard.h: --shard parsing (K/N and the schedulers' variables), the partition (deterministic, disjoint,
-// covering), shards resumed, and sweep-merge (equal to the single-process runs.csv; a missing run, a duplicate and a
-// shard of another sweep refused with the folder and the fix).
+// tools/batch/shard.h: --shard parsing (x/y from 1, --shard-index K/N from 0, the schedulers' variables), the
+// partition (deterministic, disjoint, covering), shards resumed, and sweep-merge (equal to the single-process
+// runs.csv; a missing run, a duplicate and a shard of another sweep refused with the folder and the fix).
 
 #include "tools/batch/shard.h"
 
@@ -42,23 +42,58 @@ std::string ShardError(const std::string& text, const std::map<std::string, std:
   }
 }
 
-TEST(ParseSweepShardTest, KOverN) {
-  const SweepShard s = ParseSweepShard("2/5", Environment({}));
-  EXPECT_EQ(s.index, 2u);
-  EXPECT_EQ(s.count, 5u);
-  EXPECT_EQ(ParseSweepShard("0/1", Environment({})).count, 1u);
+std::string ShardIndexError(const std::string& text) {
+  try {
+    const SweepShard s = ParseSweepShardIndex(text);
+    return "no error: " + std::to_string(s.index) + "/" + std::to_string(s.count);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
 }
 
-TEST(ParseSweepShardTest, MalformedShardsSayHowToWriteThem) {
-  const std::string usage = "': write K/N with 0 <= K < N (e.g. 0/4), auto or auto/N (K from the scheduler)";
+TEST(ParseSweepShardTest, XOfYCountsFromOne) {
+  // The two halves, as Jest and Playwright write them (issue 28: `--shard 2/2` used to fail).
+  EXPECT_EQ(ShardError("1/2"), "no error: 0/2");
+  EXPECT_EQ(ShardError("2/2"), "no error: 1/2");
+  const SweepShard s = ParseSweepShard("3/5", Environment({}));
+  EXPECT_EQ(s.index, 2u);
+  EXPECT_EQ(s.count, 5u);
+  EXPECT_EQ(ParseSweepShard("1/1", Environment({})).count, 1u);
+  EXPECT_EQ(ShardLabel(s), "3/5");
+}
+
+TEST(ParseSweepShardTest, ShardIndexCountsFromZero) {
+  EXPECT_EQ(ShardIndexError("0/2"), "no error: 0/2");
+  EXPECT_EQ(ShardIndexError("1/2"), "no error: 1/2");
+  EXPECT_EQ(ShardLabel(ParseSweepShardIndex("1/2")), "2/2");  // the same shard as --shard 2/2
+  EXPECT_EQ(ShardIndexError("2/2"),
+            "--shard-index 2/2: --shard-index counts from 0, so K runs from 0 to 1 (write --shard-index 0/2 … 1/2); "
+            "--shard x/y counts from 1 (1 <= x <= y)");
+  EXPECT_EQ(ShardIndexError("0/0"), "--shard-index 0/0: the number of shards must be at least 1");
+  const std::string usage = "': write K/N, shard index K of N counted from 0 (0 <= K < N, e.g. 0/4 to 3/4); --shard "
+                            "x/y counts from 1";
+  EXPECT_EQ(ShardIndexError("auto"), "--shard-index 'auto" + usage);
+  EXPECT_EQ(ShardIndexError("1"), "--shard-index '1" + usage);
+  EXPECT_EQ(ShardIndexError("-1/2"), "--shard-index '-1/2" + usage);
+}
+
+TEST(ParseSweepShardTest, MalformedShardsSayHowToWriteThemAndWhichNumbering) {
+  const std::string usage =
+      "': write x/y, shard x of y counted from 1 (1 <= x <= y, e.g. 1/4 to 4/4, as Jest and Playwright count), or "
+      "auto or auto/N (index from the scheduler, counted from 0); --shard-index K/N counts from 0 (0 <= K < N)";
   EXPECT_EQ(ShardError("3"), "--shard '3" + usage);
   EXPECT_EQ(ShardError("a/4"), "--shard 'a/4" + usage);
   EXPECT_EQ(ShardError("-1/4"), "--shard '-1/4" + usage);
   EXPECT_EQ(ShardError("1/x"), "--shard '1/x" + usage);
   EXPECT_EQ(ShardError("1/4/2"), "--shard '1/4/2" + usage);
   EXPECT_EQ(ShardError(""), "--shard '" + usage);
-  EXPECT_EQ(ShardError("4/4"), "--shard 4/4: K must be less than N (shards are numbered 0 to 3)");
-  EXPECT_EQ(ShardError("0/0"), "--shard 0/0: N must be at least 1");
+  EXPECT_EQ(ShardError("5/4"),
+            "--shard 5/4: --shard x/y counts from 1, so x runs from 1 to 4 (write --shard 1/4 … 4/4); --shard-index "
+            "K/N counts from 0 (0 <= K < N)");
+  EXPECT_EQ(ShardError("0/2"),
+            "--shard 0/2: --shard x/y counts from 1, so x runs from 1 to 2 (write --shard 1/2 … 2/2); --shard-index "
+            "K/N counts from 0 (0 <= K < N)");
+  EXPECT_EQ(ShardError("0/0"), "--shard 0/0: the number of shards must be at least 1");
 }
 
 TEST(ParseSweepShardTest, AutoTakesTheSchedulersVariables) {
@@ -85,7 +120,7 @@ TEST(ParseSweepShardTest, AutoTakesTheSchedulersVariables) {
 TEST(ParseSweepShardTest, AutoErrorsNameTheVariable) {
   EXPECT_EQ(ShardError("auto"),
             "--shard auto: none of SLURM_ARRAY_TASK_ID, JOB_COMPLETION_INDEX, OMPI_COMM_WORLD_RANK is set: run it as "
-            "a Slurm array task, a Kubernetes indexed Job or under mpirun, or give the shard as K/N");
+            "a Slurm array task, a Kubernetes indexed Job or under mpirun, or give the shard as x/y (counted from 1)");
   EXPECT_EQ(ShardError("auto", {{"JOB_COMPLETION_INDEX", "2"}}),
             "--shard auto: JOB_COMPLETION_INDEX=2 gives K but nothing gives N: write --shard auto/N (N = the number "
             "of shards)");
@@ -99,7 +134,8 @@ TEST(ParseSweepShardTest, AutoErrorsNameTheVariable) {
             "--shard auto: SLURM_ARRAY_TASK_ID='x1' is not a whole number >= 0");
   EXPECT_EQ(ShardError("auto/3", {{"OMPI_COMM_WORLD_RANK", "1"}, {"OMPI_COMM_WORLD_SIZE", "4"}}),
             "--shard auto/3: OMPI_COMM_WORLD_SIZE=4 says 4 shards: give --shard auto or auto/4");
-  EXPECT_EQ(ShardError("auto/0", {{"JOB_COMPLETION_INDEX", "0"}}), "--shard auto/0: N must be at least 1");
+  EXPECT_EQ(ShardError("auto/0", {{"JOB_COMPLETION_INDEX", "0"}}),
+            "--shard auto/0: the number of shards must be at least 1");
 }
 
 TEST(ShardPositionsTest, DisjointCoveringAndRoundRobin) {
@@ -253,13 +289,13 @@ TEST_F(ShardRunTest, AShardResumesAndRefusesAnotherFolder) {
     }
   };
   EXPECT_EQ(error({2, 3}, spec, dirs[0]),
-            dirs[0].string() + ": holds shard 1/3 of this sweep, not 2/3: give --shard 1/3 to resume it, or use "
+            dirs[0].string() + ": holds shard 2/3 of this sweep, not 3/3: give --shard 2/3 to resume it, or use "
                                "another --out");
   const SweepSpec other = ParseSweep(json::parse(R"({"grid": {"k.gain": [1, 2, 3]}})"), "s.json");
   const std::string fingerprint = SweepFingerprint(spec, ReadDiagramJson(diagram_));
   const std::string other_fingerprint = SweepFingerprint(other, ReadDiagramJson(diagram_));
   EXPECT_EQ(error({1, 3}, other, dirs[0]),
-            dirs[0].string() + ": holds shard 1/3 of another sweep (fingerprint " + fingerprint +
+            dirs[0].string() + ": holds shard 2/3 of another sweep (fingerprint " + fingerprint +
                 ", this sweep and diagram give " + other_fingerprint +
                 "): use another --out, or delete the folder to start over");
   RunSweep(diagram_, other, dir_ / "whole", options_);
@@ -267,14 +303,14 @@ TEST_F(ShardRunTest, AShardResumesAndRefusesAnotherFolder) {
             (dir_ / "whole").string() + ": holds a sweep run without --shard (runs.csv, no sweep-shard.json): use "
                                         "another --out for the shard");
   EXPECT_EQ(error({3, 4}, other, dir_ / "s34"),
-            "--shard 3/4: the sweep has 3 runs, so this shard has none: use at most 3 shards");
+            "--shard 4/4: the sweep has 3 runs, so this shard has none: use at most 3 shards");
 }
 
 TEST_F(ShardRunTest, MergeListsMissingRunsWithTheirShard) {
   const SweepSpec spec = Grid();
   const auto dirs = RunShards(spec, 4, {0, 2, 3});
   EXPECT_EQ(MergeError(dirs),
-            "4 of 14 runs are missing: 0001 (shard 1/4), 0005 (shard 1/4), 0009 (shard 1/4), 0013 (shard 1/4): run "
+            "4 of 14 runs are missing: 0001 (shard 2/4), 0005 (shard 2/4), 0009 (shard 2/4), 0013 (shard 2/4): run "
             "their shard again with the same --out (it resumes) or add its folder, then merge again");
   EXPECT_FALSE(fs::exists(dir_ / "merged" / "runs.csv"));  // nothing written
   // A run cut short in a shard's runs.csv (an interrupted run) counts as missing.
@@ -286,7 +322,7 @@ TEST_F(ShardRunTest, MergeListsMissingRunsWithTheirShard) {
     rewrite << CsvLine(table.header) << "\n" << CsvLine(table.rows[0]) << "\n0005,ok,2\n";
   }
   EXPECT_EQ(MergeError({dirs[0], all[0], dirs[1], dirs[2]}),
-            "3 of 14 runs are missing: 0005 (shard 1/4), 0009 (shard 1/4), 0013 (shard 1/4): run their shard again with the same --out "
+            "3 of 14 runs are missing: 0005 (shard 2/4), 0009 (shard 2/4), 0013 (shard 2/4): run their shard again with the same --out "
             "(it resumes) or add its folder, then merge again");
 }
 
@@ -309,12 +345,12 @@ TEST_F(ShardRunTest, MergeRefusesAShardOfAnotherSweep) {
   const std::string fa = SweepFingerprint(Grid(), ReadDiagramJson(diagram_));
   const std::string fb = SweepFingerprint(other, ReadDiagramJson(diagram_));
   EXPECT_EQ(MergeError({dirs[0], dir_ / "other_1"}),
-            (dir_ / "other_1").string() + ": shard 1/2 of another sweep (fingerprint " + fb + ", 14 runs) than " +
+            (dir_ / "other_1").string() + ": shard 2/2 of another sweep (fingerprint " + fb + ", 14 runs) than " +
                 dirs[0].string() + " (fingerprint " + fa +
                 ", 14 runs): it was run with another sweep file or diagram; leave it out, or run that shard again "
                 "with the same files");
   EXPECT_EQ(MergeError({dirs[0], dir_}),
-            dir_.string() + ": no sweep-shard.json: not the --out folder of `motionblocks sweep … --shard K/N`; give "
+            dir_.string() + ": no sweep-shard.json: not the --out folder of `motionblocks sweep … --shard x/y`; give "
                             "the shard folders");
   try {
     MergeSweepShards(dirs, dirs[0]);

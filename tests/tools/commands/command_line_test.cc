@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -26,6 +27,62 @@ TEST(CommandLine, VersionPrintsTheProjectVersion) {
   const CommandResult r = RunMotionblocks("--version");
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_THAT(r.output, ::testing::StartsWith("motionblocks " MB_PROJECT_VERSION));
+}
+
+// A two-block diagram and a four-run list sweep in `dir` (returns the diagram, then the sweep file).
+std::pair<fs::path, fs::path> WriteGainSweep(const fs::path& dir) {
+  const nlohmann::json diagram = nlohmann::json::parse(R"({
+    "schemaVersion": "1.0", "name": "gain",
+    "defaultExperiment": {"startTime": 0, "stopTime": 0.01, "stepSize": 0.001},
+    "solver": {"type": "rk4", "step": 0.001},
+    "elements": [{"name": "c", "type": "constant", "parameters": {"value": 2.0}},
+                 {"name": "k", "type": "gain", "parameters": {"gain": 1.0}}],
+    "connections": [{"startElement": "c", "startConnector": "y", "endElement": "k", "endConnector": "u"}],
+    "log": ["k.y"],
+    "metrics": [{"name": "y_final", "type": "final", "signal": "k.y", "unit": "1"}]})");
+  std::ofstream(dir / "gain.json") << diagram.dump(2);
+  std::ofstream(dir / "sweep.json") << R"({"list": [{"k.gain": 1}, {"k.gain": 2}, {"k.gain": 3}, {"k.gain": 4}]})";
+  return {dir / "gain.json", dir / "sweep.json"};
+}
+
+// Issue 28: `--shard 1/2` and `--shard 2/2` are the two halves (counted from 1, as Jest and Playwright count);
+// --shard-index 0/2 is the first half again (counted from 0); the merge has every run once.
+TEST(SweepCommand, ShardsCountFromOneAndShardIndexFromZero) {
+  const fs::path dir = ProcessTempDir("mb_sweep_shards");
+  const auto [diagram, sweep] = WriteGainSweep(dir);
+  const std::string files = "sweep " + diagram.string() + " " + sweep.string() + " --quiet --jobs 1 ";
+  CommandResult r = RunMotionblocks(files + "--shard 1/2 --out " + (dir / "s1").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("2 runs (list, shard 1/2)"));
+  r = RunMotionblocks(files + "--shard 2/2 --out " + (dir / "s2").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("2 runs (list, shard 2/2)"));
+  r = RunMotionblocks("sweep-merge " + (dir / "s1").string() + " " + (dir / "s2").string() + " --out " +
+                      (dir / "all").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("4 runs, each once"));
+  // --shard-index 0/2 is --shard 1/2: the folder of 1/2 resumes (nothing runs again).
+  r = RunMotionblocks(files + "--shard-index 0/2 --out " + (dir / "s1").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("2 runs (list, shard 1/2): 0 run now, 2 already done"));
+  fs::remove_all(dir);
+}
+
+TEST(SweepCommand, AShardOutOfRangeSaysWhichNumberingApplies) {
+  const fs::path dir = ProcessTempDir("mb_sweep_shard_range");
+  const auto [diagram, sweep] = WriteGainSweep(dir);
+  const std::string files = "sweep " + diagram.string() + " " + sweep.string() + " --quiet --out " +
+                            (dir / "o").string() + " ";
+  CommandResult r = RunMotionblocks(files + "--shard 0/2");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("motionblocks: error: --shard 0/2: --shard x/y counts from 1, so x runs from 1 to 2 "
+                                  "(write --shard 1/2 … 2/2); --shard-index K/N counts from 0 (0 <= K < N)"));
+  r = RunMotionblocks(files + "--shard-index 2/2");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("motionblocks: error: --shard-index 2/2: --shard-index counts from 0, so K runs from "
+                                  "0 to 1 (write --shard-index 0/2 … 1/2); --shard x/y counts from 1 (1 <= x <= y)"));
+  EXPECT_FALSE(fs::exists(dir / "o" / "runs.csv"));
+  fs::remove_all(dir);
 }
 
 TEST(StabilityCommand, ConventionalLoopIsStableAndTheReportHasTheTermsAndBodePlots) {
