@@ -1,5 +1,6 @@
 #include "models/stability/stability.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -60,13 +61,16 @@ double Nyquist(double ts) { return 0.5 / ts; }
 
 nlohmann::json Number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
+// An α bound as JSON: clipped at 0 (no α > 0 certified), null for +∞.
+nlohmann::json Bound(double v) { return std::isnan(v) ? nlohmann::json(nullptr) : Number(std::max(v, 0.0)); }
+
 nlohmann::json TermsJson(const SmallGainTerms& t) {
   return {{"gamma_d_to_x", Number(t.gamma_d_to_x)},   {"gamma_xd_to_x", Number(t.gamma_xd_to_x)},
           {"gamma_q", Number(t.gamma_q)},             {"gamma_q_filter", Number(t.gamma_q_filter)},
           {"gamma_x_to_u", Number(t.gamma_x_to_u)},   {"gamma_xdot", Number(t.gamma_xdot)},
           {"gamma_g", Number(t.gamma_g)},             {"lipschitz_x", Number(t.lipschitz_x)},
           {"lipschitz_xdot", Number(t.lipschitz_xdot)}, {"K", Number(LipschitzGain(t))},
-          {"alpha_max", Number(t.alpha_max)}};
+          {"alpha_used", Number(t.alpha_max)}};
 }
 
 nlohmann::json ComplexJson(Complex c) {
@@ -96,6 +100,24 @@ double AlphaMaxBoundPaper(const SmallGainTerms& t) {
 double AlphaMaxBoundDob(const SmallGainTerms& t) {
   const double denominator = t.gamma_d_to_x * t.gamma_g * LipschitzGain(t);
   return denominator == 0.0 ? kInf : 1.0 / denominator;
+}
+
+std::string AlphaBoundText(double bound, bool has_gpr) {
+  if (std::isnan(bound)) return "α_max unknown";
+  if (!(bound > 0.0)) return "no α > 0 is certified: ρ ≥ 1 already at α = 0";
+  if (std::isinf(bound)) return has_gpr ? "any α is certified (K = 0)" : "α not bounded without a GPR model (K unknown)";
+  return fmt::format("α_max < {:.4g}", bound);
+}
+
+const char* ToString(StabilityCondition condition) {
+  switch (condition) {
+    case StabilityCondition::kNone: return "";
+    case StabilityCondition::kLoopStable: return "loop_stable";
+    case StabilityCondition::kAdaptiveMassLoopStable: return "adaptive_mass_loop_stable";
+    case StabilityCondition::kGprModelGiven: return "gpr_model_given";
+    case StabilityCondition::kSmallGain: return "small_gain";
+  }
+  return "";
 }
 
 Eigen::VectorXd LoopImpulseResponse(const PaperLoop& loop, LoopPath path, bool with_dob, int count) {
@@ -199,6 +221,7 @@ void AnalyseAdaptiveMass(const PaperLoop& loop, int n, StabilityReport* r) {
       SmallGainTerms t = r->dob;
       t.gamma_d_to_x = scale * L1Norm(h_d);
       r->adaptive_mass_rho_dob[k] = t.gamma_d_to_x * t.gamma_g * t.alpha_max * LipschitzGain(t);
+      r->adaptive_mass_alpha_max_bound_dob[k] = AlphaMaxBoundDob(t);
     }
     verdicts += fmt::format("{}Delta_m_hat = {:g} kg: {}", k ? "; " : "", ends[k],
                             r->adaptive_mass_loop_stable[k]
@@ -212,6 +235,59 @@ void AnalyseAdaptiveMass(const PaperLoop& loop, int n, StabilityReport* r) {
       "(Fed by the reference acceleration instead, the block is a bounded exogenous input and changes no gamma term.) "
       "The adaptation's own dynamics (a slowly varying gain) are not covered by this analysis",
       verdicts));
+}
+
+// The largest certified α in words (StabilityVerdict::alpha_max).
+std::string AlphaMaxText(double alpha_max) {
+  if (std::isnan(alpha_max)) return "the largest certified α is unknown without a GPR model (--gpr)";
+  if (alpha_max <= 0.0) return "no α ≥ 0 is certified";
+  if (std::isinf(alpha_max)) return "any α is certified (K = 0)";
+  return fmt::format("the largest certified α: α < {:.4g}", alpha_max);
+}
+
+// The verdict of the "dob" decomposition: the first condition that fails, or the certificate.
+StabilityVerdict Verdict(const StabilityReport& r) {
+  StabilityVerdict v;
+  v.alpha_used = r.loop.gp_weight;
+  const bool adaptive = r.loop.has_adaptive_mass;
+  const double ends[2] = {r.loop.adaptive_mass_min, r.loop.adaptive_mass_max};
+  if (!r.dob_loop_stable) {
+    v.failing_condition = StabilityCondition::kLoopStable;
+    v.reason = "the conventional FF/FB/DOB loop (GP path open) is not stable";
+    v.alpha_max = 0.0;
+  } else if (adaptive && !(r.adaptive_mass_loop_stable[0] && r.adaptive_mass_loop_stable[1])) {
+    v.failing_condition = StabilityCondition::kAdaptiveMassLoopStable;
+    v.reason = fmt::format("the loop is not stable at Δm̂ = {:g} kg, an end of the adaptive mass's clamp",
+                           ends[r.adaptive_mass_loop_stable[0] ? 1 : 0]);
+    v.alpha_max = 0.0;
+  } else if (!r.has_gpr) {
+    if (v.alpha_used > 0.0) {
+      v.failing_condition = StabilityCondition::kGprModelGiven;
+      v.reason = fmt::format("the GP path (α = {:g}) is not bounded without its GPR model: give --gpr MODEL "
+                             "(K = L_x + L_ẋ·γ_ẋ)",
+                             v.alpha_used);
+    } else {
+      v.reason = "the conventional FF/FB/DOB loop is stable and the GP path is off (α = 0)";
+    }
+  } else {
+    double rho = r.rho_dob;
+    std::string where;
+    v.alpha_max = r.alpha_max_bound_dob;
+    for (int k = 0; adaptive && k < 2; ++k) {
+      if (r.adaptive_mass_rho_dob[k] > rho) {
+        rho = r.adaptive_mass_rho_dob[k];
+        where = fmt::format("; at Δm̂ = {:g} kg, an end of the adaptive mass's clamp", ends[k]);
+      }
+      v.alpha_max = std::min(v.alpha_max, r.adaptive_mass_alpha_max_bound_dob[k]);
+    }
+    const bool small = rho < 1.0;
+    if (!small) v.failing_condition = StabilityCondition::kSmallGain;
+    v.reason = fmt::format("ρ = {:.4g} {} 1 at α = {:g} (small gain, DOB loop closed{})", rho, small ? "<" : "≥",
+                           v.alpha_used, where);
+  }
+  v.certified = v.failing_condition == StabilityCondition::kNone;
+  v.line = fmt::format("{}: {}; {}", v.certified ? "certified" : "NOT certified", v.reason, AlphaMaxText(v.alpha_max));
+  return v;
 }
 
 }  // namespace
@@ -288,8 +364,9 @@ StabilityReport AnalyseStability(const PaperLoop& loop, const GprModel* gpr, con
   if (!r.has_gpr) {
     r.notes.push_back("no GPR model given: K = L_x + L_xdot*gamma_xdot = 0, the GP path is absent");
   }
-  r.notes.push_back(fmt::format("'dob' decomposition: rho = {:.4g}, alpha_max < {:.4g}", r.rho_dob,
-                                r.alpha_max_bound_dob));
+  r.notes.push_back(fmt::format("'dob' decomposition: rho = {:.4g}; {}", r.rho_dob,
+                                AlphaBoundText(r.alpha_max_bound_dob, r.has_gpr)));
+  r.verdict = Verdict(r);
   return r;
 }
 
@@ -319,7 +396,9 @@ nlohmann::json ToJson(const StabilityReport& r) {
                {"adaptive_mass_max_kg", l.adaptive_mass_max}};
   if (l.has_adaptive_mass) {
     j["adaptive_mass"] = {{"loop_stable_at_min_max", {r.adaptive_mass_loop_stable[0], r.adaptive_mass_loop_stable[1]}},
-                          {"rho_dob_at_min_max", {r.adaptive_mass_rho_dob[0], r.adaptive_mass_rho_dob[1]}}};
+                          {"rho_dob_at_min_max", {Number(r.adaptive_mass_rho_dob[0]), Number(r.adaptive_mass_rho_dob[1])}},
+                          {"alpha_max_bound_dob_at_min_max",
+                           {Bound(r.adaptive_mass_alpha_max_bound_dob[0]), Bound(r.adaptive_mass_alpha_max_bound_dob[1])}}};
   }
   j["inner_loop_stable"] = r.inner_loop_stable;
   j["dob_loop_stable"] = r.dob_loop_stable;
@@ -328,10 +407,20 @@ nlohmann::json ToJson(const StabilityReport& r) {
   j["paper"] = TermsJson(r.paper);
   j["paper"]["rho"] = Number(r.rho_paper);
   j["paper"]["rho_consistent"] = Number(r.rho_consistent);
-  j["paper"]["alpha_max_bound"] = Number(r.alpha_max_bound_paper);
+  j["paper"]["alpha_max_bound"] = Bound(r.alpha_max_bound_paper);
   j["dob"] = TermsJson(r.dob);
   j["dob"]["rho"] = Number(r.rho_dob);
-  j["dob"]["alpha_max_bound"] = Number(r.alpha_max_bound_dob);
+  j["dob"]["alpha_max_bound"] = Bound(r.alpha_max_bound_dob);
+  const StabilityVerdict& v = r.verdict;
+  j["verdict"] = {{"certified", v.certified},
+                  {"decomposition", "dob"},
+                  {"failing_condition",
+                   v.certified ? nlohmann::json(nullptr) : nlohmann::json(ToString(v.failing_condition))},
+                  {"reason", v.reason},
+                  {"alpha_used", v.alpha_used},
+                  {"alpha_max", Number(v.alpha_max)},
+                  {"alpha_max_text", AlphaMaxText(v.alpha_max)},
+                  {"line", v.line}};
   nlohmann::json bode = nlohmann::json::array();
   for (const BodePoint& b : r.bode) {
     bode.push_back({{"frequency_hz", b.frequency_hz},

@@ -23,6 +23,10 @@
 // K = L_x + L_ẋ γ_ẋ (eq. 56) needs the GPR's Lipschitz constants (eq. 47); b_μ (Remark 1) its posterior std.
 // With the confidence weight (PaperLoop::gp_confidence_weighting, blocks/gpr.h) the GP path is α_max·g·d̂ and K uses
 // the Lipschitz constants of g·d̂ (GprModel::ConfidenceWeightedLipschitzConstants, a sampled estimate).
+//
+// The verdict (StabilityVerdict) answers one question: is the loop, with the diagram's α, certified BIBO stable, and
+// up to which α would it be? It uses the "dob" decomposition: the "paper" one certifies nothing more (with a DOB it
+// cannot certify at all, see above; without one the two coincide).
 
 #include <complex>
 #include <limits>
@@ -89,6 +93,10 @@ double RhoConsistent(const SmallGainTerms& t);
 double AlphaMaxBoundPaper(const SmallGainTerms& t);
 /// Eq. 62 for the "dob" decomposition (γ_q = γ_x→u = 0): 1/(γ_d→x γ_g K).
 double AlphaMaxBoundDob(const SmallGainTerms& t);
+/// An α bound (eq. 62's right-hand side) in words, never as −∞ or a negative number: "α_max < 4.231";
+/// "no α > 0 is certified: ρ ≥ 1 already at α = 0" for a bound ≤ 0 or −∞; for +∞, "any α (K = 0)" when the
+/// GPR's constants are known (`has_gpr`), else "not bounded without a GPR model (K unknown)".
+std::string AlphaBoundText(double bound, bool has_gpr);
 
 /// One frequency point of eq. 6, 7 and 12, continuous (the paper's formulas at s = jω) and for the sampled loop
 /// (z = e^{jωTs}, the blocks' discrete filters, ZOH plant; C_FF = P_n⁻¹(jω)·e^{jωTs/2} because the feedforward
@@ -119,6 +127,30 @@ struct StabilityOptions {
   int std_grid = 64;
 };
 
+/// The condition a verdict fails, in the order they are checked.
+enum class StabilityCondition {
+  kNone,                    ///< none: certified
+  kLoopStable,              ///< the conventional FF/FB/DOB loop (GP path open) is stable
+  kAdaptiveMassLoopStable,  ///< that loop stays stable at both ends of the adaptive mass's clamp
+  kGprModelGiven,           ///< α > 0 needs the GPR model's Lipschitz constants (K) to be bounded
+  kSmallGain,               ///< ρ_dob < 1 at the diagram's α (and at both ends of an adaptive mass's clamp)
+};
+
+/// "loop_stable", "adaptive_mass_loop_stable", "gpr_model_given", "small_gain" ("" for kNone): the JSON names.
+const char* ToString(StabilityCondition condition);
+
+/// The one-line answer of the analysis ("dob" decomposition).
+struct StabilityVerdict {
+  bool certified = false;
+  StabilityCondition failing_condition = StabilityCondition::kNone;
+  std::string reason;  ///< why it fails or holds, in words with the numbers ("ρ = 13.61 ≥ 1 at α = 0.9")
+  double alpha_used = 0.0;  ///< the diagram's α (f_gp weight)
+  /// The largest certified α (strict: α < alpha_max certifies): ≥ 0, 0 when no α ≥ 0 is certified (the loop is
+  /// unstable), +∞ when any α is (K = 0), NaN when unknown (no GPR model). Never negative.
+  double alpha_max = std::numeric_limits<double>::quiet_NaN();
+  std::string line;  ///< "certified: …" or "NOT certified: …": reason and the largest α, one line
+};
+
 struct StabilityReport {
   PaperLoop loop;
   bool inner_loop_stable = false;  ///< P with C_FB (Assumption 1)
@@ -138,6 +170,10 @@ struct StabilityReport {
   bool adaptive_mass_loop_stable[2] = {true, true};
   double adaptive_mass_rho_dob[2] = {std::numeric_limits<double>::quiet_NaN(),
                                      std::numeric_limits<double>::quiet_NaN()};
+  /// With an adaptive mass: the "dob" α bound 1/(γ_d→x γ_g K) at each end of the clamp (NaN if unstable).
+  double adaptive_mass_alpha_max_bound_dob[2] = {std::numeric_limits<double>::quiet_NaN(),
+                                                 std::numeric_limits<double>::quiet_NaN()};
+  StabilityVerdict verdict;
   std::vector<BodePoint> bode;
   std::vector<std::string> notes;  ///< plain-language verdicts and caveats
 };
@@ -149,7 +185,9 @@ StabilityReport AnalyseStability(const PaperLoop& loop, const GprModel* gpr = nu
                                  const StabilityOptions& options = {});
 
 /// Everything as JSON (numbers in SI; complex responses as magnitude and phase in degrees; +∞ as null with a
-/// note).
+/// note). Per decomposition, "alpha_used" is the diagram's α and "alpha_max_bound" eq. 62's bound clipped at 0 (0: no
+/// α > 0 is certified; null: +∞). "verdict": {"certified", "failing_condition" (ToString, null when certified),
+/// "reason", "alpha_used", "alpha_max" (null when +∞ or unknown, see "alpha_max_text"), "alpha_max_text", "line"}.
 nlohmann::json ToJson(const StabilityReport& report);
 
 }  // namespace mb

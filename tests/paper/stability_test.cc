@@ -2,9 +2,11 @@
 // filters in closed form, eq. 6/12 identities for P = P_n, and the analysis of the conventional diagram.
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -94,6 +96,100 @@ TEST(StabilityTest, GammaBoundsTheGainAtEveryFrequency) {
   const nlohmann::json j = ToJson(r);
   EXPECT_TRUE(j["dob"]["alpha_max_bound"].is_null());
   EXPECT_EQ(j["bode"].size(), r.bode.size());
+}
+
+TEST(StabilityTest, BoundsInWordsAreNeverNegativeOrMinusInfinity) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(AlphaBoundText(4.23106, true), "α_max < 4.231");
+  EXPECT_EQ(AlphaBoundText(-2.093e4, true), "no α > 0 is certified: ρ ≥ 1 already at α = 0");
+  EXPECT_EQ(AlphaBoundText(0.0, true), "no α > 0 is certified: ρ ≥ 1 already at α = 0");
+  EXPECT_EQ(AlphaBoundText(-kInf, false), "no α > 0 is certified: ρ ≥ 1 already at α = 0");
+  EXPECT_EQ(AlphaBoundText(kInf, true), "any α is certified (K = 0)");
+  EXPECT_EQ(AlphaBoundText(kInf, false), "α not bounded without a GPR model (K unknown)");
+}
+
+// The verdict of the 'dob' decomposition on a loop checkable by hand: ρ_dob = γ_d→x γ_g α K is linear in α, so the
+// α bound is where ρ = 1, and a weight on either side of it is certified or not.
+TEST(StabilityTest, VerdictNamesTheFailingConditionAndTheLargestAlpha) {
+  const std::string dir = std::string(MB_SOURCE_DIR) + "/diagrams/paper";
+  const GprModel model = LoadGprModel(dir + "/models/gpr_ps_d2.json");
+  StabilityOptions options;
+  options.impulse_samples = 2000;
+  options.bode_points = 4;
+  PaperLoop l;
+  l.kp = 16000.0;
+  l.kd = 90.0;
+  l.gp_weight = 1.0;
+  const StabilityReport one = AnalyseStability(l, &model, options);
+  const double bound = one.alpha_max_bound_dob;
+  ASSERT_TRUE(std::isfinite(bound));
+  ASSERT_GT(bound, 0.0);
+  EXPECT_NEAR(one.rho_dob * bound, 1.0, 1e-12);  // ρ(α) = α ρ(1)
+
+  l.gp_weight = 2.0 * bound;
+  const StabilityReport over = AnalyseStability(l, &model, options);
+  EXPECT_FALSE(over.verdict.certified);
+  EXPECT_EQ(over.verdict.failing_condition, StabilityCondition::kSmallGain);
+  EXPECT_DOUBLE_EQ(over.verdict.alpha_used, 2.0 * bound);
+  EXPECT_DOUBLE_EQ(over.verdict.alpha_max, bound);
+  EXPECT_EQ(over.verdict.line,
+            fmt::format("NOT certified: ρ = 2 ≥ 1 at α = {:g} (small gain, DOB loop closed); the largest certified α: "
+                        "α < {:.4g}",
+                        2.0 * bound, bound));
+  const nlohmann::json j = ToJson(over)["verdict"];
+  EXPECT_EQ(j["certified"], false);
+  EXPECT_EQ(j["failing_condition"], "small_gain");
+  EXPECT_EQ(j["decomposition"], "dob");
+  EXPECT_DOUBLE_EQ(j["alpha_used"].get<double>(), 2.0 * bound);
+  EXPECT_DOUBLE_EQ(j["alpha_max"].get<double>(), bound);
+  EXPECT_EQ(j["line"], over.verdict.line);
+  // The α used is named as such, not as a maximum.
+  EXPECT_DOUBLE_EQ(ToJson(over)["dob"]["alpha_used"].get<double>(), 2.0 * bound);
+  EXPECT_FALSE(ToJson(over)["dob"].contains("alpha_max"));
+
+  l.gp_weight = 0.5 * bound;
+  const StabilityReport under = AnalyseStability(l, &model, options);
+  EXPECT_TRUE(under.verdict.certified);
+  EXPECT_EQ(under.verdict.failing_condition, StabilityCondition::kNone);
+  EXPECT_EQ(under.verdict.line.rfind("certified: ρ = 0.5 < 1 at α = ", 0), 0u) << under.verdict.line;
+  EXPECT_TRUE(ToJson(under)["verdict"]["failing_condition"].is_null());
+  // The 'paper' bound is negative (it cannot certify a DOB loop): 0 in the JSON, never a negative bound or null.
+  EXPECT_LT(under.alpha_max_bound_paper, 0.0);
+  EXPECT_EQ(ToJson(under)["paper"]["alpha_max_bound"], 0.0);
+}
+
+TEST(StabilityTest, VerdictOfAnUnstableLoopOrAGpPathWithoutItsModel) {
+  StabilityOptions options;
+  options.impulse_samples = 2000;
+  options.bode_points = 4;
+  PaperLoop l;
+  l.kp = 16000.0;
+  l.kd = 90.0;
+  const StabilityReport conventional = AnalyseStability(l, nullptr, options);
+  EXPECT_TRUE(conventional.verdict.certified);
+  EXPECT_EQ(conventional.verdict.line,
+            "certified: the conventional FF/FB/DOB loop is stable and the GP path is off (α = 0); the largest "
+            "certified α is unknown without a GPR model (--gpr)");
+  EXPECT_TRUE(ToJson(conventional)["verdict"]["alpha_max"].is_null());
+
+  l.gp_weight = 0.9;
+  const StabilityReport no_model = AnalyseStability(l, nullptr, options);
+  EXPECT_FALSE(no_model.verdict.certified);
+  EXPECT_EQ(no_model.verdict.failing_condition, StabilityCondition::kGprModelGiven);
+  EXPECT_EQ(no_model.verdict.line,
+            "NOT certified: the GP path (α = 0.9) is not bounded without its GPR model: give --gpr MODEL (K = L_x + "
+            "L_ẋ·γ_ẋ); the largest certified α is unknown without a GPR model (--gpr)");
+  EXPECT_EQ(ToJson(no_model)["verdict"]["failing_condition"], "gpr_model_given");
+
+  l.kp = 1e8;  // far beyond what 1 ms sampling allows: the loop itself is unstable
+  const StabilityReport unstable = AnalyseStability(l, nullptr, options);
+  ASSERT_FALSE(unstable.dob_loop_stable);
+  EXPECT_FALSE(unstable.verdict.certified);
+  EXPECT_EQ(unstable.verdict.failing_condition, StabilityCondition::kLoopStable);
+  EXPECT_EQ(unstable.verdict.alpha_max, 0.0);
+  EXPECT_EQ(unstable.verdict.line,
+            "NOT certified: the conventional FF/FB/DOB loop (GP path open) is not stable; no α ≥ 0 is certified");
+  EXPECT_EQ(ToJson(unstable)["verdict"]["alpha_max"], 0.0);
 }
 
 TEST(StabilityTest, ReadsTheConventionalDiagram) {

@@ -1,6 +1,7 @@
 // motionblocks stability DIAGRAM [--gpr MODEL] [--set id.param=value …] [--out DIR]
 // The small-gain analysis of the paper's loop (section 4.2): γ terms, ρ (eq. 58), the α_max bound (eq. 62),
-// L_x, L_ẋ (eq. 47) and b_μ (Remark 1) once a GPR model is given; Bode data of eq. 6, 7 and 12.
+// L_x, L_ẋ (eq. 47) and b_μ (Remark 1) once a GPR model is given; Bode data of eq. 6, 7 and 12. Ends with the
+// verdict (models/stability/stability.h, StabilityVerdict): certified or not, the failing condition, the largest α.
 // Writes stability.json and report.html (Bode magnitude and phase, continuous against the sampled loop).
 
 #include <algorithm>
@@ -94,10 +95,10 @@ void RunStability(const StabilityCommandOptions& o) {
                            l.nominal_damping);
   std::cout << fmt::format("  inner loop P with C_FB stable: {}; conventional FF/FB/DOB loop stable: {}\n",
                            r.inner_loop_stable ? "yes" : "NO", r.dob_loop_stable ? "yes" : "NO");
-  std::cout << fmt::format("  eq. 58 (paper) ρ = {}; consistent ρ' = {}; eq. 62 α_max < {}\n", Show(r.rho_paper),
-                           Show(r.rho_consistent), Show(r.alpha_max_bound_paper));
-  std::cout << fmt::format("  DOB loop closed, GP path fed back: ρ = {}; α_max < {}\n", Show(r.rho_dob),
-                           Show(r.alpha_max_bound_dob));
+  std::cout << fmt::format("  eq. 58 (paper) ρ = {}; consistent ρ' = {}; eq. 62: {}\n", Show(r.rho_paper),
+                           Show(r.rho_consistent), AlphaBoundText(r.alpha_max_bound_paper, r.has_gpr));
+  std::cout << fmt::format("  DOB loop closed, GP path fed back: ρ = {}; {}\n", Show(r.rho_dob),
+                           AlphaBoundText(r.alpha_max_bound_dob, r.has_gpr));
   if (r.has_gpr) {
     std::cout << fmt::format("  GPR: L_x = {}, L_ẋ = {}, b_μ = {}\n", Show(r.dob.lipschitz_x, "N/m"),
                              Show(r.dob.lipschitz_xdot, "N·s/m"), Show(r.b_mu, "N"));
@@ -110,6 +111,7 @@ void RunStability(const StabilityCommandOptions& o) {
       "The 'paper' column is eq. 54–62 as printed; the 'DOB loop' column closes the conventional FF/FB/DOB loop "
       "and feeds back only the GP path (models/stability/stability.h explains both).",
       o.diagram, options.impulse_samples));
+  report.Paragraph("Verdict: " + r.verdict.line);
   const auto row = [](const std::string& name, const std::string& unit, double paper, double dob) {
     return std::vector<std::string>{name, unit, Show(paper), Show(dob)};
   };
@@ -124,7 +126,8 @@ void RunStability(const StabilityCommandOptions& o) {
                 row("L_ẋ (eq. 47)", "N·s/m", r.paper.lipschitz_xdot, r.dob.lipschitz_xdot),
                 row("α (f_gp weight)", "", r.paper.alpha_max, r.dob.alpha_max),
                 row("ρ (eq. 58)", "", r.rho_paper, r.rho_dob),
-                row("α_max bound (eq. 62)", "", r.alpha_max_bound_paper, r.alpha_max_bound_dob)});
+                {"α_max bound (eq. 62)", "", AlphaBoundText(r.alpha_max_bound_paper, r.has_gpr),
+                 AlphaBoundText(r.alpha_max_bound_dob, r.has_gpr)}});
   if (r.has_gpr) report.Paragraph(fmt::format("b_μ (Remark 1, eq. 50) = {}.", Show(r.b_mu, "N")));
   for (const auto& note : r.notes) report.Paragraph(note);
 
@@ -139,6 +142,7 @@ void RunStability(const StabilityCommandOptions& o) {
           Curves(r.bode, "sampled loop (z = e^{jωTs})", [](const BodePoint& b) { return b.d_to_dhat_discrete; }));
   report.Write(out / "report.html");
   std::cout << "wrote " << (out / "stability.json").string() << " and report.html\n";
+  std::cout << "verdict: " << r.verdict.line << "\n";
 }
 
 }  // namespace

@@ -104,6 +104,46 @@ TEST(StabilityCommand, ConventionalLoopIsStableAndTheReportHasTheTermsAndBodePlo
   EXPECT_TRUE(fs::exists(out / "report.html"));
 }
 
+// Issue 28: the output ends with one verdict line, the JSON says the same in named fields, and no bound is printed as
+// −∞ or a negative number (eq. 62 of the 'paper' decomposition cannot certify a DOB loop).
+TEST(StabilityCommand, EndsWithAVerdictAndNeverPrintsANegativeBound) {
+  const fs::path out = ProcessTempDir("mb_stability_verdict");
+  CommandResult r = RunMotionblocks("stability " + kSource + "/diagrams/paper/conventional.json --bode-points 5 --out " +
+                                    out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("eq. 62: no α > 0 is certified: ρ ≥ 1 already at α = 0\n"));
+  EXPECT_THAT(r.output, ::testing::EndsWith("\nverdict: certified: the conventional FF/FB/DOB loop is stable and the GP "
+                                            "path is off (α = 0); the largest certified α is unknown without a GPR "
+                                            "model (--gpr)\n"));
+  EXPECT_THAT(r.output, ::testing::Not(HasSubstr("∞")));
+  EXPECT_THAT(r.output, ::testing::Not(HasSubstr("< -")));
+
+  // A slow DOB, a soft PD and a fast velocity filter: the GP path at α = 0.9 is beyond the small-gain bound.
+  const std::string gp_loop = kSource + "/diagrams/paper/gp_loop.json --gpr " + kSource +
+                              "/diagrams/paper/models/gpr_ps_d2.json --bode-points 5 ";
+  r = RunMotionblocks("stability " + gp_loop +
+                      "--set dob.cutoff_hz=1 --set pd_p.gain=300 --set velocity.cutoff_hz=450 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, ::testing::EndsWith("\nverdict: NOT certified: ρ = 8.624 ≥ 1 at α = 0.9 (small gain, DOB loop "
+                                            "closed); the largest certified α: α < 0.1044\n"));
+  nlohmann::json v = testing::ReadJsonFile(out / "stability.json").at("verdict");
+  EXPECT_EQ(v.at("certified"), false);
+  EXPECT_EQ(v.at("failing_condition"), "small_gain");
+  EXPECT_DOUBLE_EQ(v.at("alpha_used").get<double>(), 0.9);
+  EXPECT_NEAR(v.at("alpha_max").get<double>(), 0.1044, 1e-4);
+  EXPECT_EQ(testing::ReadJsonFile(out / "stability.json").at("dob").at("alpha_used"), 0.9);
+
+  // The shipped loop with its model: certified, up to α < 4.231.
+  r = RunMotionblocks("stability " + gp_loop + "--out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, ::testing::EndsWith("\nverdict: certified: ρ = 0.2127 < 1 at α = 0.9 (small gain, DOB loop "
+                                            "closed); the largest certified α: α < 4.231\n"));
+  v = testing::ReadJsonFile(out / "stability.json").at("verdict");
+  EXPECT_EQ(v.at("certified"), true);
+  EXPECT_TRUE(v.at("failing_condition").is_null());
+  fs::remove_all(out);
+}
+
 TEST(StabilityCommand, PayloadOverrideReachesTheLoop) {
   const fs::path out = ProcessTempDir("mb_stability_payload");
   const CommandResult r = RunMotionblocks("stability " + kSource +
