@@ -99,16 +99,16 @@ std::string CommandInput(DiagramDocument* out, const std::string& output) {
   for (const auto& c : out->Connectors("input")) {
     if (c.measurement == compared->measurement) return c.name;
   }
-  DocumentConnector command{"", "input", compared->unit, compared->measurement};
-  command.name = "logged_" + output;
-  for (int k = 2; [&] {
-         for (const auto& c : out->Connectors("input")) if (c.name == command.name) return true;
-         for (const auto& c : out->Connectors("output")) if (c.name == command.name) return true;
-         return false;
-       }();
-       ++k) {
-    command.name = fmt::format("logged_{}_{}", output, k);
-  }
+  const auto taken = [&](const std::string& name) {
+    for (const char* kind : {"input", "output"}) {
+      for (const auto& c : out->Connectors(kind)) {
+        if (c.name == name) return true;
+      }
+    }
+    return false;
+  };
+  DocumentConnector command{"logged_" + output, "input", compared->unit, compared->measurement};
+  for (int k = 2; taken(command.name); ++k) command.name = fmt::format("logged_{}_{}", output, k);
   out->AddConnector(command);
   return command.name;
 }

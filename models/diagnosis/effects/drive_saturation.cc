@@ -3,12 +3,12 @@
 // force that acted, clamp(u, L₋, L₊), and the residual is the part of the logged command u that the drive did not
 // deliver: u − L₊ where u > L₊, u − L₋ where u < L₋, 0 between (Simulink's Dead Zone of u). Regressor that excess
 // {upper_limit L₊, lower_limit L₋ [unit of the command]}; it is the error itself (coefficient 1). Asymmetric limits
-// are found side by side; a side the command never passes gets a limit beyond the record. Proposal: a scan of
-// the base refit of the residual minus the excess (coefficient 1), one symmetric limit first, then each side (ScanLimits);
-// a side is kept when at least 0.5 % of the samples lie beyond it, the pair when it explains at least 2 % of the
-// residual's sum of squares. Needs the logged
-// command (DiagnosisSignals::logged_command, equation-error mode). Block: saturation on the command path
-// (BlockPlacement::kOnCommand, blocks/saturation.cc). Source: DIAGNOSIS.md, "Drive saturation".
+// are found side by side; a side the command never passes gets a limit beyond the record. Proposal: a scan of the base
+// refit of the residual minus the excess (coefficient 1), one symmetric limit first, then each side (ScanLimits); a
+// side is kept when at least 0.5 % of the samples lie beyond it, the pair when it explains at least 2 % of the
+// residual's sum of squares. Needs the logged command (DiagnosisSignals::logged_command, equation-error mode). Block:
+// saturation on the command path (BlockPlacement::kOnCommand, blocks/saturation.cc). Source: DIAGNOSIS.md, "Drive
+// saturation".
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -54,9 +54,8 @@ Limits ScanLimits(const ProposalContext& c) {
   const double lo = magnitude[n / 2], hi = magnitude[n - 1 - static_cast<std::size_t>(kMinShareBeyond * n)];
   if (!(hi > lo && lo > 0.0)) return {};
   const double symmetric = MinimiseOnLogGrid(lo, hi, 21, 20, [&](double l) { return sse(-l, l); });
-  double upper = symmetric, lower = -symmetric;
-  upper = MinimiseOnLogGrid(lo, hi, 21, 20, [&](double l) { return sse(lower, l); });
-  lower = -MinimiseOnLogGrid(lo, hi, 21, 20, [&](double l) { return sse(-l, upper); });
+  const double upper = MinimiseOnLogGrid(lo, hi, 21, 20, [&](double l) { return sse(-symmetric, l); });
+  const double lower = -MinimiseOnLogGrid(lo, hi, 21, 20, [&](double l) { return sse(-l, upper); });
   const double sse_base = ResidualSumOfSquares(base, none, c.residual());
   if (!(sse(lower, upper) < (1.0 - kMinExplained) * sse_base)) return {};
   const auto beyond = [&](auto&& passes) {
