@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "models/diagnosis/effect_proposal.h"
+#include "models/diagnosis/signal_processing.h"
 #include "tests/error_message.h"
 
 namespace mb {
@@ -125,6 +126,28 @@ TEST(EffectRegistry, RegressorsBuildFromTheDeclaredParameters) {
     } catch (const std::invalid_argument& error) {
       EXPECT_THAT(error.what(), HasSubstr("effect '" + e->name + "': parameter '"));
     }
+  }
+}
+
+// The lag of the measurement behind ŷ keeps its sign: a measurement recorded late (a sensor delay, time_delay) is
+// +d, a log that leads the model built from the motion (a command that acts later: actuator_lag) is −d; the two
+// effects propose on either side.
+TEST(EffectProposal, TheDelayEstimateSaysWhichSideLags) {
+  for (const double delay : {0.004, -0.004}) {
+    SCOPED_TRACE(delay);
+    DiagnosisSignals s = Motion();
+    s.residual = ShiftedInTime(s.time, s.model_output, delay) - s.model_output;
+    const Eigen::MatrixXd base(s.size(), 0);
+    CandidateSearch search;
+    const ProposalContext context(s, s.residual, base, CatalogueOptions{}, &search);
+    EXPECT_NEAR(EstimateModelOutputDelay(context), delay, 0.02 * std::abs(delay));
+    CandidateSearch proposed = ProposeCandidateEffects(s, s.residual, base, CatalogueOptions{});
+    const auto named = [&](const std::string& effect) {
+      return std::any_of(proposed.candidates.begin(), proposed.candidates.end(),
+                         [&](const EffectInstance& e) { return e.name == effect; });
+    };
+    EXPECT_EQ(named("time_delay"), delay > 0.0);
+    EXPECT_EQ(named("actuator_lag"), delay < 0.0);
   }
 }
 
