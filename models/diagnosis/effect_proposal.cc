@@ -205,6 +205,11 @@ void ProposalContext::Propose(std::string effect, std::map<std::string, double> 
 
 void ProposalContext::Note(std::string note) { search_->notes.push_back(std::move(note)); }
 
+double ProposalContext::model_output_delay() const {
+  if (!model_output_delay_) model_output_delay_ = EstimateModelOutputDelay(*this);
+  return *model_output_delay_;
+}
+
 int HarmonicCount(const Periodogram& pg, std::size_t index, int max_harmonics) {
   int h = 1;
   for (const auto& p : pg.peaks) {

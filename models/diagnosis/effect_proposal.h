@@ -7,6 +7,7 @@
 
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -53,6 +54,9 @@ class ProposalContext {
   /// contiguous blocks (5 folds, jointly with the base), placed by their power.
   const std::vector<ProposedPeriod>& position_periods() const { return position_periods_; }
 
+  /// EstimateModelOutputDelay(*this), computed once (time_delay and actuator_lag both ask).
+  double model_output_delay() const;
+
   /// Adds a candidate (catalogue name, SI parameters).
   void Propose(std::string effect, std::map<std::string, double> parameters = {});
   /// Adds a note for the report (why something was or was not proposed).
@@ -68,6 +72,7 @@ class ProposalContext {
   void AddFewCyclePeriods(const Eigen::VectorXd& position, const Eigen::VectorXd& residual);
   double max_speed_ = 0.0, dead_band_ = 0.0, position_span_ = 0.0, sample_period_ = 0.0;
   std::vector<ProposedPeriod> position_periods_;
+  mutable std::optional<double> model_output_delay_;
 };
 
 /// Harmonics of peak `index` of a periodogram: 1 + the highest positive harmonic order flagged against it, at

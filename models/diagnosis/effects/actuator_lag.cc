@@ -1,11 +1,11 @@
 // actuator_lag: the logged command acts a time d after its time stamp — the drive's current loop, PWM, a fieldbus
-// cycle. In equation-error mode the model's force ŷ is computed from the motion, i.e. from the force that acted, so
-// the logged command leads it: measured(t) = ŷ(t + d). Regressor ŷ(t + d) − ŷ(t) (linear interpolation; ≈ d·dŷ/dt)
-// {lag d [s] > 0}; it is the error itself (coefficient near 1). Proposal: the signed lag of the measurement behind ŷ
-// (EstimateModelOutputDelay), when negative — the other sign, a measurement that lags, is time_delay's (a sensor
-// delay). Block: transport_delay on the command path (BlockPlacement::kOnCommand, blocks/transport_delay.cc).
-// Source: DIAGNOSIS.md, "Delay sign"; for a small delay the residual ≈ −delay·dŷ/dt (Ljung, System Identification,
-// 2nd ed., §16.6, residual analysis).
+// cycle. In equation-error mode the model's force ŷ is computed from the motion, i.e. from the force that acted, so the
+// logged command leads it: measured(t) = ŷ(t + d). Regressor ŷ(t + d) − ŷ(t) (linear interpolation; ≈ d·dŷ/dt) {lag d
+// [s] > 0}; it is the error itself (coefficient near 1). Proposal: the signed lag of the measurement behind ŷ
+// (ProposalContext::model_output_delay), when negative — the other sign, a measurement that lags, is time_delay's (a
+// sensor delay). Block: transport_delay on the command path (BlockPlacement::kOnCommand, blocks/transport_delay.cc).
+// Source: DIAGNOSIS.md, "Delay sign"; for a small delay the residual ≈ −delay·dŷ/dt (Ljung, System Identification, 2nd
+// ed., §16.6, residual analysis).
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
@@ -33,7 +33,7 @@ EffectType ActuatorLag() {
     return SingleColumn(e.name, ShiftedInTime(s.time, y, -PositiveParameter(e, "lag")) - y);
   };
   t.propose = [](ProposalContext& c) {
-    if (const double delay = EstimateModelOutputDelay(c); delay < 0.0) c.Propose(kName, {{"lag", -delay}});
+    if (const double delay = c.model_output_delay(); delay < 0.0) c.Propose(kName, {{"lag", -delay}});
   };
   return t;
 }

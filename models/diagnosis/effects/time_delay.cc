@@ -1,9 +1,9 @@
 // time_delay: the measurement lags the model by a pure delay d (measured = ŷ(t − d)): a sensor or logging delay (the
 // position measured late, a logger's buffer). Regressor ŷ(t − d) − ŷ(t) (linear interpolation; ≈ −d·dŷ/dt for small d)
 // {delay d [s] > 0}; it is the error itself, so it must enter with a coefficient near 1. Proposal: the signed lag of
-// the measurement behind ŷ (EstimateModelOutputDelay), when positive; a negative one — the log leads the model, a
-// command that acts later than logged — is actuator_lag's (effects/actuator_lag.cc). Block: transport_delay "delay"
-// before the output, its delay free.
+// the measurement behind ŷ (ProposalContext::model_output_delay), when positive; a negative one — the log leads the
+// model, a command that acts later than logged — is actuator_lag's (effects/actuator_lag.cc). Block: transport_delay
+// "delay" before the output, its delay free.
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
@@ -31,7 +31,7 @@ EffectType TimeDelay() {
     return SingleColumn(e.name, ShiftedInTime(s.time, y, RequiredParameter(e, "delay")) - y);
   };
   t.propose = [](ProposalContext& c) {
-    if (const double delay = EstimateModelOutputDelay(c); delay > 0.0) c.Propose(kName, {{"delay", delay}});
+    if (const double delay = c.model_output_delay(); delay > 0.0) c.Propose(kName, {{"delay", delay}});
   };
   return t;
 }
