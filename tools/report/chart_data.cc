@@ -181,7 +181,8 @@ json ChartJson(const Figure& figure, const std::string& csv_file, std::size_t co
           {"labels", label_list},    {"points", point_styles},  {"data", std::move(data)},
           {"logx", figure.log_x},    {"logy", figure.log_y},    {"link", figure.x_link},
           {"shaded", shaded},        {"marks", marks},          {"samples", samples},
-          {"decimated", decimated},  {"csv", csv_file}};
+          {"decimated", decimated},  {"csv", csv_file},
+          {"yrange", figure.y_range ? json::array({figure.y_range->first, figure.y_range->second}) : json()}};
 }
 
 std::string FigureCsv(const Figure& figure) {

@@ -30,11 +30,11 @@ std::vector<std::size_t> DecimateScatter(const std::vector<double>& x, const std
 
 /// A figure as the interactive chart reads it: {"title", "xlabel", "ylabel", "labels" (x's label, then each series'
 /// label made unique), "points" (per series: drawn as dots), "data" (rows [x, y₁|null, …] sorted by x: the series
-/// decimated — DecimateMinMax for lines, DecimateScatter for dots — and merged on equal x), "logx", "logy",
-/// "link" (Figure::x_link), "shaded" ([[x0, x1]]), "marks" ([[x, label]]), "samples" (the longest series' length),
-/// "decimated" (whether any series lost points), "csv" (the full data's file name)}. Values are rounded to 7
-/// significant digits (the display's precision; the CSV keeps every digit). Text is raw: escape it where it meets
-/// HTML.
+/// decimated — DecimateMinMax for lines, DecimateScatter for dots — and merged on equal x), "logx", "logy", "link"
+/// (Figure::x_link), "shaded" ([[x0, x1]]), "marks" ([[x, label]]), "samples" (the longest series' length), "decimated"
+/// (whether any series lost points), "csv" (the full data's file name), "yrange" ([y0, y1] or null)}. Values are
+/// rounded to 7 significant digits (the display's precision; the CSV keeps every digit). Text is raw: escape it where
+/// it meets HTML.
 nlohmann::json ChartJson(const Figure& figure, const std::string& csv_file, std::size_t columns);
 
 /// The figure's full data as CSV text: with series sharing one x vector, a column for x (headed by the x label)

@@ -88,7 +88,8 @@ std::vector<std::vector<std::string>> FittedParameterRows(const DiagnosedCompari
   return rows;
 }
 
-void AddDiagnosisSection(const CompareOutcome& outcome, HtmlReport* report) {
+void AddDiagnosisSection(const CompareOutcome& outcome, const std::string& position_column,
+                         const std::filesystem::path& out, HtmlReport* report) {
   const DiagnosisResult& diagnosis = *outcome.compared.diagnosis;
   report->Paragraph(diagnosis.summary);
   std::vector<std::vector<std::string>> rows;
@@ -99,8 +100,19 @@ void AddDiagnosisSection(const CompareOutcome& outcome, HtmlReport* report) {
                     fmt::format("{:.1f} %", 100.0 * e.cumulative_share), ps});
   }
   report->Table({"effect", "share of remaining held-out residual explained", "cumulative", "parameters"}, rows);
-  for (const auto& e : diagnosis.effects) report->Paragraph(e.effect + ": " + e.description);
-  for (const auto& n : diagnosis.notes) report->Paragraph(n);
+  // Each effect's description beside its evidence: the residual on the effect's own axis, the fit drawn over it.
+  const std::string unit = outcome.primary_after().unit;
+  for (std::size_t k = 0; k < diagnosis.effects.size(); ++k) {
+    const DiagnosedEffect& e = diagnosis.effects[k];
+    report->Paragraph(fmt::format("{}. {}: {}", k + 1, e.effect, e.description));
+    try {
+      report->AddFigure(EffectEvidenceFigure(outcome.compared, k, unit, PositionUnitToken(position_column),
+                                             fmt::format("effect_{}.png", k + 1)),
+                        out);
+    } catch (const std::invalid_argument& error) {
+      report->Warning(fmt::format("No evidence figure for {}: {}", e.effect, error.what()));
+    }
+  }
   if (outcome.fallback.gpr) {
     report->Heading("What no catalogue effect explains (non-parametric fallback)");
     report->Paragraph(outcome.fallback.gpr->description);
@@ -169,16 +181,19 @@ void WriteCompareReport(const CompareOutcome& outcome, const MeasurementLog& log
     report.Paragraph(fmt::format("{}; {} iterations; condition number of the scaled Jacobian {:.3g}.",
                                  compared.fit->status, compared.fit->iterations, compared.fit->condition_number));
   }
-  for (const auto& note : compared.notes) report.Paragraph("Note: " + note);
   report.Heading("Where the model fails: what is missing");
   if (compared.diagnosis) {
-    AddDiagnosisSection(outcome, &report);
+    AddDiagnosisSection(outcome, files.position_column, files.out, &report);
   } else {
     report.Paragraph(compared.diagnosis_skipped);
   }
   report.Heading("Views");
   AddResidualFigures(&report, files.out, log, primary_after, primary_after.residual(),
                      compared.diagnosis ? &*compared.diagnosis : nullptr, files.position_column);
+  if (!compared.notes.empty()) {  // once (the intake's, then the diagnosis's), after the figures
+    report.Heading("Notes");
+    for (const auto& note : compared.notes) report.Paragraph(note);
+  }
   report.Write(files.out / kCompareReport);
 }
 

@@ -111,6 +111,10 @@ constexpr const char* kChartScript = R"JS((function () {
     if (a !== 0 && (a >= 1e6 || a < 1e-4)) return v.toExponential(4).replace(/\.?0+e/, 'e');
     return String(parseFloat(v.toPrecision(6)));
   }
+  function pale(hex) {
+    var v = parseInt(hex.slice(1), 16);
+    return 'rgba(' + (v >> 16) + ',' + ((v >> 8) & 255) + ',' + (v & 255) + ',0.35)';
+  }
   function underlay(spec) {
     return function (ctx, area, g) {
       ctx.save();
@@ -147,12 +151,14 @@ constexpr const char* kChartScript = R"JS((function () {
     var series = {}, colors = [];
     spec.labels.slice(1).forEach(function (label, k) {
       colors.push(palette[k % palette.length]);
-      series[label] = spec.points[k] ? {strokeWidth: 0, drawPoints: true, pointSize: 1.5, highlightCircleSize: 3}
-                                     : {strokeWidth: 1.2};
+      series[label] = spec.points[k] ? {strokeWidth: 0, drawPoints: true, pointSize: 1.5, highlightCircleSize: 3,
+                                        color: pale(colors[k])}  // dots pale: the lines drawn over them show
+                                     : {strokeWidth: spec.points.some(Boolean) ? 2 : 1.2};
     });
     var g = new Dygraph(plot, spec.data, {
       labels: spec.labels, colors: colors, series: series, xlabel: esc(spec.xlabel), ylabel: esc(spec.ylabel),
       labelsDiv: legend, legend: 'always', connectSeparatedPoints: true, logscale: spec.logy,
+      valueRange: spec.yrange,
       axes: {x: {logscale: spec.logx, valueFormatter: num, axisLabelFormatter: num},
              y: {valueFormatter: num, axisLabelFormatter: num}},
       underlayCallback: underlay(spec), drawCallback: link
@@ -188,7 +194,7 @@ constexpr const char* kChartScript = R"JS((function () {
 
 std::vector<std::string> FigureFileNames(const std::string& file) {
   const std::string stem = fs::path(file).stem().string();
-  return {file, stem + ".dat", stem + ".gp", stem + ".csv"};
+  return {file, stem + ".dat", stem + ".gp", stem + ".full.csv"};
 }
 
 std::string RenderFigure(const Figure& figure, const fs::path& directory) {
@@ -218,6 +224,9 @@ std::string RenderFigure(const Figure& figure, const fs::path& directory) {
     gp << "set grid\nset key outside right top noenhanced\nset datafile commentschars '#'\n";
     if (figure.log_x) gp << "set logscale x\n";
     if (figure.log_y) gp << "set logscale y\n";
+    if (figure.y_range) {
+      gp << fmt::format("set yrange [{:.10g}:{:.10g}]\n", figure.y_range->first, figure.y_range->second);
+    }
     if (!figure.x_tick_labels.empty()) {
       gp << "set xtics (";
       for (std::size_t i = 0; i < figure.x_tick_labels.size(); ++i) {

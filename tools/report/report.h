@@ -40,6 +40,8 @@ struct Figure {
   std::vector<std::pair<double, std::string>> x_marks{};
   /// Interactive charts with the same non-empty `x_link` zoom and pan together (the time plots of one record).
   std::string x_link{};
+  /// The y range shown [y0, y1] (e.g. without a few outliers), in y's unit; none: every point.
+  std::optional<std::pair<double, double>> y_range{};
 };
 
 /// Renders `figure` to `directory/figure.file` with gnuplot. Returns "" on success, else the reason (gnuplot
@@ -47,8 +49,8 @@ struct Figure {
 std::string RenderFigure(const Figure& figure, const std::filesystem::path& directory);
 
 /// The files a report writes for a figure named `file` (a name or a pattern such as "signal_*.png"): `file`, its
-/// data and gnuplot script, <stem>.dat and <stem>.gp (RenderFigure), and its full data <stem>.csv (interactive
-/// reports).
+/// data and gnuplot script, <stem>.dat and <stem>.gp (RenderFigure), and its full data <stem>.full.csv (interactive
+/// reports; a name no measurement log is likely to have, as an input in the output folder is refused under these).
 std::vector<std::string> FigureFileNames(const std::string& file);
 
 /// Where Debian's libjs-dygraphs (scripts/install-deps.sh) installs the charting library.
@@ -66,7 +68,7 @@ struct InteractiveCharts {
 /// An HTML report assembled in order and written once.
 class HtmlReport {
  public:
-  /// `interactive`: draw figures as interactive charts (each figure's full data in <stem>.csv beside the report),
+  /// `interactive`: draw figures as interactive charts (each figure's full data in <stem>.full.csv beside the report),
   /// with the PNGs as fallback; none: PNGs only.
   explicit HtmlReport(std::string title, std::optional<InteractiveCharts> interactive = std::nullopt)
       : title_(std::move(title)), interactive_(std::move(interactive)) {}
@@ -75,8 +77,8 @@ class HtmlReport {
   /// A table: header row and rows of cells (already formatted).
   void Table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows);
   /// Renders the figure into the report's folder and embeds it (or notes why it is missing). Interactive (and the
-  /// figure no bar chart and without named x ticks): also writes directory/<stem>.csv (FigureCsv) and adds the chart
-  /// (ChartJson), linked to the CSV. @throws std::runtime_error if the CSV cannot be written.
+  /// figure no bar chart and without named x ticks): also writes directory/<stem>.full.csv (FigureCsv) and adds the
+  /// chart (ChartJson), linked to the CSV. @throws std::runtime_error if the CSV cannot be written.
   void AddFigure(const Figure& figure, const std::filesystem::path& directory);
   /// Shows the image `file` (a name inside the report's folder: PNG or SVG) with `caption`.
   void Image(const std::string& file, const std::string& caption);

@@ -1,5 +1,9 @@
 #include "tools/report/residual_figures.h"
 
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
 #include <fmt/format.h>
 
 #include "models/diagnosis/periodogram.h"
@@ -67,12 +71,121 @@ void AddResidualFigures(HtmlReport* report, const fs::path& out, const Measureme
       const auto period = e.parameters.find("period");
       if (period != e.parameters.end()) {
         const std::string unit = PositionUnitToken(position_column);
-        fp.x_marks.emplace_back(period->second, unit == "m" ? fmt::format("{} {:.4g} mm", e.effect, 1e3 * period->second)
-                                                            : fmt::format("{} {:.4g} {}", e.effect, period->second, unit));
+        fp.x_marks.emplace_back(period->second,
+                                unit == "m" ? fmt::format("{} {:.4g} mm", e.effect, 1e3 * period->second)
+                                            : fmt::format("{} {:.4g} {}", e.effect, period->second, unit));
       }
     }
     report->AddFigure(fp, out);
   }
+}
+
+namespace {
+
+// One axis an effect's evidence can be drawn against.
+struct EvidenceAxis {
+  std::string label;
+  Eigen::VectorXd values;
+  bool folded = false;
+};
+
+// The share of the variance of `y` that its means over 64 uniform bins of `x` hold (1: y is a function of x);
+// −1 for a constant or absent axis.
+double BinnedShare(const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+  if (x.size() != y.size() || x.size() < 2 || !(x.maxCoeff() > x.minCoeff())) return -1.0;
+  const BinnedResidual b = BinResidual(x, y, 64);
+  const double mean = y.mean(), total = (y.array() - mean).square().sum();
+  if (!(total > 0.0)) return -1.0;
+  double between = 0.0;
+  for (Eigen::Index i = 0; i < b.mean.size(); ++i) between += b.count(i) * (b.mean(i) - mean) * (b.mean(i) - mean);
+  return between / total;
+}
+
+Eigen::VectorXd Folded(const Eigen::VectorXd& x, double period) {
+  return x.unaryExpr([period](double v) {
+    const double r = std::fmod(v, period);
+    return r < 0.0 ? r + period : r;
+  });
+}
+
+std::vector<EvidenceAxis> EvidenceAxes(const DiagnosisSignals& s, const DiagnosedEffect& e, const std::string& unit,
+                                       const std::string& position_unit) {
+  std::vector<EvidenceAxis> axes;
+  if (const auto p = e.parameters.find("period"); p != e.parameters.end() && p->second > 0.0) {
+    const std::string period = position_unit == "m" ? fmt::format("{:.4g} mm", 1e3 * p->second)
+                                                    : fmt::format("{:.4g} {}", p->second, position_unit);
+    axes.push_back({fmt::format("position modulo the period {} [{}]", period, position_unit),
+                    Folded(s.position, p->second), true});
+  }
+  if (const auto f = e.parameters.find("frequency_hz"); f != e.parameters.end() && f->second > 0.0) {
+    axes.push_back({fmt::format("time modulo the period 1/{:.6g} Hz [s]", f->second), Folded(s.time, 1.0 / f->second),
+                    true});
+  }
+  axes.push_back({fmt::format("position [{}]", position_unit), s.position});
+  axes.push_back({fmt::format("velocity [{}/s]", position_unit), s.velocity});
+  axes.push_back({fmt::format("acceleration [{}/s²]", position_unit), s.acceleration});
+  if (s.logged_command.size() == s.time.size()) {
+    axes.push_back({fmt::format("logged command [{}]", unit), s.logged_command});
+  }
+  if (s.model_output.size() == s.time.size()) axes.push_back({fmt::format("model output [{}]", unit), s.model_output});
+  axes.push_back({"time [s]", s.time});
+  return axes;
+}
+
+// The bins' centres and means where a bin holds samples.
+Series BinnedSeries(const Eigen::VectorXd& x, const Eigen::VectorXd& y, const std::string& label) {
+  const BinnedResidual b = BinResidual(x, y, 64);
+  Series s{{}, {}, label, "lines"};
+  for (Eigen::Index i = 0; i < b.centers.size(); ++i) {
+    if (b.count(i) > 0) {
+      s.x.push_back(b.centers(i));
+      s.y.push_back(b.mean(i));
+    }
+  }
+  return s;
+}
+
+}  // namespace
+
+Figure EffectEvidenceFigure(const DiagnosedComparison& compared, std::size_t k, const std::string& unit,
+                            const std::string& position_unit, const std::string& file) {
+  if (!compared.diagnosis || k >= compared.diagnosis->effects.size()) {
+    throw std::invalid_argument(fmt::format("EffectEvidenceFigure: no ranked effect {}", k));
+  }
+  const DiagnosisResult& diagnosis = *compared.diagnosis;
+  const DiagnosedEffect& e = diagnosis.effects[k];
+  const DiagnosisSignals& s = compared.signals;
+  const EffectRegressors reg = BuildEffectRegressors({e.effect, e.parameters}, s);
+  const Eigen::VectorXd contribution = reg.columns * e.coefficients;
+  const Eigen::VectorXd partial = s.residual - PredictCorrection(diagnosis, s, compared.base) + contribution;
+  std::vector<EvidenceAxis> axes = EvidenceAxes(s, e, unit, position_unit);
+  std::size_t best = axes.size();
+  double best_share = -1.0;
+  for (std::size_t i = 0; i < axes.size(); ++i) {
+    const double share = BinnedShare(axes[i].values, contribution);
+    const double margin = (best < axes.size() && axes[best].folded && !axes[i].folded) ? 0.05 : 0.0;
+    if (share > best_share + margin) {
+      best = i;
+      best_share = share;
+    }
+  }
+  if (best == axes.size()) throw std::invalid_argument("EffectEvidenceFigure: every axis is constant");
+  const EvidenceAxis& axis = axes[best];
+  Figure f{file,
+           fmt::format("{}. {}: {:.1f} % of the remaining held-out residual, against {}", k + 1, e.effect,
+                       100.0 * e.score, axis.label.substr(0, axis.label.rfind(" ["))),
+           axis.label, fmt::format("residual [{}]", unit), {}};
+  f.series.push_back({ToStd(axis.values), ToStd(partial), "residual less the other effects", "dots"});
+  f.series.push_back(BinnedSeries(axis.values, partial, "its binned mean"));
+  f.series.push_back(BinnedSeries(axis.values, contribution, "fitted " + e.effect));
+  if (axis.label == "time [s]") f.x_link = "time";
+  // The y range of 99.8 % of the partial residual (and all of the fit): a few outliers do not flatten the shape.
+  std::vector<double> sorted = ToStd(partial);
+  std::sort(sorted.begin(), sorted.end());
+  const double lo = sorted[sorted.size() / 1000], hi = sorted[sorted.size() - 1 - sorted.size() / 1000];
+  const double pad = 0.05 * (hi - lo);
+  f.y_range = {std::min(lo, contribution.minCoeff()) - pad, std::max(hi, contribution.maxCoeff()) + pad};
+  return f;
 }
 
 void AddBeforeAfterFigures(HtmlReport* report, const fs::path& out, const std::string& prefix,

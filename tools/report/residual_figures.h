@@ -27,6 +27,17 @@ void AddResidualFigures(HtmlReport* report, const std::filesystem::path& out, co
                         const ComparedOutput& before, const Eigen::VectorXd& residual_after,
                         const DiagnosisResult* diagnosis, const std::string& position_column);
 
+/// The evidence for the `k`-th effect of `compared.diagnosis` (compare's ranking): its partial residual — the diagnosed
+/// residual less the diagnosis's whole correction (PredictCorrection) plus this effect's own fitted contribution, the
+/// output's unit — against the axis on which that contribution is most nearly a function (the largest share of its
+/// variance held by 64-bin means: position folded over the effect's "period", time folded over 1/"frequency_hz",
+/// velocity, acceleration, the logged command, the model output, time; a folded axis is preferred unless another
+/// explains 5 % more), as dots, with the binned means of the partial residual and of the fitted contribution drawn over
+/// them; y shows the middle 99.8 % of the partial residual. PNG name `file`. @throws std::invalid_argument if the
+/// effect's regressors cannot be rebuilt on compared.signals (BuildEffectRegressors) or there is no diagnosis.
+Figure EffectEvidenceFigure(const DiagnosedComparison& compared, std::size_t k, const std::string& unit,
+                            const std::string& position_unit, const std::string& file);
+
 /// improve's views of one record (`record` names it in the titles; `prefix` starts the PNG names): measured vs the
 /// model before and after, and the residual before and after against time, position and velocity on the same axes.
 void AddBeforeAfterFigures(HtmlReport* report, const std::filesystem::path& out, const std::string& prefix,

@@ -176,9 +176,9 @@ TEST(HtmlReport, EmbedsTheLibraryAndTheDataAndEscapesAHostileName) {
   EXPECT_THAT(page, HasSubstr("&lt;/script&gt;&lt;script&gt;alert(1)&lt;/script&gt;"));  // title, paragraph
   EXPECT_THAT(page, HasSubstr("\\u003c/script>\\u003cscript>alert(1)\\u003c/script>"));  // labels in the data
   EXPECT_THAT(page, HasSubstr("[0.5,-2.5,1.0]"));  // a row: x, then each series
-  EXPECT_THAT(page, HasSubstr("<a href=\"hostile.csv\">hostile.csv</a>"));
+  EXPECT_THAT(page, HasSubstr("<a href=\"hostile.full.csv\">hostile.full.csv</a>"));
   // The full data beside the report, texts quoted.
-  const std::string csv = Read(dir / "hostile.csv");
+  const std::string csv = Read(dir / "hostile.full.csv");
   EXPECT_THAT(csv, HasSubstr("\"model \"\"x\"\" & <y>\""));
   EXPECT_THAT(csv, HasSubstr("\n0.5,-2.5,1\n"));
   EXPECT_EQ(Count(csv, "\n"), 5u);
@@ -208,7 +208,7 @@ TEST(HtmlReport, WithoutTheLibraryShowsThePngsAndSaysWhy) {
                               " not found. Install Debian's libjs-dygraphs"));
   EXPECT_THAT(page, HasSubstr("<img class=\"mb-static\" loading=\"lazy\" src=\"hostile.png\""));
   EXPECT_TRUE(fs::exists(dir / "hostile.png")) << "the static figure (gnuplot) is drawn whatever the library";
-  EXPECT_TRUE(fs::exists(dir / "hostile.csv"));
+  EXPECT_TRUE(fs::exists(dir / "hostile.full.csv"));
 }
 
 }  // namespace
