@@ -119,16 +119,17 @@ constexpr const char* kChartScript = R"JS((function () {
     return function (ctx, area, g) {
       ctx.save();
       ctx.fillStyle = 'rgba(0,0,0,0.08)';
+      function dom(v) { return area.x + g.toPercentXCoord(v) * area.w; }  // linear or logarithmic x
       spec.shaded.forEach(function (r) {
-        var a = g.toDomXCoord(r[0]), b = g.toDomXCoord(r[1]);
+        var a = dom(r[0]), b = dom(r[1]);
         ctx.fillRect(Math.min(a, b), area.y, Math.abs(b - a), area.h);
       });
       ctx.strokeStyle = '#b00'; ctx.fillStyle = '#b00'; ctx.font = '11px sans-serif'; ctx.setLineDash([4, 3]);
-      spec.marks.forEach(function (m) {
-        var x = g.toDomXCoord(m[0]);
+      spec.marks.forEach(function (m, k) {  // labels one under the other: near marks stay legible
+        var x = dom(m[0]);
         if (!(x >= area.x && x <= area.x + area.w)) return;
         ctx.beginPath(); ctx.moveTo(x, area.y); ctx.lineTo(x, area.y + area.h); ctx.stroke();
-        ctx.fillText(m[1], x + 3, area.y + 12);
+        ctx.fillText(m[1], x + 3, area.y + 12 + 13 * k);
       });
       ctx.restore();
     };
@@ -241,9 +242,11 @@ std::string RenderFigure(const Figure& figure, const fs::path& directory) {
       gp << fmt::format("set object rect from {:.10g}, graph 0 to {:.10g}, graph 1 behind fillcolor rgb '#e4e4e4' "
                         "fillstyle solid 1.0 noborder\n", x0, x1);
     }
-    for (const auto& [x, text] : figure.x_marks) {
+    for (std::size_t k = 0; k < figure.x_marks.size(); ++k) {  // labels one under the other
+      const auto& [x, text] = figure.x_marks[k];
       gp << fmt::format("set arrow from {0:.10g}, graph 0 to {0:.10g}, graph 1 nohead dashtype 2 lc rgb '#bb0000'\n", x);
-      gp << "set label " << GnuplotQuote(text) << fmt::format(" at {:.10g}, graph 0.96 offset 0.4,0 ", x)
+      gp << "set label " << GnuplotQuote(text)
+         << fmt::format(" at {:.10g}, graph {:.3f} offset 0.4,0 ", x, 0.96 - 0.05 * static_cast<double>(k))
          << "textcolor rgb '#bb0000' font 'Sans,8' noenhanced\n";
     }
     const bool bars = std::any_of(figure.series.begin(), figure.series.end(),
