@@ -2,7 +2,8 @@
 //                  [--set block.param=value …] [--out DIR]
 // Refits chosen parameters of any diagram against a measurement (simulation or equation-error, as the diagram's
 // experiment.mode says) by Levenberg–Marquardt; writes DIR/fit.json (estimates, standard errors, 95 % confidence
-// intervals, RMSE before/after) and DIR/fitted.json (the diagram with the estimates). The step after
+// intervals, RMSE before/after) and DIR/fitted.json (the diagram with the estimates). Parameters the log cannot
+// determine (no effect, or indistinguishable) or a result that is not finite: exit 3, fit.json says which. The step after
 // `compare --suggest` (docs/diagnosis.md).
 
 #include <iostream>
@@ -12,6 +13,7 @@
 
 #include "engine/diagram_document.h"
 #include "engine/diagram_loader.h"
+#include "engine/numerical_error.h"
 #include "tools/commands/cli_options.h"
 #include "tools/commands/commands.h"
 #include "tools/workflow/comparison.h"
@@ -64,6 +66,13 @@ void RunFit(const FitOptions& o) {
   summary["measurement"] = o.measurement.measurement;
   summary["mode"] = mode;
   summary["samples"] = log.rows();
+  if (!result.fit.identifiable) {  // fit.json says what could not be estimated; no fitted diagram (exit 3)
+    fs::remove(out / kFittedDiagram);  // an earlier run's would look like this one's result
+    WriteJsonFile(summary, out / kFitSummary);
+    throw NumericalError(fmt::format("{}: the parameters cannot be estimated from this log: {} (details in {})",
+                                     o.measurement.measurement, result.fit.identifiability_problem,
+                                     (out / kFitSummary).string()));
+  }
   summary["fitted_diagram"] = (out / kFittedDiagram).string();
   WriteJsonFile(summary, out / kFitSummary);
   WriteJsonFile(result.fitted_diagram, out / kFittedDiagram);

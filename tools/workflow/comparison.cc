@@ -15,6 +15,7 @@
 #include "engine/closest_names.h"
 #include "engine/diagram_document.h"
 #include "engine/diagram_loader.h"
+#include "engine/numerical_error.h"
 #include "engine/registry.h"
 #include "engine/units.h"
 #include "models/diagnosis/measurement_log.h"
@@ -324,9 +325,83 @@ json FitResult::ToJson() const {
                            {"standard_error", standard_error(k)},
                            {"ci95", {estimate(k) - 1.96 * standard_error(k), estimate(k) + 1.96 * standard_error(k)}}});
   }
-  return {{"parameters", params_json}, {"iterations", iterations}, {"status", status},
-          {"condition_number", condition_number}};
+  json j = {{"parameters", params_json},         {"iterations", iterations},    {"status", status},
+            {"condition_number", condition_number}, {"identifiable", identifiable}};
+  if (!identifiable) {
+    j["not_identifiable"] = {{"no_effect", no_effect}, {"cannot_be_told_apart", indistinguishable}};
+    j["warning"] = identifiability_problem;
+  }
+  return j;
 }
+
+namespace {
+
+// Fills result's identifiability from its Jacobian (N × p) at the estimate; `output_norm` = ‖model output‖ there.
+void CheckIdentifiability(double output_norm, FitResult* result) {
+  const Eigen::MatrixXd& jac = result->jacobian;
+  const auto p = jac.cols();
+  std::vector<Eigen::Index> active;  // the columns with an effect
+  for (Eigen::Index k = 0; k < p; ++k) {
+    const double value = std::max(std::abs(result->estimate(k)), std::abs(result->initial(k)));
+    const double effect = jac.col(k).norm() * (value > 0.0 ? value : 1.0);
+    if (!(effect > kNoEffectRelative * output_norm) || !std::isfinite(effect)) {
+      result->no_effect.push_back(result->parameters[static_cast<std::size_t>(k)].name);
+    } else {
+      active.push_back(k);
+    }
+  }
+  std::vector<bool> unidentified(static_cast<std::size_t>(p), false);
+  for (Eigen::Index k = 0; k < p; ++k) {
+    if (std::find(active.begin(), active.end(), k) == active.end()) unidentified[static_cast<std::size_t>(k)] = true;
+  }
+  if (active.size() >= 2) {
+    Eigen::MatrixXd scaled(jac.rows(), static_cast<Eigen::Index>(active.size()));
+    for (std::size_t a = 0; a < active.size(); ++a) {
+      const auto col = jac.col(active[a]);
+      scaled.col(static_cast<Eigen::Index>(a)) = col / col.norm();
+    }
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(scaled, Eigen::ComputeThinV);
+    const auto& sv = svd.singularValues();
+    result->condition_number = sv(sv.size() - 1) > 0.0 ? sv(0) / sv(sv.size() - 1) : INFINITY;
+    for (Eigen::Index s = 0; s < sv.size(); ++s) {
+      if (sv(s) * kMaxIdentifiableCondition >= sv(0)) continue;  // a direction the data determine
+      std::vector<std::string> group;                            // the parameters this null direction mixes
+      for (std::size_t a = 0; a < active.size(); ++a) {
+        if (std::abs(svd.matrixV()(static_cast<Eigen::Index>(a), s)) > 0.1) {
+          group.push_back(result->parameters[static_cast<std::size_t>(active[a])].name);
+          unidentified[static_cast<std::size_t>(active[a])] = true;
+        }
+      }
+      if (!group.empty()) result->indistinguishable.push_back(group);
+    }
+  }
+  if (result->no_effect.empty() && result->indistinguishable.empty()) return;
+  result->identifiable = false;
+  result->status = "not identifiable";
+  for (Eigen::Index k = 0; k < p; ++k) {
+    if (unidentified[static_cast<std::size_t>(k)]) result->standard_error(k) = INFINITY;
+  }
+  std::vector<std::string> parts;
+  if (!result->no_effect.empty()) {
+    parts.push_back(fmt::format(
+        "{} {} no effect on the model output in this log (the motion does not excite {}: e.g. no acceleration for a "
+        "mass, no velocity for friction); leave {} out of --fit (keep the diagram's value) or record a log that "
+        "excites {}",
+        fmt::join(result->no_effect, ", "), result->no_effect.size() == 1 ? "has" : "have",
+        result->no_effect.size() == 1 ? "it" : "them", result->no_effect.size() == 1 ? "it" : "them",
+        result->no_effect.size() == 1 ? "it" : "them"));
+  }
+  for (const auto& group : result->indistinguishable) {
+    parts.push_back(fmt::format(
+        "{} cannot be told apart (they change the output alike: condition number {:.3g} of the scaled Jacobian, "
+        "above {:g}; e.g. Coulomb friction and an offset when the velocity keeps one sign); fit only one of them, or "
+        "record a log that moves them differently (both directions of motion, several speeds)",
+        fmt::join(group, " and "), result->condition_number, kMaxIdentifiableCondition));
+  }
+  result->identifiability_problem = fmt::format("{}", fmt::join(parts, "; "));
+}
+
+}  // namespace
 
 FitResult FitParameters(const ModelComparison& comparison, const std::vector<FreeParameter>& params) {
   if (params.empty()) throw std::invalid_argument("nothing to fit: name parameters with --fit block.param,…");
@@ -369,6 +444,7 @@ FitResult FitParameters(const ModelComparison& comparison, const std::vector<Fre
   result.condition_number = sv(sv.size() - 1) > 0.0 ? sv(0) / sv(sv.size() - 1) : INFINITY;
   const Eigen::MatrixXd cov = sigma2 * jtj.completeOrthogonalDecomposition().pseudoInverse();
   result.standard_error = cov.diagonal().cwiseMax(0.0).cwiseSqrt();
+  CheckIdentifiability(at.model.norm(), &result);
   return result;
 }
 
@@ -384,6 +460,25 @@ DiagramFit FitDiagram(const json& diagram, const fs::path& base_directory, const
   out.after = comparison.Simulate(params, out.fit.estimate);
   out.fitted_diagram = diagram;
   SetParameterValues(&out.fitted_diagram, params, out.fit.estimate);
+  // A result that is not a number is not a result (issue 30: "RMSE inf → inf", "± -nan", exit 0).
+  std::vector<std::string> not_finite;
+  if (!std::isfinite(out.before.front().rmse)) not_finite.push_back(fmt::format("RMSE before {}", out.before.front().rmse));
+  if (!std::isfinite(out.after.front().rmse)) not_finite.push_back(fmt::format("RMSE after {}", out.after.front().rmse));
+  for (std::size_t i = 0; i < params.size(); ++i) {
+    const auto k = static_cast<Eigen::Index>(i);
+    if (!std::isfinite(out.fit.estimate(k))) not_finite.push_back(fmt::format("{} = {}", params[i].name, out.fit.estimate(k)));
+    if (std::isnan(out.fit.standard_error(k)) || (out.fit.identifiable && !std::isfinite(out.fit.standard_error(k)))) {
+      not_finite.push_back(fmt::format("the standard error of {} ({})", params[i].name, out.fit.standard_error(k)));
+    }
+  }
+  if (!not_finite.empty()) {
+    const Eigen::VectorXd& measured = out.before.front().measured;
+    throw NumericalError(fmt::format(
+        "{}: the fit of {} to column '{}' is not finite: {}; the largest measured |{}| is {:g} {} (values beyond "
+        "about 1e150 overflow when squared): check the column's unit and remove outlier rows",
+        log.source(), out.before.front().connector, out.before.front().column, fmt::join(not_finite, ", "),
+        out.before.front().column, measured.size() > 0 ? measured.cwiseAbs().maxCoeff() : 0.0, out.before.front().unit));
+  }
   return out;
 }
 

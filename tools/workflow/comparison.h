@@ -113,14 +113,33 @@ struct FitResult {
   Eigen::MatrixXd jacobian;        ///< d(model output)/d(parameter) of the primary output at the estimate (N × p)
   double condition_number = 0.0;   ///< of the column-scaled Jacobian
   int iterations = 0;
-  std::string status;
+  std::string status;              ///< Levenberg–Marquardt's ("converged (cost)", …) or "not identifiable"
+  /// Identifiability at the estimate (issue 30: a fit on a log without motion reported a huge "converged" mass).
+  /// A parameter has no effect when its Jacobian column changes the output by less than kNoEffectRelative of the
+  /// output's norm over its whole value; parameters cannot be told apart when the column-scaled Jacobian of the
+  /// others has a condition number above kMaxIdentifiableCondition (they lie in the null space of its smallest
+  /// singular vectors). Their standard errors are +inf (null in JSON): nothing was estimated.
+  bool identifiable = true;
+  std::vector<std::string> no_effect;                      ///< parameters the log does not excite
+  std::vector<std::vector<std::string>> indistinguishable;  ///< groups that change the output alike
+  std::string identifiability_problem;  ///< what is wrong and how to fix it, for messages (empty when identifiable)
+  /// {"parameters": [{name, initial, estimate, standard_error, ci95}], iterations, status, condition_number,
+  /// identifiable, and when not: "not_identifiable": {no_effect, cannot_be_told_apart}, "warning"}.
   nlohmann::json ToJson() const;
 };
+
+/// Above this condition number of the column-scaled Jacobian, parameters cannot be told apart (an identifiable fit
+/// of real data is below 1e3: EMPS 4.3; an exact collinearity gives 1e8 and more through the finite differences).
+inline constexpr double kMaxIdentifiableCondition = 1e6;
+/// A parameter whose whole value moves the output by less than this fraction of the output's norm has no effect.
+inline constexpr double kNoEffectRelative = 1e-9;
 
 /// Minimises Σ over compared outputs of ‖(measured − model)/scale‖², scale = each output's measured standard
 /// deviation, over the free parameters (Levenberg–Marquardt, forward-difference Jacobian whose p + 1 simulations run
 /// in parallel on TBB's threads). The primary output is
-/// the first compared output. @throws std::invalid_argument for an empty parameter list.
+/// the first compared output. Reports parameters it cannot estimate in FitResult::identifiable and its neighbours
+/// (it does not throw for them: compare and improve go on and say so in their JSON; `fit` exits 3).
+/// @throws std::invalid_argument for an empty parameter list.
 FitResult FitParameters(const ModelComparison& comparison, const std::vector<FreeParameter>& params);
 
 /// What `motionblocks fit` computes: the chosen parameters of a diagram refit against a measurement (simulation or
@@ -139,7 +158,9 @@ struct DiagramFit {
 /// Refits `parameter_names` ("block.param", vectors expand to each entry) of `diagram` against `log`. In
 /// equation-error mode pass the measured outputs' filter cut-off as `output_filter_hz` (parallel filtering, see
 /// ModelComparison::set_output_filter; 0 = none). @throws std::invalid_argument as ModelComparison,
-/// ResolveFreeParameters and FitParameters (empty list).
+/// ResolveFreeParameters and FitParameters (empty list); NumericalError (engine/numerical_error.h) when the RMSE
+/// before or after, an estimate or a standard error of an identifiable parameter is not finite (the message names
+/// which, and the largest measured value: values near 1e300 overflow).
 DiagramFit FitDiagram(const nlohmann::json& diagram, const std::filesystem::path& base_directory,
                       const std::string& source, const MeasurementLog& log,
                       const std::map<std::string, std::string>& column_map,
