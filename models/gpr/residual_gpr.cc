@@ -86,7 +86,13 @@ ResidualGprResult FitResidualGpr(const DiagnosisSignals& signals, const Eigen::R
   result.period = result.kernel == GprKernel::kPeriodicSe ? options.period : 0.0;
   GprFitOptions fit;
   fit.kernel = result.kernel;
-  if (result.period > 0.0) fit.period = result.period;
+  if (result.period > 0.0) {
+    fit.period = result.period;
+  } else if (const double travel = signals.position.maxCoeff() - signals.position.minCoeff(); travel > 0.0) {
+    // DS: the position's length-scale prior is set from a period (GprFitOptions::period, default the paper's 22.5 mm
+    // pole pitch); a tenth of the record's travel instead, in the position's own unit (rad, rev, mm alike).
+    fit.period = 0.1 * travel;
+  }
   fit.restarts = options.restarts;
   fit.source = "residual of the diagnosis (non-parametric fallback)";
 
