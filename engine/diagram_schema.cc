@@ -1,6 +1,9 @@
 #include "engine/diagram_schema.h"
 
 #include <cmath>
+#include <set>
+#include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -63,6 +66,14 @@ json ParameterSchema(const ParamSpec& p) {
   return out;
 }
 
+// "Ports: inputs …; outputs …." or "Ports depend on parameters (…)." (engine/registry.h PortsSummary).
+std::string PortsSentence(const BlockTypePorts& ports) {
+  std::string summary = PortsSummary(ports);
+  if (ports.known) return "Ports: " + summary + ".";
+  summary[0] = 'P';  // "ports depend on …", "ports not listed: …"
+  return summary + ".";
+}
+
 json BlockSchema(const BlockType& bt) {
   json params = {{"type", "object"}, {"additionalProperties", false}, {"properties", json::object()}};
   json required = json::array();
@@ -71,7 +82,9 @@ json BlockSchema(const BlockType& bt) {
     if (!p.default_value) required.push_back(p.name);
   }
   if (!required.empty()) params["required"] = required;
-  json block = {{"description", bt.description},
+  // The ports in the description, for an editor's hover and completion (a connection's ports cannot be tied to its
+  // element's type in a schema: each element's name is the user's).
+  json block = {{"description", fmt::format("{} {}", bt.description, PortsSentence(DefaultPorts(bt)))},
                 {"properties", {{"parameters", params}, {"diagram", false}}}};
   switch (bt.sample_time_rule) {
     case SampleTimeRule::kNone: block["properties"]["sampleTime"] = false; break;
@@ -135,7 +148,18 @@ json Described(json schema, const std::string& description) {
   return schema;
 }
 
-json Sections() {
+// The port names of every block type (outputs or inputs), sorted and unique: completion suggestions ("examples") for a
+// connection's startConnector / endConnector.
+json PortNames(const BlockRegistry& registry, bool inputs) {
+  std::set<std::string> names;
+  for (const auto& name : registry.TypeNames()) {
+    const BlockTypePorts ports = DefaultPorts(*registry.Find(name));
+    for (const auto& p : inputs ? ports.inputs : ports.outputs) names.insert(p.name);
+  }
+  return json(std::vector<std::string>(names.begin(), names.end()));
+}
+
+json Sections(const BlockRegistry& registry) {
   const json string = {{"type", "string"}};
   const json number = {{"type", "number"}};
   json connector = StrictObject({{"name", string},
@@ -181,9 +205,17 @@ json Sections() {
       {"connections",
        ArrayOf(StrictObject(
            {{"startElement", Described(string, "omit or \"\" for an input connector of the diagram")},
-            {"startConnector", string},
+            {"startConnector",
+             {{"type", "string"},
+              {"description", "an output port of startElement (its type's ports: motionblocks blocks TYPE) or an "
+                              "input connector's name"},
+              {"examples", PortNames(registry, false)}}},
             {"endElement", Described(string, "omit or \"\" for an output connector of the diagram")},
-            {"endConnector", string}}))},
+            {"endConnector",
+             {{"type", "string"},
+              {"description", "an input port of endElement (its type's ports: motionblocks blocks TYPE) or an "
+                              "output connector's name"},
+              {"examples", PortNames(registry, true)}}}}))},
       {"log", ArrayOf(Described(string, "element.port or a connector name"))},
       {"metrics", ArrayOf(metric)},
       {"free", Described({{"type", "array"}, {"items", string}, {"uniqueItems", true}},
@@ -209,7 +241,7 @@ json DiagramSchema(const BlockRegistry& registry) {
           {"type", "object"},
           {"required", {"schemaVersion", "elements"}},
           {"additionalProperties", false},
-          {"properties", Sections()},
+          {"properties", Sections(registry)},
           {"definitions", {{"element", ElementSchema(registry)}, {"blocks", blocks}}}};
 }
 

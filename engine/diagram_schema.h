@@ -1,7 +1,8 @@
 #pragma once
 // The JSON Schema (draft-07) of a diagram file, generated from the block registry so that it cannot drift:
-// every block type with its parameters (type, unit, enum, bounds, default, description) and sampleTime rule,
-// and every section the loader reads. `motionblocks schema` prints it; diagrams/schema.json is a copy for
+// every block type with its parameters (type, unit, enum, bounds, default, description), sampleTime rule and ports
+// (in its description: DefaultPorts, engine/registry.h), every port name as a completion suggestion ("examples") for
+// a connection's startConnector / endConnector, and every section the loader reads. `motionblocks schema` prints it; diagrams/schema.json is a copy for
 // editors (a test keeps it equal). Every diagram and subsystem file is validated against it (valijson) before
 // it is built; the loader keeps its own checks for what a schema cannot say (units, wiring, "did you mean").
 

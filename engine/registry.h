@@ -65,10 +65,45 @@ class BlockRegistry {
   const BlockType& DifferenceOfTwo() const;
   /// The registered names closest to `type_name` (edit distance), for "did you mean" messages.
   std::vector<std::string> Suggest(const std::string& type_name, std::size_t max_suggestions = 3) const;
+  /// The type named `type_name`. @throws std::invalid_argument for an unknown name: "unknown block type 'x' (did you
+  /// mean a, b?): `motionblocks blocks` lists them".
+  const BlockType& Get(const std::string& type_name) const;
 
  private:
   std::map<std::string, BlockType> types_;
 };
+
+// ---- The block reference (`motionblocks blocks`, the diagram schema's descriptions) ------------------------------
+
+/// A block type's ports, learned as DiagramDocument learns an element's (an instance built through the type's
+/// factory), here without a diagram: with the type's default parameters and, when it requires a sampleTime, a
+/// sample time of 1 ms (ports do not depend on it).
+struct BlockTypePorts {
+  bool known = false;  ///< false: a parameter has no default, or the type does not build with its defaults
+  std::vector<PortSpec> inputs;   ///< in declared order (port numbers 0, 1, …)
+  std::vector<PortSpec> outputs;
+  /// When !known: "ports depend on parameters (no default for A, B)", or "ports not listed: the type does not build
+  /// without a diagram (<the factory's message>)" (a HIL block without its board).
+  std::string why_unknown;
+};
+
+/// The ports of `type` built with its defaults. Throws nothing (a factory's exception becomes `why_unknown`).
+BlockTypePorts DefaultPorts(const BlockType& type);
+
+/// The ports in one line: "inputs u [N, direct feedthrough]; outputs x [m], v [m/s]" (width as "[3]" after the name
+/// when > 1, "any" for a port without unit); `why_unknown` when unknown.
+std::string PortsSummary(const BlockTypePorts& ports);
+
+/// A minimal diagram element of `type`: {"name": type, "type": type, "parameters": {…}, "sampleTime": 0.001 when
+/// required}, the parameters being those without default, each with a placeholder of its type to replace (numbers:
+/// 1 or the lower bound, vectors [1], strings the first choice or "FILE"/"TEXT", booleans false).
+nlohmann::json ExampleElement(const BlockType& type);
+
+/// The reference of `type` as `motionblocks blocks` prints it: name, description, ports of an instance built with the
+/// default parameters (direction, number, name, width, unit, direct feedthrough; parameters such as a sum's signs
+/// change them), parameters (type, unit, default or [required], description), the sampleTime rule and
+/// ExampleElement, over several indented lines ending with a newline.
+std::string BlockReference(const BlockType& type);
 
 }  // namespace mb
 

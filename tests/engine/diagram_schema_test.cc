@@ -8,7 +8,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "engine/diagram_document.h"
 #include "engine/diagram_schema.h"
+#include "engine/registry.h"
 #include "engine/json_parsing.h"
 #include "tests/engine/test_util.h"
 
@@ -73,6 +75,82 @@ TEST(DiagramSchemaTest, EveryBlockTypeWithItsParametersUnitsEnumsAndBounds) {
   EXPECT_EQ(blocks["unit_delay"]["required"], json::array({"sampleTime"}));
   EXPECT_EQ(blocks["gain"]["properties"]["sampleTime"], false);
   EXPECT_EQ(schema["properties"]["schemaVersion"]["const"], kDiagramSchemaVersion);
+}
+
+// Issue 28: a block type's ports without a diagram (built with its defaults), as `motionblocks blocks` and the schema
+// show them; a type that needs a parameter without default is still listed.
+TEST(BlockReferenceTest, PortsOfATypeBuiltWithItsDefaults) {
+  const BlockRegistry& registry = BlockRegistry::Global();
+  const BlockTypePorts body = DefaultPorts(registry.Get("rigid_body"));
+  ASSERT_TRUE(body.known) << body.why_unknown;
+  ASSERT_EQ(body.inputs.size(), 1u);
+  EXPECT_EQ(body.inputs[0].name, "f");
+  EXPECT_EQ(body.inputs[0].unit, "N");
+  EXPECT_FALSE(body.inputs[0].direct_feedthrough);
+  ASSERT_EQ(body.outputs.size(), 2u);
+  EXPECT_EQ(body.outputs[1].name, "v");
+  EXPECT_EQ(PortsSummary(body), "inputs f [N]; outputs x [m], v [m/s]");
+  EXPECT_EQ(PortsSummary(DefaultPorts(registry.Get("gain"))), "inputs u [any, direct feedthrough]; outputs y [any]");
+  // A discrete type is built with a 1 ms sample time; one with a required parameter says why its ports are unknown.
+  EXPECT_TRUE(DefaultPorts(registry.Get("unit_delay")).known);
+  const BlockTypePorts state_space = DefaultPorts(registry.Get("state_space"));
+  EXPECT_FALSE(state_space.known);
+  EXPECT_EQ(PortsSummary(state_space), "ports depend on parameters (no default for A, B, C)");
+}
+
+TEST(BlockReferenceTest, UnknownTypeSaysDidYouMean) {
+  try {
+    BlockRegistry::Global().Get("rigid_bdy");
+    ADD_FAILURE() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(),
+                 "unknown block type 'rigid_bdy' (did you mean rigid_body?): `motionblocks blocks` lists them");
+  }
+  try {
+    BlockRegistry::Global().Get("zzzzzzzzzzzzzzzzzzzz");
+    ADD_FAILURE() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "unknown block type 'zzzzzzzzzzzzzzzzzzzz': `motionblocks blocks` lists them");
+  }
+}
+
+// Every type's example element is one a diagram accepts (type, parameters, sampleTime), and every type is listed.
+TEST(BlockReferenceTest, EveryExampleElementIsAValidElement) {
+  const BlockRegistry& registry = BlockRegistry::Global();
+  for (const auto& name : registry.TypeNames()) {
+    const BlockType& type = *registry.Find(name);
+    const json example = ExampleElement(type);
+    EXPECT_EQ(example["type"], name);
+    ElementSpec spec{example["name"].get<std::string>(), name, example["parameters"], std::nullopt, ""};
+    if (example.contains("sampleTime")) spec.sample_time = std::make_pair(example["sampleTime"].get<double>(), 0.0);
+    DiagramDocument document(json::object());
+    EXPECT_NO_THROW(document.Add(spec)) << name << ": " << example.dump();
+    const std::string reference = BlockReference(type);
+    EXPECT_EQ(reference.rfind(name + "\n", 0), 0u) << reference;
+    EXPECT_THAT(reference, HasSubstr("  example: " + example.dump() + "\n")) << name;
+    const BlockTypePorts ports = DefaultPorts(type);
+    EXPECT_TRUE(ports.known || !ports.why_unknown.empty()) << name;
+  }
+  EXPECT_EQ(ExampleElement(registry.Get("state_space")),
+            json::parse(R"({"name": "state_space", "type": "state_space",
+                            "parameters": {"A": [1.0], "B": [1.0], "C": [1.0]}})"));
+  EXPECT_EQ(ExampleElement(registry.Get("unit_delay"))["sampleTime"], 0.001);
+  EXPECT_THAT(BlockReference(registry.Get("rigid_body")),
+              HasSubstr("  ports (built with the default parameters):\n    input  0: f [N], no direct feedthrough\n"
+                        "    output 0: x [m]\n    output 1: v [m/s]\n  parameters:\n"
+                        "    - mass (number, kg) = 1.0: moving mass M > 0\n"));
+}
+
+TEST(DiagramSchemaTest, DocumentsEveryBlocksPortsForCompletion) {
+  const json schema = DiagramSchema(BlockRegistry::Global());
+  const std::string description = schema["definitions"]["blocks"]["rigid_body"]["description"];
+  EXPECT_THAT(description, ::testing::EndsWith(" Ports: inputs f [N]; outputs x [m], v [m/s]."));
+  const json& connection = schema["properties"]["connections"]["items"]["properties"];
+  for (const char* input : {"f", "u", "u1", "u_c"}) {
+    EXPECT_THAT(connection["endConnector"]["examples"], ::testing::Contains(input));
+  }
+  EXPECT_THAT(connection["startConnector"]["examples"], ::testing::Contains("v"));
+  EXPECT_THAT(connection["startConnector"]["examples"], ::testing::Not(::testing::Contains("u_c")));  // inputs only
 }
 
 TEST(DiagramSchemaTest, CommittedSchemaIsTheGeneratedOne) {

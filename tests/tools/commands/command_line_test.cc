@@ -29,6 +29,29 @@ TEST(CommandLine, VersionPrintsTheProjectVersion) {
   EXPECT_THAT(r.output, ::testing::StartsWith("motionblocks " MB_PROJECT_VERSION));
 }
 
+// Issue 28: `blocks` shows every type's ports and an example element; an unknown name is an error with "did you mean"
+// (it printed nothing with exit 0).
+TEST(BlocksCommand, ShowsPortsAndAnExampleAndRefusesAnUnknownType) {
+  CommandResult r = RunMotionblocks("blocks rigid_body");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, ::testing::StartsWith("rigid_body\n"));
+  EXPECT_THAT(r.output, HasSubstr("\n  ports (built with the default parameters):\n    input  0: f [N], no direct "
+                                  "feedthrough\n    output 0: x [m]\n    output 1: v [m/s]\n"));
+  EXPECT_THAT(r.output, HasSubstr("\n    - mass (number, kg) = 1.0: moving mass M > 0\n"));
+  EXPECT_THAT(r.output, ::testing::EndsWith("\n  example: {\"name\":\"rigid_body\",\"parameters\":{},"
+                                            "\"type\":\"rigid_body\"}\n"));
+  r = RunMotionblocks("blocks");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("\nstate_space\n"));
+  EXPECT_THAT(r.output, HasSubstr("\n  ports depend on parameters (no default for A, B, C)\n"));
+  EXPECT_THAT(r.output, HasSubstr("\n  example: {\"name\":\"unit_delay\",\"parameters\":{},\"sampleTime\":0.001,"
+                                  "\"type\":\"unit_delay\"}\n"));
+  r = RunMotionblocks("blocks rigid_bdy");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(r.output, "motionblocks: error: unknown block type 'rigid_bdy' (did you mean rigid_body?): "
+                      "`motionblocks blocks` lists them\n");
+}
+
 // A two-block diagram and a four-run list sweep in `dir` (returns the diagram, then the sweep file).
 std::pair<fs::path, fs::path> WriteGainSweep(const fs::path& dir) {
   const nlohmann::json diagram = nlohmann::json::parse(R"({
