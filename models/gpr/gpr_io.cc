@@ -18,6 +18,9 @@
 #include "engine/json_limits.h"
 #include "engine/text_excerpt.h"
 
+#include <Eigen/Eigenvalues>
+#include <fmt/format.h>
+
 namespace mb {
 namespace {
 
@@ -56,6 +59,7 @@ class Reader {
       return 0.0;
     }
     const double d = v->get<double>();
+    if (!allow_inf && !std::isfinite(d)) errors_.push_back(pointer + ": must be a finite number");
     if (positive && !(d > 0.0)) errors_.push_back(pointer + ": must be > 0, got " + std::to_string(d));
     return d;
   }
@@ -118,6 +122,10 @@ class Reader {
         return {};
       }
       out(static_cast<Eigen::Index>(i)) = e.get<double>();
+      if (!std::isfinite(out(static_cast<Eigen::Index>(i)))) {
+        errors_.push_back(pointer + "/" + std::to_string(i) + ": must be a finite number");
+        return {};
+      }
     }
     return out;
   }
@@ -148,6 +156,8 @@ class Reader {
   const json& root_;
   std::vector<std::string> errors_;
 };
+
+std::string FormatNumber(double value) { return std::isnan(value) ? "NaN" : fmt::format("{:.6g}", value); }
 
 [[noreturn]] void Throw(std::string_view origin, const std::vector<std::string>& errors) {
   std::string message = std::string(origin) + ": invalid GPR model file:";
@@ -294,11 +304,39 @@ GprModel GprModelFromJson(const json& j, std::string_view origin) {
     prior.upper = r.Number(base + "/upper", false, true);
   }
   if (!r.errors().empty()) Throw(origin, r.errors());
-  try {
-    return GprModel(std::move(m));
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(std::string(origin) + ": " + e.what());
+  // The posterior must be one (issue 30: a negative covariance gave std 0 everywhere): Cov β positive semidefinite.
+  if (m.weight_covariance.size() > 0) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(m.weight_covariance, Eigen::EigenvaluesOnly);
+    const Eigen::VectorXd& lambda = eigen.eigenvalues();  // ascending
+    const double largest = lambda.cwiseAbs().maxCoeff();
+    if (!(lambda(0) >= -1e-9 * largest)) {
+      Throw(origin, {"/weight_covariance_lower: the weight covariance is not positive semidefinite (smallest "
+                     "eigenvalue " + FormatNumber(lambda(0)) + ", largest " + FormatNumber(lambda(lambda.size() - 1)) +
+                     "): the file was edited or is corrupt; refit the model (motionblocks fit-gpr)"});
+    }
   }
+  GprModel model = [&] {
+    try {
+      return GprModel(std::move(m));
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string(origin) + ": " + e.what());
+    }
+  }();
+  // Weights that overflow (all 1e308) predict NaN: checked where the model is meant to be used.
+  const GprModelData& d = model.data();
+  for (double x : {d.x_range.min, 0.5 * (d.x_range.min + d.x_range.max), d.x_range.max}) {
+    for (double xdot : {d.xdot_range.min, 0.5 * (d.xdot_range.min + d.xdot_range.max), d.xdot_range.max}) {
+      double mean = 0.0, std = 0.0;
+      model.Predict(x, xdot, &mean, &std);
+      if (!std::isfinite(mean) || !std::isfinite(std)) {
+        Throw(origin, {"/weights: the model predicts " + FormatNumber(mean) + " ± " + FormatNumber(std) +
+                       " at x = " + FormatNumber(x) + " m, xdot = " + FormatNumber(xdot) +
+                       " m/s inside its trained range (weights or mean too large for double arithmetic): the file "
+                       "was edited or is corrupt; refit the model (motionblocks fit-gpr)"});
+      }
+    }
+  }
+  return model;
 }
 
 void SaveGprModel(const GprModel& model, const std::filesystem::path& path) {

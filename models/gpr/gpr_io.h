@@ -40,7 +40,9 @@ nlohmann::json GprModelToJson(const GprModel& model);
 /// Parses and validates a model. Collects every problem — missing field, wrong type, NaN/null,
 /// non-positive hyperparameter, wrong array length — each with its JSON pointer, and throws one
 /// std::invalid_argument listing them all, prefixed with `origin` (e.g. the file name). A wrong
-/// "format" or "version" is reported alone (nothing else can be trusted then).
+/// "format" or "version" is reported alone (nothing else can be trusted then). A model that is no posterior is
+/// refused too: a non-finite number, a weight covariance that is not positive semidefinite (smallest eigenvalue below
+/// −1e-9 × the largest), weights whose prediction inside the trained range is not finite.
 GprModel GprModelFromJson(const nlohmann::json& json, std::string_view origin = "GPR model");
 
 /// Writes the model to `path` (via a temporary file and a rename, so a reader never sees half a

@@ -8,6 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+
 #include "models/gpr/gpr_fit.h"
 #include "tests/gpr/synthetic_data.h"
 
@@ -137,6 +140,35 @@ TEST_F(GprModelFile, EveryMissingOrInvalidFieldIsReportedWithItsPointer) {
   j = GprModelToJson(*model_);
   j["kernel"] = "SE";
   EXPECT_NE(LoadError(j).find("/kernel: must be \"PS\" or \"DS\", got \"SE\""), std::string::npos);
+}
+
+// Issue 30: a model that is no posterior is refused when loaded, not used (all weights 1e308 predicted NaN; a
+// negative covariance gave std 0 everywhere).
+TEST_F(GprModelFile, WeightsThatOverflowOrACovarianceNotPositiveSemidefiniteAreRefused) {
+  nlohmann::json j = GprModelToJson(*model_);
+  for (auto& w : j["weights"]) w = 1e308;
+  const std::string overflow = LoadError(j);
+  EXPECT_NE(overflow.find(": invalid GPR model file:\n  /weights: the model predicts inf ± "), std::string::npos)
+      << overflow;
+  EXPECT_NE(overflow.find("m/s inside its trained range (weights or mean too large for double arithmetic): the file "
+                          "was edited or is corrupt; refit the model (motionblocks fit-gpr)"),
+            std::string::npos)
+      << overflow;
+  j = GprModelToJson(*model_);
+  for (auto& c : j["weight_covariance_lower"]) c = -std::abs(c.get<double>()) - 1e-3;
+  const std::string negative = LoadError(j);
+  EXPECT_NE(negative.find("/weight_covariance_lower: the weight covariance is not positive semidefinite (smallest "
+                          "eigenvalue -"),
+            std::string::npos)
+      << negative;
+  EXPECT_NE(negative.find("): the file was edited or is corrupt; refit the model (motionblocks fit-gpr)"),
+            std::string::npos);
+  j = GprModelToJson(*model_);
+  j["mean"] = std::numeric_limits<double>::infinity();
+  EXPECT_NE(LoadError(j).find("/mean: must be a number, but is null (NaN and infinity are not valid here)"),
+            std::string::npos)
+      << LoadError(j);  // nlohmann writes infinity as null
+  EXPECT_NO_THROW(GprModelFromJson(GprModelToJson(*model_)));  // a fitted model passes
 }
 
 }  // namespace
