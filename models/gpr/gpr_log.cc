@@ -96,9 +96,15 @@ GprModel FitGprToLog(const MeasurementLog& log, const GprTrainingSelection& sele
   return GprModel(std::move(model));
 }
 
+bool GprExtrapolates(const GprModel& model, double x, double xdot) noexcept {
+  const GprRange xr = model.x_range(), vr = model.xdot_range();
+  // Written so that NaN (every comparison false) counts as outside.
+  return !(x >= xr.min && x <= xr.max && xdot >= vr.min && xdot <= vr.max);
+}
+
 MeasurementLog PredictGprOnLog(const GprModel& model, const MeasurementLog& log,
                                const std::string& position_column, const std::string& velocity_column) {
-  for (const char* name : {"mean", "std"}) {
+  for (const char* name : {"mean", "std", kGprExtrapolatedColumn}) {
     if (log.has_column(name)) {
       throw std::invalid_argument(log.source() + ": already has a column \"" + name +
                                   "\", which the prediction would write: rename it in the input");
@@ -106,19 +112,22 @@ MeasurementLog PredictGprOnLog(const GprModel& model, const MeasurementLog& log,
   }
   const Eigen::VectorXd& x = log.column(position_column);
   const Eigen::VectorXd& xdot = log.column(velocity_column);
-  Eigen::VectorXd mean(log.rows()), sd(log.rows());
+  Eigen::VectorXd mean(log.rows()), sd(log.rows()), extrapolated(log.rows());
   for (Eigen::Index i = 0; i < log.rows(); ++i) {
     mean(i) = model.PredictPosteriorMean(x(i), xdot(i));
     model.Predict(x(i), xdot(i), nullptr, &sd(i));
+    extrapolated(i) = GprExtrapolates(model, x(i), xdot(i)) ? 1.0 : 0.0;
   }
   std::vector<Eigen::VectorXd> columns;
-  columns.reserve(log.names().size() + 2);
+  columns.reserve(log.names().size() + 3);
   for (const std::string& name : log.names()) columns.push_back(log.column(name));
   std::vector<std::string> names = log.names();
   names.emplace_back("mean");
   names.emplace_back("std");
+  names.emplace_back(kGprExtrapolatedColumn);
   columns.push_back(std::move(mean));
   columns.push_back(std::move(sd));
+  columns.push_back(std::move(extrapolated));
   return MeasurementLog(std::move(names), std::move(columns), log.source());
 }
 

@@ -63,12 +63,21 @@ GprTrainingData SelectGprTrainingData(const MeasurementLog& log, const GprTraini
 GprModel FitGprToLog(const MeasurementLog& log, const GprTrainingSelection& selection,
                      GprFitOptions options);
 
-/// A copy of `log` (every column, time first) with two columns appended: "mean", the posterior
-/// mean d̂(x, ẋ) (GprModel::PredictPosteriorMean, eq. 22/24), and "std", the latent posterior
-/// standard deviation (√ eq. 23), at each row's position and velocity. Inputs outside the trained
-/// ranges are handled as GprModel documents (ẋ clamped).
+/// A copy of `log` (every column, time first) with three columns appended: "mean", the posterior
+/// mean d̂(x, ẋ) (GprModel::PredictPosteriorMean, eq. 22/24), "std", the latent posterior
+/// standard deviation (√ eq. 23), at each row's position and velocity, and "extrapolated": 1 where
+/// the row lies outside what the model was trained on (GprExtrapolates: x outside x_range() or ẋ
+/// outside xdot_range(), or either not finite), else 0. Such rows are handled as GprModel documents
+/// (ẋ clamped, x not): their mean and std are the model's, not an estimate backed by data.
 /// @throws std::invalid_argument naming the log's source for a missing position/velocity column
-/// (listing those present) or a log that already has a "mean" or "std" column.
+/// (listing those present) or a log that already has a "mean", "std" or "extrapolated" column.
+/// Whether (x [m], ẋ [m/s]) lies outside the model's trained ranges (x_range(), xdot_range(), bounds
+/// included in the range) or is not finite: a prediction there extrapolates.
+bool GprExtrapolates(const GprModel& model, double x, double xdot) noexcept;
+
+/// The name of PredictGprOnLog's extrapolation column (0/1).
+inline constexpr const char* kGprExtrapolatedColumn = "extrapolated";
+
 MeasurementLog PredictGprOnLog(const GprModel& model, const MeasurementLog& log,
                                const std::string& position_column = "position_m",
                                const std::string& velocity_column = "velocity_m_s");

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -112,7 +113,7 @@ TEST_F(GprLog, FitAndPredictRoundTripThroughFiles) {
   WriteMeasurementLog(PredictGprOnLog(model, in, "pos", "vel"), (dir_ / "prediction.csv").string());
   const MeasurementLog out = ReadMeasurementLog((dir_ / "prediction.csv").string(), read);
 
-  EXPECT_EQ(out.names(), (std::vector<std::string>{"time_s", "pos", "vel", "mean", "std"}));
+  EXPECT_EQ(out.names(), (std::vector<std::string>{"time_s", "pos", "vel", "mean", "std", "extrapolated"}));
   ASSERT_EQ(out.rows(), rows);
   double squared_error = 0.0;
   for (Eigen::Index i = 0; i < rows; ++i) {
@@ -122,11 +123,43 @@ TEST_F(GprLog, FitAndPredictRoundTripThroughFiles) {
     double sd = -1.0;
     fitted.Predict(x(i), 0.3, nullptr, &sd);
     ASSERT_EQ(out.column("std")(i), sd);
+    ASSERT_EQ(out.column("extrapolated")(i), GprExtrapolates(fitted, x(i), 0.3) ? 1.0 : 0.0);
     const double e = out.column("mean")(i) - testing::TrueDisturbance(x(i), 0.3);
     squared_error += e * e;
   }
   // Noise 0.02 N, cogging amplitude ≈ 0.6 N: the learned model follows the truth closely.
   EXPECT_LT(std::sqrt(squared_error / static_cast<double>(rows)), 0.03);
+}
+
+// Issue 30: a model trained on x in [0.1, 0.325] m was "fully confident" at x = 1e299 m. The prediction keeps its
+// value there (as GprModel documents) but says, row by row, that it extrapolates.
+TEST_F(GprLog, PredictionsOutsideTheTrainedRangeAreMarkedExtrapolated) {
+  GprTrainingSelection selection;
+  selection.disturbance_column = "dob_N";
+  selection.window = GprRange{0.1, 0.325};
+  GprFitOptions options;
+  options.restarts = 0;
+  const GprModel model = FitGprToLog(SyntheticLog(), selection, options);
+  const GprRange x = model.x_range(), v = model.xdot_range();
+  const double x_mid = 0.5 * (x.min + x.max), v_mid = 0.5 * (v.min + v.max);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  // Inside, both bounds (inside), x far out, x just below, ẋ above, ẋ below, NaN position, infinite velocity.
+  const std::vector<double> xs = {x_mid, x.min, 1e299, x.min - 1e-9, x_mid, x_mid, nan, x_mid};
+  const std::vector<double> vs = {v_mid, v.max, v_mid, v_mid, v.max + 1e-9, v.min - 0.1, v_mid,
+                                  std::numeric_limits<double>::infinity()};
+  const std::vector<double> expected = {0, 0, 1, 1, 1, 1, 1, 1};
+  const MeasurementLog query({"position_m", "velocity_m_s"},
+                             {Eigen::Map<const Eigen::VectorXd>(xs.data(), 8),
+                              Eigen::Map<const Eigen::VectorXd>(vs.data(), 8)});
+  const MeasurementLog out = PredictGprOnLog(model, query);
+  ASSERT_TRUE(out.has_column("extrapolated"));
+  for (Eigen::Index i = 0; i < 8; ++i) {
+    EXPECT_EQ(out.column("extrapolated")(i), expected[static_cast<std::size_t>(i)]) << "row " << i;
+  }
+  MeasurementLog clash = query;
+  clash.AddColumn("extrapolated", Eigen::VectorXd::Zero(8));
+  EXPECT_THAT(ErrorOf([&] { PredictGprOnLog(model, clash); }),
+              HasSubstr("already has a column \"extrapolated\", which the prediction would write"));
 }
 
 TEST_F(GprLog, ErrorsNameTheProblemAndTheFix) {

@@ -1,6 +1,7 @@
 // motionblocks predict-gpr MODEL.json IN.csv [--position-column COL] [--velocity-column COL] -o OUT.csv
 // Evaluates a TISO-GPR model file along a log: OUT.csv = IN.csv's columns plus "mean" (posterior mean,
-// eq. 22/24) and "std" (latent posterior standard deviation, √eq. 23).
+// eq. 22/24), "std" (latent posterior standard deviation, √eq. 23) and "extrapolated" (1 where the row's position
+// or velocity lies outside the trained range or is not finite: the model has no data there; else 0).
 
 #include <filesystem>
 #include <iostream>
@@ -41,23 +42,26 @@ void RunPredictGpr(const PredictGprOptions& o) {
   const Table out = PredictGprOnLog(model, in, position, velocity);
   WriteTable(out, o.output);
 
-  const Eigen::VectorXd& xdot = in.column(velocity);
-  const GprRange trained = model.xdot_range();
-  const auto clamped = (xdot.array() < trained.min || xdot.array() > trained.max).count();
-  if (clamped > 0) {
-    std::cout << fmt::format("note: {} of {} rows have {} outside the trained range [{:.6g}, {:.6g}] m/s; the "
-                             "model clamps the velocity there (docs/gpr.md)\n",
-                             clamped, in.rows(), velocity, trained.min, trained.max);
+  const Eigen::VectorXd& extrapolated = out.column(kGprExtrapolatedColumn);
+  const auto outside = (extrapolated.array() != 0.0).count();
+  if (outside > 0) {
+    const GprRange x = model.x_range(), xdot = model.xdot_range();
+    std::cout << fmt::format("note: {} of {} rows lie outside the trained range ({} in [{:.6g}, {:.6g}] m, {} in "
+                             "[{:.6g}, {:.6g}] m/s): their mean and std extrapolate (the velocity is clamped, the "
+                             "position is not; docs/gpr.md); column {} is 1 there\n",
+                             outside, in.rows(), position, x.min, x.max, velocity, xdot.min, xdot.max,
+                             kGprExtrapolatedColumn);
   }
-  std::cout << fmt::format("wrote {} ({} rows: {} columns of {} + mean, std)\n", o.output, out.rows(),
-                           in.names().size(), o.input);
+  std::cout << fmt::format("wrote {} ({} rows: {} columns of {} + mean, std, {})\n", o.output, out.rows(),
+                           in.names().size(), o.input, kGprExtrapolatedColumn);
 }
 
 }  // namespace
 
 void SetupPredictGprCommand(CLI::App& app) {
   auto o = std::make_shared<PredictGprOptions>();
-  auto* cmd = app.add_subcommand("predict-gpr", "Evaluate a GPR model file along a log: adds columns mean and std");
+  auto* cmd = app.add_subcommand("predict-gpr", "Evaluate a GPR model file along a log: adds columns mean, std and extrapolated (1 where "
+                                 "the position or velocity lies outside the trained range, else 0)");
   cmd->add_option("model", o->model, "model file written by fit-gpr")->required()->check(CLI::ExistingFile);
   cmd->add_option("input", o->input, "CSV table with position and velocity columns (time not needed)")
       ->required()

@@ -68,13 +68,18 @@ TEST_F(GprTables, FitWithoutTimeColumnRowsInAnyOrderThenPredictWithTheModelsColu
   ASSERT_EQ(fit.exit_code, 0) << fit.output;
   EXPECT_THAT(fit.output, HasSubstr("to 240 samples"));
 
-  Write("query.csv", "v_m_s,x_m\n0.05,0.004\n0.1,0.011\n");
+  // The last row lies far outside the trained positions (0 … 0.119 m): predicted, and marked extrapolated (issue 30).
+  Write("query.csv", "v_m_s,x_m\n0.05,0.004\n0.1,0.011\n0.1,1e299\n");
   const CommandResult predict = Run({"predict-gpr", "model.json", "query.csv", "-o", "predicted.csv"});
   ASSERT_EQ(predict.exit_code, 0) << predict.output;
+  EXPECT_THAT(predict.output, HasSubstr("note: 1 of 3 rows lie outside the trained range (x_m in [0, 0.119] m"));
   std::ifstream in(dir_ / "predicted.csv");
   std::string header;
   std::getline(in, header);
-  EXPECT_EQ(header, "v_m_s,x_m,mean,std");
+  EXPECT_EQ(header, "v_m_s,x_m,mean,std,extrapolated");
+  std::vector<std::string> flags;
+  for (std::string line; std::getline(in, line);) flags.push_back(line.substr(line.rfind(',') + 1));
+  EXPECT_EQ(flags, (std::vector<std::string>{"0", "0", "1"}));
 }
 
 // --target smoothed: the disturbance is computed from time, position and force (M_n·ẍ + B_n·ẋ − u, zero-phase), each
