@@ -16,6 +16,7 @@
 #include "engine/file_access.h"
 #include "engine/input_file.h"
 #include "engine/numerical_error.h"
+#include "engine/terminal_text.h"
 #include "tools/commands/cli_options.h"
 #include "tools/commands/commands.h"
 #include "tools/commands/error_text.h"
@@ -32,9 +33,34 @@ int ReportError(const CLI::App& app, const std::exception& e, int code) {
   return code;
 }
 
+// Standard output and error through ControlEscapingBuffer while it lives: ESC, BEL, CR … from a diagram, a log or a
+// file name reach the terminal as visible escapes, in every message and every line a command prints (issue 30).
+class EscapedTerminalOutput {
+ public:
+  EscapedTerminalOutput() {
+    std::cout.rdbuf(&out_);
+    std::cerr.rdbuf(&err_);
+  }
+  EscapedTerminalOutput(const EscapedTerminalOutput&) = delete;
+  EscapedTerminalOutput& operator=(const EscapedTerminalOutput&) = delete;
+  ~EscapedTerminalOutput() {
+    std::cout.flush();
+    std::cerr.flush();
+    std::cout.rdbuf(out_target_);
+    std::cerr.rdbuf(err_target_);
+  }
+
+ private:
+  std::streambuf* out_target_ = std::cout.rdbuf();
+  std::streambuf* err_target_ = std::cerr.rdbuf();
+  mb::ControlEscapingBuffer out_{out_target_};
+  mb::ControlEscapingBuffer err_{err_target_};
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  const EscapedTerminalOutput escaped_output;
   CLI::App app{"motionblocks — block-diagram simulation, model-vs-measurement diagnosis and learned disturbance "
                "compensation for precision motion control"};
   app.set_version_flag("--version", std::string("motionblocks ") + MB_VERSION);

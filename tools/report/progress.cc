@@ -7,6 +7,8 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include "engine/terminal_text.h"
+
 namespace mb {
 
 namespace {
@@ -15,6 +17,14 @@ ProgressMode g_mode = ProgressMode::kAuto;
 
 constexpr std::chrono::milliseconds kTerminalInterval{200};
 constexpr std::chrono::milliseconds kFileInterval{2000};
+
+// A progress line on a terminal: its own "\r" returns to the line's start, so it is written to stderr directly,
+// past the command line's escaping of standard error (engine/terminal_text.h); the label is escaped here.
+void RewriteTerminalLine(const std::string& text) {
+  std::cerr.flush();
+  std::fputs(text.c_str(), stderr);
+  std::fflush(stderr);
+}
 
 }  // namespace
 
@@ -28,6 +38,7 @@ void ProgressNote(const std::string& line) {
 ProgressLine::ProgressLine(std::string label)
     : label_(std::move(label)),
       terminal_(isatty(fileno(stderr)) != 0),
+      terminal_label_(EscapeControlBytes(label_)),
       shown_(g_mode == ProgressMode::kAlways || (g_mode == ProgressMode::kAuto && terminal_)),
       start_(std::chrono::steady_clock::now()),
       last_print_(start_ - kFileInterval) {}
@@ -40,7 +51,7 @@ void ProgressLine::Update(double fraction) {
   last_print_ = now;
   last_percent_ = percent;
   if (terminal_) {
-    std::cerr << fmt::format("\r{}  {:3d} %", label_, percent) << std::flush;
+    RewriteTerminalLine(fmt::format("\r{}  {:3d} %", terminal_label_, percent));
   } else {
     std::cerr << fmt::format("{}  {:3d} %\n", label_, percent);
   }
@@ -49,7 +60,11 @@ void ProgressLine::Update(double fraction) {
 void ProgressLine::Done() {
   if (!shown_) return;
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  std::cerr << fmt::format("{}{}  100 % ({:.1f} s)\n", terminal_ ? "\r" : "", label_, seconds);
+  if (terminal_) {
+    RewriteTerminalLine(fmt::format("\r{}  100 % ({:.1f} s)\n", terminal_label_, seconds));
+  } else {
+    std::cerr << fmt::format("{}  100 % ({:.1f} s)\n", label_, seconds);
+  }
 }
 
 }  // namespace mb

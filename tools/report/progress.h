@@ -34,6 +34,7 @@ class ProgressLine {
  private:
   std::string label_;
   bool terminal_;
+  std::string terminal_label_;  // label_ with its control bytes escaped (EscapeControlBytes): written past the escaping
   bool shown_;
   std::chrono::steady_clock::time_point start_;
   std::chrono::steady_clock::time_point last_print_;

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 
 #include <fmt/format.h>
 
@@ -28,17 +29,32 @@ std::vector<std::pair<double, double>> Thin(const Series& s, std::size_t max_poi
   return out;
 }
 
-// A gnuplot string literal holding `s` as data: single-quoted (gnuplot expands neither backquotes nor
-// backslashes there; a quote is written twice), control characters (a newline would end the command)
-// written as spaces. Every user string (names, titles, paths) reaches gnuplot only through this.
-std::string GnuplotQuote(const std::string& s) {
-  std::string out = "'";
+// A gnuplot string literal holding the bytes of `s` as data: double-quoted, every byte but letters, digits, space
+// and ._-+:,/()[]=%* written as a three-digit octal escape (\047 for a quote, \140 for a backquote, \303\251 for
+// "é"), so that no character of a name, title or path is read by gnuplot's parser: no quote ends the string, no
+// backquote or @ is substituted. (A single-quoted string cannot hold every name: gnuplot 5.4 reads '''a' as a
+// syntax error, and the figure of a signal named 'a was lost.) Every user string reaches gnuplot only through this.
+std::string GnuplotLiteral(const std::string& s) {
+  std::string out = "\"";
   for (char c : s) {
-    if (c == '\'') out += '\'';
-    out += (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) ? ' ' : c;
+    const auto byte = static_cast<unsigned char>(c);
+    const bool plain = (byte < 0x80 && std::isalnum(byte) != 0) ||
+                       std::string_view(" ._-+:,/()[]=%*").find(c) != std::string_view::npos;
+    out += plain ? std::string(1, c) : fmt::format("\\{:03o}", byte);
   }
-  return out + "'";
+  return out + "\"";
 }
+
+// A text shown in a figure (title, label, key) as a gnuplot string: control characters (a newline, ESC) as spaces.
+std::string GnuplotQuote(std::string s) {
+  for (char& c : s) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
+  }
+  return GnuplotLiteral(s);
+}
+
+// A path as a gnuplot string: every byte kept (an --out folder with a newline in its name still gets its PNGs).
+std::string GnuplotPath(const fs::path& path) { return GnuplotLiteral(path.string()); }
 
 // One line of text in a data-file comment: control characters as spaces.
 std::string CommentText(std::string s) {
@@ -218,7 +234,7 @@ std::string RenderFigure(const Figure& figure, const fs::path& directory) {
   {
     std::ostringstream gp;
     gp << "set terminal pngcairo size 900,420 font 'Sans,10'\n";
-    gp << "set output " << GnuplotQuote(png.string()) << "\n";
+    gp << "set output " << GnuplotPath(png) << "\n";
     gp << "set title " << GnuplotQuote(figure.title) << " noenhanced\n";  // every text verbatim, no markup
     gp << "set xlabel " << GnuplotQuote(figure.xlabel) << " noenhanced\n";
     gp << "set ylabel " << GnuplotQuote(figure.ylabel) << " noenhanced\n";
@@ -255,7 +271,7 @@ std::string RenderFigure(const Figure& figure, const fs::path& directory) {
     gp << "plot ";
     for (std::size_t i = 0; i < figure.series.size(); ++i) {
       const auto& s = figure.series[i];
-      gp << (i ? ", " : "") << GnuplotQuote(data.string()) << " index " << i << " using 1:2 with " << s.style
+      gp << (i ? ", " : "") << GnuplotPath(data) << " index " << i << " using 1:2 with " << s.style
          << (s.style == "points" ? " pt 7 ps 0.3" : " lw 1.2") << " title " << GnuplotQuote(s.label) << " noenhanced";
     }
     gp << "\n";

@@ -4,6 +4,8 @@
 #include "tools/commands/error_text.h"
 
 #include <filesystem>
+#include <ostream>
+#include <sstream>
 #include <new>
 #include <stdexcept>
 #include <string>
@@ -13,6 +15,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "engine/terminal_text.h"
 #include "engine/text_excerpt.h"
 
 namespace mb {
@@ -70,6 +73,25 @@ TEST(ErrorText, ExcerptKeepsShortTextAndCutsLongTextOnACharacterBoundary) {
   EXPECT_EQ(Excerpt("short"), "short");
   EXPECT_EQ(Excerpt(std::string(300, 'a')), std::string(200, 'a') + "… (100 more bytes)");
   EXPECT_EQ(Excerpt("aé", 2), "a… (2 more bytes)");  // 'é' is two bytes: not split
+}
+
+// Control bytes from a diagram or a log reach the terminal as visible escapes (issue 30): ESC, BEL, CR, DEL and the
+// C1 controls (U+009B is a one-character CSI); newline, tab and UTF-8 letters stay.
+TEST(TerminalText, ControlBytesAreEscapedAndTextStays) {
+  EXPECT_EQ(EscapeControlBytes("a\x1b]0;title\x07z"), "a\\x1b]0;title\\x07z");
+  EXPECT_EQ(EscapeControlBytes("over\rwrite\x7f"), "over\\x0dwrite\\x7f");
+  EXPECT_EQ(EscapeControlBytes("csi\xc2\x9b" "31m"), "csi\\u009b31m");
+  EXPECT_EQ(EscapeControlBytes("line 1\n\tline 2: 5 µm, é, ±"), "line 1\n\tline 2: 5 µm, é, ±");
+}
+
+TEST(TerminalText, AStreamThroughTheBufferIsEscapedWhateverTheChunks) {
+  std::ostringstream target;
+  ControlEscapingBuffer buffer(target.rdbuf());
+  std::ostream out(&buffer);
+  out << "name \x1b[2J" << '\x07' << "é" << "\xc2";  // a C1 control split across two writes
+  out << "\x9b" "1m" << std::flush;
+  out << "\xc2" << std::flush;  // a lone lead byte at a flush is written as it is
+  EXPECT_EQ(target.str(), "name \\x1b[2J\\x07é\\u009b1m\xc2");
 }
 
 }  // namespace

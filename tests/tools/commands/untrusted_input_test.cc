@@ -21,6 +21,9 @@ using nlohmann::json;
 using testing::CommandResult;
 using testing::ProcessTempDir;
 using testing::RunMotionblocksIn;
+using ::testing::AnyOf;
+using ::testing::HasSubstr;
+using ::testing::Not;
 
 const std::string kSource = MB_SOURCE_DIR;
 
@@ -131,6 +134,76 @@ TEST(UntrustedInput, AllowPathLetsADiagramReadAFolderTheUserTrusts) {
   EXPECT_THAT(r.output, ::testing::HasSubstr("outside the diagram's folder"));
   r = RunMotionblocksIn(dir, {"run", "diagram/d.json", "--out", "o", "--allow-path", "profiles"});
   EXPECT_EQ(r.exit_code, 0) << r.output;
+  fs::remove_all(dir);
+}
+
+// A diagram of constant elements named `names` (each logged), itself named `name`, run 10 ms with rk4.
+json ConstantsDiagram(const std::string& name, const std::vector<std::string>& names) {
+  json elements = json::array(), log = json::array();
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    elements.push_back({{"name", names[i]}, {"type", "constant"}, {"parameters", {{"value", 1.0 + double(i)}}}});
+    log.push_back(names[i] + ".y");
+  }
+  return {{"schemaVersion", "1.0"},
+          {"name", name},
+          {"defaultExperiment", {{"startTime", 0.0}, {"stopTime", 0.01}}},
+          {"solver", {{"type", "rk4"}, {"step", 0.001}}},
+          {"elements", elements},
+          {"log", log}};
+}
+
+// signal_0.png … signal_<count − 1>.png drawn in `out` (not empty: gnuplot opens the file before it reads the plot).
+void ExpectEverySignalFigure(const fs::path& out, std::size_t count, const std::string& output) {
+  for (std::size_t i = 0; i < count; ++i) {
+    const fs::path png = out / ("signal_" + std::to_string(i) + ".png");
+    EXPECT_TRUE(fs::exists(png) && fs::file_size(png) > 0) << png << "\n" << output;
+  }
+}
+
+// gnuplot 5.4 reads the single-quoted '''a' as a syntax error, and the figure of a signal named 'a was lost: every
+// name now reaches gnuplot as a string of octal escapes.
+TEST(UntrustedInput, EveryNameKeepsItsFigureWhateverItsCharacters) {
+  const fs::path dir = ProcessTempDir("mb_untrusted_names");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::vector<std::string> names = {"'a", "'", "''b'", "'é", "\"c", "d\\", "e@f", "g`h", "'$i", "#j"};
+  std::ofstream(dir / "d.json") << ConstantsDiagram("'names", names).dump(1);
+  const CommandResult r = RunMotionblocksIn(dir, {"run", "d.json", "--out", "o"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ExpectEverySignalFigure(dir / "o", names.size(), r.output);
+  fs::remove_all(dir);
+}
+
+TEST(UntrustedInput, AnOutputFolderWithANewlineOrAQuoteKeepsItsFigures) {
+  const fs::path dir = ProcessTempDir("mb_untrusted_out_newline");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "d.json") << ConstantsDiagram("n", {"a", "b"}).dump(1);
+  for (const std::string out : {"o\nx", "'o\t\"y"}) {
+    const CommandResult r = RunMotionblocksIn(dir, {"run", "d.json", "--out", out});
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    ExpectEverySignalFigure(dir / out, 2, r.output);
+  }
+  fs::remove_all(dir);
+}
+
+// ESC, BEL and CR from a diagram reach neither stdout (a metric's name) nor a message (the names an error lists) raw.
+TEST(UntrustedInput, ControlBytesFromADiagramReachTheTerminalEscaped) {
+  const fs::path dir = ProcessTempDir("mb_untrusted_escapes");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  json diagram = ConstantsDiagram("t\x1b]0;title\x07", {"b\x1b[31mred\r", "c"});
+  diagram["metrics"] = json::array({{{"name", "m\x1b[2J\x07"}, {"type", "final"}, {"signal", "c.y"}}});
+  std::ofstream(dir / "d.json") << diagram.dump(1);
+  CommandResult r = RunMotionblocksIn(dir, {"run", "d.json", "--out", "o"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("m\\x1b[2J\\x07 = 2"));
+  EXPECT_THAT(r.output, Not(AnyOf(HasSubstr("\x1b"), HasSubstr("\x07"), HasSubstr("\r"))));
+  r = RunMotionblocksIn(dir, {"run", "d.json", "--set", "x\x1b[1m.value=3", "--out", "o"});
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("x\\x1b[1m"));
+  EXPECT_THAT(r.output, HasSubstr("b\\x1b[31mred\\x0d"));
+  EXPECT_THAT(r.output, Not(AnyOf(HasSubstr("\x1b"), HasSubstr("\x07"), HasSubstr("\r"))));
   fs::remove_all(dir);
 }
 
