@@ -1,11 +1,13 @@
 #include "tools/batch/shard.h"
 
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <fstream>
 #include <map>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <utility>
 
@@ -163,13 +165,38 @@ std::string SweepFingerprint(const SweepSpec& spec, const json& diagram) {
   for (const auto& axis : spec.grid_axes) grid.push_back(axis);
   json entries = json::array();
   for (const auto& entry : spec.entries) entries.push_back(entry);
-  const json canonical = {{"kind", spec.kind},         {"seed", spec.seed},   {"set", spec.fixed},
-                          {"parameters", spec.parameters}, {"grid", grid},   {"entries", entries},
-                          {"kept", spec.kept},         {"diagram", diagram}};
+  json canonical = {{"kind", spec.kind},         {"seed", spec.seed},   {"set", spec.fixed},
+                    {"parameters", spec.parameters}, {"grid", grid},   {"entries", entries},
+                    {"kept", spec.kept},         {"diagram", diagram}};
+  // A random sample is drawn run by run, not held (RandomSweepSampler): its definition (seed, samples,
+  // distributions) stands for its draws. Grids and lists hash as they always did.
+  if (spec.kind == "random") canonical["random"] = spec.random_definition;
   return fmt::format("fnv1a64:{:016x}", Fnv1a64(canonical.dump()));
 }
 
 namespace {
+
+// The counts of a manifest are bounded before anything loops over them: "runs" is a whole number from 1 to
+// kMaxSweepRunsCeiling, "shards" one from 1 to "runs", "shard" less than "shards". @throws std::invalid_argument
+// naming the file, the key and its value.
+void CheckManifestCounts(const json& j, const fs::path& path) {
+  const auto bad = [&](const char* key, const std::string& what) {
+    return std::invalid_argument(fmt::format("{}: \"{}\": {} is not {}: the manifest was edited or damaged; delete "
+                                             "the folder and run the shard again",
+                                             path.string(), key, j[key].dump(), what));
+  };
+  const auto whole = [&](const char* key) { return j[key].is_number_unsigned(); };
+  if (!whole("runs") || j["runs"].get<std::uint64_t>() < 1 || j["runs"].get<std::uint64_t>() > kMaxSweepRunsCeiling) {
+    throw bad("runs", fmt::format("a run count from 1 to {} (the most runs a sweep may have)", kMaxSweepRunsCeiling));
+  }
+  if (!whole("shards") || j["shards"].get<std::uint64_t>() < 1 ||
+      j["shards"].get<std::uint64_t>() > j["runs"].get<std::uint64_t>()) {
+    throw bad("shards", fmt::format("a shard count from 1 to \"runs\" ({})", j["runs"].get<std::uint64_t>()));
+  }
+  if (!whole("shard") || j["shard"].get<std::uint64_t>() >= j["shards"].get<std::uint64_t>()) {
+    throw bad("shard", fmt::format("a shard index from 0 to \"shards\" - 1 ({})", j["shards"].get<std::uint64_t>() - 1));
+  }
+}
 
 json ReadManifest(const fs::path& dir) {
   const fs::path path = dir / kShardManifest;
@@ -177,8 +204,9 @@ json ReadManifest(const fs::path& dir) {
   if (!in) return nullptr;
   try {
     json j = json::parse(in);
-    if (j.is_object() && j.value("fingerprint", json()).is_string() && j.value("shard", json()).is_number_unsigned() &&
-        j.value("shards", json()).is_number_unsigned() && j.value("runs", json()).is_number_unsigned()) {
+    if (j.is_object() && j.value("fingerprint", json()).is_string() && j.value("shard", json()).is_number() &&
+        j.value("shards", json()).is_number() && j.value("runs", json()).is_number()) {
+      CheckManifestCounts(j, path);
       return j;
     }
   } catch (const json::parse_error&) {
@@ -217,7 +245,27 @@ void CheckShardFolder(const fs::path& out, const json& manifest) {
   }
 }
 
+// The bytes of `path`, or "" if it cannot be read.
+std::string FileBytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream bytes;
+  if (in) bytes << in.rdbuf();
+  return bytes.str();
+}
+
+// Writes the manifest with its content hash (ShardContentHash) once the folder's runs.csv and runs.json are final.
+void SealShardFolder(json manifest, const fs::path& dir) {
+  manifest[kShardContentKey] = ShardContentHash(manifest, dir);
+  WriteJsonFile(manifest, dir / kShardManifest);
+}
+
 }  // namespace
+
+std::string ShardContentHash(json manifest, const fs::path& dir) {
+  manifest.erase(kShardContentKey);
+  const std::string text = manifest.dump() + "\n" + FileBytes(dir / "runs.csv") + "\n" + FileBytes(dir / "runs.json");
+  return fmt::format("fnv1a64:{:016x}", Fnv1a64(text));
+}
 
 SweepOutcome RunSweepShard(const fs::path& diagram, SweepSpec spec, const SweepShard& shard, const fs::path& out,
                            const SweepOptions& options) {
@@ -242,9 +290,11 @@ SweepOutcome RunSweepShard(const fs::path& diagram, SweepSpec spec, const SweepS
                          {"description", spec.description}};
   CheckShardFolder(out, manifest);
   fs::create_directories(out);
-  WriteJsonFile(manifest, out / kShardManifest);
+  WriteJsonFile(manifest, out / kShardManifest);  // no "content" yet: an interrupted shard is not mergeable
   spec.KeepRuns(ShardPositions(runs, shard));
-  return RunSweep(diagram, spec, out, options);
+  SweepOutcome outcome = RunSweep(diagram, spec, out, options);
+  SealShardFolder(manifest, out);
+  return outcome;
 }
 
 namespace {
@@ -253,8 +303,103 @@ struct ShardRows {
   fs::path dir;
   json manifest;
   CsvTextTable table;
-  std::map<std::size_t, std::size_t> rows;  // run index → row of table (the last row of an id: a retried run)
+  std::map<std::size_t, std::size_t> rows;  // run index → row of table (one row per run; equal repeats allowed)
 };
+
+// The shard's runs.json as written, or an empty object.
+json ReadRunsJson(const fs::path& dir) {
+  std::ifstream in(dir / "runs.json");
+  json j = in ? json::parse(in, nullptr, /*allow_exceptions=*/false) : json();
+  return j.is_object() ? j : json::object();
+}
+
+// Each row belongs to the manifest's shard (run i to shard index i mod N), and an "ok" row has a finite number in
+// every metric column (between the parameters, as the shard's runs.json lists them, and wall_time_s).
+void CheckShardRows(const ShardRows& shard) {
+  const std::size_t k = shard.manifest["shard"].get<std::size_t>(), n = shard.manifest["shards"].get<std::size_t>();
+  const json runs_json = ReadRunsJson(shard.dir);
+  const std::size_t parameters = runs_json.value("parameters", json::array()).size();
+  const auto& header = shard.table.header;
+  for (const auto& [index, r] : shard.rows) {
+    const auto& cells = shard.table.rows[r];
+    const std::size_t line = shard.table.row_lines[r];
+    if (index % n != k) {
+      throw std::invalid_argument(fmt::format("{}:{}: run {} belongs to shard {}, but {} says this folder holds shard "
+                                              "{}: the folder was edited or mixed; run the shard again into a new "
+                                              "folder",
+                                              shard.table.source, line, cells[0], ShardLabel({index % n, n}),
+                                              (shard.dir / kShardManifest).string(), ShardText(shard.manifest)));
+    }
+    if (cells.size() < 2 || cells[1] != "ok") continue;
+    for (std::size_t c = 2 + parameters; c + 2 < header.size() && c < cells.size(); ++c) {
+      double value = 0.0;
+      const std::string& cell = cells[c];
+      const auto [end, error] = std::from_chars(cell.data(), cell.data() + cell.size(), value);
+      if (cell.empty() || error != std::errc() || end != cell.data() + cell.size() || !std::isfinite(value)) {
+        throw std::invalid_argument(fmt::format("{}:{}: run {} is \"ok\" but its metric {} is '{}', not a finite "
+                                                "number: a result that means nothing; check the diagram's metric, "
+                                                "then run the shard again into a new folder",
+                                                shard.table.source, line, cells[0], Excerpt(header[c]),
+                                                Excerpt(cell)));
+      }
+    }
+  }
+}
+
+// The first row of runs.csv whose status or metrics differ from its runs.json row, as "file:line: …"; "" if none.
+std::string FirstRowUnlikeRunsJson(const ShardRows& shard) {
+  const json runs_json = ReadRunsJson(shard.dir);
+  std::map<std::string, json> by_id;
+  for (const auto& row : runs_json.value("runs", json::array())) {
+    if (row.is_object()) by_id[row.value("id", "")] = row;
+  }
+  const std::size_t parameters = runs_json.value("parameters", json::array()).size();
+  const auto& header = shard.table.header;
+  for (const auto& [index, r] : shard.rows) {
+    const auto& cells = shard.table.rows[r];
+    const auto where = [&](const std::string& what) {
+      return fmt::format("{}:{}: run {}: {}", shard.table.source, shard.table.row_lines[r], cells[0], what);
+    };
+    const auto it = by_id.find(cells[0]);
+    if (it == by_id.end()) return where("not in runs.json");
+    const json& row = it->second;
+    if (cells.size() > 1 && row.value("status", "") != cells[1]) {
+      return where(fmt::format("status '{}', runs.json says '{}'", Excerpt(cells[1]), row.value("status", "")));
+    }
+    for (std::size_t c = 2 + parameters; c + 2 < header.size() && c < cells.size(); ++c) {
+      const json metric = row.value("metrics", json::object()).value(header[c], json());
+      const std::string written = metric.is_number() ? fmt::format("{:.17g}", metric.get<double>()) : "";
+      if (written != cells[c]) {
+        return where(fmt::format("{} is '{}', runs.json says '{}'", Excerpt(header[c]), Excerpt(cells[c]), written));
+      }
+    }
+  }
+  return {};
+}
+
+// The folder's runs.csv, runs.json and manifest are as the shard wrote them: the manifest's "content" hash
+// (ShardContentHash) matches. Naming the first row that differs from runs.json when one does.
+void CheckShardContent(const ShardRows& shard) {
+  const fs::path manifest = shard.dir / kShardManifest;
+  const json recorded = shard.manifest.value(kShardContentKey, json());
+  if (!recorded.is_string()) {
+    throw std::invalid_argument(fmt::format("{}: no \"{}\" hash: shard {} did not finish (interrupted), or was run "
+                                            "by an older motionblocks; run it again with the same --out (it resumes) "
+                                            "and merge again",
+                                            manifest.string(), kShardContentKey, ShardText(shard.manifest)));
+  }
+  const std::string now = ShardContentHash(shard.manifest, shard.dir);
+  if (recorded.get<std::string>() == now) return;
+  const std::string row = FirstRowUnlikeRunsJson(shard);
+  throw std::invalid_argument(fmt::format("{}{}: changed since shard {} wrote it (content hash {} recorded in {}, {} "
+                                          "now): a value was edited or the files were mixed; run the shard again "
+                                          "into a new folder",
+                                          row.empty() ? (shard.dir / "runs.csv").string() + ", runs.json or the manifest"
+                                                      : row,
+                                          row.empty() ? "" : " (runs.csv and runs.json disagree)",
+                                          ShardText(shard.manifest), recorded.get<std::string>(), manifest.string(),
+                                          now));
+}
 
 ShardRows ReadShard(const fs::path& dir) {
   ShardRows shard{dir, ReadManifest(dir), {}, {}};
@@ -280,8 +425,16 @@ ShardRows ReadShard(const fs::path& dir) {
                                               "edited or mixed; run the shard again into a new folder",
                                               shard.table.source, shard.table.row_lines[r], Excerpt(cells[0]), runs));
     }
-    shard.rows[*index] = r;
+    const auto [it, inserted] = shard.rows.emplace(*index, r);
+    if (!inserted && shard.table.rows[it->second] != cells) {
+      throw std::invalid_argument(fmt::format("{}:{}: run {} is also on line {} with other values: the file was edited "
+                                              "or two runs were mixed; run the shard again into a new folder",
+                                              shard.table.source, shard.table.row_lines[r], cells[0],
+                                              shard.table.row_lines[it->second]));
+    }
   }
+  CheckShardRows(shard);
+  CheckShardContent(shard);
   return shard;
 }
 
@@ -300,6 +453,21 @@ void CheckSameSweep(const std::vector<ShardRows>& shards, const fs::path& out) {
           s.dir.string(), ShardText(s.manifest), s.manifest["fingerprint"].get<std::string>(),
           s.manifest["runs"].get<std::size_t>(), first.dir.string(), first.manifest["fingerprint"].get<std::string>(),
           first.manifest["runs"].get<std::size_t>()));
+    }
+    if (s.manifest["shards"] != first.manifest["shards"]) {
+      throw std::invalid_argument(fmt::format("{}: shard {}, but {} is shard {}: the shards of one merge are cut the "
+                                              "same way (one --shard x/N); leave out the folders of the other N",
+                                              (s.dir / kShardManifest).string(), ShardText(s.manifest),
+                                              (first.dir / kShardManifest).string(), ShardText(first.manifest)));
+    }
+    for (const ShardRows& other : shards) {
+      if (&other == &s) break;
+      if (other.manifest["shard"] == s.manifest["shard"]) {
+        throw std::invalid_argument(fmt::format("{} and {} both say they hold shard {}: give each shard's folder once "
+                                                "(a folder copied or run twice)",
+                                                (other.dir / kShardManifest).string(),
+                                                (s.dir / kShardManifest).string(), ShardText(s.manifest)));
+      }
     }
     if (s.table.header != first.table.header) {
       throw std::invalid_argument(fmt::format("{}/runs.csv has the columns [{}], {}/runs.csv [{}]: run the shard again "
@@ -410,7 +578,7 @@ SweepMergeOutcome MergeSweepShards(const std::vector<fs::path>& dirs, const fs::
   manifest["shards"] = 1;
   manifest["merged_from"] = json::array();
   for (const fs::path& dir : dirs) manifest["merged_from"].push_back(fs::absolute(dir).string());
-  WriteJsonFile(manifest, out / kShardManifest);
+  SealShardFolder(manifest, out);
   return outcome;
 }
 

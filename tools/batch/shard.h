@@ -58,7 +58,8 @@ std::string ShardLabel(const SweepShard& shard);
 /// The positions (= run indices of the whole sweep, from 0) of shard `shard` among `run_count` runs: K, K+N, K+2N, …
 std::vector<std::size_t> ShardPositions(std::size_t run_count, const SweepShard& shard);
 
-/// "fnv1a64:<16 hex digits>" over the sweep (kind, seed, set, keys, every run's values, kept runs) and the diagram
+/// "fnv1a64:<16 hex digits>" over the sweep (kind, seed, set, keys, every run's values — for a random sample its
+/// definition: seed, samples, distributions —, kept runs) and the diagram
 /// JSON as parsed. Equal for the same files on any machine; the hash is not cryptographic (it catches mix-ups).
 std::string SweepFingerprint(const SweepSpec& spec, const nlohmann::json& diagram);
 
@@ -82,7 +83,9 @@ struct SweepMergeOutcome {
 /// runs/<id>/ (if the shards saved logs) and a sweep-shard.json of shard 0/1. Nothing is written unless every check
 /// passes. @throws std::invalid_argument naming the folder and the fix: no manifest, another sweep's fingerprint,
 /// other columns, `out` among the inputs, runs missing or present twice (the first 10 ids listed, with their shard),
-/// a shard's runs.json behind its runs.csv (interrupted: run the shard again).
+/// a shard's runs.json behind its runs.csv (interrupted: run the shard again), a manifest whose "runs" is not a whole
+/// number of at most kMaxSweepRunsCeiling or whose "shards" is not a whole number from 1 to "runs" (naming the file
+/// and the key).
 SweepMergeOutcome MergeSweepShards(const std::vector<std::filesystem::path>& shards, const std::filesystem::path& out);
 
 }  // namespace mb

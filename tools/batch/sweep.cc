@@ -57,13 +57,9 @@ double Uniform01(std::mt19937_64& engine) {
   return static_cast<double>(engine() >> 11) * 0x1.0p-53;
 }
 
-struct Distribution {
-  std::string kind;  // uniform, log_uniform, integer, choice
-  double low = 0.0;
-  double high = 0.0;
-  json choices;
-};
+using Distribution = RandomSweepSampler::Distribution;
 
+// One value of `d`: exactly one engine() call (RandomSweepSampler counts on it).
 json Draw(const Distribution& d, std::mt19937_64& engine) {
   const double u = Uniform01(engine);
   if (d.kind == "uniform") return d.low + (d.high - d.low) * u;
@@ -152,6 +148,14 @@ std::string RowLine(const SweepSpec& spec, const SweepRun& run, const SweepRow& 
   return CsvLine(cells);
 }
 
+// A runs.csv cell as a finite number; nullopt for anything else (nan, inf, text, trailing characters).
+std::optional<double> FiniteCell(const std::string& cell) {
+  double value = 0.0;
+  const auto [end, error] = std::from_chars(cell.data(), cell.data() + cell.size(), value);
+  if (error != std::errc() || end != cell.data() + cell.size() || !std::isfinite(value)) return std::nullopt;
+  return value;
+}
+
 // Rows recorded "ok" in an existing runs.csv, by id (the last row of an id wins: a retried run is appended).
 std::map<std::string, SweepRow> ReadDoneRows(const fs::path& csv, const SweepSpec& spec,
                                             const std::vector<std::string>& metric_names) {
@@ -195,11 +199,22 @@ std::map<std::string, SweepRow> ReadDoneRows(const fs::path& csv, const SweepSpe
     row.status = "ok";
     row.assignments = run.assignments;
     row.resumed = true;
-    for (std::size_t m = 0; m < metric_names.size(); ++m) {
+    // A row is kept only if every metric cell reads back as a finite number (empty: a metric the run did not give):
+    // a NaN or infinite metric, or an edited cell, is no result to keep; the run is run again.
+    bool finite = true;
+    for (std::size_t m = 0; m < metric_names.size() && finite; ++m) {
       const std::string& cell = cells[first_metric + m];
-      if (!cell.empty()) row.metrics[metric_names[m]] = std::stod(cell);
+      if (cell.empty()) continue;
+      const std::optional<double> value = FiniteCell(cell);
+      if (value) row.metrics[metric_names[m]] = *value;
+      finite = value.has_value();
     }
-    row.wall_time_s = std::stod(cells[first_metric + metric_names.size()]);
+    const std::optional<double> wall_time = FiniteCell(cells[first_metric + metric_names.size()]);
+    if (!finite || !wall_time) {
+      done.erase(run.id);
+      continue;
+    }
+    row.wall_time_s = *wall_time;
     done[run.id] = row;
   }
   return done;
@@ -293,7 +308,8 @@ void ParseRandom(const json& sweep, std::size_t max_runs, SweepSpec* spec, std::
   const double samples_value = samples_json.is_number() ? samples_json.get<double>() : 0.0;
   const bool whole = samples_value == std::floor(samples_value);
   const bool too_many = TooManyRuns(samples_value, max_runs, "/random/samples", problems);
-  const int samples = whole && !too_many && samples_value >= 1.0 ? static_cast<int>(samples_value) : 0;
+  const std::size_t samples =
+      whole && !too_many && samples_value >= 1.0 ? static_cast<std::size_t>(samples_value) : 0;
   if (!random.is_object() || !random.contains("seed") || !random["seed"].is_number_integer() ||
       random["seed"].get<long long>() < 0) {
     problems->push_back("/random/seed: give the seed, a non-negative integer (the same seed gives the same runs)");
@@ -312,21 +328,111 @@ void ParseRandom(const json& sweep, std::size_t max_runs, SweepSpec* spec, std::
     }
   }
   if (problems->empty()) {
-    std::mt19937_64 engine(spec->seed);
-    for (int s = 0; s < samples; ++s) {
-      std::vector<std::pair<std::string, json>> assignments;
-      for (std::size_t p = 0; p < distributions.size(); ++p) {
-        assignments.emplace_back(spec->parameters[p], Draw(distributions[p], engine));
-      }
-      spec->entries.push_back(std::move(assignments));
-    }
+    spec->random_definition = {{"seed", spec->seed}, {"samples", samples}, {"parameters", random["parameters"]}};
+    spec->sampler = std::make_shared<const RandomSweepSampler>(spec->seed, samples, spec->parameters,
+                                                               std::move(distributions));
   }
 }
 
 }  // namespace
 
+// ---- RandomSweepSampler ------------------------------------------------------------------------------------------
+
+struct RandomSweepSampler::Engines {
+  // Where a stream of draws stands: `engine` is the state before draw `next`; the last draw made is cached (a run is
+  // asked for twice in a row: to run it and to record it).
+  struct Cursor {
+    std::size_t next = 0;
+    std::mt19937_64 engine;
+    std::uint64_t last_used = 0;
+    std::size_t last_index = 0;
+    std::vector<std::pair<std::string, json>> last_values;
+  };
+  std::mutex mutex;
+  std::vector<std::mt19937_64> checkpoints;  // [k]: the state before draw k·kRandomCheckpointEvery
+  std::vector<Cursor> cursors;               // at most kRandomCursors
+  std::uint64_t clock = 0;
+};
+
+RandomSweepSampler::RandomSweepSampler(std::uint64_t seed, std::size_t samples, std::vector<std::string> keys,
+                                       std::vector<Distribution> distributions)
+    : seed_(seed), samples_(samples), keys_(std::move(keys)), distributions_(std::move(distributions)),
+      engines_(std::make_unique<Engines>()) {
+  if (keys_.size() != distributions_.size()) {
+    throw std::invalid_argument("RandomSweepSampler: one distribution per key");
+  }
+  engines_->checkpoints.emplace_back(seed_);
+}
+
+RandomSweepSampler::~RandomSweepSampler() = default;
+
+std::vector<std::pair<std::string, json>> RandomSweepSampler::Draw(std::size_t index) const {
+  if (index >= samples_) throw std::out_of_range(fmt::format("random sweep draw {} of {}", index, samples_));
+  Engines& e = *engines_;
+  std::lock_guard<std::mutex> lock(e.mutex);
+  ++e.clock;
+  // The cursor nearest below `index` (or holding it as its last draw), else the nearest checkpoint.
+  Engines::Cursor* cursor = nullptr;
+  for (auto& c : e.cursors) {
+    if (c.next > 0 && c.last_index == index && c.next == index + 1) {
+      c.last_used = e.clock;
+      return c.last_values;
+    }
+    if (c.next <= index && (cursor == nullptr || c.next > cursor->next)) cursor = &c;
+  }
+  const std::size_t checkpoint = std::min(index / kRandomCheckpointEvery, e.checkpoints.size() - 1);
+  if (cursor == nullptr || cursor->next < checkpoint * kRandomCheckpointEvery) {
+    if (e.cursors.size() < kRandomCursors) {
+      cursor = &e.cursors.emplace_back();
+    } else {
+      cursor = &*std::min_element(e.cursors.begin(), e.cursors.end(),
+                                  [](const auto& a, const auto& b) { return a.last_used < b.last_used; });
+    }
+    cursor->engine = e.checkpoints[checkpoint];
+    cursor->next = checkpoint * kRandomCheckpointEvery;
+  }
+  const auto keep_checkpoint = [&] {
+    if (cursor->next % kRandomCheckpointEvery == 0 && cursor->next / kRandomCheckpointEvery == e.checkpoints.size()) {
+      e.checkpoints.push_back(cursor->engine);
+    }
+  };
+  for (; cursor->next < index; ++cursor->next) {
+    keep_checkpoint();
+    cursor->engine.discard(distributions_.size());  // one call per key
+  }
+  keep_checkpoint();
+  std::vector<std::pair<std::string, json>> values;
+  values.reserve(keys_.size());
+  for (std::size_t p = 0; p < distributions_.size(); ++p) {
+    values.emplace_back(keys_[p], mb::Draw(distributions_[p], cursor->engine));
+  }
+  cursor->next = index + 1;
+  cursor->last_index = index;
+  cursor->last_values = values;
+  cursor->last_used = e.clock;
+  return values;
+}
+
+std::vector<std::pair<std::string, json>> RandomSweepSampler::Extremes() const {
+  std::vector<std::pair<std::string, json>> all;
+  for (std::size_t p = 0; p < distributions_.size(); ++p) {
+    const Distribution& d = distributions_[p];
+    if (d.kind == "choice") {
+      for (const auto& value : d.choices) all.emplace_back(keys_[p], value);
+    } else if (d.kind == "integer") {
+      all.emplace_back(keys_[p], static_cast<long long>(d.low));
+      all.emplace_back(keys_[p], static_cast<long long>(d.high));
+    } else {
+      all.emplace_back(keys_[p], d.low);
+      all.emplace_back(keys_[p], d.high);
+    }
+  }
+  return all;
+}
+
 std::size_t SweepSpec::run_count() const {
   if (!kept.empty()) return kept.size();
+  if (kind == "random") return sampler ? sampler->samples() : 0;
   if (kind != "grid") return entries.size();
   if (grid_axes.empty()) return 0;
   std::size_t product = 1;  // ParseSweep refused a product beyond max_runs
@@ -341,6 +447,10 @@ SweepRun SweepSpec::run(std::size_t position) const {
   const std::size_t index = kept.empty() ? position : kept[position];
   SweepRun r;
   r.id = RunId(index);
+  if (kind == "random") {
+    r.assignments = sampler->Draw(index);
+    return r;
+  }
   if (kind != "grid") {
     r.assignments = entries.at(index);
     return r;
@@ -381,6 +491,10 @@ std::vector<std::pair<std::string, json>> SweepSpec::AllAssignments() const {
     for (const auto& value : grid_axes[a]) all.emplace_back(parameters[a], value);
   }
   for (const auto& entry : entries) all.insert(all.end(), entry.begin(), entry.end());
+  if (sampler) {
+    const auto extremes = sampler->Extremes();
+    all.insert(all.end(), extremes.begin(), extremes.end());
+  }
   return all;
 }
 

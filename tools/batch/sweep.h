@@ -1,8 +1,8 @@
 #pragma once
 // Parameter sweeps (`motionblocks sweep`): one diagram run many times with `id.param` values taken from a grid,
 // an explicit list or a seeded random sample; runs in parallel (TBB), one row of metrics per run in runs.csv and
-// runs.json; resumable (runs already recorded as "ok" with the same values are not run again) and repeatable
-// (a sweep file gives the same runs, in the same order, every time — random samples from their seed).
+// runs.json; resumable (runs already recorded as "ok", with the same values and finite metrics, are not run again)
+// and repeatable (a sweep file gives the same runs, in the same order, every time — random samples from their seed).
 //
 // The sweep file (JSON), exactly one of "grid", "list", "random":
 //   {
@@ -16,8 +16,9 @@
 //     "random": {"seed": 7, "samples": 20, "parameters": {
 //         "plant.payload_mass": {"uniform": [0, 0.5]}, "dob.cutoff_hz": {"log_uniform": [10, 60]},
 //         "dob.relative_degree": {"integer": [2, 3]}, "pd_p.gain": {"choice": [6000, 7000, 8000]}}}
-//       `samples` draws from std::mt19937_64(seed); per draw the keys in alphabetical order. The uniform
-//       variate is (engine() >> 11)·2⁻⁵³, so the values do not depend on the standard library.
+//       `samples` draws from std::mt19937_64(seed); per draw the keys in alphabetical order, one engine() call
+//       each. The uniform variate is (engine() >> 11)·2⁻⁵³, so the values do not depend on the standard library.
+//       Drawn when a run is needed (RandomSweepSampler), not held: 10⁷ samples cost the memory of a few engines.
 //   }
 // Keys are "element.parameter" (as `--set`), or "defaultExperiment.<field>" / "solver.<field>" for the diagram's
 // experiment (startTime, stopTime, stepSize) and solver sections. Values are JSON (number, string, array).
@@ -26,6 +27,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -43,9 +45,13 @@ struct SweepRun {
   std::vector<std::pair<std::string, nlohmann::json>> assignments;  ///< key → value, in column order
 };
 
+class RandomSweepSampler;
+
 /// A parsed sweep file. Its runs are generated on demand, index → run (run(i)): a grid holds only its axes, so a
 /// grid of 1000³ points costs the memory of 3000 values, not of a billion runs; a list holds its entries as
-/// written, a random sample its draws (each draw depends on the ones before; at most --max-runs of them).
+/// written; a random sample holds its distributions and draws run i when it is asked for (RandomSweepSampler:
+/// the engine's state is kept at every kRandomCheckpointEvery-th draw and at a few cursors, so runs asked for in
+/// order, or in a few ascending streams as parallel workers ask, cost one draw each).
 struct SweepSpec {
   std::string kind;         ///< "grid", "list" or "random"
   std::string description;
@@ -65,19 +71,65 @@ struct SweepSpec {
   /// Keeps only the runs at `positions` (ascending, each < run_count()); they keep their ids (reproduce --quick
   /// takes every other scan). @throws std::invalid_argument otherwise.
   void KeepRuns(const std::vector<std::size_t>& positions);
-  /// Every value the sweep assigns, key by key in sweep order (a grid's axes, a list's cells, the draws): what is
-  /// checked before any run. Its size is the sum of the axes' lengths for a grid, not their product.
+  /// Every value the sweep assigns, key by key in sweep order (a grid's axes, a list's cells; for a random sample
+  /// each distribution's bounds, or its choices): what is checked before any run. Its size is the sum of the axes'
+  /// lengths for a grid, not their product, and does not grow with a random sample's size.
   std::vector<std::pair<std::string, nlohmann::json>> AllAssignments() const;
 
   // How the runs are generated (ParseSweep fills these; run() reads them).
   std::vector<std::vector<nlohmann::json>> grid_axes;  ///< grid: the values of each parameter, in `parameters` order
-  std::vector<std::vector<std::pair<std::string, nlohmann::json>>> entries;  ///< list, random: each run's values
+  std::vector<std::vector<std::pair<std::string, nlohmann::json>>> entries;  ///< list: each run's values
+  /// random: the sample's definition as the file gives it ({"seed", "samples", "parameters"}; what a shard's
+  /// fingerprint hashes) and its sampler (shared by copies: it is immutable but for its caches, and thread-safe).
+  nlohmann::json random_definition;
+  std::shared_ptr<const RandomSweepSampler> sampler;
   std::vector<std::size_t> kept;  ///< KeepRuns' indices into the whole sweep (empty: every run)
 };
 
-/// Most runs a sweep may have unless the caller allows more (`sweep --max-runs`): every run is held in memory
-/// and gets a row in runs.csv and runs.json.
+/// The draws of a "random" sweep, run by run, without holding them: draw i is the engine's state after i·P calls
+/// (P = the number of keys, one call each) from std::mt19937_64(seed), the values ParseSweep always gave.
+/// Thread-safe (one mutex around the engines; a draw costs P engine calls when the runs come in ascending order per
+/// worker, at most kRandomCheckpointEvery·P after a jump). Memory: one engine state (2.5 KB) per checkpoint
+/// (samples / kRandomCheckpointEvery of them) and per cursor (kRandomCursors).
+class RandomSweepSampler {
+ public:
+  struct Distribution {
+    std::string kind;  ///< uniform, log_uniform, integer, choice
+    double low = 0.0;
+    double high = 0.0;
+    nlohmann::json choices;  ///< choice: the values
+  };
+  RandomSweepSampler(std::uint64_t seed, std::size_t samples, std::vector<std::string> keys,
+                     std::vector<Distribution> distributions);
+  ~RandomSweepSampler();
+  std::size_t samples() const { return samples_; }
+  /// The values of draw `index` (< samples()), key → value in the keys' order. @throws std::out_of_range.
+  std::vector<std::pair<std::string, nlohmann::json>> Draw(std::size_t index) const;
+  /// Each distribution's extreme values (low and high; every choice): what CheckSweepSettings applies.
+  std::vector<std::pair<std::string, nlohmann::json>> Extremes() const;
+
+ private:
+  struct Engines;
+  std::uint64_t seed_;
+  std::size_t samples_;
+  std::vector<std::string> keys_;
+  std::vector<Distribution> distributions_;
+  std::unique_ptr<Engines> engines_;  // checkpoints and cursors, behind a mutex
+};
+
+/// A random sweep's engine state is kept every this many draws.
+inline constexpr std::size_t kRandomCheckpointEvery = 4096;
+/// Engine states kept where the last draws were made (one per parallel stream of ascending runs).
+inline constexpr std::size_t kRandomCursors = 16;
+
+/// Most runs a sweep may have unless the caller allows more (`sweep --max-runs`): every run's row (its values and
+/// metrics, a few hundred bytes) is held in memory and gets a row in runs.csv and runs.json.
 inline constexpr std::size_t kDefaultMaxSweepRuns = 100000;
+
+/// The ceiling on any run count, whatever the caller allows: `sweep --max-runs` above it is refused, and so is a
+/// shard manifest (sweep-shard.json) whose "runs" exceeds it. The rows of 10⁷ runs take about 2 GB before the first
+/// run (SweepOutcome::rows, ~200 bytes each) and grow with their values and metrics.
+inline constexpr std::size_t kMaxSweepRunsCeiling = 10000000;
 
 /// Parses a sweep (layout above). `source` names the file in messages.
 /// @throws std::invalid_argument listing every problem with its JSON pointer (none or several of grid/list/random,
@@ -115,7 +167,9 @@ struct SweepRow {
 
 struct SweepOptions {
   int jobs = 0;        ///< parallel runs; 0 = all hardware threads
-  bool resume = true;  ///< skip runs recorded "ok" in an existing runs.csv (false: run everything, overwrite)
+  /// Skip runs recorded "ok" in an existing runs.csv with finite metrics (a row with a NaN or infinite metric, or a
+  /// cell that is not a number, is run again); false: run everything, overwrite.
+  bool resume = true;
   bool save_logs = false;  ///< also write <out>/runs/<id>/signals.csv for each run
   bool progress = true;    ///< a ProgressLine on stderr
   /// Called on the worker thread when a run finishes successfully, with the run's index in SweepSpec::runs and

@@ -89,9 +89,11 @@ void SetupSweepCommand(CLI::App& app) {
   cmd->add_option("--jobs,-j", options->jobs, "parallel runs (default: all cores)")->check(CLI::NonNegativeNumber);
   cmd->add_flag("--fresh", options->fresh, "run everything again (default: skip runs already in runs.csv)");
   cmd->add_flag("--save-logs", options->save_logs, "also write DIR/runs/<id>/signals.csv for every run");
-  cmd->add_option("--max-runs", options->max_runs, "refuse a sweep of more runs than N")
+  cmd->add_option("--max-runs", options->max_runs,
+                  fmt::format("refuse a sweep of more runs than N (at most {}: every run's row is held in memory)",
+                              kMaxSweepRunsCeiling))
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(std::size_t{1}, kMaxSweepRunsCeiling));
   auto* shard = cmd->add_option("--shard", options->shard,
                                  "run only shard x of y, counted from 1 as Jest and Playwright do (1/2 and 2/2 are the "
                                  "halves; run i belongs to shard i mod y + 1), into --out, for a cluster array job; "
