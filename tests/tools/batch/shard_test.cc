@@ -1,6 +1,7 @@
 // tools/batch/shard.h: --shard parsing (x/y from 1, --shard-index K/N from 0, the schedulers' variables), the
 // partition (deterministic, disjoint, covering), shards resumed, and sweep-merge (equal to the single-process
-// runs.csv; a missing run, a duplicate and a shard of another sweep refused with the folder and the fix).
+// runs.csv; a missing run, a shard given twice, a shard of another sweep or shard count, a value edited after the
+// run, a non-finite metric in an ok row and conflicting rows refused with the folder, the line and the fix).
 
 #include "tools/batch/shard.h"
 
@@ -16,6 +17,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "engine/csv.h"
 #include "engine/diagram_loader.h"
 #include "tests/tools/batch/sweep_test_files.h"
 
@@ -173,6 +175,27 @@ TEST(SweepFingerprintTest, SameFilesSameFingerprint) {
   EXPECT_NE(a, SweepFingerprint(ParseSweep(random, "s.json"), other_diagram));
 }
 
+// The folder's files as a shard that wrote them so would leave them: runs.csv rewritten to `rows` (header kept)
+// and the manifest's content hash updated (a sweep that wrote such rows itself, not an edit after the run).
+void RewriteShard(const fs::path& dir, const std::vector<std::vector<std::string>>& rows,
+                  const json& manifest_changes = json::object()) {
+  const CsvTextTable table = ReadCsvTextTable((dir / "runs.csv").string());
+  {
+    std::ofstream rewrite(dir / "runs.csv");
+    rewrite << CsvLine(table.header) << "\n";
+    for (const auto& row : rows) rewrite << CsvLine(row) << "\n";
+  }
+  std::ifstream in(dir / kShardManifest);
+  json manifest = json::parse(in);
+  manifest.update(manifest_changes);
+  manifest[kShardContentKey] = ShardContentHash(manifest, dir);
+  std::ofstream(dir / kShardManifest) << manifest.dump(2);
+}
+
+std::vector<std::vector<std::string>> ShardRowsOf(const fs::path& dir) {
+  return ReadCsvTextTable((dir / "runs.csv").string()).rows;
+}
+
 class ShardRunTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -321,20 +344,19 @@ TEST_F(ShardRunTest, MergeListsMissingRunsWithTheirShard) {
     std::ofstream rewrite(csv);
     rewrite << CsvLine(table.header) << "\n" << CsvLine(table.rows[0]) << "\n0005,ok,2\n";
   }
+  RewriteShard(all[0], {table.rows[0]});  // the shard's own hash over the row it finished
   EXPECT_EQ(MergeError({dirs[0], all[0], dirs[1], dirs[2]}),
             "3 of 14 runs are missing: 0005 (shard 2/4), 0009 (shard 2/4), 0013 (shard 2/4): run their shard again with the same --out "
             "(it resumes) or add its folder, then merge again");
 }
 
-TEST_F(ShardRunTest, MergeListsDuplicatesBounded) {
-  const SweepSpec spec = ParseSweep(json::parse(R"({"grid": {"k.gain": [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12,
-      13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24]}})"), "s.json");
-  const auto dirs = RunShards(spec, 2, {0, 1});
-  const std::string a = dirs[0].string();
-  std::string expected = "12 runs are in two shard folders: ";
-  for (int i = 0; i < 10; ++i) expected += fmt::format("{}{:04d} ({} and {})", i ? ", " : "", 2 * i, a, a);
-  expected += " and 2 more: give each shard's folder once (a folder given twice, or shards of two different --shard N)";
-  EXPECT_EQ(MergeError({dirs[0], dirs[1], dirs[0]}), expected);
+// A folder given twice: its manifest's shard twice (before any run is counted twice).
+TEST_F(ShardRunTest, MergeRefusesAShardGivenTwice) {
+  const auto dirs = RunShards(Grid(), 2, {0, 1});
+  const std::string manifest = (dirs[0] / kShardManifest).string();
+  EXPECT_EQ(MergeError({dirs[0], dirs[1], dirs[0]}),
+            manifest + " and " + manifest + " both say they hold shard 1/2: give each shard's folder once (a folder "
+                                            "copied or run twice)");
 }
 
 TEST_F(ShardRunTest, MergeRefusesAShardOfAnotherSweep) {
@@ -358,6 +380,93 @@ TEST_F(ShardRunTest, MergeRefusesAShardOfAnotherSweep) {
   } catch (const std::invalid_argument& e) {
     EXPECT_EQ(std::string(e.what()), "--out " + dirs[0].string() + " is one of the shard folders: merge into a new folder");
   }
+}
+
+// A value edited after the shard ran is refused naming the file, the line and the run (issue 30): the manifest's
+// content hash covers runs.csv, runs.json and the manifest.
+TEST_F(ShardRunTest, MergeRefusesAShardEditedAfterItRan) {
+  const auto dirs = RunShards(Grid(), 2, {0, 1});
+  const fs::path csv = dirs[1] / "runs.csv";
+  auto rows = ShardRowsOf(dirs[1]);
+  ASSERT_EQ(rows[1][0], "0003");
+  const std::string y = rows[1][4];  // y_final: after id, status and the two parameters
+  rows[1][4] = "7.5";
+  {
+    const CsvTextTable table = ReadCsvTextTable(csv.string());
+    std::ofstream rewrite(csv);
+    rewrite << CsvLine(table.header) << "\n";
+    for (const auto& row : rows) rewrite << CsvLine(row) << "\n";
+  }
+  const std::string error = MergeError(dirs);
+  EXPECT_EQ(error.substr(0, error.find(" (content hash")),
+            csv.string() + ":3: run 0003: y_final is '7.5', runs.json says '" + y +
+                "' (runs.csv and runs.json disagree): changed since shard 2/2 wrote it");
+  EXPECT_NE(error.find("a value was edited or the files were mixed; run the shard again into a new folder"),
+            std::string::npos)
+      << error;
+  EXPECT_FALSE(fs::exists(dir_ / "merged" / "runs.csv"));
+
+  // The manifest edited (another description): the files are named, no row differs.
+  const auto again = RunShards(Grid(), 2, {0});
+  std::ifstream in(again[0] / kShardManifest);
+  json manifest = json::parse(in);
+  manifest["description"] = "edited";
+  std::ofstream(again[0] / kShardManifest) << manifest.dump();
+  EXPECT_EQ(MergeError({again[0]}).substr(0, MergeError({again[0]}).find(" (content hash")),
+            (again[0] / "runs.csv").string() + ", runs.json or the manifest: changed since shard 1/2 wrote it");
+
+  // A shard whose manifest has no content hash did not finish.
+  manifest.erase(kShardContentKey);
+  std::ofstream(again[0] / kShardManifest) << manifest.dump();
+  EXPECT_EQ(MergeError({again[0]}), (again[0] / kShardManifest).string() +
+                                        ": no \"content\" hash: shard 1/2 did not finish (interrupted), or was run by "
+                                        "an older motionblocks; run it again with the same --out (it resumes) and "
+                                        "merge again");
+}
+
+TEST_F(ShardRunTest, MergeRefusesAnOkRowWithANonFiniteMetric) {
+  const auto dirs = RunShards(Grid(), 2, {0, 1});
+  for (const std::string bad : {"nan", "inf", "-nan", "", "1e999", "x"}) {
+    auto rows = ShardRowsOf(dirs[0]);
+    rows[2][5] = bad;  // c_final of run 0004
+    RewriteShard(dirs[0], rows);
+    EXPECT_EQ(MergeError(dirs), (dirs[0] / "runs.csv").string() + ":4: run 0004 is \"ok\" but its metric c_final is '" +
+                                    bad + "', not a finite number: a result that means nothing; check the diagram's "
+                                          "metric, then run the shard again into a new folder");
+  }
+}
+
+TEST_F(ShardRunTest, MergeRefusesConflictingDuplicateRows) {
+  const auto dirs = RunShards(Grid(), 2, {0, 1});
+  auto rows = ShardRowsOf(dirs[0]);
+  auto retried = rows[1];  // run 0002 once more, with another y_final
+  retried[4] = "123";
+  rows.push_back(retried);
+  RewriteShard(dirs[0], rows);
+  EXPECT_EQ(MergeError(dirs), (dirs[0] / "runs.csv").string() + ":" + std::to_string(rows.size() + 1) +
+                                  ": run 0002 is also on line 3 with other values: the file was edited or two runs "
+                                  "were mixed; run the shard again into a new folder");
+  rows.back() = rows[1];  // the same values twice: the same result
+  RewriteShard(dirs[0], rows);
+  EXPECT_EQ(MergeError(dirs), "no error");
+}
+
+TEST_F(ShardRunTest, MergeRefusesManifestsThatDisagree) {
+  const auto halves = RunShards(Grid(), 2, {0});
+  RunSweepShard(diagram_, Grid(), {1, 3}, dir_ / "third_1", options_);
+  EXPECT_EQ(MergeError({halves[0], dir_ / "third_1"}),
+            (dir_ / "third_1" / kShardManifest).string() + ": shard 2/3, but " +
+                (halves[0] / kShardManifest).string() +
+                " is shard 1/2: the shards of one merge are cut the same way (one --shard x/N); leave out the "
+                "folders of the other N");
+  // A copy of shard 1/2 relabelled 2/2 (its hash updated): its rows are not shard 2/2's.
+  fs::copy(halves[0], dir_ / "copy", fs::copy_options::recursive);
+  RewriteShard(dir_ / "copy", ShardRowsOf(dir_ / "copy"), {{"shard", 1}});
+  EXPECT_EQ(MergeError({halves[0], dir_ / "copy"}),
+            (dir_ / "copy" / "runs.csv").string() + ":2: run 0000 belongs to shard 1/2, but " +
+                (dir_ / "copy" / kShardManifest).string() +
+                " says this folder holds shard 2/2: the folder was edited or mixed; run the shard again into a new "
+                "folder");
 }
 
 }  // namespace
