@@ -66,6 +66,14 @@ std::string SweepFingerprint(const SweepSpec& spec, const nlohmann::json& diagra
 /// The manifest file of a shard folder.
 inline constexpr const char* kShardManifest = "sweep-shard.json";
 
+/// The manifest's key for the folder's content hash (ShardContentHash), written when the shard has run (absent while
+/// it runs or if it was interrupted) and checked by sweep-merge.
+inline constexpr const char* kShardContentKey = "content";
+
+/// "fnv1a64:<16 hex digits>" over `manifest` (without its "content") and the bytes of `dir`/runs.csv and
+/// `dir`/runs.json: a value edited after the shard ran changes it (a check against mistakes, not a signature).
+std::string ShardContentHash(nlohmann::json manifest, const std::filesystem::path& dir);
+
 /// Runs shard `shard` of the sweep into `out` (RunSweep on ShardPositions; the runs keep their global ids) after
 /// writing out/sweep-shard.json. Resumes like RunSweep when `out` holds this shard of this sweep.
 /// @throws std::invalid_argument if the spec was already narrowed (KeepRuns) or the shard has no run (N > runs);
@@ -80,8 +88,12 @@ struct SweepMergeOutcome {
 };
 
 /// Merges shard folders into `out`: runs.csv (rows in run-id order, cells as the shards wrote them), runs.json,
-/// runs/<id>/ (if the shards saved logs) and a sweep-shard.json of shard 0/1. Nothing is written unless every check
-/// passes. @throws std::invalid_argument naming the folder and the fix: no manifest, another sweep's fingerprint,
+/// runs/<id>/ (if the shards saved logs) and a sweep-shard.json of shard 0/1 (with its content hash). Nothing is
+/// written unless every check passes. @throws std::invalid_argument naming the folder (the file and line for a row)
+/// and the fix: a shard without its content hash (interrupted) or whose runs.csv, runs.json or manifest changed
+/// since it ran (the first row unlike runs.json named), an "ok" row with a metric that is no finite number, one run
+/// on two lines with other values, a row of another shard, manifests of another shard count or the same shard
+/// index twice, no manifest, another sweep's fingerprint,
 /// other columns, `out` among the inputs, runs missing or present twice (the first 10 ids listed, with their shard),
 /// a shard's runs.json behind its runs.csv (interrupted: run the shard again), a manifest whose "runs" is not a whole
 /// number of at most kMaxSweepRunsCeiling or whose "shards" is not a whole number from 1 to "runs" (naming the file
