@@ -61,8 +61,10 @@ void ClearAllowedDiagramFileFolders() {
   Allowed().clear();
 }
 
-fs::path ResolveDiagramFile(const std::string& written, const fs::path& base_directory) {
-  if (written.empty()) throw std::invalid_argument("the file name is empty: give a file in the diagram's folder");
+fs::path ResolveDiagramFile(const std::string& written, const fs::path& base_directory, const std::string& owner) {
+  if (written.empty()) {
+    throw std::invalid_argument(fmt::format("the file name is empty: give a file in the {}'s folder", owner));
+  }
   const fs::path folder = Canonical(base_directory);
   const fs::path resolved = Canonical(fs::path(written).is_absolute() ? fs::path(written) : folder / written);
   const auto allowed = AllowedDiagramFileFolders();
@@ -70,16 +72,16 @@ fs::path ResolveDiagramFile(const std::string& written, const fs::path& base_dir
                       std::any_of(allowed.begin(), allowed.end(), [&](const fs::path& f) { return IsUnder(resolved, f); });
   if (!inside) {
     throw std::invalid_argument(fmt::format(
-        "\"{}\" resolves to {}, outside the diagram's folder {}: a diagram reads only files beside it; copy the file "
-        "into that folder, or allow its folder with --allow-path {}",
-        written, resolved.string(), folder.string(), resolved.parent_path().string()));
+        "\"{}\" resolves to {}, outside the {}'s folder {}: a {} reads only files beside it; copy the file into that "
+        "folder, or allow its folder with --allow-path {}",
+        written, resolved.string(), owner, folder.string(), owner, resolved.parent_path().string()));
   }
   std::error_code ec;
   const fs::file_status status = fs::status(resolved, ec);
   if (!fs::exists(status)) {
     throw std::invalid_argument(fmt::format("\"{}\" ({}): no such file; check the name (relative names start at the "
-                                            "diagram's folder {})",
-                                            written, resolved.string(), folder.string()));
+                                            "{}'s folder {})",
+                                            written, resolved.string(), owner, folder.string()));
   }
   if (!fs::is_regular_file(status)) {
     throw std::invalid_argument(fmt::format("\"{}\" ({}) is not a regular file (a folder, device, FIFO or socket); "

@@ -28,6 +28,9 @@ void ClearAllowedDiagramFileFolders();
 /// @throws std::invalid_argument when `written` is empty, the file does not exist, is not a regular file (a
 /// folder, device, FIFO or socket: /dev/zero never reaches a reader), or lies outside those folders; the message
 /// names the path as written and as resolved and says how to fix it, and never shows the file's content.
-std::filesystem::path ResolveDiagramFile(const std::string& written, const std::filesystem::path& base_directory);
+/// `owner` names the file that wrote the path in the messages ("the diagram's folder"; a sweep file's "diagram" is
+/// resolved the same way with "sweep file").
+std::filesystem::path ResolveDiagramFile(const std::string& written, const std::filesystem::path& base_directory,
+                                         const std::string& owner = "diagram");
 
 }  // namespace mb

@@ -21,6 +21,7 @@
 #include "engine/csv.h"
 #include "engine/diagram_loader.h"
 #include "engine/diagram_schema.h"
+#include "engine/file_access.h"
 #include "engine/file_error.h"
 #include "engine/input_file.h"
 #include "engine/json_limits.h"
@@ -565,13 +566,15 @@ fs::path SweepDiagramPath(const SweepSpec& spec, const fs::path& sweep_file) {
                                             "DIAGRAM {}",
                                             sweep_file.string(), sweep_file.string()));
   }
-  const fs::path diagram = (sweep_file.parent_path() / spec.diagram).lexically_normal();
-  if (!fs::is_regular_file(diagram)) {
-    throw std::invalid_argument(fmt::format("{}: its \"diagram\" {} (relative to the sweep file: {}) is not a file; "
-                                            "correct it or give the diagram: motionblocks sweep DIAGRAM {}",
-                                            sweep_file.string(), spec.diagram, diagram.string(), sweep_file.string()));
+  // As a diagram's own file parameters (engine/file_access.h): a sweep from someone else opens no file outside its
+  // folder ("../../../../etc/passwd") unless --allow-path allows it; checked before anything is opened.
+  try {
+    return ResolveDiagramFile(spec.diagram, sweep_file.parent_path(), "sweep file");
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(fmt::format("{}: its \"diagram\" {}; or give the diagram on the command line: "
+                                            "motionblocks sweep DIAGRAM {}",
+                                            sweep_file.string(), e.what(), sweep_file.string()));
   }
-  return diagram;
 }
 
 json ApplySweepAssignments(json diagram, const std::vector<std::pair<std::string, json>>& assignments,

@@ -144,8 +144,10 @@ SweepSpec ParseSweep(const nlohmann::json& sweep, const std::string& source,
 SweepSpec ReadSweepFile(const std::filesystem::path& path, std::size_t max_runs = kDefaultMaxSweepRuns);
 
 /// The diagram a sweep file was written for: its "diagram", resolved against the sweep file's folder (not the working
-/// directory). @throws std::invalid_argument if the sweep names none ("give the diagram: motionblocks sweep DIAGRAM
-/// SWEEP") or it does not exist.
+/// directory), as a diagram's file parameters are (ResolveDiagramFile): it must lie inside the sweep file's folder or a
+/// folder allowed with --allow-path, and be a regular file. @throws std::invalid_argument if the sweep names none
+/// ("give the diagram: motionblocks sweep DIAGRAM SWEEP"), or it lies outside (before it is opened), does not exist
+/// or is no regular file.
 std::filesystem::path SweepDiagramPath(const SweepSpec& spec, const std::filesystem::path& sweep_file);
 
 /// The diagram JSON with `assignments` written in: "defaultExperiment.*" and "solver.*" into those sections,

@@ -207,5 +207,32 @@ TEST(UntrustedInput, ControlBytesFromADiagramReachTheTerminalEscaped) {
   fs::remove_all(dir);
 }
 
+// A sweep file from someone else opens no diagram outside its folder, as a diagram's own file names (issue 30):
+// "../../../../etc/passwd" is refused before it is opened (no JSON error quoting it); --allow-path lets one in.
+TEST(UntrustedInput, ASweepFileOpensNoDiagramOutsideItsFolder) {
+  const fs::path dir = ProcessTempDir("mb_untrusted_sweep_path");
+  fs::remove_all(dir);
+  fs::create_directories(dir / "sweeps");
+  std::ofstream(dir / "d.json") << ConstantsDiagram("d", {"k"}).dump(1);
+  const json list = {{{"k.value", 2.0}}};
+  std::ofstream(dir / "sweeps" / "passwd.json") << json{{"diagram", "../../../../../../../../etc/passwd"}, {"list", list}};
+  std::ofstream(dir / "sweeps" / "up.json") << json{{"diagram", "../d.json"}, {"list", list}};
+  CommandResult r = RunMotionblocksIn(dir, {"sweep", "sweeps/passwd.json", "--quiet", "--out", "o"});
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("sweeps/passwd.json: its \"diagram\" \"../../../../../../../../etc/passwd\" resolves "
+                                  "to /etc/passwd, outside the sweep file's folder"));
+  EXPECT_THAT(r.output, HasSubstr("--allow-path /etc"));
+  EXPECT_THAT(r.output, Not(AnyOf(HasSubstr("JSON"), HasSubstr("root"))));
+  r = RunMotionblocksIn(dir, {"sweep", "sweeps/up.json", "--quiet", "--out", "o"});
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("outside the sweep file's folder"));
+  EXPECT_FALSE(fs::exists(dir / "o" / "runs.csv"));
+  r = RunMotionblocksIn(dir, {"sweep", "sweeps/up.json", "--allow-path", ".", "--quiet", "--out", "o"});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  r = RunMotionblocksIn(dir, {"sweep", "d.json", "sweeps/passwd.json", "--quiet", "--out", "o2"});
+  EXPECT_EQ(r.exit_code, 0) << "a diagram given on the command line is the user's choice\n" << r.output;
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace mb

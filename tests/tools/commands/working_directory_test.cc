@@ -64,9 +64,11 @@ class WorkingDirectory : public ::testing::Test {
   fs::path root_, project_, elsewhere_;
 };
 
+// "../drive.json" lies outside the sweep file's folder: allowed with --allow-path, as for a diagram's own files.
 TEST_F(WorkingDirectory, ASweepFileRunsTheDiagramItNamesRelativeToItself) {
-  const CommandResult r = RunMotionblocksIn(
-      elsewhere_, {"sweep", (project_ / "sweeps" / "gains.json").string(), "--quiet", "--out", "o"});
+  const CommandResult r =
+      RunMotionblocksIn(elsewhere_, {"sweep", (project_ / "sweeps" / "gains.json").string(), "--allow-path",
+                                     project_.string(), "--quiet", "--out", "o"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_THAT(r.output, HasSubstr("2 runs (list): 2 run now, 0 already done, 0 failed"));
   EXPECT_TRUE(fs::exists(elsewhere_ / "o" / "runs.csv"));
