@@ -13,6 +13,7 @@
 
 #include "engine/block.h"
 #include "engine/parameters.h"
+#include "engine/units.h"
 
 namespace mb {
 
@@ -30,6 +31,7 @@ struct ExternalInput {
   std::string name;
   std::string unit;
   std::string measurement;
+  MotionQuantity quantity = MotionQuantity::kOther;  ///< declared "quantity" (units.h QuantityNamed); kOther: none
   bool optional = false;      ///< an optional input absent from the log reads `default_value`
   double default_value = 0.0;
 };
@@ -39,6 +41,7 @@ struct ExternalOutput {
   std::string name;
   std::string unit;
   std::string measurement;
+  MotionQuantity quantity = MotionQuantity::kOther;  ///< declared "quantity" (units.h QuantityNamed); kOther: none
   SignalRef source;
 };
 

@@ -345,7 +345,7 @@ std::vector<DocumentConnector> DiagramDocument::Connectors(const std::string& ki
   for (const auto& c : json_.value("connectors", Json::array())) {
     if (c.value("kind", "") != kind) continue;
     const std::string name = c.value("name", "");
-    out.push_back({name, kind, c.value("unit", ""), c.value("measurement", name)});
+    out.push_back({name, kind, c.value("unit", ""), c.value("measurement", name), c.value("quantity", "")});
   }
   return out;
 }
@@ -363,6 +363,7 @@ void DiagramDocument::AddConnector(const DocumentConnector& connector) {
   }
   Json c = {{"name", connector.name}, {"kind", connector.kind}};
   if (!connector.unit.empty()) c["unit"] = connector.unit;
+  if (!connector.quantity.empty()) c["quantity"] = connector.quantity;
   if (!connector.measurement.empty() && connector.measurement != connector.name) {
     c["measurement"] = connector.measurement;
   }

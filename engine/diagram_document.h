@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/parameters.h"
+#include "engine/units.h"
 
 namespace mb {
 
@@ -46,6 +47,9 @@ struct DocumentConnector {
   std::string kind;         ///< "input" or "output"
   std::string unit;
   std::string measurement;  ///< the measured column's name (default: the connector's name)
+  std::string quantity;     ///< declared "quantity" ("position", … units.h kQuantityNames); empty: the unit says it
+  /// What it carries: the declared quantity, else its unit's (units.h ConnectorQuantity).
+  MotionQuantity Quantity() const { return ConnectorQuantity(unit, quantity); }
 };
 
 /// An element to add: `name` is a wish (a taken name gets a suffix, see DiagramDocument::Add), `type` a

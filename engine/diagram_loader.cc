@@ -503,6 +503,7 @@ class DiagramBuilder {
       in.name = c["name"];
       in.unit = c.value("unit", "");
       in.measurement = c.value("measurement", in.name);
+      in.quantity = DeclaredQuantity(c, ptr);
       in.optional = c.value("optional", false);
       in.default_value = NumberOr(c, "default", 0.0, ptr, &problems_);
       d_.inputs_.push_back(in);
@@ -638,7 +639,9 @@ class DiagramBuilder {
         continue;
       }
       const std::string unit = SignalUnit(*start);
-      if (!unit.empty() && !in.unit.empty() && !PortAcceptsUnit(in.unit, unit)) {
+      const MotionQuantity declared =
+          start->is_external() ? d_.inputs_[static_cast<std::size_t>(start->port)].quantity : MotionQuantity::kOther;
+      if (!unit.empty() && !in.unit.empty() && !PortAcceptsSignal(in.unit, unit, declared)) {
         Problem(fmt::format("{}: unit mismatch: {} is in '{}', input {}.{} expects '{}' (insert a gain to convert)",
                             ptr, d_.SignalName(*start), unit, end_element, in.name, in.unit));
         continue;
@@ -653,6 +656,23 @@ class DiagramBuilder {
         }
       }
     }
+  }
+
+  // The connector's declared "quantity" (units.h QuantityNamed; the schema holds the names); a problem when it
+  // contradicts the connector's unit (a connector in m declared a force).
+  MotionQuantity DeclaredQuantity(const json& c, const std::string& ptr) {
+    if (!c.contains("quantity") || !c["quantity"].is_string()) return MotionQuantity::kOther;
+    const std::string name = c["quantity"];
+    const MotionQuantity declared = QuantityNamed(name);
+    const std::string unit = c.contains("unit") && c["unit"].is_string() ? c["unit"].get<std::string>() : "";
+    const MotionQuantity of_unit = QuantityOfUnit(unit);
+    if (of_unit != MotionQuantity::kOther && of_unit != declared) {
+      Problem(fmt::format("{}/quantity: \"{}\" contradicts the unit '{}', which measures a {}; leave \"quantity\" "
+                          "out (the unit says it) or fix the unit",
+                          ptr, Excerpt(name), Excerpt(unit),
+                          kQuantityNames[static_cast<std::size_t>(of_unit) - 1]));
+    }
+    return declared;
   }
 
   std::string SignalUnit(const SignalRef& ref) const {
@@ -674,6 +694,7 @@ class DiagramBuilder {
       out.name = c["name"];
       out.unit = c.value("unit", "");
       out.measurement = c.value("measurement", out.name);
+      out.quantity = DeclaredQuantity(c, fmt::format("/connectors/{}", i));
       const auto it = feeding.find(out.name);
       std::optional<SignalRef> start;
       if (it != feeding.end()) start = ResolveStart(j_["connections"][it->second], At("connections", it->second));
@@ -687,7 +708,8 @@ class DiagramBuilder {
       // in m) would label the logged and compared values wrongly. A linear signal may leave through a rotary
       // connector of its quantity and back (units.h PortAcceptsUnit: the blocks' linear units stand for both).
       const std::string unit = SignalUnit(*start);
-      if (!unit.empty() && !out.unit.empty() && !PortAcceptsUnit(out.unit, unit) && !PortAcceptsUnit(unit, out.unit)) {
+      if (!unit.empty() && !out.unit.empty() && !PortAcceptsUnit(out.unit, unit) &&
+          !PortAcceptsSignal(unit, out.unit, out.quantity)) {
         Problem(fmt::format("/connectors/{}/unit: unit mismatch: output connector '{}' is in '{}', but the signal "
                             "wired to it, {}, is in '{}' (write the signal's unit, or insert a gain to convert)",
                             i, Excerpt(out.name), Excerpt(out.unit), d_.SignalName(*start), unit));

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "engine/diagram_loader.h"
+#include "engine/units.h"
 
 namespace mb {
 
@@ -159,6 +160,12 @@ json PortNames(const BlockRegistry& registry, bool inputs) {
   return json(std::vector<std::string>(names.begin(), names.end()));
 }
 
+json QuantityNames() {
+  json names = json::array();
+  for (const auto name : kQuantityNames) names.push_back(std::string(name));
+  return names;
+}
+
 json Sections(const BlockRegistry& registry) {
   const json string = {{"type", "string"}};
   const json number = {{"type", "number"}};
@@ -167,6 +174,9 @@ json Sections(const BlockRegistry& registry) {
                                  {"unit", Described(string, "SI unit of the signal")},
                                  {"description", string},
                                  {"measurement", Described(string, "column in a measurement log (default: name)")},
+                                 {"quantity", Described({{"enum", QuantityNames()}},
+                                                        "what a signal in a unit of no motion quantity (V, none) "
+                                                        "stands for; blocks take it on ports of that quantity")},
                                  {"optional", Described({{"type", "boolean"}}, "input only: may be absent")},
                                  {"default", Described(number, "input only: value when absent")}});
   connector["required"] = {"name", "kind"};

@@ -155,6 +155,25 @@ inline MotionQuantity QuantityOfUnit(std::string_view unit) {
   return MotionQuantity::kOther;
 }
 
+/// The names a connector's "quantity" key takes, in MotionQuantity's order after kOther (the schema's enum).
+inline constexpr std::array<std::string_view, 4> kQuantityNames{"position", "velocity", "acceleration", "force"};
+
+/// The quantity a connector declares with its "quantity" key: a signal whose unit is no motion unit (a voltage
+/// standing for the position of an electronic oscillator, a plain number) says what it stands for, so that the
+/// blocks take it on ports of that quantity and the diagnosis finds its position and force. kOther for any other text.
+inline MotionQuantity QuantityNamed(std::string_view name) {
+  for (std::size_t i = 0; i < kQuantityNames.size(); ++i) {
+    if (name == kQuantityNames[i]) return static_cast<MotionQuantity>(i + 1);
+  }
+  return MotionQuantity::kOther;
+}
+
+/// The quantity a connector carries: the one it declares ("quantity", QuantityNamed), else its unit's.
+inline MotionQuantity ConnectorQuantity(std::string_view unit, std::string_view declared) {
+  const MotionQuantity named = QuantityNamed(declared);
+  return named != MotionQuantity::kOther ? named : QuantityOfUnit(unit);
+}
+
 /// True when a signal in `signal_unit` may drive a port declared in `port_unit`: the same unit (spellings folded),
 /// or the port in a linear unit (m, m/s, m/s^2, N) and the signal the rotary or drive unit of the same quantity.
 inline bool PortAcceptsUnit(std::string_view port_unit, std::string_view signal_unit) {
@@ -163,6 +182,14 @@ inline bool PortAcceptsUnit(std::string_view port_unit, std::string_view signal_
   const bool linear_port = port == "m" || port == "m/s" || port == "m/s^2" || port == "N";
   const MotionQuantity q = QuantityOfUnit(port);
   return linear_port && q != MotionQuantity::kOther && q == QuantityOfUnit(signal_unit);
+}
+
+/// PortAcceptsUnit for a signal that may declare what it stands for (`declared`, QuantityNamed; kOther: nothing
+/// declared): a signal in a unit of no motion quantity (V) declared a position drives a position port (m, rad).
+inline bool PortAcceptsSignal(std::string_view port_unit, std::string_view signal_unit, MotionQuantity declared) {
+  if (PortAcceptsUnit(port_unit, signal_unit)) return true;
+  return declared != MotionQuantity::kOther && QuantityOfUnit(signal_unit) == MotionQuantity::kOther &&
+         QuantityOfUnit(port_unit) == declared;
 }
 
 /// One revolution in a position unit: 1 (rev), 2π (rad), 360 (deg); 0 for a linear or unknown unit.

@@ -27,7 +27,8 @@ std::vector<ProposedPeriod> PositionPeriods(const Periodogram& pg, const Catalog
     }
     const double period = pg.peaks[i].period * sub;
     if (period > pg.max_period) continue;
-    out.push_back({period, std::min(options.max_harmonics, sub * HarmonicCount(pg, i, options.max_harmonics))});
+    out.push_back({period, std::min(options.max_harmonics, sub * HarmonicCount(pg, i, options.max_harmonics)),
+                   pg.peaks[i].power});
   }
   return out;
 }
@@ -57,7 +58,7 @@ std::vector<std::pair<ProposedPeriod, double>> FewCyclePeriods(const Eigen::Vect
     }
     // Without harmonics (harmonics 0 here): a candidate only if it beats a smooth function of the position on
     // held-out blocks (ProposalContext::AddFewCyclePeriods).
-    out.push_back({{peak.period, highest > 0 ? std::min(options.max_harmonics, highest) : 0}, peak.power});
+    out.push_back({{peak.period, highest > 0 ? std::min(options.max_harmonics, highest) : 0, peak.power}, peak.power});
   }
   return out;
 }

@@ -21,6 +21,7 @@ namespace mb {
 struct ProposedPeriod {
   double period = 0.0;  ///< [m]; a sub-harmonic found in the periodogram makes it k × the peak's period
   int harmonics = 1;    ///< 1 + the highest harmonic order flagged, at most CatalogueOptions::max_harmonics
+  double power = 0.0;   ///< its periodogram peak's share of the residual's variance, 0..1 (PeriodogramPeak::power)
 };
 
 class ProposalContext {

@@ -162,6 +162,25 @@ TEST(DiagramLoaderTest, OutputConnectorUnitAndNameAreChecked) {
   EXPECT_THAT(ErrorOf(j), HasSubstr("/connectors/1/name: connector 'position' is declared twice (also /connectors/0)"));
 }
 
+// Issue 25: a connector in a unit of no motion quantity (a voltage standing for a position) declares what it stands
+// for, and the blocks take it on ports of that quantity; a declaration that contradicts the unit is refused.
+TEST(DiagramLoaderTest, ConnectorQuantityLetsAVoltageStandForAPosition) {
+  json j = Minimal();
+  j["elements"].push_back({{"name", "spring"}, {"type", "position_dependent_force"}});
+  j["connectors"] = {{{"name", "x"}, {"kind", "input"}, {"unit", "V"}}};
+  j["connections"].push_back({{"startConnector", "x"}, {"endElement", "spring"}, {"endConnector", "x"}});
+  EXPECT_THAT(ErrorOf(j), HasSubstr("unit mismatch: x is in 'V', input spring.x expects 'm'"));
+  j["connectors"][0]["quantity"] = "position";
+  EXPECT_NO_THROW(Build(j));
+  j["connectors"][0]["quantity"] = "force";
+  EXPECT_THAT(ErrorOf(j), HasSubstr("unit mismatch: x is in 'V', input spring.x expects 'm'"));
+  j["connectors"][0]["unit"] = "rad";
+  EXPECT_THAT(ErrorOf(j), HasSubstr("/connectors/0/quantity: \"force\" contradicts the unit 'rad', which measures a "
+                                    "position; leave \"quantity\" out (the unit says it) or fix the unit"));
+  j["connectors"][0]["quantity"] = "length";
+  EXPECT_THAT(ErrorOf(j), HasSubstr("/connectors/0/quantity"));
+}
+
 TEST(DiagramLoaderTest, SubsystemIsExpandedAndRewired) {
   json inner = {{"schemaVersion", "1.0"},
                 {"connectors", {{{"name", "in"}, {"kind", "input"}}, {{"name", "out"}, {"kind", "output"}}}},

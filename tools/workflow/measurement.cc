@@ -17,7 +17,11 @@ using nlohmann::json;
 
 std::string PositionUnitToken(const std::string& position_column) {
   const std::string unit = ColumnUnit(position_column);
-  return QuantityOfUnit(unit) == MotionQuantity::kPosition ? unit : "m";
+  if (QuantityOfUnit(unit) == MotionQuantity::kPosition) return unit;
+  // A unit of no motion quantity standing for the position (x_V on an electronic oscillator) stays that unit; a
+  // length in another unit (mm) is converted to metres (PositionToMetres), no suffix is read as metres.
+  if (!unit.empty() && QuantityOfUnit(unit) == MotionQuantity::kOther && !UnitFactor(unit, "m")) return unit;
+  return "m";
 }
 
 std::string DerivedVelocityColumn(const std::string& position_column) {

@@ -22,12 +22,12 @@ inline constexpr const char* kDerivedVelocityColumn = "velocity_m_s";
 inline constexpr const char* kDerivedAccelerationColumn = "acceleration_m_s2";
 
 /// The same for any position column: velocity_<u>_s and acceleration_<u>_s2, <u> the position's unit from its name
-/// (ColumnUnit: rad, rev or deg; m for m, mm, um, cm and when the name carries none), e.g. velocity_rev_s for
-/// angle_rev, velocity_m_s for position_mm.
+/// (ColumnUnit: rad, rev or deg; m for m, mm, um, cm and when the name carries none; a unit of no motion quantity
+/// as it is), e.g. velocity_rev_s for angle_rev, velocity_m_s for position_mm, velocity_V_s for x_V.
 std::string DerivedVelocityColumn(const std::string& position_column);
 std::string DerivedAccelerationColumn(const std::string& position_column);
 /// The unit token of a position column's name ("m", "rad", "rev", "deg"; "m" for mm, um, cm and when it carries
-/// none).
+/// none; a unit of no motion quantity, such as V for a voltage standing for the position, as it is).
 std::string PositionUnitToken(const std::string& position_column);
 
 /// Units of the position column, from its name's suffix (ColumnUnit): a linear position in mm, um or cm is converted

@@ -36,10 +36,12 @@ std::string NeedInput(const DiagramDocument& diagram, MotionInput input, const s
     return {"acceleration", MotionQuantity::kAcceleration, "m/s^2"};
   }();
   for (const auto& c : diagram.Connectors("input")) {
-    if (QuantityOfUnit(c.unit) == wanted) return c.name;
+    if (c.Quantity() == wanted) return c.name;
   }
-  throw std::invalid_argument(fmt::format("effect '{}' needs the {}: add an input connector with unit \"{}\"", effect,
-                                          quantity, example));
+  throw std::invalid_argument(fmt::format(
+      "effect '{}' needs the {}: add an input connector with unit \"{}\" (or rad, rev, deg), or one in another unit "
+      "that declares \"quantity\": \"{}\"",
+      effect, quantity, example, quantity));
 }
 
 // Whether blocks of `type` are what effects insert between the model and its output (placement kInsertBeforeOutput:
@@ -107,7 +109,7 @@ std::string CommandInput(DiagramDocument* out, const std::string& output) {
     }
     return false;
   };
-  DocumentConnector command{"logged_" + output, "input", compared->unit, compared->measurement};
+  DocumentConnector command{"logged_" + output, "input", compared->unit, compared->measurement, compared->quantity};
   for (int k = 2; taken(command.name); ++k) command.name = fmt::format("logged_{}_{}", output, k);
   out->AddConnector(command);
   return command.name;
