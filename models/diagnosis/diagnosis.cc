@@ -1263,6 +1263,7 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
   const Eigen::VectorXd& r = signals.residual;
 
   DiagnosisResult result;
+  result.position_unit = options.position_unit;
   result.base_names = base.names;
   result.rmse_before = std::sqrt(r.squaredNorm() / static_cast<double>(n));
 

@@ -116,6 +116,7 @@ struct DiagnosisResult {
   bool missing_effect_found = false;
   bool position_time_indistinguishable = false;
   std::string summary;                       // one paragraph for users
+  std::string position_unit = "m";           // the position's unit (DiagnosisOptions::position_unit), for texts
   std::vector<std::string> notes;            // supporting evidence and caveats
 
   double rmse_before = 0.0;                  // RMSE of the residual as given

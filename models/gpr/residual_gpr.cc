@@ -116,7 +116,9 @@ ResidualGprResult FitResidualGpr(const DiagnosisSignals& signals, const Eigen::R
   result.useful = result.heldout_share >= options.min_gain;
 
   const std::string kernel_text = result.kernel == GprKernel::kPeriodicSe
-                                      ? fmt::format("PS, period {:.4g} mm", 1e3 * result.period)
+                                      ? (options.position_unit == "m"
+                                             ? fmt::format("PS, period {:.4g} mm", 1e3 * result.period)
+                                             : fmt::format("PS, period {:.4g} {}", result.period, options.position_unit))
                                       : std::string("DS");
   if (result.useful) {
     GprModel model = FitOn(signals, r, TrainingIndices(n, 0, 0, options.max_training_samples), fit);
@@ -152,6 +154,7 @@ ResidualGprResult FitResidualGprAfterDiagnosis(const DiagnosisSignals& signals, 
       }
     }
   }
+  options.position_unit = diagnosis.position_unit;
   const Eigen::VectorXd left = signals.residual - PredictCorrection(diagnosis, signals, base);
   return FitResidualGpr(signals, left, options);
 }

@@ -23,19 +23,21 @@ struct ResidualGprOptions {
   /// "PS" (periodic in x with `period`, plus SE in ẋ) or "DS" (SE + SE). With std::nullopt: "PS" when `period`
   /// is given, else "DS".
   std::optional<GprKernel> kernel;
-  double period = 0.0;           ///< τ [m] for "PS" (e.g. the pole pitch or the residual's periodogram peak); 0 = none
+  double period = 0.0;           ///< τ [m, or the position_unit] for "PS" (e.g. the pole pitch or the residual's periodogram peak); 0 = none
   Eigen::Index folds = 5;        ///< contiguous cross-validation blocks, 2..N/64
   double min_gain = 0.01;        ///< below this held-out share the fallback is "not useful"
   /// Fits use at most this many samples, evenly strided over the training blocks (the weight-space fit takes
   /// 10⁵ samples in a few tenths of a second; the stride keeps k + 1 fits of a long log quick).
   Eigen::Index max_training_samples = 20000;
   int restarts = 1;              ///< extra MAP starts per fit (GprFitOptions::restarts)
+  /// The position's unit, for the description ("m" is written in mm; rad, rev, V as they are).
+  std::string position_unit = "m";
 };
 
 struct ResidualGprResult {
   bool useful = false;             ///< held-out share ≥ min_gain
   GprKernel kernel = GprKernel::kSeSe;
-  double period = 0.0;             ///< τ [m] used ("PS")
+  double period = 0.0;             ///< τ [m, or the position_unit] used ("PS")
   double heldout_rmse_before = 0.0;  ///< RMS of the residual over the held-out blocks (the GP's mean not counted)
   double heldout_rmse_after = 0.0;   ///< RMS of residual − GP prediction fitted on the other blocks
   double heldout_share = 0.0;        ///< 1 − after²/before²: share of the residual energy the GP explains

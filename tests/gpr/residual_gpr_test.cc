@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 namespace mb {
@@ -69,6 +70,13 @@ TEST(ResidualGpr, LearnsWhatDependsOnPositionAndVelocity) {
   ASSERT_TRUE(g.model.has_value());
   EXPECT_LT(g.rmse_after, 1.2 * noise);
   EXPECT_NE(g.description.find("held-out"), std::string::npos);
+  EXPECT_NE(g.description.find(fmt::format("PS, period {:.4g} mm", 1e3 * kPitch)), std::string::npos) << g.description;
+  // The period in the position's own unit when it is not metres (a rotary axis in rad; issue 25).
+  options.position_unit = "rad";
+  options.max_training_samples = 3000;
+  const ResidualGprResult in_rad = FitResidualGpr(s, r, options);
+  EXPECT_NE(in_rad.description.find(fmt::format("PS, period {:.4g} rad", kPitch)), std::string::npos)
+      << in_rad.description;
   const nlohmann::json j = g.ToJson();
   EXPECT_EQ(j.at("kernel"), "PS");
   EXPECT_DOUBLE_EQ(j.at("heldout_share").get<double>(), g.heldout_share);

@@ -38,6 +38,7 @@ FallbackOutcome FitImproveFallback(const ImproveResult& result,
   Say(progress, "fitting the non-parametric fallback (TISO-GPR on position and velocity) to what is left …");
   outcome.attempted = true;
   ResidualGprOptions options;
+  options.position_unit = last.training.diagnosis->position_unit;
   for (const auto& step : result.steps) {
     if (step.accepted && step.diagnosed && step.diagnosed->parameters.count("period") &&
         LookupEffect(step.effect).traits.periodicity == Periodicity::kPosition) {
