@@ -3,6 +3,9 @@
 // refit jointly, keep an effect only if the held-out error falls (tools/workflow/improve.h). Writes DIR/step_<k>/diagram.json
 // as each step completes, DIR/improved.json, DIR/improve.json and DIR/report.html (before/after figures); when the
 // residual stays non-white, the TISO-GPR fallback (DIR/residual_gpr.json, DIR/improved_with_gp.json).
+// improve.json says whether it is the whole result: "complete": false while the loop runs (rewritten by rename after
+// each step, so a killed improve leaves the steps it finished, marked incomplete), true once everything is written;
+// an improve.json of an earlier run in DIR is removed before the first step (issue 30).
 
 #include <iostream>
 #include <optional>
@@ -13,6 +16,7 @@
 #include "tools/commands/cli_options.h"
 #include "tools/commands/commands.h"
 #include "tools/report/improve_report.h"
+#include "tools/report/output_files.h"
 #include "tools/report/progress.h"
 #include "tools/workflow/fallback.h"
 #include "tools/workflow/improve.h"
@@ -23,6 +27,8 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
+
+constexpr const char* kImproveResultFile = "improve.json";
 
 struct ImproveOptions {
   std::string diagram;
@@ -50,6 +56,22 @@ void PrintImproveResult(const ImproveResult& result, const std::optional<json>& 
   std::cout << fmt::format("wrote {}/improved.json, improve.json, step_*/diagram.json and report.html\n", out.string());
 }
 
+// Removes DIR/improve.json of an earlier run, unless it is one of the inputs, so that what DIR holds while this run
+// works is never taken for a finished result.
+void RemoveEarlierImproveResult(const fs::path& out, const std::vector<std::string>& inputs) {
+  const fs::path result = out / kImproveResultFile;
+  std::error_code error;
+  if (!fs::is_regular_file(result, error)) return;
+  for (const auto& input : inputs) {
+    if (!input.empty() && fs::equivalent(result, input, error)) return;
+  }
+  if (!fs::remove(result, error) && error) {
+    throw std::runtime_error(fmt::format("{}: cannot remove the result of an earlier run ({}): remove it, or give "
+                                         "another --out",
+                                         result.string(), error.message()));
+  }
+}
+
 void RunImprove(const ImproveOptions& o) {
   const json diagram = ReadDiagramWithOverrides(o.diagram, o.measurement.overrides);
   ImproveSettings settings;
@@ -64,12 +86,14 @@ void RunImprove(const ImproveOptions& o) {
   std::optional<MeasurementLog> validation;
   if (!o.validation.empty()) validation = ReadMeasurementFor(diagram, o.validation, settings.measurement);
   const fs::path out(o.out);
-  const json context = {{"diagram", o.diagram},
-                        {"measurement", o.measurement.measurement},
-                        {"validation", o.validation.empty() ? json(nullptr) : json(o.validation)},
-                        {"mode", ExperimentMode(diagram)},
-                        {"max_effects", o.max_effects},
-                        {"min_relative_gain", o.min_gain}};
+  RemoveEarlierImproveResult(out, {o.diagram, o.measurement.measurement, o.validation});
+  json context = {{"diagram", o.diagram},
+                  {"measurement", o.measurement.measurement},
+                  {"validation", o.validation.empty() ? json(nullptr) : json(o.validation)},
+                  {"mode", ExperimentMode(diagram)},
+                  {"max_effects", o.max_effects},
+                  {"min_relative_gain", o.min_gain},
+                  {"complete", false}};  // until the last file is written (below)
   const auto progress = [](const std::string& line) { ProgressNote("improve: " + line); };
   const ImproveResult result = ImproveModel(
       diagram, fs::path(o.diagram).parent_path(), o.diagram, training, validation ? &*validation : nullptr, settings,
@@ -83,6 +107,13 @@ void RunImprove(const ImproveOptions& o) {
                      fmt::format("motionblocks improve: {} on {}", fs::path(o.diagram).filename().string(),
                                  fs::path(o.measurement.measurement).filename().string()),
                      fs::path(o.diagram).parent_path(), o.measurement.position_column, out);
+  // Last: improve.json whole, with the stop and its reason (set after the last step's progress file was written)
+  // and "complete": true. The same keys as the progress files, the fallback's record kept.
+  context["complete"] = true;
+  json final_result = context;
+  final_result.update(result.ToJson());
+  if (fallback_record) final_result["nonparametric_fallback"] = *fallback_record;
+  WriteJsonFile(final_result, out / kImproveResultFile);
   PrintImproveResult(result, fallback_record, out);
 }
 

@@ -1,6 +1,7 @@
 // motionblocks run DIAGRAM [--set id.param=value …] [--input connector=FILE[:COLUMN] …] [--out DIR]
 // Simulates a diagram; writes signals.csv (streamed as the run goes), summary.json (metrics in SI units) and
-// report.html with plots.
+// report.html with plots. Complete or absent: the files an earlier run left in --out are removed before this one
+// starts, and each file is written whole by rename, so an interrupted run leaves no summary.json (issue 30).
 
 #include <chrono>
 #include <iostream>
@@ -51,6 +52,36 @@ std::vector<CommandFile> RunInputFiles(const std::string& diagram, const std::ve
   return files;
 }
 
+// Removes from `out` what an earlier run wrote there (RunOutputNames, and the temporary files of a run that was
+// killed: "<name>.tmp<pid>"), so that only this run's files are ever found beside each other. The inputs are not
+// among them (RefuseOutputsOverInputs checked that first). Returns how many files were removed.
+int RemoveEarlierRunFiles(const fs::path& out) {
+  std::error_code error;
+  if (!fs::is_directory(out, error)) return 0;
+  const std::vector<std::string> names = RunOutputNames();
+  std::vector<fs::path> stale;
+  for (const auto& entry : fs::directory_iterator(out, error)) {
+    if (!entry.is_regular_file(error)) continue;
+    const std::string name = entry.path().filename().string();
+    for (const auto& pattern : names) {
+      if (FileNameMatches(name, pattern) || FileNameMatches(name, pattern + ".tmp*")) {
+        stale.push_back(entry.path());
+        break;
+      }
+    }
+  }
+  int removed = 0;
+  for (const auto& path : stale) {
+    if (!fs::remove(path, error) && error) {
+      throw std::runtime_error(fmt::format("{}: cannot remove this file of an earlier run ({}): remove it, or give "
+                                           "another --out",
+                                           path.string(), error.message()));
+    }
+    ++removed;
+  }
+  return removed;
+}
+
 struct RunOptions {
   std::string diagram;
   std::vector<std::string> overrides;
@@ -72,6 +103,7 @@ void RunRun(const RunOptions& o) {
   // The log streams to signals.csv as it is taken (memory stays bounded however long the run); the report's
   // figures get an evenly thinned copy of at most kFigureSamples samples.
   const fs::path out(o.out);
+  RemoveEarlierRunFiles(out);
   fs::create_directories(out);
   CsvLogFile signals(out / kSignalsFile);
   sim.StreamLogTo(&signals, kFigureSamples);
