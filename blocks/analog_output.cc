@@ -63,6 +63,6 @@ MB_REGISTER_BLOCK(AnalogOutput, BlockType{
     [](const BlockConfig& c) { return std::make_unique<AnalogOutput>(c); }})
 
 // A board channel (engine/block_roles.h; hw/virtual_stage.h reads the I/O subsystem by it).
-MB_REGISTER_IO_CHANNEL(AnalogOutput, "analog_output", IoChannelTrait{false, "newtons_per_volt"})
+MB_REGISTER_IO_CHANNEL(AnalogOutput, "analog_output", IoChannelTrait{false, "newtons_per_volt", "limit"})
 
 }  // namespace mb

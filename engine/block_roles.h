@@ -20,6 +20,8 @@ struct IoChannelTrait {
   /// false: the board actuates (an analog output; an input connector feeds the block).
   bool measures = true;
   std::string scale_parameter;  ///< the parameter scaling the channel, e.g. "counts_per_metre" [counts/m]
+  /// An actuating channel's output clamp, e.g. "limit" [V]: the board never sends more than ±limit ("" = none).
+  std::string limit_parameter;
 };
 
 class BlockRoleRegistry {

@@ -19,6 +19,10 @@
 
 namespace mb {
 
+/// The longest run `hil --duration` accepts [s]: a day (a longer run is refused when the options are parsed; its
+/// log is also bounded by the simulator's --max-steps check).
+inline constexpr double kHilMaxDuration = 86400.0;
+
 struct HilOptions {
   int max_missed_streak = 20;   ///< consecutive ticks without fresh inputs that trigger the safe stop
   int max_overrun_streak = 10;  ///< consecutive overruns (outputs written after the next tick was due)

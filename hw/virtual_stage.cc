@@ -53,6 +53,7 @@ StageWiring StageWiring::FromIoFile(const fs::path& io_file) {
           io_channel->measures ? "connect its x to an output connector" : "feed its f from an input connector"));
     }
     channel.scale = p.Number(io_channel->scale_parameter);
+    if (!io_channel->limit_parameter.empty()) channel.limit = p.Number(io_channel->limit_parameter);
     (io_channel->measures ? wiring.encoders : wiring.analog_outputs).push_back(channel);
   }
   if (wiring.encoders.empty()) {
@@ -66,8 +67,23 @@ StageWiring StageWiring::FromIoFile(const fs::path& io_file) {
 VirtualStage::VirtualStage(const fs::path& plant_file, StageWiring wiring, VirtualStageOptions options,
                            const std::vector<ParameterOverride>& overrides)
     : wiring_(std::move(wiring)), options_(options) {
-  if (!(options_.period > 0.0) || !(options_.watchdog_timeout > 0.0)) {
-    throw std::invalid_argument("virtual stage: period and watchdog timeout must be > 0 s");
+  // Written so that NaN fails every check.
+  if (!(options_.period >= kStageMinPeriod && options_.period <= kStageMaxPeriod)) {
+    throw std::invalid_argument(fmt::format("virtual stage: the tick period {} s is outside [{}, {}] s: give "
+                                            "--period-ms from {} to {}",
+                                            options_.period, kStageMinPeriod, kStageMaxPeriod, kStageMinPeriod * 1e3,
+                                            kStageMaxPeriod * 1e3));
+  }
+  if (!(options_.watchdog_timeout >= kStageMinWatchdog && options_.watchdog_timeout <= kStageMaxWatchdog)) {
+    throw std::invalid_argument(fmt::format("virtual stage: the watchdog timeout {} s is outside [{}, {}] s: give "
+                                            "--watchdog-ms from {} to {}",
+                                            options_.watchdog_timeout, kStageMinWatchdog, kStageMaxWatchdog,
+                                            kStageMinWatchdog * 1e3, kStageMaxWatchdog * 1e3));
+  }
+  if (!(options_.duration > 0.0 && (options_.duration <= kStageMaxDuration || std::isinf(options_.duration)))) {
+    throw std::invalid_argument(fmt::format("virtual stage: the duration {} s is outside (0, {}] s: give --duration "
+                                            "in that range, or none to run until stopped",
+                                            options_.duration, kStageMaxDuration));
   }
   json j = ReadDiagramJson(plant_file);
   ApplyOverrides(&j, overrides, plant_file.string());
@@ -102,6 +118,7 @@ VirtualStage::VirtualStage(const fs::path& plant_file, StageWiring wiring, Virtu
   unlimited.max_steps = std::numeric_limits<double>::infinity();
   simulator_ = std::make_unique<Simulator>(*plant_, unlimited);
   for (const auto& name : inputs) simulator_->SetInput(name, InputSeries{{0.0}, {0.0}});
+  forces_.assign(wiring_.analog_outputs.size(), 0.0);
   simulator_->Initialize(0.0);
   socket_ = std::make_unique<LoopbackUdpSocket>(options_.port);
 }
@@ -111,15 +128,31 @@ VirtualStage::~VirtualStage() = default;
 void VirtualStage::SetForce(std::size_t analog, double volts) {
   const StageChannel& a = wiring_.analog_outputs[analog];
   // Held from now on: a one-point series is constant (Simulator::SetInput holds the ends).
-  simulator_->SetInput(a.connector, InputSeries{{0.0}, {volts * a.scale}});
+  forces_[analog] = volts * a.scale;
+  simulator_->SetInput(a.connector, InputSeries{{0.0}, {forces_[analog]}});
 }
 
 void VirtualStage::AdvanceTo(double t) {
   if (t > simulator_->time()) simulator_->AdvanceTo(t);
 }
 
+namespace {
+
+// A fault seen inside the real-time loop: plain numbers, no text (formatted after the loop).
+struct OutputsFault {
+  bool found = false;
+  std::uint32_t sequence = 0;
+  double time = 0.0;
+  int channel = 0;
+  double volts = 0.0;
+  double limit = 0.0;
+};
+
+}  // namespace
+
 VirtualStageReport VirtualStage::Run(const std::atomic<bool>& stop, std::ostream& events) {
   VirtualStageReport report;
+  OutputsFault fault;
   const auto period_ns = static_cast<std::int64_t>(std::llround(options_.period * 1e9));
   const auto watchdog_ns = static_cast<std::int64_t>(std::llround(options_.watchdog_timeout * 1e9));
   const std::int64_t start_ns = MonotonicNanoseconds();
@@ -162,6 +195,16 @@ VirtualStageReport VirtualStage::Run(const std::atomic<bool>& stop, std::ostream
         socket_->SendTo(peer, reply);
         ++report.requests;
       } else if (packet.type == PacketType::kOutputs) {
+        // Volts that are not finite or beyond a channel's limit are a fault: not applied (the plant would integrate
+        // them, or the solver fail on them), the stage stops below.
+        for (std::size_t i = 0; i < wiring_.analog_outputs.size() && !fault.found; ++i) {
+          const StageChannel& a = wiring_.analog_outputs[i];
+          const double v = packet.analog_volts[static_cast<std::size_t>(a.channel)];
+          if (!(std::isfinite(v) && std::abs(v) <= a.limit && std::isfinite(v * a.scale))) {
+            fault = {true, packet.sequence, t, a.channel, v, a.limit};
+          }
+        }
+        if (fault.found) break;
         // A gap in the sequence numbers is lost packets; a smaller number is a new client run (it restarts at 0).
         if (have_sequence && packet.sequence > last_sequence + 1) {
           report.lost_outputs += packet.sequence - last_sequence - 1;
@@ -177,6 +220,7 @@ VirtualStageReport VirtualStage::Run(const std::atomic<bool>& stop, std::ostream
         ++report.outputs;
       }
     }
+    if (fault.found) break;
     const std::int64_t now = MonotonicNanoseconds();
     AdvanceTo(stage_time(now));
     if (watchdog_armed && now - last_outputs_ns > watchdog_ns) {
@@ -189,6 +233,18 @@ VirtualStageReport VirtualStage::Run(const std::atomic<bool>& stop, std::ostream
              << std::flush;
     }
     if (stage_time(now) >= options_.duration) break;
+  }
+  if (fault.found) {
+    for (std::size_t i = 0; i < wiring_.analog_outputs.size(); ++i) SetForce(i, 0.0);
+    report.fault = fmt::format(
+        "outputs packet {} (t = {:.3f} s): analog output channel {} carries {} V, {}; the packet was not applied, "
+        "every force is zeroed and the stage stopped: check the controller and its analog_output (a finite command "
+        "within ±limit), then start the stage again",
+        fault.sequence, fault.time, fault.channel, fault.volts,
+        !std::isfinite(fault.volts)      ? std::string("not a finite voltage")
+        : std::abs(fault.volts) > fault.limit ? fmt::format("beyond the channel's limit of ±{} V", fault.limit)
+                                              : std::string("a force beyond the range of a double"));
+    events << fmt::format("t = {:.3f} s: fault: {}\n", fault.time, report.fault) << std::flush;
   }
   report.time = simulator_->time();
   return report;

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -28,6 +29,8 @@
 #include "hw/board_registry.h"
 #include "hw/hil_runner.h"
 #include "hw/udp_board.h"
+#include "hw/udp_socket.h"
+#include "hw/virtual_stage.h"
 #include "tests/hw/hil_test_util.h"
 
 extern char** environ;
@@ -37,6 +40,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 std::string ReadFile(const fs::path& path) {
   std::ifstream in(path);
@@ -81,6 +85,23 @@ class ChildProcess {
     pid_ = -1;
     exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     return exit_code_;
+  }
+  /// Waits at most `timeout_s` for the exit; returns the exit status, or -2 after killing a child that did not end.
+  int WaitFor(double timeout_s) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+    while (pid_ > 0 && std::chrono::steady_clock::now() < deadline) {
+      int status = 0;
+      if (waitpid(pid_, &status, WNOHANG) == pid_) {
+        pid_ = -1;
+        exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+        return exit_code_;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    if (pid_ <= 0) return exit_code_;
+    kill(pid_, SIGKILL);
+    Wait();
+    return -2;
   }
   std::string Output() const { return ReadFile(log_); }
   /// Polls the output until it contains `text` or `timeout_s` passes.
@@ -241,6 +262,101 @@ TEST_F(VirtualStageTest, HilCommandWritesTheRunFilesAndStatistics) {
                      dir_ / "alone.log");
   EXPECT_EQ(alone.Wait(), 1);
   EXPECT_THAT(alone.Output(), HasSubstr("no virtual stage answers on 127.0.0.1:9"));
+}
+
+// An outputs packet as a client (or any local process) sends it: `volts` on analog channel 0.
+BoardPacket OutputsPacket(std::uint32_t sequence, double volts) {
+  BoardPacket packet;
+  packet.type = PacketType::kOutputs;
+  packet.sequence = sequence;
+  packet.analog_volts[0] = volts;
+  return packet;
+}
+
+// Issue 30: one outputs packet with NaN, inf, 1e308 V or beyond the channel's ±10 V ended the stage with a message
+// blaming the solver step (exit 3). It is a fault: not applied, the forces zeroed, the stage stops, and the report
+// names the packet, the channel and the value.
+TEST_F(VirtualStageTest, ABadOutputsPacketIsAFaultNamingThePacketAndTheValue) {
+  const fs::path io = testing::HilDiagramDir() / "subsystems" / "hil_io.json";
+  const StageWiring wiring = StageWiring::FromIoFile(io);
+  ASSERT_EQ(wiring.analog_outputs.size(), 1u);
+  EXPECT_EQ(wiring.analog_outputs[0].limit, 10.0);  // the analog_output's limit in the I/O file
+  const double inf = std::numeric_limits<double>::infinity();
+  const std::vector<std::pair<double, std::string>> cases = {
+      {std::numeric_limits<double>::quiet_NaN(), "channel 0 carries nan V, not a finite voltage"},
+      {inf, "channel 0 carries inf V, not a finite voltage"},
+      {-inf, "channel 0 carries -inf V, not a finite voltage"},
+      {1e308, "channel 0 carries 1e+308 V, beyond the channel's limit of ±10 V"},
+      {-10.5, "channel 0 carries -10.5 V, beyond the channel's limit of ±10 V"}};
+  for (const auto& [volts, says] : cases) {
+    VirtualStageOptions options;
+    options.duration = 5.0;  // a safety net: the fault must stop it long before
+    VirtualStage stage(testing::HilDiagramDir() / "subsystems" / "plant.json", wiring, options);
+    LoopbackUdpSocket client(0);
+    ASSERT_TRUE(client.SendTo(stage.port(), OutputsPacket(6, 2.5)));  // applied
+    ASSERT_TRUE(client.SendTo(stage.port(), OutputsPacket(7, volts)));
+    ASSERT_TRUE(client.SendTo(stage.port(), OutputsPacket(8, 1.0)));  // never read: the stage stopped at 7
+    std::atomic<bool> stop{false};
+    std::ostringstream events;
+    const VirtualStageReport report = stage.Run(stop, events);
+    EXPECT_THAT(report.fault, HasSubstr("outputs packet 7 (t = ")) << volts;
+    EXPECT_THAT(report.fault, HasSubstr(says));
+    EXPECT_THAT(report.fault, HasSubstr("every force is zeroed and the stage stopped"));
+    EXPECT_THAT(report.fault, Not(HasSubstr("step")));
+    EXPECT_EQ(report.outputs, 1) << "only packet 6 is applied";
+    EXPECT_LT(report.time, 2.0) << "stopped by the fault, not by the duration";
+    EXPECT_EQ(stage.forces(), std::vector<double>{0.0});
+    EXPECT_THAT(events.str(), HasSubstr("fault: outputs packet 7"));
+  }
+  // Within ±limit nothing is a fault: the stage runs its duration.
+  VirtualStageOptions options;
+  options.duration = 0.2;
+  VirtualStage stage(testing::HilDiagramDir() / "subsystems" / "plant.json", wiring, options);
+  LoopbackUdpSocket client(0);
+  ASSERT_TRUE(client.SendTo(stage.port(), OutputsPacket(1, -10.0)));
+  std::atomic<bool> stop{false};
+  std::ostringstream events;
+  const VirtualStageReport report = stage.Run(stop, events);
+  EXPECT_EQ(report.fault, "");
+  EXPECT_EQ(report.outputs, 1);
+}
+
+TEST_F(VirtualStageTest, TheStageCommandStopsOnABadPacketWithExitOneAndThePacket) {
+  const std::uint16_t port = StartStage();
+  ASSERT_NE(port, 0) << stage_->Output();
+  LoopbackUdpSocket client(0);
+  ASSERT_TRUE(client.SendTo(port, OutputsPacket(3, std::numeric_limits<double>::quiet_NaN())));
+  EXPECT_EQ(stage_->WaitFor(20.0), 1) << stage_->Output();
+  EXPECT_THAT(stage_->Output(), HasSubstr("virtual-stage: outputs packet 3 (t = "));
+  EXPECT_THAT(stage_->Output(), HasSubstr("analog output channel 0 carries nan V"));
+  EXPECT_THAT(stage_->Output(), Not(HasSubstr("solver")));
+}
+
+// Issue 30: `virtual-stage --duration -1` or `nan` and `hil --duration -1` ran until killed; `--period-ms 1e-9` was
+// accepted. Every such value is refused while the options are parsed: exit 2, naming the option.
+TEST_F(VirtualStageTest, DurationsAndPeriodsOutsideTheirRangeAreRefusedAtParseTime) {
+  const std::string plant = (testing::HilDiagramDir() / "subsystems" / "plant.json").string();
+  const std::string io = (testing::HilDiagramDir() / "subsystems" / "hil_io.json").string();
+  const std::vector<std::pair<std::string, std::string>> stage_options = {
+      {"--duration", "-1"},       {"--duration", "nan"},   {"--duration", "inf"},   {"--duration", "0"},
+      {"--duration", "1e9"},      {"--period-ms", "1e-9"}, {"--period-ms", "nan"},  {"--period-ms", "5000"},
+      {"--watchdog-ms", "0"},     {"--watchdog-ms", "inf"}, {"--drop-from", "nan"}};
+  for (const auto& [option, value] : stage_options) {
+    ChildProcess stage({"virtual-stage", plant, "--io", io, "--port", "0", option, value}, dir_ / "refused.log");
+    EXPECT_EQ(stage.WaitFor(20.0), 2) << option << " " << value << ": " << stage.Output();
+    EXPECT_THAT(stage.Output(), HasSubstr(option)) << value;
+    EXPECT_THAT(stage.Output(), HasSubstr(value + " is not a number in ")) << option;
+    EXPECT_THAT(stage.Output(), Not(HasSubstr("listening"))) << option << " " << value;
+  }
+  const std::vector<std::pair<std::string, std::string>> hil_options = {
+      {"--duration", "-1"}, {"--duration", "nan"}, {"--duration", "1e12"}, {"--reply-timeout-ms", "nan"}};
+  for (const auto& [option, value] : hil_options) {
+    ChildProcess hil({"hil", (testing::HilDiagramDir() / "pd_rigid_body.json").string(), "--board", "udp", "--port",
+                      "9", "--replace", "plant=" + io, option, value, "--out", (dir_ / "out").string()},
+                     dir_ / "hil.log");
+    EXPECT_EQ(hil.WaitFor(20.0), 2) << option << " " << value << ": " << hil.Output();
+    EXPECT_THAT(hil.Output(), HasSubstr(value + " is not a number in ")) << option;
+  }
 }
 
 }  // namespace

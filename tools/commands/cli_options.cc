@@ -4,6 +4,7 @@
 
 #include "tools/commands/cli_options.h"
 
+#include <cmath>
 #include <cstdlib>
 #include <iostream>
 #include <stdexcept>
@@ -29,6 +30,18 @@ void AddMaxStepsOption(CLI::App* command) {
                       "{:.0e}; protects against a stopTime or step typo that would run for hours or exhaust memory)",
                       SimulationLimits{}.max_steps))
       ->type_name("N");  // the range (finite, [1, 1e13]) is SetDefaultSimulationLimits' check: NaN and inf too
+}
+
+CLI::Validator FiniteRange(double low, double high, bool low_open) {
+  const std::string range = fmt::format("{}{}, {}]", low_open ? "(" : "[", low, high);
+  return CLI::Validator(
+      [low, high, low_open, range](std::string& text) -> std::string {
+        double value = 0.0;
+        const bool number = CLI::detail::lexical_cast(text, value);
+        const bool inside = number && std::isfinite(value) && (low_open ? value > low : value >= low) && value <= high;
+        return inside ? std::string() : fmt::format("{} is not a number in {}", text, range);
+      },
+      "NUMBER in " + range);
 }
 
 namespace {

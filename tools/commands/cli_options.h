@@ -37,6 +37,11 @@ std::filesystem::path ShippedDataFolder();
 /// to a long-running subcommand; they set the process-wide ProgressMode (tools/report/progress.h).
 void AddProgressOptions(CLI::App* command);
 
+/// A CLI11 check that a number is finite and lies in [low, high] (or (low, high] with `low_open`): NaN and ±inf are
+/// refused, which CLI::Range and CLI::PositiveNumber let through. Refused at parse time: exit 2, "--duration: nan is
+/// not a number in (0, 86400]".
+CLI::Validator FiniteRange(double low, double high, bool low_open = false);
+
 /// Adds --max-steps N (SimulationLimits::max_steps for every simulation the command runs) to a subcommand.
 void AddMaxStepsOption(CLI::App* command);
 

@@ -189,12 +189,15 @@ void SetupHilCommand(CLI::App& app) {
                   "ELEMENT=FILE: swap subsystem ELEMENT for FILE, e.g. plant=diagrams/hil/subsystems/hil_io.json")
       ->required();
   AddSetOption(cmd, &options->overrides);
-  cmd->add_option("--duration", options->duration, "run this many seconds (default: the diagram's stop time)");
+  cmd->add_option("--duration", options->duration,
+                  fmt::format("run this many seconds, more than 0 and at most {} (default: the diagram's stop time)",
+                              kHilMaxDuration))
+      ->check(FiniteRange(0.0, kHilMaxDuration, /*low_open=*/true));
   cmd->add_option("--out", options->out, "output folder")->capture_default_str();
   cmd->add_option("--port", options->port, "udp: the virtual stage's port on 127.0.0.1")->check(CLI::Range(1, 65535));
   cmd->add_option("--reply-timeout-ms", options->reply_timeout_ms,
-                  "udp: wait this long for the stage's sample, then count a missed sample [ms]")
-      ->check(CLI::PositiveNumber)
+                  "udp: wait this long for the stage's sample, then count a missed sample [ms], from 0.001 to 1000")
+      ->check(FiniteRange(1e-3, 1e3))
       ->capture_default_str();
   cmd->add_option("--quanser-board", options->quanser_board, "quanser: board type for hil_open")
       ->capture_default_str();
@@ -206,8 +209,9 @@ void SetupHilCommand(CLI::App& app) {
       ->check(CLI::Range(0, kMaxAnalogOutputs))
       ->capture_default_str();
   cmd->add_option("--hardware-watchdog-ms", options->hardware_watchdog_ms,
-                  "quanser: the board's watchdog zeroes the outputs after this long without a write [ms]")
-      ->check(CLI::PositiveNumber)
+                  "quanser: the board's watchdog zeroes the outputs after this long without a write [ms], from 0.1 "
+                  "to 60000")
+      ->check(FiniteRange(0.1, 6e4))
       ->capture_default_str();
   cmd->add_option("--max-missed", options->max_missed, "safe stop after this many consecutive missed samples")
       ->check(CLI::Range(1, 1000000))

@@ -39,7 +39,7 @@ void RunVirtualStage(const VirtualStageCommandOptions& o) {
   options.port = static_cast<std::uint16_t>(o.port);
   options.period = o.period_ms * 1e-3;
   options.watchdog_timeout = o.watchdog_ms * 1e-3;
-  if (o.duration > 0.0) options.duration = o.duration;
+  if (o.duration > 0.0) options.duration = o.duration;  // 0: not given (the check refuses anything else ≤ 0)
   if (o.drop_from >= 0.0) options.drop_from = o.drop_from;
   VirtualStage stage(o.plant, StageWiring::FromIoFile(o.io), options, overrides);
   for (const auto& note : ApplyRealTimeOptions({o.fifo_priority, false})) std::cout << note << "\n";
@@ -54,6 +54,7 @@ void RunVirtualStage(const VirtualStageCommandOptions& o) {
   std::cout << fmt::format("stopped at t = {:.3f} s: {} sample requests answered, {} outputs applied, {} outputs "
                            "lost (sequence gaps), {} packets dropped (fault injection), {} watchdog trips\n",
                            r.time, r.requests, r.outputs, r.lost_outputs, r.dropped, r.watchdog_trips);
+  if (!r.fault.empty()) throw std::runtime_error("virtual-stage: " + r.fault);
 }
 
 }  // namespace
@@ -74,14 +75,22 @@ void SetupVirtualStageCommand(CLI::App& app) {
   cmd->add_option("--port", options->port, "UDP port on 127.0.0.1 (0 = a free one, printed)")
       ->check(CLI::Range(0, 65535))
       ->capture_default_str();
-  cmd->add_option("--period-ms", options->period_ms, "real-time tick [ms]")->check(CLI::PositiveNumber)
+  cmd->add_option("--period-ms", options->period_ms,
+                  fmt::format("real-time tick [ms], from {} to {}", kStageMinPeriod * 1e3, kStageMaxPeriod * 1e3))
+      ->check(FiniteRange(kStageMinPeriod * 1e3, kStageMaxPeriod * 1e3))
       ->capture_default_str();
-  cmd->add_option("--watchdog-ms", options->watchdog_ms, "zero the forces after this long without outputs [ms]")
-      ->check(CLI::PositiveNumber)
+  cmd->add_option("--watchdog-ms", options->watchdog_ms,
+                  fmt::format("zero the forces after this long without outputs [ms], from {} to {}",
+                              kStageMinWatchdog * 1e3, kStageMaxWatchdog * 1e3))
+      ->check(FiniteRange(kStageMinWatchdog * 1e3, kStageMaxWatchdog * 1e3))
       ->capture_default_str();
-  cmd->add_option("--duration", options->duration, "stop after this many seconds (default: run until stopped)");
+  cmd->add_option("--duration", options->duration,
+                  fmt::format("stop after this many seconds, more than 0 and at most {} (default: run until stopped)",
+                              kStageMaxDuration))
+      ->check(FiniteRange(0.0, kStageMaxDuration, /*low_open=*/true));
   cmd->add_option("--drop-from", options->drop_from,
-                  "fault injection: drop every packet from this many seconds on (tests the safe stop)");
+                  "fault injection: drop every packet from this many seconds on (tests the safe stop)")
+      ->check(FiniteRange(0.0, kStageMaxDuration));
   AddSetOption(cmd, &options->overrides, "plant parameter override block.param=value (repeatable)");
   cmd->add_option("--fifo", options->fifo_priority, "SCHED_FIFO priority 1–99 (0 = default scheduler)")
       ->check(CLI::Range(0, 99));
