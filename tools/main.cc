@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "engine/diagram_loader.h"
@@ -20,12 +21,14 @@
 #include "tools/commands/cli_options.h"
 #include "tools/commands/commands.h"
 #include "tools/commands/error_text.h"
+#include "tools/report/report.h"
 
 namespace {
 
 constexpr int kExitFailure = 1;
 constexpr int kExitBadInput = 2;
 constexpr int kExitNumericalFailure = 3;
+constexpr std::size_t kMaxPlotsCeiling = 100000;  // --max-plots: one gnuplot each, ~0.1 s
 
 // One message (reworded if a library's, cut if long: tools/commands/error_text.h) and the exit code.
 int ReportError(const CLI::App& app, const std::exception& e, int code) {
@@ -86,6 +89,19 @@ int main(int argc, char** argv) {
          "Largest input file read (diagram, measurement log, table, GP model, sweep file), in MB (default 1074, "
          "1 GiB); devices and FIFOs are never read")
       ->type_name("MB")
+      ->allow_extra_args(false);
+  app.add_option_function<std::size_t>(
+         "--max-plots",
+         [](std::size_t count) {
+           if (count < 1 || count > kMaxPlotsCeiling) {
+             throw CLI::ValidationError("--max-plots", fmt::format("give a figure count from 1 to {}", kMaxPlotsCeiling));
+           }
+           mb::SetMaxReportFigures(count);
+         },
+         fmt::format("Most figures one report draws (default {}; at most {}): a run logging more signals plots the "
+                     "first N and lists the rest by name in report.html",
+                     mb::kDefaultMaxReportFigures, kMaxPlotsCeiling))
+      ->type_name("N")
       ->allow_extra_args(false);
   mb::SetupRunCommand(app);
   mb::SetupCompareCommand(app);

@@ -1,6 +1,7 @@
 #include "tools/report/report.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cmath>
 #include <fstream>
@@ -9,6 +10,7 @@
 #include <string_view>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "engine/output_file.h"
 #include "tools/report/chart_data.h"
@@ -209,6 +211,17 @@ constexpr const char* kChartScript = R"JS((function () {
 )JS";
 }  // namespace
 
+namespace {
+std::atomic<std::size_t> g_max_report_figures{kDefaultMaxReportFigures};
+}  // namespace
+
+void SetMaxReportFigures(std::size_t count) {
+  if (count == 0) throw std::invalid_argument("--max-plots: a report draws at least 1 figure; give N >= 1");
+  g_max_report_figures = count;
+}
+
+std::size_t MaxReportFigures() { return g_max_report_figures; }
+
 std::vector<std::string> FigureFileNames(const std::string& file) {
   const std::string stem = fs::path(file).stem().string();
   return {file, stem + ".dat", stem + ".gp", stem + ".full.csv"};
@@ -318,6 +331,11 @@ void HtmlReport::Table(const std::vector<std::string>& header, const std::vector
 }
 
 void HtmlReport::AddFigure(const Figure& figure, const fs::path& directory) {
+  if (figures_ >= MaxReportFigures()) {
+    not_drawn_.push_back(figure.title.empty() ? figure.file : figure.title);
+    return;
+  }
+  ++figures_;
   const std::string error = RenderFigure(figure, directory);
   const bool bars = std::any_of(figure.series.begin(), figure.series.end(),
                                 [](const Series& s) { return s.style == "boxes" || s.style == "impulses"; });
@@ -382,12 +400,22 @@ void HtmlReport::Write(const fs::path& path) const {
                 "</script>\n<script>\n" + kChartScript + "</script>\n";
     }
   }
+  std::string not_drawn;
+  if (!not_drawn_.empty()) {
+    not_drawn = "<p class=\"warn\">" +
+                HtmlEscape(fmt::format("{} more figures not drawn: a report draws at most {} (raise it with "
+                                       "motionblocks --max-plots N). Their data is in the command's files. Not drawn: "
+                                       "{}.",
+                                       not_drawn_.size(), MaxReportFigures(), fmt::join(not_drawn_, ", "))) +
+                "</p>\n";
+  }
   const std::string page =
       "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>" + HtmlEscape(title_) + "</title>\n" +
       "<style>body{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222}"
       "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}"
       "th{background:#eee}figure{margin:1em 0}img{max-width:100%}.warn{color:#a00}</style>\n" + head_extra +
-      "</head><body>\n<h1>" + HtmlEscape(title_) + "</h1>\n" + warning + body_ + scripts + "</body></html>\n";
+      "</head><body>\n<h1>" + HtmlEscape(title_) + "</h1>\n" + warning + body_ + not_drawn + scripts +
+      "</body></html>\n";
   WriteFileSafely(path, page);
 }
 

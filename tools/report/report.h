@@ -65,6 +65,15 @@ struct InteractiveCharts {
   std::size_t columns = 2000;
 };
 
+/// Most figures one report draws unless raised (`motionblocks --max-plots N`): a run logging 20,000 signals would
+/// otherwise start 20,000 gnuplots. The figures beyond are listed by title in the report, not drawn.
+inline constexpr std::size_t kDefaultMaxReportFigures = 100;
+
+/// Sets the most figures each report draws (process-wide, like the progress mode: call it at setup).
+/// @throws std::invalid_argument if `count` is 0.
+void SetMaxReportFigures(std::size_t count);
+std::size_t MaxReportFigures();
+
 /// An HTML report assembled in order and written once.
 class HtmlReport {
  public:
@@ -76,7 +85,8 @@ class HtmlReport {
   void Paragraph(const std::string& text);
   /// A table: header row and rows of cells (already formatted).
   void Table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows);
-  /// Renders the figure into the report's folder and embeds it (or notes why it is missing). Interactive (and the
+  /// Renders the figure into the report's folder and embeds it (or notes why it is missing); beyond
+  /// MaxReportFigures() figures, only notes its title (Write lists them). Interactive (and the
   /// figure no bar chart and without named x ticks): also writes directory/<stem>.full.csv (FigureCsv) and adds the
   /// chart (ChartJson), linked to the CSV. @throws std::runtime_error if the CSV cannot be written.
   void AddFigure(const Figure& figure, const std::filesystem::path& directory);
@@ -94,6 +104,8 @@ class HtmlReport {
   std::optional<InteractiveCharts> interactive_;
   std::string body_;
   std::vector<std::string> charts_;  // ChartJson of each interactive chart (ScriptSafeJson text), in page order
+  std::size_t figures_ = 0;          // figures drawn (AddFigure)
+  std::vector<std::string> not_drawn_;  // titles of the figures beyond MaxReportFigures()
 };
 
 /// Escapes &, <, > and " for HTML text and attribute values.

@@ -4,6 +4,7 @@
 // the executable as users call it; exit 2 (bad input) and the exact message.
 #include <sys/stat.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -135,6 +136,48 @@ TEST_F(BoundedInputs, FitGprRestartsAndPeriodHaveARange) {
                       "spatial period of the disturbance in metres (e.g. the pole pitch, 0.0225 for 22.5 mm: fit-gpr "
                       "--period)\n");
   EXPECT_FALSE(fs::exists(dir_ / "m.json"));
+}
+
+// A run logging more signals than --max-plots draws that many figures and names the rest in report.html.
+TEST_F(BoundedInputs, TheReportDrawsAtMostMaxPlotsSignals) {
+  std::string elements, log;
+  for (int i = 0; i < 5; ++i) {
+    elements += (i ? "," : "") + std::string(R"({"name": "c)") + std::to_string(i) +
+                R"(", "type": "constant", "parameters": {"value": 1}})";
+    log += (i ? "," : "") + std::string(R"("c)") + std::to_string(i) + R"(.y")";
+  }
+  std::ofstream(dir_ / "d.json") << R"({"schemaVersion": "1.0", "name": "many",
+      "defaultExperiment": {"startTime": 0, "stopTime": 0.01}, "solver": {"type": "rk4", "step": 0.001},
+      "elements": [)" << elements << R"(], "log": [)" << log << "]}";
+  CommandResult r = Run({"run", "d.json", "--max-plots", "2", "--out", "o"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir_ / "o" / "signal_1.png"));
+  EXPECT_FALSE(fs::exists(dir_ / "o" / "signal_2.png"));
+  std::ifstream in(dir_ / "o" / "report.html");
+  const std::string page((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_THAT(page, HasSubstr("3 more figures not drawn: a report draws at most 2 (raise it with motionblocks "
+                              "--max-plots N). Their data is in the command's files. Not drawn: c2.y, c3.y, c4.y."));
+  r = Run({"run", "d.json", "--max-plots", "0", "--out", "o"});
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("--max-plots: give a figure count from 1 to 100000"));
+}
+
+// A "notes" of the wrong type is refused as soon as the file is read: a million small objects in it (nlohmann's
+// callback parser scanned the enclosing array at every object's end: 400,000 took 58 s, a million would take
+// minutes) parse in linear time before the type check.
+TEST_F(BoundedInputs, AHugeNotesArrayIsRefusedQuickly) {
+  {
+    std::ofstream out(dir_ / "notes.json");
+    out << R"({"schemaVersion": "1.0", "name": "n", "elements": [], "notes": [)";
+    for (int i = 0; i < 1000000; ++i) out << (i ? "," : "") << R"({"x":1})";
+    out << "]}";
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const CommandResult r = Run({"run", "notes.json", "--out", "o"});
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("/notes: must be string, got an array"));
+  EXPECT_LT(seconds, 120.0) << "linear: about 2 s in Release, well under a minute under ASan";
 }
 
 }  // namespace

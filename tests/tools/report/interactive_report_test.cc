@@ -211,5 +211,30 @@ TEST(HtmlReport, WithoutTheLibraryShowsThePngsAndSaysWhy) {
   EXPECT_TRUE(fs::exists(dir / "hostile.full.csv"));
 }
 
+// A report draws at most MaxReportFigures() figures (issue 30: 20,000 logged signals started 20,000 gnuplots); the
+// rest are listed by title, with the flag that raises the limit.
+TEST(HtmlReport, DrawsAtMostTheSetNumberOfFiguresAndListsTheRest) {
+  const fs::path dir = Folder("mb_report_figure_limit");
+  EXPECT_EQ(MaxReportFigures(), kDefaultMaxReportFigures);
+  EXPECT_THROW(SetMaxReportFigures(0), std::invalid_argument);
+  SetMaxReportFigures(2);
+  HtmlReport report("limited");
+  for (int i = 0; i < 5; ++i) {
+    Figure f{"f" + std::to_string(i) + ".png", "signal <" + std::to_string(i) + ">", "t [s]", "y", {}};
+    f.series.push_back({{0.0, 1.0}, {0.0, double(i)}, "y", "lines"});
+    report.AddFigure(f, dir);
+  }
+  report.Write(dir / "report.html");
+  SetMaxReportFigures(kDefaultMaxReportFigures);
+  EXPECT_TRUE(fs::exists(dir / "f0.gp"));
+  EXPECT_TRUE(fs::exists(dir / "f1.gp"));
+  EXPECT_FALSE(fs::exists(dir / "f2.gp"));
+  EXPECT_FALSE(fs::exists(dir / "f4.png"));
+  EXPECT_THAT(Read(dir / "report.html"),
+              HasSubstr("3 more figures not drawn: a report draws at most 2 (raise it with motionblocks --max-plots "
+                        "N). Their data is in the command's files. Not drawn: signal &lt;2&gt;, signal &lt;3&gt;, "
+                        "signal &lt;4&gt;."));
+}
+
 }  // namespace
 }  // namespace mb
