@@ -26,6 +26,42 @@ std::pair<std::string, std::string> GprInputColumns(const GprModel& model, const
   return {pick(position, p.position_column, "position_m"), pick(velocity, p.velocity_column, "velocity_m_s")};
 }
 
+namespace {
+
+// The training columns a GP can scale its priors to (DefaultGprPriors): positions that move, a disturbance that
+// varies, spans that are finite numbers. @throws std::invalid_argument naming the file, the column and the fix, not
+// the prior's function (issue 30: "DefaultGprPriors: the trained position range … got 0.000000").
+void CheckGprTrainingSpread(const std::string& source, const GprTrainingSelection& selection,
+                            const GprTrainingData& data) {
+  const auto n = data.x.size();
+  const struct {
+    const Eigen::VectorXd& values;
+    const std::string& column;
+    const char* option;
+    const char* unit;
+    bool may_be_constant;  // one scan velocity is widened (TrainedVelocityRange)
+  } columns[] = {{data.x, selection.position_column, "--position-column", " m", false},
+                 {data.xdot, selection.velocity_column, "--velocity-column", " m/s", true},
+                 {data.d, selection.disturbance_column, "--disturbance-column", "", false}};
+  for (const auto& c : columns) {
+    const double low = c.values.minCoeff(), high = c.values.maxCoeff();
+    if (!std::isfinite(high - low)) {
+      throw std::invalid_argument(fmt::format(
+          "{}: column '{}' spans [{:g}, {:g}]{} over the {} training rows, a range no GP can be scaled to: check the "
+          "column's values and unit (SI: metres, seconds), or name another column with {}",
+          source, c.column, low, high, c.unit, n, c.option));
+    }
+    if (!(high > low) && !c.may_be_constant) {
+      throw std::invalid_argument(fmt::format(
+          "{}: column '{}' is constant ({:g}{}) over the {} training rows: a GP learns nothing from it; give a record "
+          "in which it varies (a scan over the travel), or name another column with {}",
+          source, c.column, low, c.unit, n, c.option));
+    }
+  }
+}
+
+}  // namespace
+
 GprTrainingData SelectGprTrainingData(const MeasurementLog& log, const GprTrainingSelection& selection) {
   if (selection.disturbance_column.empty()) {
     throw std::invalid_argument(log.source() + ": no disturbance column given: name the column of the "
@@ -74,6 +110,7 @@ GprTrainingData SelectGprTrainingData(const MeasurementLog& log, const GprTraini
     data.xdot(k) = xdot(i);
     data.d(k) = d(i);
   }
+  CheckGprTrainingSpread(log.source(), selection, data);
   std::string description =
       fmt::format("{} (position: {}, velocity: {}, disturbance: {}", log.source(), selection.position_column,
                   selection.velocity_column, selection.disturbance_column);

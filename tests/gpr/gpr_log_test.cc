@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -192,6 +193,37 @@ TEST_F(GprLog, ErrorsNameTheProblemAndTheFix) {
   clash.AddColumn("mean", Eigen::VectorXd::Zero(log.rows()));
   EXPECT_THAT(ErrorOf([&] { PredictGprOnLog(model, clash); }),
               HasSubstr("<memory>: already has a column \"mean\", which the prediction would write"));
+}
+
+// Issue 30: a column a GP cannot be scaled to is named with the fix, not as "DefaultGprPriors: the trained position
+// range (max x − min x) must be finite and > 0, got 0.000000".
+TEST_F(GprLog, AColumnThatDoesNotVaryOrOverflowsIsNamedWithTheFix) {
+  const MeasurementLog log = SyntheticLog();
+  const Eigen::Index n = log.rows();
+  GprTrainingSelection selection;
+  selection.disturbance_column = "dob_N";
+  GprFitOptions options;
+  options.restarts = 0;
+  const auto with = [&](const std::string& name, Eigen::VectorXd values) {
+    std::vector<std::string> names = log.names();
+    std::vector<Eigen::VectorXd> columns;
+    for (const auto& c : names) columns.push_back(c == name ? values : log.column(c));
+    return MeasurementLog(names, columns);
+  };
+  EXPECT_EQ(ErrorOf([&] { FitGprToLog(with("position_m", Eigen::VectorXd::Constant(n, 0.1)), selection, options); }),
+            fmt::format("<memory>: column 'position_m' is constant (0.1 m) over the {} training rows: a GP learns "
+                        "nothing from it; give a record in which it varies (a scan over the travel), or name another "
+                        "column with --position-column",
+                        n));
+  EXPECT_THAT(ErrorOf([&] { FitGprToLog(with("dob_N", Eigen::VectorXd::Constant(n, 2.0)), selection, options); }),
+              HasSubstr("<memory>: column 'dob_N' is constant (2) over the"));
+  Eigen::VectorXd huge = log.column("velocity_m_s");
+  huge(0) = -1e308;
+  huge(1) = 1e308;
+  EXPECT_THAT(ErrorOf([&] { FitGprToLog(with("velocity_m_s", huge), selection, options); }),
+              HasSubstr("column 'velocity_m_s' spans [-1e+308, 1e+308] m/s over the"));
+  // One scan velocity stays allowed (TrainedVelocityRange widens it).
+  EXPECT_NO_THROW(SelectGprTrainingData(with("velocity_m_s", Eigen::VectorXd::Constant(n, 0.2)), selection));
 }
 
 }  // namespace

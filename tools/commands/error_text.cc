@@ -1,5 +1,7 @@
 #include "tools/commands/error_text.h"
 
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <new>
 #include <stdexcept>
@@ -46,6 +48,47 @@ std::string BoostMathErrorText(const std::string& text, const std::vector<std::s
                      Reading(inputs), Excerpt(what));
 }
 
+// The residual's whiteness test (Ljung–Box, models/diagnosis/signal_processing.cc) fails on a residual that is not
+// finite or overflows (a measured column near 1e300): named by its meaning, not by the function or Boost's text.
+constexpr std::string_view kWhitenessCheck = "ResidualAutocorrelation: ";
+constexpr std::string_view kBoostChiSquare = "Chi Square";
+
+std::string WhitenessErrorText(const std::string& what, const std::vector<std::string>& inputs) {
+  return fmt::format("the residual between the model and the measurement is no usable signal{}: its whiteness test "
+                     "(Ljung–Box) found {}. Check the measured column's values and unit (values near 1e300 overflow) "
+                     "and that the model's output is finite along the record",
+                     Reading(inputs), Excerpt(what));
+}
+
+// The length of a leading "FunctionName: " or "Class::Method: " (CamelCase, at least two capitals), else 0: an
+// internal check whose message names a function the user never called.
+std::size_t InternalCheckPrefix(std::string_view text) {
+  std::size_t i = 0, capitals = 0;
+  const auto identifier = [&] {
+    const std::size_t start = i;
+    while (i < text.size() && (std::isalnum(static_cast<unsigned char>(text[i])) != 0 || text[i] == '_')) {
+      if (std::isupper(static_cast<unsigned char>(text[i])) != 0) ++capitals;
+      ++i;
+    }
+    return i > start && std::isupper(static_cast<unsigned char>(text[start])) != 0;
+  };
+  if (!identifier()) return 0;
+  if (text.substr(i, 2) == "::") {
+    i += 2;
+    if (!identifier()) return 0;
+  }
+  const bool lower_seen = std::any_of(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(i),
+                                      [](char c) { return std::islower(static_cast<unsigned char>(c)) != 0; });
+  return capitals >= 2 && lower_seen && text.substr(i, 2) == ": " ? i + 2 : 0;
+}
+
+std::string InternalCheckErrorText(const std::string& text, std::size_t prefix, const std::vector<std::string>& inputs) {
+  return fmt::format("internal check {} failed{}: {}. The inputs led to a case the program does not handle: check "
+                     "their values and units (a column in mm read as m, values near 1e300, a column that does not "
+                     "vary), and report it with the input files if they look right",
+                     text.substr(0, prefix - 2), Reading(inputs), text.substr(prefix));
+}
+
 }  // namespace
 
 std::vector<std::string> CommandInputs(const CLI::App& app) {
@@ -76,9 +119,18 @@ std::string ErrorText(const std::exception& e, const std::vector<std::string>& i
                        "lower --max-steps / --max-runs, log fewer signals, or cut the measurement log",
                        Reading(inputs));
   } else if (IsLibraryNumericalError(e)) {
-    text = BoostMathErrorText(e.what(), inputs);
+    const std::string what = e.what();
+    const auto colon = what.find(": ", kBoostMathPrefix.size());
+    text = what.find(kBoostChiSquare) != std::string::npos && colon != std::string::npos
+               ? WhitenessErrorText(what.substr(colon + 2), inputs)
+               : BoostMathErrorText(what, inputs);
   } else {
     text = e.what();
+    if (text.rfind(kWhitenessCheck, 0) == 0) {
+      text = WhitenessErrorText(text.substr(kWhitenessCheck.size()), inputs);
+    } else if (const std::size_t prefix = InternalCheckPrefix(text); prefix > 0) {
+      text = InternalCheckErrorText(text, prefix, inputs);
+    }
   }
   return Excerpt(text, kMaxErrorMessage);
 }

@@ -16,8 +16,10 @@ namespace mb {
 std::vector<std::string> CommandInputs(const CLI::App& app);
 
 /// The user's message for `e`, a library exception no command caught: what happened, in the inputs `inputs`, and
-/// what to do. Texts of own exceptions (DiagramError, std::invalid_argument, …) are returned as they are. Every
-/// message is cut to at most kMaxErrorMessage bytes (Excerpt).
+/// what to do. Texts of own exceptions (DiagramError, std::invalid_argument, …) are returned as they are, except an
+/// internal check's that starts with its function's name ("FitResidualGpr: …", "Class::Method: …"; the residual's
+/// whiteness test, ResidualAutocorrelation and Boost's "Chi Square parameter", by its meaning): reworded with the
+/// inputs and what to check. Every message is cut to at most kMaxErrorMessage bytes (Excerpt).
 std::string ErrorText(const std::exception& e, const std::vector<std::string>& inputs);
 
 /// Longest message printed for one error: long enough for every problem of a diagram, short of a megabyte echo.

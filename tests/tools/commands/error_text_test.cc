@@ -94,5 +94,34 @@ TEST(TerminalText, AStreamThroughTheBufferIsEscapedWhateverTheChunks) {
   EXPECT_EQ(target.str(), "name \\x1b[2J\\x07é\\u009b1m\xc2");
 }
 
+// Issue 30: no internal function name or library text without the inputs and what to check.
+TEST(ErrorText, TheWhitenessTestIsNamedByItsMeaningNotItsFunctionOrBoost) {
+  const std::string expected_tail =
+      "Check the measured column's values and unit (values near 1e300 overflow) and that the model's output is "
+      "finite along the record";
+  EXPECT_EQ(ErrorText(std::invalid_argument("ResidualAutocorrelation: the residual is constant"), {"d.json", "m.csv"}),
+            "the residual between the model and the measurement is no usable signal (reading d.json, m.csv): its "
+            "whiteness test (Ljung–Box) found the residual is constant. " + expected_tail);
+  const std::domain_error chi("Error in function boost::math::cdf(const chi_squared_distribution<double>&, double): "
+                              "Chi Square parameter was -nan, but must be > 0 !");
+  EXPECT_TRUE(IsLibraryNumericalError(chi));
+  EXPECT_EQ(ErrorText(chi, {"d.json", "m.csv"}),
+            "the residual between the model and the measurement is no usable signal (reading d.json, m.csv): its "
+            "whiteness test (Ljung–Box) found Chi Square parameter was -nan, but must be > 0 !. " + expected_tail);
+}
+
+TEST(ErrorText, AnInternalCheckNamedByItsFunctionGetsTheInputsAndWhatToCheck) {
+  EXPECT_EQ(ErrorText(std::invalid_argument("FitResidualGpr: the residual holds NaN or Inf"), {"d.json"}),
+            "internal check FitResidualGpr failed (reading d.json): the residual holds NaN or Inf. The inputs led to a "
+            "case the program does not handle: check their values and units (a column in mm read as m, values near "
+            "1e300, a column that does not vary), and report it with the input files if they look right");
+  EXPECT_THAT(ErrorText(std::invalid_argument("GprModel::Predict: x, xdot, mean and std must have one length"), {}),
+              StartsWith("internal check GprModel::Predict failed: x, xdot"));
+  // Own messages stay: a file name, a plain word, an acronym.
+  for (const char* own : {"Diagram.json: 2 problems", "Payload: 3 kg", "CVODE: CVodeCreate failed", "d.json: x"}) {
+    EXPECT_EQ(ErrorText(std::runtime_error(own), {"d.json"}), own);
+  }
+}
+
 }  // namespace
 }  // namespace mb
