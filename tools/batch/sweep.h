@@ -127,8 +127,10 @@ inline constexpr std::size_t kRandomCursors = 16;
 inline constexpr std::size_t kDefaultMaxSweepRuns = 100000;
 
 /// The ceiling on any run count, whatever the caller allows: `sweep --max-runs` above it is refused, and so is a
-/// shard manifest (sweep-shard.json) whose "runs" exceeds it. The rows of 10⁷ runs take about 2 GB before the first
-/// run (SweepOutcome::rows, ~200 bytes each) and grow with their values and metrics.
+/// shard manifest (sweep-shard.json) whose "runs" exceeds it. The draws cost nothing (RandomSweepSampler), but the
+/// rows do: about 200 bytes each before the first run (SweepOutcome::rows), about 2.5 KB each by the time runs.json is
+/// written (one parameter, two metrics: 100,000 runs peaked at 245 MB), so 10⁷ runs need about 25 GB; `sweep` says so
+/// before it starts a sweep above kDefaultMaxSweepRuns.
 inline constexpr std::size_t kMaxSweepRunsCeiling = 10000000;
 
 /// Parses a sweep (layout above). `source` names the file in messages.

@@ -1,7 +1,7 @@
 // Results complete or marked incomplete (issue 30, item 7), as users meet them: an interrupted `run` leaves none of
 // an earlier run's files beside its own; a killed `improve` leaves improve.json saying "complete": false, a finished
 // one "complete": true with its stop; an earlier run's improve.json is gone while the new run works; `sweep
-// --max-runs` has a ceiling. Each case kills or runs the executable and reads what is left.
+// --max-runs` has a ceiling, and a sweep above the default limit says what its rows will take before it starts. Each case kills or runs the executable and reads what is left.
 
 #include <fcntl.h>
 #include <signal.h>
@@ -174,6 +174,14 @@ TEST_F(CompleteResults, SweepMaxRunsHasACeiling) {
   }
   const CommandResult ok = RunMotionblocksIn(dir_, {"sweep", "gain.json", "s.json", "--out", "o", "--max-runs", "10000000"});
   EXPECT_EQ(ok.exit_code, 0) << ok.output;
+  // Above the default limit the command says what the rows will take before anything runs (here nothing does: the
+  // element is unknown).
+  Write(dir_ / "big.json", R"({"random": {"seed": 1, "samples": 200001, "parameters": {"d.value": {"uniform": [0, 1]}}}})");
+  const CommandResult big =
+      RunMotionblocksIn(dir_, {"sweep", "gain.json", "big.json", "--out", "o2", "--max-runs", "300000"});
+  EXPECT_EQ(big.exit_code, 2) << big.output;
+  EXPECT_THAT(big.output, HasSubstr("sweep: 200001 runs; every row is kept until runs.csv and runs.json are written at "
+                                    "the end: about 0.5 GB of memory"));
 }
 
 }  // namespace
