@@ -255,13 +255,23 @@ TEST_F(VirtualStageTest, HilCommandWritesTheRunFilesAndStatistics) {
   EXPECT_THAT(signals.substr(0, signals.find('\n')), HasSubstr("tracking_error"));
   EXPECT_TRUE(fs::exists(dir_ / "out" / "timing.csv"));
 
-  // Without a stage the command fails fast and says what to start.
+  // Without a stage the command fails fast and says what to start; the earlier run's files in its --out are gone
+  // (issue 30: a run that does not finish leaves no earlier summary.json looking like its own).
+  fs::create_directories(dir_ / "out2");
+  for (const char* name : {"summary.json", "signals.csv", "timing.csv", "summary.json.tmp4242"}) {
+    std::ofstream(dir_ / "out2" / name) << "an earlier run\n";
+  }
+  std::ofstream(dir_ / "out2" / "notes.txt") << "the user's\n";
   ChildProcess alone({"hil", (testing::HilDiagramDir() / "pd_rigid_body.json").string(), "--board", "udp", "--port",
                       "9", "--replace", "plant=" + (testing::HilDiagramDir() / "subsystems" / "hil_io.json").string(),
                       "--out", (dir_ / "out2").string()},
                      dir_ / "alone.log");
   EXPECT_EQ(alone.Wait(), 1);
   EXPECT_THAT(alone.Output(), HasSubstr("no virtual stage answers on 127.0.0.1:9"));
+  for (const char* name : {"summary.json", "signals.csv", "timing.csv", "summary.json.tmp4242"}) {
+    EXPECT_FALSE(fs::exists(dir_ / "out2" / name)) << name;
+  }
+  EXPECT_TRUE(fs::exists(dir_ / "out2" / "notes.txt"));
 }
 
 // An outputs packet as a client (or any local process) sends it: `volts` on analog channel 0.

@@ -3,7 +3,8 @@
 // Swaps the plant subsystem for the I/O subsystem (HIL blocks), opens the board and runs the rest of the
 // diagram unchanged at its sample time in real time (hw/hil_runner.h, docs/hil.md). Writes signals.csv (as
 // `run` does, so `compare` reads it), timing.csv (per tick) and summary.json (metrics, loop statistics, the
-// stop reason). A safe stop is an error exit after the files are written.
+// stop reason). A safe stop is an error exit after the files are written. The files an earlier run left in --out are
+// removed before the loop starts (a run killed in the loop leaves none of them).
 
 #include <csignal>
 #include <iostream>
@@ -95,6 +96,34 @@ void WriteTiming(const LoopRecorder& timing, const fs::path& path) {
   WriteSignalLog(log, path);
 }
 
+// The files `hil` writes into --out, after the loop.
+const std::vector<std::string> kHilOutputNames = {"signals.csv", "timing.csv", "summary.json"};
+
+// Removes what an earlier run wrote into `out` (kHilOutputNames and killed runs' "<name>.tmp<pid>"), unless it is one
+// of the inputs: a run killed in the loop (SIGKILL, a lost machine) then leaves no earlier summary.json looking like
+// its own.
+void RemoveEarlierHilFiles(const fs::path& out, const std::vector<fs::path>& inputs) {
+  std::error_code error;
+  if (!fs::is_directory(out, error)) return;
+  std::vector<fs::path> stale;
+  for (const auto& entry : fs::directory_iterator(out, error)) {
+    const std::string name = entry.path().filename().string();
+    for (const auto& output : kHilOutputNames) {
+      if (name != output && !FileNameMatches(name, output + ".tmp*")) continue;
+      bool input = false;
+      for (const auto& in : inputs) input = input || fs::equivalent(entry.path(), in, error);
+      if (!input && entry.is_regular_file(error)) stale.push_back(entry.path());
+    }
+  }
+  for (const auto& path : stale) {
+    if (!fs::remove(path, error) && error) {
+      throw std::runtime_error(fmt::format("{}: cannot remove this file of an earlier run ({}): remove it, or give "
+                                           "another --out",
+                                           path.string(), error.message()));
+    }
+  }
+}
+
 void RunHil(const HilCommandOptions& o) {
   if (o.replacements.empty()) {
     throw std::invalid_argument("hil: give --replace plant=HIL_IO.json: the plant subsystem must be swapped for the "
@@ -133,6 +162,9 @@ void RunHil(const HilCommandOptions& o) {
                            diagram.experiment().stop_time - diagram.experiment().start_time,
                            1.0 / HilLoopPeriod(diagram))
             << std::flush;
+  std::vector<fs::path> inputs{o.diagram};
+  for (const auto& text : o.replacements) inputs.push_back(SubsystemReplacement::Parse(text).file);
+  RemoveEarlierHilFiles(o.out, inputs);
   const HilResult result = RunHilLoop(diagram, *board, options);
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
