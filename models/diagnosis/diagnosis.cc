@@ -163,6 +163,7 @@ std::string FormatParameters(const std::map<std::string, double>& p, const std::
     else if (k == "delay") item = fmt::format("delay {:.4g} ms (the measurement lags the model)", v * 1e3);
     else if (k == "lag") item = fmt::format("lag {:.4g} ms (the logged command acts later)", v * 1e3);
     else if (k == "change_time") item = fmt::format("from t = {:.4g} s on", v);
+    else if (k == "start_time" || k == "end_time") item = fmt::format("{} {:.4g} s", k.substr(0, k.find('_')), v);
     else if (k == "upper_limit" || k == "lower_limit") item = fmt::format("{} limit {:.4g}", k.substr(0, 5), v);
     else if (k == "frequency_hz") item = fmt::format("frequency {:.4g} Hz", v);
     else if (k == "harmonics") item = fmt::format("{} harmonic(s)", static_cast<int>(v));
@@ -565,6 +566,9 @@ DiagnosedEffect DescribeEffect(const Candidate& c, double score, double cumulati
                        d.column_names[1].ends_with(".sin1");
   if (c.type->traits.periodicity != Periodicity::kNone || fourier) {
     d.parameters["amplitude"] = std::hypot(d.coefficients(0), d.coefficients(1));
+  }
+  if (!c.type->traits.coefficient_parameter.empty() && d.coefficients.size() == 1) {
+    d.parameters[c.type->traits.coefficient_parameter] = d.coefficients(0);
   }
   const Eigen::VectorXd contribution = c.reg.columns * d.coefficients;
   d.contribution_rms = std::sqrt(contribution.squaredNorm() / static_cast<double>(n));

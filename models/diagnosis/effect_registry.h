@@ -60,6 +60,9 @@ struct EffectTraits {
   /// "" = none.
   std::string refined_parameter;
   double refinement_range = 4.0;  ///< > 1: how far (a factor either way) the re-estimate may move the parameter
+  /// The name under which the effect's one coefficient is reported among its parameters (friction_drift: "change",
+  /// the viscous coefficient's change over the record); "" = not reported there.
+  std::string coefficient_parameter;
 };
 
 /// One parameter of an effect instance (EffectInstance::parameters), SI units.

@@ -45,7 +45,8 @@ const std::map<std::string, double> kTypical{{"period", 0.0025},   {"harmonics",
                                              {"backlash", 1e-3},   {"center", 0.1},            {"half_range", 0.1},
                                              {"degree", 3.0},      {"regularization_velocity", 5e-4},
                                              {"presliding_displacement", 2e-5}, {"lag", 0.004},
-                                             {"upper_limit", 50.0}, {"lower_limit", -60.0}, {"change_time", 2.0}};
+                                             {"upper_limit", 50.0}, {"lower_limit", -60.0}, {"change_time", 2.0},
+                                             {"start_time", 0.0}, {"end_time", 4.0}};
 
 bool IsSnakeCase(const std::string& name) {
   return !name.empty() && std::islower(static_cast<unsigned char>(name.front())) &&

@@ -58,7 +58,7 @@ TEST(IndependentPlant, PointToPointMovesDwellAtRestAndStayInTheTravel) {
 }
 
 TEST(IndependentPlant, EachCaseNamesACatalogueEffectAndATolerance) {
-  ASSERT_EQ(Cases().size(), 20U);
+  ASSERT_EQ(Cases().size(), 21U);
   for (const auto& c : Cases()) {
     EXPECT_EQ(c.parameter.empty(), c.tolerance == 0.0) << c.name;
     EXPECT_EQ(c.effect.empty(), c.hidden == Hidden::kNone) << c.name;
@@ -91,7 +91,7 @@ INSTANTIATE_TEST_SUITE_P(ComparePasses, IndependentCase,
                          ::testing::Values("position ripple", "speed-dependent ripple", "Stribeck", "delay",
                                            "vibration (decoy)", "resonance", "position-dependent force", "backlash", "payload",
                                            "ripple + delay", "actuator lag", "drive saturation", "short stroke",
-                                           "payload step", "rotary gravity", "mains hum", "noisy stamps",
+                                           "payload step", "rotary gravity", "mains hum", "friction drift", "noisy stamps",
                                            "nothing missing", "nothing missing, 100 Hz", "nothing missing, 2 kHz"),
                          [](const ::testing::TestParamInfo<std::string>& case_info) {
                            std::string name;
@@ -119,7 +119,8 @@ TEST_P(IndependentImprove, ReachesTheNoiseFloor) {
 }
 
 INSTANTIATE_TEST_SUITE_P(OffTheLinearStage, IndependentImprove,
-                         ::testing::Values("actuator lag", "drive saturation", "payload step", "rotary gravity"),
+                         ::testing::Values("actuator lag", "drive saturation", "payload step", "rotary gravity",
+                                           "friction drift"),
                          [](const ::testing::TestParamInfo<std::string>& case_info) {
                            std::string name;
                            for (char c : case_info.param) if (std::isalnum(static_cast<unsigned char>(c))) name += c;

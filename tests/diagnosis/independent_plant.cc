@@ -34,6 +34,7 @@ bool Has(Hidden h, Hidden what) {
 }
 
 constexpr double kPayloadStep = 31.0, kPayloadStepTime = 8.0;
+constexpr double kViscousDrift = -50.0, kDriftSpan = 16.0;  // [N·s/m] over [s]
 
 double Mass(Hidden h, double t) {
   return kMass + (Has(h, Hidden::kPayload) ? kPayload : 0.0) +
@@ -55,6 +56,7 @@ double StatelessHidden(Hidden h, double t, double x, double v) {
     f += 1.5 * std::sin(kTwoPi * x / 0.006 + 0.3) + 0.4 * std::sin(2.0 * kTwoPi * x / 0.006);
   }
   if (Has(h, Hidden::kSpeedRipple)) f += 15.0 * std::abs(v) * std::sin(kTwoPi * x / 0.005);
+  if (Has(h, Hidden::kFrictionDrift)) f += kViscousDrift * std::min(t / kDriftSpan, 1.0) * v;
   if (Has(h, Hidden::kShortStroke)) f += 15.0 * std::abs(v) * std::sin(kTwoPi * x / kShortStrokePeriod);
   if (Has(h, Hidden::kVibration)) f -= kVibrationAmplitude * std::sin(kTwoPi * kVibrationHz * t + 0.7);
   if (Has(h, Hidden::kPositionForce)) {
@@ -247,6 +249,7 @@ std::vector<CaseSpec> Cases() {
   c.push_back(Case("payload step", Hidden::kPayloadStep, "mass_change", "change_time", kPayloadStepTime, 0.0625));
   c.push_back(Case("rotary gravity", Hidden::kGravity, "gravity", "amplitude", kGravityTorque, 0.05));
   c.push_back(Case("mains hum", Hidden::kMainsHum, "time_periodic", "frequency_hz", kHumHz, 0.03));
+  c.push_back(Case("friction drift", Hidden::kFrictionDrift, "friction_drift", "change", kViscousDrift, 0.10));
   CaseSpec stamps = Case("noisy stamps", Hidden::kPositionRipple, "position_periodic", "period", 0.006, 0.03);
   stamps.stamp_noise = 0.2;
   c.push_back(stamps);

@@ -35,6 +35,7 @@ enum class Hidden {
   kPayloadStep,     ///< 31 kg picked up at t = 8 s (the moving mass steps by a third)
   kMainsHum,        ///< 1.5 N of 50 Hz mains hum picked up by the force measurement (not on the carriage)
   kGravity,         ///< a rotary arm (rad, N·m): the stage seen through 20 rad/m, with 7.5 N·m·sin(θ + 0.4) of gravity
+  kFrictionDrift,   ///< the viscous friction falls 195 → 145 N·s/m linearly over the first 16 s (the lubricant warms)
 };
 
 /// Whether a case's record is of a rotary axis (time_s, angle_rad, torque_Nm; Record::rotary).
