@@ -2,13 +2,17 @@
 // command's library calls (LoadDiagram's parts, Simulator::Run) with the logged signals as NumPy arrays that share
 // the result's memory.
 
+#include <filesystem>
 #include <memory>
+#include <sstream>
 
 #include <fmt/format.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
 #include "engine/diagram_loader.h"
+#include "engine/input_file.h"
+#include "engine/text_excerpt.h"
 #include "engine/simulator.h"
 #include "python/bindings.h"
 #include "tools/report/output_files.h"
@@ -37,7 +41,7 @@ Diagram PyDiagram::Build() const {
   return BuildDiagram(document.json(), document.base_directory(), document.source());
 }
 
-json ToJson(const py::handle& object) {
+json ToJson(const py::handle& object, const std::string& argument) {
   const py::module_ json_module = py::module_::import("json");
   const py::module_ numpy = py::module_::import("numpy");
   // NumPy arrays and scalars: their Python equivalents (tolist), which the json module writes.
@@ -46,7 +50,13 @@ json ToJson(const py::handle& object) {
                                : py::reinterpret_borrow<py::object>(object);
   // Inside dicts and lists too: NumPy values are written as their tolist().
   const py::cpp_function as_list([](const py::object& value) { return value.attr("tolist")(); });
-  return json::parse(json_module.attr("dumps")(plain, py::arg("default") = as_list).cast<std::string>());
+  try {
+    return json::parse(json_module.attr("dumps")(plain, py::arg("default") = as_list).cast<std::string>());
+  } catch (const py::error_already_set& e) {  // an object JSON cannot hold (AttributeError: no tolist, TypeError)
+    throw py::type_error(fmt::format("{}: a {} is no JSON value; give a number, str, bool, None, or a list or dict "
+                                     "of them (NumPy arrays and scalars are converted)",
+                                     argument, py::str(py::type::of(object).attr("__name__")).cast<std::string>()));
+  }
 }
 
 py::object FromJson(const json& value) {
@@ -58,6 +68,18 @@ std::string PathText(const py::handle& path) {
 }
 
 namespace {
+
+// The diagram file's JSON syntax, checked before DiagramDocument::Load reads it: a syntax error is a DiagramError
+// (a ValueError naming the file, the line and the column), as a diagram's other problems are, not a RuntimeError.
+void RequireJsonSyntax(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path)) return;  // Load says why (missing, a folder, a device)
+  std::istringstream in(ReadInputFile(path, "diagram file"));
+  try {
+    (void)nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw DiagramError(path, {fmt::format("not valid JSON: {}", JsonErrorText(e))});
+  }
+}
 
 // A finished run, kept alive by the arrays that view its log (their NumPy base).
 struct PyResult {
@@ -87,7 +109,20 @@ std::shared_ptr<PyResult> Simulate(const PyDiagram& diagram, const py::object& s
   const Diagram built = run.Build();
   Simulator sim(built);
   for (const auto& [name, series] : inputs) {
-    const auto pair = series.cast<std::pair<std::vector<double>, std::vector<double>>>();
+    if (!py::isinstance<py::str>(name)) {
+      throw py::type_error(fmt::format("simulate(): inputs: the key {} is no str; key each series by its input "
+                                       "connector's name",
+                                       py::repr(name).cast<std::string>()));
+    }
+    std::pair<std::vector<double>, std::vector<double>> pair;
+    try {
+      pair = series.cast<std::pair<std::vector<double>, std::vector<double>>>();
+    } catch (const py::cast_error&) {
+      throw py::type_error(fmt::format("simulate(): inputs['{}']: a {} is no (time, values) pair; give two 1-D "
+                                       "sequences of numbers of one length, time [s] increasing",
+                                       name.cast<std::string>(),
+                                       py::str(py::type::of(series).attr("__name__")).cast<std::string>()));
+    }
     sim.SetInput(name.cast<std::string>(), InputSeries{pair.first, pair.second});
   }
   auto out = std::make_shared<PyResult>();
@@ -162,25 +197,31 @@ void BindDiagram(py::module_& m) {
           "load",
           [](const py::object& path) {
             const std::string p = PathText(path);
+            RequireJsonSyntax(p);
             return PyDiagram{DiagramDocument::Load(p), p, {}};
           },
           py::arg("path"),
           "Reads a diagram file (str or os.PathLike). Files it names resolve against its folder. Raises OSError if "
-          "it cannot be opened, RuntimeError with the line and column on a JSON syntax error.")
+          "it cannot be opened, DiagramError (a ValueError) with the line and column on a JSON syntax error, "
+          "TypeError if `path` is no str or os.PathLike.")
       .def_static(
           "from_dict",
           [](const py::object& diagram, const py::object& base_directory) {
             const std::string base = base_directory.is_none() ? "" : PathText(base_directory);
-            return PyDiagram{DiagramDocument(ToJson(diagram), base, "<dict>"), "", {}};
+            return PyDiagram{DiagramDocument(ToJson(diagram, "from_dict(): diagram"), base, "<dict>"), "", {}};
           },
           py::arg("diagram"), py::arg("base_directory") = py::none(),
           "A diagram from its JSON as a dict; relative file names resolve against `base_directory`.")
-      .def("set", [](PyDiagram& d, const std::string& key, const py::object& value) { d.Set(key, ToJson(value)); },
+      .def("set",
+           [](PyDiagram& d, const std::string& key, const py::object& value) {
+             d.Set(key, ToJson(value, "set(): value"));
+           },
            py::arg("key"), py::arg("value"),
            "Sets 'element.parameter' (a number in the parameter's SI unit whatever unit the diagram wrote, as "
            "`motionblocks --set` reads it; or {'value': v, 'unit': 'mm'}), 'solver.<key>' or "
            "'defaultExperiment.<key>' (e.g. 'defaultExperiment.stopTime' [s]). Raises ValueError for an unknown "
-           "element or parameter (naming the closest), DiagramError for a value the parameter refuses.")
+           "element or parameter (naming the closest), DiagramError for a value the parameter refuses, TypeError "
+           "(naming `value`) for an object JSON cannot hold.")
       .def("get", [](const PyDiagram& d, const std::string& element, const std::string& parameter) {
              return FromJson(d.document.Parameter(element, parameter));
            },

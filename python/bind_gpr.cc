@@ -2,7 +2,10 @@
 // `predict-gpr` compute it — MAP fit on every sample (FitGprToLog), posterior mean and standard deviation, the model
 // file the `gpr` block loads.
 
+#include <cmath>
+#include <filesystem>
 #include <memory>
+#include <sstream>
 #include <optional>
 
 #include <fmt/format.h>
@@ -10,6 +13,8 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include "engine/input_file.h"
+#include "engine/text_excerpt.h"
 #include "models/gpr/gpr_io.h"
 #include "models/gpr/gpr_log.h"
 #include "python/bindings.h"
@@ -45,6 +50,29 @@ GprModel FitGprToArrays(const Vector& x, const Vector& xdot, const Vector& d, co
   return FitGprToLog(table, selection, options);
 }
 
+// A model file's JSON syntax, checked before LoadGprModel: a syntax error is a ValueError as the model's other
+// problems are (the docstring's promise), not a RuntimeError.
+void RequireJsonSyntax(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path)) return;  // LoadGprModel says why (missing, a folder, a device)
+  std::istringstream in(ReadInputFile(path, "GP model file"));
+  try {
+    (void)nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw std::invalid_argument(fmt::format("{}: not valid JSON (corrupt or truncated?): {}", path, JsonErrorText(e)));
+  }
+}
+
+// NaN or ±inf in a prediction's input would give the prior without a word (issue 30): refused naming the argument.
+void RequireFinite(const Vector& values, const char* argument) {
+  for (Eigen::Index i = 0; i < values.size(); ++i) {
+    if (!std::isfinite(values(i))) {
+      throw std::invalid_argument(fmt::format("predict(): {}[{}] is {}: give finite numbers (drop or fill the "
+                                              "samples that are not)",
+                                              argument, i, values(i)));
+    }
+  }
+}
+
 py::dict Hyperparameters(const GprModel& model) {
   const GprHyperparameters& h = model.data().hyperparameters;
   py::dict d;
@@ -63,11 +91,21 @@ void BindGpr(py::module_& m) {
   py::class_<GprModel, std::shared_ptr<GprModel>>(
       m, "GprModel",
       "A fitted TISO-GPR d(x, ẋ) (paper eq. 19–24): weight-space form, immutable. Save it for a diagram's gpr block.")
-      .def_static("load", [](const py::object& path) { return LoadGprModel(PathText(path)); }, py::arg("path"),
-                  "Reads a model file (fit-gpr's JSON). Raises OSError if it cannot be opened, ValueError if invalid.")
+      .def_static(
+          "load",
+          [](const py::object& path) {
+            const std::string p = PathText(path);
+            RequireJsonSyntax(p);
+            return LoadGprModel(p);
+          },
+          py::arg("path"),
+          "Reads a model file (fit-gpr's JSON). Raises OSError if it cannot be opened, ValueError if invalid (a JSON "
+          "syntax error with its line and column included).")
       .def(
           "predict",
           [](const GprModel& model, const Vector& x, const Vector& xdot) {
+            RequireFinite(x, "x");
+            RequireFinite(xdot, "xdot");
             Vector mean(x.size()), std(x.size());
             model.Predict(x, xdot, mean, std);
             return std::make_pair(mean, std);
@@ -75,7 +113,8 @@ void BindGpr(py::module_& m) {
           py::arg("x"), py::arg("xdot"),
           "Posterior mean d̂ (eq. 22, 24) and the latent posterior standard deviation (√ eq. 23) at positions x [m] "
           "and velocities xdot [m/s], 1-D arrays of one length N: returns (mean, std), each shape (N,), in the "
-          "disturbance's unit. ẋ is clamped to the trained range. Raises ValueError on a length mismatch.")
+          "disturbance's unit. ẋ is clamped to the trained range. Raises ValueError on a length mismatch or a NaN or "
+          "infinite input (naming the argument and the index).")
       .def("save", [](const GprModel& model, const py::object& path) { SaveGprModel(model, PathText(path)); },
            py::arg("path"), "Writes the model file (JSON) that a diagram's gpr block and predict-gpr read.")
       .def_property_readonly("kernel", [](const GprModel& model) { return std::string(GprKernelName(model.kernel())); },

@@ -32,7 +32,11 @@ py::list Sweep(const PyDiagram& diagram, const py::object& spec, int jobs, const
     throw std::invalid_argument("sweep: the diagram has no file (made from a dict or a fit): save() it and sweep "
                                 "Diagram.load of that file");
   }
-  SweepSpec parsed = py::isinstance<py::dict>(spec) ? ParseSweep(ToJson(spec), "<sweep dict>")
+  if (jobs < 0) {  // as the command line's --jobs (CLI::NonNegativeNumber)
+    throw std::invalid_argument(fmt::format("sweep(): jobs = {}: give the number of parallel runs, 0 for all cores",
+                                            jobs));
+  }
+  SweepSpec parsed = py::isinstance<py::dict>(spec) ? ParseSweep(ToJson(spec, "sweep(): spec"), "<sweep dict>")
                                                     : ReadSweepFile(PathText(spec));
   // The diagram's own settings first, then the sweep's "set", then each run's values.
   parsed.fixed.insert(parsed.fixed.begin(), diagram.settings.begin(), diagram.settings.end());
@@ -61,7 +65,7 @@ void BindSweep(py::module_& m) {
         py::arg("out") = py::none(), py::arg("save_logs") = false,
         "Runs a parameter sweep of `diagram` (loaded with Diagram.load; its set() calls apply to every run) as "
         "`motionblocks sweep`: `spec` a sweep file's path or its JSON as a dict (grid, list or random; "
-        "tools/batch/sweep.h), `jobs` parallel runs (0 = all cores). Returns one dict per run in sweep order: id, "
+        "tools/batch/sweep.h), `jobs` parallel runs (0 = all cores; negative: ValueError). Returns one dict per run in sweep order: id, "
         "status ('ok' or 'failed'), the swept keys' values, the diagram's metrics (SI units), wall_time_s, error. "
         "With `out`, runs.csv and runs.json are written there and a second call resumes; without, nothing is kept. "
         "Raises DiagramError for an unknown element, ValueError for a bad sweep (with its JSON pointer).");

@@ -34,8 +34,8 @@ struct PyDiagram {
 };
 
 /// Python object → JSON (dict, list, str, bool, int, float, None, NumPy scalars and arrays) through Python's json
-/// module. @throws py::error_already_set (TypeError) for what JSON cannot hold.
-nlohmann::json ToJson(const py::handle& object);
+/// module. @throws py::type_error naming `argument` (e.g. "set(): value") for what JSON cannot hold.
+nlohmann::json ToJson(const py::handle& object, const std::string& argument = "the value");
 /// JSON → Python (dicts, lists, str, int, float, bool, None).
 py::object FromJson(const nlohmann::json& value);
 /// A diagram file name given as str or os.PathLike.

@@ -139,12 +139,29 @@ def test_a_missing_file_is_an_os_error_with_the_path(tmp_path):
     assert str(e.value) == f"{missing}: cannot open the diagram file (does it exist?)"
 
 
-def test_a_json_syntax_error_names_the_line(tmp_path):
+def test_a_json_syntax_error_is_a_diagram_error_naming_the_line(tmp_path):
     bad = tmp_path / "bad.json"
     bad.write_text('{\n  "name": "x",\n  oops\n}\n')
-    with pytest.raises(RuntimeError) as e:
+    with pytest.raises(mb.DiagramError) as e:  # a ValueError, as the diagram's other problems (issue 30)
         mb.Diagram.load(bad)
-    assert str(e.value).startswith(f"{bad}: not valid JSON: parse error at line 3, column 3:")
+    assert str(e.value).startswith(f"{bad}: 1 problem in the diagram:\n  not valid JSON: parse error at line 3, "
+                                   "column 3:")
+    assert "json.exception" not in str(e.value)
+
+
+def test_values_json_cannot_hold_are_type_errors_naming_the_argument(conventional):
+    with pytest.raises(TypeError) as e:
+        conventional.set("plant.payload_mass", object())
+    assert str(e.value).startswith("set(): value: a object is no JSON value; give a number, str, bool, None")
+    with pytest.raises(TypeError) as e:
+        mb.Diagram.from_dict({"name": {1, 2}})
+    assert str(e.value).startswith("from_dict(): diagram: a dict is no JSON value")
+    emps = mb.Diagram.load(DIAGRAMS / "emps" / "rigid_body.json")
+    with pytest.raises(TypeError) as e:
+        mb.simulate(emps, stop_time=0.1, inputs={"velocity": 5})
+    assert str(e.value) == ("simulate(): inputs['velocity']: a int is no (time, values) pair; give two 1-D sequences "
+                            "of numbers of one length, time [s] increasing")
+    assert "Unable to cast" not in str(e.value)
 
 
 def test_inputs_feed_the_input_connectors():

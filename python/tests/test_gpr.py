@@ -84,6 +84,24 @@ def test_bad_samples_raise_value_errors():
     assert "PS" in str(e.value) and "DS" in str(e.value)
 
 
+def test_nan_or_inf_inputs_to_predict_raise_value_errors_naming_the_argument(samples):
+    model = mb.fit_gpr(*samples, restarts=0)
+    with pytest.raises(ValueError) as e:
+        model.predict(np.array([0.1, np.nan]), np.array([0.1, 0.1]))
+    assert str(e.value) == "predict(): x[1] is nan: give finite numbers (drop or fill the samples that are not)"
+    with pytest.raises(ValueError) as e:
+        model.predict(np.array([0.1]), np.array([-np.inf]))
+    assert str(e.value).startswith("predict(): xdot[0] is -inf")
+
+
+def test_a_model_file_that_is_not_json_is_a_value_error(tmp_path):
+    (tmp_path / "m.json").write_text("[1, 2")
+    with pytest.raises(ValueError) as e:
+        mb.GprModel.load(tmp_path / "m.json")
+    assert str(e.value).startswith(f"{tmp_path / 'm.json'}: not valid JSON (corrupt or truncated?): parse error at "
+                                   "line 1, column 6")
+
+
 def test_a_missing_model_file_is_an_os_error(tmp_path):
     with pytest.raises(OSError) as e:
         mb.GprModel.load(tmp_path / "none.json")

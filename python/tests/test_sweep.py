@@ -47,6 +47,12 @@ def test_a_bad_sweep_names_its_json_pointer():
     assert str(e.value) == BAD_SWEEP
 
 
+def test_negative_jobs_are_refused_as_the_command_line_refuses_them():
+    with pytest.raises(ValueError) as e:
+        mb.sweep(mb.Diagram.load(CONVENTIONAL), GRID, jobs=-1)
+    assert str(e.value) == "sweep(): jobs = -1: give the number of parallel runs, 0 for all cores"
+
+
 def test_an_unknown_element_in_a_sweep_is_a_diagram_error():
     with pytest.raises(mb.DiagramError) as e:
         mb.sweep(mb.Diagram.load(CONVENTIONAL), {"grid": {"plnat.payload_mass": [0.1]}})
