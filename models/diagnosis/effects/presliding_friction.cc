@@ -2,8 +2,8 @@
 // reversal the friction builds up over a small displacement δ before the contact slides (the elasto-plastic limit
 // of the Dahl and LuGre models; Dahl 1968, Canudas de Wit et al. 1995). A friction-law replacement. Regressor
 // z = (x − p_δ(x))/δ ∈ [−1, 1], p_δ the play operator of half-width δ {presliding_displacement δ [m]}. Proposed only
-// when the base has a Coulomb law to replace (BaseHasCoulombLaw); δ from a scan of the joint fit over 0.5 µm…2 mm
-// (at most 1 % of the travel and the median displacement of a start, StartDisplacement), not proposed when the best δ
+// when the base has a Coulomb law to replace (BaseHasCoulombLaw); δ from a scan of the joint fit over 2·10⁻⁶…0.008 of
+// the travel (0.5 µm…2 mm on EMPS), at most the median displacement of a start (StartDisplacement), not proposed when the best δ
 // is the longest tried. No block: a state-holding friction law (LuGre) is added by hand.
 #include <algorithm>
 #include <cmath>
@@ -47,13 +47,19 @@ double StartDisplacement(const ProposalContext& c) {
   return travelled[travelled.size() / 2];
 }
 
+constexpr double kShortestShare = 2e-6;  // of the travel: the shortest δ tried
+constexpr double kLongestShare = 8e-3;   // of the travel: the longest δ tried
+
 void Propose(ProposalContext& c) {
   if (!(c.max_speed() > 0.0) || !(c.position_span() > 0.0)) return;
   if (!BaseHasCoulombLaw(c)) return;  // no Coulomb law in the model to replace
   const Eigen::VectorXd& x = c.signals().position;
   const double start = StartDisplacement(c);
-  const double hi = std::min({2e-3, 0.01 * c.position_span(), start});
-  const double delta = ScanJointFit(c, 5e-7, hi, 15, [&](double value) { return Eigen::MatrixXd(Column(x, value)); });
+  // Scaled by the travel, in the position's own unit (m, rad, V): on EMPS's 0.25 m, 0.5 µm…2 mm.
+  const double lo = kShortestShare * c.position_span();
+  const double hi = std::min(kLongestShare * c.position_span(), start);
+  if (!(hi > lo)) return;
+  const double delta = ScanJointFit(c, lo, hi, 15, [&](double value) { return Eigen::MatrixXd(Column(x, value)); });
   if (!(delta > 0.0)) return;
   if (delta > hi / 1.05) {  // the best δ is the longest tried: a force of the position after each start, not pre-sliding
     c.Note(fmt::format("presliding_friction not proposed: the joint fit's best δ is the longest tried ({:.3g}, the "
