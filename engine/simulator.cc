@@ -259,6 +259,12 @@ void Simulator::SetInput(const std::string& name, InputSeries series) {
                                           name, names.empty() ? "(none)" : names));
 }
 
+bool Simulator::HoldInput(std::size_t index, double value) noexcept {
+  if (index >= input_series_.size() || !input_set_[index] || input_series_[index].values.size() != 1) return false;
+  input_series_[index].values[0] = value;
+  return true;
+}
+
 void Simulator::GroupInputGrids() {
   for (std::size_t k = 0; k < input_grid_.size(); ++k) {
     input_grid_[k] = k;

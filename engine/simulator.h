@@ -89,6 +89,10 @@ class Simulator final : private OdeSystem {
   /// or non-increasing time. Inputs not set read their connector's default value (optional inputs) or throw at
   /// Initialize (required ones).
   void SetInput(const std::string& name, InputSeries series);
+  /// Real time (the virtual stage's analog outputs): input connector `index` (diagram.inputs() order), already fed a
+  /// one-point series by SetInput, holds `value` from now on — what SetInput(name, {{t}, {value}}) does, without the
+  /// name lookup, the allocation or an exception. Returns false, changing nothing, for any other input.
+  bool HoldInput(std::size_t index, double value) noexcept;
 
   /// Streams every logged sample to `sink` (it must outlive the runs) instead of holding the log in memory: log()
   /// then keeps at most `max_samples_in_memory` samples, every k-th one (evenly thinned, for figures; 0 = none),

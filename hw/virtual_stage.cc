@@ -107,7 +107,9 @@ VirtualStage::VirtualStage(const fs::path& plant_file, StageWiring wiring, Virtu
     encoder_sources_.push_back(plant_->outputs()[static_cast<std::size_t>(it - outputs.begin())].source);
   }
   for (const auto& a : wiring_.analog_outputs) {
-    if (std::find(inputs.begin(), inputs.end(), a.connector) == inputs.end()) {
+    const auto input = std::find(inputs.begin(), inputs.end(), a.connector);
+    force_inputs_.push_back(static_cast<std::size_t>(input - inputs.begin()));
+    if (input == inputs.end()) {
       throw std::invalid_argument(fmt::format("{}: analog output {} drives '{}', but the plant has no input "
                                               "connector of that name; its inputs: {}",
                                               plant_file.string(), a.channel, a.connector, ConnectorNames(inputs)));
@@ -125,11 +127,12 @@ VirtualStage::VirtualStage(const fs::path& plant_file, StageWiring wiring, Virtu
 
 VirtualStage::~VirtualStage() = default;
 
-void VirtualStage::SetForce(std::size_t analog, double volts) {
+void VirtualStage::SetForce(std::size_t analog, double volts) noexcept {
   const StageChannel& a = wiring_.analog_outputs[analog];
-  // Held from now on: a one-point series is constant (Simulator::SetInput holds the ends).
   forces_[analog] = volts * a.scale;
-  simulator_->SetInput(a.connector, InputSeries{{0.0}, {forces_[analog]}});
+  // Held from now on, in place: no allocation in the real-time loop (the input was fed a one-point series at
+  // construction; Simulator holds a series' ends).
+  simulator_->HoldInput(force_inputs_[analog], forces_[analog]);
 }
 
 void VirtualStage::AdvanceTo(double t) {

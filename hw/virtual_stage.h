@@ -106,7 +106,7 @@ class VirtualStage {
   VirtualStageReport Run(const std::atomic<bool>& stop, std::ostream& events);
 
  private:
-  void SetForce(std::size_t analog, double volts);
+  void SetForce(std::size_t analog, double volts) noexcept;  // real time: no allocation
   void AdvanceTo(double t);
 
   StageWiring wiring_;
@@ -116,6 +116,7 @@ class VirtualStage {
   std::unique_ptr<LoopbackUdpSocket> socket_;
   std::vector<SignalRef> encoder_sources_;   // per wiring_.encoders
   std::vector<double> forces_;               // per wiring_.analog_outputs [N]
+  std::vector<std::size_t> force_inputs_;    // per wiring_.analog_outputs: its plant input (Simulator::HoldInput)
 };
 
 }  // namespace mb

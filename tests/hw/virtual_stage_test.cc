@@ -31,6 +31,7 @@
 #include "hw/udp_board.h"
 #include "hw/udp_socket.h"
 #include "hw/virtual_stage.h"
+#include "tests/alloc_counter.h"
 #include "tests/hw/hil_test_util.h"
 
 extern char** environ;
@@ -329,6 +330,31 @@ TEST_F(VirtualStageTest, ABadOutputsPacketIsAFaultNamingThePacketAndTheValue) {
   const VirtualStageReport report = stage.Run(stop, events);
   EXPECT_EQ(report.fault, "");
   EXPECT_EQ(report.outputs, 1);
+}
+
+// The stage's loop applies an outputs packet without allocating (it held each force as a new one-point input series:
+// two vectors per packet): a run that applies 200 packets allocates what a run without packets does.
+TEST_F(VirtualStageTest, OutputsPacketsAreAppliedWithoutAllocating) {
+  const StageWiring wiring = StageWiring::FromIoFile(testing::HilDiagramDir() / "subsystems" / "hil_io.json");
+  VirtualStageOptions options;
+  options.duration = 0.1;
+  options.watchdog_timeout = 10.0;  // no watchdog event (its line is text)
+  const auto allocations_in_run = [&](int packets) {
+    VirtualStage stage(testing::HilDiagramDir() / "subsystems" / "plant.json", wiring, options);
+    LoopbackUdpSocket client(0);
+    for (int k = 0; k < packets; ++k) client.SendTo(stage.port(), OutputsPacket(static_cast<std::uint32_t>(k), 0.01 * k));
+    std::atomic<bool> stop{false};
+    std::ostringstream events;
+    const long before = testing::AllocationCount();
+    const VirtualStageReport report = stage.Run(stop, events);
+    const long allocations = testing::AllocationCount() - before;
+    EXPECT_EQ(report.outputs, packets);
+    EXPECT_EQ(stage.forces(), std::vector<double>{packets > 0 ? 0.01 * (packets - 1) : 0.0});
+    return allocations;
+  };
+  const long without = allocations_in_run(0);
+  const long with = allocations_in_run(200);
+  EXPECT_LE(with, without) << "200 outputs packets cost " << with - without << " allocations";
 }
 
 TEST_F(VirtualStageTest, TheStageCommandStopsOnABadPacketWithExitOneAndThePacket) {
