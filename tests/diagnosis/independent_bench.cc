@@ -90,6 +90,7 @@ void Judge(const DiagnosisResult& d, CaseResult* r) {
     r->named_right = r->named_first == r->spec.effect;
   }
   if (key != nullptr) {
+    r->parameters = key->parameters;
     const auto it = key->parameters.find(r->spec.parameter);
     if (it != key->parameters.end()) r->parameter = it->second;
   }

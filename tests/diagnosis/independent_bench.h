@@ -8,6 +8,7 @@
 // clean log nothing named outside the friction-law replacements.
 
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,7 @@ struct CaseResult {
   std::vector<std::string> details;    ///< each named effect with its score and parameters, then compare's notes
   std::string named_first;             ///< first outside the friction-law replacements ("" = none)
   double parameter = 0.0;              ///< its key parameter as compare found it (NaN if not named)
+  std::map<std::string, double> parameters;  ///< every parameter of the hidden effect as compare found it
   double heldout_before = 0.0;         ///< improve, step 0 (validation RMSE) [N]
   double heldout_after = 0.0;          ///< improve, last accepted step [N]
   double noise_floor = 0.0;            ///< the truth on the validation record [N]

@@ -99,6 +99,22 @@ INSTANTIATE_TEST_SUITE_P(ComparePasses, IndependentCase,
                            return name;
                          });
 
+// A parameter that changes is named with its values (issue 25: change time 0.5 s and values 5 %): the mass picked up
+// and the viscous friction's drift over the record, beside the change time the table checks.
+TEST(IndependentValues, PayloadStepAndDriftReportTheChange) {
+  const auto cases = Cases();
+  const auto dir = std::filesystem::temp_directory_path() / "mb_independent_values";
+  for (const auto& [name, truth] : {std::pair{"payload step", 31.0}, std::pair{"friction drift", -50.0}}) {
+    const auto spec = std::find_if(cases.begin(), cases.end(), [&](const CaseSpec& c) { return c.name == name; });
+    ASSERT_NE(spec, cases.end()) << name;
+    const CaseResult r = RunCase(*spec, dir / (spec->effect), /*run_improve=*/false);
+    ASSERT_TRUE(r.named_right) << name;
+    ASSERT_TRUE(r.parameters.count("change")) << name;
+    EXPECT_NEAR(r.parameters.at("change"), truth, 0.05 * std::abs(truth)) << name;
+  }
+  std::filesystem::remove_all(dir);
+}
+
 // The effects off the linear-stage template, added by improve (their blocks: a transport_delay and a saturation on the
 // command path, a switched gain, a one-revolution ripple on a diagram in rad and N·m): the held-out error falls to the
 // noise floor (within 1.3 ×, the benchmark's criterion).

@@ -72,6 +72,7 @@ EffectType MassChange() {
               "change time; add a switched gain on the acceleration";
   t.regressor_formula = "a·H(t − t_c)";
   t.parameters = {{"change_time", "s", "t_c: when the mass changes"}};
+  t.traits.coefficient_parameter = "change";  // Δm, the mass picked up (negative: set down)
   t.regressors = [](const EffectInstance& e, const DiagnosisSignals& s) {
     return SingleColumn(e.name, Column(s, RequiredParameter(e, "change_time")));
   };
