@@ -235,6 +235,7 @@ json ImproveJson(const PyImprove& i) {
   json j = i.context;
   j.update(i.result.ToJson());
   if (i.fallback.attempted) j["nonparametric_fallback"] = ImproveFallbackRecord(i.fallback);
+  j["complete"] = true;  // the call returned: the whole result, as the command's last improve.json says
   return j;
 }
 
