@@ -73,6 +73,9 @@ void RemoveEarlierImproveResult(const fs::path& out, const std::vector<std::stri
 }
 
 void RunImprove(const ImproveOptions& o) {
+  std::vector<CommandFile> inputs{{"DIAGRAM", o.diagram}, {"--measurement", o.measurement.measurement}};
+  if (!o.validation.empty()) inputs.push_back({"--validation", o.validation});
+  RefuseOutputsOverInputs(inputs, {}, {{"--out", o.out, ImproveOutputNames()}});
   const json diagram = ReadDiagramWithOverrides(o.diagram, o.measurement.overrides);
   ImproveSettings settings;
   settings.measurement = o.measurement.Settings();

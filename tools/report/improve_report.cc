@@ -17,6 +17,14 @@ namespace mb {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
+std::vector<std::string> ImproveOutputNames() {
+  std::vector<std::string> names{"improve.json", "improved.json", "report.html", "residual_gpr.json",
+                                 "improved_with_gp.json"};
+  for (const auto& name : DiagramDrawingFileNames()) names.push_back(name);
+  for (const auto& name : FigureFileNames("*.png")) names.push_back(name);
+  return names;
+}
+
 void WriteImproveProgress(const ImproveResult& so_far, const fs::path& directory, const json& context) {
   fs::create_directories(directory);
   const fs::path folder = fs::path(context.value("diagram", "")).parent_path();  // the diagram's file names' base

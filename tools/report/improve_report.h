@@ -14,6 +14,9 @@
 
 namespace mb {
 
+/// The files an improve writes into its folder (exact names and figure patterns), for RefuseOutputsOverInputs.
+std::vector<std::string> ImproveOutputNames();
+
 /// Writes DIR/step_<k>/diagram.json for an accepted step (k = accepted steps so far, 0 = the input refit),
 /// DIR/improved.json (the best diagram so far) and DIR/improve.json (every step so far): call from on_step, so
 /// that an interrupted run keeps what it finished. `context` (the inputs: diagram, logs) heads improve.json; its

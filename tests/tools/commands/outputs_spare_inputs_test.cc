@@ -99,5 +99,12 @@ TEST(OutputsSpareInputs, RunOverItsInputLogAndFitOverItsDiagram) {
                 "--out out holds the input DIAGRAM out/fitted.json, and the command writes fitted.json");
 }
 
+TEST(OutputsSpareInputs, ImproveOverItsImprovedDiagram) {
+  const fs::path dir = Workspace("mb_spare_improve");
+  fs::copy_file(dir / "d.json", dir / "out" / "improved.json");
+  ExpectRefused(dir, {"improve", "out/improved.json", "--measurement", "t.csv", "--out", "out"}, "out/improved.json",
+                "--out out holds the input DIAGRAM out/improved.json, and the command writes improved.json");
+}
+
 }  // namespace
 }  // namespace mb
