@@ -475,8 +475,8 @@ void DiagramDocument::CopyExperimentFrom(const DiagramDocument& other) {
   if (other.json_.contains("defaultExperiment")) json_["defaultExperiment"] = other.json_["defaultExperiment"];
 }
 
-std::string DiagramDocument::ExperimentMode() const {
-  return json_.value("experiment", Json::object()).value("mode", "simulation");
+ExperimentMode DiagramDocument::Mode() const {
+  return ExperimentModeNamed(json_.value("experiment", Json::object()).value("mode", "simulation"));
 }
 
 std::optional<double> DiagramDocument::SolverStep() const {

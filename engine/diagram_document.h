@@ -17,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/experiment_mode.h"
 #include "engine/parameters.h"
 #include "engine/units.h"
 
@@ -160,8 +161,8 @@ class DiagramDocument {
   void SetSectionSetting(const std::string& section, const std::string& key, const nlohmann::json& value);
   /// Whether SetSectionSetting takes `section`: "defaultExperiment" or "solver".
   static bool IsSettingSection(const std::string& section);
-  /// experiment.mode: "equation_error" or "simulation" (the default).
-  std::string ExperimentMode() const;
+  /// experiment.mode (simulation when absent). @throws std::invalid_argument for a name that is not a mode.
+  ExperimentMode Mode() const;
   /// solver.step and defaultExperiment.stepSize when given and > 0 [s].
   std::optional<double> SolverStep() const;
   std::optional<double> ExperimentStepSize() const;

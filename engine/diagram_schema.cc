@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "engine/diagram_loader.h"
+#include "engine/experiment_mode.h"
 #include "engine/units.h"
 
 namespace mb {
@@ -160,6 +161,12 @@ json PortNames(const BlockRegistry& registry, bool inputs) {
   return json(std::vector<std::string>(names.begin(), names.end()));
 }
 
+json ExperimentModeNames() {
+  json names = json::array();
+  for (const auto name : kExperimentModeNames) names.push_back(std::string(name));
+  return names;
+}
+
 json QuantityNames() {
   json names = json::array();
   for (const auto name : kQuantityNames) names.push_back(std::string(name));
@@ -195,7 +202,7 @@ json Sections(const BlockRegistry& registry) {
       {"description", string},
       {"notes", string},
       {"experiment",
-       Described(StrictObject({{"mode", Described({{"enum", {"simulation", "equation_error"}}},
+       Described(StrictObject({{"mode", Described({{"enum", ExperimentModeNames()}},
                                                   "how compare/fit run the model against a measurement")}}),
                  "how the diagram is compared with measurements")},
       {"defaultExperiment",

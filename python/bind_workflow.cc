@@ -192,14 +192,14 @@ PyFit Fit(const PyDiagram& d, const py::object& measurement, std::vector<std::st
         "nothing to fit: name parameters with fit=['block.param', …] ({} has no \"free\" list)", SourceOf(d)));
   }
   const MeasurementSettings settings = SettingsOf(column_map, position_column, derivative_cutoff_hz, intersample);
-  const std::string mode = d.document.ExperimentMode();
+  const ExperimentMode mode = d.document.Mode();
   std::string name;
   const MeasurementLog log = MeasurementFor(diagram, measurement, settings, &name);
   std::optional<DiagramFit> fit;
   {
     py::gil_scoped_release release;
     fit = FitDiagram(diagram, d.document.base_directory(), SourceOf(d), log, settings.column_map, names,
-                     mode == "equation_error" ? settings.derivative_cutoff_hz : 0.0);
+                     mode == ExperimentMode::kEquationError ? settings.derivative_cutoff_hz : 0.0);
   }
   // fit.json as `motionblocks fit` writes it, less the fitted diagram's file.
   json summary = fit->ToJson();
@@ -221,7 +221,7 @@ PyImprove Improve(const PyDiagram& d, const py::object& measurement, const py::o
   const json context = {{"diagram", SourceOf(d)},
                         {"measurement", name},
                         {"validation", held_out ? json(validation_name) : json(nullptr)},
-                        {"mode", ExperimentMode(diagram)},
+                        {"mode", ModeOf(diagram)},
                         {"max_effects", settings.max_effects},
                         {"min_relative_gain", settings.min_relative_gain}};
   py::gil_scoped_release release;
@@ -273,7 +273,7 @@ void BindCompare(py::module_& m) {
   py::class_<PyCompare>(m, "CompareOutcome",
                         "What compare found: the fit, the ranked missing effects, the fallback. Arrays are the primary "
                         "output, shape (N,), in its unit.")
-      .def_property_readonly("mode", [](const PyCompare& c) { return c.outcome.mode; })
+      .def_property_readonly("mode", [](const PyCompare& c) { return std::string(Name(c.outcome.mode)); })
       .def_property_readonly("output", [](const PyCompare& c) { return c.outcome.primary_after().connector; })
       .def_property_readonly("unit", [](const PyCompare& c) { return c.outcome.primary_after().unit; })
       .def_property_readonly("rmse_before", [](const PyCompare& c) { return c.outcome.primary_before().rmse; })

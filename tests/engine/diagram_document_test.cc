@@ -206,7 +206,7 @@ TEST(DiagramDocumentTest, FreeParametersAreChecked) {
 
 TEST(DiagramDocumentTest, ExperimentAndSolver) {
   DiagramDocument d = Document();
-  EXPECT_EQ(d.ExperimentMode(), "simulation");
+  EXPECT_EQ(d.Mode(), ExperimentMode::kSimulation);
   EXPECT_EQ(d.SolverStep(), 0.001);
   EXPECT_EQ(d.ExperimentStepSize(), 0.001);
   d.SetExperiment(1.0, 3.0, 0.5);
@@ -214,7 +214,7 @@ TEST(DiagramDocumentTest, ExperimentAndSolver) {
   d.SetExperimentDuration(4.0);
   EXPECT_EQ(d.json()["defaultExperiment"], json({{"startTime", 1.0}, {"stopTime", 5.0}, {"stepSize", 0.5}}));
   DiagramDocument bare(json{{"elements", json::array()}, {"experiment", {{"mode", "equation_error"}}}});
-  EXPECT_EQ(bare.ExperimentMode(), "equation_error");
+  EXPECT_EQ(bare.Mode(), ExperimentMode::kEquationError);
   EXPECT_FALSE(bare.SolverStep().has_value());
   d.CopyExperimentFrom(bare);
   EXPECT_FALSE(d.json().contains("defaultExperiment"));

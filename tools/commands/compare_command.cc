@@ -70,7 +70,7 @@ void RunCompare(const CompareOptions& o) {
   settings.measurement = o.measurement.Settings();
   const MeasurementLog log = ReadMeasurementFor(diagram, o.measurement.measurement, settings.measurement);
   ProgressNote(fmt::format("compare {} with {} ({} samples, {} mode)", o.diagram, o.measurement.measurement,
-                           log.rows(), ExperimentMode(diagram)));
+                           log.rows(), Name(ModeOf(diagram))));
   settings.fit = SplitCommaLists(o.fit);
   settings.no_fit = o.no_fit;
   settings.gpr_fallback = !o.no_gpr_fallback;

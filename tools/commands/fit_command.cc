@@ -49,12 +49,12 @@ void RunFit(const FitOptions& o) {
     throw std::invalid_argument(fmt::format(
         "nothing to fit: name parameters with --params block.param,… ({} has no \"free\" list)", o.diagram));
   }
-  const std::string mode = DiagramDocument(diagram).ExperimentMode();
-  const bool equation_error = mode == "equation_error";
+  const ExperimentMode mode = DiagramDocument(diagram).Mode();
+  const bool equation_error = mode == ExperimentMode::kEquationError;
   // Equation error: the measured outputs and the model's get the same zero-phase low-pass (as compare does).
   const MeasurementLog log = ReadMeasurementFor(diagram, o.measurement.measurement, settings);
   ProgressNote(fmt::format("fit {} to {} ({} samples, {} mode): {} …", o.diagram, o.measurement.measurement,
-                           log.rows(), mode, fmt::join(names, ", ")));
+                           log.rows(), Name(mode), fmt::join(names, ", ")));
   const DiagramFit result = FitDiagram(diagram, fs::path(o.diagram).parent_path(), o.diagram, log,
                                        settings.column_map, names,
                                        equation_error ? settings.derivative_cutoff_hz : 0.0);

@@ -93,7 +93,7 @@ void RunImprove(const ImproveOptions& o) {
   json context = {{"diagram", o.diagram},
                   {"measurement", o.measurement.measurement},
                   {"validation", o.validation.empty() ? json(nullptr) : json(o.validation)},
-                  {"mode", ExperimentMode(diagram)},
+                  {"mode", ModeOf(diagram)},
                   {"max_effects", o.max_effects},
                   {"min_relative_gain", o.min_gain},
                   {"complete", false}};  // until the last file is written (below)

@@ -164,7 +164,7 @@ void WriteCompareReport(const CompareOutcome& outcome, const MeasurementLog& log
   HtmlReport report(fmt::format("motionblocks compare: {} vs {}", fs::path(files.diagram).filename().string(),
                                 fs::path(files.measurement).filename().string()),
                     InteractiveCharts{});
-  report.Paragraph(fmt::format("{} mode; {} samples. Output '{}' compared with column '{}'.", outcome.mode, log.rows(),
+  report.Paragraph(fmt::format("{} mode; {} samples. Output '{}' compared with column '{}'.", Name(outcome.mode), log.rows(),
                                primary_after.connector, primary_after.column));
   std::vector<std::vector<std::string>> rows;
   for (std::size_t i = 0; i < compared.after.size(); ++i) {

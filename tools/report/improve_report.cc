@@ -50,7 +50,7 @@ void WriteImproveReport(const ImproveResult& result, const MeasurementLog& train
   const std::string& unit = first.unit();
   HtmlReport report(title, InteractiveCharts{});
   report.Paragraph(fmt::format(
-      "{} mode; output '{}' [{}]. Held-out error: {}. Stop: {}.", first.training.mode,
+      "{} mode; output '{}' [{}]. Held-out error: {}. Stop: {}.", Name(first.training.mode),
       first.training.after.front().connector, unit,
       validation ? "the validation record " + validation->source() +
                        " (only the record's parameters refit: the ripple's position offset)"

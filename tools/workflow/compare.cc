@@ -72,7 +72,7 @@ CompareOutcome Compare(const json& diagram, const std::filesystem::path& base_di
                        const MeasurementLog& log, const CompareSettings& settings,
                        const std::function<void(const std::string&)>& progress) {
   CompareOutcome outcome;
-  outcome.mode = ExperimentMode(diagram);
+  outcome.mode = ModeOf(diagram);
   // Refit the free parameters (settings.fit, else the diagram's "free" list).
   std::vector<std::string> fit_names = settings.fit;
   if (fit_names.empty() && !settings.no_fit) fit_names = DiagramDocument(diagram).FreeParameters();

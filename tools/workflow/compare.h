@@ -44,7 +44,7 @@ struct CompareSuggestion {
 
 /// Everything one compare found: fit, diagnosis, fallback, suggestion.
 struct CompareOutcome {
-  std::string mode;                             ///< "equation_error" or "simulation"
+  ExperimentMode mode = ExperimentMode::kSimulation;
   DiagnosedComparison compared;                 ///< the fit and the diagnosis (comparison.h)
   FallbackOutcome fallback;                     ///< the TISO-GPR fallback (set when diagnosed and asked)
   std::optional<CompareSuggestion> suggestion;  ///< set when asked and diagnosed

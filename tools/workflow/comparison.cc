@@ -486,8 +486,8 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
                                        const MeasurementLog& log, const MeasurementSettings& settings,
                                        const std::vector<std::string>& fit_names, bool diagnose) {
   DiagnosedComparison out;
-  out.mode = ExperimentMode(diagram);
-  const bool equation_error = out.mode == "equation_error";
+  out.mode = ModeOf(diagram);
+  const bool equation_error = out.mode == ExperimentMode::kEquationError;
   ModelComparison comparison(diagram, base_directory, source, log, settings.column_map);
   // The model's outputs get the measured outputs' filter (parallel filtering), else every Coulomb step of the
   // model leaves a spike in the residual that the diagnosis would try to explain.

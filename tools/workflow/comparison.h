@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/diagram.h"
+#include "engine/experiment_mode.h"
 #include "engine/simulator.h"
 #include "models/diagnosis/diagnosis.h"
 #include "models/diagnosis/measurement_log.h"
@@ -168,7 +169,7 @@ DiagramFit FitDiagram(const nlohmann::json& diagram, const std::filesystem::path
 
 /// One `compare`: the diagram bound to a log, its free parameters refit, its primary output's residual diagnosed.
 struct DiagnosedComparison {
-  std::string mode;                        ///< "equation_error" or "simulation"
+  ExperimentMode mode = ExperimentMode::kSimulation;
   std::vector<FreeParameter> parameters;   ///< what was refit (empty: nothing)
   std::optional<FitResult> fit;            ///< set when parameters is not empty
   std::vector<ComparedOutput> before;      ///< every compared output as given; the first is the primary

@@ -28,7 +28,7 @@ std::string BlockOf(const std::string& parameter) { return parameter.substr(0, p
 HeldOutScore ScoreHeldOut(const json& diagram, const fs::path& base_directory, const std::string& source,
                           const MeasurementLog& validation, const ImproveSettings& settings) {
   ModelComparison comparison(diagram, base_directory, source, validation, settings.measurement.column_map);
-  if (ExperimentMode(diagram) == "equation_error") {
+  if (ModeOf(diagram) == ExperimentMode::kEquationError) {
     comparison.set_output_filter(settings.measurement.derivative_cutoff_hz);
   }
   std::vector<std::string> names;

@@ -167,14 +167,14 @@ void FeedInputsFromFiles(const Diagram& diagram, const std::vector<std::string>&
   }
 }
 
-std::string ExperimentMode(const json& diagram) { return DiagramDocument(diagram).ExperimentMode(); }
+ExperimentMode ModeOf(const json& diagram) { return DiagramDocument(diagram).Mode(); }
 
 namespace {
 
 // The measured outputs an equation-error diagram filters like the motion (IDIM-LS's parallel filtering).
 std::vector<std::string> FilteredColumns(const json& diagram, const MeasurementSettings& settings) {
-  return ExperimentMode(diagram) == "equation_error" ? OutputColumns(diagram, settings.column_map)
-                                                     : std::vector<std::string>{};
+  return ModeOf(diagram) == ExperimentMode::kEquationError ? OutputColumns(diagram, settings.column_map)
+                                                            : std::vector<std::string>{};
 }
 
 // Those of them that are held commands (settings.intersample zoh).

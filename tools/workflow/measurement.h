@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/diagram.h"
+#include "engine/experiment_mode.h"
 #include "engine/simulator.h"
 #include "models/diagnosis/measurement_log.h"
 
@@ -104,8 +105,8 @@ struct MeasurementSettings {
 /// DerivativeCutoffHz above.
 double DerivativeCutoffHz(const MeasurementSettings& settings, const MeasurementLog& log);
 
-/// The diagram's experiment.mode: "equation_error" or "simulation" (the default).
-std::string ExperimentMode(const nlohmann::json& diagram);
+/// The diagram's experiment.mode (simulation when absent; DiagramDocument::Mode).
+ExperimentMode ModeOf(const nlohmann::json& diagram);
 
 /// Reads `path` for `diagram`: ReadMeasurementWithDerivatives, and in equation-error mode the measured outputs
 /// through the derivative low-pass too (IDIM-LS's parallel filtering), held first when `settings.intersample` is zoh. @throws as ReadMeasurementLog (naming the

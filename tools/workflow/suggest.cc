@@ -119,7 +119,7 @@ std::string CommandInput(DiagramDocument* out, const std::string& output) {
 // log holds beyond what the element passes on, u − y, summed into the model's force (ForceEnd).
 std::string AddOnCommand(DiagramDocument* out, const ElementSpec& element, const std::string& output,
                          const std::string& effect) {
-  if (out->ExperimentMode() != "equation_error") {
+  if (out->Mode() != ExperimentMode::kEquationError) {
     throw std::invalid_argument(fmt::format(
         "effect '{}' acts on the command path; in simulation mode put a {} block between the command's input "
         "connector and the plant by hand (docs/diagnosis.md, \"Adding an effect\")",
