@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/block.h"
+#include "engine/metric_type.h"
 #include "engine/parameters.h"
 #include "engine/units.h"
 
@@ -55,7 +56,7 @@ struct LoggedSignal {
 /// A scalar figure of merit computed after a run (written to summary.json under "metrics").
 struct MetricSpec {
   std::string name;
-  std::string type;       ///< "rmse", "max_abs", "mean", "final", "rms_difference" (signal − reference)
+  MetricType type = MetricType::kRmse;
   std::string signal;
   std::string reference;  ///< only for rms_difference
   std::string unit;

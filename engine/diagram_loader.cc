@@ -773,22 +773,23 @@ class DiagramBuilder {
 
   void ReadMetrics() {
     const json ms = j_.value("metrics", json::array());
-    static const std::set<std::string> kTypes = {"rmse", "max_abs", "mean", "final", "rms_difference"};
     for (std::size_t i = 0; i < ms.size(); ++i) {
       const std::string ptr = fmt::format("/metrics/{}", i);
       const json& m = ms[i];
       MetricSpec spec;
       spec.name = m.value("name", "");
-      spec.type = m.value("type", "rmse");
+      const std::string type = m.value("type", "rmse");
       spec.signal = m.value("signal", "");
       spec.reference = m.value("reference", "");
       spec.unit = m.value("unit", "");
       spec.from = NumberOr(m, "from", -1e300, ptr, &problems_);
       spec.to = NumberOr(m, "to", 1e300, ptr, &problems_);
       if (spec.name.empty()) Problem(fmt::format("{}/name: a metric needs a name", ptr));
-      if (!kTypes.count(spec.type)) {
-        Problem(fmt::format("{}/type: '{}' is not a metric; use rmse, max_abs, mean, final or rms_difference", ptr,
-                            spec.type));
+      if (const auto known = MetricTypeNamed(type)) {
+        spec.type = *known;
+      } else {
+        Problem(fmt::format("{}/type: '{}' is not a metric; use {}", ptr, Excerpt(type),
+                            fmt::join(kMetricTypeNames, ", ")));
       }
       for (const auto* sig : {&spec.signal, &spec.reference}) {
         if (sig->empty()) continue;
@@ -799,7 +800,7 @@ class DiagramBuilder {
         }
       }
       if (spec.signal.empty()) Problem(fmt::format("{}/signal: a metric needs a signal", ptr));
-      if (spec.type == "rms_difference" && spec.reference.empty()) {
+      if (spec.type == MetricType::kRmsDifference && spec.reference.empty()) {
         Problem(fmt::format("{}/reference: rms_difference needs a reference signal", ptr));
       }
       d_.metrics_.push_back(spec);

@@ -9,6 +9,7 @@
 
 #include "engine/diagram_loader.h"
 #include "engine/experiment_mode.h"
+#include "engine/metric_type.h"
 #include "engine/units.h"
 
 namespace mb {
@@ -161,15 +162,11 @@ json PortNames(const BlockRegistry& registry, bool inputs) {
   return json(std::vector<std::string>(names.begin(), names.end()));
 }
 
-json ExperimentModeNames() {
+// A name table (engine/experiment_mode.h, metric_type.h, units.h) as a schema enum.
+template <std::size_t N>
+json Names(const std::array<std::string_view, N>& table) {
   json names = json::array();
-  for (const auto name : kExperimentModeNames) names.push_back(std::string(name));
-  return names;
-}
-
-json QuantityNames() {
-  json names = json::array();
-  for (const auto name : kQuantityNames) names.push_back(std::string(name));
+  for (const auto name : table) names.push_back(std::string(name));
   return names;
 }
 
@@ -181,14 +178,14 @@ json Sections(const BlockRegistry& registry) {
                                  {"unit", Described(string, "SI unit of the signal")},
                                  {"description", string},
                                  {"measurement", Described(string, "column in a measurement log (default: name)")},
-                                 {"quantity", Described({{"enum", QuantityNames()}},
+                                 {"quantity", Described({{"enum", Names(kQuantityNames)}},
                                                         "what a signal in a unit of no motion quantity (V, none) "
                                                         "stands for; blocks take it on ports of that quantity")},
                                  {"optional", Described({{"type", "boolean"}}, "input only: may be absent")},
                                  {"default", Described(number, "input only: value when absent")}});
   connector["required"] = {"name", "kind"};
   json metric = StrictObject({{"name", string},
-                              {"type", {{"enum", {"rmse", "max_abs", "mean", "final", "rms_difference"}}}},
+                              {"type", {{"enum", Names(kMetricTypeNames)}}},
                               {"signal", Described(string, "element.port or a connector name")},
                               {"reference", Described(string, "rms_difference: the signal to compare with")},
                               {"unit", string},
@@ -202,7 +199,7 @@ json Sections(const BlockRegistry& registry) {
       {"description", string},
       {"notes", string},
       {"experiment",
-       Described(StrictObject({{"mode", Described({{"enum", ExperimentModeNames()}},
+       Described(StrictObject({{"mode", Described({{"enum", Names(kExperimentModeNames)}},
                                                   "how compare/fit run the model against a measurement")}}),
                  "how the diagram is compared with measurements")},
       {"defaultExperiment",

@@ -728,16 +728,19 @@ void MetricAccumulator::Add(double x) {
   ++n;
 }
 
-double MetricAccumulator::Value(const std::string& type, const std::string& name, double from, double to) const {
+double MetricAccumulator::Value(MetricType type, const std::string& name, double from, double to) const {
   if (n == 0) {
     throw std::invalid_argument(fmt::format("metric '{}': no logged sample in the window [{}, {}] s", name, from, to));
   }
   const double nd = static_cast<double>(n);
-  if (type == "rmse" || type == "rms_difference") return std::sqrt(sum_sq / nd);
-  if (type == "max_abs") return max_abs;
-  if (type == "mean") return sum / nd;
-  if (type == "final") return last;
-  return std::numeric_limits<double>::quiet_NaN();
+  switch (type) {
+    case MetricType::kRmse:
+    case MetricType::kRmsDifference: return std::sqrt(sum_sq / nd);
+    case MetricType::kMaxAbs: return max_abs;
+    case MetricType::kMean: return sum / nd;
+    case MetricType::kFinal: break;
+  }
+  return last;
 }
 
 }  // namespace mb

@@ -61,7 +61,7 @@ struct MetricAccumulator {
   void Add(double x);
   /// The metric of type `type` ("rmse", …). @throws std::invalid_argument without a sample (naming `name` and the
   /// window [from, to] s).
-  double Value(const std::string& type, const std::string& name, double from, double to) const;
+  double Value(MetricType type, const std::string& name, double from, double to) const;
 };
 
 /// The ceiling of SimulationLimits::max_steps: 1e13 steps (days of computing at any step rate; 80 TB of one logged

@@ -142,7 +142,7 @@ void RunRun(const RunOptions& o) {
   if (!result.metrics.empty()) {
     std::vector<std::vector<std::string>> rows;
     for (const auto& m : diagram.metrics()) {
-      rows.push_back({m.name, fmt::format("{:.6g}", result.metrics.at(m.name)), m.unit, m.type, m.signal});
+      rows.push_back({m.name, fmt::format("{:.6g}", result.metrics.at(m.name)), m.unit, std::string(Name(m.type)), m.signal});
     }
     report.Heading("Metrics");
     report.Table({"metric", "value", "unit", "type", "signal"}, rows);
