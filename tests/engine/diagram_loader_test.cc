@@ -162,6 +162,17 @@ TEST(DiagramLoaderTest, OutputConnectorUnitAndNameAreChecked) {
   EXPECT_THAT(ErrorOf(j), HasSubstr("/connectors/1/name: connector 'position' is declared twice (also /connectors/0)"));
 }
 
+// A metric type outside the table (engine/metric_type.h; the schema enum comes from it) is a load error listing the
+// table, not a NaN after the run.
+TEST(DiagramLoaderTest, UnknownMetricTypeIsALoadErrorListingTheTypes) {
+  json j = Minimal();
+  j["metrics"] = {{{"name", "peak"}, {"type", "maximum"}, {"signal", "g.y"}}};
+  EXPECT_THAT(ErrorOf(j), HasSubstr("/metrics/0/type: \"maximum\" is not allowed here; use one of \"rmse\", "
+                                    "\"max_abs\", \"mean\", \"final\", \"rms_difference\""));
+  j["metrics"][0]["type"] = "max_abs";
+  EXPECT_EQ(Build(j).metrics().at(0).type, MetricType::kMaxAbs);
+}
+
 // Issue 25: a connector in a unit of no motion quantity (a voltage standing for a position) declares what it stands
 // for, and the blocks take it on ports of that quantity; a declaration that contradicts the unit is refused.
 TEST(DiagramLoaderTest, ConnectorQuantityLetsAVoltageStandForAPosition) {
