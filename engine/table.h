@@ -4,7 +4,7 @@
 // time checks), simulation logs, GP training tables and predictions are Tables; the sweeps' runs.csv, whose cells
 // are not all numbers, is read as engine/csv.h's CsvTextTable.
 //
-// The file format is the one of /work/shared/data (e.g. the EMPS benchmark's DATA_EMPS.csv):
+// The file format is the one of the measured records (e.g. the EMPS benchmark's diagrams/emps/data/DATA_EMPS.csv):
 //   time_s,position_m,reference_m,input_V,force_N
 //   0,7.45e-06,0.00010782208,2.538628089,89.23443221
 // one header row with the column names (units in the names; RFC 4180 quotes allowed), then one row per sample of

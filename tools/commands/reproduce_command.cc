@@ -72,8 +72,8 @@ void SetupReproduceCommand(CLI::App& app) {
                   "or of the source tree; $MOTIONBLOCKS_DATA names another data folder)")
       ->check(CLI::ExistingDirectory);
   cmd->add_option("--odrive-data", options->odrive_data,
-                  "ODrive cogging records for the real-motor section (default: shared/data/odrive_cogging beside the "
-                  "repository)");
+                  "ODrive cogging records for the real-motor section, a folder laid out as diagrams/odrive/data "
+                  "(default: that folder, shipped)");
   cmd->add_option("--jobs,-j", options->jobs, "parallel simulations and fits (default: all cores)")
       ->check(CLI::NonNegativeNumber);
   cmd->callback([options] { RunReproduceCommand(*options); });

@@ -40,9 +40,9 @@ struct ReproduceOptions {
   bool quick = false;
   int jobs = 0;           ///< parallel simulations and fits; 0 = all hardware threads
   bool progress = true;   ///< progress lines on stderr
-  /// The ODrive records of the "real motor" step (../shared/data/odrive_cogging); empty: the repository's sibling
-  /// `shared/data/odrive_cogging`, found from `diagrams` (diagrams/paper → ../../../shared/…). Missing: the step
-  /// says so and is skipped.
+  /// The ODrive records of the "real motor" step, a folder laid out as the shipped diagrams/odrive/data
+  /// (slow2_nocomp_{0,1,2}.csv, slow2_slower_nocomp_0.csv, coggingmap_0_a_16.csv); empty: that folder, found from
+  /// `diagrams` (diagrams/paper → ../odrive/data). Missing: the step says so and is skipped.
   std::filesystem::path odrive_data;
   /// Step messages ("[3/8] fitting …"); the command prints them on stdout. May be empty.
   std::function<void(const std::string&)> message;

@@ -1,6 +1,6 @@
 // reproduce, step 8 (second half): the paper's central claim — the periodic kernel keeps the cogging outside its
 // training window, the SE kernel does not (Table 1) — on a real motor (issue 14). The records are a BLDC motor's
-// holding current Iq against its angle (../shared/data/odrive_cogging, README there): slow velocity-controlled
+// holding current Iq against its angle (diagrams/odrive/data, README there): slow velocity-controlled
 // revolutions at 0.1 rev/s (slow2/) and 0.03 rev/s (slow2_slower/), and the author's quasi-static cogging map
 // (coggingmap_0/), measured by another method. DS and PS (period 1/7 rev, and the period the fit estimates) are
 // trained on a window of the angle — a quarter, a half, three quarters of a revolution, as D(1)–D(3) — of the two
@@ -118,20 +118,20 @@ struct MotorFit {
 void RunRealMotor(ReproduceContext& c) {
   const fs::path data =
       c.options.odrive_data.empty()
-          ? (c.options.diagrams / ".." / ".." / ".." / "shared" / "data" / "odrive_cogging").lexically_normal()
+          ? (c.options.diagrams / ".." / "odrive" / "data").lexically_normal()
           : c.options.odrive_data;
   c.Say(fmt::format("[8/{}] real motor: DS and PS on an ODrive BLDC motor's cogging ({})", kSteps, data.string()));
-  if (!fs::exists(data / "coggingmap_0")) {
+  if (!fs::exists(data / "coggingmap_0_a_16.csv")) {
     c.real_motor = {{"skipped", fmt::format("no ODrive records at {} (give --odrive-data DIR)", data.string())}};
     return;
   }
-  const MotorRecord fast = ReadRecord(data / "slow2" / "nocomp_0.csv", "slow2/nocomp_0");
-  const MotorRecord slow = ReadRecord(data / "slow2_slower" / "nocomp_0.csv", "slow2_slower/nocomp_0");
-  const MotorRecord other1 = ReadRecord(data / "slow2" / "nocomp_1.csv", "slow2/nocomp_1");
-  const MotorRecord other2 = ReadRecord(data / "slow2" / "nocomp_2.csv", "slow2/nocomp_2");
+  const MotorRecord fast = ReadRecord(data / "slow2_nocomp_0.csv", "slow2/nocomp_0");
+  const MotorRecord slow = ReadRecord(data / "slow2_slower_nocomp_0.csv", "slow2_slower/nocomp_0");
+  const MotorRecord other1 = ReadRecord(data / "slow2_nocomp_1.csv", "slow2/nocomp_1");
+  const MotorRecord other2 = ReadRecord(data / "slow2_nocomp_2.csv", "slow2/nocomp_2");
   MeasurementLogOptions map_read;
   map_read.required_columns = {"angle_rev", "iq_A"};
-  const MeasurementLog map_log = ReadMeasurementLog((data / "coggingmap_0" / "cogging_measure_final_a_16.csv").string(),
+  const MeasurementLog map_log = ReadMeasurementLog((data / "coggingmap_0_a_16.csv").string(),
                                                     map_read);
   const MotorRecord map{"coggingmap_0/a_16", map_log.column("angle_rev"), map_log.column("iq_A"), 0.0};
 

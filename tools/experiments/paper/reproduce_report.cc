@@ -229,7 +229,7 @@ void AddRealMotor(const ReproduceContext& c, HtmlReport& report) {
     return;
   }
   report.Paragraph(
-      "Holding current Iq against the angle of a BLDC motor (../shared/data/odrive_cogging, Gerry Chen's ODrive fork, "
+      "Holding current Iq against the angle of a BLDC motor (diagrams/odrive/data, Gerry Chen's ODrive fork, "
       "MIT licence): trained on a window of the angle — D(1) a quarter, D(2) a half, D(3) three quarters of a "
       "revolution — of two slow revolutions (slow2/nocomp_0 at 0.1 rev/s, slow2_slower/nocomp_0 at 0.03 rev/s; ẋ = "
       "the record's mean speed), predicting the rest of the revolution, two other revolutions (slow2/nocomp_1, _2) "
