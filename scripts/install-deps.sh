@@ -6,6 +6,7 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake pkg-config
   ccache                   # compiler cache (the presets' compiler launcher)
+  mold                     # fast linker (CMakeLists.txt uses it when found)
   libeigen3-dev            # linear algebra
   libsundials-dev          # CVODE
   libboost-dev libboost-graph-dev  # Boost.Graph (header-only parts), Boost.Math
@@ -21,7 +22,7 @@ PACKAGES=(
   libvalijson-dev          # JSON Schema validation of diagrams and sweeps
   clang libclang-rt-14-dev # libFuzzer (the fuzz preset: fuzzers of the file readers)
   pybind11-dev python3-dev # the motionblocks Python module (python/)
-  python3-numpy python3-pytest  # its arrays and its tests (make test)
+  python3-numpy python3-pandas python3-pytest  # its arrays, DataFrames (to_pandas) and tests (make test)
 )
 
 missing=()
