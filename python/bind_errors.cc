@@ -1,15 +1,22 @@
 // The library's exceptions as Python exceptions with the same messages: DiagramError (a ValueError, with the list
 // of problems), AlgebraicLoopError (a DiagramError), NumericalError (a RuntimeError), a file that cannot be opened
-// (OSError); std::invalid_argument is pybind11's ValueError, std::out_of_range its IndexError.
+// (OSError); std::invalid_argument (and std::domain_error, std::length_error) a ValueError, std::out_of_range an
+// IndexError, any other library exception a RuntimeError — each with the text the command line prints
+// (tools/workflow/error_text.h): a library's or an internal check's wording replaced by what happened and the fix.
 
 #include <exception>
 #include <filesystem>
+#include <new>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
 
 #include "engine/diagram_loader.h"
 #include "engine/execution_order.h"
 #include "engine/file_error.h"
 #include "engine/numerical_error.h"
 #include "python/bindings.h"
+#include "tools/workflow/error_text.h"
 
 namespace mb::python {
 
@@ -40,7 +47,25 @@ void Translate(std::exception_ptr p) {
   } catch (const FileOpenError& e) {
     PyErr_SetString(PyExc_OSError, e.what());
   } catch (const std::filesystem::filesystem_error& e) {
-    PyErr_SetString(PyExc_OSError, e.what());
+    PyErr_SetString(PyExc_OSError, ErrorText(e, {}).c_str());
+  } catch (const py::builtin_exception&) {
+    throw;  // py::value_error, py::type_error, py::cast_error …: pybind11's own translation
+  } catch (const std::bad_alloc&) {
+    throw;  // MemoryError
+  } catch (const std::overflow_error& e) {
+    PyErr_SetString(PyExc_OverflowError, ErrorText(e, {}).c_str());
+  } catch (const std::invalid_argument& e) {
+    PyErr_SetString(PyExc_ValueError, ErrorText(e, {}).c_str());
+  } catch (const std::domain_error& e) {
+    PyErr_SetString(PyExc_ValueError, ErrorText(e, {}).c_str());
+  } catch (const std::length_error& e) {
+    PyErr_SetString(PyExc_ValueError, ErrorText(e, {}).c_str());
+  } catch (const std::out_of_range& e) {
+    PyErr_SetString(PyExc_IndexError, ErrorText(e, {}).c_str());
+  } catch (const nlohmann::json::exception& e) {
+    PyErr_SetString(PyExc_ValueError, ErrorText(e, {}).c_str());
+  } catch (const std::exception& e) {
+    PyErr_SetString(PyExc_RuntimeError, ErrorText(e, {}).c_str());
   }
 }
 

@@ -20,8 +20,8 @@
 #include "engine/terminal_text.h"
 #include "tools/commands/cli_options.h"
 #include "tools/commands/commands.h"
-#include "tools/commands/error_text.h"
 #include "tools/report/report.h"
+#include "tools/workflow/error_text.h"
 
 namespace {
 
@@ -30,7 +30,7 @@ constexpr int kExitBadInput = 2;
 constexpr int kExitNumericalFailure = 3;
 constexpr std::size_t kMaxPlotsCeiling = 100000;  // --max-plots: one gnuplot each, ~0.1 s
 
-// One message (reworded if a library's, cut if long: tools/commands/error_text.h) and the exit code.
+// One message (reworded if a library's, cut if long: tools/workflow/error_text.h) and the exit code.
 int ReportError(const CLI::App& app, const std::exception& e, int code) {
   std::cerr << "motionblocks: error: " << mb::ErrorText(e, mb::CommandInputs(app)) << "\n";
   return code;

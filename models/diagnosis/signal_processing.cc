@@ -224,8 +224,22 @@ AutocorrelationTest ResidualAutocorrelation(const Eigen::Ref<const Eigen::Vector
     throw std::invalid_argument(fmt::format(
         "ResidualAutocorrelation: max_lag {} must be >= 1 and below N − 1 = {}", max_lag, n - 1));
   }
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (!std::isfinite(residual(i))) {
+      throw std::invalid_argument(fmt::format(
+          "the residual between the model and the measurement is {} at sample {} of {}: no whiteness test is "
+          "possible. Check the measured column's values and unit and that the model's output is finite there",
+          residual(i), i, n));
+    }
+  }
   const Eigen::VectorXd e = residual.array() - residual.mean();
   const double c0 = e.squaredNorm();
+  if (!std::isfinite(c0)) {
+    throw std::invalid_argument(fmt::format(
+        "the residual between the model and the measurement overflows (its energy is {} over {} samples; largest "
+        "|r| = {:.3g}): no whiteness test is possible. Check the measured column's unit and values (values near "
+        "1e300 overflow)", c0, n, residual.cwiseAbs().maxCoeff()));
+  }
   if (!(c0 > 0.0)) throw std::invalid_argument("ResidualAutocorrelation: the residual is constant");
   AutocorrelationTest out;
   out.autocorrelation.resize(max_lag + 1);

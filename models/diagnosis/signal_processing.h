@@ -85,8 +85,8 @@ struct AutocorrelationTest {
 };
 
 // Autocorrelation of the (mean-removed) residual up to max_lag and the Ljung–Box test against χ²(max_lag)
-// (Boost.Math). Throws std::invalid_argument when max_lag < 1 or N <= max_lag + 1 or the residual is
-// constant.
+// (Boost.Math). Throws std::invalid_argument when max_lag < 1 or N <= max_lag + 1, the residual is constant, holds a
+// NaN or infinity (naming the sample) or overflows (its energy is not finite).
 AutocorrelationTest ResidualAutocorrelation(const Eigen::Ref<const Eigen::VectorXd>& residual,
                                             Eigen::Index max_lag = 25);
 

@@ -125,6 +125,30 @@ TEST(ResidualAutocorrelation, WhiteNoisePassesColouredFails) {
   EXPECT_LT(ar.p_value, 1e-10);
 }
 
+// A residual that is not a finite signal gets a message about the residual, the sample and what to check, never
+// Boost's "Chi Square parameter was -nan" (issue 30).
+TEST(ResidualAutocorrelation, RefusesANonFiniteOrOverflowingResidualNamingTheSample) {
+  Eigen::VectorXd r = Eigen::VectorXd::LinSpaced(200, -1.0, 1.0);
+  r(17) = std::nan("");
+  try {
+    (void)ResidualAutocorrelation(r, 10);
+    FAIL() << "a NaN residual was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), HasSubstr("is nan at sample 17 of 200"));
+    EXPECT_THAT(e.what(), HasSubstr("Check the measured column's values and unit"));
+  }
+  r(17) = 0.0;
+  r(3) = 1e300;
+  r(4) = -1e300;
+  try {
+    (void)ResidualAutocorrelation(r, 10);
+    FAIL() << "an overflowing residual was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), HasSubstr("overflows"));
+    EXPECT_THAT(e.what(), HasSubstr("largest |r| = 1e+300"));
+  }
+}
+
 TEST(InputResidualCrossCorrelation, FindsTheLagOfAnUnmodelledInputEffect) {
   std::mt19937 rng(3);
   std::normal_distribution<double> n01;

@@ -17,6 +17,19 @@
 
 namespace mb {
 
+std::vector<std::string> CommandInputs(const CLI::App& app) {
+  std::vector<std::string> inputs;
+  for (const CLI::App* command : app.get_subcommands()) {
+    for (const CLI::Option* option : command->get_options()) {
+      const bool input = option->get_positional() || option->check_lname("measurement") ||
+                         option->check_lname("validation");
+      if (!input) continue;
+      for (const auto& value : option->results()) inputs.push_back(value);
+    }
+  }
+  return inputs;
+}
+
 void AddMaxStepsOption(CLI::App* command) {
   command
       ->add_option_function<double>(

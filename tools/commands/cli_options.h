@@ -16,6 +16,10 @@
 
 namespace mb {
 
+/// The input files of the subcommand `app` ran: its positional arguments and --measurement/--validation values
+/// (named in error messages: tools/workflow/error_text.h).
+std::vector<std::string> CommandInputs(const CLI::App& app);
+
 // Option names, one per meaning across the commands (README "Command-line conventions"): --out DIR for an output
 // folder, -o/--output FILE for one output file, --fit block.param,… for the parameters to refit, --position-column /
 // --velocity-column / --disturbance-column for the columns of a table, -j/--jobs N, --quiet and --progress.

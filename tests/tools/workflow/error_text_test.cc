@@ -1,7 +1,7 @@
-// The command boundary's rewording of library exceptions (tools/commands/error_text.h): the inputs named, what to do,
+// The rewording of library exceptions (tools/workflow/error_text.h): the inputs named, what to do,
 // no library tag, never megabytes of input.
 
-#include "tools/commands/error_text.h"
+#include "tools/workflow/error_text.h"
 
 #include <filesystem>
 #include <ostream>

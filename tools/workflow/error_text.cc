@@ -1,4 +1,4 @@
-#include "tools/commands/error_text.h"
+#include "tools/workflow/error_text.h"
 
 #include <algorithm>
 #include <cctype>
@@ -90,19 +90,6 @@ std::string InternalCheckErrorText(const std::string& text, std::size_t prefix, 
 }
 
 }  // namespace
-
-std::vector<std::string> CommandInputs(const CLI::App& app) {
-  std::vector<std::string> inputs;
-  for (const CLI::App* command : app.get_subcommands()) {
-    for (const CLI::Option* option : command->get_options()) {
-      const bool input = option->get_positional() || option->check_lname("measurement") ||
-                         option->check_lname("validation");
-      if (!input) continue;
-      for (const auto& value : option->results()) inputs.push_back(value);
-    }
-  }
-  return inputs;
-}
 
 bool IsLibraryNumericalError(const std::exception& e) {
   return std::string_view(e.what()).substr(0, kBoostMathPrefix.size()) == kBoostMathPrefix;

@@ -1,5 +1,6 @@
 #pragma once
-// The command boundary's last word on an error (tools/main.cc): texts of the libraries underneath — nlohmann::json's
+// The user's last word on an error, at the command line (tools/main.cc) and in Python (python/bind_errors.cc): texts
+// of the libraries underneath — nlohmann::json's
 // "[json.exception.type_error.302] …", std::filesystem's "filesystem error: …", Boost.Math's "Error in function
 // boost::math::…", std::bad_alloc's "std::bad_alloc" — reworded with the command's input files and what to do, and
 // every message capped so that it never echoes megabytes of input.
@@ -8,12 +9,7 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
-
 namespace mb {
-
-/// The input files of the subcommand `app` ran: its positional arguments and --measurement/--validation values.
-std::vector<std::string> CommandInputs(const CLI::App& app);
 
 /// The user's message for `e`, a library exception no command caught: what happened, in the inputs `inputs`, and
 /// what to do. Texts of own exceptions (DiagramError, std::invalid_argument, …) are returned as they are, except an
