@@ -52,26 +52,13 @@ std::vector<CommandFile> RunInputFiles(const std::string& diagram, const std::ve
   return files;
 }
 
-// Removes from `out` what an earlier run wrote there (RunOutputNames, and the temporary files of a run that was
-// killed: "<name>.tmp<pid>"), so that only this run's files are ever found beside each other. The inputs are not
-// among them (RefuseOutputsOverInputs checked that first). Returns how many files were removed.
+// Removes from `out` and its plot/ subfolder what an earlier run wrote there (RunOutputNames, and the temporary files
+// of a run that was killed: "<name>.tmp<pid>"), so that only this run's files are ever found beside each other. The
+// inputs are not among them (RefuseOutputsOverInputs checked that first). Returns how many files were removed.
 int RemoveEarlierRunFiles(const fs::path& out) {
   std::error_code error;
-  if (!fs::is_directory(out, error)) return 0;
-  const std::vector<std::string> names = RunOutputNames();
-  std::vector<fs::path> stale;
-  for (const auto& entry : fs::directory_iterator(out, error)) {
-    if (!entry.is_regular_file(error)) continue;
-    const std::string name = entry.path().filename().string();
-    for (const auto& pattern : names) {
-      if (FileNameMatches(name, pattern) || FileNameMatches(name, pattern + ".tmp*")) {
-        stale.push_back(entry.path());
-        break;
-      }
-    }
-  }
   int removed = 0;
-  for (const auto& path : stale) {
+  for (const auto& path : OutputFilesIn(out, RunOutputNames())) {
     if (!fs::remove(path, error) && error) {
       throw std::runtime_error(fmt::format("{}: cannot remove this file of an earlier run ({}): remove it, or give "
                                            "another --out",

@@ -30,8 +30,9 @@ struct CompareFiles {
 nlohmann::json CompareResultsJson(const CompareOutcome& outcome, const MeasurementLog& log, const std::string& diagram,
                                   const std::string& measurement);
 
-/// The names of the files WriteCompareResults writes into CompareFiles::out (patterns with '*' for the figures), for
-/// RefuseOutputsOverInputs (output_files.h).
+/// The names of the files WriteCompareResults writes into CompareFiles::out (patterns with '*' for the figures;
+/// "plot/…" for their gnuplot scripts and data and the diagram's DOT text), for RefuseOutputsOverInputs
+/// (output_files.h).
 std::vector<std::string> CompareOutputNames();
 
 /// Writes every file of a compare (the folder is created) and returns compare.json's content: diagram,

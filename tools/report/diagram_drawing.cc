@@ -335,7 +335,7 @@ DrawnDiagram DrawDiagram(const nlohmann::json& diagram, const fs::path& base_dir
 }
 
 std::vector<std::string> DiagramDrawingFileNames(const std::string& file_stem) {
-  return {file_stem + ".dot", file_stem + ".svg"};
+  return {std::string(kPlotFolder) + "/" + file_stem + ".dot", file_stem + ".svg"};
 }
 
 void AddDiagramDrawing(HtmlReport* report, const Diagram& diagram, const DrawingMarks& marks, const fs::path& directory,
@@ -344,7 +344,7 @@ void AddDiagramDrawing(HtmlReport* report, const Diagram& diagram, const Drawing
   const std::string dot_text = DiagramGraphvizString(diagram, marks);
   const std::vector<std::string> names = DiagramDrawingFileNames(file_stem);
   try {
-    fs::create_directories(directory);
+    fs::create_directories((directory / names[0]).parent_path());
     WriteDrawing(dot_text, DrawingFormat::kDot, directory / names[0]);
     WriteDrawing(dot_text, DrawingFormat::kSvg, directory / names[1]);
     report->Image(names[1], fmt::format("The diagram {} (Graphviz; its DOT text: {})", diagram.name(), names[0]));

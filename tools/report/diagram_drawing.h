@@ -73,11 +73,13 @@ struct DrawnDiagram {
 DrawnDiagram DrawDiagram(const nlohmann::json& diagram, const std::filesystem::path& base_directory,
                          const std::string& source, DrawingFormat format, const std::filesystem::path& path);
 
-/// The files AddDiagramDrawing writes: `file_stem`.dot and `file_stem`.svg.
+/// The files AddDiagramDrawing writes, relative to its folder: plot/`file_stem`.dot (the DOT text, what draws the
+/// picture: `dot -Tsvg -o ../diagram.svg diagram.dot` in plot/ redraws it) and `file_stem`.svg (the picture).
 std::vector<std::string> DiagramDrawingFileNames(const std::string& file_stem = "diagram");
 
-/// Adds a "Diagram" section to `report`: `directory`/`file_stem`.svg (and .dot beside it) drawn from `diagram` with
-/// `marks`, shown as an image. A drawing that fails (no Graphviz) becomes a note in the report, never an error.
+/// Adds a "Diagram" section to `report`: `directory`/`file_stem`.svg (and plot/`file_stem`.dot) drawn from
+/// `diagram` with `marks`, shown as an image. A drawing that fails (no Graphviz) becomes a note in the report, never
+/// an error.
 void AddDiagramDrawing(HtmlReport* report, const Diagram& diagram, const DrawingMarks& marks,
                        const std::filesystem::path& directory, const std::string& file_stem = "diagram");
 /// The same for a diagram's JSON (as compare and improve hold it; subsystem files resolve against `base_directory`,

@@ -14,7 +14,8 @@
 
 namespace mb {
 
-/// The files an improve writes into its folder (exact names and figure patterns), for RefuseOutputsOverInputs.
+/// The files an improve writes into its folder (exact names and figure patterns; "plot/…" for what draws the
+/// figures), for RefuseOutputsOverInputs.
 std::vector<std::string> ImproveOutputNames();
 
 /// Writes DIR/step_<k>/diagram.json for an accepted step (k = accepted steps so far, 0 = the input refit),

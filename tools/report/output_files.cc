@@ -1,5 +1,6 @@
 #include "tools/report/output_files.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -48,6 +49,33 @@ bool FileNameMatches(std::string_view name, std::string_view pattern) {
     if (FileNameMatches(name.substr(at), rest)) return true;
   }
   return false;
+}
+
+std::vector<fs::path> OutputFilesIn(const fs::path& folder, const std::vector<std::string>& names) {
+  std::vector<fs::path> subfolders;  // "" (the folder itself) and each named subfolder, once
+  for (const auto& name : names) {
+    const fs::path sub = fs::path(name).parent_path();
+    if (std::find(subfolders.begin(), subfolders.end(), sub) == subfolders.end()) subfolders.push_back(sub);
+  }
+  std::vector<fs::path> found;
+  for (const auto& sub : subfolders) {
+    const fs::path dir = sub.empty() ? folder : folder / sub;
+    std::error_code error;
+    if (!fs::is_directory(dir, error)) continue;
+    for (const auto& entry : fs::directory_iterator(dir, error)) {
+      if (!entry.is_regular_file(error)) continue;
+      const std::string file = entry.path().filename().string();
+      for (const auto& name : names) {
+        if (fs::path(name).parent_path() != sub) continue;
+        const std::string pattern = fs::path(name).filename().string();
+        if (FileNameMatches(file, pattern) || FileNameMatches(file, pattern + ".tmp*")) {
+          found.push_back(entry.path());
+          break;
+        }
+      }
+    }
+  }
+  return found;
 }
 
 namespace {
@@ -100,12 +128,15 @@ void RefuseOutputsOverInputs(const std::vector<CommandFile>& inputs, const std::
     }
     for (const auto& folder : folders) {
       if (folder.folder.empty()) continue;
-      const fs::path resolved_folder = Resolved(folder.folder);
-      for (const auto& spelling : Spellings(in.path)) {
-        if (spelling.parent_path() != resolved_folder) continue;
-        const std::string name = spelling.filename().string();
-        for (const auto& pattern : folder.names) {
-          if (!FileNameMatches(name, pattern)) continue;
+      for (const auto& pattern : folder.names) {
+        // "plot/*.dat": the subfolder resolved as the writer will reach it (a symbolic link followed), then the name.
+        const fs::path sub = fs::path(pattern).parent_path();
+        const fs::path resolved_folder = Resolved(sub.empty() ? folder.folder : folder.folder / sub);
+        const std::string file_pattern = fs::path(pattern).filename().string();
+        for (const auto& spelling : Spellings(in.path)) {
+          const std::string file = spelling.filename().string();
+          if (spelling.parent_path() != resolved_folder || !FileNameMatches(file, file_pattern)) continue;
+          const std::string name = (sub / file).generic_string();
           throw OutputReplacesInputError(fmt::format(
               "{} {} holds the input {} {}, and the command writes {} there: it would destroy the input; nothing was "
               "done: choose another {} folder (or move the input out of it)",

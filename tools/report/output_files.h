@@ -37,8 +37,9 @@ struct CommandFile {
   std::filesystem::path path;
 };
 
-/// The files a command writes into a folder (--out DIR): their names, each exact ("compare.json") or a pattern in
-/// which '*' stands for any characters ("signal_*.png"), as the writers name them (e.g. CompareOutputNames).
+/// The files a command writes into a folder (--out DIR): their names relative to it, each exact ("compare.json") or
+/// a pattern in which '*' stands for any characters of a file name ("signal_*.png"), possibly in a subfolder
+/// ("plot/*.dat": '*' never stands for a '/'), as the writers name them (e.g. CompareOutputNames).
 struct OutputFolder {
   std::string option;
   std::filesystem::path folder;
@@ -63,5 +64,12 @@ void RefuseOutputsOverInputs(const std::vector<CommandFile>& inputs, const std::
 
 /// Whether file name `name` matches `pattern`, in which '*' stands for any run of characters ("signal_*.png").
 bool FileNameMatches(std::string_view name, std::string_view pattern);
+
+/// The regular files in `folder` and its subfolders that `names` (as OutputFolder::names: "report.html",
+/// "plot/*.gp") name, and those a writer killed midway left ("<name>.tmp<pid>", engine/output_file.h): what an
+/// earlier run of a command left in its output folder. Symbolic links to files count; folders are not followed
+/// beyond the subfolders the names give. A missing folder or subfolder holds none.
+std::vector<std::filesystem::path> OutputFilesIn(const std::filesystem::path& folder,
+                                                 const std::vector<std::string>& names);
 
 }  // namespace mb

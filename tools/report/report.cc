@@ -224,15 +224,19 @@ std::size_t MaxReportFigures() { return g_max_report_figures; }
 
 std::vector<std::string> FigureFileNames(const std::string& file) {
   const std::string stem = fs::path(file).stem().string();
-  return {file, stem + ".dat", stem + ".gp", stem + ".full.csv"};
+  const std::string plot = std::string(kPlotFolder) + "/";
+  return {file, plot + stem + ".dat", plot + stem + ".gp", stem + ".full.csv", plot + "gnuplot.log"};
 }
 
 std::string RenderFigure(const Figure& figure, const fs::path& directory) {
-  fs::create_directories(directory);
+  const fs::path plot_folder = directory / kPlotFolder;
+  fs::create_directories(plot_folder);
   const std::vector<std::string> names = FigureFileNames(figure.file);
-  const fs::path png = directory / names[0];
   const fs::path data = directory / names[1];
   const fs::path script = directory / names[2];
+  // The script's own paths, relative to its folder: the data beside it, the PNG in the output folder above.
+  const fs::path png_from_script = fs::path("..") / names[0];
+  const fs::path data_from_script = data.filename();
   {
     std::ostringstream out;
     for (const auto& s : figure.series) {
@@ -246,8 +250,13 @@ std::string RenderFigure(const Figure& figure, const fs::path& directory) {
   }
   {
     std::ostringstream gp;
+    // Go to the script's folder first (ARG0: the script as gnuplot was given it), so that its relative paths hold
+    // whatever the working folder: `gnuplot plot/x.gp` from the output folder, or `gnuplot x.gp` in plot/.
+    gp << "# " << CommentText(figure.file) << ": paths relative to this script's folder (the next line goes there)\n";
+    gp << "if (exists(\"ARG0\")) { mb_i = strlen(ARG0); "
+          "while (mb_i > 0 && ARG0[mb_i:mb_i] ne '/') { mb_i = mb_i - 1 }; if (mb_i > 0) { cd ARG0[1:mb_i] } }\n";
     gp << "set terminal pngcairo size 900,420 font 'Sans,10'\n";
-    gp << "set output " << GnuplotPath(png) << "\n";
+    gp << "set output " << GnuplotPath(png_from_script) << "\n";
     gp << "set title " << GnuplotQuote(figure.title) << " noenhanced\n";  // every text verbatim, no markup
     gp << "set xlabel " << GnuplotQuote(figure.xlabel) << " noenhanced\n";
     gp << "set ylabel " << GnuplotQuote(figure.ylabel) << " noenhanced\n";
@@ -284,15 +293,16 @@ std::string RenderFigure(const Figure& figure, const fs::path& directory) {
     gp << "plot ";
     for (std::size_t i = 0; i < figure.series.size(); ++i) {
       const auto& s = figure.series[i];
-      gp << (i ? ", " : "") << GnuplotPath(data) << " index " << i << " using 1:2 with " << s.style
+      gp << (i ? ", " : "") << GnuplotPath(data_from_script) << " index " << i << " using 1:2 with " << s.style
          << (s.style == "points" ? " pt 7 ps 0.3" : " lw 1.2") << " title " << GnuplotQuote(s.label) << " noenhanced";
     }
     gp << "\n";
     WriteFileSafely(script, gp.str());
   }
-  // No shell: the script's path is one argument (absolute, so that a name starting with '-' is no option).
-  const fs::path log = directory / "gnuplot.log";
-  const int status = RunProgram({"gnuplot", fs::absolute(script).string()}, log);
+  // No shell: the script is one argument ("./name", so that a name starting with '-' is no option), run in its
+  // folder so that its relative paths resolve as they will when someone reruns it.
+  const fs::path log = directory / names[4];
+  const int status = RunProgram({"gnuplot", "./" + script.filename().string()}, log, plot_folder);
   if (status != 0) {
     return fmt::format("gnuplot failed for {} (exit {}); see {} — is gnuplot installed? (scripts/install-deps.sh)",
                        figure.file, status, log.string());

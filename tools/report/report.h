@@ -44,13 +44,21 @@ struct Figure {
   std::optional<std::pair<double, double>> y_range{};
 };
 
-/// Renders `figure` to `directory/figure.file` with gnuplot. Returns "" on success, else the reason (gnuplot
-/// missing or failing) — the caller notes it in the report; a missing figure never loses the numbers.
+/// The subfolder of an output folder that holds what draws its pictures: each figure's gnuplot script and data, the
+/// gnuplot log and a diagram's DOT text. The output folder itself keeps what a user opens (report, JSON, CSV, PNG).
+inline constexpr const char* kPlotFolder = "plot";
+
+/// Renders `figure` to `directory/figure.file` with gnuplot, from the data and script it writes into
+/// `directory`/plot/ (<stem>.dat, <stem>.gp; gnuplot's messages in plot/gnuplot.log). The script names its data and
+/// its PNG relative to its own folder and goes there first, so `gnuplot plot/<stem>.gp` redraws the PNG from any
+/// working folder, wherever the output folder was moved. Returns "" on success, else the reason (gnuplot missing or
+/// failing) — the caller notes it in the report; a missing figure never loses the numbers.
 std::string RenderFigure(const Figure& figure, const std::filesystem::path& directory);
 
-/// The files a report writes for a figure named `file` (a name or a pattern such as "signal_*.png"): `file`, its
-/// data and gnuplot script, <stem>.dat and <stem>.gp (RenderFigure), and its full data <stem>.full.csv (interactive
-/// reports; a name no measurement log is likely to have, as an input in the output folder is refused under these).
+/// The files a report writes for a figure named `file` (a name or a pattern such as "signal_*.png"), relative to
+/// its output folder, in this order: `file`; its data and gnuplot script, plot/<stem>.dat and plot/<stem>.gp
+/// (RenderFigure); its full data <stem>.full.csv (interactive reports; a name no measurement log is likely to have,
+/// as an input in the output folder is refused under these); and plot/gnuplot.log (shared by the folder's figures).
 std::vector<std::string> FigureFileNames(const std::string& file);
 
 /// Where Debian's libjs-dygraphs (scripts/install-deps.sh) installs the charting library.

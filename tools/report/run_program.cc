@@ -11,7 +11,8 @@ extern char** environ;
 
 namespace mb {
 
-int RunProgram(const std::vector<std::string>& argv, const std::filesystem::path& log_file) {
+int RunProgram(const std::vector<std::string>& argv, const std::filesystem::path& log_file,
+               const std::filesystem::path& working_directory) {
   if (argv.empty()) throw std::invalid_argument("RunProgram: no program given");
   std::vector<char*> args;
   args.reserve(argv.size() + 1);
@@ -23,6 +24,8 @@ int RunProgram(const std::vector<std::string>& argv, const std::filesystem::path
   posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
   posix_spawn_file_actions_addopen(&actions, 1, log_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_adddup2(&actions, 1, 2);
+  // After the log is opened, so that a relative log name means this process's folder, not the child's.
+  if (!working_directory.empty()) posix_spawn_file_actions_addchdir_np(&actions, working_directory.c_str());
   pid_t pid = 0;
   const int spawned = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
   posix_spawn_file_actions_destroy(&actions);

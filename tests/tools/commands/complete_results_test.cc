@@ -104,11 +104,14 @@ class CompleteResults : public ::testing::Test {
 // Issue 30: an interrupted `run` left the earlier run's summary.json beside a signals.csv.tmp<pid>.
 TEST_F(CompleteResults, AnInterruptedRunLeavesNoEarlierResultBesideItsOwn) {
   const fs::path out = dir_ / "out";
-  for (const char* name : {"summary.json", "report.html", "signals.csv", "signal_7.png", "diagram.svg"}) {
+  fs::create_directories(out / "plot");
+  for (const char* name : {"summary.json", "report.html", "signals.csv", "signal_7.png", "diagram.svg",
+                           "plot/signal_7.gp", "plot/signal_7.dat", "plot/gnuplot.log", "plot/diagram.dot"}) {
     Write(out / name, "from an earlier run\n");
   }
   Write(out / "signals.csv.tmp99999", "a run killed earlier\n");
   Write(out / "notes.txt", "the user's own file\n");
+  Write(out / "plot" / "notes.txt", "the user's own file\n");
   // The paper's conventional loop, 2000 s of it (about a minute): long enough to be killed while its log streams.
   Background run({"run", kPaper + "/conventional.json", "--set", "defaultExperiment.stopTime=2000", "--out",
                   out.string()},
@@ -122,10 +125,12 @@ TEST_F(CompleteResults, AnInterruptedRunLeavesNoEarlierResultBesideItsOwn) {
   run.Kill();
   std::ifstream log(dir_ / "run.log");
   ASSERT_TRUE(streaming) << std::string(std::istreambuf_iterator<char>(log), std::istreambuf_iterator<char>());
-  for (const char* name : {"summary.json", "report.html", "signals.csv", "signal_7.png", "diagram.svg"}) {
+  for (const char* name : {"summary.json", "report.html", "signals.csv", "signal_7.png", "diagram.svg",
+                           "plot/signal_7.gp", "plot/signal_7.dat", "plot/gnuplot.log", "plot/diagram.dot"}) {
     EXPECT_FALSE(fs::exists(out / name)) << name << " of the earlier run is still there";
   }
   EXPECT_TRUE(fs::exists(out / "notes.txt"));  // only the run's own file names are removed
+  EXPECT_TRUE(fs::exists(out / "plot" / "notes.txt"));
 }
 
 TEST_F(CompleteResults, AKilledImproveSaysIncompleteAndAFinishedOneComplete) {

@@ -111,7 +111,7 @@ TEST(DrawCommand, TheRunReportShowsTheDiagram) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_THAT(ReadText(dir / "out" / "report.html"), HasSubstr("<img src=\"diagram.svg\""));
   EXPECT_THAT(ReadText(dir / "out" / "diagram.svg"), HasSubstr(">controller</text>"));
-  EXPECT_THAT(ReadText(dir / "out" / "diagram.dot"), HasSubstr("digraph diagram {"));
+  EXPECT_THAT(ReadText(dir / "out" / "plot" / "diagram.dot"), HasSubstr("digraph diagram {"));
   fs::remove_all(dir);
 }
 

@@ -82,7 +82,7 @@ TEST(ImproveCommand, FindsTheTwinsCoggingAtThePolePitchAndTheErrorFalls) {
   EXPECT_TRUE(has_ripple);
   EXPECT_TRUE(fs::exists(out / "report.html"));
   // The report draws the improved diagram, the added element in its own colour (diagram_drawing.h).
-  std::ifstream report(out / "report.html"), dot(out / "diagram.dot");
+  std::ifstream report(out / "report.html"), dot(out / "plot" / "diagram.dot");
   const std::string html((std::istreambuf_iterator<char>(report)), std::istreambuf_iterator<char>());
   const std::string dot_text((std::istreambuf_iterator<char>(dot)), std::istreambuf_iterator<char>());
   EXPECT_THAT(html, HasSubstr("<img src=\"diagram.svg\""));

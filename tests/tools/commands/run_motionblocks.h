@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -45,12 +46,11 @@ inline CommandResult RunMotionblocks(const std::string& arguments) {
   return r;
 }
 
-/// `motionblocks ARGUMENTS` with no shell in between (each argument reaches the program as written, backquotes
-/// and `$(…)` included), in the working directory `directory`; stdout and stderr are captured.
-inline CommandResult RunMotionblocksIn(const std::filesystem::path& directory, const std::vector<std::string>& arguments) {
+/// The program `argv[0]` (looked up in PATH unless it names a path) with the arguments `argv`, no shell in between
+/// (each argument reaches the program as written, backquotes and `$(…)` included), in the working directory
+/// `directory`; stdout and stderr are captured. Exit code −1: not started, or ended by a signal.
+inline CommandResult RunProgramIn(const std::filesystem::path& directory, std::vector<std::string> argv) {
   const auto log = ProcessTempDir("mb_command") / "output.log";
-  std::vector<std::string> argv = {MB_MOTIONBLOCKS_EXE};
-  argv.insert(argv.end(), arguments.begin(), arguments.end());
   std::vector<char*> args;
   for (auto& a : argv) args.push_back(a.data());
   args.push_back(nullptr);
@@ -61,7 +61,7 @@ inline CommandResult RunMotionblocksIn(const std::filesystem::path& directory, c
   posix_spawn_file_actions_adddup2(&actions, 1, 2);
   pid_t pid = 0;
   CommandResult r;
-  if (posix_spawn(&pid, args[0], &actions, nullptr, args.data(), environ) == 0) {
+  if (posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ) == 0) {
     int status = 0;
     waitpid(pid, &status, 0);
     r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -70,6 +70,13 @@ inline CommandResult RunMotionblocksIn(const std::filesystem::path& directory, c
   std::ifstream in(log);
   r.output.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   return r;
+}
+
+/// `motionblocks ARGUMENTS` with no shell in between, in the working directory `directory` (RunProgramIn).
+inline CommandResult RunMotionblocksIn(const std::filesystem::path& directory, const std::vector<std::string>& arguments) {
+  std::vector<std::string> argv = {MB_MOTIONBLOCKS_EXE};
+  argv.insert(argv.end(), arguments.begin(), arguments.end());
+  return RunProgramIn(directory, std::move(argv));
 }
 
 /// A JSON file the command wrote (compare.json, fit.json, …); throws nlohmann::json::parse_error if it is not JSON.

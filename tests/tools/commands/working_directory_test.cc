@@ -1,9 +1,12 @@
 // Resources are found relative to the diagram, the sweep file or the shipped data, never the working directory
-// (issue 11): every case runs motionblocks from an unrelated temporary folder.
+// (issue 11): every case runs motionblocks from an unrelated temporary folder. What a command writes does not depend
+// on it either: the plotting scripts in an output folder rerun from anywhere (issue 28).
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
+#include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -16,12 +19,19 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+using ::testing::AllOf;
 using ::testing::HasSubstr;
 using ::testing::Not;
 using testing::CommandResult;
 using testing::ProcessTempDir;
 using testing::ReadJsonFile;
 using testing::RunMotionblocksIn;
+using testing::RunProgramIn;
+
+std::string ReadText(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
 
 // project/: profile.csv (u = t), drive.json (from_file profile.csv → k → output connector "force"; a position
 // ramp for compare), sweeps/gains.json naming "../drive.json"; elsewhere/: the working directory.
@@ -107,6 +117,63 @@ TEST_F(WorkingDirectory, ReproduceFindsTheShippedDiagramsFromAnyFolder) {
       RunMotionblocksIn(elsewhere_, {"reproduce", "--quick", "--max-steps", "10", "--quiet", "--out", "o"});
   EXPECT_THAT(r.output, Not(HasSubstr("cannot open")));
   EXPECT_THAT(r.output, HasSubstr("--max-steps"));  // it got as far as the first scan, which the limit refuses
+}
+
+// Issue 28: an output folder holds what a user opens (report, JSON, CSV, pictures); what draws the pictures (gnuplot
+// scripts and data, gnuplot's log, the diagram's DOT text) is in its plot/ folder, the scripts naming their files
+// relative to themselves: moved elsewhere, `gnuplot x.gp` in plot/ or `gnuplot …/plot/x.gp` from any folder redraws
+// the same PNG.
+TEST_F(WorkingDirectory, AnOutputFolderHoldsWhatAUserOpensAndItsPlotScriptsRerunAnywhere) {
+  const CommandResult run =
+      RunMotionblocksIn(elsewhere_, {"run", (project_ / "drive.json").string(), "--quiet", "--out", "run"});
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const CommandResult compare = RunMotionblocksIn(
+      elsewhere_, {"compare", (project_ / "drive.json").string(), "--measurement", (project_ / "measured.csv").string(),
+                   "--quiet", "--out", "compare"});
+  ASSERT_EQ(compare.exit_code, 0) << compare.output;
+  for (const char* name : {"run", "compare"}) {
+    const fs::path out = elsewhere_ / name;
+    std::vector<std::string> opened, drawing;
+    for (const auto& entry : fs::directory_iterator(out)) {
+      const std::string file = entry.path().filename().string(), ext = entry.path().extension().string();
+      if (entry.is_directory()) {
+        EXPECT_EQ(file, "plot") << name << ": a folder besides plot/";
+      } else {
+        EXPECT_TRUE(ext == ".html" || ext == ".json" || ext == ".csv" || ext == ".png" || ext == ".svg")
+            << name << "/" << file << " is no file a user opens";
+        opened.push_back(file);
+      }
+    }
+    for (const auto& entry : fs::directory_iterator(out / "plot")) {
+      const std::string ext = entry.path().extension().string();
+      EXPECT_TRUE(ext == ".gp" || ext == ".dat" || ext == ".log" || ext == ".dot") << entry.path();
+      drawing.push_back(entry.path().filename().string());
+    }
+    EXPECT_THAT(opened, ::testing::IsSupersetOf({"report.html", "diagram.svg"})) << name;
+    EXPECT_THAT(drawing, ::testing::IsSupersetOf({"gnuplot.log", "diagram.dot"})) << name;
+  }
+  EXPECT_THAT(ReadText(elsewhere_ / "run" / "plot" / "signal_0.gp"),
+              AllOf(HasSubstr("set output \"../signal_0.png\""), HasSubstr("plot \"signal_0.dat\" index 0"),
+                    Not(HasSubstr(elsewhere_.string()))));
+
+  // Moved, its PNG deleted: redrawn in plot/, then from an unrelated folder, each time the same picture.
+  const fs::path moved = root_ / "moved";
+  fs::rename(elsewhere_ / "run", moved);
+  const std::string png = ReadText(moved / "signal_0.png");
+  ASSERT_GT(png.size(), 1000u);
+  fs::remove(moved / "signal_0.png");
+  CommandResult gnuplot = RunProgramIn(moved / "plot", {"gnuplot", "signal_0.gp"});
+  ASSERT_EQ(gnuplot.exit_code, 0) << gnuplot.output;
+  EXPECT_EQ(ReadText(moved / "signal_0.png"), png);
+  fs::remove(moved / "signal_0.png");
+  gnuplot = RunProgramIn(project_, {"gnuplot", (moved / "plot" / "signal_0.gp").string()});
+  ASSERT_EQ(gnuplot.exit_code, 0) << gnuplot.output;
+  EXPECT_EQ(ReadText(moved / "signal_0.png"), png);
+  EXPECT_FALSE(fs::exists(project_ / "signal_0.png"));
+  // The DOT text redraws the diagram there as well.
+  const CommandResult dot = RunProgramIn(moved / "plot", {"dot", "-Tsvg", "-o", "../again.svg", "diagram.dot"});
+  ASSERT_EQ(dot.exit_code, 0) << dot.output;
+  EXPECT_EQ(ReadText(moved / "again.svg"), ReadText(moved / "diagram.svg"));
 }
 
 }  // namespace

@@ -295,7 +295,7 @@ TEST(DiagramDrawingTest, AReportShowsTheDiagramOrSaysWhyNot) {
   report.Write(dir / "report.html");
   const std::string html = ReadText(dir / "report.html");
   EXPECT_THAT(html, HasSubstr("<img src=\"diagram.svg\""));
-  EXPECT_THAT(ReadText(dir / "diagram.dot"), HasSubstr("digraph diagram"));
+  EXPECT_THAT(ReadText(dir / "plot" / "diagram.dot"), HasSubstr("digraph diagram"));
   EXPECT_THAT(html, HasSubstr("<p class=\"warn\">Diagram drawing missing: broken.json"));
   EXPECT_FALSE(fs::exists(dir / "broken.svg"));
 }

@@ -19,6 +19,7 @@
 
 #include "tools/report/chart_data.h"
 #include "tools/report/report.h"
+#include "tools/report/run_program.h"
 
 namespace mb {
 namespace {
@@ -226,14 +227,53 @@ TEST(HtmlReport, DrawsAtMostTheSetNumberOfFiguresAndListsTheRest) {
   }
   report.Write(dir / "report.html");
   SetMaxReportFigures(kDefaultMaxReportFigures);
-  EXPECT_TRUE(fs::exists(dir / "f0.gp"));
-  EXPECT_TRUE(fs::exists(dir / "f1.gp"));
-  EXPECT_FALSE(fs::exists(dir / "f2.gp"));
+  EXPECT_TRUE(fs::exists(dir / "plot" / "f0.gp"));
+  EXPECT_TRUE(fs::exists(dir / "plot" / "f1.gp"));
+  EXPECT_FALSE(fs::exists(dir / "plot" / "f2.gp"));
   EXPECT_FALSE(fs::exists(dir / "f4.png"));
   EXPECT_THAT(Read(dir / "report.html"),
               HasSubstr("3 more figures not drawn: a report draws at most 2 (raise it with motionblocks --max-plots "
                         "N). Their data is in the command's files. Not drawn: signal &lt;2&gt;, signal &lt;3&gt;, "
                         "signal &lt;4&gt;."));
+}
+
+// Issue 28: a figure's script and data are in plot/ beside the PNG, named relative to the script, which goes to its
+// own folder first: run from an unrelated working folder (RunProgram's working_directory), through an absolute path
+// with a quote and a newline in it, it draws the same PNG again.
+TEST(RenderFigure, WritesItsScriptIntoPlotAndTheScriptRerunsFromAnyFolder) {
+  const fs::path dir = Folder("mb_render_rerun") / "out '\n\"x";
+  const fs::path elsewhere = Folder("mb_render_rerun_cwd");
+  Figure f{"f.png", "title", "t [s]", "y", {}};
+  f.series.push_back({{0.0, 1.0, 2.0}, {0.0, 1.0, 0.5}, "y", "lines"});
+  ASSERT_EQ(RenderFigure(f, dir), "");
+  std::vector<std::string> top, plot;
+  for (const auto& e : fs::directory_iterator(dir)) top.push_back(e.path().filename().string());
+  for (const auto& e : fs::directory_iterator(dir / "plot")) plot.push_back(e.path().filename().string());
+  std::sort(top.begin(), top.end());
+  std::sort(plot.begin(), plot.end());
+  EXPECT_EQ(top, (std::vector<std::string>{"f.png", "plot"}));
+  EXPECT_EQ(plot, (std::vector<std::string>{"f.dat", "f.gp", "gnuplot.log"}));
+  EXPECT_EQ(FigureFileNames("f.png"),
+            (std::vector<std::string>{"f.png", "plot/f.dat", "plot/f.gp", "f.full.csv", "plot/gnuplot.log"}));
+  const std::string script = Read(dir / "plot" / "f.gp");
+  EXPECT_THAT(script, HasSubstr("set output \"../f.png\"\n"));
+  EXPECT_THAT(script, HasSubstr("plot \"f.dat\" index 0"));
+  EXPECT_THAT(script, Not(HasSubstr("mb_render_rerun")));  // no absolute path
+  const std::string png = Read(dir / "f.png");
+  ASSERT_GT(png.size(), 1000u);
+  fs::remove(dir / "f.png");
+  ASSERT_EQ(RunProgram({"gnuplot", (dir / "plot" / "f.gp").string()}, elsewhere / "log", elsewhere), 0)
+      << Read(elsewhere / "log");
+  EXPECT_EQ(Read(dir / "f.png"), png);
+  EXPECT_FALSE(fs::exists(elsewhere / "f.png"));
+  EXPECT_FALSE(fs::exists(elsewhere / ".." / "f.png"));
+  // The working folder is the child's: a relative log name is still this process's.
+  ASSERT_EQ(RunProgram({"pwd"}, "mb_render_rerun_pwd.log", dir / "plot"), 0);
+  EXPECT_EQ(Read("mb_render_rerun_pwd.log"), fs::canonical(dir / "plot").string() + "\n");
+  fs::remove("mb_render_rerun_pwd.log");
+  EXPECT_EQ(RunProgram({"pwd"}, elsewhere / "log", dir / "no such folder"), -1);
+  fs::remove_all(dir.parent_path());
+  fs::remove_all(elsewhere);
 }
 
 }  // namespace

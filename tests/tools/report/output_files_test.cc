@@ -5,9 +5,11 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -82,6 +84,49 @@ TEST(RefuseOutputsOverInputs, AnInputAmongTheFilesWrittenIntoAnOutputFolderIsRef
   // The same name elsewhere, or another name in the folder: nothing is replaced.
   EXPECT_NO_THROW(RefuseOutputsOverInputs({{"--measurement", dir / "sub" / "compare.json"}}, {}, {{"--out", dir, names}}));
   EXPECT_NO_THROW(RefuseOutputsOverInputs({{"DIAGRAM", dir / "d.json"}}, {}, {{"--out", dir, names}}));
+  fs::remove_all(dir);
+}
+
+// Issue 28: the gnuplot scripts and data go into plot/ of the output folder ("plot/*.dat"); an input there under such
+// a name is refused as one in the folder itself, and only there ('*' is no '/'; plot/ reached through a link counts).
+TEST(RefuseOutputsOverInputs, AnInputInANamedSubfolderOfAnOutputFolderIsRefused) {
+  const fs::path dir = Folder("mb_outputs_subfolder");
+  const std::vector<std::string> names{"report.html", "*.png", "plot/*.dat", "plot/gnuplot.log"};
+  EXPECT_THAT([&] { RefuseOutputsOverInputs({{"--input", dir / "plot" / "a.dat"}}, {}, {{"--out", dir, names}}); },
+              ThrowsMessage<OutputReplacesInputError>(HasSubstr(
+                  "--out " + dir.string() + " holds the input --input " + (dir / "plot" / "a.dat").string() +
+                  ", and the command writes plot/a.dat (plot/*.dat) there")));
+  EXPECT_THAT([&] { RefuseOutputsOverInputs({{"LOG", dir / "sub/../plot/gnuplot.log"}}, {}, {{"--out", dir, names}}); },
+              ThrowsMessage<OutputReplacesInputError>(HasSubstr("writes plot/gnuplot.log there")));
+  fs::create_directories(dir / "elsewhere");
+  fs::create_directory_symlink(dir / "elsewhere", dir / "sub" / "plot");
+  EXPECT_THROW(RefuseOutputsOverInputs({{"--input", dir / "elsewhere" / "b.dat"}}, {}, {{"--out", dir / "sub", names}}),
+               OutputReplacesInputError);
+  // A name the folder holds is not one its subfolder holds, nor one deeper down, and the other way round.
+  EXPECT_NO_THROW(RefuseOutputsOverInputs({{"--input", dir / "a.dat"}}, {}, {{"--out", dir, names}}));
+  EXPECT_NO_THROW(RefuseOutputsOverInputs({{"--input", dir / "plot" / "x" / "a.dat"}}, {}, {{"--out", dir, names}}));
+  EXPECT_NO_THROW(RefuseOutputsOverInputs({{"--input", dir / "plot" / "a.png"}}, {}, {{"--out", dir, names}}));
+  fs::remove_all(dir);
+}
+
+// What an earlier run left: the named files in the folder and in its named subfolders, killed writers' temporary
+// files included; nothing else (another name, another subfolder, a folder).
+TEST(OutputFilesIn, FindsTheNamedFilesInTheFolderAndItsSubfolders) {
+  const fs::path dir = Folder("mb_outputs_earlier");
+  fs::create_directories(dir / "plot" / "deeper");
+  fs::create_directories(dir / "other");
+  fs::create_directories(dir / "x.png");  // a folder under a figure's name is no file
+  for (const fs::path name : {"report.html", "s_1.png", "s_1.png.tmp123", "notes.txt", "plot/s_1.gp", "plot/s_1.dat",
+                              "plot/gnuplot.log", "plot/keep.txt", "plot/deeper/s_2.gp", "other/s_3.gp"}) {
+    std::ofstream(dir / name) << "x\n";
+  }
+  std::vector<fs::path> found =
+      OutputFilesIn(dir, {"report.html", "*.png", "plot/*.gp", "plot/*.dat", "plot/gnuplot.log"});
+  for (auto& path : found) path = path.lexically_relative(dir);
+  std::sort(found.begin(), found.end());
+  EXPECT_EQ(found, (std::vector<fs::path>{"plot/gnuplot.log", "plot/s_1.dat", "plot/s_1.gp", "report.html", "s_1.png",
+                                          "s_1.png.tmp123"}));
+  EXPECT_TRUE(OutputFilesIn(dir / "missing", {"report.html", "plot/*.gp"}).empty());
   fs::remove_all(dir);
 }
 
