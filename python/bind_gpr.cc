@@ -120,13 +120,19 @@ void BindGpr(py::module_& m) {
       .def_property_readonly("kernel", [](const GprModel& model) { return std::string(GprKernelName(model.kernel())); },
                              "'PS' (periodic in x + SE in ẋ) or 'DS' (SE + SE).")
       .def_property_readonly("hyperparameters", &Hyperparameters,
-                             "dict: signal variances, length scales (x [m], ẋ [m/s]), noise variance, period [m].")
+                             "dict: signal variances (disturbance unit²), length scales (ℓ_x: dimensionless for 'PS', [m] for 'DS'; "
+                             "ℓ_ẋ [m/s]), noise variance (disturbance unit²), period τ [m].")
       .def_property_readonly("mean", [](const GprModel& model) { return model.data().mean; },
                              "The training targets' mean (eq. 14), added back by eq. 24.")
       .def_property_readonly("feature_count", &GprModel::feature_count, "M, the number of basis features.")
       .def("to_dict", [](const GprModel& model) { return FromJson(GprModelToJson(model)); }, "The model file's JSON.")
       .def("__repr__", [](const GprModel& model) {
-        return fmt::format("<GprModel {} with {} features, N = {}>", GprKernelName(model.kernel()),
+        const GprHyperparameters& h = model.data().hyperparameters;
+        const bool periodic = model.kernel() == GprKernel::kPeriodicSe;
+        // PS: ℓ_x is dimensionless (paper eq. 20); DS: a length [m].
+        return fmt::format("<GprModel {}: {}ℓ_x {:.3g}{}, ℓ_ẋ {:.3g} m/s; noise σ {:.3g}; {} features, N = {} samples>",
+                           GprKernelName(model.kernel()), periodic ? fmt::format("period {:.4g} m, ", h.period) : "",
+                           h.length_scale_x, periodic ? "" : " m", h.length_scale_xdot, std::sqrt(h.noise_variance),
                            model.feature_count(), model.data().provenance.sample_count);
       });
   m.def("fit_gpr", &FitGprToArrays, py::arg("x"), py::arg("xdot"), py::arg("d"), py::kw_only(),

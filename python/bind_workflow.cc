@@ -7,6 +7,7 @@
 #include <optional>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
@@ -154,6 +155,7 @@ struct PyFit {
   DiagramFit fit;
   json summary;
   PyDiagram diagram;
+  Eigen::VectorXd time;  ///< the measurement's sample times [s], the compared outputs' grid
 };
 
 struct PyImprove {
@@ -207,7 +209,7 @@ PyFit Fit(const PyDiagram& d, const py::object& measurement, std::vector<std::st
   summary["measurement"] = name;
   summary["mode"] = mode;
   summary["samples"] = log.rows();
-  return PyFit{std::move(*fit), std::move(summary), d};
+  return PyFit{std::move(*fit), std::move(summary), d, log.time()};
 }
 
 PyImprove Improve(const PyDiagram& d, const py::object& measurement, const py::object& validation,
@@ -239,6 +241,129 @@ json ImproveJson(const PyImprove& i) {
   return j;
 }
 
+// ---- Named series, DataFrames, reprs ------------------------------------------------------------------------
+
+/// One named series of an outcome (a compared output's measured, model or residual values), in `unit`.
+struct NamedSeries {
+  std::string name, unit;
+  Eigen::VectorXd values;
+};
+
+// Per compared output (the primary first): "<connector>.measured", "<connector>.model_before" (the diagram as
+// given), "<connector>.model" (after the refit), "<connector>.residual" (measured − model).
+std::vector<NamedSeries> ComparedSeries(const std::vector<ComparedOutput>& before,
+                                        const std::vector<ComparedOutput>& after) {
+  std::vector<NamedSeries> series;
+  for (std::size_t i = 0; i < after.size(); ++i) {
+    const ComparedOutput& a = after[i];
+    series.push_back({a.connector + ".measured", a.unit, a.measured});
+    if (i < before.size()) series.push_back({a.connector + ".model_before", a.unit, before[i].model});
+    series.push_back({a.connector + ".model", a.unit, a.model});
+    series.push_back({a.connector + ".residual", a.unit, a.residual()});
+  }
+  return series;
+}
+
+std::vector<std::string> NamesOf(const std::vector<NamedSeries>& series) {
+  std::vector<std::string> names;
+  for (const auto& s : series) names.push_back(s.name);
+  return names;
+}
+
+py::dict UnitsOf(const std::vector<NamedSeries>& series) {
+  py::dict units;
+  for (const auto& s : series) units[py::str(s.name)] = s.unit;
+  return units;
+}
+
+// series[name]. @throws py::key_error listing the names.
+Eigen::VectorXd SeriesNamed(const std::vector<NamedSeries>& series, const std::string& name) {
+  for (const auto& s : series) {
+    if (s.name == name) return s.values;
+  }
+  throw py::key_error(fmt::format("no series '{}'; there are: {}", name, fmt::join(NamesOf(series), ", ")));
+}
+
+// The series as a DataFrame over the measurement's time ('time_s' [s]).
+py::object SeriesFrame(const std::vector<NamedSeries>& series, const Eigen::VectorXd& time, const char* caller) {
+  std::vector<FrameColumn> columns;
+  for (const auto& s : series) columns.push_back({s.name, py::cast(s.values), s.unit});
+  return DataFrame(columns, py::cast(time), "time_s", caller);
+}
+
+// "force_N: RMSE 4.45 → 2.33 N, fit 91.8 % → 95.7 %": the primary output before and after a refit.
+std::string PrimaryFigures(const ComparedOutput& before, const ComparedOutput& after) {
+  return fmt::format("{}: RMSE {}, fit {:.1f} % → {:.1f} %", after.column, BeforeAfter(before.rmse, after.rmse, after.unit),
+                     before.fit_percent, after.fit_percent);
+}
+
+std::string CompareRepr(const PyCompare& c) {
+  const auto& diagnosis = c.outcome.compared.diagnosis;
+  const std::string effect = !diagnosis                 ? "no diagnosis"
+                             : diagnosis->effects.empty() ? "no missing effect found"
+                                                          : "top effect " + diagnosis->effects.front().effect;
+  return fmt::format("<CompareOutcome {}, {}>", PrimaryFigures(c.outcome.primary_before(), c.outcome.primary_after()),
+                     effect);
+}
+
+std::string FitRepr(const PyFit& f) {
+  std::vector<std::string> estimates;
+  for (const auto& p : FittedParameters(f.fit.fit)) estimates.push_back(fmt::format("{} = {:.4g}", p.name, p.estimate));
+  return fmt::format("<FitOutcome {}; {}; {}>", PrimaryFigures(f.fit.before.front(), f.fit.after.front()),
+                     fmt::join(estimates, ", "), f.fit.fit.status);
+}
+
+std::string StepRepr(const ImproveStep& s) {
+  const std::string what = s.round == 0 && s.effect.empty()
+                               ? "the diagram as given, refit"
+                               : fmt::format("{} {}", s.effect, s.accepted ? "accepted" : "rejected");
+  return fmt::format("<ImproveStep round {}, {}: RMSE {}, held out {}>", s.round, what,
+                     BeforeAfter(s.rmse_train_before, s.rmse_train, s.unit()),
+                     BeforeAfter(s.rmse_heldout_before, s.rmse_heldout, s.unit()));
+}
+
+std::string ImproveRepr(const PyImprove& i) {
+  const ImproveStep& first = i.result.first();
+  const ImproveStep& last = i.result.last_accepted();
+  std::vector<std::string> accepted;
+  for (std::size_t k = 1; k < i.result.steps.size(); ++k) {
+    if (i.result.steps[k].accepted) accepted.push_back(i.result.steps[k].effect);
+  }
+  // From the diagram as given (refit: step 0) to the last accepted step.
+  return fmt::format("<ImproveOutcome {}: {} effects tried, {} accepted{}; RMSE {}, held out {}; stop {}>",
+                     first.training.after.front().column, i.result.steps.size() - 1, accepted.size(),
+                     accepted.empty() ? "" : fmt::format(" ({})", fmt::join(accepted, ", ")),
+                     BeforeAfter(first.rmse_train, last.rmse_train, first.unit()),
+                     BeforeAfter(first.rmse_heldout, last.rmse_heldout, first.unit()), ToString(i.result.stop));
+}
+
+// improve as a table: one row per step, in the order tried.
+py::object ImproveFrame(const PyImprove& i) {
+  py::list rounds, accepted, effect, element, train_before, train, heldout_before, heldout, verdict;
+  for (const auto& s : i.result.steps) {
+    rounds.append(s.round);
+    accepted.append(s.accepted);
+    effect.append(s.effect);
+    element.append(s.element);
+    train_before.append(s.rmse_train_before);
+    train.append(s.rmse_train);
+    heldout_before.append(s.rmse_heldout_before);
+    heldout.append(s.rmse_heldout);
+    verdict.append(s.verdict);
+  }
+  const std::string unit = i.result.first().unit();
+  return DataFrame({{"round", rounds, ""},
+                    {"accepted", accepted, ""},
+                    {"effect", effect, ""},
+                    {"element", element, ""},
+                    {"rmse_train_before", train_before, unit},
+                    {"rmse_train", train, unit},
+                    {"rmse_heldout_before", heldout_before, unit},
+                    {"rmse_heldout", heldout, unit},
+                    {"verdict", verdict, ""}},
+                   py::none(), "step", "ImproveOutcome.to_pandas()");
+}
+
 // ---- Bindings -------------------------------------------------------------------------------------------------
 
 void BindOutcomeParts(py::module_& m) {
@@ -265,23 +390,35 @@ void BindOutcomeParts(py::module_& m) {
       .def_readonly("parameters", &DiagnosedEffect::parameters, "dict of the effect's parameters, SI (period [m], …).")
       .def_readonly("description", &DiagnosedEffect::description, "In words, with the figures.")
       .def("__repr__", [](const DiagnosedEffect& e) {
-        return fmt::format("<DiagnosedEffect {} {:.1f} %>", e.effect, 100.0 * e.score);
+        return fmt::format("<DiagnosedEffect {}: {:.1f} % of the held-out residual{}>", e.effect, 100.0 * e.score,
+                           e.parameters.empty() ? "" : ", " + DescribeParameters(e.parameters));
       });
 }
 
 void BindCompare(py::module_& m) {
   py::class_<PyCompare>(m, "CompareOutcome",
-                        "What compare found: the fit, the ranked missing effects, the fallback. Arrays are the primary "
-                        "output, shape (N,), in its unit.")
-      .def_property_readonly("mode", [](const PyCompare& c) { return std::string(Name(c.outcome.mode)); })
-      .def_property_readonly("output", [](const PyCompare& c) { return c.outcome.primary_after().connector; })
-      .def_property_readonly("unit", [](const PyCompare& c) { return c.outcome.primary_after().unit; })
-      .def_property_readonly("rmse_before", [](const PyCompare& c) { return c.outcome.primary_before().rmse; })
-      .def_property_readonly("rmse_after", [](const PyCompare& c) { return c.outcome.primary_after().rmse; })
+                        "What compare found: the fit, the ranked missing effects, the fallback. The primary output "
+                        "(the first output connector) as arrays of shape (N,) in its unit (`unit`), N the "
+                        "measurement's samples; every compared output by name: c['force.residual'], c.keys(), "
+                        "c.units; c.to_pandas() is a DataFrame over the time.")
+      .def_property_readonly("mode", [](const PyCompare& c) { return std::string(Name(c.outcome.mode)); },
+                             "'equation_error' or 'simulation' (the diagram's connectors choose).")
+      .def_property_readonly("output", [](const PyCompare& c) { return c.outcome.primary_after().connector; },
+                             "The primary output connector's name.")
+      .def_property_readonly("column", [](const PyCompare& c) { return c.outcome.primary_after().column; },
+                             "The measured column it is compared with (e.g. 'force_N').")
+      .def_property_readonly("unit", [](const PyCompare& c) { return c.outcome.primary_after().unit; },
+                             "The primary output's unit (RMSE, arrays).")
+      .def_property_readonly("rmse_before", [](const PyCompare& c) { return c.outcome.primary_before().rmse; },
+                             "RMSE of the primary output, the diagram as given [`unit`].")
+      .def_property_readonly("rmse_after", [](const PyCompare& c) { return c.outcome.primary_after().rmse; },
+                             "RMSE after the refit [`unit`] (= rmse_before when nothing was refit).")
       .def_property_readonly("fit_percent_before",
-                             [](const PyCompare& c) { return c.outcome.primary_before().fit_percent; })
+                             [](const PyCompare& c) { return c.outcome.primary_before().fit_percent; },
+                             "100·(1 − ‖residual‖/‖measured − its mean‖) [%], as given; 100 is perfect.")
       .def_property_readonly("fit_percent_after",
-                             [](const PyCompare& c) { return c.outcome.primary_after().fit_percent; })
+                             [](const PyCompare& c) { return c.outcome.primary_after().fit_percent; },
+                             "The same after the refit [%].")
       .def_property_readonly("parameters", [](const PyCompare& c) { return FittedParameters(c.outcome.compared.fit); },
                              "list of FittedParameter (empty: nothing refit).")
       .def_property_readonly(
@@ -294,18 +431,46 @@ void BindCompare(py::module_& m) {
                              [](const PyCompare& c) {
                                const auto& d = c.outcome.compared.diagnosis;
                                return d ? d->summary : c.outcome.compared.diagnosis_skipped;
-                             })
-      .def_property_readonly("notes", [](const PyCompare& c) { return c.outcome.compared.notes; })
+                             },
+                             "The diagnosis in words (or why there is none).")
+      .def_property_readonly("notes", [](const PyCompare& c) { return c.outcome.compared.notes; },
+                             "list of str: how the log was taken in, and the diagnosis's caveats.")
       .def_property_readonly("time", [](const PyCompare& c) { return Eigen::VectorXd(c.log.time()); },
                              "Sample times of the compared log [s], shape (N,).")
       .def_property_readonly("measured", [](const PyCompare& c) { return c.outcome.primary_after().measured; },
-                             "The measured primary output, shape (N,).")
+                             "The measured primary output, shape (N,) [`unit`].")
       .def_property_readonly("model_before", [](const PyCompare& c) { return c.outcome.primary_before().model; },
-                             "The model's primary output as given, shape (N,).")
+                             "The model's primary output as given, shape (N,) [`unit`].")
       .def_property_readonly("model", [](const PyCompare& c) { return c.outcome.primary_after().model; },
-                             "The model's primary output after the refit, shape (N,).")
+                             "The model's primary output after the refit, shape (N,) [`unit`].")
+      .def_property_readonly("residual", [](const PyCompare& c) { return c.outcome.primary_after().residual(); },
+                             "measured − model (after the refit), shape (N,) [`unit`].")
+      .def(
+          "keys",
+          [](const PyCompare& c) { return NamesOf(ComparedSeries(c.outcome.compared.before, c.outcome.compared.after)); },
+          "The named series (list of str): per compared output '<connector>.measured', '.model_before', '.model' and "
+          "'.residual'.")
+      .def(
+          "__getitem__",
+          [](const PyCompare& c, const std::string& name) {
+            return SeriesNamed(ComparedSeries(c.outcome.compared.before, c.outcome.compared.after), name);
+          },
+          py::arg("name"), "The series `name` (keys()), shape (N,), in units[name]. Raises KeyError listing them.")
+      .def_property_readonly(
+          "units",
+          [](const PyCompare& c) { return UnitsOf(ComparedSeries(c.outcome.compared.before, c.outcome.compared.after)); },
+          "dict series name → unit (the output connector's).")
+      .def(
+          "to_pandas",
+          [](const PyCompare& c) {
+            return SeriesFrame(ComparedSeries(c.outcome.compared.before, c.outcome.compared.after), c.log.time(),
+                               "CompareOutcome.to_pandas()");
+          },
+          "A pandas.DataFrame: index 'time_s' [s], N rows; the columns of keys() (float64); df.attrs['units'] = "
+          "{column: unit}. Raises ImportError naming Debian's python3-pandas when pandas is missing.")
       .def_property_readonly("fitted_diagram",
-                             [](const PyCompare& c) { return DiagramOf(c.outcome.compared.fitted_diagram, c.diagram); })
+                             [](const PyCompare& c) { return DiagramOf(c.outcome.compared.fitted_diagram, c.diagram); },
+                             "The Diagram with the refit estimates written in.")
       .def_property_readonly(
           "suggested_diagram",
           [](const PyCompare& c) -> std::optional<PyDiagram> {
@@ -317,42 +482,95 @@ void BindCompare(py::module_& m) {
            [](const PyCompare& c) {
              return FromJson(CompareResultsJson(c.outcome, c.log, SourceOf(c.diagram), c.measurement));
            },
-           "compare.json as `motionblocks compare` writes it, less the written files' entries.");
+           "compare.json as `motionblocks compare` writes it, less the written files' entries.")
+      .def("__repr__", &CompareRepr);
 }
 
 void BindFit(py::module_& m) {
-  py::class_<PyFit>(m, "FitOutcome", "A refit of chosen parameters against a measurement (`motionblocks fit`).")
-      .def_property_readonly("parameters", [](const PyFit& f) { return FittedParameters(f.fit.fit); })
-      .def_property_readonly("rmse_before", [](const PyFit& f) { return f.fit.before.front().rmse; })
-      .def_property_readonly("rmse_after", [](const PyFit& f) { return f.fit.after.front().rmse; })
-      .def_property_readonly("status", [](const PyFit& f) { return f.fit.fit.status; })
-      .def_property_readonly("fitted_diagram", [](const PyFit& f) { return DiagramOf(f.fit.fitted_diagram, f.diagram); })
+  py::class_<PyFit>(m, "FitOutcome",
+                    "A refit of chosen parameters against a measurement (`motionblocks fit`). Every compared output "
+                    "by name, shape (N,): f['force.model'], f.keys(), f.units; f.to_pandas() is a DataFrame.")
+      .def_property_readonly("parameters", [](const PyFit& f) { return FittedParameters(f.fit.fit); },
+                             "list of FittedParameter, in the order asked.")
+      .def_property_readonly("unit", [](const PyFit& f) { return f.fit.after.front().unit; },
+                             "The primary output's unit.")
+      .def_property_readonly("rmse_before", [](const PyFit& f) { return f.fit.before.front().rmse; },
+                             "RMSE of the primary output before the fit [`unit`].")
+      .def_property_readonly("rmse_after", [](const PyFit& f) { return f.fit.after.front().rmse; },
+                             "RMSE after the fit [`unit`].")
+      .def_property_readonly("fit_percent_before", [](const PyFit& f) { return f.fit.before.front().fit_percent; },
+                             "100·(1 − ‖residual‖/‖measured − its mean‖) [%] before the fit.")
+      .def_property_readonly("fit_percent_after", [](const PyFit& f) { return f.fit.after.front().fit_percent; },
+                             "The same after the fit [%].")
+      .def_property_readonly("status", [](const PyFit& f) { return f.fit.fit.status; },
+                             "Levenberg–Marquardt's status ('converged …') or 'not identifiable'.")
+      .def_property_readonly("time", [](const PyFit& f) { return f.time; }, "Sample times [s], shape (N,).")
+      .def("keys", [](const PyFit& f) { return NamesOf(ComparedSeries(f.fit.before, f.fit.after)); },
+           "The named series: per compared output '<connector>.measured', '.model_before', '.model', '.residual'.")
+      .def(
+          "__getitem__",
+          [](const PyFit& f, const std::string& name) { return SeriesNamed(ComparedSeries(f.fit.before, f.fit.after), name); },
+          py::arg("name"), "The series `name`, shape (N,), in units[name]. Raises KeyError listing them.")
+      .def_property_readonly("units", [](const PyFit& f) { return UnitsOf(ComparedSeries(f.fit.before, f.fit.after)); },
+                             "dict series name → unit.")
+      .def(
+          "to_pandas",
+          [](const PyFit& f) {
+            return SeriesFrame(ComparedSeries(f.fit.before, f.fit.after), f.time, "FitOutcome.to_pandas()");
+          },
+          "A pandas.DataFrame: index 'time_s' [s], N rows; the columns of keys(); df.attrs['units']. Raises "
+          "ImportError naming Debian's python3-pandas when pandas is missing.")
+      .def_property_readonly("fitted_diagram", [](const PyFit& f) { return DiagramOf(f.fit.fitted_diagram, f.diagram); },
+                             "The Diagram with the estimates written in.")
       .def("to_dict", [](const PyFit& f) { return FromJson(f.summary); },
-           "fit.json as `motionblocks fit` writes it, less the fitted diagram's file.");
+           "fit.json as `motionblocks fit` writes it, less the fitted diagram's file.")
+      .def("__repr__", &FitRepr);
 }
 
 void BindImprove(py::module_& m) {
   py::class_<ImproveStep>(m, "ImproveStep", "One diagram of the improve loop (RMSE in the primary output's unit).")
-      .def_readonly("round", &ImproveStep::round)
-      .def_readonly("accepted", &ImproveStep::accepted)
+      .def_readonly("round", &ImproveStep::round, "0 for the diagram as given, then 1, 2, … per effect added.")
+      .def_readonly("accepted", &ImproveStep::accepted, "Whether the loop kept it (held-out RMSE fell enough).")
       .def_readonly("effect", &ImproveStep::effect, "Catalogue name of the added effect ('' at step 0).")
-      .def_readonly("element", &ImproveStep::element)
-      .def_readonly("verdict", &ImproveStep::verdict)
-      .def_readonly("rmse_train_before", &ImproveStep::rmse_train_before)
-      .def_readonly("rmse_train", &ImproveStep::rmse_train)
-      .def_readonly("rmse_heldout_before", &ImproveStep::rmse_heldout_before)
-      .def_readonly("rmse_heldout", &ImproveStep::rmse_heldout)
-      .def_property_readonly("parameters", [](const ImproveStep& s) { return FittedParameters(s.training.fit); })
-      .def("to_dict", [](const ImproveStep& s) { return FromJson(s.ToJson()); });
-  py::class_<PyImprove>(m, "ImproveOutcome", "The improve loop's steps, why it stopped, and the improved diagram.")
-      .def_property_readonly("steps", [](const PyImprove& i) { return i.result.steps; })
-      .def_property_readonly("stop", [](const PyImprove& i) { return ToString(i.result.stop); })
-      .def_property_readonly("stop_reason", [](const PyImprove& i) { return i.result.stop_reason; })
-      .def_property_readonly("improved_diagram", [](const PyImprove& i) {
-        return DiagramOf(i.result.last_accepted().training.fitted_diagram, i.diagram);
-      })
+      .def_readonly("element", &ImproveStep::element, "The element the effect's block was added as.")
+      .def_readonly("verdict", &ImproveStep::verdict, "Why accepted or rejected, in words.")
+      .def_property_readonly("unit", &ImproveStep::unit, "The primary output's unit, of every RMSE here.")
+      .def_readonly("rmse_train_before", &ImproveStep::rmse_train_before,
+                    "RMSE on the measurement of the last accepted step [`unit`].")
+      .def_readonly("rmse_train", &ImproveStep::rmse_train, "RMSE on the measurement after this step's refit [`unit`].")
+      .def_readonly("rmse_heldout_before", &ImproveStep::rmse_heldout_before,
+                    "Held-out RMSE of the last accepted step [`unit`].")
+      .def_readonly("rmse_heldout", &ImproveStep::rmse_heldout,
+                    "This step's held-out RMSE (validation record, else cross-validated) [`unit`].")
+      .def_property_readonly("parameters", [](const ImproveStep& s) { return FittedParameters(s.training.fit); },
+                             "list of FittedParameter of this step's joint refit.")
+      .def("to_dict", [](const ImproveStep& s) { return FromJson(s.ToJson()); }, "The step as improve.json has it.")
+      .def("__repr__", &StepRepr);
+  py::class_<PyImprove>(m, "ImproveOutcome",
+                        "The improve loop's steps, why it stopped, and the improved diagram; to_pandas(): one row per "
+                        "step.")
+      .def_property_readonly("steps", [](const PyImprove& i) { return i.result.steps; },
+                             "list of ImproveStep in the order tried; steps[0] is the diagram as given.")
+      .def_property_readonly("unit", [](const PyImprove& i) { return i.result.first().unit(); },
+                             "The primary output's unit, of every RMSE.")
+      .def_property_readonly("stop", [](const PyImprove& i) { return ToString(i.result.stop); },
+                             "Why it stopped: 'no_missing_effect', 'catalogue_exhausted', 'no_heldout_gain' or "
+                             "'max_effects'.")
+      .def_property_readonly("stop_reason", [](const PyImprove& i) { return i.result.stop_reason; },
+                             "The same in words.")
+      .def_property_readonly("improved_diagram",
+                             [](const PyImprove& i) {
+                               return DiagramOf(i.result.last_accepted().training.fitted_diagram, i.diagram);
+                             },
+                             "The last accepted step's Diagram, refit.")
+      .def("to_pandas", &ImproveFrame,
+           "A pandas.DataFrame with one row per step (index 'step', 0 = the diagram as given): round, accepted, "
+           "effect, element, rmse_train_before, rmse_train, rmse_heldout_before, rmse_heldout (in `unit`), verdict; "
+           "df.attrs['units'] = {column: unit}. Raises ImportError naming Debian's python3-pandas when pandas is "
+           "missing.")
       .def("to_dict", [](const PyImprove& i) { return FromJson(ImproveJson(i)); },
-           "improve.json as `motionblocks improve` writes it, less the written files' entries.");
+           "improve.json as `motionblocks improve` writes it, less the written files' entries.")
+      .def("__repr__", &ImproveRepr);
 }
 
 }  // namespace

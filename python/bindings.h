@@ -29,6 +29,10 @@ struct PyDiagram {
   /// element, the parameter and the value checked now). @throws std::invalid_argument for a key without '.', an
   /// unknown element or parameter; DiagramError for a value the parameter refuses.
   void Set(const std::string& key, const nlohmann::json& value);
+  /// The value set() would change: "element.parameter" in its SI unit (the type's default when the diagram leaves
+  /// it out), "solver.<key>" or "defaultExperiment.<key>" (the engine's default when absent). @throws
+  /// std::invalid_argument as Set, and for a solver/defaultExperiment key the schema does not know ("did you mean").
+  nlohmann::json Get(const std::string& key) const;
   /// Validates and builds the diagram (BuildDiagram). @throws DiagramError, AlgebraicLoopError.
   Diagram Build() const;
 };
@@ -40,6 +44,21 @@ nlohmann::json ToJson(const py::handle& object, const std::string& argument = "t
 py::object FromJson(const nlohmann::json& value);
 /// A diagram file name given as str or os.PathLike.
 std::string PathText(const py::handle& path);
+
+/// One column of a result's DataFrame: its name, its values (copied into the frame) and its unit ("" =
+/// dimensionless or not declared).
+struct FrameColumn {
+  std::string name;
+  py::object values;  ///< a 1-D sequence (NumPy array, list)
+  std::string unit;
+};
+/// A pandas.DataFrame of `columns` (in order) over `index` (None: 0…N-1) named `index_name`; the units go to
+/// df.attrs["units"] (column → unit). pandas is imported now: `caller` (e.g. "SimulationResult.to_pandas()") names
+/// the call in the ImportError that says how to install it (Debian's python3-pandas).
+py::object DataFrame(const std::vector<FrameColumn>& columns, const py::object& index, const std::string& index_name,
+                     const std::string& caller);
+/// "1.23 → 4.56 N": a figure before and after, 3 significant digits, for the results' repr.
+std::string BeforeAfter(double before, double after, const std::string& unit);
 
 void BindErrors(py::module_& m);
 void BindDiagram(py::module_& m);

@@ -75,6 +75,18 @@ def test_save_writes_the_file_the_gpr_block_loads(samples, tmp_path):
     assert read_json(tmp_path / "m.json")["kernel"] == "DS"
 
 
+def test_the_models_repr_shows_its_hyperparameters(samples):
+    model = mb.fit_gpr(*samples, kernel="PS", period=TAU, restarts=0)
+    h = model.hyperparameters
+    assert repr(model) == (f"<GprModel PS: period {TAU:.4g} m, ℓ_x {h['length_scale_x']:.3g}, ℓ_ẋ "
+                           f"{h['length_scale_xdot']:.3g} m/s; noise σ {np.sqrt(h['noise_variance']):.3g}; "
+                           f"{model.feature_count} features, N = 3000 samples>")
+    # the samples' noise (σ 0.02) and what of the product sin(2πx/τ)·ẋ a sum of kernels cannot hold
+    assert 0.02 <= np.sqrt(h["noise_variance"]) < 0.04
+    ds = mb.fit_gpr(*samples, kernel="DS", restarts=0)
+    assert repr(ds).startswith(f"<GprModel DS: ℓ_x {ds.hyperparameters['length_scale_x']:.3g} m, ℓ_ẋ ")
+
+
 def test_bad_samples_raise_value_errors():
     with pytest.raises(ValueError) as e:
         mb.fit_gpr([0.0, 0.1], [0.1, 0.1, 0.1], [1.0, 2.0])

@@ -1,4 +1,7 @@
-"""sweep: the rows of `motionblocks sweep` as dicts, and the diagram's set() calls applied to every run."""
+"""sweep: the rows of `motionblocks sweep` as dicts and as a DataFrame, and the diagram's set() calls applied to every
+run."""
+
+import math
 
 import pytest
 
@@ -57,6 +60,36 @@ def test_an_unknown_element_in_a_sweep_is_a_diagram_error():
     with pytest.raises(mb.DiagramError) as e:
         mb.sweep(mb.Diagram.load(CONVENTIONAL), {"grid": {"plnat.payload_mass": [0.1]}})
     assert "plnat" in str(e.value)
+
+
+def test_the_sweep_result_is_a_table_with_units():
+    rows = mb.sweep(mb.Diagram.load(CONVENTIONAL), GRID, jobs=2)
+    assert len(rows) == 2 and rows[-1]["id"] == "0001" and [r["id"] for r in rows[0:1]] == ["0000"]
+    assert rows.rows == list(rows) and rows.swept == ["plant.payload_mass"]
+    df = rows.to_pandas()
+    assert df.index.name == "id" and list(df.index) == ["0000", "0001"]
+    assert list(df.columns) == ["status", "plant.payload_mass", "tracking_rmse", "tracking_max_abs", "wall_time_s",
+                                "error"]
+    assert list(df["plant.payload_mass"]) == [0.0, 0.2621]
+    assert df.loc["0001", "tracking_rmse"] == rows[1]["tracking_rmse"]
+    assert df["tracking_rmse"].idxmax() == "0001"  # the heavier payload tracks worse
+    assert df.attrs["units"] == {"status": "", "plant.payload_mass": "kg", "tracking_rmse": "m",
+                                 "tracking_max_abs": "m", "wall_time_s": "s", "error": ""}
+    low, high = sorted(r["tracking_rmse"] for r in rows)
+    low_max, high_max = sorted(r["tracking_max_abs"] for r in rows)
+    assert repr(rows) == (f"<SweepResult 2 runs (2 ok, 0 failed) over plant.payload_mass; tracking_rmse {low:.3g} … "
+                          f"{high:.3g} m, tracking_max_abs {low_max:.3g} … {high_max:.3g} m>")
+
+
+def test_a_failed_run_is_a_row_with_nan_metrics_and_its_error():
+    rows = mb.sweep(mb.Diagram.load(CONVENTIONAL), {"list": [{"plant.payload_mass": 0.1},
+                                                             {"plant.payload_mass": -1.0}],
+                                                    "set": {"defaultExperiment.stopTime": 0.2}})
+    df = rows.to_pandas()
+    assert list(df["status"]) == ["ok", "failed"]
+    assert math.isnan(df.loc["0001", "tracking_rmse"]) and df.loc["0000", "tracking_rmse"] > 0
+    assert "payload_mass" in df.loc["0001", "error"]
+    assert repr(rows).startswith("<SweepResult 2 runs (1 ok, 1 failed) over plant.payload_mass; tracking_rmse ")
 
 
 BAD_SWEEP = "<sweep dict>: /grid/plant.payload_mass: give a non-empty array of values"

@@ -2,12 +2,15 @@
 the command line's compare.json and fit.json, and the measurement taken as a path, a dict or a structured array."""
 
 import csv
+import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
 
 import motionblocks as mb
-from conftest import EMPS, read_json
+from conftest import EMPS, SOURCE, read_json
 
 RIGID_BODY = EMPS / "rigid_body.json"
 DATA = EMPS / "data" / "DATA_EMPS.csv"
@@ -48,6 +51,37 @@ def test_compare_names_the_same_first_effect_as_the_command_line(emps_compare):
     assert emps_compare.unit == "N" and emps_compare.output == "force"
 
 
+def test_compare_repr_shows_the_readmes_figures(emps_compare):
+    # README, demo step 1: the benchmark's model as written, then refit.
+    assert repr(emps_compare) == ("<CompareOutcome force_N: RMSE 4.45 → 2.33 N, fit 91.8 % → 95.7 %, top effect "
+                                  "velocity_dependent_ripple>")
+    assert repr(emps_compare.diagnosis[0]).startswith("<DiagnosedEffect velocity_dependent_ripple: ")
+    assert "period = 0.0025" in repr(emps_compare.diagnosis[0])  # the screw lead, 2.5 mm
+    mass = next(p for p in emps_compare.parameters if p.name == "inertia.gain")
+    assert repr(mass) == f"<FittedParameter inertia.gain = {mass.estimate:.6g} ± {1.96 * mass.standard_error:.3g} (95 %)>"
+
+
+def test_compare_to_pandas_gives_measured_model_and_residual_over_time(emps_compare):
+    df = emps_compare.to_pandas()
+    names = ["force.measured", "force.model_before", "force.model", "force.residual"]
+    assert emps_compare.keys() == names and list(df.columns) == names
+    assert df.index.name == "time_s" and len(df) == emps_compare.time.shape[0]
+    np.testing.assert_array_equal(df.index.to_numpy(), emps_compare.time)
+    assert df.attrs["units"] == {name: "N" for name in names} == emps_compare.units
+    np.testing.assert_array_equal(df["force.measured"].to_numpy(), emps_compare.measured)
+    np.testing.assert_array_equal(df["force.model"].to_numpy(), emps_compare.model)
+    np.testing.assert_array_equal(df["force.model_before"].to_numpy(), emps_compare.model_before)
+    np.testing.assert_allclose(df["force.residual"], df["force.measured"] - df["force.model"], rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(emps_compare["force.residual"], emps_compare.residual)
+    # the RMSEs the outcome reports are those of its columns
+    assert np.sqrt(np.mean(df["force.residual"] ** 2)) == pytest.approx(emps_compare.rmse_after, rel=1e-9)
+    before = df["force.measured"] - df["force.model_before"]
+    assert np.sqrt(np.mean(before ** 2)) == pytest.approx(emps_compare.rmse_before, rel=1e-9)
+    with pytest.raises(KeyError) as e:
+        emps_compare["force"]
+    assert "no series 'force'; there are: force.measured, force.model_before" in str(e.value)
+
+
 def test_compare_to_dict_is_the_commands_compare_json(emps_compare, command, tmp_path):
     command("compare", RIGID_BODY, "--measurement", DATA, "--out", tmp_path)
     written = read_json(tmp_path / "compare.json")
@@ -69,7 +103,7 @@ def test_compare_gives_the_fitted_parameters_with_intervals(emps_compare):
     assert high - low == pytest.approx(2 * 1.96 * mass.standard_error)
     assert mass.estimate == pytest.approx(95.1, abs=0.1)  # README, demo step 1
     expected = emps_compare.to_dict()["fit"]
-    assert emps_compare.fitted_diagram.get("inertia", "gain") == pytest.approx(mass.estimate, rel=1e-12)
+    assert emps_compare.fitted_diagram.get("inertia.gain") == pytest.approx(mass.estimate, rel=1e-12)
     assert len(expected["parameters"]) == 4
 
 
@@ -133,6 +167,23 @@ def test_fit_gives_the_commands_fit_json(command, tmp_path):
     assert outcome.rmse_after < outcome.rmse_before
 
 
+def test_fit_repr_and_to_pandas():
+    names = ["inertia.gain", "friction.viscous"]
+    outcome = mb.fit(mb.Diagram.load(RIGID_BODY), DATA, fit=names)
+    estimates = ", ".join(f"{p.name} = {p.estimate:.4g}" for p in outcome.parameters)
+    assert repr(outcome) == (f"<FitOutcome force_N: RMSE {outcome.rmse_before:.3g} → {outcome.rmse_after:.3g} N, fit "
+                             f"{outcome.fit_percent_before:.1f} % → {outcome.fit_percent_after:.1f} %; {estimates}; "
+                             f"{outcome.status}>")
+    assert repr(outcome).startswith("<FitOutcome force_N: RMSE 4.45 → ")
+    df = outcome.to_pandas()
+    assert list(df.columns) == outcome.keys() == ["force.measured", "force.model_before", "force.model",
+                                                  "force.residual"]
+    assert df.index.name == "time_s" and len(df) == outcome.time.shape[0] == len(read_columns(DATA)["time_s"])
+    assert df.attrs["units"]["force.model"] == "N" == outcome.unit
+    assert np.sqrt(np.mean(df["force.residual"] ** 2)) == pytest.approx(outcome.rmse_after, rel=1e-9)
+    np.testing.assert_array_equal(outcome["force.model"], df["force.model"].to_numpy())
+
+
 def test_improve_refuses_settings_out_of_range_before_fitting():
     with pytest.raises(ValueError) as e:
         mb.improve(mb.Diagram.load(RIGID_BODY), DATA, max_trials=0)
@@ -160,6 +211,26 @@ def test_improve_on_simulated_arrays_finds_the_twins_cogging_as_the_command_does
     period = [p for p in accepted[1].parameters if p.name.endswith(".period")][0]
     assert period.estimate == pytest.approx(0.0225, rel=0.02)
 
+    # one row per step, the RMSEs in the output's unit
+    df = outcome.to_pandas()
+    assert df.index.name == "step" and len(df) == len(outcome.steps)
+    assert list(df.columns) == ["round", "accepted", "effect", "element", "rmse_train_before", "rmse_train",
+                                "rmse_heldout_before", "rmse_heldout", "verdict"]
+    assert list(df["effect"]) == [s.effect for s in outcome.steps]
+    assert list(df["accepted"]) == [s.accepted for s in outcome.steps]
+    np.testing.assert_array_equal(df["rmse_heldout"].to_numpy(), [s.rmse_heldout for s in outcome.steps])
+    assert df.attrs["units"]["rmse_train"] == outcome.unit != ""
+    assert df.attrs["units"]["effect"] == ""
+    u = outcome.unit
+    assert repr(accepted[1]) == (f"<ImproveStep round {accepted[1].round}, {accepted[1].effect} accepted: RMSE "
+                                 f"{accepted[1].rmse_train_before:.3g} → {accepted[1].rmse_train:.3g} {u}, held out "
+                                 f"{accepted[1].rmse_heldout_before:.3g} → {accepted[1].rmse_heldout:.3g} {u}>")
+    first = outcome.steps[0]
+    assert u == "N"
+    assert repr(outcome) == (f"<ImproveOutcome force_N: {len(outcome.steps) - 1} effects tried, 1 accepted "
+                             f"({accepted[1].effect}); RMSE {first.rmse_train:.3g} → {accepted[1].rmse_train:.3g} {u}, held out "
+                             f"{first.rmse_heldout:.3g} → {accepted[1].rmse_heldout:.3g} {u}; stop {outcome.stop}>")
+
     command("run", paper / "cogging_scan.json", "--out", tmp_path / "scan")
     command("run", paper / "cogging_scan.json", "--set", "reference.velocities=[0.15,0.25]", "--out",
             tmp_path / "validation")
@@ -169,3 +240,15 @@ def test_improve_on_simulated_arrays_finds_the_twins_cogging_as_the_command_does
     assert [s["effect"] for s in ours["steps"]] == [s["effect"] for s in written["steps"]]
     assert ours["stop"] == written["stop"]
     assert ours.keys() - {"nonparametric_fallback"} == written.keys() - {"nonparametric_fallback"}
+
+
+def test_the_notebook_example_runs_as_written_from_the_repository_root():
+    done = subprocess.run([sys.executable, "examples/python_session.py"], cwd=SOURCE, env=os.environ,
+                          capture_output=True, text=True, check=False)
+    assert done.returncode == 0, done.stderr
+    out = done.stdout
+    assert "kp = 9300.0 N/m" in out
+    assert "'plant/body.v': 'm/s'" in out
+    assert ("<CompareOutcome force_N: RMSE 4.45 → 2.33 N, fit 91.8 % → 95.7 %, top effect "
+            "velocity_dependent_ripple>") in out
+    assert "<SweepResult 3 runs (3 ok, 0 failed) over controller.kp; tracking_rmse " in out
