@@ -101,6 +101,7 @@ void ApplyOverrides(json* diagram, const std::vector<ParameterOverride>& overrid
   if (!problems.empty()) throw DiagramError(source, problems);
 }
 
+// Also refuses (DiagramError naming the file) a file that holds no JSON object: null, an array, a number.
 json ReadDiagramJson(const fs::path& path) {
   CheckInputFile(path, "diagram file");  // a regular file within the size limit: /dev/zero or a FIFO is never opened
   if (!fs::exists(path)) {
@@ -108,7 +109,12 @@ json ReadDiagramJson(const fs::path& path) {
   }
   std::istringstream in(ReadInputFile(path, "diagram file"));
   try {
-    return ParseJsonRejectingDuplicateKeys(in, path.string(), /*ignore_comments=*/true);
+    json j = ParseJsonRejectingDuplicateKeys(in, path.string(), /*ignore_comments=*/true);
+    if (!j.is_object()) {  // named here, where the file is known (the documents built from it say only "diagram")
+      throw DiagramError(path.string(), {fmt::format("/: a diagram is a JSON object {{…}}, but this file holds {}",
+                                                     j.is_null() ? "null" : j.is_array() ? "an array" : fmt::format("a {}", j.type_name()))});
+    }
+    return j;
   } catch (const json::parse_error& e) {
     throw std::runtime_error(fmt::format("{}: not valid JSON: {}", path.string(), JsonErrorText(e)));
   } catch (const DuplicateKeyError& e) {
@@ -138,10 +144,15 @@ namespace {
 struct Place {
   std::string file;     ///< "" or "<file>: "
   std::string pointer;  ///< JSON pointer of the diagram in that file
+  /// The subsystem files being expanded, outermost first (canonical paths): a file that appears again is a cycle.
+  std::vector<std::string> files;
   std::string At(const std::string& section, std::size_t index) const {
     return fmt::format("{}{}/{}/{}", file, pointer, section, index);
   }
 };
+
+/// Deepest nesting of subsystems (ExpandSubsystemElement refuses a deeper one, naming where).
+constexpr int kMaxSubsystemDepth = 16;
 
 /// A diagram with its subsystems expanded, and for each element, connection and logged signal where the user
 /// wrote it (so that problems found after expansion point into the right file).
@@ -159,19 +170,42 @@ std::optional<Expansion> ExpandSubsystemElement(const json& element, const fs::p
                                                 std::vector<std::string>* problems) {
   json inner;
   fs::path inner_base = base;
-  Place inner_place{place.file, ptr + "/diagram"};
+  Place inner_place{place.file, ptr + "/diagram", place.files};
   const std::string where = place.file + ptr;
+  if (depth >= kMaxSubsystemDepth) {
+    problems->push_back(fmt::format("{}: subsystems nest deeper than {} levels; flatten the nesting (a diagram that "
+                                    "includes itself is named as a cycle)",
+                                    where, kMaxSubsystemDepth));
+    return std::nullopt;
+  }
   if (element.contains("diagram") && element["diagram"].is_string()) {
     fs::path file;
     try {
       file = ResolveDiagramFile(element["diagram"].get<std::string>(), base);
+    } catch (const std::exception& e) {
+      problems->push_back(fmt::format("{}/diagram: {}", where, e.what()));
+      return std::nullopt;
+    }
+    std::error_code error;
+    const std::string key = fs::weakly_canonical(file, error).string();
+    const auto again = std::find(place.files.begin(), place.files.end(), key);
+    if (again != place.files.end()) {
+      std::vector<std::string> cycle(again, place.files.end());
+      cycle.push_back(key);
+      problems->push_back(fmt::format("{}/diagram: the subsystem files include each other in a cycle: {}; a "
+                                      "subsystem cannot contain itself: break the cycle",
+                                      where, Excerpt(fmt::format("{}", fmt::join(cycle, " → ")))));
+      return std::nullopt;
+    }
+    try {
       inner = ReadDiagramJson(file);
     } catch (const std::exception& e) {
       problems->push_back(fmt::format("{}/diagram: {}", where, e.what()));
       return std::nullopt;
     }
     inner_base = file.parent_path();
-    inner_place = Place{file.string() + ": ", ""};
+    inner_place = Place{file.string() + ": ", "", place.files};
+    inner_place.files.push_back(key);
     // The subsystem file as the user wrote it (an inline diagram is checked with its parent).
     const auto schema_problems = DiagramSchemaProblems(inner);
     for (const auto& p : schema_problems) problems->push_back(inner_place.file + p.Text());
@@ -286,10 +320,6 @@ Expansion ExpandSubsystemsImpl(const json& diagram, const fs::path& base, const 
   };
   out.origins["connections"] = placed("connections");
   out.origins["log"] = placed("log");
-  if (depth > 16) {
-    problems->push_back("subsystems nest deeper than 16 levels: is a diagram including itself?");
-    return out;
-  }
   if (!diagram.contains("elements") || !diagram["elements"].is_array()) return out;
   out.diagram["elements"] = json::array();
   std::vector<PlacedConnection> connections;  // the parent's, rewired below
@@ -773,6 +803,7 @@ class DiagramBuilder {
 
   void ReadMetrics() {
     const json ms = j_.value("metrics", json::array());
+    std::map<std::string, std::size_t> first_of_name;  // a result holds one value per metric name
     for (std::size_t i = 0; i < ms.size(); ++i) {
       const std::string ptr = fmt::format("/metrics/{}", i);
       const json& m = ms[i];
@@ -785,6 +816,11 @@ class DiagramBuilder {
       spec.from = NumberOr(m, "from", -1e300, ptr, &problems_);
       spec.to = NumberOr(m, "to", 1e300, ptr, &problems_);
       if (spec.name.empty()) Problem(fmt::format("{}/name: a metric needs a name", ptr));
+      if (const auto [at, inserted] = first_of_name.emplace(spec.name, i); !inserted && !spec.name.empty()) {
+        Problem(fmt::format("{}/name: the metric name '{}' is used by /metrics/{} too; each metric needs a name of "
+                            "its own (results hold one value per name)",
+                            ptr, Excerpt(spec.name), at->second));
+      }
       if (const auto known = MetricTypeNamed(type)) {
         spec.type = *known;
       } else {

@@ -104,7 +104,9 @@ json SubsystemSchema() {
           {"required", json::array({"diagram"})},
           {"properties",
            {{"sampleTime", false},
-            {"parameters", {{"type", "object"}, {"propertyNames", {{"pattern", "^[^.]+\\..+$"}}}}}}}};
+            // "inner_element.parameter": a '.' searched for, not an anchored "^[^.]+\\..+$": valijson matches
+            // with std::regex, whose recursion per character overflowed the stack on a key a megabyte long.
+            {"parameters", {{"type", "object"}, {"propertyNames", {{"pattern", "\\."}}}}}}}};
 }
 
 json ElementSchema(const BlockRegistry& registry) {
@@ -115,7 +117,9 @@ json ElementSchema(const BlockRegistry& registry) {
       {"required", {"name", "type"}},
       {"additionalProperties", false},
       {"properties",
-       {{"name", {{"type", "string"}, {"pattern", "^[^.]+$"}, {"description", "unique in the diagram, no '.'"}}},
+       // No "pattern" for the '.': the loader refuses a dotted name with its own message, and valijson's std::regex
+       // recursed once per character (a name a megabyte long overflowed the stack; tests/hostile found it).
+       {{"name", {{"type", "string"}, {"minLength", 1}, {"description", "unique in the diagram, no '.'"}}},
         {"type", {{"type", "string"}, {"enum", types}, {"description", "a block type (motionblocks blocks)"}}},
         {"description", {{"type", "string"}}},
         {"parameters", {{"type", "object"}}},

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "engine/text_excerpt.h"
 #include "engine/units.h"
 
 namespace mb {
@@ -56,6 +57,15 @@ MeasurementLog WithTimeInSeconds(MeasurementLog log) {
   const std::string name = log.names().front();
   const std::string unit = ColumnUnit(name);
   const std::optional<double> factor = unit.empty() ? std::nullopt : UnitFactor(unit, "s");
+  // "time_<unit>" declares a unit: one this reader does not know (time_fortnight, time_min) is refused, not read as
+  // seconds; a name without that form (t, time, encoder_count) is read as seconds as before.
+  const bool declares_unit = name.rfind("time_", 0) == 0 && name.size() > 5;
+  if (declares_unit && !factor) {
+    throw std::invalid_argument(fmt::format(
+        "{}: the time column '{}' declares the unit '{}', which is no time unit known here: write the time in "
+        "seconds, milliseconds or microseconds and name the column time_s, time_ms or time_us",
+        log.source(), Excerpt(name), Excerpt(name.substr(5))));
+  }
   if (!factor || *factor == 1.0) return log;
   if (log.has_column("time_s")) {
     throw std::invalid_argument(fmt::format(

@@ -1,5 +1,6 @@
 #include "models/gpr/gpr_log.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <utility>
@@ -40,9 +41,13 @@ void CheckGprTrainingSpread(const std::string& source, const GprTrainingSelectio
     const char* option;
     const char* unit;
     bool may_be_constant;  // one scan velocity is widened (TrainedVelocityRange)
-  } columns[] = {{data.x, selection.position_column, "--position-column", " m", false},
-                 {data.xdot, selection.velocity_column, "--velocity-column", " m/s", true},
-                 {data.d, selection.disturbance_column, "--disturbance-column", "", false}};
+    bool motion;           // a position or velocity: bounded by kMaxGprMotionMagnitude
+  } columns[] = {{data.x, selection.position_column, "--position-column", " m", false, true},
+                 {data.xdot, selection.velocity_column, "--velocity-column", " m/s", true, true},
+                 {data.d, selection.disturbance_column, "--disturbance-column", "", false, false}};
+  // No stage travels a million metres, nor at a million m/s: such values are a unit or column mistake (1e300 m was
+  // fitted without a word; tests/hostile), and the periodic features lose every digit of their phase there.
+  constexpr double kMaxGprMotionMagnitude = 1e6;
   for (const auto& c : columns) {
     const double low = c.values.minCoeff(), high = c.values.maxCoeff();
     if (!std::isfinite(high - low)) {
@@ -50,6 +55,13 @@ void CheckGprTrainingSpread(const std::string& source, const GprTrainingSelectio
           "{}: column '{}' spans [{:g}, {:g}]{} over the {} training rows, a range no GP can be scaled to: check the "
           "column's values and unit (SI: metres, seconds), or name another column with {}",
           source, c.column, low, high, c.unit, n, c.option));
+    }
+    if (c.motion && std::max(std::abs(low), std::abs(high)) > kMaxGprMotionMagnitude) {
+      throw std::invalid_argument(fmt::format(
+          "{}: column '{}' reaches {:g}{} over the {} training rows, beyond the {:g}{} any stage moves: check the "
+          "column's values and unit (SI: metres, seconds), or name another column with {}",
+          source, c.column, std::abs(low) > std::abs(high) ? low : high, c.unit, n, kMaxGprMotionMagnitude, c.unit,
+          c.option));
     }
     if (!(high > low) && !c.may_be_constant) {
       throw std::invalid_argument(fmt::format(

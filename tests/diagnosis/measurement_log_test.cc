@@ -343,6 +343,12 @@ TEST_F(MeasurementLogTest, TimeInMillisecondsIsReadInSeconds) {
   const auto both = Write("both.csv", "time_ms,time_s,force_N\n" + Rows(20));
   EXPECT_THAT(ErrorOf([&] { ReadMeasurementLog(both); }),
               AllOf(HasSubstr("both.csv: the time column 'time_ms' is in ms"), HasSubstr("named time_s; rename one")));
+  // A time column that declares a unit this reader does not know is refused, not read as seconds (tests/hostile);
+  // a first column without that form stays seconds (below).
+  const auto fortnight = Write("fortnight.csv", "time_fortnight,position_m,force_N\n" + Rows(20));
+  EXPECT_THAT(ErrorOf([&] { ReadMeasurementLog(fortnight); }),
+              HasSubstr("fortnight.csv: the time column 'time_fortnight' declares the unit 'fortnight', which is no "
+                        "time unit known here"));
   // Seconds, or no unit: as before, without a note.
   EXPECT_TRUE(ReadMeasurementLog(Write("plain.csv", "t,position_m,force_N\n" + Rows(20))).notes().empty());
 }

@@ -173,6 +173,16 @@ TEST(DiagramLoaderTest, UnknownMetricTypeIsALoadErrorListingTheTypes) {
   EXPECT_EQ(Build(j).metrics().at(0).type, MetricType::kMaxAbs);
 }
 
+// Two metrics of one name were both computed and one silently lost in the results (found by tests/hostile).
+TEST(DiagramLoaderTest, TwoMetricsOfOneNameAreALoadError) {
+  json j = Minimal();
+  j["metrics"] = {{{"name", "peak"}, {"type", "max_abs"}, {"signal", "g.y"}},
+                  {{"name", "peak"}, {"type", "final"}, {"signal", "g.y"}}};
+  EXPECT_THAT(ErrorOf(j), HasSubstr("/metrics/1/name: the metric name 'peak' is used by /metrics/0 too"));
+  j["metrics"][1]["name"] = "last";
+  EXPECT_EQ(Build(j).metrics().size(), 2u);
+}
+
 // Issue 25: a connector in a unit of no motion quantity (a voltage standing for a position) declares what it stands
 // for, and the blocks take it on ports of that quantity; a declaration that contradicts the unit is refused.
 TEST(DiagramLoaderTest, ConnectorQuantityLetsAVoltageStandForAPosition) {

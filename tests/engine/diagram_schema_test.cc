@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -291,6 +292,59 @@ TEST(DiagramSchemaTest, ProblemsInsideASubsystemPointIntoTheSubsystemFile) {
                                   "gain, width (element 'sub/z', gain)",
                           "/elements/3/parameters/gainx: unknown parameter 'gainx'; this block takes: gain, width "
                           "(element 'h', gain)"));
+}
+
+// Subsystem files that include each other are refused naming the cycle of files; a chain deeper than 16 levels is
+// refused naming where (both ended in the internal text "map::at"; issue 30, found again by tests/hostile).
+TEST(DiagramSchemaTest, SubsystemFilesIncludingEachOtherAreACycleNamedByItsFiles) {
+  TempFolder folder;
+  const auto wrapper = [](const std::string& file) {
+    return json{{"schemaVersion", "1.0"},
+                {"connectors", json::array({{{"name", "y"}, {"kind", "output"}}})},
+                {"elements", json::array({{{"name", "s"}, {"type", "subsystem"}, {"diagram", file}}})},
+                {"connections", json::array({{{"startElement", "s"}, {"startConnector", "y"}, {"endConnector", "y"}}})}}
+        .dump();
+  };
+  folder.Write("a.json", wrapper("b.json"));
+  folder.Write("b.json", wrapper("a.json"));
+  json j = Minimal();
+  j["elements"].push_back({{"name", "sub"}, {"type", "subsystem"}, {"diagram", "a.json"}});
+  const std::string a = fs::weakly_canonical(folder.path() / "a.json").string();
+  const std::string b = fs::weakly_canonical(folder.path() / "b.json").string();
+  EXPECT_THAT(ProblemsOf(j, folder.path()),
+              ElementsAre(b + ": /elements/0/diagram: the subsystem files include each other in a cycle: " + a +
+                          " → " + b + " → " + a + "; a subsystem cannot contain itself: break the cycle"));
+
+  for (int k = 0; k < 20; ++k) folder.Write(fmt::format("c{}.json", k), wrapper(fmt::format("c{}.json", k + 1)));
+  j["elements"].back()["diagram"] = "c0.json";
+  const auto problems = ProblemsOf(j, folder.path());
+  ASSERT_EQ(problems.size(), 1u) << ::testing::PrintToString(problems);
+  EXPECT_THAT(problems[0], HasSubstr("c15.json: /elements/0: subsystems nest deeper than 16 levels"));
+}
+
+// A diagram file holding no object is refused naming the file (the command line said only "diagram: …").
+TEST(DiagramSchemaTest, AFileHoldingNoObjectIsRefusedNamingTheFile) {
+  TempFolder folder;
+  for (const auto& [text, holds] : std::vector<std::pair<std::string, std::string>>{
+           {"null", "null"}, {"[1, 2]", "an array"}, {"3", "a number"}}) {
+    const fs::path file = folder.Write("h.json", text);
+    try {
+      (void)ReadDiagramJson(file);
+      ADD_FAILURE() << text << " was read as a diagram";
+    } catch (const DiagramError& e) {
+      EXPECT_THAT(std::string(e.what()), HasSubstr(file.string()));
+      EXPECT_THAT(e.problems(), ElementsAre("/: a diagram is a JSON object {…}, but this file holds " + holds));
+    }
+  }
+}
+
+// A name a megabyte long is an ordinary problem, not a stack overflow in the schema's regular expressions.
+TEST(DiagramSchemaTest, AMegabyteNameIsRefusedWithoutOverflowingTheStack) {
+  json j = Minimal();
+  j["elements"][0]["name"] = std::string(1 << 20, 'a') + ".b";
+  const auto problems = ProblemsOf(j);
+  ASSERT_FALSE(problems.empty());
+  EXPECT_THAT(problems[0], HasSubstr("/elements/0/name: each element needs a name without '.'"));
 }
 
 TEST(DiagramSchemaTest, ASubsystemFileIsValidatedAsWritten) {

@@ -222,6 +222,9 @@ TEST_F(GprLog, AColumnThatDoesNotVaryOrOverflowsIsNamedWithTheFix) {
   huge(1) = 1e308;
   EXPECT_THAT(ErrorOf([&] { FitGprToLog(with("velocity_m_s", huge), selection, options); }),
               HasSubstr("column 'velocity_m_s' spans [-1e+308, 1e+308] m/s over the"));
+  // Positions of 1e300 m were fitted without a word (tests/hostile): beyond any stage's travel, refused.
+  EXPECT_THAT(ErrorOf([&] { FitGprToLog(with("position_m", log.column("position_m") * 1e300), selection, options); }),
+              HasSubstr("m over the " + std::to_string(n) + " training rows, beyond the 1e+06 m any stage moves"));
   // One scan velocity stays allowed (TrainedVelocityRange widens it).
   EXPECT_NO_THROW(SelectGprTrainingData(with("velocity_m_s", Eigen::VectorXd::Constant(n, 0.2)), selection));
 }

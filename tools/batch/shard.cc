@@ -3,11 +3,9 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
-#include <fstream>
 #include <map>
 #include <optional>
 #include <set>
-#include <sstream>
 #include <stdexcept>
 #include <utility>
 
@@ -16,6 +14,7 @@
 
 #include "engine/csv.h"
 #include "engine/diagram_loader.h"
+#include "engine/input_file.h"
 #include "engine/output_file.h"
 #include "engine/text_excerpt.h"
 #include "tools/report/output_files.h"
@@ -198,12 +197,19 @@ void CheckManifestCounts(const json& j, const fs::path& path) {
   }
 }
 
+// Whether `path` names anything (a missing file is no error for the readers below; a FIFO or device is one, refused
+// by ReadInputFile before it is opened: a manifest that is a FIFO with no writer would block sweep-merge forever).
+bool Exists(const fs::path& path) {
+  std::error_code error;
+  return fs::exists(path, error);
+}
+
 json ReadManifest(const fs::path& dir) {
   const fs::path path = dir / kShardManifest;
-  std::ifstream in(path);
-  if (!in) return nullptr;
+  if (!Exists(path)) return nullptr;
+  const std::string text = ReadInputFile(path, "shard manifest");
   try {
-    json j = json::parse(in);
+    json j = json::parse(text);
     if (j.is_object() && j.value("fingerprint", json()).is_string() && j.value("shard", json()).is_number() &&
         j.value("shards", json()).is_number() && j.value("runs", json()).is_number()) {
       CheckManifestCounts(j, path);
@@ -245,12 +251,10 @@ void CheckShardFolder(const fs::path& out, const json& manifest) {
   }
 }
 
-// The bytes of `path`, or "" if it cannot be read.
+// The bytes of `path`, or "" if there is no such file. @throws as ReadInputFile (a FIFO, a device, a file above the
+// input limit).
 std::string FileBytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  if (in) bytes << in.rdbuf();
-  return bytes.str();
+  return Exists(path) ? ReadInputFile(path, "shard file") : std::string();
 }
 
 // Writes the manifest with its content hash (ShardContentHash) once the folder's runs.csv and runs.json are final.
@@ -308,8 +312,8 @@ struct ShardRows {
 
 // The shard's runs.json as written, or an empty object.
 json ReadRunsJson(const fs::path& dir) {
-  std::ifstream in(dir / "runs.json");
-  json j = in ? json::parse(in, nullptr, /*allow_exceptions=*/false) : json();
+  const std::string text = FileBytes(dir / "runs.json");
+  json j = text.empty() ? json() : json::parse(text, nullptr, /*allow_exceptions=*/false);
   return j.is_object() ? j : json::object();
 }
 
@@ -522,9 +526,8 @@ json MergedRunsJson(const std::vector<ShardRows>& shards,
   std::map<const ShardRows*, std::map<std::string, json>> by_shard;
   json merged;
   for (const ShardRows& s : shards) {
-    const fs::path path = s.dir / "runs.json";
-    std::ifstream in(path);
-    json j = in ? json::parse(in, nullptr, /*allow_exceptions=*/false) : json();
+    const std::string text = FileBytes(s.dir / "runs.json");
+    json j = text.empty() ? json() : json::parse(text, nullptr, /*allow_exceptions=*/false);
     if (!j.is_object() || !j.value("runs", json()).is_array()) j = json{{"runs", json::array()}};
     for (const auto& row : j["runs"]) by_shard[&s][row.value("id", "")] = row;
     if (merged.is_null()) merged = j;

@@ -107,7 +107,14 @@ Distribution ParseDistribution(const json& j, const std::string& where, std::vec
   if (d.kind == "log_uniform" && !(d.low > 0.0)) {
     problems->push_back(fmt::format("{}/log_uniform: bounds must be positive, got [{}, {}]", where, d.low, d.high));
   }
-  if (d.kind == "integer" && (d.low != std::floor(d.low) || d.high != std::floor(d.high))) {
+  // Integers beyond 2^53 are not exact in a double, and the draw is a 64-bit integer: [0, 1e300] drew
+  // −9223372036854775808 without a word (tests/hostile).
+  constexpr double kMaxExactInteger = 9007199254740992.0;  // 2^53
+  if (d.kind == "integer" && (std::abs(d.low) > kMaxExactInteger || std::abs(d.high) > kMaxExactInteger)) {
+    problems->push_back(fmt::format("{}/integer: bounds must lie within ±2^53 (±9007199254740992), exact as numbers "
+                                    "in JSON, got [{}, {}]",
+                                    where, d.low, d.high));
+  } else if (d.kind == "integer" && (d.low != std::floor(d.low) || d.high != std::floor(d.high))) {
     problems->push_back(fmt::format("{}/integer: bounds must be integers, got [{}, {}]", where, d.low, d.high));
   }
   return d;

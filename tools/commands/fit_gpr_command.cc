@@ -6,6 +6,7 @@
 // estimate computed from the log's time, position and force (models/gpr/disturbance_target.h) — and writes the model
 // file that the `gpr` block loads (docs/gpr.md).
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <stdexcept>
@@ -167,7 +168,13 @@ void SetupFitGprCommand(CLI::App& app) {
   cmd->add_option("--restarts", o->restarts, "extra optimiser starts drawn from the priors")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  cmd->add_option("--seed", o->seed, "seed of the restart draws")->capture_default_str();
+  cmd->add_option("--seed", o->seed, "seed of the restart draws (a whole number below 10^18)")
+      ->capture_default_str()
+      ->check([](const std::string& text) {  // the raw text: an overflowing number was read as 2^64 − 1
+        const bool digits = !text.empty() && text.size() <= 18 &&
+                            std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+        return digits ? std::string() : std::string("give a whole number from 0 to 999999999999999999");
+      });
   cmd->add_option("--target", o->target,
                   "what the GP learns: dob (the --disturbance-column, e.g. the DOB estimate) or smoothed (the "
                   "zero-phase inverse-model estimate M_n*xddot + B_n*xdot - u from --time-column, --position-column "

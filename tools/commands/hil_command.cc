@@ -129,6 +129,9 @@ void RunHil(const HilCommandOptions& o) {
     throw std::invalid_argument("hil: give --replace plant=HIL_IO.json: the plant subsystem must be swapped for the "
                                 "I/O subsystem (e.g. diagrams/hil/subsystems/hil_io.json)");
   }
+  std::vector<CommandFile> input_files{{"DIAGRAM", o.diagram}};
+  for (const auto& text : o.replacements) input_files.push_back({"--replace", SubsystemReplacement::Parse(text).file});
+  RefuseOutputsOverInputs(input_files, {}, {{"--out", o.out, kHilOutputNames}});  // before the board is opened
   nlohmann::json j = ReadDiagramJson(o.diagram);
   std::vector<std::string> dropped;
   for (const auto& text : o.replacements) {

@@ -72,7 +72,16 @@ void AddBode(HtmlReport& report, const fs::path& out, const std::string& stem, c
                    out);
 }
 
+// The files stability writes into --out: refused over an input before any work (RefuseOutputsOverInputs).
+std::vector<std::string> StabilityOutputNames() {
+  std::vector<std::string> names{"stability.json", "report.html"};
+  for (const auto& name : FigureFileNames("*.png")) names.push_back(name);
+  return names;
+}
+
 void RunStability(const StabilityCommandOptions& o) {
+  RefuseOutputsOverInputs({{"DIAGRAM", o.diagram}, {"--gpr", o.gpr}}, {},
+                          {{"--out", o.out, StabilityOutputNames()}});
   const std::vector<ParameterOverride> overrides = ParseOverrides(o.overrides);
   const Diagram diagram = LoadDiagram(o.diagram, overrides);
   std::optional<GprModel> gpr;

@@ -7,6 +7,7 @@
 // runs (tools/batch/shard.h; merged by sweep-merge),
 // --mpi spreads them over the ranks of `mpirun` (tools/batch/sweep_mpi.h).
 
+#include <functional>
 #include <iostream>
 
 #include <fmt/format.h>
@@ -15,6 +16,7 @@
 #include "tools/batch/shard.h"
 #include "tools/batch/sweep.h"
 #include "tools/batch/sweep_mpi.h"
+#include "tools/report/output_files.h"
 #include "tools/report/progress.h"
 
 namespace mb {
@@ -34,6 +36,13 @@ struct SweepCommandOptions {
   std::string shard_index;  // --shard-index K/N (from 0); "" = not given
   bool mpi = false;
 };
+
+// A check that refuses an empty value (`--shard ''` ran the whole sweep as if no shard were given).
+std::function<std::string(const std::string&)> NonEmpty(std::string what) {
+  return [what = std::move(what)](const std::string& value) {
+    return value.empty() ? fmt::format("an empty value: {}", what) : std::string();
+  };
+}
 
 // The shard of --shard or --shard-index; nullopt for the whole sweep.
 std::optional<SweepShard> ShardOf(const SweepCommandOptions& o) {
@@ -63,6 +72,8 @@ void RunSweepCommand(const SweepCommandOptions& o) {
                              spec.run_count(), static_cast<double>(spec.run_count()) * kSweepBytesPerRun / 1e9));
   }
   const fs::path diagram = o.files.size() == 2 ? fs::path(o.files.front()) : SweepDiagramPath(spec, sweep);
+  RefuseOutputsOverInputs({{"SWEEP", sweep}, {"DIAGRAM", diagram}}, {},
+                          {{"--out", o.out, {"runs.csv", "runs.json", kShardManifest}}});
   SweepOptions options;
   options.jobs = o.jobs;
   options.resume = !o.fresh;
@@ -109,11 +120,13 @@ void SetupSweepCommand(CLI::App& app) {
                                  "halves; run i belongs to shard i mod y + 1), into --out, for a cluster array job; "
                                  "auto or auto/N takes the index (from 0) from SLURM_ARRAY_TASK_ID, "
                                  "JOB_COMPLETION_INDEX or OMPI_COMM_WORLD_RANK; merge the folders with sweep-merge")
-                        ->type_name("x/y|auto[/N]");
+                        ->type_name("x/y|auto[/N]")
+                        ->check(NonEmpty("write x/y (shard x of y, from 1) or auto[/N]"));
   auto* shard_index = cmd->add_option("--shard-index", options->shard_index,
                                        "as --shard, counted from 0: shard index K of N, 0 <= K < N (0/2 and 1/2 are "
                                        "the halves)")
                               ->type_name("K/N")
+                              ->check(NonEmpty("write K/N (shard index K of N, from 0)"))
                               ->excludes(shard);
   cmd->add_flag("--mpi", options->mpi,
                 "under mpirun: rank 0 hands out the runs and writes runs.csv, the other ranks simulate")

@@ -325,9 +325,26 @@ void WriteDrawing(const std::string& dot_text, DrawingFormat format, const fs::p
   WriteFileSafely(path, ReadWholeFile(output));
 }
 
+namespace {
+
+// Graphviz's layout grows faster than linearly with the blocks: 100,000 blocks did not finish in 3 minutes (found by
+// tests/hostile). A picture of more blocks than this is unreadable anyway; its DOT text is still written.
+constexpr std::size_t kMaxDrawnBlocks = 2000;
+
+void RequireDrawableSize(const Diagram& diagram) {
+  if (diagram.blocks().size() <= kMaxDrawnBlocks) return;
+  throw std::invalid_argument(fmt::format(
+      "draw: {} has {} blocks, more than the {} a picture lays out in reasonable time: write its source with "
+      "--format dot (and lay it out with your own Graphviz options), or draw a subsystem of it",
+      Bounded(diagram.name(), 80), diagram.blocks().size(), kMaxDrawnBlocks));
+}
+
+}  // namespace
+
 DrawnDiagram DrawDiagram(const nlohmann::json& diagram, const fs::path& base_directory, const std::string& source,
                          DrawingFormat format, const fs::path& path) {
   InspectedDiagram inspected = InspectDiagram(diagram, base_directory, source);
+  if (format != DrawingFormat::kDot) RequireDrawableSize(inspected.diagram);
   DrawingMarks marks;
   if (inspected.algebraic_loop) marks.algebraic_loop = inspected.algebraic_loop->cycle();
   WriteDrawing(DiagramGraphvizString(inspected.diagram, marks), format, path);
@@ -346,6 +363,7 @@ void AddDiagramDrawing(HtmlReport* report, const Diagram& diagram, const Drawing
   try {
     fs::create_directories((directory / names[0]).parent_path());
     WriteDrawing(dot_text, DrawingFormat::kDot, directory / names[0]);
+    RequireDrawableSize(diagram);
     WriteDrawing(dot_text, DrawingFormat::kSvg, directory / names[1]);
     report->Image(names[1], fmt::format("The diagram {} (Graphviz; its DOT text: {})", diagram.name(), names[0]));
   } catch (const std::exception& e) {

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "engine/diagram_document.h"
+#include "engine/numerical_error.h"
 #include "models/diagnosis/effect_registry.h"
 #include "tools/workflow/suggest.h"
 
@@ -296,6 +297,13 @@ ImproveResult ImproveModel(const json& diagram, const fs::path& base_directory, 
   say(fmt::format("step 0: refitting {} free parameter(s) of the diagram as given on {} ({} samples) …",
                   FreeList(diagram).size(), training.source(), training.rows()));
   ImproveStep step0 = Evaluate(diagram, base_directory, source, training, validation, settings);
+  // A log the diagram's parameters cannot be estimated from (no motion, collinear regressors) gives nothing to improve
+  // on: refused as `fit` refuses it (exit 3), not a loop of meaningless steps (tests/hostile).
+  if (step0.training.fit && !step0.training.fit->identifiable) {
+    throw NumericalError(fmt::format("{}: the diagram's free parameters cannot be estimated from this log: {}; "
+                                     "nothing to improve on (motionblocks fit says the same)",
+                                     training.source(), step0.training.fit->identifiability_problem));
+  }
   step0.rmse_train_before = step0.training.before.front().rmse;
   step0.rmse_heldout_before = step0.rmse_heldout;
   step0.verdict = "the diagram as given, its free parameters refit";

@@ -109,7 +109,8 @@ using ImproveStepCallback = std::function<void(const ImproveStep& step, const Im
 /// and, if given, `validation` (both read with ReadMeasurementFor and the same settings). `progress` gets one line
 /// per stage (stderr in the command). @throws std::invalid_argument for settings out of range, a validation record
 /// the diagram cannot be compared with (checked before any fitting; the message names the file), and as
-/// CompareAndDiagnose for step 0. An amended diagram that fails (a suggestion that needs an input the diagram
+/// CompareAndDiagnose for step 0; NumericalError when step 0's parameters cannot be estimated from `training`
+/// (FitResult::identifiable false: no motion, parameters that cannot be told apart). An amended diagram that fails (a suggestion that needs an input the diagram
 /// lacks, a diverging refit) is a rejected step with the reason, not an error.
 ImproveResult ImproveModel(const nlohmann::json& diagram, const std::filesystem::path& base_directory,
                            const std::string& source, const MeasurementLog& training,

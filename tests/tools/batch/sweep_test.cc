@@ -155,6 +155,10 @@ TEST(ParseSweepTest, ErrorsNameWhereAndHowToFix) {
             "s.json: /random/parameters/a.x/uniform: bounds must satisfy low < high, got [2, 1]");
   EXPECT_EQ(message(R"({"random": {"seed": 1, "samples": 3, "parameters": {"a.x": {"normal": [0, 1]}}}})"),
             "s.json: /random/parameters/a.x: unknown distribution 'normal' (uniform, log_uniform, integer, choice)");
+  // An integer range beyond 2^53 drew INT64_MIN (tests/hostile).
+  EXPECT_EQ(message(R"({"random": {"seed": 1, "samples": 3, "parameters": {"a.x": {"integer": [0, 1e300]}}}})"),
+            "s.json: /random/parameters/a.x/integer: bounds must lie within ±2^53 (±9007199254740992), exact as "
+            "numbers in JSON, got [0, 1e+300]");
 }
 
 TEST(SplitCsvLineTest, QuotedCells) {

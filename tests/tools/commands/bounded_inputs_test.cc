@@ -135,6 +135,12 @@ TEST_F(BoundedInputs, FitGprRestartsAndPeriodHaveARange) {
   EXPECT_EQ(r.output, "motionblocks: error: the period 1e-300 m is outside the valid range [1e-06, 1e+06] m; give the "
                       "spatial period of the disturbance in metres (e.g. the pole pitch, 0.0225 for 22.5 mm: fit-gpr "
                       "--period)\n");
+  // A seed beyond 64 bits was read as 2^64 − 1 without a word (tests/hostile).
+  args = fit;
+  args.insert(args.end(), {"--seed", "123456789012345678901234567890"});
+  r = Run(args);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.output, HasSubstr("give a whole number from 0 to 999999999999999999"));
   EXPECT_FALSE(fs::exists(dir_ / "m.json"));
 }
 

@@ -104,6 +104,13 @@ TEST(SweepCommand, AShardOutOfRangeSaysWhichNumberingApplies) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("motionblocks: error: --shard-index 2/2: --shard-index counts from 0, so K runs from "
                                   "0 to 1 (write --shard-index 0/2 … 1/2); --shard x/y counts from 1 (1 <= x <= y)"));
+  // An empty shard is no shard: refused, not the whole sweep (found by tests/hostile).
+  for (const char* option : {"--shard", "--shard-index"}) {
+    r = testing::RunMotionblocksIn(dir, {"sweep", diagram.string(), sweep.string(), "--quiet", "--out",
+                                         (dir / "o").string(), option, ""});
+    EXPECT_EQ(r.exit_code, 2) << option << ": " << r.output;
+    EXPECT_THAT(r.output, HasSubstr("an empty value: write")) << option;
+  }
   EXPECT_FALSE(fs::exists(dir / "o" / "runs.csv"));
   fs::remove_all(dir);
 }

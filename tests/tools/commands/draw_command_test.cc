@@ -66,6 +66,29 @@ TEST(DrawCommand, WritesDotOrPngWhereAsked) {
   fs::remove_all(dir);
 }
 
+// A diagram too large for a readable picture is refused for SVG/PNG at once (Graphviz ran for minutes on 100,000
+// blocks; found by tests/hostile); its DOT source is still written.
+TEST(DrawCommand, ADiagramOfThousandsOfBlocksIsRefusedAsAPictureButWrittenAsDot) {
+  const fs::path dir = FreshDir("mb_draw_large");
+  nlohmann::json d = {{"schemaVersion", "1.0"}, {"name", "chain"}, {"elements", nlohmann::json::array()},
+                      {"connections", nlohmann::json::array()}};
+  d["elements"].push_back({{"name", "b0"}, {"type", "constant"}, {"parameters", {{"value", 1.0}}}});
+  for (int k = 1; k < 2500; ++k) {
+    d["elements"].push_back({{"name", "b" + std::to_string(k)}, {"type", "gain"}, {"parameters", {{"gain", 1.0}}}});
+    d["connections"].push_back({{"startElement", "b" + std::to_string(k - 1)}, {"startConnector", "y"},
+                                {"endElement", "b" + std::to_string(k)}, {"endConnector", "u"}});
+  }
+  std::ofstream(dir / "chain.json") << d.dump();
+  auto r = RunMotionblocksIn(dir, {"draw", "chain.json", "-o", "chain.svg"});
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("draw: chain has 2500 blocks, more than the 2000 a picture lays out"));
+  EXPECT_FALSE(fs::exists(dir / "chain.svg"));
+  r = RunMotionblocksIn(dir, {"draw", "chain.json", "--format", "dot", "-o", "chain.dot"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(ReadText(dir / "chain.dot"), HasSubstr("digraph diagram {"));
+  fs::remove_all(dir);
+}
+
 TEST(DrawCommand, AnAlgebraicLoopIsDrawnHighlightedAndTheCommandFails) {
   const fs::path dir = FreshDir("mb_draw_loop");
   {

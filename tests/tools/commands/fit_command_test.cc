@@ -125,6 +125,17 @@ TEST_F(UnidentifiableFit, ALogWithoutMotionExitsThreeNamingWhatItCannotEstimate)
   EXPECT_FALSE(fs::exists(out / "fitted.json"));
 }
 
+// improve on the same log: refused as fit refuses it (exit 3), not a loop of steps fitted to nothing (tests/hostile).
+TEST_F(UnidentifiableFit, ImproveOnALogWithoutMotionExitsThreeAsFitDoes) {
+  const std::string log = WriteLog("still_improve.csv", [](double) { return 0.1; },
+                                   [](double, int i) { return 5.0 + 0.3 * std::sin(1.7 * i); });
+  const auto r = RunMotionblocks("improve " + kEmps + "/rigid_body.json --measurement " + log +
+                                 " --max-effects 1 --out " + (dir_ / "improve").string());
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_THAT(r.output, HasSubstr(": the diagram's free parameters cannot be estimated from this log: "));
+  EXPECT_THAT(r.output, HasSubstr("nothing to improve on (motionblocks fit says the same)"));
+}
+
 TEST_F(UnidentifiableFit, CoulombAndOffsetOnAOneSignedVelocityCannotBeToldApart) {
   const std::string log = WriteLog("one_signed.csv", [](double t) { return 0.01 * t + 0.02 * t * t; },
                                    [](double t, int i) {

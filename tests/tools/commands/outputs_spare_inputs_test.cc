@@ -106,5 +106,30 @@ TEST(OutputsSpareInputs, ImproveOverItsImprovedDiagram) {
                 "--out out holds the input DIAGRAM out/improved.json, and the command writes improved.json");
 }
 
+// Found by the hostile-input harness (tests/hostile): stability wrote its stability.json over the diagram it read.
+TEST(OutputsSpareInputs, StabilityOverItsDiagramOrModelInItsOutputFolder) {
+  const fs::path dir = Workspace("mb_spare_stability");
+  fs::copy_file(dir / "d.json", dir / "out" / "stability.json");
+  ExpectRefused(dir, {"stability", "out/stability.json", "--out", "out"}, "out/stability.json",
+                "--out out holds the input DIAGRAM out/stability.json, and the command writes stability.json");
+  fs::copy_file(dir / "m.json", dir / "out" / "report.html");
+  ExpectRefused(dir, {"stability", "d.json", "--gpr", "out/report.html", "--out", "out"}, "out/report.html",
+                "--out out holds the input --gpr out/report.html, and the command writes report.html");
+}
+
+// Found by tests/hostile: a sweep file kept in --out as runs.json was replaced by the results; hil named the board
+// before the summary.json it would have written over its diagram.
+TEST(OutputsSpareInputs, SweepOverItsSweepFileAndHilOverItsDiagram) {
+  const fs::path dir = Workspace("mb_spare_sweep_hil");
+  std::ofstream(dir / "out" / "runs.json") << R"({"grid": {"g.gain": [1.0, 2.0]}})" << "\n";
+  ExpectRefused(dir, {"sweep", "d.json", "out/runs.json", "--out", "out"}, "out/runs.json",
+                "--out out holds the input SWEEP out/runs.json, and the command writes runs.json");
+  fs::copy_file(dir / "d.json", dir / "out" / "summary.json");
+  ExpectRefused(dir, {"hil", "out/summary.json", "--board", "udp", "--port", "9", "--replace", "plant=d.json",
+                      "--out", "out"},
+                "out/summary.json", "--out out holds the input DIAGRAM out/summary.json, and the command writes "
+                "summary.json");
+}
+
 }  // namespace
 }  // namespace mb
