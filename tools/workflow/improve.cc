@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "engine/diagram_document.h"
 #include "engine/numerical_error.h"
@@ -195,6 +196,28 @@ void CheckImproveSettings(const ImproveSettings& settings) {
   }
 }
 
+// A --validation-fit name must name an element of the diagram or one improve may add (an effect block's element:
+// "ripple", "ripple_2", …); a misspelt one was skipped on every step without a word (tests/hostile).
+void CheckValidationFree(const json& diagram, const ImproveSettings& settings) {
+  std::set<std::string> addable;
+  for (const EffectType* e : EffectRegistry::Global().Effects()) {
+    if (e->block) addable.insert(e->block->element_name);
+  }
+  for (const auto& name : settings.validation_free) {
+    const std::string element = BlockOf(name);
+    std::string stem = element;  // "ripple_2" → "ripple"
+    if (const auto under = stem.rfind('_'); under != std::string::npos && under + 1 < stem.size() &&
+        stem.find_first_not_of("0123456789", under + 1) == std::string::npos) {
+      stem.resize(under);
+    }
+    if (HasElement(diagram, element) || addable.count(stem) > 0) continue;
+    throw std::invalid_argument(fmt::format(
+        "--validation-fit {}: no element '{}' in the diagram, nor one improve adds ({}); name a parameter as "
+        "element.parameter",
+        name, element, fmt::join(addable, ", ")));
+  }
+}
+
 // The ranked effects of `current`'s diagnosis that a round tries (those with a block, at most max_trials_per_round),
 // or none with `result`'s stop and reason set.
 std::vector<const DiagnosedEffect*> RoundCandidates(const ImproveStep& current, const ImproveSettings& settings,
@@ -282,6 +305,7 @@ ImproveResult ImproveModel(const json& diagram, const fs::path& base_directory, 
                            const ImproveSettings& settings, const std::function<void(const std::string&)>& progress,
                            const ImproveStepCallback& on_step) {
   CheckImproveSettings(settings);
+  CheckValidationFree(diagram, settings);
   const auto say = [&](const std::string& line) {
     if (progress) progress(line);
   };

@@ -111,5 +111,21 @@ TEST(ImproveCommand, AValidationLogWithoutTheOutputColumnIsOneClearMessage) {
   fs::remove_all(dir);
 }
 
+// A misspelt --validation-fit parameter was skipped on every step without a word (tests/hostile): refused before any
+// fitting, naming the elements improve could add.
+TEST(ImproveCommand, AValidationFitParameterOfNoElementIsRefusedBeforeAnyFitting) {
+  const fs::path dir = ProcessTempDir("mb_improve_validation_fit");
+  const std::string emps = std::string(MB_SOURCE_DIR) + "/diagrams/emps";
+  const auto r = RunMotionblocks("improve " + emps + "/rigid_body.json --measurement " + emps +
+                                 "/data/DATA_EMPS.csv --validation " + emps + "/data/DATA_EMPS_PULSES.csv " +
+                                 "--validation-fit nosuch.p --max-effects 0 --out " + (dir / "out").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("motionblocks: error: --validation-fit nosuch.p: no element 'nosuch' in the diagram, "
+                                  "nor one improve adds ("));
+  EXPECT_THAT(r.output, HasSubstr("ripple"));
+  EXPECT_THAT(r.output, ::testing::Not(HasSubstr("step 0:")));
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace mb
