@@ -405,6 +405,12 @@ TEST_F(ShardRunTest, MergeRefusesAShardEditedAfterItRan) {
             std::string::npos)
       << error;
   EXPECT_FALSE(fs::exists(dir_ / "merged" / "runs.csv"));
+  // The same edit with the content hash recomputed (tests/hostile: it was merged): runs.json still disagrees.
+  RewriteShard(dirs[1], rows);
+  EXPECT_THAT(MergeError(dirs),
+              ::testing::StartsWith(csv.string() + ":3: run 0003: y_final is '7.5', runs.json says '" + y +
+                                    "' (runs.csv and runs.json disagree, though the content hash in "));
+  EXPECT_FALSE(fs::exists(dir_ / "merged" / "runs.csv"));
 
   // The manifest edited (another description): the files are named, no row differs.
   const auto again = RunShards(Grid(), 2, {0});
