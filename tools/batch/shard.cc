@@ -3,9 +3,11 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <fstream>
 #include <map>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <utility>
 
@@ -251,10 +253,21 @@ void CheckShardFolder(const fs::path& out, const json& manifest) {
   }
 }
 
-// The bytes of `path`, or "" if there is no such file. @throws as ReadInputFile (a FIFO, a device, a file above the
-// input limit).
+// The bytes of `path`, or "" if there is no such file. A FIFO, a device or a folder is refused before it is opened;
+// no size limit: the shard's own runs.json of a long sweep may exceed the input limit and is hashed all the same.
 std::string FileBytes(const fs::path& path) {
-  return Exists(path) ? ReadInputFile(path, "shard file") : std::string();
+  std::error_code error;
+  const fs::file_status status = fs::status(path, error);
+  if (!fs::exists(status)) return {};
+  if (!fs::is_regular_file(status)) {
+    throw std::invalid_argument(fmt::format("{}: not a regular file (a FIFO, a device or a folder): a shard folder "
+                                            "holds the files its sweep wrote; run the shard again into a new folder",
+                                            path.string()));
+  }
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
 }
 
 // Writes the manifest with its content hash (ShardContentHash) once the folder's runs.csv and runs.json are final.
