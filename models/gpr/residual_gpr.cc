@@ -62,9 +62,11 @@ ResidualGprResult FitResidualGpr(const DiagnosisSignals& signals, const Eigen::R
         fmt::format("FitResidualGpr: the residual has {} samples, the signals {}", residual.size(), n));
   }
   if (!residual.allFinite()) throw std::invalid_argument("FitResidualGpr: the residual holds NaN or Inf");
-  if (options.folds < 2 || options.folds > n / 64) {
-    throw std::invalid_argument(
-        fmt::format("FitResidualGpr: folds = {} must lie in 2..{} (N/64)", options.folds, n / 64));
+  if (options.folds < 2) throw std::invalid_argument(fmt::format("FitResidualGpr: folds = {} must be >= 2", options.folds));
+  if (options.folds > n / 64) {  // a record too short: said in the user's terms, as commands and Python show it
+    throw std::invalid_argument(fmt::format("the record has {} samples, too few for the {}-fold cross-validation that "
+                                            "judges it (at least {})",
+                                            n, options.folds, 64 * options.folds));
   }
   if (!(options.min_gain >= 0.0 && options.min_gain < 1.0)) {
     throw std::invalid_argument(fmt::format("FitResidualGpr: min_gain = {} must lie in [0, 1)", options.min_gain));

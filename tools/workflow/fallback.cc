@@ -1,9 +1,6 @@
 #include "tools/workflow/fallback.h"
 
 #include <exception>
-#include <optional>
-
-#include <fmt/format.h>
 
 #include "models/diagnosis/effect_registry.h"
 #include "tools/workflow/improve.h"
@@ -16,16 +13,6 @@ void Say(const std::function<void(const std::string&)>& progress, const std::str
   if (progress) progress(line);
 }
 
-// A record too short for the fallback's cross-validation, said in the user's terms ("no non-parametric fallback:
-// FitResidualGpr: folds = 5 must lie in 2..4 (N/64)" named an internal check; tests/hostile), or nothing.
-std::optional<std::string> TooShortForTheFallback(Eigen::Index samples, const ResidualGprOptions& options) {
-  const Eigen::Index needed = 64 * options.folds;
-  if (samples >= needed) return std::nullopt;
-  return fmt::format("the record has {} samples, too few for the {}-fold cross-validation that judges it (at least "
-                     "{})",
-                     samples, options.folds, needed);
-}
-
 }  // namespace
 
 FallbackOutcome FitCompareFallback(const DiagnosedComparison& compared,
@@ -34,11 +21,6 @@ FallbackOutcome FitCompareFallback(const DiagnosedComparison& compared,
   if (!compared.diagnosis) return outcome;
   Say(progress, "fitting the non-parametric fallback (TISO-GPR on position and velocity) to what is left …");
   outcome.attempted = true;
-  if (const auto short_record = TooShortForTheFallback(compared.signals.size(), ResidualGprOptions{})) {
-    outcome.skipped = *short_record;
-    Say(progress, "no non-parametric fallback: " + outcome.skipped);
-    return outcome;
-  }
   try {
     outcome.gpr = FitResidualGprAfterDiagnosis(compared.signals, compared.base, *compared.diagnosis);
   } catch (const std::exception& e) {
@@ -63,11 +45,6 @@ FallbackOutcome FitImproveFallback(const ImproveResult& result,
       options.period = step.diagnosed->parameters.at("period");
       break;  // the first accepted period: the strongest (later ones are often its harmonics)
     }
-  }
-  if (const auto short_record = TooShortForTheFallback(last.training.signals.size(), options)) {
-    outcome.skipped = *short_record;
-    Say(progress, "no non-parametric fallback: " + outcome.skipped);
-    return outcome;
   }
   try {
     outcome.gpr = FitResidualGpr(last.training.signals, last.training.signals.residual, options);
