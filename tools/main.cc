@@ -19,7 +19,7 @@
 #include "engine/numerical_error.h"
 #include "engine/terminal_text.h"
 #include "tools/commands/cli_options.h"
-#include "tools/commands/commands.h"
+#include "tools/commands/command_registry.h"
 #include "tools/report/report.h"
 #include "tools/workflow/error_text.h"
 
@@ -103,25 +103,7 @@ int main(int argc, char** argv) {
                      mb::kDefaultMaxReportFigures, kMaxPlotsCeiling))
       ->type_name("N")
       ->allow_extra_args(false);
-  mb::SetupRunCommand(app);
-  mb::SetupCompareCommand(app);
-  mb::SetupFitCommand(app);
-  mb::SetupImproveCommand(app);
-  mb::SetupBlocksCommand(app);
-  mb::SetupFitGprCommand(app);
-  mb::SetupPredictGprCommand(app);
-  mb::SetupHilCommand(app);
-  mb::SetupVirtualStageCommand(app);
-  mb::SetupStabilityCommand(app);
-  mb::SetupSweepCommand(app);
-  mb::SetupSweepMergeCommand(app);
-  mb::SetupReproduceCommand(app);
-  mb::SetupSchemaCommand(app);
-  mb::SetupDrawCommand(app);
-  for (const char* simulating : {"run", "compare", "fit", "improve", "sweep", "reproduce"}) {
-    mb::AddMaxStepsOption(app.get_subcommand(simulating));
-    mb::AddProgressOptions(app.get_subcommand(simulating));
-  }
+  mb::AddRegisteredCommands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

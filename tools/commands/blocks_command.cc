@@ -4,7 +4,7 @@
 #include <iostream>
 
 #include "engine/registry.h"
-#include "tools/commands/commands.h"
+#include "tools/commands/command_registry.h"
 
 namespace mb {
 
@@ -17,7 +17,6 @@ void RunBlocks(const std::string& type) {
   }
   for (const auto& name : registry.TypeNames()) std::cout << BlockReference(*registry.Find(name)) << "\n";
 }
-}  // namespace
 
 void SetupBlocksCommand(CLI::App& app) {
   auto type = std::make_shared<std::string>();
@@ -25,5 +24,9 @@ void SetupBlocksCommand(CLI::App& app) {
   cmd->add_option("type", *type, "show one type only");
   cmd->callback([type] { RunBlocks(*type); });
 }
+
+}  // namespace
+
+MB_REGISTER_COMMAND(blocks, {"blocks", CommandGroup::kInspect, &SetupBlocksCommand, false})
 
 }  // namespace mb

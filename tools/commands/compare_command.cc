@@ -12,7 +12,7 @@
 
 #include "engine/diagram_loader.h"
 #include "tools/commands/cli_options.h"
-#include "tools/commands/commands.h"
+#include "tools/commands/command_registry.h"
 #include "tools/report/compare_report.h"
 #include "tools/report/output_files.h"
 #include "tools/report/progress.h"
@@ -88,8 +88,6 @@ void RunCompare(const CompareOptions& o) {
   PrintReadsOutsideNote(o.write_fitted, written.value("fitted_diagram_reads_outside_its_folder", json::array()));
 }
 
-}  // namespace
-
 void SetupCompareCommand(CLI::App& app) {
   auto o = std::make_shared<CompareOptions>();
   auto* cmd = app.add_subcommand("compare", "Compare a model with a measurement, refit, find the missing effect");
@@ -108,5 +106,9 @@ void SetupCompareCommand(CLI::App& app) {
   cmd->add_option("--out", o->out, "output folder")->capture_default_str();
   cmd->callback([o] { RunCompare(*o); });
 }
+
+}  // namespace
+
+MB_REGISTER_COMMAND(compare, {"compare", CommandGroup::kMeasurements, &SetupCompareCommand, true})
 
 }  // namespace mb

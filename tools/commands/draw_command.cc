@@ -8,7 +8,7 @@
 #include <iostream>
 
 #include "tools/commands/cli_options.h"
-#include "tools/commands/commands.h"
+#include "tools/commands/command_registry.h"
 #include "tools/report/diagram_drawing.h"
 #include "tools/report/output_files.h"
 
@@ -39,8 +39,6 @@ void RunDraw(const DrawOptions& o) {
   }
 }
 
-}  // namespace
-
 void SetupDrawCommand(CLI::App& app) {
   auto o = std::make_shared<DrawOptions>();
   auto* cmd = app.add_subcommand("draw", "Draw a diagram with Graphviz: blocks, ports, subsystems, sample times");
@@ -52,5 +50,9 @@ void SetupDrawCommand(CLI::App& app) {
   AddSetOption(cmd, &o->overrides);
   cmd->callback([o] { RunDraw(*o); });
 }
+
+}  // namespace
+
+MB_REGISTER_COMMAND(draw, {"draw", CommandGroup::kInspect, &SetupDrawCommand, false})
 
 }  // namespace mb

@@ -15,8 +15,8 @@
 #include "engine/diagram_loader.h"
 #include "engine/numerical_error.h"
 #include "tools/commands/cli_options.h"
-#include "tools/commands/commands.h"
-#include "tools/workflow/comparison.h"
+#include "tools/commands/command_registry.h"
+#include "tools/workflow/fit.h"
 #include "tools/report/output_files.h"
 #include "tools/report/progress.h"
 
@@ -41,31 +41,20 @@ struct FitOptions {
 void RunFit(const FitOptions& o) {
   RefuseOutputsOverInputs({{"DIAGRAM", o.diagram}, {"--measurement", o.measurement.measurement}}, {},
                           {{"--out", o.out, {kFitSummary, kFittedDiagram}}});
-  const json diagram = ReadDiagramWithOverrides(o.diagram, o.measurement.overrides);
-  const MeasurementSettings settings = o.measurement.Settings();
-  std::vector<std::string> names = SplitCommaLists(o.params);
-  if (names.empty()) names = DiagramDocument(diagram).FreeParameters();
-  if (names.empty()) {
-    throw std::invalid_argument(fmt::format(
-        "nothing to fit: name parameters with --params block.param,… ({} has no \"free\" list)", o.diagram));
-  }
-  const ExperimentMode mode = DiagramDocument(diagram).Mode();
-  const bool equation_error = mode == ExperimentMode::kEquationError;
-  // Equation error: the measured outputs and the model's get the same zero-phase low-pass (as compare does).
-  const MeasurementLog log = ReadMeasurementFor(diagram, o.measurement.measurement, settings);
-  ProgressNote(fmt::format("fit {} to {} ({} samples, {} mode): {} …", o.diagram, o.measurement.measurement,
-                           log.rows(), Name(mode), fmt::join(names, ", ")));
-  const DiagramFit result = FitDiagram(diagram, fs::path(o.diagram).parent_path(), o.diagram, log,
-                                       settings.column_map, names,
-                                       equation_error ? settings.derivative_cutoff_hz : 0.0);
+  const DiagramDocument document(ReadDiagramWithOverrides(o.diagram, o.measurement.overrides),
+                                 fs::path(o.diagram).parent_path(), o.diagram);
+  FitSettings settings;
+  settings.measurement = o.measurement.Settings();
+  settings.parameters = SplitCommaLists(o.params);
+  const MeasurementLog log = ReadMeasurementFor(document.json(), o.measurement.measurement, settings.measurement);
+  ProgressNote(fmt::format("fit {} to {} ({} samples, {} mode) …", o.diagram, o.measurement.measurement, log.rows(),
+                           Name(document.Mode())));
+  const FitOutcome outcome = FitToMeasurement(document, log, o.measurement.measurement, settings);
+  const DiagramFit& result = outcome.result;
 
   const fs::path out(o.out);
   fs::create_directories(out);
-  json summary = result.ToJson();
-  summary["diagram"] = o.diagram;
-  summary["measurement"] = o.measurement.measurement;
-  summary["mode"] = mode;
-  summary["samples"] = log.rows();
+  json summary = outcome.ToJson();
   if (!result.fit.identifiable) {  // fit.json says what could not be estimated; no fitted diagram (exit 3)
     fs::remove(out / kFittedDiagram);  // an earlier run's would look like this one's result
     WriteJsonFile(summary, out / kFitSummary);
@@ -89,8 +78,6 @@ void RunFit(const FitOptions& o) {
   std::cout << fmt::format("wrote {} and {}\n", (out / kFitSummary).string(), (out / kFittedDiagram).string());
 }
 
-}  // namespace
-
 void SetupFitCommand(CLI::App& app) {
   auto o = std::make_shared<FitOptions>();
   auto* cmd = app.add_subcommand("fit", "Refit chosen parameters of a diagram against a measurement, with 95 % "
@@ -103,5 +90,9 @@ void SetupFitCommand(CLI::App& app) {
   cmd->add_option("--out", o->out, "output folder (fit.json, fitted.json)")->capture_default_str();
   cmd->callback([o] { RunFit(*o); });
 }
+
+}  // namespace
+
+MB_REGISTER_COMMAND(fit, {"fit", CommandGroup::kMeasurements, &SetupFitCommand, true})
 
 }  // namespace mb

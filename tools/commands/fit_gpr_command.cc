@@ -20,7 +20,7 @@
 #include "models/gpr/gpr_io.h"
 #include "models/gpr/gpr_log.h"
 #include "tools/commands/cli_options.h"
-#include "tools/commands/commands.h"
+#include "tools/commands/command_registry.h"
 #include "tools/report/output_files.h"
 #include "tools/workflow/loop_from_diagram.h"
 
@@ -134,8 +134,6 @@ void RunFitGpr(const FitGprOptions& o) {
       m.x_range.max, m.xdot_range.min, m.xdot_range.max, o.output);
 }
 
-}  // namespace
-
 void SetupFitGprCommand(CLI::App& app) {
   auto o = std::make_shared<FitGprOptions>();
   auto* cmd = app.add_subcommand("fit-gpr", "Fit the TISO-GPR disturbance model (MAP) to a DOB log; writes the "
@@ -197,5 +195,9 @@ void SetupFitGprCommand(CLI::App& app) {
   cmd->add_option("-o,--output", o->output, "model file to write (JSON)")->required();
   cmd->callback([o] { RunFitGpr(*o); });
 }
+
+}  // namespace
+
+MB_REGISTER_COMMAND(fit_gpr, {"fit-gpr", CommandGroup::kLearnedCompensation, &SetupFitGprCommand, false})
 
 }  // namespace mb

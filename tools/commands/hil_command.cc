@@ -21,7 +21,7 @@
 #include "hw/quanser_board.h"
 #include "hw/udp_board.h"
 #include "tools/commands/cli_options.h"
-#include "tools/commands/commands.h"
+#include "tools/commands/command_registry.h"
 #include "tools/report/output_files.h"
 
 namespace mb {
@@ -207,8 +207,6 @@ void RunHil(const HilCommandOptions& o) {
   if (!result.completed) throw std::runtime_error("hil: " + result.stop_reason);
 }
 
-}  // namespace
-
 void SetupHilCommand(CLI::App& app) {
   auto options = std::make_shared<HilCommandOptions>();
   auto* cmd = app.add_subcommand("hil",
@@ -259,5 +257,9 @@ void SetupHilCommand(CLI::App& app) {
   cmd->add_flag("--lock-memory", options->lock_memory, "mlockall the process and prefault the stack");
   cmd->callback([options] { RunHil(*options); });
 }
+
+}  // namespace
+
+MB_REGISTER_COMMAND(hil, {"hil", CommandGroup::kHardware, &SetupHilCommand, false})
 
 }  // namespace mb

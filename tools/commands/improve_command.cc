@@ -14,7 +14,7 @@
 
 #include "engine/diagram_loader.h"
 #include "tools/commands/cli_options.h"
-#include "tools/commands/commands.h"
+#include "tools/commands/command_registry.h"
 #include "tools/report/improve_report.h"
 #include "tools/report/output_files.h"
 #include "tools/report/progress.h"
@@ -120,8 +120,6 @@ void RunImprove(const ImproveOptions& o) {
   PrintImproveResult(result, fallback_record, out);
 }
 
-}  // namespace
-
 void SetupImproveCommand(CLI::App& app) {
   auto o = std::make_shared<ImproveOptions>();
   auto* cmd = app.add_subcommand(
@@ -149,5 +147,9 @@ void SetupImproveCommand(CLI::App& app) {
   cmd->add_option("--out", o->out, "output folder")->capture_default_str();
   cmd->callback([o] { RunImprove(*o); });
 }
+
+}  // namespace
+
+MB_REGISTER_COMMAND(improve, {"improve", CommandGroup::kMeasurements, &SetupImproveCommand, true})
 
 }  // namespace mb

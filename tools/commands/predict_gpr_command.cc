@@ -12,7 +12,7 @@
 #include "models/gpr/gpr_io.h"
 #include "models/gpr/gpr_log.h"
 #include "tools/commands/cli_options.h"
-#include "tools/commands/commands.h"
+#include "tools/commands/command_registry.h"
 #include "tools/report/output_files.h"
 
 namespace mb {
@@ -56,8 +56,6 @@ void RunPredictGpr(const PredictGprOptions& o) {
                            in.names().size(), o.input, kGprExtrapolatedColumn);
 }
 
-}  // namespace
-
 void SetupPredictGprCommand(CLI::App& app) {
   auto o = std::make_shared<PredictGprOptions>();
   auto* cmd = app.add_subcommand("predict-gpr", "Evaluate a GPR model file along a log: adds columns mean, std and extrapolated (1 where "
@@ -74,5 +72,9 @@ void SetupPredictGprCommand(CLI::App& app) {
   cmd->add_option("-o,--output", o->output, "CSV file to write")->required();
   cmd->callback([o] { RunPredictGpr(*o); });
 }
+
+}  // namespace
+
+MB_REGISTER_COMMAND(predict_gpr, {"predict-gpr", CommandGroup::kLearnedCompensation, &SetupPredictGprCommand, false})
 
 }  // namespace mb

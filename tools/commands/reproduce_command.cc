@@ -7,7 +7,7 @@
 #include <fmt/format.h>
 
 #include "tools/commands/cli_options.h"
-#include "tools/commands/commands.h"
+#include "tools/commands/command_registry.h"
 #include "tools/experiments/paper/reproduce.h"
 
 namespace mb {
@@ -58,8 +58,6 @@ void RunReproduceCommand(const ReproduceCommandOptions& o) {
                            r["timing"]["reproduce_wall_time_s"].get<double>());
 }
 
-}  // namespace
-
 void SetupReproduceCommand(CLI::App& app) {
   auto options = std::make_shared<ReproduceCommandOptions>();
   auto* cmd = app.add_subcommand("reproduce",
@@ -78,5 +76,9 @@ void SetupReproduceCommand(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   cmd->callback([options] { RunReproduceCommand(*options); });
 }
+
+}  // namespace
+
+MB_REGISTER_COMMAND(reproduce, {"reproduce", CommandGroup::kLearnedCompensation, &SetupReproduceCommand, true})
 
 }  // namespace mb

@@ -12,7 +12,7 @@
 #include "engine/output_file.h"
 #include "engine/simulator.h"
 #include "tools/commands/cli_options.h"
-#include "tools/commands/commands.h"
+#include "tools/commands/command_registry.h"
 #include "tools/workflow/comparison.h"
 #include "tools/report/diagram_drawing.h"
 #include "tools/report/output_files.h"
@@ -149,8 +149,6 @@ void RunRun(const RunOptions& o) {
   std::cout << fmt::format("wrote {}/signals.csv, summary.json, report.html\n", out.string());
 }
 
-}  // namespace
-
 void SetupRunCommand(CLI::App& app) {
   auto options = std::make_shared<RunOptions>();
   auto* cmd = app.add_subcommand("run", "Simulate a diagram: logged signals (CSV), summary.json with metrics, report");
@@ -162,5 +160,9 @@ void SetupRunCommand(CLI::App& app) {
   cmd->add_option("--out", options->out, "output folder")->capture_default_str();
   cmd->callback([options] { RunRun(*options); });
 }
+
+}  // namespace
+
+MB_REGISTER_COMMAND(run, {"run", CommandGroup::kSimulate, &SetupRunCommand, true})
 
 }  // namespace mb

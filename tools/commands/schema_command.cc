@@ -4,7 +4,7 @@
 #include <iostream>
 
 #include "engine/diagram_schema.h"
-#include "tools/commands/commands.h"
+#include "tools/commands/command_registry.h"
 #include "tools/batch/sweep_schema.h"
 
 namespace mb {
@@ -17,7 +17,6 @@ struct SchemaOptions {
 void RunSchema(const SchemaOptions& o) {
   std::cout << (o.sweep ? SweepSchema() : DiagramSchema(BlockRegistry::Global())).dump(2) << "\n";
 }
-}  // namespace
 
 void SetupSchemaCommand(CLI::App& app) {
   auto o = std::make_shared<SchemaOptions>();
@@ -25,5 +24,9 @@ void SetupSchemaCommand(CLI::App& app) {
   cmd->add_flag("--sweep", o->sweep, "print the schema of a sweep file instead");
   cmd->callback([o] { RunSchema(*o); });
 }
+
+}  // namespace
+
+MB_REGISTER_COMMAND(schema, {"schema", CommandGroup::kInspect, &SetupSchemaCommand, false})
 
 }  // namespace mb

@@ -20,7 +20,7 @@
 #include "models/gpr/gpr_io.h"
 #include "tools/workflow/loop_from_diagram.h"
 #include "tools/commands/cli_options.h"
-#include "tools/commands/commands.h"
+#include "tools/commands/command_registry.h"
 #include "tools/report/output_files.h"
 #include "tools/report/report.h"
 
@@ -154,8 +154,6 @@ void RunStability(const StabilityCommandOptions& o) {
   std::cout << "verdict: " << r.verdict.line << "\n";
 }
 
-}  // namespace
-
 void SetupStabilityCommand(CLI::App& app) {
   auto o = std::make_shared<StabilityCommandOptions>();
   CLI::App* cmd = app.add_subcommand(
@@ -174,5 +172,9 @@ void SetupStabilityCommand(CLI::App& app) {
       ->check(CLI::Range(2, 100000));
   cmd->callback([o] { RunStability(*o); });
 }
+
+}  // namespace
+
+MB_REGISTER_COMMAND(stability, {"stability", CommandGroup::kLearnedCompensation, &SetupStabilityCommand, false})
 
 }  // namespace mb

@@ -12,7 +12,7 @@
 
 #include <fmt/format.h>
 
-#include "tools/commands/commands.h"
+#include "tools/commands/command_registry.h"
 #include "tools/batch/shard.h"
 #include "tools/batch/sweep.h"
 #include "tools/batch/sweep_mpi.h"
@@ -93,8 +93,6 @@ void RunSweepCommand(const SweepCommandOptions& o) {
   }
 }
 
-}  // namespace
-
 void SetupSweepCommand(CLI::App& app) {
   auto options = std::make_shared<SweepCommandOptions>();
   auto* cmd = app.add_subcommand(
@@ -134,5 +132,9 @@ void SetupSweepCommand(CLI::App& app) {
       ->excludes(shard_index);
   cmd->callback([options] { RunSweepCommand(*options); });
 }
+
+}  // namespace
+
+MB_REGISTER_COMMAND(sweep, {"sweep", CommandGroup::kBatch, &SetupSweepCommand, true})
 
 }  // namespace mb

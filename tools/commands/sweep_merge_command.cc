@@ -8,7 +8,7 @@
 #include <fmt/format.h>
 
 #include "tools/batch/shard.h"
-#include "tools/commands/commands.h"
+#include "tools/commands/command_registry.h"
 
 namespace mb {
 
@@ -33,8 +33,6 @@ void RunSweepMergeCommand(const SweepMergeCommandOptions& o) {
   }
 }
 
-}  // namespace
-
 void SetupSweepMergeCommand(CLI::App& app) {
   auto options = std::make_shared<SweepMergeCommandOptions>();
   auto* cmd = app.add_subcommand(
@@ -46,5 +44,9 @@ void SetupSweepMergeCommand(CLI::App& app) {
   cmd->add_option("--out", options->out, "output folder (runs.csv, runs.json, sweep-shard.json)")->required();
   cmd->callback([options] { RunSweepMergeCommand(*options); });
 }
+
+}  // namespace
+
+MB_REGISTER_COMMAND(sweep_merge, {"sweep-merge", CommandGroup::kBatch, &SetupSweepMergeCommand, false})
 
 }  // namespace mb

@@ -11,7 +11,7 @@
 #include "hw/realtime.h"
 #include "hw/virtual_stage.h"
 #include "tools/commands/cli_options.h"
-#include "tools/commands/commands.h"
+#include "tools/commands/command_registry.h"
 
 namespace mb {
 
@@ -57,8 +57,6 @@ void RunVirtualStage(const VirtualStageCommandOptions& o) {
   if (!r.fault.empty()) throw std::runtime_error("virtual-stage: " + r.fault);
 }
 
-}  // namespace
-
 void SetupVirtualStageCommand(CLI::App& app) {
   auto options = std::make_shared<VirtualStageCommandOptions>();
   auto* cmd = app.add_subcommand("virtual-stage",
@@ -96,5 +94,9 @@ void SetupVirtualStageCommand(CLI::App& app) {
       ->check(CLI::Range(0, 99));
   cmd->callback([options] { RunVirtualStage(*options); });
 }
+
+}  // namespace
+
+MB_REGISTER_COMMAND(virtual_stage, {"virtual-stage", CommandGroup::kHardware, &SetupVirtualStageCommand, false})
 
 }  // namespace mb

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -27,6 +28,32 @@ TEST(CommandLine, VersionPrintsTheProjectVersion) {
   const CommandResult r = RunMotionblocks("--version");
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_THAT(r.output, ::testing::StartsWith("motionblocks " MB_PROJECT_VERSION));
+}
+
+// Issue 26: each command registers itself from its own file (command_registry.h); --help lists all fifteen under
+// their groups, and the simulating ones, only they, get --max-steps and the progress options.
+TEST(CommandLine, HelpListsEveryRegisteredCommandUnderItsGroup) {
+  const CommandResult r = RunMotionblocks("--help");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::vector<std::pair<std::string, std::vector<std::string>>> groups{
+      {"Simulate", {"run"}},
+      {"Compare with measurements", {"compare", "fit", "improve"}},
+      {"Learned compensation (TISO-GPR)", {"fit-gpr", "predict-gpr", "reproduce", "stability"}},
+      {"Hardware in the loop", {"hil", "virtual-stage"}},
+      {"Batch", {"sweep", "sweep-merge"}},
+      {"Inspect", {"blocks", "draw", "schema"}}};
+  std::size_t previous = 0;
+  for (const auto& [title, commands] : groups) {
+    const std::size_t at = r.output.find(title + ":");
+    ASSERT_NE(at, std::string::npos) << title << "\n" << r.output;
+    EXPECT_GT(at, previous) << title << " is listed out of order";
+    previous = at;
+    for (const auto& command : commands) EXPECT_THAT(r.output, HasSubstr("\n  " + command + " ")) << command;
+  }
+  for (const char* simulating : {"run", "compare", "fit", "improve", "sweep", "reproduce"}) {
+    EXPECT_THAT(RunMotionblocks(std::string(simulating) + " --help").output, HasSubstr("--max-steps")) << simulating;
+  }
+  EXPECT_THAT(RunMotionblocks("stability --help").output, ::testing::Not(HasSubstr("--max-steps")));
 }
 
 // Issue 28: `blocks` shows every type's ports and an example element; an unknown name is an error with "did you mean"
