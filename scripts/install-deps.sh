@@ -19,6 +19,7 @@ PACKAGES=(
   gnuplot-nox              # report figures
   graphviz                 # motionblocks draw and the reports' diagrams (dot)
   libjs-dygraphs           # the reports' interactive charts: dygraph.min.js, read and embedded when a report is written
+  chromium                 # tests/browser: the reports opened in headless Chromium (make test)
   libvalijson-dev          # JSON Schema validation of diagrams and sweeps
   clang libclang-rt-14-dev # libFuzzer (the fuzz preset: fuzzers of the file readers)
   pybind11-dev python3-dev # the motionblocks Python module (python/)

@@ -183,6 +183,7 @@ constexpr const char* kChartScript = R"JS((function () {
       underlayCallback: underlay(spec), drawCallback: link
     });
     g.mbLink = spec.link;
+    box.mbDygraph = g;  // the chart's object, for the browser's console and tests/browser
     if (spec.link) (groups[spec.link] = groups[spec.link] || []).push(g);
     spec.labels.slice(1).forEach(function (label, k) {
       var l = document.createElement('label'), c = document.createElement('input'), swatch = document.createElement('span');
