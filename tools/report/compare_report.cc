@@ -6,6 +6,7 @@
 #include "tools/report/output_files.h"
 #include "tools/report/diagram_drawing.h"
 #include "tools/report/report.h"
+#include "tools/report/resid_figures.h"
 #include "tools/report/residual_figures.h"
 
 namespace mb {
@@ -190,6 +191,10 @@ void WriteCompareReport(const CompareOutcome& outcome, const MeasurementLog& log
   report.Heading("Views");
   AddResidualFigures(&report, files.out, log, primary_after, primary_after.residual(),
                      compared.diagnosis ? &*compared.diagnosis : nullptr, files.position_column);
+  report.Heading("Residual analysis (as MATLAB resid): is the residual white and independent of the input?");
+  AddResidFigures(&report, files.out, "", log, primary_after.residual(), nullptr,
+                  ChooseResidInput(outcome.mode, compared.compared_diagram, fs::path(files.diagram).parent_path(), log,
+                                   files.position_column));
   if (!compared.notes.empty()) {  // once (the intake's, then the diagnosis's), after the figures
     report.Heading("Notes");
     for (const auto& note : compared.notes) report.Paragraph(note);

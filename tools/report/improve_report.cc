@@ -9,6 +9,7 @@
 #include "tools/report/output_files.h"
 #include "tools/report/diagram_drawing.h"
 #include "tools/report/report.h"
+#include "tools/report/resid_figures.h"
 #include "tools/report/residual_figures.h"
 #include "tools/workflow/suggest.h"
 
@@ -118,6 +119,11 @@ void WriteImproveReport(const ImproveResult& result, const MeasurementLog& train
     report.Heading("What is left");
     report.Paragraph(last.training.diagnosis->summary);
   }
+  report.Heading("Residual analysis (as MATLAB resid), after the last accepted step");
+  const Eigen::VectorXd residual_before = first.training.after.front().residual();
+  AddResidFigures(&report, directory, "", training, last.training.after.front().residual(), &residual_before,
+                  ChooseResidInput(first.training.mode, last.training.compared_diagram, diagram_directory, training,
+                                   position_column));
   report.Write(directory / "report.html");
 }
 
