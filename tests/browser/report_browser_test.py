@@ -215,8 +215,10 @@ def main():
         if os.environ.get(NO_BROWSER_ENV) == "1":
             print(f"SKIPPED: no chromium found, and {NO_BROWSER_ENV}=1 says to skip the browser test")
             return SKIP
-        print(f"FAIL: no chromium found ({args.chromium or devtools.DEBIAN_CHROMIUM} nor on PATH). Install Debian's "
-              f"chromium (scripts/install-deps.sh does), or set {NO_BROWSER_ENV}=1 to skip this test.")
+        where = (f"{args.chromium} is no executable" if args.chromium
+                 else f"neither {devtools.DEBIAN_CHROMIUM} nor chromium on PATH")
+        print(f"FAIL: no chromium found ({where}). Install Debian's chromium (scripts/install-deps.sh does), or set "
+              f"{NO_BROWSER_ENV}=1 to skip this test.")
         return 1
 
     folder = tempfile.mkdtemp(prefix="mb_report_browser_")
