@@ -101,6 +101,8 @@ GprModel::GprModel(GprModelData data) : data_(std::move(data)) {
   ValidateModelData(data_);
   GprSpectralWeights(data_.basis, data_.hyperparameters, &spectral_weights_);
   prior_variance_ = data_.hyperparameters.signal_variance_x + data_.hyperparameters.signal_variance_xdot;
+  feature_map_ = GprFeatureMap(data_.basis);
+  packed_covariance_ = GprPackedLowerTriangle(data_.weight_covariance);
 }
 
 double GprModel::ClampXdot(double xdot) const noexcept {
@@ -113,7 +115,7 @@ double GprModel::PredictPosteriorMean(double x, double xdot) const noexcept {
 
 double GprModel::PredictPosteriorMean(const GprPosteriorView& posterior, double x, double xdot) const noexcept {
   if (!std::isfinite(x) || !std::isfinite(xdot)) return data_.mean;
-  return data_.mean + DotGprBasis(data_.basis, posterior.weights, x, ClampXdot(xdot));
+  return data_.mean + feature_map_.Dot(posterior.weights, x, ClampXdot(xdot));
 }
 
 void GprModel::Predict(double x, double xdot, double* mean, double* std) const noexcept {
@@ -127,30 +129,21 @@ void GprModel::Predict(const GprPosteriorView& posterior, double x, double xdot,
     if (std != nullptr) *std = std::sqrt(prior_variance_);
     return;
   }
-  std::array<double, kMaxGprFeatures> psi;  // uninitialised scratch on the stack
-  const Eigen::Index m = GprFeatureCount(data_.basis);
-  EvaluateGprBasis(data_.basis, x, ClampXdot(xdot), psi.data());
-  if (mean != nullptr) {
-    double acc = 0.0;
-    for (Eigen::Index k = 0; k < m; ++k) acc += posterior.weights[k] * psi[static_cast<std::size_t>(k)];
-    *mean = data_.mean + acc;
+  if (std == nullptr) {
+    if (mean != nullptr) *mean = PredictPosteriorMean(posterior, x, xdot);
+    return;
   }
-  if (std != nullptr) {
-    // ψᵀΣψ from the lower triangle (column-major: contiguous below the diagonal), and the
-    // prior variance carried by the basis, Σ s_k ψ_k².
-    const Eigen::Map<const Eigen::MatrixXd> cov(posterior.covariance, m, m);
-    double var = 0.0;
-    double represented_prior = 0.0;
-    for (Eigen::Index j = 0; j < m; ++j) {
-      const double pj = psi[static_cast<std::size_t>(j)];
-      double column = 0.0;
-      for (Eigen::Index i = j + 1; i < m; ++i) column += cov(i, j) * psi[static_cast<std::size_t>(i)];
-      var += pj * (cov(j, j) * pj + 2.0 * column);
-      represented_prior += spectral_weights_(j) * pj * pj;
-    }
-    const double missing_prior = std::max(prior_variance_ - represented_prior, 0.0);
-    *std = std::sqrt(std::max(var, 0.0) + missing_prior);
-  }
+  GprFeatureBuffer psi;  // uninitialised scratch on the stack
+  const double dot = feature_map_.EvaluateAndDot(posterior.weights, x, ClampXdot(xdot), psi.values);
+  if (mean != nullptr) *mean = data_.mean + dot;  // the bits of PredictPosteriorMean
+  // ψᵀΣψ from the lower triangle, and the prior variance carried by the basis, Σ s_k ψ_k².
+  // The fitted posterior's covariance is read from its packed copy (aligned, no remainder loops).
+  const double var = posterior.covariance == data_.weight_covariance.data()
+                         ? feature_map_.QuadraticForm(packed_covariance_, psi)
+                         : feature_map_.QuadraticForm(posterior.covariance, psi.values);
+  const double represented_prior = feature_map_.WeightedSquares(spectral_weights_.data(), psi.values);
+  const double missing_prior = std::max(prior_variance_ - represented_prior, 0.0);
+  *std = std::sqrt(std::max(var, 0.0) + missing_prior);
 }
 
 void GprModel::PredictPosteriorMean(const Eigen::Ref<const Eigen::VectorXd>& x,

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include "models/gpr/basis.h"
+#include "models/gpr/feature_map.h"
 #include "models/gpr/kernels.h"
 #include "models/gpr/priors.h"
 
@@ -170,12 +171,16 @@ class GprModel final {
   GprRange x_range() const noexcept { return data_.x_range; }
   GprRange xdot_range() const noexcept { return data_.xdot_range; }
   int feature_count() const noexcept { return GprFeatureCount(data_.basis); }
+  /// The basis compiled for the queries (feature_map.h): what PredictPosteriorMean and Predict evaluate.
+  const GprFeatureMap& feature_map() const noexcept { return feature_map_; }
 
  private:
   double ClampXdot(double xdot) const noexcept;
   GprModelData data_;
   Eigen::VectorXd spectral_weights_;  ///< s (M) at the model's hyperparameters, for the variance
   double prior_variance_ = 0.0;       ///< k(a, a) = σ²_x + σ²_ẋ
+  GprFeatureMap feature_map_;         ///< data_.basis with its constants precomputed
+  GprPackedLowerTriangle packed_covariance_;  ///< data_.weight_covariance for the quadratic form
 };
 
 }  // namespace mb
