@@ -16,6 +16,7 @@
 #include "tools/report/improve_report.h"
 #include "tools/workflow/compare.h"
 #include "tools/workflow/fallback.h"
+#include "tools/workflow/fit.h"
 #include "tools/workflow/improve.h"
 #include "tools/workflow/measurement_in_memory.h"
 
@@ -187,29 +188,19 @@ PyCompare Compare(const PyDiagram& d, const py::object& measurement, const std::
 PyFit Fit(const PyDiagram& d, const py::object& measurement, std::vector<std::string> names,
           const std::map<std::string, std::string>& column_map, const std::string& position_column,
           double derivative_cutoff_hz, const std::string& intersample) {
-  const json& diagram = d.document.json();
-  if (names.empty()) names = d.document.FreeParameters();
-  if (names.empty()) {
-    throw std::invalid_argument(fmt::format(
-        "nothing to fit: name parameters with fit=['block.param', …] ({} has no \"free\" list)", SourceOf(d)));
-  }
-  const MeasurementSettings settings = SettingsOf(column_map, position_column, derivative_cutoff_hz, intersample);
-  const ExperimentMode mode = d.document.Mode();
+  FitSettings settings;
+  settings.measurement = SettingsOf(column_map, position_column, derivative_cutoff_hz, intersample);
+  settings.parameters = std::move(names);
   std::string name;
-  const MeasurementLog log = MeasurementFor(diagram, measurement, settings, &name);
-  std::optional<DiagramFit> fit;
+  const MeasurementLog log = MeasurementFor(d.document.json(), measurement, settings.measurement, &name);
+  std::optional<FitOutcome> outcome;
   {
     py::gil_scoped_release release;
-    fit = FitDiagram(diagram, d.document.base_directory(), SourceOf(d), log, settings.column_map, names,
-                     mode == ExperimentMode::kEquationError ? settings.derivative_cutoff_hz : 0.0);
+    outcome = FitToMeasurement(d.document, log, name, settings);
   }
-  // fit.json as `motionblocks fit` writes it, less the fitted diagram's file.
-  json summary = fit->ToJson();
-  summary["diagram"] = SourceOf(d);
-  summary["measurement"] = name;
-  summary["mode"] = mode;
-  summary["samples"] = log.rows();
-  return PyFit{std::move(*fit), std::move(summary), d, log.time()};
+  outcome->diagram = SourceOf(d);
+  json summary = outcome->ToJson();  // fit.json as `motionblocks fit` writes it, less the fitted diagram's file
+  return PyFit{std::move(outcome->result), std::move(summary), d, log.time()};
 }
 
 PyImprove Improve(const PyDiagram& d, const py::object& measurement, const py::object& validation,
