@@ -13,8 +13,13 @@
 #include "engine/units.h"
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
+#include "models/diagnosis/robust_weighting.h"
 
 namespace mb {
+
+using diagnosis_detail::Percentile;
+using diagnosis_detail::RobustWeights;
+
 namespace {
 
 // The smallest share, over the columns of `columns` (N × k), of a column's energy that the base regressors
@@ -137,13 +142,6 @@ class BlockGrams {
   Eigen::Index folds_ = 0;
 };
 
-double Percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  const auto k = static_cast<std::size_t>(std::clamp(q, 0.0, 1.0) * static_cast<double>(v.size() - 1));
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-  return v[k];
-}
-
 // A position in the diagnosis' position unit: mm for metres, else the unit itself.
 std::string FormatPosition(double x, const std::string& unit) {
   if (unit == "m") return fmt::format("{:.4g} mm", x * 1e3);
@@ -178,42 +176,6 @@ AutocorrelationTest Whiteness(const Eigen::VectorXd& r) {
   const Eigen::Index lag = std::min<Eigen::Index>(25, r.size() / 4);
   if ((r.array() - r.mean()).matrix().squaredNorm() <= 0.0) return {};
   return ResidualAutocorrelation(r, lag);
-}
-
-// Huber weights of a residual: w = min(1, k·σ/|e|), σ = 1.4826·MAD (all 1 when k <= 0 or σ = 0).
-Eigen::VectorXd HuberWeights(const Eigen::VectorXd& e, double k) {
-  Eigen::VectorXd w = Eigen::VectorXd::Ones(e.size());
-  if (!(k > 0.0)) return w;
-  const std::vector<double> values(e.data(), e.data() + e.size());
-  const double median = Percentile(values, 0.5);
-  std::vector<double> deviation(values.size());
-  for (std::size_t i = 0; i < values.size(); ++i) deviation[i] = std::abs(values[i] - median);
-  const double sigma = 1.4826 * Percentile(deviation, 0.5);
-  if (!(sigma > 0.0)) return w;
-  for (Eigen::Index i = 0; i < e.size(); ++i) {
-    const double a = std::abs(e(i));
-    if (a > k * sigma) w(i) = k * sigma / a;
-  }
-  return w;
-}
-
-// Iteratively reweighted least squares of r on the columns x (N × q, q may be 0) with Huber weights (at most 10
-// iterations, until no weight moves by 1e-3): the weights, and in `residual` r minus the weighted fit.
-Eigen::VectorXd RobustWeights(const Eigen::MatrixXd& x, const Eigen::VectorXd& r, double k, Eigen::VectorXd* residual) {
-  Eigen::VectorXd w = Eigen::VectorXd::Ones(r.size());
-  *residual = r;
-  for (int iteration = 0; iteration < 10; ++iteration) {
-    if (x.cols() > 0) {
-      const Eigen::VectorXd sw = w.cwiseSqrt();
-      *residual = r - x * (sw.asDiagonal() * x).colPivHouseholderQr().solve(sw.cwiseProduct(r));
-    }
-    if (!(k > 0.0)) break;
-    const Eigen::VectorXd next = HuberWeights(*residual, k);
-    const double change = (next - w).cwiseAbs().maxCoeff();
-    w = next;
-    if (change < 1e-3) break;
-  }
-  return w;
 }
 
 // 0. What DiagnoseMissingEffects refuses.

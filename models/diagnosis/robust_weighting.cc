@@ -1,0 +1,59 @@
+// Robust weighting (DiagnoseMissingEffects, every fit of the ranking): Huber weights w = min(1, k·σ/|e|) with the
+// scale σ = 1.4826·MAD, found by iteratively reweighted least squares. Source: DIAGNOSIS.md, "When the base model is
+// wrong elsewhere" (a robust loss by IRLS); Huber, "Robust estimation of a location parameter" (1964) and Robust
+// Statistics (1981); the MAD's factor 1.4826 makes it consistent for Gaussian noise.
+#include "models/diagnosis/robust_weighting.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+
+#include <Eigen/Dense>
+
+namespace mb::diagnosis_detail {
+namespace {
+
+// Huber weights of a residual: w = min(1, k·σ/|e|), σ = 1.4826·MAD (all 1 when k <= 0 or σ = 0).
+Eigen::VectorXd HuberWeights(const Eigen::VectorXd& e, double k) {
+  Eigen::VectorXd w = Eigen::VectorXd::Ones(e.size());
+  if (!(k > 0.0)) return w;
+  const std::vector<double> values(e.data(), e.data() + e.size());
+  const double median = Percentile(values, 0.5);
+  std::vector<double> deviation(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) deviation[i] = std::abs(values[i] - median);
+  const double sigma = 1.4826 * Percentile(deviation, 0.5);
+  if (!(sigma > 0.0)) return w;
+  for (Eigen::Index i = 0; i < e.size(); ++i) {
+    const double a = std::abs(e(i));
+    if (a > k * sigma) w(i) = k * sigma / a;
+  }
+  return w;
+}
+
+}  // namespace
+
+double Percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  const auto k = static_cast<std::size_t>(std::clamp(q, 0.0, 1.0) * static_cast<double>(v.size() - 1));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+Eigen::VectorXd RobustWeights(const Eigen::MatrixXd& x, const Eigen::VectorXd& r, double k, Eigen::VectorXd* residual) {
+  Eigen::VectorXd w = Eigen::VectorXd::Ones(r.size());
+  *residual = r;
+  for (int iteration = 0; iteration < 10; ++iteration) {
+    if (x.cols() > 0) {
+      const Eigen::VectorXd sw = w.cwiseSqrt();
+      *residual = r - x * (sw.asDiagonal() * x).colPivHouseholderQr().solve(sw.cwiseProduct(r));
+    }
+    if (!(k > 0.0)) break;
+    const Eigen::VectorXd next = HuberWeights(*residual, k);
+    const double change = (next - w).cwiseAbs().maxCoeff();
+    w = next;
+    if (change < 1e-3) break;
+  }
+  return w;
+}
+
+}  // namespace mb::diagnosis_detail
