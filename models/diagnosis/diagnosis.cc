@@ -11,12 +11,14 @@
 #include <fmt/format.h>
 
 #include "engine/units.h"
+#include "models/diagnosis/cross_validation.h"
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/robust_weighting.h"
 
 namespace mb {
 
+using diagnosis_detail::BlockGrams;
 using diagnosis_detail::Percentile;
 using diagnosis_detail::RobustWeights;
 
@@ -38,109 +40,6 @@ double ShareSpannedByBase(const Eigen::MatrixXd& columns, const Eigen::MatrixXd&
   }
   return share;
 }
-
-// Per-block Gram matrices of the scaled regressor matrix, for fast contiguous-block cross-validation.
-class BlockGrams {
- public:
-  BlockGrams(const Eigen::MatrixXd& x, const Eigen::VectorXd& r, Eigen::Index folds) {
-    const Eigen::Index n = x.rows();
-    for (Eigen::Index b = 0; b < folds; ++b) {
-      const Eigen::Index start = b * n / folds, end = (b + 1) * n / folds;
-      const auto xb = x.middleRows(start, end - start);
-      const auto rb = r.segment(start, end - start);
-      gram_.push_back(xb.transpose() * xb);
-      xty_.push_back(xb.transpose() * rb);
-      yty_.push_back(rb.squaredNorm());
-    }
-    total_gram_ = Eigen::MatrixXd::Zero(x.cols(), x.cols());
-    total_xty_ = Eigen::VectorXd::Zero(x.cols());
-    for (std::size_t b = 0; b < gram_.size(); ++b) {
-      total_gram_ += gram_[b];
-      total_xty_ += xty_[b];
-      total_yty_ += yty_[b];
-    }
-    n_ = static_cast<double>(n);
-    folds_ = folds;
-  }
-
-  // The held-out residuals r_b − X_b(idx)·θ_{−b} of every block, on the rows the Grams were built from.
-  Eigen::VectorXd HeldOutErrors(const std::vector<Eigen::Index>& idx, const Eigen::MatrixXd& x,
-                                const Eigen::VectorXd& r) const {
-    Eigen::VectorXd e = r;
-    if (idx.empty()) return e;
-    const Eigen::Index n = x.rows();
-    for (Eigen::Index b = 0; b < folds_; ++b) {
-      const Eigen::Index start = b * n / folds_, end = (b + 1) * n / folds_;
-      const auto ub = static_cast<std::size_t>(b);
-      const Eigen::VectorXd theta = Solve(SubMatrix(total_gram_ - gram_[ub], idx), SubVector(total_xty_ - xty_[ub], idx));
-      for (std::size_t j = 0; j < idx.size(); ++j) {
-        e.segment(start, end - start) -= theta(static_cast<Eigen::Index>(j)) * x.col(idx[j]).segment(start, end - start);
-      }
-    }
-    return e;
-  }
-
-  // Held-out mean squared error of the least-squares fit on the columns `idx`.
-  double HeldOutMse(const std::vector<Eigen::Index>& idx) const {
-    double sse = 0.0;
-    for (std::size_t b = 0; b < gram_.size(); ++b) {
-      if (idx.empty()) {
-        sse += yty_[b];
-        continue;
-      }
-      const Eigen::MatrixXd g = SubMatrix(total_gram_ - gram_[b], idx);
-      const Eigen::VectorXd h = SubVector(total_xty_ - xty_[b], idx);
-      const Eigen::VectorXd theta = Solve(g, h);
-      sse += yty_[b] - 2.0 * theta.dot(SubVector(xty_[b], idx)) + theta.dot(SubMatrix(gram_[b], idx) * theta);
-    }
-    return sse / n_;
-  }
-
-  // In-sample fit on all data: coefficients (scaled columns) and the residual sum of squares.
-  Eigen::VectorXd Fit(const std::vector<Eigen::Index>& idx, double* sse) const {
-    if (idx.empty()) {
-      *sse = total_yty_;
-      return {};
-    }
-    const Eigen::MatrixXd g = SubMatrix(total_gram_, idx);
-    const Eigen::VectorXd h = SubVector(total_xty_, idx);
-    const Eigen::VectorXd theta = Solve(g, h);
-    *sse = std::max(0.0, total_yty_ - 2.0 * theta.dot(h) + theta.dot(g * theta));
-    return theta;
-  }
-
-  Eigen::MatrixXd TotalGram(const std::vector<Eigen::Index>& idx) const { return SubMatrix(total_gram_, idx); }
-  double n() const { return n_; }
-
- private:
-  static Eigen::MatrixXd SubMatrix(const Eigen::MatrixXd& m, const std::vector<Eigen::Index>& idx) {
-    Eigen::MatrixXd out(static_cast<Eigen::Index>(idx.size()), static_cast<Eigen::Index>(idx.size()));
-    for (std::size_t i = 0; i < idx.size(); ++i)
-      for (std::size_t j = 0; j < idx.size(); ++j)
-        out(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = m(idx[i], idx[j]);
-    return out;
-  }
-  static Eigen::VectorXd SubVector(const Eigen::VectorXd& v, const std::vector<Eigen::Index>& idx) {
-    Eigen::VectorXd out(static_cast<Eigen::Index>(idx.size()));
-    for (std::size_t i = 0; i < idx.size(); ++i) out(static_cast<Eigen::Index>(i)) = v(idx[i]);
-    return out;
-  }
-  // Columns have unit RMS, so a ridge of 1e-9·(mean diagonal) only matters for collinear columns.
-  static Eigen::VectorXd Solve(Eigen::MatrixXd g, const Eigen::VectorXd& h) {
-    const double ridge = 1e-9 * std::max(1.0, g.trace() / static_cast<double>(g.rows()));
-    g.diagonal().array() += ridge;
-    return g.ldlt().solve(h);
-  }
-
-  std::vector<Eigen::MatrixXd> gram_;
-  std::vector<Eigen::VectorXd> xty_;
-  std::vector<double> yty_;
-  Eigen::MatrixXd total_gram_;
-  Eigen::VectorXd total_xty_;
-  double total_yty_ = 0.0;
-  double n_ = 0.0;
-  Eigen::Index folds_ = 0;
-};
 
 // A position in the diagnosis' position unit: mm for metres, else the unit itself.
 std::string FormatPosition(double x, const std::string& unit) {

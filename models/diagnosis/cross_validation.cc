@@ -1,0 +1,100 @@
+// Contiguous-block cross-validation (DiagnoseMissingEffects, steps 3–4): the record split into k contiguous time
+// blocks; for a set S of regressor columns the held-out error Σ_blocks ‖r_b − X_b(S)·θ_{−b}‖²/N, θ_{−b} fitted by
+// least squares on the other blocks, computed from per-block Gram matrices (ridge 1e-9 for collinear columns).
+// Contiguous blocks rather than random folds: the residual is autocorrelated, and a random split would let a column
+// fit the noise of a held-out sample's neighbours. Source: DIAGNOSIS.md, "Naming the missing effect", step 3; the
+// algorithm in diagnosis.h, step 3.
+#include "models/diagnosis/cross_validation.h"
+
+#include <algorithm>
+#include <cstddef>
+
+#include <Eigen/Dense>
+
+namespace mb::diagnosis_detail {
+
+BlockGrams::BlockGrams(const Eigen::MatrixXd& x, const Eigen::VectorXd& r, Eigen::Index folds) {
+  const Eigen::Index n = x.rows();
+  for (Eigen::Index b = 0; b < folds; ++b) {
+    const Eigen::Index start = b * n / folds, end = (b + 1) * n / folds;
+    const auto xb = x.middleRows(start, end - start);
+    const auto rb = r.segment(start, end - start);
+    gram_.push_back(xb.transpose() * xb);
+    xty_.push_back(xb.transpose() * rb);
+    yty_.push_back(rb.squaredNorm());
+  }
+  total_gram_ = Eigen::MatrixXd::Zero(x.cols(), x.cols());
+  total_xty_ = Eigen::VectorXd::Zero(x.cols());
+  for (std::size_t b = 0; b < gram_.size(); ++b) {
+    total_gram_ += gram_[b];
+    total_xty_ += xty_[b];
+    total_yty_ += yty_[b];
+  }
+  n_ = static_cast<double>(n);
+  folds_ = folds;
+}
+
+Eigen::VectorXd BlockGrams::HeldOutErrors(const std::vector<Eigen::Index>& idx, const Eigen::MatrixXd& x,
+                                          const Eigen::VectorXd& r) const {
+  Eigen::VectorXd e = r;
+  if (idx.empty()) return e;
+  const Eigen::Index n = x.rows();
+  for (Eigen::Index b = 0; b < folds_; ++b) {
+    const Eigen::Index start = b * n / folds_, end = (b + 1) * n / folds_;
+    const auto ub = static_cast<std::size_t>(b);
+    const Eigen::VectorXd theta = Solve(SubMatrix(total_gram_ - gram_[ub], idx), SubVector(total_xty_ - xty_[ub], idx));
+    for (std::size_t j = 0; j < idx.size(); ++j) {
+      e.segment(start, end - start) -= theta(static_cast<Eigen::Index>(j)) * x.col(idx[j]).segment(start, end - start);
+    }
+  }
+  return e;
+}
+
+double BlockGrams::HeldOutMse(const std::vector<Eigen::Index>& idx) const {
+  double sse = 0.0;
+  for (std::size_t b = 0; b < gram_.size(); ++b) {
+    if (idx.empty()) {
+      sse += yty_[b];
+      continue;
+    }
+    const Eigen::MatrixXd g = SubMatrix(total_gram_ - gram_[b], idx);
+    const Eigen::VectorXd h = SubVector(total_xty_ - xty_[b], idx);
+    const Eigen::VectorXd theta = Solve(g, h);
+    sse += yty_[b] - 2.0 * theta.dot(SubVector(xty_[b], idx)) + theta.dot(SubMatrix(gram_[b], idx) * theta);
+  }
+  return sse / n_;
+}
+
+Eigen::VectorXd BlockGrams::Fit(const std::vector<Eigen::Index>& idx, double* sse) const {
+  if (idx.empty()) {
+    *sse = total_yty_;
+    return {};
+  }
+  const Eigen::MatrixXd g = SubMatrix(total_gram_, idx);
+  const Eigen::VectorXd h = SubVector(total_xty_, idx);
+  const Eigen::VectorXd theta = Solve(g, h);
+  *sse = std::max(0.0, total_yty_ - 2.0 * theta.dot(h) + theta.dot(g * theta));
+  return theta;
+}
+
+Eigen::MatrixXd BlockGrams::SubMatrix(const Eigen::MatrixXd& m, const std::vector<Eigen::Index>& idx) {
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(idx.size()), static_cast<Eigen::Index>(idx.size()));
+  for (std::size_t i = 0; i < idx.size(); ++i)
+    for (std::size_t j = 0; j < idx.size(); ++j)
+      out(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = m(idx[i], idx[j]);
+  return out;
+}
+
+Eigen::VectorXd BlockGrams::SubVector(const Eigen::VectorXd& v, const std::vector<Eigen::Index>& idx) {
+  Eigen::VectorXd out(static_cast<Eigen::Index>(idx.size()));
+  for (std::size_t i = 0; i < idx.size(); ++i) out(static_cast<Eigen::Index>(i)) = v(idx[i]);
+  return out;
+}
+
+Eigen::VectorXd BlockGrams::Solve(Eigen::MatrixXd g, const Eigen::VectorXd& h) {
+  const double ridge = 1e-9 * std::max(1.0, g.trace() / static_cast<double>(g.rows()));
+  g.diagonal().array() += ridge;
+  return g.ldlt().solve(h);
+}
+
+}  // namespace mb::diagnosis_detail

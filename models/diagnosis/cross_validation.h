@@ -1,0 +1,46 @@
+#pragma once
+// Contiguous-block cross-validation of the diagnosis' least-squares fits (cross_validation.cc): per-block Gram
+// matrices, so that the held-out error of any subset of the regressor columns costs O(p³) (DIAGNOSIS.md, step 3).
+
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace mb::diagnosis_detail {
+
+// Per-block Gram matrices of the scaled regressor matrix, for fast contiguous-block cross-validation.
+class BlockGrams {
+ public:
+  // x (N × q, columns scaled to unit RMS) and r (N) split into `folds` contiguous blocks.
+  BlockGrams(const Eigen::MatrixXd& x, const Eigen::VectorXd& r, Eigen::Index folds);
+
+  // The held-out residuals r_b − X_b(idx)·θ_{−b} of every block, on the rows the Grams were built from.
+  Eigen::VectorXd HeldOutErrors(const std::vector<Eigen::Index>& idx, const Eigen::MatrixXd& x,
+                                const Eigen::VectorXd& r) const;
+
+  // Held-out mean squared error of the least-squares fit on the columns `idx`.
+  double HeldOutMse(const std::vector<Eigen::Index>& idx) const;
+
+  // In-sample fit on all data: coefficients (scaled columns) and the residual sum of squares.
+  Eigen::VectorXd Fit(const std::vector<Eigen::Index>& idx, double* sse) const;
+
+  Eigen::MatrixXd TotalGram(const std::vector<Eigen::Index>& idx) const { return SubMatrix(total_gram_, idx); }
+  double n() const { return n_; }
+
+ private:
+  static Eigen::MatrixXd SubMatrix(const Eigen::MatrixXd& m, const std::vector<Eigen::Index>& idx);
+  static Eigen::VectorXd SubVector(const Eigen::VectorXd& v, const std::vector<Eigen::Index>& idx);
+  // Columns have unit RMS, so a ridge of 1e-9·(mean diagonal) only matters for collinear columns.
+  static Eigen::VectorXd Solve(Eigen::MatrixXd g, const Eigen::VectorXd& h);
+
+  std::vector<Eigen::MatrixXd> gram_;
+  std::vector<Eigen::VectorXd> xty_;
+  std::vector<double> yty_;
+  Eigen::MatrixXd total_gram_;
+  Eigen::VectorXd total_xty_;
+  double total_yty_ = 0.0;
+  double n_ = 0.0;
+  Eigen::Index folds_ = 0;
+};
+
+}  // namespace mb::diagnosis_detail
