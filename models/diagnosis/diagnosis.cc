@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "engine/units.h"
+#include "models/diagnosis/candidate_matrix.h"
 #include "models/diagnosis/cross_validation.h"
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
@@ -19,27 +20,14 @@
 namespace mb {
 
 using diagnosis_detail::BlockGrams;
+using diagnosis_detail::BuildCandidateMatrix;
+using diagnosis_detail::Candidate;
+using diagnosis_detail::FilterCandidateColumns;
 using diagnosis_detail::Percentile;
+using diagnosis_detail::RegressorMatrix;
 using diagnosis_detail::RobustWeights;
 
 namespace {
-
-// The smallest share, over the columns of `columns` (N × k), of a column's energy that the base regressors
-// `base` (N × p, QR-factorised in `qr`) reproduce by least squares: 1 − ‖c − B·B⁺c‖²/‖c‖². 0 when p = 0. A
-// candidate whose every column lies in the base's span adds only what separates it from the base — for
-// coulomb_friction against a base that already fits F_c, only its dead band — and would be named for that.
-double ShareSpannedByBase(const Eigen::MatrixXd& columns, const Eigen::MatrixXd& base,
-                          const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>& qr) {
-  if (base.cols() == 0) return 0.0;
-  double share = 1.0;
-  for (Eigen::Index j = 0; j < columns.cols(); ++j) {
-    const double energy = columns.col(j).squaredNorm();
-    if (!(energy > 0.0)) continue;
-    const Eigen::VectorXd rest = columns.col(j) - base * qr.solve(columns.col(j));
-    share = std::min(share, 1.0 - rest.squaredNorm() / energy);
-  }
-  return share;
-}
 
 // A position in the diagnosis' position unit: mm for metres, else the unit itself.
 std::string FormatPosition(double x, const std::string& unit) {
@@ -110,91 +98,6 @@ void CheckDiagnosisInput(const DiagnosisSignals& signals, const BaseRegressors& 
     throw std::invalid_argument(fmt::format("DiagnoseMissingEffects: redundant_with_base = {} must lie in (0, 1]",
                                             options.redundant_with_base));
   }
-}
-
-// A candidate effect, its regressor columns and their place in the full regressor matrix.
-struct Candidate {
-  EffectInstance effect;
-  const EffectType* type = nullptr;
-  EffectRegressors reg;
-  std::vector<Eigen::Index> idx;
-};
-
-// The full regressor matrix [base, candidates' columns] (N × total), each column scaled to unit RMS by `scale`.
-struct RegressorMatrix {
-  std::vector<Candidate> cands;
-  Eigen::MatrixXd x;
-  Eigen::VectorXd scale;
-  // The rows weighted by √w (Huber weights): what the Grams, held-out errors and significance test see.
-  Eigen::MatrixXd wx;
-  Eigen::VectorXd wr;
-  void Weigh(const Eigen::VectorXd& r, const Eigen::VectorXd& w) {
-    const Eigen::VectorXd sw = w.cwiseSqrt();
-    wx = sw.asDiagonal() * x;
-    wr = sw.cwiseProduct(r);
-  }
-};
-
-// Parallel filtering of a candidate's columns (DiagnosisOptions::regressor_filter_hz). Regressors built from the model
-// output alone are in the filtered band already. (quantization is built from it too, but its rounding puts energy above
-// the cut-off that the measured, filtered output lost.)
-void FilterCandidateColumns(const EffectType& type, const DiagnosisSignals& signals, const DiagnosisOptions& options,
-                            Eigen::MatrixXd* columns) {
-  if (!(options.regressor_filter_hz > 0.0) || type.traits.regressor_in_output_band) return;
-  const double ts = MedianTimeStep(signals.time);
-  for (Eigen::Index j = 0; j < columns->cols(); ++j) {
-    columns->col(j) = ZeroPhaseLowPass(columns->col(j), ts, options.regressor_filter_hz);
-  }
-}
-
-// 2. The candidates' regressors; those the base already spans are not candidates (a note says so).
-RegressorMatrix BuildCandidateMatrix(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols,
-                                     const std::vector<EffectInstance>& proposed, const DiagnosisOptions& options,
-                                     std::vector<std::string>* notes) {
-  const Eigen::Index n = signals.size(), p = base_cols.cols();
-  // (Eigen's QR of an N × 0 matrix is not defined: without base regressors nothing is spanned.)
-  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> base_qr =
-      p > 0 ? Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(base_cols) : Eigen::ColPivHouseholderQR<Eigen::MatrixXd>();
-  RegressorMatrix m;
-  Eigen::Index total_cols = p;
-  for (const auto& e : proposed) {
-    const EffectType& type = LookupEffect(e.name);
-    Candidate c{e, &type, {}, {}};
-    try {
-      c.reg = type.regressors(e, signals);
-    } catch (const std::invalid_argument& error) {  // e.g. a parameter out of range on this record: skip it, say why
-      notes->push_back(fmt::format("{} skipped: its regressors cannot be computed on this record ({})", e.name,
-                                   error.what()));
-      continue;
-    }
-    FilterCandidateColumns(type, signals, options, &c.reg.columns);
-    if (c.reg.columns.cwiseAbs().maxCoeff() == 0.0) continue;  // nothing to fit (e.g. no positive motion)
-    const double spanned = ShareSpannedByBase(c.reg.columns, base_cols, base_qr);
-    if (spanned >= options.redundant_with_base) {
-      notes->push_back(fmt::format(
-          "{} is already in the model: the base's free parameters reproduce {:.1f} % of its regressor, so it is "
-          "refit with them rather than proposed as missing",
-          e.name, 100.0 * spanned));
-      continue;
-    }
-    total_cols += c.reg.columns.cols();
-    m.cands.push_back(std::move(c));
-  }
-  m.x.resize(n, total_cols);
-  if (p > 0) m.x.leftCols(p) = base_cols;
-  Eigen::Index col = p;
-  for (auto& c : m.cands) {
-    m.x.middleCols(col, c.reg.columns.cols()) = c.reg.columns;
-    for (Eigen::Index j = 0; j < c.reg.columns.cols(); ++j) c.idx.push_back(col + j);
-    col += c.reg.columns.cols();
-  }
-  m.scale.resize(total_cols);
-  for (Eigen::Index j = 0; j < total_cols; ++j) {
-    const double rms = m.x.col(j).norm() / std::sqrt(static_cast<double>(n));
-    m.scale(j) = rms > 0.0 ? rms : 1.0;
-    m.x.col(j) /= m.scale(j);
-  }
-  return m;
 }
 
 // What the forward selection chose.

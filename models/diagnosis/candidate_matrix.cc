@@ -1,0 +1,99 @@
+// The candidates' regressor matrix (DiagnoseMissingEffects, step 2): the proposed effects' regressor columns
+// (EffectType::regressors) beside the base model's free-parameter regressors, parallel-filtered like the compared
+// output when the data are equation-error data, scaled to unit RMS; a candidate that the base's columns already
+// reproduce (DiagnosisOptions::redundant_with_base) is in the model and is not ranked. Source: DIAGNOSIS.md, "Naming
+// the missing effect", step 3 (a candidate library of regressors, SINDy's idea: Brunton, Proctor & Kutz 2016).
+#include "models/diagnosis/candidate_matrix.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+#include <Eigen/Dense>
+#include <fmt/format.h>
+
+#include "models/diagnosis/effect_registry.h"
+#include "models/diagnosis/signal_processing.h"
+
+namespace mb::diagnosis_detail {
+namespace {
+
+// The smallest share, over the columns of `columns` (N × k), of a column's energy that the base regressors
+// `base` (N × p, QR-factorised in `qr`) reproduce by least squares: 1 − ‖c − B·B⁺c‖²/‖c‖². 0 when p = 0. A
+// candidate whose every column lies in the base's span adds only what separates it from the base — for
+// coulomb_friction against a base that already fits F_c, only its dead band — and would be named for that.
+double ShareSpannedByBase(const Eigen::MatrixXd& columns, const Eigen::MatrixXd& base,
+                          const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>& qr) {
+  if (base.cols() == 0) return 0.0;
+  double share = 1.0;
+  for (Eigen::Index j = 0; j < columns.cols(); ++j) {
+    const double energy = columns.col(j).squaredNorm();
+    if (!(energy > 0.0)) continue;
+    const Eigen::VectorXd rest = columns.col(j) - base * qr.solve(columns.col(j));
+    share = std::min(share, 1.0 - rest.squaredNorm() / energy);
+  }
+  return share;
+}
+
+}  // namespace
+
+void FilterCandidateColumns(const EffectType& type, const DiagnosisSignals& signals, const DiagnosisOptions& options,
+                            Eigen::MatrixXd* columns) {
+  if (!(options.regressor_filter_hz > 0.0) || type.traits.regressor_in_output_band) return;
+  const double ts = MedianTimeStep(signals.time);
+  for (Eigen::Index j = 0; j < columns->cols(); ++j) {
+    columns->col(j) = ZeroPhaseLowPass(columns->col(j), ts, options.regressor_filter_hz);
+  }
+}
+
+RegressorMatrix BuildCandidateMatrix(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols,
+                                     const std::vector<EffectInstance>& proposed, const DiagnosisOptions& options,
+                                     std::vector<std::string>* notes) {
+  const Eigen::Index n = signals.size(), p = base_cols.cols();
+  // (Eigen's QR of an N × 0 matrix is not defined: without base regressors nothing is spanned.)
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> base_qr =
+      p > 0 ? Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(base_cols) : Eigen::ColPivHouseholderQR<Eigen::MatrixXd>();
+  RegressorMatrix m;
+  Eigen::Index total_cols = p;
+  for (const auto& e : proposed) {
+    const EffectType& type = LookupEffect(e.name);
+    Candidate c{e, &type, {}, {}};
+    try {
+      c.reg = type.regressors(e, signals);
+    } catch (const std::invalid_argument& error) {  // e.g. a parameter out of range on this record: skip it, say why
+      notes->push_back(fmt::format("{} skipped: its regressors cannot be computed on this record ({})", e.name,
+                                   error.what()));
+      continue;
+    }
+    FilterCandidateColumns(type, signals, options, &c.reg.columns);
+    if (c.reg.columns.cwiseAbs().maxCoeff() == 0.0) continue;  // nothing to fit (e.g. no positive motion)
+    const double spanned = ShareSpannedByBase(c.reg.columns, base_cols, base_qr);
+    if (spanned >= options.redundant_with_base) {
+      notes->push_back(fmt::format(
+          "{} is already in the model: the base's free parameters reproduce {:.1f} % of its regressor, so it is "
+          "refit with them rather than proposed as missing",
+          e.name, 100.0 * spanned));
+      continue;
+    }
+    total_cols += c.reg.columns.cols();
+    m.cands.push_back(std::move(c));
+  }
+  m.x.resize(n, total_cols);
+  if (p > 0) m.x.leftCols(p) = base_cols;
+  Eigen::Index col = p;
+  for (auto& c : m.cands) {
+    m.x.middleCols(col, c.reg.columns.cols()) = c.reg.columns;
+    for (Eigen::Index j = 0; j < c.reg.columns.cols(); ++j) c.idx.push_back(col + j);
+    col += c.reg.columns.cols();
+  }
+  m.scale.resize(total_cols);
+  for (Eigen::Index j = 0; j < total_cols; ++j) {
+    const double rms = m.x.col(j).norm() / std::sqrt(static_cast<double>(n));
+    m.scale(j) = rms > 0.0 ? rms : 1.0;
+    m.x.col(j) /= m.scale(j);
+  }
+  return m;
+}
+
+}  // namespace mb::diagnosis_detail
