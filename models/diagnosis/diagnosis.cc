@@ -15,17 +15,26 @@
 #include "models/diagnosis/cross_validation.h"
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
+#include "models/diagnosis/forward_selection.h"
 #include "models/diagnosis/robust_weighting.h"
 
 namespace mb {
 
+using diagnosis_detail::AddBestEffect;
+using diagnosis_detail::AddFrictionLaw;
 using diagnosis_detail::BlockGrams;
 using diagnosis_detail::BuildCandidateMatrix;
 using diagnosis_detail::Candidate;
 using diagnosis_detail::FilterCandidateColumns;
+using diagnosis_detail::GainSignificance;
+using diagnosis_detail::LawSearch;
 using diagnosis_detail::Percentile;
 using diagnosis_detail::RegressorMatrix;
 using diagnosis_detail::RobustWeights;
+using diagnosis_detail::SelectEffects;
+using diagnosis_detail::SelectInOrder;
+using diagnosis_detail::Selection;
+using diagnosis_detail::StartSelection;
 
 namespace {
 
@@ -98,183 +107,6 @@ void CheckDiagnosisInput(const DiagnosisSignals& signals, const BaseRegressors& 
     throw std::invalid_argument(fmt::format("DiagnoseMissingEffects: redundant_with_base = {} must lie in (0, 1]",
                                             options.redundant_with_base));
   }
-}
-
-// What the forward selection chose.
-struct Selection {
-  std::vector<Eigen::Index> selected;  // columns of the regressor matrix: the base's, then the chosen effects'
-  std::vector<std::size_t> order;      // the chosen candidates, in the order they were added
-  std::vector<double> scores, cumulative;
-  double mse_base = 0.0;  // held-out MSE of the base alone
-  double mse_last = 0.0;  // held-out MSE after the last chosen effect
-  std::vector<std::size_t> set_aside;  // candidates whose gain was not significant (AddBestEffect)
-};
-
-// An effect whose regressor is the error itself (EffectTraits::regressor_is_error) must enter with a coefficient
-// near 1; far from it, the column is only a nonlinear function of ŷ that happens to correlate with the residual (on
-// EMPS: a 13 N "quantization step" with coefficient 0.2): true, and a note, when it is dropped for that.
-bool ImplausibleCoefficient(const Candidate& c, const RegressorMatrix& m, const BlockGrams& grams,
-                            const std::vector<Eigen::Index>& trial, std::vector<std::string>* notes) {
-  if (!c.type->traits.regressor_is_error) return false;
-  double sse = 0.0;
-  const Eigen::VectorXd theta = grams.Fit(trial, &sse);
-  const double coefficient = theta(theta.size() - 1) / m.scale(trial.back());
-  if (coefficient >= 0.5 && coefficient <= 1.5) return false;
-  std::string parameters;
-  for (const auto& [key, value] : c.effect.parameters) {
-    parameters += fmt::format("{}{} = {:.4g}", parameters.empty() ? "" : ", ", key, value);
-  }
-  notes->push_back(fmt::format("{} ({}) dropped: it fits with coefficient {:.3g} where the effect itself would give 1",
-                               c.effect.name, parameters, coefficient));
-  return true;
-}
-
-// Among the candidates within 0.1 % of the best held-out MSE, the one with the lowest in-sample
-// BIC = N ln(SSE/N) + k ln N.
-std::size_t PickByBic(const RegressorMatrix& m, const BlockGrams& grams, const std::vector<Eigen::Index>& selected,
-                      const std::vector<double>& mse, const std::vector<bool>& used, double best_mse) {
-  const double log_n = std::log(grams.n());
-  std::size_t pick = m.cands.size();
-  double best_bic = std::numeric_limits<double>::infinity();
-  for (std::size_t c = 0; c < m.cands.size(); ++c) {
-    if (used[c] || mse[c] > best_mse * (1.0 + 1e-3)) continue;
-    std::vector<Eigen::Index> trial = selected;
-    trial.insert(trial.end(), m.cands[c].idx.begin(), m.cands[c].idx.end());
-    double sse = 0.0;
-    grams.Fit(trial, &sse);
-    const double bic = grams.n() * std::log(std::max(sse, 1e-300) / grams.n()) + static_cast<double>(trial.size()) * log_n;
-    if (bic < best_bic) { best_bic = bic; pick = c; }
-  }
-  return pick;
-}
-
-// A selection holding the base's p columns.
-Selection StartSelection(const BlockGrams& grams, Eigen::Index p) {
-  Selection s;
-  for (Eigen::Index j = 0; j < p; ++j) s.selected.push_back(j);
-  s.mse_base = s.mse_last = grams.HeldOutMse(s.selected);
-  return s;
-}
-
-// No invented effect: is the held-out gain of `trial` over `selected` significant against the residual's own
-// autocorrelation? Diebold–Mariano on the per-sample held-out loss differences δ = e_prev² − e_new², the variance of
-// their mean from contiguous batch means (batches ≈ the effective sample size). Returns the one-sided t.
-double GainSignificance(const RegressorMatrix& m, const BlockGrams& grams, const std::vector<Eigen::Index>& selected,
-                        const std::vector<Eigen::Index>& trial, Eigen::Index batches) {
-  const Eigen::VectorXd before = grams.HeldOutErrors(selected, m.wx, m.wr);
-  const Eigen::VectorXd after = grams.HeldOutErrors(trial, m.wx, m.wr);
-  const Eigen::VectorXd delta = before.array().square() - after.array().square();
-  const Eigen::Index n = delta.size();
-  batches = std::clamp<Eigen::Index>(batches, 2, std::max<Eigen::Index>(2, n / 8));
-  Eigen::VectorXd means(batches);
-  for (Eigen::Index b = 0; b < batches; ++b) {
-    const Eigen::Index lo = b * n / batches, hi = (b + 1) * n / batches;
-    means(b) = delta.segment(lo, hi - lo).mean();
-  }
-  const double mean = means.mean();
-  const double var = (means.array() - mean).square().sum() / static_cast<double>(batches - 1);
-  const double se = std::sqrt(var / static_cast<double>(batches));
-  return se > 0.0 ? mean / se : (mean > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
-}
-
-// The held-out MSE of every candidate not `used` added to `selected` (infinity for the used ones; a candidate whose
-// coefficient is implausible is marked used).
-std::vector<double> TrialErrors(const RegressorMatrix& m, const BlockGrams& grams, const std::vector<Eigen::Index>& selected,
-                                std::vector<bool>* used, std::vector<std::string>* notes) {
-  std::vector<double> mse(m.cands.size(), std::numeric_limits<double>::infinity());
-  for (std::size_t c = 0; c < m.cands.size(); ++c) {
-    if ((*used)[c]) continue;
-    std::vector<Eigen::Index> trial = selected;
-    trial.insert(trial.end(), m.cands[c].idx.begin(), m.cands[c].idx.end());
-    if (ImplausibleCoefficient(m.cands[c], m, grams, trial, notes)) {
-      (*used)[c] = true;  // never chosen; not in `order`
-      continue;
-    }
-    mse[c] = grams.HeldOutMse(trial);
-  }
-  return mse;
-}
-
-// One round: adds the best candidate not `used` (near-ties to the lower BIC) whose gain reaches min_gain and is
-// significant (GainSignificance; an insignificant best is set aside with a note and the next one tried). False when
-// none passes.
-bool AddBestEffect(const RegressorMatrix& m, const BlockGrams& grams, const DiagnosisOptions& options,
-                   std::vector<bool>* used, Selection* s, std::vector<std::string>* notes) {
-  const std::vector<double> mse = TrialErrors(m, grams, s->selected, used, notes);
-  for (;;) {
-    double best_mse = std::numeric_limits<double>::infinity();
-    for (std::size_t c = 0; c < m.cands.size(); ++c) {
-      if (!(*used)[c]) best_mse = std::min(best_mse, mse[c]);
-    }
-    if (!std::isfinite(best_mse)) return false;
-    const std::size_t pick = PickByBic(m, grams, s->selected, mse, *used, best_mse);
-    const double gain = s->mse_last > 0.0 ? 1.0 - mse[pick] / s->mse_last : 0.0;
-    if (!(gain >= options.min_gain) || gain <= 0.0) return false;
-    std::vector<Eigen::Index> trial = s->selected;
-    trial.insert(trial.end(), m.cands[pick].idx.begin(), m.cands[pick].idx.end());
-    (*used)[pick] = true;
-    if (options.significance_t > 0.0 && gain < options.significance_exempt_gain) {
-      const double t = GainSignificance(m, grams, s->selected, trial, options.significance_batches);
-      if (t < options.significance_t) {
-        notes->push_back(fmt::format(
-            "{} not chosen: its held-out gain ({:.1f} %) is not significant against the residual's autocorrelation "
-            "(Diebold–Mariano t = {:.2f} < {:.2f} over {} batches)",
-            m.cands[pick].effect.name, 100.0 * gain, t, options.significance_t, options.significance_batches));
-        s->set_aside.push_back(pick);
-        continue;
-      }
-    }
-    s->order.push_back(pick);
-    s->selected = std::move(trial);
-    s->scores.push_back(gain);
-    s->cumulative.push_back(s->mse_base > 0.0 ? 1.0 - mse[pick] / s->mse_base : 0.0);
-    s->mse_last = mse[pick];
-    return true;
-  }
-}
-
-// 3. Forward selection on the held-out error among the candidates not `used`, continuing `s`: rounds of AddBestEffect
-// until options.max_effects effects are chosen or none passes.
-void SelectEffects(const RegressorMatrix& m, const BlockGrams& grams, std::vector<bool> used,
-                   const DiagnosisOptions& options, Selection* s, std::vector<std::string>* notes) {
-  while (static_cast<Eigen::Index>(s->order.size()) < options.max_effects) {
-    if (!AddBestEffect(m, grams, options, &used, s, notes)) break;
-  }
-}
-
-// The friction-law replacements chosen so far (DiagnoseMissingEffects, step 3a): instances, scores, and the base's
-// columns with theirs appended (their raw columns, as the base's).
-struct LawSearch {
-  std::vector<EffectInstance> effects;
-  std::vector<double> scores, cumulative;
-  Eigen::MatrixXd columns;
-};
-
-// One round of forward selection among the friction-law replacements not chosen yet (at most 3 in all; the chosen
-// ones are the first candidates of `m`): true, with `law` extended, when one passes.
-bool AddFrictionLaw(const RegressorMatrix& m, const BlockGrams& grams, const Selection& chosen,
-                    const DiagnosisOptions& options, LawSearch* law, std::vector<std::string>* notes) {
-  const std::size_t l = law->effects.size();
-  if (l >= 3) return false;
-  std::vector<bool> used(m.cands.size());
-  for (std::size_t c = 0; c < m.cands.size(); ++c) {
-    bool taken = c < l;
-    for (const auto& e : law->effects) taken = taken || e.name == m.cands[c].effect.name;
-    used[c] = taken || !m.cands[c].type->traits.friction_law_replacement;
-  }
-  Selection trial = chosen;
-  if (!AddBestEffect(m, grams, options, &used, &trial, notes)) return false;
-  const Candidate& c = m.cands[trial.order.back()];
-  law->effects.push_back(c.effect);
-  law->scores.push_back(trial.scores.back());
-  law->cumulative.push_back(trial.cumulative.back());
-  const Eigen::Index k = law->columns.cols(), kc = static_cast<Eigen::Index>(c.idx.size());
-  law->columns.conservativeResize(Eigen::NoChange, k + kc);
-  for (Eigen::Index j = 0; j < kc; ++j) {
-    const Eigen::Index col = c.idx[static_cast<std::size_t>(j)];
-    law->columns.col(k + j) = m.x.col(col) * m.scale(col);
-  }
-  return true;
 }
 
 // The final joint fit: coefficients in the columns' own units, their standard deviations, the fitted correction.
@@ -764,20 +596,6 @@ std::vector<EffectInstance> ChosenInstances(const Ranking& ranking) {
   std::vector<EffectInstance> chosen;
   for (std::size_t c : ranking.chosen.order) chosen.push_back(ranking.m.cands[c].effect);
   return chosen;
-}
-
-// The first `count` candidates of `m` chosen in their order, each scored on the held-out error it removes.
-Selection SelectInOrder(const RegressorMatrix& m, const BlockGrams& grams, Eigen::Index p, std::size_t count) {
-  Selection s = StartSelection(grams, p);
-  for (std::size_t i = 0; i < count; ++i) {
-    s.selected.insert(s.selected.end(), m.cands[i].idx.begin(), m.cands[i].idx.end());
-    const double mse = grams.HeldOutMse(s.selected);
-    s.order.push_back(i);
-    s.scores.push_back(s.mse_last > 0.0 ? 1.0 - mse / s.mse_last : 0.0);
-    s.cumulative.push_back(s.mse_base > 0.0 ? 1.0 - mse / s.mse_base : 0.0);
-    s.mse_last = mse;
-  }
-  return s;
 }
 
 // The ranking rebuilt on a refined set of chosen effects (the first `laws` of m's candidates are the law replacements):

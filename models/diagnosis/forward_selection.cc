@@ -1,0 +1,186 @@
+// Forward selection (DiagnoseMissingEffects, steps 3–3b): each round adds the candidate whose columns, fitted jointly
+// with the base's and the effects chosen before, leave the lowest contiguous-block held-out error (near-ties within
+// 0.1 % to the lower BIC); its score is 1 − MSE(S ∪ {c})/MSE(S). A candidate is chosen only when its gain reaches
+// DiagnosisOptions::min_gain and is significant against the residual's autocorrelation (Diebold–Mariano on the
+// held-out loss differences, batch-mean variance), and an effect whose regressor is the error itself only with a
+// coefficient near 1. The friction-law replacements are searched first, in rounds of their own. Sources: DIAGNOSIS.md,
+// "Naming the missing effect", steps 3–4, and "When the base model is wrong elsewhere" (significance); Brunton,
+// Proctor & Kutz 2016 (SINDy: sparse selection from a candidate library); Schwarz 1978 (BIC); Diebold & Mariano,
+// "Comparing predictive accuracy" (1995).
+#include "models/diagnosis/forward_selection.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "models/diagnosis/effect_registry.h"
+
+namespace mb::diagnosis_detail {
+namespace {
+
+// An effect whose regressor is the error itself (EffectTraits::regressor_is_error) must enter with a coefficient
+// near 1; far from it, the column is only a nonlinear function of ŷ that happens to correlate with the residual (on
+// EMPS: a 13 N "quantization step" with coefficient 0.2): true, and a note, when it is dropped for that.
+bool ImplausibleCoefficient(const Candidate& c, const RegressorMatrix& m, const BlockGrams& grams,
+                            const std::vector<Eigen::Index>& trial, std::vector<std::string>* notes) {
+  if (!c.type->traits.regressor_is_error) return false;
+  double sse = 0.0;
+  const Eigen::VectorXd theta = grams.Fit(trial, &sse);
+  const double coefficient = theta(theta.size() - 1) / m.scale(trial.back());
+  if (coefficient >= 0.5 && coefficient <= 1.5) return false;
+  std::string parameters;
+  for (const auto& [key, value] : c.effect.parameters) {
+    parameters += fmt::format("{}{} = {:.4g}", parameters.empty() ? "" : ", ", key, value);
+  }
+  notes->push_back(fmt::format("{} ({}) dropped: it fits with coefficient {:.3g} where the effect itself would give 1",
+                               c.effect.name, parameters, coefficient));
+  return true;
+}
+
+// Among the candidates within 0.1 % of the best held-out MSE, the one with the lowest in-sample
+// BIC = N ln(SSE/N) + k ln N.
+std::size_t PickByBic(const RegressorMatrix& m, const BlockGrams& grams, const std::vector<Eigen::Index>& selected,
+                      const std::vector<double>& mse, const std::vector<bool>& used, double best_mse) {
+  const double log_n = std::log(grams.n());
+  std::size_t pick = m.cands.size();
+  double best_bic = std::numeric_limits<double>::infinity();
+  for (std::size_t c = 0; c < m.cands.size(); ++c) {
+    if (used[c] || mse[c] > best_mse * (1.0 + 1e-3)) continue;
+    std::vector<Eigen::Index> trial = selected;
+    trial.insert(trial.end(), m.cands[c].idx.begin(), m.cands[c].idx.end());
+    double sse = 0.0;
+    grams.Fit(trial, &sse);
+    const double bic = grams.n() * std::log(std::max(sse, 1e-300) / grams.n()) + static_cast<double>(trial.size()) * log_n;
+    if (bic < best_bic) { best_bic = bic; pick = c; }
+  }
+  return pick;
+}
+
+// The held-out MSE of every candidate not `used` added to `selected` (infinity for the used ones; a candidate whose
+// coefficient is implausible is marked used).
+std::vector<double> TrialErrors(const RegressorMatrix& m, const BlockGrams& grams, const std::vector<Eigen::Index>& selected,
+                                std::vector<bool>* used, std::vector<std::string>* notes) {
+  std::vector<double> mse(m.cands.size(), std::numeric_limits<double>::infinity());
+  for (std::size_t c = 0; c < m.cands.size(); ++c) {
+    if ((*used)[c]) continue;
+    std::vector<Eigen::Index> trial = selected;
+    trial.insert(trial.end(), m.cands[c].idx.begin(), m.cands[c].idx.end());
+    if (ImplausibleCoefficient(m.cands[c], m, grams, trial, notes)) {
+      (*used)[c] = true;  // never chosen; not in `order`
+      continue;
+    }
+    mse[c] = grams.HeldOutMse(trial);
+  }
+  return mse;
+}
+
+}  // namespace
+
+Selection StartSelection(const BlockGrams& grams, Eigen::Index p) {
+  Selection s;
+  for (Eigen::Index j = 0; j < p; ++j) s.selected.push_back(j);
+  s.mse_base = s.mse_last = grams.HeldOutMse(s.selected);
+  return s;
+}
+
+Selection SelectInOrder(const RegressorMatrix& m, const BlockGrams& grams, Eigen::Index p, std::size_t count) {
+  Selection s = StartSelection(grams, p);
+  for (std::size_t i = 0; i < count; ++i) {
+    s.selected.insert(s.selected.end(), m.cands[i].idx.begin(), m.cands[i].idx.end());
+    const double mse = grams.HeldOutMse(s.selected);
+    s.order.push_back(i);
+    s.scores.push_back(s.mse_last > 0.0 ? 1.0 - mse / s.mse_last : 0.0);
+    s.cumulative.push_back(s.mse_base > 0.0 ? 1.0 - mse / s.mse_base : 0.0);
+    s.mse_last = mse;
+  }
+  return s;
+}
+
+double GainSignificance(const RegressorMatrix& m, const BlockGrams& grams, const std::vector<Eigen::Index>& selected,
+                        const std::vector<Eigen::Index>& trial, Eigen::Index batches) {
+  const Eigen::VectorXd before = grams.HeldOutErrors(selected, m.wx, m.wr);
+  const Eigen::VectorXd after = grams.HeldOutErrors(trial, m.wx, m.wr);
+  const Eigen::VectorXd delta = before.array().square() - after.array().square();
+  const Eigen::Index n = delta.size();
+  batches = std::clamp<Eigen::Index>(batches, 2, std::max<Eigen::Index>(2, n / 8));
+  Eigen::VectorXd means(batches);
+  for (Eigen::Index b = 0; b < batches; ++b) {
+    const Eigen::Index lo = b * n / batches, hi = (b + 1) * n / batches;
+    means(b) = delta.segment(lo, hi - lo).mean();
+  }
+  const double mean = means.mean();
+  const double var = (means.array() - mean).square().sum() / static_cast<double>(batches - 1);
+  const double se = std::sqrt(var / static_cast<double>(batches));
+  return se > 0.0 ? mean / se : (mean > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
+}
+
+bool AddBestEffect(const RegressorMatrix& m, const BlockGrams& grams, const DiagnosisOptions& options,
+                   std::vector<bool>* used, Selection* s, std::vector<std::string>* notes) {
+  const std::vector<double> mse = TrialErrors(m, grams, s->selected, used, notes);
+  for (;;) {
+    double best_mse = std::numeric_limits<double>::infinity();
+    for (std::size_t c = 0; c < m.cands.size(); ++c) {
+      if (!(*used)[c]) best_mse = std::min(best_mse, mse[c]);
+    }
+    if (!std::isfinite(best_mse)) return false;
+    const std::size_t pick = PickByBic(m, grams, s->selected, mse, *used, best_mse);
+    const double gain = s->mse_last > 0.0 ? 1.0 - mse[pick] / s->mse_last : 0.0;
+    if (!(gain >= options.min_gain) || gain <= 0.0) return false;
+    std::vector<Eigen::Index> trial = s->selected;
+    trial.insert(trial.end(), m.cands[pick].idx.begin(), m.cands[pick].idx.end());
+    (*used)[pick] = true;
+    if (options.significance_t > 0.0 && gain < options.significance_exempt_gain) {
+      const double t = GainSignificance(m, grams, s->selected, trial, options.significance_batches);
+      if (t < options.significance_t) {
+        notes->push_back(fmt::format(
+            "{} not chosen: its held-out gain ({:.1f} %) is not significant against the residual's autocorrelation "
+            "(Diebold–Mariano t = {:.2f} < {:.2f} over {} batches)",
+            m.cands[pick].effect.name, 100.0 * gain, t, options.significance_t, options.significance_batches));
+        s->set_aside.push_back(pick);
+        continue;
+      }
+    }
+    s->order.push_back(pick);
+    s->selected = std::move(trial);
+    s->scores.push_back(gain);
+    s->cumulative.push_back(s->mse_base > 0.0 ? 1.0 - mse[pick] / s->mse_base : 0.0);
+    s->mse_last = mse[pick];
+    return true;
+  }
+}
+
+void SelectEffects(const RegressorMatrix& m, const BlockGrams& grams, std::vector<bool> used,
+                   const DiagnosisOptions& options, Selection* s, std::vector<std::string>* notes) {
+  while (static_cast<Eigen::Index>(s->order.size()) < options.max_effects) {
+    if (!AddBestEffect(m, grams, options, &used, s, notes)) break;
+  }
+}
+
+bool AddFrictionLaw(const RegressorMatrix& m, const BlockGrams& grams, const Selection& chosen,
+                    const DiagnosisOptions& options, LawSearch* law, std::vector<std::string>* notes) {
+  const std::size_t l = law->effects.size();
+  if (l >= 3) return false;
+  std::vector<bool> used(m.cands.size());
+  for (std::size_t c = 0; c < m.cands.size(); ++c) {
+    bool taken = c < l;
+    for (const auto& e : law->effects) taken = taken || e.name == m.cands[c].effect.name;
+    used[c] = taken || !m.cands[c].type->traits.friction_law_replacement;
+  }
+  Selection trial = chosen;
+  if (!AddBestEffect(m, grams, options, &used, &trial, notes)) return false;
+  const Candidate& c = m.cands[trial.order.back()];
+  law->effects.push_back(c.effect);
+  law->scores.push_back(trial.scores.back());
+  law->cumulative.push_back(trial.cumulative.back());
+  const Eigen::Index k = law->columns.cols(), kc = static_cast<Eigen::Index>(c.idx.size());
+  law->columns.conservativeResize(Eigen::NoChange, k + kc);
+  for (Eigen::Index j = 0; j < kc; ++j) {
+    const Eigen::Index col = c.idx[static_cast<std::size_t>(j)];
+    law->columns.col(k + j) = m.x.col(col) * m.scale(col);
+  }
+  return true;
+}
+
+}  // namespace mb::diagnosis_detail

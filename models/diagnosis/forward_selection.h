@@ -1,0 +1,64 @@
+#pragma once
+// Forward selection of the missing effects (forward_selection.cc): rounds that add the candidate with the lowest
+// held-out error, scored by the share of the held-out residual it explains, chosen only when the gain is significant
+// (DiagnoseMissingEffects, steps 3–3b).
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "models/diagnosis/candidate_matrix.h"
+#include "models/diagnosis/cross_validation.h"
+
+namespace mb::diagnosis_detail {
+
+// What the forward selection chose.
+struct Selection {
+  std::vector<Eigen::Index> selected;  // columns of the regressor matrix: the base's, then the chosen effects'
+  std::vector<std::size_t> order;      // the chosen candidates, in the order they were added
+  std::vector<double> scores, cumulative;
+  double mse_base = 0.0;  // held-out MSE of the base alone
+  double mse_last = 0.0;  // held-out MSE after the last chosen effect
+  std::vector<std::size_t> set_aside;  // candidates whose gain was not significant (AddBestEffect)
+};
+
+// A selection holding the base's p columns.
+Selection StartSelection(const BlockGrams& grams, Eigen::Index p);
+
+// The first `count` candidates of `m` chosen in their order, each scored on the held-out error it removes (after the
+// base's p columns).
+Selection SelectInOrder(const RegressorMatrix& m, const BlockGrams& grams, Eigen::Index p, std::size_t count);
+
+// No invented effect: is the held-out gain of `trial` over `selected` significant against the residual's own
+// autocorrelation? Diebold–Mariano on the per-sample held-out loss differences δ = e_prev² − e_new², the variance of
+// their mean from contiguous batch means (batches ≈ the effective sample size). Returns the one-sided t.
+double GainSignificance(const RegressorMatrix& m, const BlockGrams& grams, const std::vector<Eigen::Index>& selected,
+                        const std::vector<Eigen::Index>& trial, Eigen::Index batches);
+
+// One round: adds the best candidate not `used` (near-ties to the lower BIC) whose gain reaches min_gain and is
+// significant (GainSignificance; an insignificant best is set aside with a note and the next one tried). False when
+// none passes.
+bool AddBestEffect(const RegressorMatrix& m, const BlockGrams& grams, const DiagnosisOptions& options,
+                   std::vector<bool>* used, Selection* s, std::vector<std::string>* notes);
+
+// 3. Forward selection on the held-out error among the candidates not `used`, continuing `s`: rounds of AddBestEffect
+// until options.max_effects effects are chosen or none passes.
+void SelectEffects(const RegressorMatrix& m, const BlockGrams& grams, std::vector<bool> used,
+                   const DiagnosisOptions& options, Selection* s, std::vector<std::string>* notes);
+
+// The friction-law replacements chosen so far (DiagnoseMissingEffects, step 3a): instances, scores, and the base's
+// columns with theirs appended (their raw columns, as the base's).
+struct LawSearch {
+  std::vector<EffectInstance> effects;
+  std::vector<double> scores, cumulative;
+  Eigen::MatrixXd columns;
+};
+
+// One round of forward selection among the friction-law replacements not chosen yet (at most 3 in all; the chosen
+// ones are the first candidates of `m`): true, with `law` extended, when one passes.
+bool AddFrictionLaw(const RegressorMatrix& m, const BlockGrams& grams, const Selection& chosen,
+                    const DiagnosisOptions& options, LawSearch* law, std::vector<std::string>* notes);
+
+}  // namespace mb::diagnosis_detail
