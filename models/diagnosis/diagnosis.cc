@@ -16,24 +16,30 @@
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/forward_selection.h"
+#include "models/diagnosis/joint_refinement.h"
 #include "models/diagnosis/robust_weighting.h"
 
 namespace mb {
 
-using diagnosis_detail::AddBestEffect;
 using diagnosis_detail::AddFrictionLaw;
 using diagnosis_detail::BlockGrams;
 using diagnosis_detail::BuildCandidateMatrix;
 using diagnosis_detail::Candidate;
-using diagnosis_detail::FilterCandidateColumns;
+using diagnosis_detail::ChosenInstances;
 using diagnosis_detail::GainSignificance;
+using diagnosis_detail::InstallRefined;
+using diagnosis_detail::JointRefinement;
 using diagnosis_detail::LawSearch;
 using diagnosis_detail::Percentile;
+using diagnosis_detail::Ranking;
+using diagnosis_detail::RefineChosenEffects;
 using diagnosis_detail::RegressorMatrix;
+using diagnosis_detail::RetrySetAside;
 using diagnosis_detail::RobustWeights;
 using diagnosis_detail::SelectEffects;
 using diagnosis_detail::SelectInOrder;
 using diagnosis_detail::Selection;
+using diagnosis_detail::SetAsideForRetry;
 using diagnosis_detail::StartSelection;
 
 namespace {
@@ -371,325 +377,6 @@ void Summarise(const DiagnosisOptions& options, const std::string& ambiguity_not
         "non-parametric TISO-GPR component). RMSE {:.4g}.",
         100.0 * options.min_gain, wb.white ? "white" : "not white", significant_peak ? " and has a significant position-periodic peak" : "",
         result->rmse_base_refit);
-  }
-}
-
-// 3c. The chosen effects' nonlinear parameters re-estimated jointly (EffectTraits::refined_parameter): each was found in
-// what the effects chosen before it left, without those found after it. A coordinate pass per parameter: the weighted
-// (Huber) residual sum of squares of the residual on [base, every chosen effect's columns], scanned over the parameter
-// alone (MinimiseOnLogGrid). A friction-law replacement also changes ŷ corrected by the laws, and with it the columns
-// built from ŷ (a delay's).
-class JointRefinement {
- public:
-  JointRefinement(const DiagnosisSignals& signals, const Eigen::MatrixXd& base, const Eigen::VectorXd& weights,
-                  const DiagnosisOptions& options, std::vector<EffectInstance> effects, std::size_t laws)
-      : signals_(signals), corrected_(signals), base_(base), options_(options), effects_(std::move(effects)), laws_(laws) {
-    weights_ = weights;
-    sw_ = weights.cwiseSqrt();
-    wbase_ = sw_.asDiagonal() * base;
-    wr_ = sw_.cwiseProduct(signals.residual);
-    columns_.resize(effects_.size());
-    Rebuild(kAll);
-  }
-
-  // Coordinate passes (at most `sweeps`) until no parameter moves by 0.1 %, each with the Huber weights refit (IRLS)
-  // with every chosen effect in: the ranking's came from the laws' residual, where the effects found behind them looked
-  // like outliers (a delay's error at the reversals) and were down-weighted.
-  void Run(int sweeps) {
-    for (int sweep = 0; sweep < sweeps; ++sweep) {
-      Reweigh();
-      bool moved = false;
-      for (std::size_t j = 0; j < effects_.size(); ++j) moved = RefineOne(j) || moved;
-      if (!moved) break;
-    }
-  }
-
-  const std::vector<EffectInstance>& effects() const { return effects_; }
-  const Eigen::VectorXd& weights() const { return weights_; }
-  // The signals with ŷ corrected by the base and the (refined) law replacements.
-  const DiagnosisSignals& corrected() const { return corrected_; }
-
- private:
-  static constexpr std::size_t kAll = static_cast<std::size_t>(-1);
-
-  // Effect i's columns on the corrected signals, filtered as BuildCandidateMatrix filters them.
-  Eigen::MatrixXd Columns(std::size_t i) const {
-    const EffectType& type = LookupEffect(effects_[i].name);
-    Eigen::MatrixXd columns = type.regressors(effects_[i], corrected_).columns;
-    FilterCandidateColumns(type, corrected_, options_, &columns);
-    return columns;
-  }
-
-  // Effect j's columns anew (kAll: every effect's); after a law, ŷ corrected anew and the columns built from it.
-  void Rebuild(std::size_t j) {
-    const bool law_changed = j == kAll || j < laws_;
-    for (std::size_t i = 0; i < laws_; ++i) {
-      if (j == kAll || i == j) columns_[i] = Columns(i);
-    }
-    if (law_changed) Correct();
-    for (std::size_t i = laws_; i < effects_.size(); ++i) {
-      const bool from_output = LookupEffect(effects_[i].name).traits.regressor_in_output_band;
-      if (j == kAll || i == j || (law_changed && from_output)) columns_[i] = Columns(i);
-    }
-  }
-
-  // ŷ + the weighted least-squares fit of the residual on [base, laws' columns], as RankEffects' passes correct it.
-  void Correct() {
-    const Eigen::Index n = signals_.size();
-    if (signals_.model_output.size() != n) return;
-    Eigen::Index k = base_.cols();
-    for (std::size_t i = 0; i < laws_; ++i) k += columns_[i].cols();
-    Eigen::MatrixXd x(n, k);
-    x.leftCols(base_.cols()) = base_;
-    for (std::size_t i = 0, col = static_cast<std::size_t>(base_.cols()); i < laws_; col += static_cast<std::size_t>(columns_[i].cols()), ++i) {
-      x.middleCols(static_cast<Eigen::Index>(col), columns_[i].cols()) = columns_[i];
-    }
-    const Eigen::VectorXd scale = (x.colwise().norm().array() + 1e-300).inverse();
-    x = x * scale.asDiagonal();
-    const Eigen::MatrixXd wx = sw_.asDiagonal() * x;
-    Eigen::MatrixXd g = wx.transpose() * wx;
-    g.diagonal().array() += 1e-10;
-    corrected_.model_output = signals_.model_output + x * g.ldlt().solve(wx.transpose() * wr_);
-  }
-
-  // The Huber weights of the joint fit with the current columns (RobustWeights), and ŷ corrected with them.
-  void Reweigh() {
-    Eigen::Index k = base_.cols();
-    for (const auto& c : columns_) k += c.cols();
-    Eigen::MatrixXd x(signals_.size(), k);
-    x.leftCols(base_.cols()) = base_;
-    Eigen::Index col = base_.cols();
-    for (const auto& c : columns_) {
-      x.middleCols(col, c.cols()) = c;
-      col += c.cols();
-    }
-    Eigen::VectorXd rest;
-    weights_ = RobustWeights(x, signals_.residual, options_.huber_k, &rest);
-    sw_ = weights_.cwiseSqrt();
-    wbase_ = sw_.asDiagonal() * base_;
-    wr_ = sw_.cwiseProduct(signals_.residual);
-    Rebuild(kAll);
-  }
-
-  // While effect j's parameter is scanned: does effect i's column change with it (j itself; for a law, the columns
-  // built from ŷ)?
-  bool Varies(std::size_t i, std::size_t j) const {
-    return i == j || (j < laws_ && i >= laws_ && LookupEffect(effects_[i].name).traits.regressor_in_output_band);
-  }
-
-  // The weighted joint fit's part that does not change while effect j's parameter is scanned: the base and the fixed
-  // effects' columns, their Gram, and the response less the fixed error columns. An effect whose regressor is the error
-  // itself (EffectTraits::regressor_is_error: ŷ delayed minus ŷ) enters with its physical coefficient 1: free, the fit
-  // trades the coefficient against the parameter (a delay of 3.1 ms with coefficient 1.16 for 3.5 ms).
-  struct FixedPart {
-    Eigen::MatrixXd x, gram;
-    Eigen::VectorXd response;
-  };
-  FixedPart Fix(std::size_t j) const {
-    FixedPart f;
-    f.response = wr_;
-    Eigen::Index k = wbase_.cols();
-    for (std::size_t i = 0; i < columns_.size(); ++i) {
-      if (!Varies(i, j) && !LookupEffect(effects_[i].name).traits.regressor_is_error) k += columns_[i].cols();
-    }
-    f.x.resize(wbase_.rows(), k);
-    f.x.leftCols(wbase_.cols()) = wbase_;
-    Eigen::Index col = wbase_.cols();
-    for (std::size_t i = 0; i < columns_.size(); ++i) {
-      if (Varies(i, j)) continue;
-      if (LookupEffect(effects_[i].name).traits.regressor_is_error) {
-        f.response -= sw_.cwiseProduct(columns_[i].rowwise().sum());
-        continue;
-      }
-      f.x.middleCols(col, columns_[i].cols()) = sw_.asDiagonal() * columns_[i];
-      col += columns_[i].cols();
-    }
-    f.gram = f.x.transpose() * f.x;
-    return f;
-  }
-
-  // The weighted residual sum of squares of the joint fit: the fixed part and the varying effects' current columns
-  // (normal equations scaled to a unit diagonal, ridge 1e-10, as ResidualSumOfSquares).
-  double Sse(const FixedPart& f, std::size_t j) const {
-    Eigen::VectorXd response = f.response;
-    Eigen::Index kv = 0;
-    for (std::size_t i = 0; i < columns_.size(); ++i) {
-      if (Varies(i, j) && !LookupEffect(effects_[i].name).traits.regressor_is_error) kv += columns_[i].cols();
-    }
-    Eigen::MatrixXd xv(wbase_.rows(), kv);
-    Eigen::Index col = 0;
-    for (std::size_t i = 0; i < columns_.size(); ++i) {
-      if (!Varies(i, j)) continue;
-      if (LookupEffect(effects_[i].name).traits.regressor_is_error) {
-        response -= sw_.cwiseProduct(columns_[i].rowwise().sum());
-        continue;
-      }
-      xv.middleCols(col, columns_[i].cols()) = sw_.asDiagonal() * columns_[i];
-      col += columns_[i].cols();
-    }
-    const Eigen::Index kf = f.x.cols(), k = kf + kv;
-    Eigen::MatrixXd g(k, k);
-    g.topLeftCorner(kf, kf) = f.gram;
-    g.topRightCorner(kf, kv) = f.x.transpose() * xv;
-    g.bottomLeftCorner(kv, kf) = g.topRightCorner(kf, kv).transpose();
-    g.bottomRightCorner(kv, kv) = xv.transpose() * xv;
-    Eigen::VectorXd h(k);
-    h << f.x.transpose() * response, xv.transpose() * response;
-    const Eigen::VectorXd d = (g.diagonal().array() > 0.0).select(g.diagonal().array().rsqrt(), 1.0);
-    g = d.asDiagonal() * g * d.asDiagonal();
-    g.diagonal().array() += 1e-10;
-    h = d.cwiseProduct(h);
-    return std::max(0.0, response.squaredNorm() - h.dot(g.ldlt().solve(h)));
-  }
-
-  // Scans effect j's refined parameter with the others fixed; true when it moved by more than 0.1 %.
-  bool RefineOne(std::size_t j) {
-    const EffectTraits& traits = LookupEffect(effects_[j].name).traits;
-    const auto it = effects_[j].parameters.find(traits.refined_parameter);
-    if (traits.refined_parameter.empty() || it == effects_[j].parameters.end()) return false;
-    const double start = it->second, sign = start < 0.0 ? -1.0 : 1.0, magnitude = std::abs(start);
-    if (!(magnitude > 0.0) || !(traits.refinement_range > 1.0)) return false;
-    const FixedPart fixed = Fix(j);
-    const auto sse = [&](double value) {
-      effects_[j].parameters[traits.refined_parameter] = sign * value;
-      try {
-        Rebuild(j);
-      } catch (const std::invalid_argument&) {
-        return std::numeric_limits<double>::infinity();
-      }
-      return Sse(fixed, j);
-    };
-    const double before = sse(magnitude);
-    // A log grid of ratio 1.6 (7 points over a factor 4 either way), then 12 golden-section steps (to 0.3 %).
-    const int grid = std::max(5, static_cast<int>(std::ceil(2.0 * std::log(traits.refinement_range) / std::log(1.6))) + 1);
-    const double found = MinimiseOnLogGrid(magnitude / traits.refinement_range, magnitude * traits.refinement_range,
-                                           grid, 12, sse);
-    const double after = sse(found);
-    if (after < before && std::abs(found / magnitude - 1.0) > 1e-3) return true;
-    sse(magnitude);  // back to the start
-    return false;
-  }
-
-  const DiagnosisSignals& signals_;
-  DiagnosisSignals corrected_;
-  const Eigen::MatrixXd& base_;
-  const DiagnosisOptions& options_;
-  std::vector<EffectInstance> effects_;
-  std::size_t laws_;
-  Eigen::VectorXd weights_, sw_, wr_;
-  Eigen::MatrixXd wbase_;
-  std::vector<Eigen::MatrixXd> columns_;
-};
-
-// What the ranking (steps 1–3) leaves for the final fit.
-struct Ranking {
-  RegressorMatrix m;
-  std::optional<BlockGrams> grams;
-  Selection chosen;
-  Eigen::VectorXd weights;         // the Huber weights of the search
-  Eigen::MatrixXd law_columns;     // the base's columns and the chosen friction-law replacements'
-  Eigen::VectorXd law_residual;    // the residual after their robust fit
-};
-
-// The chosen effects as instances, in the order they were chosen.
-std::vector<EffectInstance> ChosenInstances(const Ranking& ranking) {
-  std::vector<EffectInstance> chosen;
-  for (std::size_t c : ranking.chosen.order) chosen.push_back(ranking.m.cands[c].effect);
-  return chosen;
-}
-
-// The ranking rebuilt on a refined set of chosen effects (the first `laws` of m's candidates are the law replacements):
-// its matrix, Grams, selection, weights, and the laws' columns and residual.
-void InstallRefined(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols, const DiagnosisOptions& options,
-                    std::size_t laws, const Eigen::VectorXd& weights, RegressorMatrix m, Selection s, Ranking* out) {
-  out->law_columns = base_cols;
-  for (std::size_t i = 0; i < laws; ++i) {
-    const Eigen::Index k = out->law_columns.cols(), kc = static_cast<Eigen::Index>(m.cands[i].idx.size());
-    out->law_columns.conservativeResize(Eigen::NoChange, k + kc);
-    for (Eigen::Index j = 0; j < kc; ++j) {
-      const Eigen::Index col = m.cands[i].idx[static_cast<std::size_t>(j)];
-      out->law_columns.col(k + j) = m.x.col(col) * m.scale(col);
-    }
-  }
-  RobustWeights(out->law_columns, signals.residual, options.huber_k, &out->law_residual);
-  out->weights = weights;
-  out->m = std::move(m);
-  out->grams.emplace(out->m.wx, out->m.wr, options.folds);
-  out->chosen = std::move(s);
-}
-
-// 3c. Re-estimates the chosen effects' refined parameters jointly (JointRefinement) and, when one moved, rebuilds the
-// ranking on them: the regressor matrix of the chosen effects alone, in their order, their held-out scores recomputed in
-// that order, and a note per parameter that moved.
-void RefineChosenEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols,
-                         const DiagnosisOptions& options, std::size_t laws, Ranking* out,
-                         std::vector<std::string>* notes) {
-  if (options.refinement_sweeps <= 0 || out->chosen.order.empty()) return;
-  const std::vector<EffectInstance> chosen = ChosenInstances(*out);
-  JointRefinement refinement(signals, base_cols, out->weights, options, chosen, laws);
-  refinement.Run(options.refinement_sweeps);
-  std::vector<std::string> moved;
-  for (std::size_t i = 0; i < chosen.size(); ++i) {
-    const std::string& name = LookupEffect(chosen[i].name).traits.refined_parameter;
-    if (name.empty() || !chosen[i].parameters.count(name)) continue;
-    const double before = chosen[i].parameters.at(name), after = refinement.effects()[i].parameters.at(name);
-    if (after == before) continue;
-    moved.push_back(fmt::format("{}'s {} re-estimated in the joint fit with every chosen effect in: {:.4g} → {:.4g}",
-                                chosen[i].name, name, before, after));
-  }
-  if (moved.empty()) return;
-  std::vector<std::string> build_notes;
-  RegressorMatrix m = BuildCandidateMatrix(refinement.corrected(), base_cols, refinement.effects(), options, &build_notes);
-  if (m.cands.size() != chosen.size()) return;  // a refined effect the base spans now: keep the ranking's
-  m.Weigh(signals.residual, refinement.weights());
-  const BlockGrams grams(m.wx, m.wr, options.folds);
-  Selection s = SelectInOrder(m, grams, base_cols.cols(), m.cands.size());
-  InstallRefined(signals, base_cols, options, laws, refinement.weights(), std::move(m), std::move(s), out);
-  notes->insert(notes->end(), moved.begin(), moved.end());
-}
-
-// 3d. The candidates to try again (RetrySetAside) — those set aside as insignificant whose parameter the joint
-// refinement may correct (EffectTraits::refined_parameter; not a law replacement) — and the retry: each is refined jointly with the chosen effects, then chosen when
-// its held-out gain passes (AddBestEffect). Its first estimate was made in what the laws left: a gap of 1.44 mm for 1 mm
-// behind a Stribeck law, insignificant there (t = 2.32), is 1 mm and clear once both are refit together.
-std::vector<EffectInstance> SetAsideForRetry(const Ranking& ranking) {
-  std::vector<EffectInstance> retry;
-  for (std::size_t c : ranking.chosen.set_aside) {
-    const EffectTraits& traits = ranking.m.cands[c].type->traits;
-    if (!traits.refined_parameter.empty() && !traits.friction_law_replacement) retry.push_back(ranking.m.cands[c].effect);
-  }
-  return retry;
-}
-
-void RetrySetAside(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols, const DiagnosisOptions& options,
-                   std::size_t laws, const std::vector<EffectInstance>& retry, Ranking* out,
-                   std::vector<std::string>* notes) {
-  if (options.refinement_sweeps <= 0) return;
-  for (const EffectInstance& candidate : retry) {
-    if (static_cast<Eigen::Index>(out->chosen.order.size()) >= options.max_effects) return;
-    std::vector<EffectInstance> trial = ChosenInstances(*out);
-    trial.push_back(candidate);
-    JointRefinement refinement(signals, base_cols, out->weights, options, trial, laws);
-    refinement.Run(options.refinement_sweeps);
-    std::vector<std::string> trial_notes;
-    RegressorMatrix m = BuildCandidateMatrix(refinement.corrected(), base_cols, refinement.effects(), options, &trial_notes);
-    if (m.cands.size() != trial.size()) continue;
-    m.Weigh(signals.residual, refinement.weights());
-    const BlockGrams grams(m.wx, m.wr, options.folds);
-    Selection s = SelectInOrder(m, grams, base_cols.cols(), m.cands.size() - 1);
-    std::vector<bool> used(m.cands.size(), true);
-    used.back() = false;
-    const bool chosen = AddBestEffect(m, grams, options, &used, &s, &trial_notes);
-    const std::string& parameter = m.cands.back().type->traits.refined_parameter;
-    const std::string refit = fmt::format("{} tried again with its {} re-estimated jointly with the chosen effects ({:.4g} "
-                                          "→ {:.4g})", candidate.name, parameter, candidate.parameters.at(parameter),
-                                          m.cands.back().effect.parameters.at(parameter));
-    if (!chosen) {
-      notes->push_back(refit + ": not chosen" + (trial_notes.empty() ? "" : " (" + trial_notes.back() + ")"));
-      continue;
-    }
-    notes->push_back(fmt::format("{}: chosen, held-out gain {:.1f} %", refit, 100.0 * s.scores.back()));
-    InstallRefined(signals, base_cols, options, laws, refinement.weights(), std::move(m), std::move(s), out);
   }
 }
 

@@ -1,0 +1,281 @@
+// Joint refinement (DiagnoseMissingEffects, steps 3c–3d). Each chosen effect's nonlinear parameter
+// (EffectTraits::refined_parameter) was estimated in what the effects chosen before it left, without those found after
+// it: it is re-estimated by coordinate passes over the parameters, each a scan (log grid, then golden section) of the
+// weighted residual sum of squares of the joint fit with the base and every other chosen effect in, the Huber weights
+// refit (IRLS) before each pass; the friction-law replacements first, since they change ŷ and with it the columns built
+// from ŷ. When a parameter moved, the ranking is rebuilt on the refined effects and their scores recomputed; the
+// candidates set aside as insignificant whose parameter may be corrected are then tried again, each refined jointly
+// with the chosen effects. Source: DIAGNOSIS.md, "Naming the missing effect", step 1 (the final numbers from a joint
+// refit) and "When the base model is wrong elsewhere" (the friction law first); docs/diagnosis.md, "Ranking".
+#include "models/diagnosis/joint_refinement.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+
+#include <Eigen/Dense>
+#include <fmt/format.h>
+
+#include "models/diagnosis/effect_proposal.h"
+#include "models/diagnosis/effect_registry.h"
+#include "models/diagnosis/robust_weighting.h"
+
+namespace mb::diagnosis_detail {
+
+JointRefinement::JointRefinement(const DiagnosisSignals& signals, const Eigen::MatrixXd& base,
+                                 const Eigen::VectorXd& weights, const DiagnosisOptions& options,
+                                 std::vector<EffectInstance> effects, std::size_t laws)
+    : signals_(signals), corrected_(signals), base_(base), options_(options), effects_(std::move(effects)), laws_(laws) {
+  weights_ = weights;
+  sw_ = weights.cwiseSqrt();
+  wbase_ = sw_.asDiagonal() * base;
+  wr_ = sw_.cwiseProduct(signals.residual);
+  columns_.resize(effects_.size());
+  Rebuild(kAll);
+}
+
+void JointRefinement::Run(int sweeps) {
+  for (int sweep = 0; sweep < sweeps; ++sweep) {
+    Reweigh();
+    bool moved = false;
+    for (std::size_t j = 0; j < effects_.size(); ++j) moved = RefineOne(j) || moved;
+    if (!moved) break;
+  }
+}
+
+Eigen::MatrixXd JointRefinement::Columns(std::size_t i) const {
+  const EffectType& type = LookupEffect(effects_[i].name);
+  Eigen::MatrixXd columns = type.regressors(effects_[i], corrected_).columns;
+  FilterCandidateColumns(type, corrected_, options_, &columns);
+  return columns;
+}
+
+void JointRefinement::Rebuild(std::size_t j) {
+  const bool law_changed = j == kAll || j < laws_;
+  for (std::size_t i = 0; i < laws_; ++i) {
+    if (j == kAll || i == j) columns_[i] = Columns(i);
+  }
+  if (law_changed) Correct();
+  for (std::size_t i = laws_; i < effects_.size(); ++i) {
+    const bool from_output = LookupEffect(effects_[i].name).traits.regressor_in_output_band;
+    if (j == kAll || i == j || (law_changed && from_output)) columns_[i] = Columns(i);
+  }
+}
+
+void JointRefinement::Correct() {
+  const Eigen::Index n = signals_.size();
+  if (signals_.model_output.size() != n) return;
+  Eigen::Index k = base_.cols();
+  for (std::size_t i = 0; i < laws_; ++i) k += columns_[i].cols();
+  Eigen::MatrixXd x(n, k);
+  x.leftCols(base_.cols()) = base_;
+  for (std::size_t i = 0, col = static_cast<std::size_t>(base_.cols()); i < laws_; col += static_cast<std::size_t>(columns_[i].cols()), ++i) {
+    x.middleCols(static_cast<Eigen::Index>(col), columns_[i].cols()) = columns_[i];
+  }
+  const Eigen::VectorXd scale = (x.colwise().norm().array() + 1e-300).inverse();
+  x = x * scale.asDiagonal();
+  const Eigen::MatrixXd wx = sw_.asDiagonal() * x;
+  Eigen::MatrixXd g = wx.transpose() * wx;
+  g.diagonal().array() += 1e-10;
+  corrected_.model_output = signals_.model_output + x * g.ldlt().solve(wx.transpose() * wr_);
+}
+
+void JointRefinement::Reweigh() {
+  Eigen::Index k = base_.cols();
+  for (const auto& c : columns_) k += c.cols();
+  Eigen::MatrixXd x(signals_.size(), k);
+  x.leftCols(base_.cols()) = base_;
+  Eigen::Index col = base_.cols();
+  for (const auto& c : columns_) {
+    x.middleCols(col, c.cols()) = c;
+    col += c.cols();
+  }
+  Eigen::VectorXd rest;
+  weights_ = RobustWeights(x, signals_.residual, options_.huber_k, &rest);
+  sw_ = weights_.cwiseSqrt();
+  wbase_ = sw_.asDiagonal() * base_;
+  wr_ = sw_.cwiseProduct(signals_.residual);
+  Rebuild(kAll);
+}
+
+bool JointRefinement::Varies(std::size_t i, std::size_t j) const {
+  return i == j || (j < laws_ && i >= laws_ && LookupEffect(effects_[i].name).traits.regressor_in_output_band);
+}
+
+JointRefinement::FixedPart JointRefinement::Fix(std::size_t j) const {
+  FixedPart f;
+  f.response = wr_;
+  Eigen::Index k = wbase_.cols();
+  for (std::size_t i = 0; i < columns_.size(); ++i) {
+    if (!Varies(i, j) && !LookupEffect(effects_[i].name).traits.regressor_is_error) k += columns_[i].cols();
+  }
+  f.x.resize(wbase_.rows(), k);
+  f.x.leftCols(wbase_.cols()) = wbase_;
+  Eigen::Index col = wbase_.cols();
+  for (std::size_t i = 0; i < columns_.size(); ++i) {
+    if (Varies(i, j)) continue;
+    if (LookupEffect(effects_[i].name).traits.regressor_is_error) {
+      f.response -= sw_.cwiseProduct(columns_[i].rowwise().sum());
+      continue;
+    }
+    f.x.middleCols(col, columns_[i].cols()) = sw_.asDiagonal() * columns_[i];
+    col += columns_[i].cols();
+  }
+  f.gram = f.x.transpose() * f.x;
+  return f;
+}
+
+double JointRefinement::Sse(const FixedPart& f, std::size_t j) const {
+  Eigen::VectorXd response = f.response;
+  Eigen::Index kv = 0;
+  for (std::size_t i = 0; i < columns_.size(); ++i) {
+    if (Varies(i, j) && !LookupEffect(effects_[i].name).traits.regressor_is_error) kv += columns_[i].cols();
+  }
+  Eigen::MatrixXd xv(wbase_.rows(), kv);
+  Eigen::Index col = 0;
+  for (std::size_t i = 0; i < columns_.size(); ++i) {
+    if (!Varies(i, j)) continue;
+    if (LookupEffect(effects_[i].name).traits.regressor_is_error) {
+      response -= sw_.cwiseProduct(columns_[i].rowwise().sum());
+      continue;
+    }
+    xv.middleCols(col, columns_[i].cols()) = sw_.asDiagonal() * columns_[i];
+    col += columns_[i].cols();
+  }
+  const Eigen::Index kf = f.x.cols(), k = kf + kv;
+  Eigen::MatrixXd g(k, k);
+  g.topLeftCorner(kf, kf) = f.gram;
+  g.topRightCorner(kf, kv) = f.x.transpose() * xv;
+  g.bottomLeftCorner(kv, kf) = g.topRightCorner(kf, kv).transpose();
+  g.bottomRightCorner(kv, kv) = xv.transpose() * xv;
+  Eigen::VectorXd h(k);
+  h << f.x.transpose() * response, xv.transpose() * response;
+  const Eigen::VectorXd d = (g.diagonal().array() > 0.0).select(g.diagonal().array().rsqrt(), 1.0);
+  g = d.asDiagonal() * g * d.asDiagonal();
+  g.diagonal().array() += 1e-10;
+  h = d.cwiseProduct(h);
+  return std::max(0.0, response.squaredNorm() - h.dot(g.ldlt().solve(h)));
+}
+
+bool JointRefinement::RefineOne(std::size_t j) {
+  const EffectTraits& traits = LookupEffect(effects_[j].name).traits;
+  const auto it = effects_[j].parameters.find(traits.refined_parameter);
+  if (traits.refined_parameter.empty() || it == effects_[j].parameters.end()) return false;
+  const double start = it->second, sign = start < 0.0 ? -1.0 : 1.0, magnitude = std::abs(start);
+  if (!(magnitude > 0.0) || !(traits.refinement_range > 1.0)) return false;
+  const FixedPart fixed = Fix(j);
+  const auto sse = [&](double value) {
+    effects_[j].parameters[traits.refined_parameter] = sign * value;
+    try {
+      Rebuild(j);
+    } catch (const std::invalid_argument&) {
+      return std::numeric_limits<double>::infinity();
+    }
+    return Sse(fixed, j);
+  };
+  const double before = sse(magnitude);
+  // A log grid of ratio 1.6 (7 points over a factor 4 either way), then 12 golden-section steps (to 0.3 %).
+  const int grid = std::max(5, static_cast<int>(std::ceil(2.0 * std::log(traits.refinement_range) / std::log(1.6))) + 1);
+  const double found = MinimiseOnLogGrid(magnitude / traits.refinement_range, magnitude * traits.refinement_range,
+                                         grid, 12, sse);
+  const double after = sse(found);
+  if (after < before && std::abs(found / magnitude - 1.0) > 1e-3) return true;
+  sse(magnitude);  // back to the start
+  return false;
+}
+
+std::vector<EffectInstance> ChosenInstances(const Ranking& ranking) {
+  std::vector<EffectInstance> chosen;
+  for (std::size_t c : ranking.chosen.order) chosen.push_back(ranking.m.cands[c].effect);
+  return chosen;
+}
+
+void InstallRefined(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols, const DiagnosisOptions& options,
+                    std::size_t laws, const Eigen::VectorXd& weights, RegressorMatrix m, Selection s, Ranking* out) {
+  out->law_columns = base_cols;
+  for (std::size_t i = 0; i < laws; ++i) {
+    const Eigen::Index k = out->law_columns.cols(), kc = static_cast<Eigen::Index>(m.cands[i].idx.size());
+    out->law_columns.conservativeResize(Eigen::NoChange, k + kc);
+    for (Eigen::Index j = 0; j < kc; ++j) {
+      const Eigen::Index col = m.cands[i].idx[static_cast<std::size_t>(j)];
+      out->law_columns.col(k + j) = m.x.col(col) * m.scale(col);
+    }
+  }
+  RobustWeights(out->law_columns, signals.residual, options.huber_k, &out->law_residual);
+  out->weights = weights;
+  out->m = std::move(m);
+  out->grams.emplace(out->m.wx, out->m.wr, options.folds);
+  out->chosen = std::move(s);
+}
+
+void RefineChosenEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols,
+                         const DiagnosisOptions& options, std::size_t laws, Ranking* out,
+                         std::vector<std::string>* notes) {
+  if (options.refinement_sweeps <= 0 || out->chosen.order.empty()) return;
+  const std::vector<EffectInstance> chosen = ChosenInstances(*out);
+  JointRefinement refinement(signals, base_cols, out->weights, options, chosen, laws);
+  refinement.Run(options.refinement_sweeps);
+  std::vector<std::string> moved;
+  for (std::size_t i = 0; i < chosen.size(); ++i) {
+    const std::string& name = LookupEffect(chosen[i].name).traits.refined_parameter;
+    if (name.empty() || !chosen[i].parameters.count(name)) continue;
+    const double before = chosen[i].parameters.at(name), after = refinement.effects()[i].parameters.at(name);
+    if (after == before) continue;
+    moved.push_back(fmt::format("{}'s {} re-estimated in the joint fit with every chosen effect in: {:.4g} → {:.4g}",
+                                chosen[i].name, name, before, after));
+  }
+  if (moved.empty()) return;
+  std::vector<std::string> build_notes;
+  RegressorMatrix m = BuildCandidateMatrix(refinement.corrected(), base_cols, refinement.effects(), options, &build_notes);
+  if (m.cands.size() != chosen.size()) return;  // a refined effect the base spans now: keep the ranking's
+  m.Weigh(signals.residual, refinement.weights());
+  const BlockGrams grams(m.wx, m.wr, options.folds);
+  Selection s = SelectInOrder(m, grams, base_cols.cols(), m.cands.size());
+  InstallRefined(signals, base_cols, options, laws, refinement.weights(), std::move(m), std::move(s), out);
+  notes->insert(notes->end(), moved.begin(), moved.end());
+}
+
+std::vector<EffectInstance> SetAsideForRetry(const Ranking& ranking) {
+  std::vector<EffectInstance> retry;
+  for (std::size_t c : ranking.chosen.set_aside) {
+    const EffectTraits& traits = ranking.m.cands[c].type->traits;
+    if (!traits.refined_parameter.empty() && !traits.friction_law_replacement) retry.push_back(ranking.m.cands[c].effect);
+  }
+  return retry;
+}
+
+void RetrySetAside(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols, const DiagnosisOptions& options,
+                   std::size_t laws, const std::vector<EffectInstance>& retry, Ranking* out,
+                   std::vector<std::string>* notes) {
+  if (options.refinement_sweeps <= 0) return;
+  for (const EffectInstance& candidate : retry) {
+    if (static_cast<Eigen::Index>(out->chosen.order.size()) >= options.max_effects) return;
+    std::vector<EffectInstance> trial = ChosenInstances(*out);
+    trial.push_back(candidate);
+    JointRefinement refinement(signals, base_cols, out->weights, options, trial, laws);
+    refinement.Run(options.refinement_sweeps);
+    std::vector<std::string> trial_notes;
+    RegressorMatrix m = BuildCandidateMatrix(refinement.corrected(), base_cols, refinement.effects(), options, &trial_notes);
+    if (m.cands.size() != trial.size()) continue;
+    m.Weigh(signals.residual, refinement.weights());
+    const BlockGrams grams(m.wx, m.wr, options.folds);
+    Selection s = SelectInOrder(m, grams, base_cols.cols(), m.cands.size() - 1);
+    std::vector<bool> used(m.cands.size(), true);
+    used.back() = false;
+    const bool chosen = AddBestEffect(m, grams, options, &used, &s, &trial_notes);
+    const std::string& parameter = m.cands.back().type->traits.refined_parameter;
+    const std::string refit = fmt::format("{} tried again with its {} re-estimated jointly with the chosen effects ({:.4g} "
+                                          "→ {:.4g})", candidate.name, parameter, candidate.parameters.at(parameter),
+                                          m.cands.back().effect.parameters.at(parameter));
+    if (!chosen) {
+      notes->push_back(refit + ": not chosen" + (trial_notes.empty() ? "" : " (" + trial_notes.back() + ")"));
+      continue;
+    }
+    notes->push_back(fmt::format("{}: chosen, held-out gain {:.1f} %", refit, 100.0 * s.scores.back()));
+    InstallRefined(signals, base_cols, options, laws, refinement.weights(), std::move(m), std::move(s), out);
+  }
+}
+
+}  // namespace mb::diagnosis_detail
