@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "engine/units.h"
+#include "models/diagnosis/backward_elimination.h"
 #include "models/diagnosis/candidate_matrix.h"
 #include "models/diagnosis/cross_validation.h"
 #include "models/diagnosis/effect_proposal.h"
@@ -26,18 +27,15 @@ using diagnosis_detail::BlockGrams;
 using diagnosis_detail::BuildCandidateMatrix;
 using diagnosis_detail::Candidate;
 using diagnosis_detail::ChosenInstances;
-using diagnosis_detail::GainSignificance;
-using diagnosis_detail::InstallRefined;
-using diagnosis_detail::JointRefinement;
 using diagnosis_detail::LawSearch;
 using diagnosis_detail::Percentile;
+using diagnosis_detail::PruneChosenEffects;
 using diagnosis_detail::Ranking;
 using diagnosis_detail::RefineChosenEffects;
 using diagnosis_detail::RegressorMatrix;
 using diagnosis_detail::RetrySetAside;
 using diagnosis_detail::RobustWeights;
 using diagnosis_detail::SelectEffects;
-using diagnosis_detail::SelectInOrder;
 using diagnosis_detail::Selection;
 using diagnosis_detail::SetAsideForRetry;
 using diagnosis_detail::StartSelection;
@@ -378,76 +376,6 @@ void Summarise(const DiagnosisOptions& options, const std::string& ambiguity_not
         100.0 * options.min_gain, wb.white ? "white" : "not white", significant_peak ? " and has a significant position-periodic peak" : "",
         result->rmse_base_refit);
   }
-}
-
-// The marginal held-out gain of chosen effect i (order index) in the full selection: 1 − MSE(all)/MSE(all but it), and
-// its Diebold–Mariano t (infinity when the gain is exempt or the test is off).
-std::pair<double, double> MarginalGain(const Ranking& ranking, std::size_t i, const DiagnosisOptions& options) {
-  const Candidate& c = ranking.m.cands[ranking.chosen.order[i]];
-  const std::vector<Eigen::Index>& full = ranking.chosen.selected;
-  std::vector<Eigen::Index> without;
-  for (Eigen::Index col : full) {
-    if (std::find(c.idx.begin(), c.idx.end(), col) == c.idx.end()) without.push_back(col);
-  }
-  const double mse_without = ranking.grams->HeldOutMse(without);
-  const double gain = mse_without > 0.0 ? 1.0 - ranking.grams->HeldOutMse(full) / mse_without : 0.0;
-  const double t = options.significance_t > 0.0 && gain < options.significance_exempt_gain
-                       ? GainSignificance(ranking.m, *ranking.grams, without, full, options.significance_batches)
-                       : std::numeric_limits<double>::infinity();
-  return {gain, t};
-}
-
-// 3e. Backward check once the parameters are refined: a friction-law replacement (when other effects were found behind
-// it) whose removal from the full set raises the held-out error by less than min_gain, or insignificantly, took what an
-// effect found later explains better; of the other effects, the weakest whose removal costs less than min_gain was
-// chosen on a parameter the refinement has since moved. They are dropped (a note each), the rest refined again
-// (JointRefinement). Returns the number of law replacements left.
-std::size_t PruneChosenEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols,
-                               const DiagnosisOptions& options, std::size_t laws, Ranking* out,
-                               std::vector<std::string>* notes) {
-  const std::size_t count = out->chosen.order.size();
-  if (options.refinement_sweeps <= 0 || count < 2) return laws;
-  std::vector<bool> drop(count, false);
-  std::vector<std::string> dropped;
-  std::size_t weakest = count, left = laws;
-  double weakest_gain = options.min_gain;
-  for (std::size_t i = 0; i < count; ++i) {
-    if (i < laws && count == laws) continue;  // no effect behind the laws
-    const auto [gain, t] = MarginalGain(*out, i, options);
-    if (i >= laws) {
-      if (gain < weakest_gain) { weakest_gain = gain; weakest = i; }
-      continue;
-    }
-    if (gain >= options.min_gain && t >= options.significance_t) continue;
-    drop[i] = true;
-    --left;
-    dropped.push_back(fmt::format("{} dropped from the friction law: with the effects found behind it in, it lowers the "
-                                  "held-out error by {:.1f} % (Diebold–Mariano t = {:.2f})",
-                                  out->m.cands[out->chosen.order[i]].effect.name, 100.0 * gain, t));
-  }
-  if (weakest < count) {
-    drop[weakest] = true;
-    dropped.push_back(fmt::format("{} dropped: with its parameters and the others' refined, it lowers the held-out error "
-                                  "by {:.1f} % only", out->m.cands[out->chosen.order[weakest]].effect.name,
-                                  100.0 * weakest_gain));
-  }
-  if (dropped.empty()) return laws;
-  std::vector<EffectInstance> kept;
-  const std::vector<EffectInstance> chosen = ChosenInstances(*out);
-  for (std::size_t i = 0; i < count; ++i) {
-    if (!drop[i]) kept.push_back(chosen[i]);
-  }
-  JointRefinement refinement(signals, base_cols, out->weights, options, kept, left);
-  refinement.Run(options.refinement_sweeps);
-  std::vector<std::string> build_notes;
-  RegressorMatrix refined = BuildCandidateMatrix(refinement.corrected(), base_cols, refinement.effects(), options, &build_notes);
-  if (refined.cands.size() != kept.size()) return laws;
-  refined.Weigh(signals.residual, refinement.weights());
-  const BlockGrams grams(refined.wx, refined.wr, options.folds);
-  Selection s = SelectInOrder(refined, grams, base_cols.cols(), refined.cands.size());
-  InstallRefined(signals, base_cols, options, left, refinement.weights(), std::move(refined), std::move(s), out);
-  notes->insert(notes->end(), dropped.begin(), dropped.end());
-  return left;
 }
 
 // 1.–3a. Robust base refit, candidates, and the friction law near zero velocity first: each pass refits the base with
