@@ -1,0 +1,134 @@
+// Ambiguity checks (DiagnoseMissingEffects, step 6). Position- vs time-periodic: at one steady speed a period P in
+// position is a period P/|v| in time and the two hypotheses have the same regressors; the top periodic effect is refit
+// against its counterpart under the other hypothesis at the record's mean speed, and when their shares are too close
+// the diagnosis says it cannot tell (and asks for a record at two or more speeds). Hysteresis: the residual moving
+// forward minus moving back, per position bin, varying over the travel beyond its sampling error. Source: DIAGNOSIS.md,
+// "Naming the missing effect", step 2 ("say 'cannot tell' when the data cannot"), and "When the base model is wrong
+// elsewhere" (position vs time by the record's own speed changes; hysteresis loops against position).
+#include "models/diagnosis/ambiguity_checks.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "models/diagnosis/effect_proposal.h"
+#include "models/diagnosis/effect_registry.h"
+
+namespace mb::diagnosis_detail {
+namespace {
+
+bool IsPeriodic(const std::string& effect) { return LookupEffect(effect).traits.periodicity != Periodicity::kNone; }
+
+// How far the record's position strays from uniform motion x ≈ x₀ + v̄·t (least squares): v̄ and the RMS deviation.
+struct UniformMotionFit {
+  double mean_velocity = 0.0, rms_deviation = 0.0;
+};
+
+UniformMotionFit FitUniformMotion(const DiagnosisSignals& signals) {
+  const Eigen::VectorXd t = signals.time.array() - signals.time.mean();
+  const Eigen::VectorXd x = signals.position.array() - signals.position.mean();
+  UniformMotionFit out;
+  out.mean_velocity = t.dot(x) / t.squaredNorm();
+  out.rms_deviation = std::sqrt((x - out.mean_velocity * t).squaredNorm() / static_cast<double>(x.size()));
+  return out;
+}
+
+// The counterpart of a periodic effect under the other hypothesis at the record's mean speed v̄: position period P ↔
+// time frequency |v̄|/P. Empty name when there is none (v̄ = 0).
+EffectInstance Counterpart(const DiagnosedEffect& e, double mean_speed) {
+  const auto harmonics = e.parameters.count("harmonics") ? e.parameters.at("harmonics") : 1.0;
+  if (!(mean_speed > 0.0)) return {};
+  if (LookupEffect(e.effect).traits.periodicity == Periodicity::kTime) {
+    return {"position_periodic", {{"period", mean_speed / e.parameters.at("frequency_hz")}, {"harmonics", harmonics}}};
+  }
+  return {"time_periodic", {{"frequency_hz", mean_speed / e.parameters.at("period")}, {"harmonics", harmonics}}};
+}
+
+}  // namespace
+
+std::string CheckPositionTimeAmbiguity(const DiagnosisSignals& signals, const Eigen::VectorXd& residual,
+                                       const Eigen::MatrixXd& base, const DiagnosisOptions& options,
+                                       DiagnosisResult* result) {
+  const DiagnosedEffect* top = nullptr;
+  for (const auto& e : result->effects) {
+    if (!top && IsPeriodic(e.effect)) top = &e;
+  }
+  if (!top) return {};
+  const UniformMotionFit uniform = FitUniformMotion(signals);
+  const double mean_speed = signals.velocity.cwiseAbs().mean();
+  // Monotone motion: its average speed; back and forth: the mean |v|.
+  const double speed = std::abs(uniform.mean_velocity) > 0.5 * mean_speed ? std::abs(uniform.mean_velocity) : mean_speed;
+  const EffectInstance other = Counterpart(*top, speed);
+  if (other.name.empty()) return {};
+  const double total = (residual.array() - residual.mean()).matrix().squaredNorm();
+  const auto share = [&](const EffectInstance& e) {
+    return 1.0 - ResidualSumOfSquares(base, BuildEffectRegressors(e, signals).columns, residual) / total;
+  };
+  const double own = share({top->effect, top->parameters}), alternative = share(other);
+  const bool in_time = LookupEffect(top->effect).traits.periodicity == Periodicity::kTime;
+  const double period = in_time ? speed / top->parameters.at("frequency_hz") : top->parameters.at("period");
+  const double phase = 2.0 * std::numbers::pi * uniform.rms_deviation / period;
+  const std::string evidence = fmt::format(
+      "{} explains {:.1f} % of the base-refit residual, {} at the frequency of the mean speed {:.4g} {}/s {:.1f} %; the "
+      "position strays {:.2g} rad of phase RMS from uniform motion at the period",
+      top->effect, 100.0 * own, other.name, speed, options.position_unit, 100.0 * alternative, phase);
+  if (std::abs(own - alternative) >= options.position_time_margin * std::max(own, alternative)) {
+    result->notes.push_back(fmt::format(
+        "position- vs time-periodic told apart by how the residual follows the speed: it follows {} ({})",
+        own >= alternative ? (in_time ? "time, not the position" : "the position, not time")
+                           : (in_time ? "the position better than time" : "time better than the position"),
+        evidence));
+    return {};
+  }
+  result->position_time_indistinguishable = true;
+  std::string note = fmt::format(
+      "cannot tell position-periodic from time-periodic: the motion has essentially one speed ({}), so a period P in "
+      "position is a period P/|v| in time. Record the motion at two or more speeds to tell them apart.",
+      evidence);
+  result->notes.push_back(note);
+  for (auto& e : result->effects) {
+    if (IsPeriodic(e.effect)) e.description += " (position-periodic vs time-periodic: cannot tell at one speed)";
+  }
+  return note;
+}
+
+void NoteHysteresis(const DiagnosisSignals& signals, const Eigen::VectorXd& residual, DiagnosisResult* result) {
+  const double v_max = signals.velocity.cwiseAbs().maxCoeff();
+  const double lo = signals.position.minCoeff(), hi = signals.position.maxCoeff();
+  if (!(v_max > 0.0) || !(hi > lo)) return;
+  constexpr int kBins = 20;
+  Eigen::ArrayXXd sum = Eigen::ArrayXXd::Zero(kBins, 2), sq = sum, count = sum;
+  for (Eigen::Index i = 0; i < signals.size(); ++i) {
+    const double v = signals.velocity(i);
+    if (std::abs(v) < 0.05 * v_max) continue;
+    const int b = std::min(kBins - 1, static_cast<int>((signals.position(i) - lo) / (hi - lo) * kBins));
+    const int d = v > 0.0 ? 0 : 1;
+    sum(b, d) += residual(i); sq(b, d) += residual(i) * residual(i); count(b, d) += 1.0;
+  }
+  std::vector<double> diff, var;
+  for (int b = 0; b < kBins; ++b) {
+    if (count(b, 0) < 20 || count(b, 1) < 20) continue;
+    const double m0 = sum(b, 0) / count(b, 0), m1 = sum(b, 1) / count(b, 1);
+    diff.push_back(m0 - m1);
+    var.push_back((sq(b, 0) / count(b, 0) - m0 * m0) / count(b, 0) + (sq(b, 1) / count(b, 1) - m1 * m1) / count(b, 1));
+  }
+  if (diff.size() < 5) return;
+  double mean = 0.0;
+  for (double d : diff) mean += d / static_cast<double>(diff.size());
+  double spread = 0.0, noise = 0.0;
+  for (std::size_t b = 0; b < diff.size(); ++b) { spread += (diff[b] - mean) * (diff[b] - mean); noise += var[b]; }
+  const double rms_spread = std::sqrt(spread / static_cast<double>(diff.size()));
+  if (spread > 10.0 * noise && rms_spread > 0.1 * result->rmse_after) {
+    result->notes.push_back(fmt::format(
+        "hysteresis: the residual loops against position — moving forward minus moving back it differs by a "
+        "position-dependent {:.3g} (RMS over {} bins, beyond a constant {:.3g}), {:.0f} × its sampling variance: a "
+        "force that depends on the direction of travel and the position (magnetic hysteresis, a preloaded guide, a "
+        "cable carrier's bending); no catalogue effect models it",
+        rms_spread, diff.size(), mean, spread / std::max(noise, 1e-300)));
+  }
+}
+
+}  // namespace mb::diagnosis_detail
