@@ -36,15 +36,36 @@ UniformMotionFit FitUniformMotion(const DiagnosisSignals& signals) {
   return out;
 }
 
+// The registered effect that is the plain Fourier series in x (Periodicity::kPosition, parameters "period" and
+// "harmonics") or in t (kTime, "frequency_hz" and "harmonics"), asked of the registry by what the counterpart is rather
+// than by name (a speed-scaled ripple, periodic in x too, declares no harmonics); the first in catalogue order, nullptr
+// when none is registered.
+const EffectType* FourierSeriesEffect(Periodicity periodicity, const std::string& abscissa_parameter) {
+  for (const EffectType* type : EffectRegistry::Global().Effects()) {
+    if (type->traits.periodicity != periodicity || type->parameters.size() != 2) continue;
+    const auto declares = [&](const std::string& name) {
+      return std::any_of(type->parameters.begin(), type->parameters.end(),
+                         [&](const EffectParameter& p) { return p.name == name; });
+    };
+    if (declares(abscissa_parameter) && declares("harmonics")) return type;
+  }
+  return nullptr;
+}
+
 // The counterpart of a periodic effect under the other hypothesis at the record's mean speed v̄: position period P ↔
-// time frequency |v̄|/P. Empty name when there is none (v̄ = 0).
+// time frequency |v̄|/P (FourierSeriesEffect). Empty name when there is none (v̄ = 0, or no such effect registered).
 EffectInstance Counterpart(const DiagnosedEffect& e, double mean_speed) {
   const auto harmonics = e.parameters.count("harmonics") ? e.parameters.at("harmonics") : 1.0;
   if (!(mean_speed > 0.0)) return {};
   if (LookupEffect(e.effect).traits.periodicity == Periodicity::kTime) {
-    return {"position_periodic", {{"period", mean_speed / e.parameters.at("frequency_hz")}, {"harmonics", harmonics}}};
+    const EffectType* in_position = FourierSeriesEffect(Periodicity::kPosition, "period");
+    if (in_position == nullptr) return {};
+    return {in_position->name,
+            {{"period", mean_speed / e.parameters.at("frequency_hz")}, {"harmonics", harmonics}}};
   }
-  return {"time_periodic", {{"frequency_hz", mean_speed / e.parameters.at("period")}, {"harmonics", harmonics}}};
+  const EffectType* in_time = FourierSeriesEffect(Periodicity::kTime, "frequency_hz");
+  if (in_time == nullptr) return {};
+  return {in_time->name, {{"frequency_hz", mean_speed / e.parameters.at("period")}, {"harmonics", harmonics}}};
 }
 
 }  // namespace
