@@ -15,6 +15,7 @@
 #include "models/diagnosis/backward_elimination.h"
 #include "models/diagnosis/candidate_matrix.h"
 #include "models/diagnosis/cross_validation.h"
+#include "models/diagnosis/diagnosis_text.h"
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/forward_selection.h"
@@ -29,9 +30,9 @@ using diagnosis_detail::BuildCandidateMatrix;
 using diagnosis_detail::Candidate;
 using diagnosis_detail::CheckPositionTimeAmbiguity;
 using diagnosis_detail::ChosenInstances;
+using diagnosis_detail::DescribeEffect;
 using diagnosis_detail::LawSearch;
 using diagnosis_detail::NoteHysteresis;
-using diagnosis_detail::Percentile;
 using diagnosis_detail::PruneChosenEffects;
 using diagnosis_detail::Ranking;
 using diagnosis_detail::RefineChosenEffects;
@@ -42,38 +43,9 @@ using diagnosis_detail::SelectEffects;
 using diagnosis_detail::Selection;
 using diagnosis_detail::SetAsideForRetry;
 using diagnosis_detail::StartSelection;
+using diagnosis_detail::Summarise;
 
 namespace {
-
-// A position in the diagnosis' position unit: mm for metres, else the unit itself.
-std::string FormatPosition(double x, const std::string& unit) {
-  if (unit == "m") return fmt::format("{:.4g} mm", x * 1e3);
-  return fmt::format("{:.4g} {}", x, unit);
-}
-
-std::string FormatParameters(const std::map<std::string, double>& p, const std::string& position_unit) {
-  std::string out;
-  for (const auto& [k, v] : p) {
-    std::string item;
-    if (k == "period") {
-      item = "period " + FormatPosition(v, position_unit);
-      if (const double rev = RevolutionIn(position_unit); rev > 0.0) {
-        item += fmt::format(" ({:.3f} per revolution)", rev / v);
-      }
-    }
-    else if (k == "delay") item = fmt::format("delay {:.4g} ms (the measurement lags the model)", v * 1e3);
-    else if (k == "lag") item = fmt::format("lag {:.4g} ms (the logged command acts later)", v * 1e3);
-    else if (k == "change_time") item = fmt::format("from t = {:.4g} s on", v);
-    else if (k == "start_time" || k == "end_time") item = fmt::format("{} {:.4g} s", k.substr(0, k.find('_')), v);
-    else if (k == "upper_limit" || k == "lower_limit") item = fmt::format("{} limit {:.4g}", k.substr(0, 5), v);
-    else if (k == "frequency_hz") item = fmt::format("frequency {:.4g} Hz", v);
-    else if (k == "harmonics") item = fmt::format("{} harmonic(s)", static_cast<int>(v));
-    else if (k == "amplitude") item = fmt::format("amplitude {:.3g}", v);
-    else item = fmt::format("{} {:.4g}", k, v);
-    out += (out.empty() ? "" : ", ") + item;
-  }
-  return out;
-}
 
 AutocorrelationTest Whiteness(const Eigen::VectorXd& r) {
   const Eigen::Index lag = std::min<Eigen::Index>(25, r.size() / 4);
@@ -147,119 +119,6 @@ JointFit FitJointly(const RegressorMatrix& m, const BlockGrams& grams, const std
     fit.fitted += theta(i) * m.x.col(selected[static_cast<std::size_t>(i)]);
   }
   return fit;
-}
-
-// 5. One chosen effect in words: its share, parameters (periodic ones also their first harmonic's amplitude),
-// coefficients, and where its fitted contribution is largest.
-DiagnosedEffect DescribeEffect(const Candidate& c, double score, double cumulative, const Eigen::VectorXd& coefficients,
-                               const Eigen::VectorXd& coefficient_std, const DiagnosisSignals& signals,
-                               const std::string& position_unit, bool friction_law) {
-  const Eigen::Index n = signals.size();
-  DiagnosedEffect d;
-  d.effect = c.effect.name;
-  d.score = score;
-  d.cumulative_share = cumulative;
-  d.parameters = c.effect.parameters;
-  d.column_names = c.reg.column_names;
-  d.coefficients = coefficients;
-  d.coefficient_std = coefficient_std;
-  // The amplitude of the first harmonic for every effect whose first columns are Fourier columns (PeriodicColumns:
-  // the periodic effects, gravity's m·g·l).
-  const bool fourier = d.column_names.size() >= 2 && d.column_names[0].ends_with(".cos1") &&
-                       d.column_names[1].ends_with(".sin1");
-  if (c.type->traits.periodicity != Periodicity::kNone || fourier) {
-    d.parameters["amplitude"] = std::hypot(d.coefficients(0), d.coefficients(1));
-  }
-  if (!c.type->traits.coefficient_parameter.empty() && d.coefficients.size() == 1) {
-    d.parameters[c.type->traits.coefficient_parameter] = d.coefficients(0);
-  }
-  const Eigen::VectorXd contribution = c.reg.columns * d.coefficients;
-  d.contribution_rms = std::sqrt(contribution.squaredNorm() / static_cast<double>(n));
-  const Eigen::VectorXd magnitude = contribution.cwiseAbs();
-  const double threshold = Percentile(std::vector<double>(magnitude.data(), magnitude.data() + n), 0.9);
-  std::vector<double> ts, xs, vs;
-  for (Eigen::Index j = 0; j < n; ++j) {
-    if (std::abs(contribution(j)) >= threshold) {
-      ts.push_back(signals.time(j));
-      xs.push_back(signals.position(j));
-      vs.push_back(signals.velocity(j));
-    }
-  }
-  d.time_range[0] = Percentile(ts, 0.05); d.time_range[1] = Percentile(ts, 0.95);
-  d.position_range[0] = Percentile(xs, 0.05); d.position_range[1] = Percentile(xs, 0.95);
-  d.velocity_range[0] = Percentile(vs, 0.05); d.velocity_range[1] = Percentile(vs, 0.95);
-  d.description = fmt::format(
-      "{}{}{}: explains {:.1f} % of the held-out residual energy left before it was added ({:.1f} % "
-      "cumulative); RMS contribution {:.3g}; largest for t in [{:.3g}, {:.3g}] s, x in [{}, {}], "
-      "v in [{:.3g}, {:.3g}] {}/s. {}",
-      friction_law ? "the friction law near zero velocity is wrong: " : "", d.effect,
-      d.parameters.empty() ? "" : " (" + FormatParameters(d.parameters, position_unit) + ")", 100.0 * d.score, 100.0 * d.cumulative_share, d.contribution_rms, d.time_range[0], d.time_range[1],
-      FormatPosition(d.position_range[0], position_unit), FormatPosition(d.position_range[1], position_unit),
-      d.velocity_range[0], d.velocity_range[1], position_unit, c.type->physics);
-  return d;
-}
-
-// 7. Evidence (whiteness, the strongest position-periodogram peak) and the summary for users.
-void Summarise(const DiagnosisOptions& options, const std::string& ambiguity_note, DiagnosisResult* result) {
-  const auto& wb = result->whiteness_before;
-  result->notes.push_back(fmt::format("residual after the base refit: Ljung–Box Q = {:.4g}, p = {:.3g} ({})",
-                                      wb.ljung_box_q, wb.p_value, wb.white ? "white" : "not white"));
-  bool significant_peak = false;
-  if (!result->position_peaks.empty()) {
-    const auto& pk = result->position_peaks.front();
-    significant_peak = pk.significant;
-    result->notes.push_back(fmt::format(
-        "strongest position-periodogram peak: period {}, {:.1f} % of the variance, false-alarm "
-        "probability {:.2g} ({})",
-        FormatPosition(pk.period, options.position_unit), 100.0 * pk.power, pk.false_alarm_probability, pk.significant ? "significant" : "not significant"));
-  }
-  if (result->robust_weight_share < 0.999) {
-    result->notes.push_back(fmt::format(
-        "robust refit (Huber, k = {}): badly modelled samples are down-weighted, mean weight {:.3f}; held-out errors "
-        "and shares are of the weighted residual",
-        options.huber_k, result->robust_weight_share));
-  }
-  const auto is_law = [&](const DiagnosedEffect& e) {
-    return std::find(result->friction_law.begin(), result->friction_law.end(), e.effect) != result->friction_law.end();
-  };
-  std::string law;
-  const DiagnosedEffect* top = nullptr;
-  for (const auto& e : result->effects) {
-    if (!is_law(e)) {
-      if (top == nullptr) top = &e;
-      continue;
-    }
-    law += fmt::format("{}{}{}", law.empty() ? "" : ", ", e.effect,
-                       e.parameters.empty() ? "" : " (" + FormatParameters(e.parameters, options.position_unit) + ")");
-  }
-  if (!law.empty()) {
-    result->summary = fmt::format("The friction law near zero velocity is wrong: {} replaces the model's; the other "
-                                  "effects were searched in what it leaves. ", law);
-  }
-  if (result->missing_effect_found && top == nullptr) {
-    result->summary += fmt::format("Nothing else is missing. Held-out RMSE {:.4g} → {:.4g}.", result->heldout_rmse_base,
-                                   result->heldout_rmse_after);
-  } else if (result->missing_effect_found) {
-    result->summary += fmt::format(
-        "Missing: {}{} — explains {:.1f} % of the held-out residual energy. All chosen effects together "
-        "explain {:.1f} %; RMSE {:.4g} → {:.4g} (in-sample, base refit {:.4g}), held-out RMSE {:.4g} → {:.4g}.",
-        top->effect, top->parameters.empty() ? "" : " (" + FormatParameters(top->parameters, options.position_unit) + ")",
-        100.0 * top->score, 100.0 * result->explained_share, result->rmse_before, result->rmse_after,
-        result->rmse_base_refit, result->heldout_rmse_base, result->heldout_rmse_after);
-    if (result->position_time_indistinguishable) result->summary += " " + ambiguity_note;
-  } else if (wb.white && !significant_peak) {
-    result->summary = fmt::format(
-        "No missing effect: no candidate reduces the held-out error by {:.1f} % or more, the residual is "
-        "white (Ljung–Box p = {:.3g}) and no position-periodogram peak is significant. RMSE {:.4g}.",
-        100.0 * options.min_gain, wb.p_value, result->rmse_base_refit);
-  } else {
-    result->summary = fmt::format(
-        "No missing effect from the catalogue: no candidate reduces the held-out error by {:.1f} % or more, "
-        "but the residual is {}{}; the structure left is not one of the catalogue's effects (try the "
-        "non-parametric TISO-GPR component). RMSE {:.4g}.",
-        100.0 * options.min_gain, wb.white ? "white" : "not white", significant_peak ? " and has a significant position-periodic peak" : "",
-        result->rmse_base_refit);
-  }
 }
 
 // 1.–3a. Robust base refit, candidates, and the friction law near zero velocity first: each pass refits the base with
