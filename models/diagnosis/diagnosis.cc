@@ -1,11 +1,18 @@
+// The diagnosis' pipeline (DiagnoseMissingEffects; the algorithm in diagnosis.h, DIAGNOSIS.md "Naming the missing
+// effect"): the input checks, the ranking's passes (robust base refit, the friction law first, the other effects, then
+// the chosen effects refined and pruned), the final joint fit, the descriptions, the checks and the summary; and the
+// correction carried to another record (PredictCorrection) and the binned residual (BinResidual). Each job is in a file
+// of its own (namespace mb::diagnosis_detail): robust_weighting, cross_validation, candidate_matrix, forward_selection,
+// joint_refinement, backward_elimination, ambiguity_checks, diagnosis_text; DiagnosisResult::ToJson in diagnosis_json.
 #include "models/diagnosis/diagnosis.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <optional>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
@@ -190,6 +197,59 @@ Ranking RankEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base
   return out;
 }
 
+// 4. Final joint fit on all data, its Huber weights refit with the chosen effects in (the weights of the search
+// came from the base's residual, where the missing effects themselves looked like outliers). Fills the in-sample
+// figures of `result`: RMSE after, base corrections, whiteness after, condition number, mean weight.
+JointFit FitFinally(const DiagnosisSignals& signals, Eigen::Index p, const DiagnosisOptions& options, Ranking* ranked,
+                    DiagnosisResult* result) {
+  const Eigen::Index n = signals.size();
+  const Eigen::VectorXd& r = signals.residual;
+  const RegressorMatrix& m = ranked->m;
+  const Selection& chosen = ranked->chosen;
+  Eigen::VectorXd weights = ranked->weights;
+  if (!chosen.selected.empty()) {
+    Eigen::MatrixXd selected(n, static_cast<Eigen::Index>(chosen.selected.size()));
+    for (std::size_t j = 0; j < chosen.selected.size(); ++j) {
+      selected.col(static_cast<Eigen::Index>(j)) = m.x.col(chosen.selected[j]);
+    }
+    Eigen::VectorXd rest;
+    weights = RobustWeights(selected, r, options.huber_k, &rest);
+    ranked->m.Weigh(r, weights);
+    ranked->grams.emplace(ranked->m.wx, ranked->m.wr, options.folds);
+  }
+  const JointFit fit = FitJointly(m, *ranked->grams, chosen.selected);
+  result->condition_number = fit.condition_number;
+  result->robust_weight_share = weights.mean();
+  const Eigen::VectorXd r_after = r - fit.fitted;
+  result->rmse_after = std::sqrt(r_after.squaredNorm() / static_cast<double>(n));
+  result->base_coefficients = fit.coef.head(p);
+  result->base_coefficient_std = fit.coef_std.head(p);
+  result->whiteness_after = Whiteness(r_after);
+  return fit;
+}
+
+// 5. Describe each chosen effect (in the order chosen; DiagnoseMissingEffects sorts them); a law that takes over the
+// model's Coulomb level names it.
+void DescribeChosenEffects(const Ranking& ranked, const JointFit& fit, const DiagnosisSignals& signals,
+                           const Eigen::MatrixXd& base_cols, const std::vector<std::string>& base_names,
+                           const std::string& position_unit, DiagnosisResult* result) {
+  const RegressorMatrix& m = ranked.m;
+  const Selection& chosen = ranked.chosen;
+  const Eigen::Index coulomb_column = CoulombLawColumn(base_cols, signals.velocity);
+  Eigen::Index offset = base_cols.cols();
+  for (std::size_t i = 0; i < chosen.order.size(); ++i) {
+    const Candidate& c = m.cands[chosen.order[i]];
+    const Eigen::Index kc = c.reg.columns.cols();
+    result->effects.push_back(DescribeEffect(c, chosen.scores[i], chosen.cumulative[i], fit.coef.segment(offset, kc),
+                                             fit.coef_std.segment(offset, kc), signals, position_unit,
+                                             i < result->friction_law.size()));
+    if (c.type->traits.replaces_coulomb_law && coulomb_column >= 0) {
+      result->effects.back().replaced_parameter = base_names[static_cast<std::size_t>(coulomb_column)];
+    }
+    offset += kc;
+  }
+}
+
 }  // namespace
 
 std::vector<EffectInstance> DiagnosisResult::chosen() const {
@@ -213,48 +273,16 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
 
   // 1.–3. Robust base refit, the friction law near zero velocity, the other effects.
   Ranking ranked = RankEffects(signals, base_cols, options, &result);
-  const RegressorMatrix& m = ranked.m;
   const Selection& chosen = ranked.chosen;
   result.heldout_rmse_base = std::sqrt(chosen.mse_base);
   result.heldout_rmse_after = std::sqrt(chosen.mse_last);
   result.explained_share = chosen.mse_base > 0.0 ? 1.0 - chosen.mse_last / chosen.mse_base : 0.0;
 
-  // 4. Final joint fit on all data, its Huber weights refit with the chosen effects in (the weights of the search
-  // came from the base's residual, where the missing effects themselves looked like outliers).
-  Eigen::VectorXd weights = ranked.weights;
-  if (!chosen.selected.empty()) {
-    Eigen::MatrixXd selected(n, static_cast<Eigen::Index>(chosen.selected.size()));
-    for (std::size_t j = 0; j < chosen.selected.size(); ++j) {
-      selected.col(static_cast<Eigen::Index>(j)) = m.x.col(chosen.selected[j]);
-    }
-    Eigen::VectorXd rest;
-    weights = RobustWeights(selected, r, options.huber_k, &rest);
-    ranked.m.Weigh(r, weights);
-    ranked.grams.emplace(ranked.m.wx, ranked.m.wr, options.folds);
-  }
-  const JointFit fit = FitJointly(m, *ranked.grams, chosen.selected);
-  result.condition_number = fit.condition_number;
-  result.robust_weight_share = weights.mean();
+  // 4.–5. The final joint fit on all data, and each chosen effect described.
+  const JointFit fit = FitFinally(signals, p, options, &ranked, &result);
   const Eigen::VectorXd r_after = r - fit.fitted;
-  result.rmse_after = std::sqrt(r_after.squaredNorm() / static_cast<double>(n));
-  result.base_coefficients = fit.coef.head(p);
-  result.base_coefficient_std = fit.coef_std.head(p);
-  result.whiteness_after = Whiteness(r_after);
+  DescribeChosenEffects(ranked, fit, signals, base_cols, base.names, options.position_unit, &result);
 
-  // 5. Describe each chosen effect, highest score first; a law that takes over the model's Coulomb level names it.
-  const Eigen::Index coulomb_column = CoulombLawColumn(base_cols, signals.velocity);
-  Eigen::Index offset = p;
-  for (std::size_t i = 0; i < chosen.order.size(); ++i) {
-    const Candidate& c = m.cands[chosen.order[i]];
-    const Eigen::Index kc = c.reg.columns.cols();
-    result.effects.push_back(DescribeEffect(c, chosen.scores[i], chosen.cumulative[i], fit.coef.segment(offset, kc),
-                                            fit.coef_std.segment(offset, kc), signals, options.position_unit,
-                                            i < result.friction_law.size()));
-    if (c.type->traits.replaces_coulomb_law && coulomb_column >= 0) {
-      result.effects.back().replaced_parameter = base.names[static_cast<std::size_t>(coulomb_column)];
-    }
-    offset += kc;
-  }
   // What is missing first (by score), then the friction-law replacements (by score): a replacement changes the
   // model's law rather than adding an effect (the summary names it; `--suggest` takes the first effect).
   const auto is_law = [&](const DiagnosedEffect& e) {
