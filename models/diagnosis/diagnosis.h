@@ -66,7 +66,7 @@ struct DiagnosisOptions {
   std::string position_unit = "m";
   // Position- vs time-periodic: the top periodic effect and its counterpart under the other hypothesis (at the
   // record's mean speed) are refit to the residual; when their shares differ by less than this fraction of the larger,
-  // the record cannot tell them apart (CheckPositionTimeAmbiguity in diagnosis.cc).
+  // the record cannot tell them apart (CheckPositionTimeAmbiguity, ambiguity_checks.h).
   double position_time_margin = 0.05;
   // Robust loss (DIAGNOSIS.md, "When the base model is wrong elsewhere"): every least-squares fit of the ranking is
   // weighted by Huber weights w = min(1, k·σ/|r|) (σ = 1.4826·MAD of the residual, k = huber_k), found by
