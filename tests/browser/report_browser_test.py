@@ -13,6 +13,8 @@ DevTools protocol over a pipe (devtools.py), and checked:
   - the charts respond: unticking a series' toggle hides it, and zooming one chart of a linked group moves the others;
   - the diagram's picture is present and loaded (an image of non-zero width). The blocks of the drawing are not
     interactive yet (item 5), so no click on them is tried.
+  - every in-page link ("#…") has its target; compare shows an evidence figure (id fig-effect_<k>) per ranked effect
+    of compare.json, and improve's step table links to each step after step 0 (ids step-<i>, items 2 and 3).
 The checker must be able to fail: the compare report is also loaded in broken copies (one chart's data emptied, a
 script that throws, the diagram's picture missing), and each must be caught for what it is.
 
@@ -56,8 +58,12 @@ INSPECT = r"""(() => {
   });
   const images = Array.from(document.images).filter(img => getComputedStyle(img).display !== 'none')
       .map(img => ({src: img.getAttribute('src'), complete: img.complete, width: img.naturalWidth}));
+  const dangling = Array.from(document.querySelectorAll('a[href^="#"]')).map(a => a.getAttribute('href'))
+      .filter(h => !document.getElementById(h.slice(1)));
   return {specs: specs.length, charts: charts, images: images, library: typeof Dygraph,
-          inline_svgs: document.querySelectorAll('svg').length};
+          inline_svgs: document.querySelectorAll('svg').length, dangling_links: dangling,
+          evidence: document.querySelectorAll('[id^="fig-effect_"]').length,
+          step_links: document.querySelectorAll('td a[href^="#step-"]').length};
 })()"""
 
 # Unticks the first series' toggle of the first chart; returns whether the chart hid that series (and reticks it).
@@ -123,6 +129,8 @@ def check_page(browser, path, diagram_expected=True):
             problems.append("no linked group of time charts")
         elif stuck:
             problems.append(f"zooming one time chart did not move the linked ones: {', '.join(stuck)}")
+    for link in page["dangling_links"]:
+        problems.append(f"link {link} goes nowhere")
     for img in page["images"]:
         if not img["complete"] or img["width"] == 0:
             problems.append(f"image {img['src']} did not load")
@@ -232,6 +240,14 @@ def main():
             rows = sum(c["rows"] for c in page["charts"] if c["rows"] > 0)
             print(f"{kind} report: {len(page['charts'])} charts, {rows} rows drawn, {len(page['images'])} images"
                   f"{'' if not problems else ': ' + str(len(problems)) + ' problems'}")
+            if kind == "compare":  # every ranked effect with its evidence plot
+                effects = len(json.loads(pathlib.Path(report).with_name("compare.json").read_text())["diagnosis"])
+                if page["evidence"] != effects:
+                    problems.append(f"{effects} ranked effects but {page['evidence']} evidence figures")
+            if kind == "improve":  # the step table links to each step after step 0
+                steps = len(json.loads(pathlib.Path(report).with_name("improve.json").read_text())["steps"])
+                if page["step_links"] != steps - 1:
+                    problems.append(f"{steps} steps but {page['step_links']} links to a step's plots")
             for p in problems:
                 print(f"  {kind}: {p}")
             failed += [f"{kind}: {p}" for p in problems]

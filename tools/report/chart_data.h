@@ -29,7 +29,8 @@ std::vector<std::size_t> DecimateScatter(const std::vector<double>& x, const std
                                          std::size_t columns, std::size_t rows);
 
 /// A figure as the interactive chart reads it: {"title", "xlabel", "ylabel", "labels" (x's label, then each series'
-/// label made unique), "points" (per series: drawn as dots), "data" (rows [x, y₁|null, …] sorted by x: the series
+/// label made unique), "points" (per series: drawn as dots), "steps" (per series: drawn as steps, style "steps"),
+/// "data" (rows [x, y₁|null, …] sorted by x: the series
 /// decimated — DecimateMinMax for lines, DecimateScatter for dots — and merged on equal x), "logx", "logy", "link"
 /// (Figure::x_link), "shaded" ([[x0, x1]]), "marks" ([[x, label]]), "samples" (the longest series' length), "decimated"
 /// (whether any series lost points), "csv" (the full data's file name), "yrange" ([y0, y1] or null)}. Values are

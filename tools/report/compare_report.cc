@@ -101,19 +101,9 @@ void AddDiagnosisSection(const CompareOutcome& outcome, const std::string& posit
                     fmt::format("{:.1f} %", 100.0 * e.cumulative_share), ps});
   }
   report->Table({"effect", "share of remaining held-out residual explained", "cumulative", "parameters"}, rows);
-  // Each effect's description beside its evidence: the residual on the effect's own axis, the fit drawn over it.
-  const std::string unit = outcome.primary_after().unit;
-  for (std::size_t k = 0; k < diagnosis.effects.size(); ++k) {
-    const DiagnosedEffect& e = diagnosis.effects[k];
-    report->Paragraph(fmt::format("{}. {}: {}", k + 1, e.effect, e.description));
-    try {
-      report->AddFigure(EffectEvidenceFigure(outcome.compared, k, unit, PositionUnitToken(position_column),
-                                             fmt::format("effect_{}.png", k + 1)),
-                        out);
-    } catch (const std::invalid_argument& error) {
-      report->Warning(fmt::format("No evidence figure for {}: {}", e.effect, error.what()));
-    }
-  }
+  // Each effect's description beside its evidence (the residual on the effect's own axis, the fit drawn over it), its
+  // share and confidence; then the position periodogram with the chosen periods marked.
+  AddEffectEvidence(report, out, outcome.compared, outcome.primary_after().unit, PositionUnitToken(position_column));
   if (outcome.fallback.gpr) {
     report->Heading("What no catalogue effect explains (non-parametric fallback)");
     report->Paragraph(outcome.fallback.gpr->description);
@@ -189,8 +179,7 @@ void WriteCompareReport(const CompareOutcome& outcome, const MeasurementLog& log
     report.Paragraph(compared.diagnosis_skipped);
   }
   report.Heading("Views");
-  AddResidualFigures(&report, files.out, log, primary_after, primary_after.residual(),
-                     compared.diagnosis ? &*compared.diagnosis : nullptr, files.position_column);
+  AddResidualFigures(&report, files.out, log, primary_after, primary_after.residual(), files.position_column);
   report.Heading("Residual analysis (as MATLAB resid): is the residual white and independent of the input?");
   AddResidFigures(&report, files.out, "", log, primary_after.residual(), nullptr,
                   ChooseResidInput(outcome.mode, compared.compared_diagram, fs::path(files.diagram).parent_path(), log,

@@ -42,6 +42,42 @@ void WriteImproveProgress(const ImproveResult& so_far, const fs::path& directory
   WriteJsonFile(j, directory / "improve.json");
 }
 
+namespace {
+
+// The id of step i's plots in the report (the step table links there): step 0's are the before/after figures.
+std::string StepAnchor(std::size_t i) { return i == 0 ? "before-after" : fmt::format("step-{}", i); }
+
+// A section per step tried after step 0 (id StepAnchor(i)): what it added, its verdict, and the residual on the
+// measurement before it (the last accepted step's) and after its refit, against time.
+void AddStepSections(HtmlReport* report, const ImproveResult& result, const MeasurementLog& training,
+                     const fs::path& directory) {
+  const ImproveStep* previous = &result.first();
+  const auto t = ToStd(training.time());
+  for (std::size_t i = 1; i < result.steps.size(); ++i) {
+    const ImproveStep& s = result.steps[i];
+    report->Heading(fmt::format("Step {}: + {} ({})", i, s.effect.empty() ? "(nothing)" : s.effect,
+                                s.accepted ? "accepted" : "refused"),
+                    StepAnchor(i));
+    report->Paragraph(s.verdict);
+    if (!s.training.after.empty() && !previous->training.after.empty() &&
+        s.training.after.front().measured.size() == training.time().size()) {
+      const ComparedOutput& before = previous->training.after.front();
+      const ComparedOutput& after = s.training.after.front();
+      Figure f{fmt::format("step_{}_residual.png", i),
+               fmt::format("Step {}: residual against time, before it (RMSE {:.4g}) and after its refit (RMSE {:.4g})",
+                           i, s.rmse_train_before, s.rmse_train),
+               "time [s]", fmt::format("measured − model [{}]", after.unit), {}};
+      f.series.push_back({t, ToStd(before.residual()), "before this step", "lines"});
+      f.series.push_back({t, ToStd(after.residual()), s.accepted ? "after (accepted)" : "after (refused)", "lines"});
+      f.x_link = "time";
+      report->AddFigure(f, directory);
+    }
+    if (s.accepted) previous = &s;
+  }
+}
+
+}  // namespace
+
 void WriteImproveReport(const ImproveResult& result, const MeasurementLog& training, const MeasurementLog* validation,
                         const std::string& title, const fs::path& diagram_directory,
                         const std::string& position_column, const fs::path& directory) {
@@ -58,6 +94,7 @@ void WriteImproveReport(const ImproveResult& result, const MeasurementLog& train
                  : "contiguous 5-fold cross-validation on the measurement",
       result.stop_reason));
   std::vector<std::vector<std::string>> rows;
+  std::vector<std::string> links;  // each row's step to its plots
   int k = 0;
   for (const auto& s : result.steps) {
     std::string key;
@@ -74,6 +111,7 @@ void WriteImproveReport(const ImproveResult& result, const MeasurementLog& train
       }
     }
     if (key.empty() && s.diagnosed) key = DescribeParameters(s.diagnosed->parameters);
+    links.push_back(StepAnchor(rows.size()));
     rows.push_back({s.accepted ? fmt::format("{}", k++) : "—", s.effect.empty() ? "(as given, refit)" : s.effect,
                     s.diagnosed ? fmt::format("{:.1f} %", 100.0 * s.diagnosed->score) : "", key,
                     fmt::format("{:.4g} → {:.4g}", s.rmse_train_before, s.rmse_train),
@@ -81,7 +119,7 @@ void WriteImproveReport(const ImproveResult& result, const MeasurementLog& train
   }
   report.Table({"step", "effect", "share explained", "key parameters (± 1 SE)", fmt::format("RMSE fit [{}]", unit),
                 fmt::format("RMSE held out [{}]", unit), "verdict"},
-               rows);
+               rows, links);
 
   DrawingMarks added;
   added.added_label = "added by improve";
@@ -106,15 +144,21 @@ void WriteImproveReport(const ImproveResult& result, const MeasurementLog& train
   bars.series = {train, held};
   report.AddFigure(bars, directory);
 
-  report.Heading("Before (step 0, refit) and after (improved): the measurement");
-  AddBeforeAfterFigures(&report, directory, "", fs::path(training.source()).filename().string(), training,
-                        first.training.after.front(), last.training.after.front(), position_column);
+  report.Heading("Before (step 0, refit) and after (improved): the measurement", StepAnchor(0));
+  const std::string record = fs::path(training.source()).filename().string();
+  AddBeforeAfterFigures(&report, directory, "", record, training, first.training.after.front(),
+                        last.training.after.front(), position_column);
+  AddResidualSpectrumAndHistogram(&report, directory, "", record, training, first.training.after.front(),
+                                  last.training.after.front());
   if (validation && first.validation && last.validation) {
     report.Heading("Before and after: the validation record (held out)");
-    AddBeforeAfterFigures(&report, directory, "heldout_", fs::path(validation->source()).filename().string(),
-                          *validation, first.validation->outputs.front(), last.validation->outputs.front(),
-                          position_column);
+    const std::string held_out = fs::path(validation->source()).filename().string();
+    AddBeforeAfterFigures(&report, directory, "heldout_", held_out, *validation, first.validation->outputs.front(),
+                          last.validation->outputs.front(), position_column);
+    AddResidualSpectrumAndHistogram(&report, directory, "heldout_", held_out, *validation,
+                                    first.validation->outputs.front(), last.validation->outputs.front());
   }
+  AddStepSections(&report, result, training, directory);
   if (last.training.diagnosis) {
     report.Heading("What is left");
     report.Paragraph(last.training.diagnosis->summary);

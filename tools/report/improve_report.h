@@ -26,10 +26,13 @@ std::vector<std::string> ImproveOutputNames();
 void WriteImproveProgress(const ImproveResult& so_far, const std::filesystem::path& directory,
                           const nlohmann::json& context);
 
-/// DIR/report.html: the table of steps, the improved diagram drawn (diagram_drawing.h; subsystem files against
-/// `diagram_directory`, the input diagram's folder) with the elements the accepted steps added in kAddedColour, and
-/// figures before (step 0) vs after (last accepted): measured vs model, the residual against time, position and
-/// velocity on the same axes, and the RMSE per step (train and held-out bars). `position_column` as in the settings.
+/// DIR/report.html: the table of steps (each row's first cell a link to its step's plots), the improved diagram drawn
+/// (diagram_drawing.h; subsystem files against `diagram_directory`, the input diagram's folder) with the elements the
+/// accepted steps added in kAddedColour, the RMSE per step (train and held-out bars), figures before (step 0) vs after
+/// (last accepted) — measured vs model, the residual against time, position and velocity on the same axes, the
+/// residual's spectrum and distribution (AddResidualSpectrumAndHistogram) — under the id "before-after", and a section
+/// per step tried (id "step-<i>", i its index among the steps): its verdict and the residual before it and after its
+/// refit. `position_column` as in the settings.
 void WriteImproveReport(const ImproveResult& result, const MeasurementLog& training, const MeasurementLog* validation,
                         const std::string& title, const std::filesystem::path& diagram_directory,
                         const std::string& position_column, const std::filesystem::path& directory);

@@ -172,7 +172,8 @@ constexpr const char* kChartScript = R"JS((function () {
       colors.push(palette[k % palette.length]);
       series[label] = spec.points[k] ? {strokeWidth: 0, drawPoints: true, pointSize: 1.5, highlightCircleSize: 3,
                                         color: pale(colors[k])}  // dots pale: the lines drawn over them show
-                                     : {strokeWidth: spec.points.some(Boolean) ? 2 : 1.2};
+                                     : {strokeWidth: spec.points.some(Boolean) ? 2 : 1.2,
+                                        stepPlot: !!(spec.steps && spec.steps[k])};
     });
     var g = new Dygraph(plot, spec.data, {
       labels: spec.labels, colors: colors, series: series, xlabel: esc(spec.xlabel), ylabel: esc(spec.ylabel),
@@ -327,15 +328,36 @@ std::string HtmlEscape(const std::string& text) {
 
 void HtmlReport::Heading(const std::string& text) { body_ += "<h2>" + HtmlEscape(text) + "</h2>\n"; }
 
+void HtmlReport::Heading(const std::string& text, const std::string& id) {
+  body_ += "<h2 id=\"" + HtmlEscape(id) + "\">" + HtmlEscape(text) + "</h2>\n";
+}
+
+std::string FigureId(const std::string& file) {
+  std::string id = "fig-" + fs::path(file).stem().string();
+  for (char& c : id) {
+    if (std::isalnum(static_cast<unsigned char>(c)) == 0 && c != '_' && c != '-') c = '_';
+  }
+  return id;
+}
+
 void HtmlReport::Paragraph(const std::string& text) { body_ += "<p>" + HtmlEscape(text) + "</p>\n"; }
 
 void HtmlReport::Table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows) {
+  Table(header, rows, {});
+}
+
+void HtmlReport::Table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows,
+                       const std::vector<std::string>& row_links) {
   body_ += "<table>\n<tr>";
   for (const auto& h : header) body_ += "<th>" + HtmlEscape(h) + "</th>";
   body_ += "</tr>\n";
-  for (const auto& row : rows) {
+  for (std::size_t r = 0; r < rows.size(); ++r) {
     body_ += "<tr>";
-    for (const auto& cell : row) body_ += "<td>" + HtmlEscape(cell) + "</td>";
+    for (std::size_t c = 0; c < rows[r].size(); ++c) {
+      const std::string cell = HtmlEscape(rows[r][c]);
+      const bool linked = c == 0 && r < row_links.size() && !row_links[r].empty();
+      body_ += "<td>" + (linked ? "<a href=\"#" + HtmlEscape(row_links[r]) + "\">" + cell + "</a>" : cell) + "</td>";
+    }
     body_ += "</tr>\n";
   }
   body_ += "</table>\n";
@@ -352,7 +374,9 @@ void HtmlReport::AddFigure(const Figure& figure, const fs::path& directory) {
                                 [](const Series& s) { return s.style == "boxes" || s.style == "impulses"; });
   if (!interactive_ || figure.series.empty() || bars || !figure.x_tick_labels.empty()) {
     if (error.empty()) {
-      Image(figure.file, figure.title);
+      body_ += fmt::format("<figure id=\"{}\"><img src=\"{}\" alt=\"{}\"><figcaption>{}</figcaption></figure>\n",
+                           FigureId(figure.file), HtmlEscape(figure.file), HtmlEscape(figure.title),
+                           HtmlEscape(figure.title));
     } else {
       Warning("Figure missing: " + error);
     }
@@ -361,9 +385,9 @@ void HtmlReport::AddFigure(const Figure& figure, const fs::path& directory) {
   const std::string csv = FigureFileNames(figure.file)[3];
   WriteFileSafely(directory / csv, FigureCsv(figure));
   const nlohmann::json spec = ChartJson(figure, csv, interactive_->columns);
-  body_ += fmt::format("<figure class=\"mb-figure\"><div class=\"mb-title\">{}</div>"
+  body_ += fmt::format("<figure class=\"mb-figure\" id=\"{}\"><div class=\"mb-title\">{}</div>"
                        "<div class=\"mb-chart\" data-chart=\"{}\"></div>\n",
-                       HtmlEscape(figure.title), charts_.size());
+                       FigureId(figure.file), HtmlEscape(figure.title), charts_.size());
   if (error.empty()) {
     body_ += fmt::format("<img class=\"mb-static\" loading=\"lazy\" src=\"{}\" alt=\"{}\">\n",
                          HtmlEscape(figure.file), HtmlEscape(figure.title));

@@ -13,7 +13,8 @@
 
 namespace mb {
 
-/// One curve of a figure. `style`: gnuplot's "lines", "linespoints", "points", "dots", "impulses" or "boxes" (bars
+/// One curve of a figure. `style`: gnuplot's "lines", "linespoints", "points", "dots", "steps" (y_i held until
+/// x_{i+1}: a histogram from its bins' left edges, the last point at the right edge), "impulses" or "boxes" (bars
 /// from 0, width 0.35 in x units: place side-by-side bars at x ± 0.18).
 struct Series {
   std::vector<double> x;
@@ -90,9 +91,15 @@ class HtmlReport {
   explicit HtmlReport(std::string title, std::optional<InteractiveCharts> interactive = std::nullopt)
       : title_(std::move(title)), interactive_(std::move(interactive)) {}
   void Heading(const std::string& text);
+  /// A heading that a link "#`id`" goes to (FigureId's characters).
+  void Heading(const std::string& text, const std::string& id);
   void Paragraph(const std::string& text);
   /// A table: header row and rows of cells (already formatted).
   void Table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows);
+  /// The same, the first cell of row i a link to "#`row_links[i]`" (a Heading's or FigureId's id); no link where
+  /// row_links[i] is empty or i is beyond it.
+  void Table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows,
+             const std::vector<std::string>& row_links);
   /// Renders the figure into the report's folder and embeds it (or notes why it is missing); beyond
   /// MaxReportFigures() figures, only notes its title (Write lists them). Interactive (and the
   /// figure no bar chart and without named x ticks): also writes directory/<stem>.full.csv (FigureCsv) and adds the
@@ -115,6 +122,10 @@ class HtmlReport {
   std::size_t figures_ = 0;          // figures drawn (AddFigure)
   std::vector<std::string> not_drawn_;  // titles of the figures beyond MaxReportFigures()
 };
+
+/// The id of a figure's element in its report (AddFigure, interactive or not): "fig-" and the stem of its PNG name,
+/// each character outside [A-Za-z0-9_-] written '_' ("effect_1.png" → "fig-effect_1"): what a link "#fig-…" names.
+std::string FigureId(const std::string& file);
 
 /// Escapes &, <, > and " for HTML text and attribute values.
 std::string HtmlEscape(const std::string& text);

@@ -22,10 +22,59 @@ std::vector<double> ToStd(const Eigen::VectorXd& v);
 
 /// compare's views of one output: measured vs model, and `residual` (measured − model after the fit, the
 /// output's unit) against time, position (`position_column`, if logged), the derived velocity (with the binned mean:
-/// the friction shape) and acceleration; with a diagnosis that found position peaks, the position periodogram.
+/// the friction shape) and acceleration. (The position periodogram is with the ranked effects: AddEffectEvidence.)
 void AddResidualFigures(HtmlReport* report, const std::filesystem::path& out, const MeasurementLog& log,
                         const ComparedOutput& before, const Eigen::VectorXd& residual_after,
-                        const DiagnosisResult* diagnosis, const std::string& position_column);
+                        const std::string& position_column);
+
+/// The share and confidence of a ranked effect in words: its share of the remaining held-out residual (score) and
+/// the cumulative share, then each coefficient of the final joint fit with its 95 % interval (± 1.96 × its standard
+/// deviation, DiagnosedEffect::coefficient_std) and whether the interval holds zero, e.g. "Share: 9.1 % of the
+/// remaining held-out residual (cumulative 12.4 %). Coefficients, 95 % intervals: cos1 = 0.52 ± 0.03, sin1 = −0.01
+/// ± 0.03 (holds 0); 1 of 2 significant."
+std::string EffectShareAndConfidence(const DiagnosedEffect& effect);
+
+/// compare's evidence for every ranked effect of `compared.diagnosis`, in ranking order k = 1, 2, …: a paragraph
+/// "k. effect: description", its share and confidence (EffectShareAndConfidence) and its evidence figure
+/// (EffectEvidenceFigure, PNG effect_<k>.png, element id FigureId: "fig-effect_<k>"), or a warning saying why there is
+/// none; then, when the diagnosis searched position periods, the position periodogram (PositionPeriodogramFigure,
+/// "position_periodogram.png") with a sentence naming what it marks. `unit`: the output's; `position_unit` as
+/// PositionUnitToken. Nothing without a diagnosis.
+void AddEffectEvidence(HtmlReport* report, const std::filesystem::path& out, const DiagnosedComparison& compared,
+                       const std::string& unit, const std::string& position_unit);
+
+/// The position-domain periodogram of the diagnosed residual (compared.signals: residual against the low-passed
+/// position) as the diagnosis searched it (effect_proposal.cc, default CatalogueOptions): the residual less the base's
+/// corrections and the friction-law replacements (their final joint-fit coefficients), only the samples moving
+/// faster than dead_band_fraction × max |v| (all when fewer than a quarter move), periods up to the travel /
+/// min_position_cycles, log x; marked: each ranked effect's "period" and the strongest peak of the diagnosis's own
+/// periodogram (DiagnosisResult::position_peaks, the one its notes name). PNG `file`. @throws std::invalid_argument if
+/// there is no diagnosis or the periodogram cannot be computed (LombScarglePeriodogram).
+Figure PositionPeriodogramFigure(const DiagnosedComparison& compared, const std::string& position_unit,
+                                 const std::string& file);
+
+/// The amplitude spectral density √PSD [unit/√Hz] of two residuals of the same record (improve: `before` = step 0's
+/// refit, `after` = the last accepted step) against frequency [Hz], by WelchPowerSpectrum (signal_processing.h: Hann
+/// segments of min(N, 1024) samples, 50 % overlap) at the median time step of `time`; 0 Hz left out, y logarithmic,
+/// each label with its residual's RMS. A record with gaps is taken as uniformly sampled. PNG `file`.
+/// @throws std::invalid_argument on a length mismatch or as WelchPowerSpectrum (N < 8).
+Figure ResidualSpectrumFigure(const Eigen::VectorXd& time, const Eigen::VectorXd& before, const Eigen::VectorXd& after,
+                              const std::string& unit, const std::string& file);
+
+/// Two residuals' distributions on shared bins.
+struct ResidualHistogram {
+  std::vector<double> edges;               ///< bins + 1 increasing edges over [min, max] of both's finite values
+  std::vector<std::size_t> before, after;  ///< samples per bin [edges[i], edges[i+1]) (the top edge in the last bin)
+};
+
+/// Counts `before` and `after` on `bins` uniform bins spanning both's finite values (a constant residual: one unit
+/// around it); non-finite values are counted nowhere. @throws std::invalid_argument if bins is 0 or neither has a
+/// finite value.
+ResidualHistogram HistogramOfResiduals(const Eigen::VectorXd& before, const Eigen::VectorXd& after, std::size_t bins);
+
+/// The histogram as a figure: two "steps" series (before, after) at the bins' left edges and, last, the right edge
+/// with the last count again; x the residual [unit], y samples per bin. PNG `file`.
+Figure ResidualHistogramFigure(const ResidualHistogram& histogram, const std::string& unit, const std::string& file);
 
 /// The evidence for the `k`-th effect of `compared.diagnosis` (compare's ranking): its partial residual — the diagnosed
 /// residual less the diagnosis's whole correction (PredictCorrection) plus this effect's own fitted contribution, the
@@ -43,5 +92,12 @@ Figure EffectEvidenceFigure(const DiagnosedComparison& compared, std::size_t k, 
 void AddBeforeAfterFigures(HtmlReport* report, const std::filesystem::path& out, const std::string& prefix,
                            const std::string& record, const MeasurementLog& log, const ComparedOutput& before,
                            const ComparedOutput& after, const std::string& position_column);
+
+/// improve's before/after distribution and spectrum of a record's residual (`prefix`residual_spectrum.png,
+/// `prefix`residual_histogram.png: ResidualSpectrumFigure, ResidualHistogramFigure with √N bins, 10 to 100), each
+/// series toggled in the chart; a record too short for either gets a warning instead.
+void AddResidualSpectrumAndHistogram(HtmlReport* report, const std::filesystem::path& out, const std::string& prefix,
+                                     const std::string& record, const MeasurementLog& log,
+                                     const ComparedOutput& before, const ComparedOutput& after);
 
 }  // namespace mb
