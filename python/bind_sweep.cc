@@ -201,7 +201,7 @@ void BindSweep(py::module_& m) {
         py::arg("out") = py::none(), py::arg("save_logs") = false,
         "Runs a parameter sweep of `diagram` (loaded with Diagram.load; its set() calls apply to every run) as "
         "`motionblocks sweep`: `spec` a sweep file's path or its JSON as a dict (grid, list or random; "
-        "tools/batch/sweep.h), `jobs` parallel runs (0 = all cores). Returns a SweepResult: one dict per run in "
+        "tools/batch/sweep_spec.h), `jobs` parallel runs (0 = all cores). Returns a SweepResult: one dict per run in "
         "sweep order (id, status 'ok' or 'failed', the swept keys' values, the diagram's metrics in SI units, "
         "wall_time_s, error), and to_pandas(). With `out`, runs.csv and runs.json are written there and a second "
         "call resumes; without, nothing is kept. Raises DiagramError for an unknown element, ValueError for a bad "

@@ -1,5 +1,5 @@
 #pragma once
-// The JSON Schema (draft-07) of a sweep file (tools/batch/sweep.h): printed by `motionblocks schema --sweep`, kept
+// The JSON Schema (draft-07) of a sweep file (tools/batch/sweep_spec.h): printed by `motionblocks schema --sweep`, kept
 // in diagrams/sweep.schema.json for editors, and enforced by ParseSweep (valijson, engine/json_schema.h).
 
 #include <vector>

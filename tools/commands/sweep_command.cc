@@ -99,7 +99,7 @@ void SetupSweepCommand(CLI::App& app) {
       "sweep", "Run a diagram over a grid, list or seeded random sample of parameters in parallel: runs.csv, runs.json");
   cmd->add_option("files", options->files,
                   "[DIAGRAM] SWEEP: the diagram JSON file (default: the sweep file's \"diagram\", relative to the "
-                  "sweep file) and the sweep JSON file (grid, list or random; see tools/batch/sweep.h)")
+                  "sweep file) and the sweep JSON file (grid, list or random; see tools/batch/sweep_spec.h)")
       ->required()
       ->expected(1, 2)
       ->type_name("[DIAGRAM] SWEEP")

@@ -39,7 +39,7 @@ json RandomSweep(std::size_t samples) {
   return sweep;
 }
 
-// Draw `index` as the sweep file's documentation defines it (tools/batch/sweep.h): std::mt19937_64(seed), per draw
+// Draw `index` as the sweep file's documentation defines it (tools/batch/sweep_spec.h): std::mt19937_64(seed), per draw
 // the keys in order, each low + (high − low)·(engine() >> 11)·2⁻⁵³; computed here from scratch.
 std::vector<double> DocumentedDraw(std::size_t index) {
   std::mt19937_64 engine(11);
