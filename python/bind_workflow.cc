@@ -468,7 +468,15 @@ void BindCompare(py::module_& m) {
             if (!c.outcome.suggestion || !c.outcome.suggestion->diagram) return std::nullopt;
             return DiagramOf(*c.outcome.suggestion->diagram, c.diagram);
           },
-          "With suggest=True: the diagram amended with the top-ranked effect's block (None: see to_dict()).")
+          "With suggest=True: the diagram amended in the ranking's order, the friction-law replacements and then "
+          "the top missing effect's block (None: see to_dict()).")
+      .def_property_readonly(
+          "suggested_effects",
+          [](const PyCompare& c) {
+            return c.outcome.suggestion ? c.outcome.suggestion->effects : std::vector<std::string>{};
+          },
+          "With suggest=True: the catalogue names of the effects suggested_diagram adds, in the order added (list of "
+          "str; empty when none).")
       .def("to_dict",
            [](const PyCompare& c) {
              return FromJson(CompareResultsJson(c.outcome, c.log, SourceOf(c.diagram), c.measurement));

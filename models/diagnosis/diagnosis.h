@@ -109,10 +109,15 @@ struct DiagnosedEffect {
   double contribution_rms = 0.0;
   double time_range[2] = {0.0, 0.0}, position_range[2] = {0.0, 0.0}, velocity_range[2] = {0.0, 0.0};
   std::string description;                   // in words, with the figures above
+  // `parameters` as JSON for compare.json and improve.json: a count (a parameter without a unit in the effect
+  // registry, whole-valued: the harmonics) as an integer, not 2.0.
+  nlohmann::json ParametersJson() const;
 };
 
 struct DiagnosisResult {
-  std::vector<DiagnosedEffect> effects;      // sorted by score, highest first
+  // The missing effects by score, highest first, then the friction-law replacements (the summary's order; the order
+  // they are applied in: EffectsInApplicationOrder, tools/workflow/suggest.h).
+  std::vector<DiagnosedEffect> effects;
   bool missing_effect_found = false;
   bool position_time_indistinguishable = false;
   std::string summary;                       // one paragraph for users

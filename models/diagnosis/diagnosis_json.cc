@@ -4,9 +4,13 @@
 #include "models/diagnosis/diagnosis.h"
 
 #include <cmath>
+#include <map>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "models/diagnosis/effect_registry.h"
 
 namespace mb {
 
@@ -21,11 +25,28 @@ nlohmann::json PeaksJson(const std::vector<PeriodogramPeak>& peaks) {
   }
   return out;
 }
+// An effect's parameters, a count (a parameter without a unit in the effect registry, whole-valued: the harmonics)
+// as an integer, not 2.0.
+nlohmann::json ParametersJson(const std::string& effect, const std::map<std::string, double>& parameters) {
+  nlohmann::json out = parameters;
+  const EffectType* type = EffectRegistry::Global().Find(effect);
+  if (!type) return out;
+  for (const auto& p : type->parameters) {
+    const auto it = parameters.find(p.name);
+    if (it == parameters.end() || !p.unit.empty()) continue;
+    if (std::abs(it->second) < 1e15 && it->second == std::round(it->second)) {
+      out[p.name] = static_cast<long long>(it->second);
+    }
+  }
+  return out;
+}
 nlohmann::json WhitenessJson(const AutocorrelationTest& a) {
   return {{"ljung_box_q", a.ljung_box_q}, {"p_value", a.p_value}, {"white", a.white}, {"band99", a.band99},
           {"autocorrelation", ToJsonArray(a.autocorrelation)}};
 }
 }  // namespace
+
+nlohmann::json DiagnosedEffect::ParametersJson() const { return mb::ParametersJson(effect, parameters); }
 
 nlohmann::json DiagnosisResult::ToJson() const {
   nlohmann::json j;
@@ -54,7 +75,8 @@ nlohmann::json DiagnosisResult::ToJson() const {
       coefs.push_back({{"column", e.column_names[i]}, {"value", e.coefficients(ii)}, {"std", e.coefficient_std(ii)}});
     }
     effs.push_back({{"effect", e.effect}, {"score", e.score}, {"cumulative_share", e.cumulative_share},
-                    {"parameters", e.parameters}, {"coefficients", coefs}, {"contribution_rms", e.contribution_rms},
+                    {"parameters", e.ParametersJson()}, {"coefficients", coefs},
+                    {"contribution_rms", e.contribution_rms},
                     {"time_range", {e.time_range[0], e.time_range[1]}},
                     {"position_range", {e.position_range[0], e.position_range[1]}},
                     {"velocity_range", {e.velocity_range[0], e.velocity_range[1]}}, {"description", e.description}});
@@ -66,7 +88,9 @@ nlohmann::json DiagnosisResult::ToJson() const {
   j["position_peaks"] = PeaksJson(position_peaks);
   j["time_peaks"] = PeaksJson(time_peaks);
   nlohmann::json cands = nlohmann::json::array();
-  for (const auto& c : candidates) cands.push_back({{"effect", c.name}, {"parameters", c.parameters}});
+  for (const auto& c : candidates) {
+    cands.push_back({{"effect", c.name}, {"parameters", ParametersJson(c.name, c.parameters)}});
+  }
   j["candidates"] = cands;
   j["friction_law"] = friction_law;
   j["robust_weight_share"] = robust_weight_share;

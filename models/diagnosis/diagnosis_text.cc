@@ -26,7 +26,29 @@ std::string FormatPosition(double x, const std::string& unit) {
   return fmt::format("{:.4g} {}", x, unit);
 }
 
-std::string FormatParameters(const std::map<std::string, double>& p, const std::string& position_unit) {
+// The registry's unit of `effect`'s parameter `name` (SI, "" when none or unknown).
+std::string UnitOf(const std::string& effect, const std::string& name) {
+  if (const EffectType* type = EffectRegistry::Global().Find(effect)) {
+    for (const auto& p : type->parameters) {
+      if (p.name == name) return p.unit;
+    }
+  }
+  return "";
+}
+
+// A value in its unit: a length or speed in mm, mm/s for metres (else in the position's unit), a count as an integer.
+std::string FormatWithUnit(double v, const std::string& unit, const std::string& position_unit) {
+  if (unit == "m") return FormatPosition(v, position_unit);
+  if (unit == "m/s") {
+    return position_unit == "m" ? fmt::format("{:.4g} mm/s", v * 1e3) : fmt::format("{:.4g} {}/s", v, position_unit);
+  }
+  if (unit.empty() && std::abs(v) < 1e15 && v == std::round(v)) return fmt::format("{}", static_cast<long long>(v));
+  if (unit == "s" || unit == "Hz") return fmt::format("{:.4g} {}", v, unit);
+  return fmt::format("{:.4g}", v);
+}
+
+std::string FormatParameters(const std::string& effect, const std::map<std::string, double>& p,
+                             const std::string& position_unit) {
   std::string out;
   for (const auto& [k, v] : p) {
     std::string item;
@@ -44,7 +66,7 @@ std::string FormatParameters(const std::map<std::string, double>& p, const std::
     else if (k == "frequency_hz") item = fmt::format("frequency {:.4g} Hz", v);
     else if (k == "harmonics") item = fmt::format("{} harmonic(s)", static_cast<int>(v));
     else if (k == "amplitude") item = fmt::format("amplitude {:.3g}", v);
-    else item = fmt::format("{} {:.4g}", k, v);
+    else item = fmt::format("{} {}", k, FormatWithUnit(v, UnitOf(effect, k), position_unit));
     out += (out.empty() ? "" : ", ") + item;
   }
   return out;
@@ -94,7 +116,7 @@ DiagnosedEffect DescribeEffect(const Candidate& c, double score, double cumulati
       "cumulative); RMS contribution {:.3g}; largest for t in [{:.3g}, {:.3g}] s, x in [{}, {}], "
       "v in [{:.3g}, {:.3g}] {}/s. {}",
       friction_law ? "the friction law near zero velocity is wrong: " : "", d.effect,
-      d.parameters.empty() ? "" : " (" + FormatParameters(d.parameters, position_unit) + ")", 100.0 * d.score, 100.0 * d.cumulative_share, d.contribution_rms, d.time_range[0], d.time_range[1],
+      d.parameters.empty() ? "" : " (" + FormatParameters(d.effect, d.parameters, position_unit) + ")", 100.0 * d.score, 100.0 * d.cumulative_share, d.contribution_rms, d.time_range[0], d.time_range[1],
       FormatPosition(d.position_range[0], position_unit), FormatPosition(d.position_range[1], position_unit),
       d.velocity_range[0], d.velocity_range[1], position_unit, c.type->physics);
   return d;
@@ -130,7 +152,7 @@ void Summarise(const DiagnosisOptions& options, const std::string& ambiguity_not
       continue;
     }
     law += fmt::format("{}{}{}", law.empty() ? "" : ", ", e.effect,
-                       e.parameters.empty() ? "" : " (" + FormatParameters(e.parameters, options.position_unit) + ")");
+                       e.parameters.empty() ? "" : " (" + FormatParameters(e.effect, e.parameters, options.position_unit) + ")");
   }
   if (!law.empty()) {
     result->summary = fmt::format("The friction law near zero velocity is wrong: {} replaces the model's; the other "
@@ -143,7 +165,7 @@ void Summarise(const DiagnosisOptions& options, const std::string& ambiguity_not
     result->summary += fmt::format(
         "Missing: {}{} — explains {:.1f} % of the held-out residual energy. All chosen effects together "
         "explain {:.1f} %; RMSE {:.4g} → {:.4g} (in-sample, base refit {:.4g}), held-out RMSE {:.4g} → {:.4g}.",
-        top->effect, top->parameters.empty() ? "" : " (" + FormatParameters(top->parameters, options.position_unit) + ")",
+        top->effect, top->parameters.empty() ? "" : " (" + FormatParameters(top->effect, top->parameters, options.position_unit) + ")",
         100.0 * top->score, 100.0 * result->explained_share, result->rmse_before, result->rmse_after,
         result->rmse_base_refit, result->heldout_rmse_base, result->heldout_rmse_after);
     if (result->position_time_indistinguishable) result->summary += " " + ambiguity_note;

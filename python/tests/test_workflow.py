@@ -51,6 +51,14 @@ def test_compare_names_the_same_first_effect_as_the_command_line(emps_compare):
     assert emps_compare.unit == "N" and emps_compare.output == "force"
 
 
+def test_compare_suggests_in_the_rankings_order_as_the_command_line():
+    # tests/tools/commands/compare_command_test.cc: the friction-law replacement first, then the top missing effect.
+    c = mb.compare(mb.Diagram.load(RIGID_BODY), DATA, suggest=True, gpr_fallback=False)
+    assert c.suggested_effects == ["stribeck_friction", "velocity_dependent_ripple"]
+    types = [e["type"] for e in c.suggested_diagram.to_dict()["elements"]]
+    assert "velocity_dependent_ripple" in types
+
+
 def test_compare_repr_shows_the_readmes_figures(emps_compare):
     # README, demo step 1: the benchmark's model as written, then refit.
     assert repr(emps_compare) == ("<CompareOutcome force_N: RMSE 4.45 → 2.33 N, fit 91.8 % → 95.7 %, top effect "

@@ -17,6 +17,7 @@
 #include "tools/report/output_files.h"
 #include "tools/report/progress.h"
 #include "tools/workflow/compare.h"
+#include "tools/workflow/suggest.h"
 
 namespace mb {
 
@@ -44,8 +45,8 @@ void PrintCompareOutcome(const CompareOutcome& outcome, const fs::path& out) {
                            after.rmse, after.unit, before.fit_percent, after.fit_percent);
   if (const auto& diagnosis = outcome.compared.diagnosis) {
     std::cout << diagnosis->summary << "\n";
-    for (const auto& e : diagnosis->effects) {
-      std::cout << fmt::format("  {:<28} {:5.1f} %  {}\n", e.effect, 100.0 * e.score, e.description);
+    for (const DiagnosedEffect* e : EffectsInApplicationOrder(*diagnosis)) {  // the order --suggest applies them
+      std::cout << fmt::format("  {:<28} {:5.1f} %  {}\n", e->effect, 100.0 * e->score, e->description);
     }
   }
   if (outcome.fallback.gpr) std::cout << outcome.fallback.gpr->description << "\n";
@@ -84,6 +85,13 @@ void RunCompare(const CompareOptions& o) {
   const json written = WriteCompareResults(outcome, log, files);
   PrintCompareOutcome(outcome, o.out);
   const json suggested = written.value("suggested_diagram", json::object());
+  if (outcome.suggestion && outcome.suggestion->diagram) {
+    std::cout << fmt::format("wrote {}: the diagram with {} added (free: their coefficients, refit by the next "
+                             "compare)\n",
+                             o.suggest, fmt::join(outcome.suggestion->effects, ", then "));
+  } else if (outcome.suggestion) {
+    std::cout << fmt::format("wrote no {}: {}\n", o.suggest, outcome.suggestion->why_not);
+  }
   PrintReadsOutsideNote(o.suggest, suggested.value("reads_outside_its_folder", json::array()));
   PrintReadsOutsideNote(o.write_fitted, written.value("fitted_diagram_reads_outside_its_folder", json::array()));
 }
@@ -97,7 +105,9 @@ void SetupCompareCommand(CLI::App& app) {
   cmd->add_flag("--no-fit", o->no_fit, "compare as is, refit nothing");
   cmd->add_flag("--no-gpr-fallback", o->no_gpr_fallback,
                 "skip the TISO-GPR fitted to what the diagnosis leaves (it writes residual_gpr.json when it helps)");
-  cmd->add_option("--suggest", o->suggest, "write the diagram amended with the top-ranked effect's block here");
+  cmd->add_option("--suggest", o->suggest,
+                  "write the diagram amended, in the ranking's order, with the friction-law replacements and the top "
+                  "missing effect's block here (it says what it added)");
   cmd->add_option("--suggest-effect", o->suggest_effect,
                   "with --suggest: the highest-ranked effect of this catalogue name instead of the top one "
                   "(e.g. velocity_dependent_ripple); when no effect is named but the TISO-GPR fallback helps, "

@@ -1,13 +1,18 @@
 #include "tools/report/compare_report.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include <fmt/format.h>
 
+#include "models/diagnosis/effect_registry.h"
 #include "models/gpr/gpr_io.h"
 #include "tools/report/output_files.h"
 #include "tools/report/diagram_drawing.h"
 #include "tools/report/report.h"
 #include "tools/report/resid_figures.h"
 #include "tools/report/residual_figures.h"
+#include "tools/workflow/suggest.h"
 
 namespace mb {
 
@@ -29,7 +34,7 @@ void AddDiagnosisJson(const DiagnosedComparison& compared, json* result) {
   if (compared.diagnosis) {
     const DiagnosisResult& diagnosis = *compared.diagnosis;
     for (const auto& e : diagnosis.effects) {
-      ranked.push_back({{"effect", e.effect}, {"score", e.score}, {"parameters", e.parameters},
+      ranked.push_back({{"effect", e.effect}, {"score", e.score}, {"parameters", e.ParametersJson()},
                         {"description", e.description}});
     }
     (*result)["missing_effect_found"] = diagnosis.missing_effect_found;
@@ -69,7 +74,7 @@ void WriteFallbackAndDiagrams(const CompareOutcome& outcome, const CompareFiles&
   const CompareSuggestion& s = *outcome.suggestion;
   if (s.diagram) {
     const auto outside = WriteDiagramFile(*s.diagram, folder, files.suggest);
-    (*result)["suggested_diagram"] = {{"path", files.suggest}, {"effect", s.effect}};
+    (*result)["suggested_diagram"] = {{"path", files.suggest}, {"effect", s.effect}, {"effects", s.effects}};
     if (!outside.empty()) (*result)["suggested_diagram"]["reads_outside_its_folder"] = outside;
     if (!s.model.empty()) (*result)["suggested_diagram"]["model"] = s.model;
   } else {
@@ -89,18 +94,61 @@ std::vector<std::vector<std::string>> FittedParameterRows(const DiagnosedCompari
   return rows;
 }
 
+// A diagnosed effect's parameters with their units, integers as integers: "amplitude = 1.57 N, harmonics = 2,
+// period = 16.29 mm". Units from the effect registry (SI: a length or speed is given in mm, mm/s when the position is
+// in metres, else in the position's own unit); a parameter the registry does not list (a fitted coefficient) without
+// one.
+std::string ParametersWithUnits(const DiagnosedEffect& e, const std::string& position_unit,
+                                const std::string& output_unit) {
+  const EffectType* type = EffectRegistry::Global().Find(e.effect);
+  // The first harmonic's amplitude: of Fourier columns (the output's unit), or of Fourier columns scaled by |v|
+  // (the output's unit per unit of speed); of other columns, no unit is claimed.
+  std::string amplitude_unit;
+  if (type && type->regressor_formula.starts_with("cos(")) amplitude_unit = output_unit;
+  if (type && type->regressor_formula.starts_with("|v|·cos(")) {
+    amplitude_unit = fmt::format("{}·s/{}", output_unit, position_unit);
+  }
+  std::string out;
+  for (const auto& [name, value] : e.parameters) {
+    std::string unit = name == "amplitude" ? amplitude_unit : "";
+    if (type) {
+      for (const auto& p : type->parameters) {
+        if (p.name == name && (p.unit == "m" || p.unit == "m/s" || p.unit == "s" || p.unit == "Hz")) unit = p.unit;
+      }
+    }
+    double shown = value;
+    if (unit == "m" || unit == "m/s") {
+      if (position_unit == "m") {
+        shown *= 1e3;
+        unit = "m" + unit;
+      } else {
+        unit = position_unit + unit.substr(1);
+      }
+    }
+    const bool integer = unit.empty() && std::abs(value) < 1e9 && value == std::round(value);
+    out += fmt::format("{}{} = {}{}{}", out.empty() ? "" : ", ", name,
+                       integer ? fmt::format("{}", static_cast<long long>(value)) : fmt::format("{:.5g}", shown),
+                       unit.empty() ? "" : " ", unit);
+  }
+  return out;
+}
+
 void AddDiagnosisSection(const CompareOutcome& outcome, const std::string& position_column,
                          const std::filesystem::path& out, HtmlReport* report) {
   const DiagnosisResult& diagnosis = *outcome.compared.diagnosis;
   report->Paragraph(diagnosis.summary);
+  // In the order compare --suggest and improve apply them (the friction-law replacements first): cumulative rises.
   std::vector<std::vector<std::string>> rows;
-  for (const auto& e : diagnosis.effects) {
-    std::string ps;
-    for (const auto& [k, v] : e.parameters) ps += fmt::format("{}{} = {:.5g}", ps.empty() ? "" : ", ", k, v);
-    rows.push_back({e.effect, fmt::format("{:.1f} %", 100.0 * e.score),
-                    fmt::format("{:.1f} %", 100.0 * e.cumulative_share), ps});
+  const std::string position_unit = PositionUnitToken(position_column);
+  for (const DiagnosedEffect* e : EffectsInApplicationOrder(diagnosis)) {
+    const bool law = std::find(diagnosis.friction_law.begin(), diagnosis.friction_law.end(), e->effect) !=
+                     diagnosis.friction_law.end();
+    rows.push_back({e->effect, law ? "friction law (replaces the model's)" : "missing effect",
+                    fmt::format("{:.1f} %", 100.0 * e->score), fmt::format("{:.1f} %", 100.0 * e->cumulative_share),
+                    ParametersWithUnits(*e, position_unit, outcome.primary_after().unit)});
   }
-  report->Table({"effect", "share of remaining held-out residual explained", "cumulative", "parameters"}, rows);
+  report->Table({"effect", "kind", "share of remaining held-out residual explained", "cumulative", "parameters"},
+                rows);
   // Each effect's description beside its evidence (the residual on the effect's own axis, the fit drawn over it), its
   // share and confidence; then the position periodogram with the chosen periods marked.
   AddEffectEvidence(report, out, outcome.compared, outcome.primary_after().unit, PositionUnitToken(position_column));

@@ -1,5 +1,6 @@
 #include "tools/workflow/compare.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -31,36 +32,51 @@ CompareSuggestion SuggestFromComparison(const json& input_diagram, const Diagnos
                                         const std::function<void(const std::string&)>& progress) {
   CompareSuggestion suggestion;
   const std::string& output = compared.after.front().connector;
-  std::string why = "no missing effect found";
-  for (const auto& e : compared.diagnosis->effects) {
-    if (!settings.suggest_effect.empty() && e.effect != settings.suggest_effect) {
-      why = fmt::format("no effect '{}' among the ranked ones", settings.suggest_effect);
-      continue;
-    }
-    if (!HasEffectBlock(e.effect)) {
-      why = fmt::format("the top effects have no block yet (first: {})", e.effect);
-      continue;
-    }
-    json amended;
+  const DiagnosisResult& diagnosis = *compared.diagnosis;
+  json amended = compared.compared_diagram;
+  // Adds `e`'s block to `amended`; one that cannot be added is skipped with the reason.
+  const auto add = [&](const DiagnosedEffect& e) {
     try {
-      amended = SuggestAmendedDiagram(compared.compared_diagram, e, output);
-    } catch (const std::invalid_argument& error) {  // e.g. a negative delay: say why, try the next effect
+      if (!HasEffectBlock(e.effect)) {
+        throw std::invalid_argument("no block for it yet: add it by hand (docs/diagnosis.md lists the catalogue)");
+      }
+      amended = SuggestAmendedDiagram(amended, e, output);
+    } catch (const std::invalid_argument& error) {  // e.g. a negative delay: say why, go on with the next effect
       Say(progress, fmt::format("not suggesting {}: {}", e.effect, error.what()));
       suggestion.skipped.push_back({{"effect", e.effect}, {"why_not", error.what()}});
-      why = fmt::format("no ranked effect could be added (last: {}: {})", e.effect, error.what());
-      continue;
+      return false;
     }
+    suggestion.effects.push_back(e.effect);
+    return true;
+  };
+  std::string why = "no missing effect found";
+  if (!settings.suggest_effect.empty()) {
+    why = fmt::format("no effect '{}' among the ranked ones", settings.suggest_effect);
+    for (const auto& e : diagnosis.effects) {
+      if (e.effect == settings.suggest_effect && add(e)) break;
+    }
+  } else {
+    // compare's order: every friction-law replacement, then the top missing effect that can be added.
+    for (const DiagnosedEffect* e : EffectsInApplicationOrder(diagnosis)) {
+      const bool law = std::find(diagnosis.friction_law.begin(), diagnosis.friction_law.end(), e->effect) !=
+                       diagnosis.friction_law.end();
+      if (add(*e) && !law) break;
+    }
+  }
+  if (!suggestion.effects.empty()) {
     suggestion.diagram = WithExperimentOf(amended, input_diagram);
-    suggestion.effect = e.effect;
+    suggestion.effect = suggestion.effects.back();
     return suggestion;
   }
+  if (!suggestion.skipped.empty()) why = "no ranked effect could be added (see skipped)";
   // Nothing in the catalogue named, but something left that depends on (x, v): the fallback's GP as a block. (Only
   // then: with effects named, the GP learned what their corrections leave, not the residual of this diagram.)
   const bool want_fallback = settings.suggest_effect.empty() || settings.suggest_effect == "nonparametric_fallback";
-  if (want_fallback && compared.diagnosis->effects.empty() && fallback.gpr && fallback.gpr->model) {
+  if (want_fallback && diagnosis.effects.empty() && fallback.gpr && fallback.gpr->model) {
     suggestion.diagram = WithExperimentOf(
         SuggestGprFallbackBlock(compared.compared_diagram, settings.fallback_model_path, output), input_diagram);
     suggestion.effect = "nonparametric_fallback";
+    suggestion.effects = {suggestion.effect};
     suggestion.model = settings.fallback_model_path;
     return suggestion;
   }

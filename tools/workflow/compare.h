@@ -1,8 +1,8 @@
 #pragma once
 // Compare: one `motionblocks compare` as a library call. The diagram bound to a measurement, its free parameters
 // refit, the primary output's residual diagnosed (CompareAndDiagnose, comparison.h), the non-parametric fallback
-// fitted to what the ranked effects leave (fallback.h), and the diagram amended with the top-ranked effect's block
-// (suggest.h). Nothing is written: tools/report/compare_report.h writes compare.json and report.html.
+// fitted to what the ranked effects leave (fallback.h), and the diagram amended with the friction-law replacements and
+// the top missing effect (suggest.h). Nothing is written: tools/report/compare_report.h writes compare.json and report.html.
 
 #include <filesystem>
 #include <functional>
@@ -36,7 +36,10 @@ struct CompareSettings {
 /// The diagram amended with a diagnosed effect's block (or the fallback's gpr block), or why there is none.
 struct CompareSuggestion {
   std::optional<nlohmann::json> diagram;  ///< the amended diagram, with the input diagram's own defaultExperiment
-  std::string effect;                     ///< its catalogue name, or "nonparametric_fallback"
+  /// The effects whose blocks it holds, in the order applied: the friction-law replacements, then the top missing
+  /// effect (or the one effect asked for, or "nonparametric_fallback").
+  std::vector<std::string> effects;
+  std::string effect;                     ///< the last of `effects`: the top missing effect when there is one
   std::string model;                      ///< the fallback's model path (effect "nonparametric_fallback")
   std::string why_not;                    ///< no diagram: why
   nlohmann::json skipped = nlohmann::json::array();  ///< [{"effect", "why_not"}]: ranked effects that failed
@@ -59,8 +62,10 @@ CompareOutcome Compare(const nlohmann::json& diagram, const std::filesystem::pat
                        const std::string& source, const MeasurementLog& log, const CompareSettings& settings,
                        const std::function<void(const std::string&)>& progress = {});
 
-/// The suggestion step of Compare: the first ranked effect (of name settings.suggest_effect, if given) whose block
-/// SuggestAmendedDiagram can insert into the compared diagram; when no effect is named but the fallback has a
+/// The suggestion step of Compare: the compared diagram amended, in compare's order (EffectsInApplicationOrder,
+/// suggest.h), with every friction-law replacement and then the first missing effect whose block
+/// SuggestAmendedDiagram can insert; with settings.suggest_effect, that effect's block alone. An effect that cannot be
+/// added is skipped with the reason (CompareSuggestion::skipped). When no effect is named but the fallback has a
 /// model, the fallback's gpr block. The amended diagram gets `input_diagram`'s defaultExperiment.
 CompareSuggestion SuggestFromComparison(const nlohmann::json& input_diagram, const DiagnosedComparison& compared,
                                         const FallbackOutcome& fallback, const CompareSettings& settings,

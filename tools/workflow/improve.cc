@@ -97,6 +97,22 @@ std::string DescribeParameters(const std::map<std::string, double>& parameters) 
   return s;
 }
 
+std::string NotSignificantReason(const FitResult& fit, const std::string& element,
+                                 const std::vector<std::string>& exempt) {
+  std::vector<std::string> held_zero;
+  for (std::size_t i = 0; i < fit.parameters.size(); ++i) {
+    const FreeParameter& p = fit.parameters[i];
+    if (p.block != element || std::find(exempt.begin(), exempt.end(), p.parameter) != exempt.end()) continue;
+    const auto k = static_cast<Eigen::Index>(i);
+    const double estimate = fit.estimate(k), half_width = 1.96 * fit.standard_error(k);
+    if (std::isfinite(half_width) && std::abs(estimate) > half_width) return "";
+    held_zero.push_back(fmt::format("{} = {:.3g} ± {:.2g}", p.name, estimate, half_width));
+  }
+  if (held_zero.empty()) return "";
+  return fmt::format("not significant: the 95 % interval of each of its parameters holds zero ({})",
+                     fmt::join(held_zero, ", "));
+}
+
 std::vector<std::string> RecordParameters(const json& diagram) {
   std::vector<std::string> names;
   const DiagramDocument document(diagram);
@@ -142,7 +158,7 @@ json ImproveStep::ToJson() const {
   if (diagnosed) {
     j["diagnosis"] = {{"share_explained", diagnosed->score},
                       {"cumulative_share", diagnosed->cumulative_share},
-                      {"parameters", diagnosed->parameters},
+                      {"parameters", diagnosed->ParametersJson()},
                       {"description", diagnosed->description}};
   }
   if (training.fit) {
@@ -218,8 +234,9 @@ void CheckValidationFree(const json& diagram, const ImproveSettings& settings) {
   }
 }
 
-// The ranked effects of `current`'s diagnosis that a round tries (those with a block, at most max_trials_per_round),
-// or none with `result`'s stop and reason set.
+// The ranked effects of `current`'s diagnosis that a round tries, in compare's order (EffectsInApplicationOrder:
+// the friction-law replacements first), those with a block, at most max_trials_per_round; or none with `result`'s
+// stop and reason set.
 std::vector<const DiagnosedEffect*> RoundCandidates(const ImproveStep& current, const ImproveSettings& settings,
                                                     ImproveResult* result) {
   const DiagnosisResult* diagnosis = current.training.diagnosis ? &*current.training.diagnosis : nullptr;
@@ -234,8 +251,8 @@ std::vector<const DiagnosedEffect*> RoundCandidates(const ImproveStep& current, 
     return {};
   }
   std::vector<const DiagnosedEffect*> candidates;
-  for (const auto& e : diagnosis->effects) {
-    if (HasEffectBlock(e.effect)) candidates.push_back(&e);
+  for (const DiagnosedEffect* e : EffectsInApplicationOrder(*diagnosis)) {
+    if (HasEffectBlock(e->effect)) candidates.push_back(e);
   }
   if (candidates.empty()) {
     result->stop = ImproveStop::kCatalogueExhausted;
@@ -276,11 +293,16 @@ ImproveStep TryEffect(const ImproveStep& current, const DiagnosedEffect& effect,
   step.rmse_heldout_before = current.rmse_heldout;
   if (step.verdict.empty()) {
     const double gain = 1.0 - step.rmse_heldout / current.rmse_heldout;
-    step.accepted = gain >= settings.min_relative_gain;
+    const std::string not_significant =
+        step.training.fit ? NotSignificantReason(*step.training.fit, step.element,
+                                                 LookupEffect(effect.effect).block->refinable)
+                          : std::string();
+    step.accepted = gain >= settings.min_relative_gain && not_significant.empty();
     step.verdict = fmt::format("{}: held-out RMSE {:.4g} → {:.4g} {} ({:+.2f} %, {} {:.2f} %)",
                                step.accepted ? "accepted" : "rejected", current.rmse_heldout, step.rmse_heldout,
-                               step.unit(), -100.0 * gain, step.accepted ? "≥" : "<",
+                               step.unit(), -100.0 * gain, gain >= settings.min_relative_gain ? "≥" : "<",
                                100.0 * settings.min_relative_gain);
+    if (!not_significant.empty()) step.verdict += "; " + not_significant;
   }
   return step;
 }
@@ -358,8 +380,8 @@ ImproveResult ImproveModel(const json& diagram, const fs::path& base_directory, 
     if (!accepted_this_round) {
       result.stop = ImproveStop::kNoHeldOutGain;
       result.stop_reason = fmt::format(
-          "none of the {} effect(s) tried in round {} lowered the held-out RMSE by {:.2f} % or more", candidates.size(),
-          round, 100.0 * settings.min_relative_gain);
+          "none of the {} effect(s) tried in round {} lowered the held-out RMSE by {:.2f} % or more with a "
+          "significant coefficient", candidates.size(), round, 100.0 * settings.min_relative_gain);
       break;
     }
     ++accepted;

@@ -22,6 +22,28 @@ bool HasEffectBlock(const std::string& effect) {
   return type && type->block;
 }
 
+std::vector<const DiagnosedEffect*> EffectsInApplicationOrder(const DiagnosisResult& diagnosis) {
+  const auto is_law = [&](const DiagnosedEffect& e) {
+    return std::find(diagnosis.friction_law.begin(), diagnosis.friction_law.end(), e.effect) !=
+           diagnosis.friction_law.end();
+  };
+  std::vector<const DiagnosedEffect*> order;
+  for (const auto& law : diagnosis.friction_law) {
+    for (const auto& e : diagnosis.effects) {
+      if (e.effect == law) order.push_back(&e);
+    }
+  }
+  const std::size_t laws = order.size();
+  for (const auto& e : diagnosis.effects) {
+    if (!is_law(e)) order.push_back(&e);
+  }
+  std::stable_sort(order.begin() + static_cast<std::ptrdiff_t>(laws), order.end(),
+                   [](const DiagnosedEffect* a, const DiagnosedEffect* b) {
+                     return a->cumulative_share < b->cumulative_share;
+                   });
+  return order;
+}
+
 namespace {
 
 // The input connector carrying position, velocity or acceleration (linear or rotary units, engine/units.h); throws

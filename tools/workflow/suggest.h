@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -15,6 +16,14 @@ namespace mb {
 /// Whether the effect registry (models/diagnosis/effect_registry.h) has a block template for `effect` that
 /// SuggestAmendedDiagram can insert (false for unknown effects and for those without a block).
 bool HasEffectBlock(const std::string& effect);
+
+/// The ranked effects of `diagnosis` in the order they are applied to a diagram, the one order `compare` reports,
+/// `compare --suggest` applies and `improve` tries: the friction-law replacements first (DiagnosisResult::friction_law,
+/// in its order: the model's friction law near zero velocity is wrong, and the diagnosis searched the other effects in
+/// what the replacements leave), then the missing effects in the order the forward selection chose them, each adding
+/// the largest held-out share to those before it: DiagnosedEffect::cumulative_share rises along the list. Pointers
+/// into `diagnosis.effects` (valid while it lives); every effect once.
+std::vector<const DiagnosedEffect*> EffectsInApplicationOrder(const DiagnosisResult& diagnosis);
 
 /// Returns the diagram with an element for `effect` built from the effect's block template (EffectBlockTemplate,
 /// registered in the effect's file in models/diagnosis/effects/): its type and name (made unique), its parameters

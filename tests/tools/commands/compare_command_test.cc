@@ -57,12 +57,20 @@ TEST(CompareCommand, NamesTheMissingEffectFitsTheFallbackAndSuggests) {
   std::getline(predicted, header);
   EXPECT_THAT(header, HasSubstr("mean"));
 
-  // --suggest: the amended diagram holds the top effect's block.
+  // --suggest: in the ranking's order, the friction-law replacement the diagnosis chose (a Stribeck law), then the
+  // top missing effect; the amended diagram holds both blocks, and the command says what it wrote.
   ASSERT_EQ(c["suggested_diagram"]["effect"], "velocity_dependent_ripple");
+  ASSERT_EQ(c["suggested_diagram"]["effects"],
+            nlohmann::json::array({"stribeck_friction", "velocity_dependent_ripple"}));
+  EXPECT_THAT(r.output, HasSubstr("the diagram with stribeck_friction, then velocity_dependent_ripple added"));
   const auto amended = ReadJsonFile(out / "amended.json");
-  bool has_block = false;
-  for (const auto& e : amended["elements"]) has_block = has_block || e["type"] == "velocity_dependent_ripple";
-  EXPECT_TRUE(has_block) << amended.dump(1);
+  int blocks = 0;
+  for (const auto& e : amended["elements"]) {
+    blocks += e["type"] == "velocity_dependent_ripple";
+    blocks += e["type"] == "friction" && e["parameters"].value("regularization", "") == "tanh" &&
+              e["parameters"].contains("stribeck_velocity");
+  }
+  EXPECT_EQ(blocks, 2) << amended.dump(1);
   // The report draws the diagram it compared (diagram_drawing.h).
   std::ifstream report(out / "report.html");
   const std::string html((std::istreambuf_iterator<char>(report)), std::istreambuf_iterator<char>());
