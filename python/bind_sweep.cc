@@ -163,6 +163,7 @@ PySweep Sweep(const PyDiagram& diagram, const py::object& spec, int jobs, const 
   options.resume = !out.is_none();
   options.save_logs = save_logs;
   options.progress = false;
+  options.report = !out.is_none();  // report.html only where it is kept
   std::optional<TemporaryFolder> scratch;
   if (out.is_none()) scratch.emplace("motionblocks-sweep");
   const fs::path folder = out.is_none() ? scratch->path() : fs::path(PathText(out));
@@ -203,7 +204,7 @@ void BindSweep(py::module_& m) {
         "`motionblocks sweep`: `spec` a sweep file's path or its JSON as a dict (grid, list or random; "
         "tools/batch/sweep_spec.h), `jobs` parallel runs (0 = all cores). Returns a SweepResult: one dict per run in "
         "sweep order (id, status 'ok' or 'failed', the swept keys' values, the diagram's metrics in SI units, "
-        "wall_time_s, error), and to_pandas(). With `out`, runs.csv and runs.json are written there and a second "
+        "wall_time_s, error), and to_pandas(). With `out`, runs.csv, runs.json and report.html are written there and a second "
         "call resumes; without, nothing is kept. Raises DiagramError for an unknown element, ValueError for a bad "
         "sweep (with its JSON pointer) or negative `jobs`.");
 }

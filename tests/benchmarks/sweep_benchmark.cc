@@ -26,6 +26,7 @@ void RunSweepBenchmark(benchmark::State& state, const mb::SweepSpec& spec, int j
   options.jobs = jobs;
   options.resume = false;  // every iteration runs every run
   options.progress = false;
+  options.report = false;  // the runs' throughput, not gnuplot's
   const fs::path diagram = mb::SweepDiagramPath(spec, kSweep);
   for (auto _ : state) {
     const mb::SweepOutcome outcome = mb::RunSweep(diagram, spec, OutFolder(), options);

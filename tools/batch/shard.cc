@@ -20,6 +20,7 @@
 #include "engine/output_file.h"
 #include "engine/text_excerpt.h"
 #include "tools/report/output_files.h"
+#include "tools/report/sweep_report.h"
 
 namespace mb {
 
@@ -595,6 +596,7 @@ SweepMergeOutcome MergeSweepShards(const std::vector<fs::path>& dirs, const fs::
   }
   WriteFileSafely(out / "runs.csv", text);
   WriteJsonFile(runs_json, out / "runs.json");
+  WriteSweepReport(out, runs_json);  // the merged sweep's picture, as one process would have drawn it
   json manifest = shards.front().manifest;
   manifest["shard"] = 0;
   manifest["shards"] = 1;

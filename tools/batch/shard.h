@@ -88,7 +88,8 @@ struct SweepMergeOutcome {
 };
 
 /// Merges shard folders into `out`: runs.csv (rows in run-id order, cells as the shards wrote them), runs.json,
-/// runs/<id>/ (if the shards saved logs) and a sweep-shard.json of shard 0/1 (with its content hash). Nothing is
+/// report.html (tools/report/sweep_report.h), runs/<id>/ (if the shards saved logs) and a sweep-shard.json of shard
+/// 0/1 (with its content hash). Nothing is
 /// written unless every check passes. @throws std::invalid_argument naming the folder (the file and line for a row)
 /// and the fix: a shard without its content hash (interrupted) or whose runs.csv, runs.json or manifest changed
 /// since it ran (the first row unlike runs.json named), an "ok" row with a metric that is no finite number, one run

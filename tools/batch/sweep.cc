@@ -1,7 +1,8 @@
 // Running a sweep (sweep.h, sweep_runner.h) and writing its results: each run's diagram with the sweep's values written
 // in (ApplySweepAssignments) and simulated (SweepRunner::Execute), the rows appended to runs.csv as runs finish and
-// read back on resume (ReadDoneRows), runs.csv and runs.json rewritten in sweep order at the end (WriteSweepResults),
-// and RunSweep's TBB threads. Reading the sweep file and generating its runs: sweep_spec.cc.
+// read back on resume (ReadDoneRows), runs.csv and runs.json rewritten in sweep order at the end (WriteSweepResults)
+// with the report drawn from them (tools/report/sweep_report.h), and RunSweep's TBB threads. Reading the sweep file
+// and generating its runs: sweep_spec.cc.
 #include "tools/batch/sweep.h"
 
 #include <algorithm>
@@ -27,6 +28,7 @@
 #include "engine/text_excerpt.h"
 #include "tools/batch/sweep_runner.h"
 #include "tools/report/output_files.h"
+#include "tools/report/sweep_report.h"
 
 namespace mb {
 
@@ -192,8 +194,9 @@ void CheckSweepSettings(const json& base, const SweepSpec& spec, const std::stri
   if (!problems.empty()) throw DiagramError(source, problems);
 }
 
-// Rewrites runs.csv and runs.json in sweep order (one row per run), counting the runs run now and those failed.
-void WriteSweepResults(const fs::path& diagram_path, const SweepSpec& spec, const fs::path& out,
+// Rewrites runs.csv and runs.json in sweep order (one row per run), counting the runs run now and those failed; then
+// report.html from them (with `report`).
+void WriteSweepResults(const fs::path& diagram_path, const SweepSpec& spec, const fs::path& out, bool report,
                        SweepOutcome* outcome) {
   const fs::path csv = out / "runs.csv";
   std::string text = CsvLine(Header(spec, outcome->metric_names)) + "\n";
@@ -217,6 +220,7 @@ void WriteSweepResults(const fs::path& diagram_path, const SweepSpec& spec, cons
                         {"metric_units", outcome->metric_units},
                         {"runs", rows}};
   WriteJsonFile(summary, out / "runs.json");
+  if (report) WriteSweepReport(out, summary);
 }
 
 }  // namespace
@@ -331,7 +335,7 @@ SweepOutcome SweepRunner::Finish() {
   State& s = *state_;
   if (s.progress && s.todo > 0) s.progress->Done();
   s.append.close();
-  WriteSweepResults(s.diagram_path, s.spec, s.out, &s.outcome);
+  WriteSweepResults(s.diagram_path, s.spec, s.out, s.options.report, &s.outcome);
   return std::move(s.outcome);
 }
 

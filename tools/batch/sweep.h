@@ -42,6 +42,8 @@ struct SweepOptions {
   bool resume = true;
   bool save_logs = false;  ///< also write <out>/runs/<id>/signals.csv for each run
   bool progress = true;    ///< a ProgressLine on stderr
+  /// Also write <out>/report.html (WriteSweepReport, tools/report/sweep_report.h) once runs.csv and runs.json are.
+  bool report = true;
   /// Called on the worker thread when a run finishes successfully, with the run's index in SweepSpec::runs and
   /// its result (logged signals and metrics). Not called for resumed runs. Must be thread-safe across indices.
   std::function<void(std::size_t, const SimulationResult&)> on_result;
@@ -58,11 +60,12 @@ struct SweepOutcome {
 
 /// Runs the sweep over the diagram file and writes <out>/runs.csv (columns: id, status, the swept keys, the
 /// diagram's metrics, wall_time_s, error; a row is appended as each run finishes, and the file is rewritten in
-/// sweep order at the end) and <out>/runs.json (the same rows plus the diagram, the sweep and the metric units).
+/// sweep order at the end) and <out>/runs.json (the same rows plus the diagram, the sweep and the metric units), then
+/// <out>/report.html and its figures (options.report; tools/report/sweep_report.h).
 /// A run that throws is recorded as "failed" with the message; the others go on.
 /// @throws DiagramError if the diagram or an assignment's element is invalid (checked before any run),
 /// std::runtime_error if runs.csv exists with other columns or records another value for a run id (a different
-/// sweep: use another --out), or if an output file cannot be written.
+/// sweep: use another --out), or if an output file cannot be written (report.html: as WriteSweepReport).
 SweepOutcome RunSweep(const std::filesystem::path& diagram, const SweepSpec& spec,
                       const std::filesystem::path& out, const SweepOptions& options = {});
 

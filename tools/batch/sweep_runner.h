@@ -4,7 +4,7 @@
 //
 //   SweepRunner runner(diagram, spec, out, options);   // reads the diagram, checks every assignment
 //   for (std::size_t i : runner.Start()) runner.Record(i, runner.Execute(i));   // any order, any thread
-//   SweepOutcome outcome = runner.Finish();             // runs.csv and runs.json rewritten in sweep order
+//   SweepOutcome outcome = runner.Finish();             // runs.csv, runs.json in sweep order; report.html
 //
 // A process that only simulates (an MPI worker) calls Execute alone; Start, Record and Finish touch the output folder.
 
@@ -37,7 +37,8 @@ class SweepRunner {
   SweepRow Execute(std::size_t position) const;
   /// Appends the row of the run at `position` to runs.csv and advances the progress line. Thread-safe.
   void Record(std::size_t position, SweepRow row);
-  /// Rewrites runs.csv and runs.json in sweep order; the outcome with every row. Call once, after every Record.
+  /// Rewrites runs.csv and runs.json in sweep order and writes report.html from them (options.report); the outcome
+  /// with every row. Call once, after every Record. @throws std::runtime_error if a file cannot be written.
   SweepOutcome Finish();
 
   /// The diagram's metric names: the metric columns of runs.csv.

@@ -2,9 +2,9 @@
 //                    [--shard x/y|auto[/N] | --shard-index K/N | --mpi] --out DIR
 // Without DIAGRAM, the sweep file's own "diagram" (relative to the sweep file) is run.
 // Runs a diagram over a grid, list or seeded random sample of parameter values (tools/batch/sweep.h), in parallel;
-// writes DIR/runs.csv and DIR/runs.json (one row of metrics per run). Resumable: runs already in DIR/runs.csv
-// with status ok are not run again. --shard x/y (counted from 1) or --shard-index K/N (from 0) runs one share of the
-// runs (tools/batch/shard.h; merged by sweep-merge),
+// writes DIR/runs.csv and DIR/runs.json (one row of metrics per run) and DIR/report.html (tools/report/sweep_report.h).
+// Resumable: runs already in DIR/runs.csv with status ok are not run again. --shard x/y (counted from 1) or
+// --shard-index K/N (from 0) runs one share of the runs (tools/batch/shard.h; merged by sweep-merge),
 // --mpi spreads them over the ranks of `mpirun` (tools/batch/sweep_mpi.h).
 
 #include <functional>
@@ -18,6 +18,7 @@
 #include "tools/batch/sweep_mpi.h"
 #include "tools/report/output_files.h"
 #include "tools/report/progress.h"
+#include "tools/report/sweep_report.h"
 
 namespace mb {
 
@@ -72,8 +73,9 @@ void RunSweepCommand(const SweepCommandOptions& o) {
                              spec.run_count(), static_cast<double>(spec.run_count()) * kSweepBytesPerRun / 1e9));
   }
   const fs::path diagram = o.files.size() == 2 ? fs::path(o.files.front()) : SweepDiagramPath(spec, sweep);
-  RefuseOutputsOverInputs({{"SWEEP", sweep}, {"DIAGRAM", diagram}}, {},
-                          {{"--out", o.out, {"runs.csv", "runs.json", kShardManifest}}});
+  std::vector<std::string> outputs = {"runs.csv", "runs.json", kShardManifest};
+  for (const auto& name : SweepReportFileNames()) outputs.push_back(name);
+  RefuseOutputsOverInputs({{"SWEEP", sweep}, {"DIAGRAM", diagram}}, {}, {{"--out", o.out, outputs}});
   SweepOptions options;
   options.jobs = o.jobs;
   options.resume = !o.fresh;
@@ -87,7 +89,8 @@ void RunSweepCommand(const SweepCommandOptions& o) {
   for (const auto& row : outcome.rows) {
     if (row.status != "ok") std::cout << fmt::format("  run {} failed: {}\n", row.id, row.error);
   }
-  std::cout << fmt::format("wrote {0}/runs.csv, {0}/runs.json{1}\n", o.out, o.save_logs ? ", runs/<id>/signals.csv" : "");
+  std::cout << fmt::format("wrote {0}/runs.csv, {0}/runs.json, {0}/{1}{2}\n", o.out, kSweepReportFile,
+                           o.save_logs ? ", runs/<id>/signals.csv" : "");
   if (outcome.failed > 0) {
     throw std::runtime_error(fmt::format("{} of {} runs failed", outcome.failed, outcome.rows.size()));
   }
@@ -96,7 +99,8 @@ void RunSweepCommand(const SweepCommandOptions& o) {
 void SetupSweepCommand(CLI::App& app) {
   auto options = std::make_shared<SweepCommandOptions>();
   auto* cmd = app.add_subcommand(
-      "sweep", "Run a diagram over a grid, list or seeded random sample of parameters in parallel: runs.csv, runs.json");
+      "sweep", "Run a diagram over a grid, list or seeded random sample of parameters in parallel: runs.csv, runs.json, "
+      "report.html");
   cmd->add_option("files", options->files,
                   "[DIAGRAM] SWEEP: the diagram JSON file (default: the sweep file's \"diagram\", relative to the "
                   "sweep file) and the sweep JSON file (grid, list or random; see tools/batch/sweep_spec.h)")
@@ -104,7 +108,7 @@ void SetupSweepCommand(CLI::App& app) {
       ->expected(1, 2)
       ->type_name("[DIAGRAM] SWEEP")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--out", options->out, "output folder (runs.csv, runs.json)")->required();
+  cmd->add_option("--out", options->out, "output folder (runs.csv, runs.json, report.html)")->required();
   cmd->add_option("--jobs,-j", options->jobs, "parallel runs (default: all cores)")->check(CLI::NonNegativeNumber);
   cmd->add_flag("--fresh", options->fresh, "run everything again (default: skip runs already in runs.csv)");
   cmd->add_flag("--save-logs", options->save_logs, "also write DIR/runs/<id>/signals.csv for every run");

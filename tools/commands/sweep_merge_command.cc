@@ -1,7 +1,7 @@
 // motionblocks sweep-merge DIR… --out DIR
 // Merges the folders of `sweep … --shard K/N` (tools/batch/shard.h): checks that they come from the same sweep and
 // diagram and that every run is there exactly once, then writes DIR/runs.csv (rows in run-id order: the runs.csv of
-// the sweep run in one process), DIR/runs.json and DIR/runs/<id>/ of --save-logs.
+// the sweep run in one process), DIR/runs.json, DIR/report.html and DIR/runs/<id>/ of --save-logs.
 
 #include <iostream>
 
@@ -9,6 +9,7 @@
 
 #include "tools/batch/shard.h"
 #include "tools/commands/command_registry.h"
+#include "tools/report/sweep_report.h"
 
 namespace mb {
 
@@ -24,7 +25,7 @@ void RunSweepMergeCommand(const SweepMergeCommandOptions& o) {
   const SweepMergeOutcome outcome = MergeSweepShards(shards, o.out);
   std::cout << fmt::format("merged {} shard folders: {} runs, each once ({} failed)\n", shards.size(), outcome.runs,
                            outcome.failed);
-  std::cout << fmt::format("wrote {0}/runs.csv, {0}/runs.json{1}\n", o.out,
+  std::cout << fmt::format("wrote {0}/runs.csv, {0}/runs.json, {0}/{1}{2}\n", o.out, kSweepReportFile,
                            outcome.copied_run_folders > 0 ? ", runs/<id>/" : "");
   if (outcome.failed > 0) {
     throw std::runtime_error(fmt::format("{} of {} runs failed: run their shards again (failed runs are retried) and "
@@ -41,7 +42,8 @@ void SetupSweepMergeCommand(CLI::App& app) {
       ->required()
       ->type_name("DIR…")
       ->check(CLI::ExistingDirectory);
-  cmd->add_option("--out", options->out, "output folder (runs.csv, runs.json, sweep-shard.json)")->required();
+  cmd->add_option("--out", options->out, "output folder (runs.csv, runs.json, report.html, sweep-shard.json)")
+      ->required();
   cmd->callback([options] { RunSweepMergeCommand(*options); });
 }
 

@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string_view>
@@ -412,6 +413,69 @@ void HtmlReport::Image(const std::string& file, const std::string& caption) {
 }
 
 void HtmlReport::Warning(const std::string& text) { body_ += "<p class=\"warn\">" + HtmlEscape(text) + "</p>\n"; }
+
+namespace {
+
+// The colour of t ∈ [0, 1] on the viridis scale (matplotlib's, five stops linearly interpolated), as #rrggbb.
+std::string ViridisColour(double t) {
+  static constexpr int kStops[5][3] = {{68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}};
+  const double at = std::clamp(t, 0.0, 1.0) * 4.0;
+  const auto k = std::min(3, static_cast<int>(at));
+  const double f = at - k;
+  int rgb[3];
+  for (int i = 0; i < 3; ++i) {
+    rgb[i] = static_cast<int>(std::lround((1.0 - f) * kStops[k][i] + f * kStops[k + 1][i]));
+  }
+  return fmt::format("#{:02x}{:02x}{:02x}", rgb[0], rgb[1], rgb[2]);
+}
+
+}  // namespace
+
+void HtmlReport::HeatMap(const std::string& caption, const std::string& row_label,
+                         const std::vector<std::string>& row_names, const std::string& column_label,
+                         const std::vector<std::string>& column_names, const std::vector<std::vector<double>>& values,
+                         const std::vector<std::vector<std::string>>& text) {
+  const auto shaped = [&](const auto& m) {
+    return m.size() == row_names.size() &&
+           std::all_of(m.begin(), m.end(), [&](const auto& r) { return r.size() == column_names.size(); });
+  };
+  if (!shaped(values) || !shaped(text)) {
+    throw std::invalid_argument(fmt::format("HtmlReport::HeatMap: give {} × {} values and texts (one per cell)",
+                                            row_names.size(), column_names.size()));
+  }
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const auto& r : values) {
+    for (double v : r) {
+      if (!std::isfinite(v)) continue;
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+  }
+  const auto scale = [&](double v) { return hi > lo ? (v - lo) / (hi - lo) : 0.5; };
+  std::string html = "<table class=\"mb-heatmap\"><caption>" + HtmlEscape(caption) + "</caption>\n<tr><th>" +
+                     HtmlEscape(row_label) + " ↓ · " + HtmlEscape(column_label) + " →</th>";
+  for (const auto& c : column_names) html += "<th>" + HtmlEscape(c) + "</th>";
+  html += "</tr>\n";
+  for (std::size_t r = 0; r < row_names.size(); ++r) {
+    html += "<tr><th>" + HtmlEscape(row_names[r]) + "</th>";
+    for (std::size_t c = 0; c < column_names.size(); ++c) {
+      const double v = values[r][c];
+      const std::string style = std::isfinite(v) ? fmt::format("background:{};color:{}", ViridisColour(scale(v)),
+                                                               scale(v) < 0.6 ? "#fff" : "#000")
+                                                 : std::string("background:#ddd;color:#555");
+      html += "<td style=\"" + style + "\">" + HtmlEscape(text[r][c]) + "</td>";
+    }
+    html += "</tr>\n";
+  }
+  html += "</table>\n";
+  if (lo <= hi) {
+    html += fmt::format("<p class=\"mb-heatmap-scale\">Colour: <span style=\"background:{};color:#fff\">&nbsp;"
+                        "{:.4g}&nbsp;</span> (smallest) to <span style=\"background:{};color:#000\">&nbsp;{:.4g}"
+                        "&nbsp;</span> (largest); grey: no value.</p>\n",
+                        ViridisColour(0.0), lo, ViridisColour(1.0), hi);
+  }
+  body_ += html;
+}
 
 void HtmlReport::Write(const fs::path& path) const {
   std::string head_extra, scripts, warning;

@@ -109,6 +109,15 @@ class HtmlReport {
   void Image(const std::string& file, const std::string& caption);
   /// A paragraph marked as a warning (what is missing from the report and why).
   void Warning(const std::string& text);
+  /// A heat map as a table (no script: it shows and prints as it is): cell (r, c) coloured by `values[r][c]` on one
+  /// scale (viridis: dark purple at the map's smallest finite value, yellow at its largest; one colour if they are
+  /// equal), `text[r][c]` written in it; a non-finite value is a grey cell. The rows are named by `row_names` under
+  /// `row_label`, the columns by `column_names` under `column_label`; `caption` above, the scale's two ends below.
+  /// Drawn whatever MaxReportFigures(). @throws std::invalid_argument if `values` or `text` is not
+  /// row_names.size() × column_names.size().
+  void HeatMap(const std::string& caption, const std::string& row_label, const std::vector<std::string>& row_names,
+               const std::string& column_label, const std::vector<std::string>& column_names,
+               const std::vector<std::vector<double>>& values, const std::vector<std::vector<std::string>>& text);
   /// Writes `path` (report.html): one file, the charting library, the charts' data (ScriptSafeJson) and the page's
   /// script inline. With charts and the library missing or unreadable, no script: the PNGs and a warning naming the
   /// file and the package. @throws std::runtime_error if it cannot be written.

@@ -35,6 +35,7 @@ void RunTrainingScans(ReproduceContext& c) {
     so.jobs = jobs;
     so.resume = false;
     so.progress = o.progress;
+    so.report = false;  // the scans are drawn in reproduce's own report.html
     so.on_result = [&](std::size_t i, const SimulationResult& r) { c.scans[i] = r.log; };
     const SweepOutcome outcome = RunSweep(c.training_scan, scan_spec, o.out / "scans", so);
     for (const auto& row : outcome.rows) {

@@ -90,6 +90,7 @@ void RunPayloadSweeps(ReproduceContext& c) {
       so.jobs = jobs;
       so.resume = false;
       so.progress = o.progress;
+      so.report = false;  // the payload study is drawn in reproduce's own report.html
       const SweepOutcome outcome = RunSweep(ps.diagram, spec, o.out / "payload_study" / ps.name, so);
       std::vector<double> mass, rmse;
       for (const SweepRow& row : outcome.rows) {
