@@ -2,7 +2,8 @@
 """Each kind of interactive report opens in a real browser without a fault (issue 27, item 8).
 
 What is run: `motionblocks compare` and `motionblocks improve --max-effects 1` on the shipped EMPS data
-(diagrams/emps/rigid_body.json, DATA_EMPS.csv, improve validated on DATA_EMPS_PULSES.csv), in a temporary folder;
+(diagrams/emps/rigid_body.json, DATA_EMPS.csv, improve validated on DATA_EMPS_PULSES.csv), and `motionblocks sweep` of
+a 3 × 2 grid (controller gains, 0.3 s each) over diagrams/hil/pd_rigid_body.json, in a temporary folder;
 each report.html is then opened in headless Chromium (Debian's `chromium`; nothing is downloaded) driven through its
 DevTools protocol over a pipe (devtools.py), and checked:
   - no uncaught exception, no console.error or console.assert, no error in the browser's log (a file that does not
@@ -101,8 +102,9 @@ SCROLL_TO = r"""((words) => {
 })(%s)"""
 
 
-def check_page(browser, path, diagram_expected=True):
-    """Loads `path` and returns the list of what is wrong with it (empty: nothing) and what it holds."""
+def check_page(browser, path, diagram_expected=True, linked_expected=True):
+    """Loads `path` and returns the list of what is wrong with it (empty: nothing) and what it holds. A sweep's report
+    has neither a diagram nor linked time charts (diagram_expected, linked_expected False)."""
     session = browser.open_page(pathlib.Path(path).resolve().as_uri())
     page = browser.evaluate(session, INSPECT)
     problems = list(browser.page_errors(session))
@@ -126,7 +128,8 @@ def check_page(browser, path, diagram_expected=True):
             problems.append(f"series toggle: {toggled}")
         stuck = browser.evaluate(session, ZOOM)
         if stuck == "no linked group":
-            problems.append("no linked group of time charts")
+            if linked_expected:
+                problems.append("no linked group of time charts")
         elif stuck:
             problems.append(f"zooming one time chart did not move the linked ones: {', '.join(stuck)}")
     for link in page["dangling_links"]:
@@ -140,8 +143,16 @@ def check_page(browser, path, diagram_expected=True):
     return problems, page, session
 
 
+# The sweep whose report is opened: a grid of two parameters (so it has heat maps), short runs (a few seconds in all).
+SWEEP = {"description": "browser test: PD gains", "set": {"defaultExperiment.stopTime": 0.3},
+         "grid": {"controller.kd": [50, 69, 90], "controller.kp": [6000, 9300]}}
+
+
 def make_reports(motionblocks, source, folder, timeout):
-    """Runs compare and improve side by side (2 cores: ~55 s under ASan instead of ~90 s); returns their reports."""
+    """Runs compare, improve and a small sweep side by side (2 cores: ~55 s under ASan instead of ~90 s); returns
+    their reports."""
+    sweep = os.path.join(folder, "sweep.json")
+    pathlib.Path(sweep).write_text(json.dumps(SWEEP), encoding="utf-8")
     emps = os.path.join(source, "diagrams", "emps")
     diagram = os.path.join(emps, "rigid_body.json")
     data = os.path.join(emps, "data", "DATA_EMPS.csv")
@@ -151,6 +162,8 @@ def make_reports(motionblocks, source, folder, timeout):
                     os.path.join(folder, "compare"), "--quiet"],
         "improve": [motionblocks, "improve", diagram, "--measurement", data, "--validation", pulses,
                     "--max-effects", "1", "--out", os.path.join(folder, "improve"), "--quiet"],
+        "sweep": [motionblocks, "sweep", os.path.join(source, "diagrams", "hil", "pd_rigid_body.json"), sweep,
+                  "--jobs", "1", "--out", os.path.join(folder, "sweep"), "--quiet"],
     }
     started = time.monotonic()
     running = {name: subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
@@ -168,7 +181,7 @@ def make_reports(motionblocks, source, folder, timeout):
             failures.append(f"{name} exited {process.returncode}:\n{output.decode('utf-8', 'replace')[-3000:]}")
     if failures:
         raise SystemExit("FAIL: " + "\n".join(failures))
-    print(f"compare and improve of EMPS: {time.monotonic() - started:.1f} s")
+    print(f"compare and improve of EMPS, a sweep of 6 runs: {time.monotonic() - started:.1f} s")
     return {name: os.path.join(folder, name, "report.html") for name in jobs}
 
 
@@ -236,7 +249,8 @@ def main():
     failed = []
     with devtools.Browser(chromium, timeout=args.timeout) as browser:
         for kind, report in reports.items():
-            problems, page, _ = check_page(browser, report)
+            problems, page, session = check_page(browser, report, diagram_expected=kind != "sweep",
+                                                 linked_expected=kind != "sweep")
             rows = sum(c["rows"] for c in page["charts"] if c["rows"] > 0)
             print(f"{kind} report: {len(page['charts'])} charts, {rows} rows drawn, {len(page['images'])} images"
                   f"{'' if not problems else ': ' + str(len(problems)) + ' problems'}")
@@ -248,6 +262,11 @@ def main():
                 steps = len(json.loads(pathlib.Path(report).with_name("improve.json").read_text())["steps"])
                 if page["step_links"] != steps - 1:
                     problems.append(f"{steps} steps but {page['step_links']} links to a step's plots")
+            if kind == "sweep":  # a grid of two parameters: a heat map per metric of runs.json
+                metrics = len(json.loads(pathlib.Path(report).with_name("runs.json").read_text())["metric_units"])
+                heat_maps = browser.evaluate(session, "document.querySelectorAll('table.mb-heatmap').length")
+                if heat_maps != metrics:
+                    problems.append(f"{metrics} metrics but {heat_maps} heat maps")
             for p in problems:
                 print(f"  {kind}: {p}")
             failed += [f"{kind}: {p}" for p in problems]
