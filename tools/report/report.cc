@@ -148,7 +148,8 @@ constexpr const char* kChartScript = R"JS((function () {
         var x = dom(m[0]);
         if (!(x >= area.x && x <= area.x + area.w)) return;
         ctx.beginPath(); ctx.moveTo(x, area.y); ctx.lineTo(x, area.y + area.h); ctx.stroke();
-        ctx.fillText(m[1], x + 3, area.y + 12 + 13 * k);
+        var w = ctx.measureText(m[1]).width;  // a label that would leave the plot on the right goes left of its line
+        ctx.fillText(m[1], x + 3 + w > area.x + area.w ? x - 3 - w : x + 3, area.y + 12 + 13 * k);
       });
       ctx.restore();
     };
