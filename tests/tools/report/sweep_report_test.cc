@@ -1,7 +1,8 @@
 // A sweep's report.html (tools/report/sweep_report.h) holds what runs.csv holds: its table of runs is runs.csv cell
 // for cell, every chart's embedded points are the "ok" runs' (parameter, metric) pairs, a failed run is listed with
 // its error (escaped), a grid of two parameters gets one heat map per metric with each cell's value and a sweep of
-// one parameter none; the files it writes are those it declares (so `sweep` can refuse them over its inputs).
+// one parameter none; shards merged by sweep-merge get the whole sweep's report; the files it writes are those it
+// declares (so `sweep` can refuse them over its inputs).
 // HtmlReport::HeatMap's colour scale and shape check (tools/report/report.h).
 
 #include <gmock/gmock.h>
@@ -25,6 +26,7 @@
 
 #include "engine/csv.h"
 #include "tests/tools/batch/sweep_test_files.h"
+#include "tools/batch/shard.h"
 #include "tools/batch/sweep.h"
 #include "tools/report/output_files.h"
 #include "tools/report/report.h"
@@ -187,6 +189,26 @@ TEST_F(SweepReportTest, TwoParameterGridGetsAHeatMapPerMetricAndOneParameterNone
   const std::string random = Sweep(R"({"random": {"seed": 1, "samples": 4, "parameters":
       {"c.value": {"uniform": [1, 2]}, "k.gain": {"uniform": [1, 2]}}}})", "random");
   EXPECT_THAT(random, Not(HasSubstr("mb-heatmap"))) << "two parameters, but no grid";
+}
+
+TEST_F(SweepReportTest, MergedShardsGetTheReportOfTheWholeSweep) {
+  const std::string sweep = R"({"grid": {"c.value": [1, 2], "k.gain": [1, 2, 3]}})";
+  const std::string whole = Sweep(sweep, "whole");
+  SweepOptions options;
+  options.progress = false;
+  const SweepSpec spec = ParseSweep(json::parse(sweep), "s.json");
+  RunSweepShard(diagram_, spec, {0, 2}, dir_ / "s0", options);
+  RunSweepShard(diagram_, spec, {1, 2}, dir_ / "s1", options);
+  MergeSweepShards({dir_ / "s1", dir_ / "s0"}, dir_ / "merged");
+  const std::string merged = Read(dir_ / "merged" / "report.html");
+  const std::string heat = "Heat maps over c.value × k.gain";
+  ASSERT_THAT(Section(whole, heat), HasSubstr("mb-heatmap"));
+  EXPECT_EQ(Section(merged, heat), Section(whole, heat)) << "the same values, the same colours";
+  const CsvTextTable csv = ReadCsvTextTable((dir_ / "merged" / "runs.csv").string());
+  std::vector<std::vector<std::string>> expected = {csv.header};
+  expected.insert(expected.end(), csv.rows.begin(), csv.rows.end());
+  const std::string runs = Section(merged, "Runs (runs.csv)");
+  EXPECT_EQ(TableAt(runs, runs.find("<table>")), expected);
 }
 
 TEST_F(SweepReportTest, WritesOnlyTheFilesItDeclares) {
