@@ -5,6 +5,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include <fmt/format.h>
+
 #include "models/diagnosis/effect_block.h"
 
 namespace mb {
@@ -139,11 +141,19 @@ EffectBlockTemplate StribeckFrictionEffectBlock() {
   block.inputs = {{MotionInput::kVelocity, "v"}};
   block.parameters = [](const DiagnosedEffect& d) {
     const double dead_band = BlockParameter(d, "dead_band");
+    const double hump = BlockCoefficient(d, "");
+    if (!(hump > 0.0)) {  // a static level below zero is no friction block's: refused, not clamped into another effect
+      throw std::invalid_argument(fmt::format(
+          "the diagnosed low-speed friction is below the model's Coulomb law (a Stribeck hump of {:.3g} N), which a "
+          "friction block's static level cannot be: the law near zero velocity is wrong in another way (try a lower "
+          "Coulomb level, or --suggest-effect regularized_coulomb_friction when it is ranked)",
+          hump));
+    }
     return nlohmann::json{
         {"viscous", 0.0},
         {"coulomb", 0.0},
         {"stick_model", "none"},
-        {"static", WithUnit(std::max(1e-3, BlockCoefficient(d, "")), "N")},
+        {"static", WithUnit(std::max(1e-3, hump), "N")},
         {"stribeck_velocity", WithUnit(BlockParameter(d, "stribeck_velocity"), "m/s")},
         {"regularization", "tanh"},
         // The diagnosis' regressor smooths the hump over a quarter of the dead band (stribeck_friction.cc).

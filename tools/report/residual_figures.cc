@@ -11,6 +11,7 @@
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/periodogram.h"
 #include "models/diagnosis/signal_processing.h"
+#include "tools/workflow/suggest.h"
 
 namespace mb {
 
@@ -196,8 +197,10 @@ Figure EffectEvidenceFigure(const DiagnosedComparison& compared, std::size_t k, 
   }
   if (best == axes.size()) throw std::invalid_argument("EffectEvidenceFigure: every axis is constant");
   const EvidenceAxis& axis = axes[best];
+  const std::vector<const DiagnosedEffect*> order = EffectsInApplicationOrder(diagnosis);
+  const auto number = std::find(order.begin(), order.end(), &e) - order.begin() + 1;  // as compare's table numbers it
   Figure f{file,
-           fmt::format("{}. {}: {:.1f} % of the remaining held-out residual, against {}", k + 1, e.effect,
+           fmt::format("{}. {}: {:.1f} % of the remaining held-out residual, against {}", number, e.effect,
                        100.0 * e.score, axis.label.substr(0, axis.label.rfind(" ["))),
            axis.label, fmt::format("residual [{}]", unit), {}};
   if (in_time) {
@@ -312,13 +315,16 @@ void AddEffectEvidence(HtmlReport* report, const fs::path& out, const DiagnosedC
                        const std::string& unit, const std::string& position_unit) {
   if (!compared.diagnosis) return;
   const DiagnosisResult& diagnosis = *compared.diagnosis;
-  for (std::size_t k = 0; k < diagnosis.effects.size(); ++k) {
-    const DiagnosedEffect& e = diagnosis.effects[k];
+  // In the order the table lists them and --suggest and improve apply them (the friction-law replacements first).
+  const std::vector<const DiagnosedEffect*> order = EffectsInApplicationOrder(diagnosis);
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const DiagnosedEffect& e = *order[k];
+    const auto index = static_cast<std::size_t>(order[k] - diagnosis.effects.data());
     report->Paragraph(fmt::format("{}. {}: {}", k + 1, e.effect, e.description));
     report->Paragraph(EffectShareAndConfidence(e));
     try {
-      report->AddFigure(EffectEvidenceFigure(compared, k, unit, position_unit, fmt::format("effect_{}.png", k + 1)),
-                        out);
+      report->AddFigure(
+          EffectEvidenceFigure(compared, index, unit, position_unit, fmt::format("effect_{}.png", k + 1)), out);
     } catch (const std::invalid_argument& error) {
       report->Warning(fmt::format("No evidence figure for {}: {}", e.effect, error.what()));
     }

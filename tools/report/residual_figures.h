@@ -34,7 +34,8 @@ void AddResidualFigures(HtmlReport* report, const std::filesystem::path& out, co
 /// ± 0.03 (holds 0); 1 of 2 significant."
 std::string EffectShareAndConfidence(const DiagnosedEffect& effect);
 
-/// compare's evidence for every ranked effect of `compared.diagnosis`, in ranking order k = 1, 2, …: a paragraph
+/// compare's evidence for every ranked effect of `compared.diagnosis`, in the order they are applied k = 1, 2, …
+/// (EffectsInApplicationOrder, tools/workflow/suggest.h: the order of compare's table): a paragraph
 /// "k. effect: description", its share and confidence (EffectShareAndConfidence) and its evidence figure
 /// (EffectEvidenceFigure, PNG effect_<k>.png, element id FigureId: "fig-effect_<k>"), or a warning saying why there is
 /// none; then, when the diagnosis searched position periods, the position periodogram (PositionPeriodogramFigure,
@@ -76,7 +77,7 @@ ResidualHistogram HistogramOfResiduals(const Eigen::VectorXd& before, const Eige
 /// with the last count again; x the residual [unit], y samples per bin. PNG `file`.
 Figure ResidualHistogramFigure(const ResidualHistogram& histogram, const std::string& unit, const std::string& file);
 
-/// The evidence for the `k`-th effect of `compared.diagnosis` (compare's ranking): its partial residual — the diagnosed
+/// The evidence for `compared.diagnosis->effects[k]` (titled with its number in compare's table): its partial residual — the diagnosed
 /// residual less the diagnosis's whole correction (PredictCorrection) plus this effect's own fitted contribution, the
 /// output's unit — against the axis on which that contribution is most nearly a function (the largest share of its
 /// variance held by 64-bin means: position folded over the effect's "period", time folded over 1/"frequency_hz",

@@ -57,20 +57,20 @@ TEST(CompareCommand, NamesTheMissingEffectFitsTheFallbackAndSuggests) {
   std::getline(predicted, header);
   EXPECT_THAT(header, HasSubstr("mean"));
 
-  // --suggest: in the ranking's order, the friction-law replacement the diagnosis chose (a Stribeck law), then the
-  // top missing effect; the amended diagram holds both blocks, and the command says what it wrote.
+  // --suggest: in the ranking's order, the friction-law replacement the diagnosis chose first — on EMPS a Stribeck
+  // hump of −3.7 N, which no friction block can be: skipped with the reason — then the top missing effect; the command
+  // says what it wrote.
   ASSERT_EQ(c["suggested_diagram"]["effect"], "velocity_dependent_ripple");
-  ASSERT_EQ(c["suggested_diagram"]["effects"],
-            nlohmann::json::array({"stribeck_friction", "velocity_dependent_ripple"}));
-  EXPECT_THAT(r.output, HasSubstr("the diagram with stribeck_friction, then velocity_dependent_ripple added"));
+  ASSERT_EQ(c["suggested_diagram"]["effects"], nlohmann::json::array({"velocity_dependent_ripple"}));
+  ASSERT_EQ(c["suggested_diagram"]["skipped"].size(), 1u) << c["suggested_diagram"].dump();
+  EXPECT_EQ(c["suggested_diagram"]["skipped"][0]["effect"], "stribeck_friction");
+  EXPECT_THAT(c["suggested_diagram"]["skipped"][0]["why_not"].get<std::string>(), HasSubstr("a Stribeck hump of -3."));
+  EXPECT_THAT(r.output, HasSubstr("not suggesting stribeck_friction"));
+  EXPECT_THAT(r.output, HasSubstr("the diagram with velocity_dependent_ripple added"));
   const auto amended = ReadJsonFile(out / "amended.json");
-  int blocks = 0;
-  for (const auto& e : amended["elements"]) {
-    blocks += e["type"] == "velocity_dependent_ripple";
-    blocks += e["type"] == "friction" && e["parameters"].value("regularization", "") == "tanh" &&
-              e["parameters"].contains("stribeck_velocity");
-  }
-  EXPECT_EQ(blocks, 2) << amended.dump(1);
+  int ripples = 0;
+  for (const auto& e : amended["elements"]) ripples += e["type"] == "velocity_dependent_ripple";
+  EXPECT_EQ(ripples, 1) << amended.dump(1);
   // The report draws the diagram it compared (diagram_drawing.h).
   std::ifstream report(out / "report.html");
   const std::string html((std::istreambuf_iterator<char>(report)), std::istreambuf_iterator<char>());

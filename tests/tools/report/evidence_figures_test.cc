@@ -8,6 +8,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -266,6 +267,33 @@ TEST(EffectShareAndConfidence, GivesTheShareAndEachCoefficientsIntervalAndWhethe
   EXPECT_EQ(EffectShareAndConfidence(d.effects[2]),
             "Share: 10.0 % of the remaining held-out residual explained (cumulative 80.0 %). Coefficients of the final "
             "joint fit, 95 % intervals: cos1 = 0.3 ± 0.02, sin1 = 0 ± 0.039 (holds 0); 1 of 2 significant.");
+}
+
+// The evidence follows compare's table (EffectsInApplicationOrder: cumulative shares rising), not the order of
+// DiagnosisResult::effects, and each chart is of its own effect.
+TEST(AddEffectEvidence, FollowsTheTablesOrderNotTheResultsOrder) {
+  const fs::path dir = Folder("mb_effect_evidence_order");
+  DiagnosedComparison compared = ThreeEffects();
+  auto& effects = compared.diagnosis->effects;  // time_delay 50 %, mass_change 70 %, position_periodic 80 %
+  std::rotate(effects.begin(), effects.begin() + 2, effects.end());  // position_periodic first in the result
+  HtmlReport report("evidence", InteractiveCharts{});
+  AddEffectEvidence(&report, dir, compared, "N", "m");
+  report.Write(dir / "report.html");
+  const std::string page = Read(dir / "report.html");
+  const auto first = page.find("1. time_delay:"), second = page.find("2. mass_change:"),
+             third = page.find("3. position_periodic:");
+  ASSERT_NE(first, std::string::npos);
+  ASSERT_NE(second, std::string::npos);
+  ASSERT_NE(third, std::string::npos);
+  EXPECT_LT(first, second);
+  EXPECT_LT(second, third);
+  // effect_3's chart is the ripple's: against position folded over its period.
+  const auto chart3 = page.find("id=\"fig-effect_3\"");
+  ASSERT_NE(chart3, std::string::npos);
+  EXPECT_GT(chart3, third);
+  const Figure ripple = EffectEvidenceFigure(compared, 0, "N", "m", "effect_3.png");
+  EXPECT_EQ(ripple.xlabel.rfind("position modulo", 0), 0u) << ripple.xlabel;
+  EXPECT_EQ(ripple.title.rfind("3. position_periodic:", 0), 0u) << ripple.title;
 }
 
 TEST(AddEffectEvidence, EveryRankedEffectHasItsChartItsShareAndConfidenceAndThePeriodogramMarksThePeriods) {

@@ -131,6 +131,26 @@ TEST(SuggestTest, ASmoothCoulombLawTakesOverTheModelsCoulombLevel) {
   EXPECT_THAT(added.FreeParameters(), ::testing::Contains("friction.coulomb"));
 }
 
+// A Stribeck hump whose diagnosed level is negative (EMPS: −3.7 N, its friction below the sign(v) law at low speed) is
+// no friction block's static level: refused with the reason, not clamped to 0.001 N into a block that refits to nothing.
+TEST(SuggestTest, ANegativeStribeckHumpIsRefusedNotClamped) {
+  const auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
+  DiagnosedEffect hump;
+  hump.effect = "stribeck_friction";
+  hump.parameters = {{"stribeck_velocity", 0.028}, {"dead_band", 0.0013}};
+  hump.column_names = {"stribeck_friction"};
+  hump.coefficients = Eigen::VectorXd::Constant(1, -3.7);
+  try {
+    SuggestAmendedDiagram(diagram, hump, "force");
+    FAIL() << "a negative Stribeck hump was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), HasSubstr("a Stribeck hump of -3.7 N"));
+  }
+  hump.coefficients(0) = 9.0;  // a hump above the law: the block's static level
+  const DiagramDocument amended(SuggestAmendedDiagram(diagram, hump, "force"));
+  EXPECT_EQ(amended.Parameter("stribeck", "static"), 9.0);
+}
+
 // An effect on the command path (a drive's current limit): in equation-error mode the amended diagram reads the logged
 // command through a new input connector on the output's column, passes it through the saturation, and adds what the
 // log holds beyond what acted to the model's force; simulation mode is refused with what to do.
