@@ -1,6 +1,5 @@
 #include "tools/report/compare_report.h"
 
-#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -141,8 +140,7 @@ void AddDiagnosisSection(const CompareOutcome& outcome, const std::string& posit
   std::vector<std::vector<std::string>> rows;
   const std::string position_unit = PositionUnitToken(position_column);
   for (const DiagnosedEffect* e : EffectsInApplicationOrder(diagnosis)) {
-    const bool law = std::find(diagnosis.friction_law.begin(), diagnosis.friction_law.end(), e->effect) !=
-                     diagnosis.friction_law.end();
+    const bool law = IsFrictionLawReplacement(diagnosis, e->effect);
     rows.push_back({e->effect, law ? "friction law (replaces the model's)" : "missing effect",
                     fmt::format("{:.1f} %", 100.0 * e->score), fmt::format("{:.1f} %", 100.0 * e->cumulative_share),
                     ParametersWithUnits(*e, position_unit, outcome.primary_after().unit)});

@@ -1,6 +1,5 @@
 #include "tools/workflow/compare.h"
 
-#include <algorithm>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -58,9 +57,7 @@ CompareSuggestion SuggestFromComparison(const json& input_diagram, const Diagnos
   } else {
     // compare's order: every friction-law replacement, then the top missing effect that can be added.
     for (const DiagnosedEffect* e : EffectsInApplicationOrder(diagnosis)) {
-      const bool law = std::find(diagnosis.friction_law.begin(), diagnosis.friction_law.end(), e->effect) !=
-                       diagnosis.friction_law.end();
-      if (add(*e) && !law) break;
+      if (add(*e) && !IsFrictionLawReplacement(diagnosis, e->effect)) break;
     }
   }
   if (!suggestion.effects.empty()) {

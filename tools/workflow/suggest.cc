@@ -22,11 +22,12 @@ bool HasEffectBlock(const std::string& effect) {
   return type && type->block;
 }
 
+bool IsFrictionLawReplacement(const DiagnosisResult& diagnosis, const std::string& effect) {
+  return std::find(diagnosis.friction_law.begin(), diagnosis.friction_law.end(), effect) !=
+         diagnosis.friction_law.end();
+}
+
 std::vector<const DiagnosedEffect*> EffectsInApplicationOrder(const DiagnosisResult& diagnosis) {
-  const auto is_law = [&](const DiagnosedEffect& e) {
-    return std::find(diagnosis.friction_law.begin(), diagnosis.friction_law.end(), e.effect) !=
-           diagnosis.friction_law.end();
-  };
   std::vector<const DiagnosedEffect*> order;
   for (const auto& law : diagnosis.friction_law) {
     for (const auto& e : diagnosis.effects) {
@@ -35,7 +36,7 @@ std::vector<const DiagnosedEffect*> EffectsInApplicationOrder(const DiagnosisRes
   }
   const std::size_t laws = order.size();
   for (const auto& e : diagnosis.effects) {
-    if (!is_law(e)) order.push_back(&e);
+    if (!IsFrictionLawReplacement(diagnosis, e.effect)) order.push_back(&e);
   }
   std::stable_sort(order.begin() + static_cast<std::ptrdiff_t>(laws), order.end(),
                    [](const DiagnosedEffect* a, const DiagnosedEffect* b) {

@@ -25,6 +25,9 @@ bool HasEffectBlock(const std::string& effect);
 /// into `diagnosis.effects` (valid while it lives); every effect once.
 std::vector<const DiagnosedEffect*> EffectsInApplicationOrder(const DiagnosisResult& diagnosis);
 
+/// Whether `diagnosis` chose `effect` as a friction-law replacement (DiagnosisResult::friction_law).
+bool IsFrictionLawReplacement(const DiagnosisResult& diagnosis, const std::string& effect);
+
 /// Returns the diagram with an element for `effect` built from the effect's block template (EffectBlockTemplate,
 /// registered in the effect's file in models/diagnosis/effects/): its type and name (made unique), its parameters
 /// from the diagnosis (period, frequency, delay, Stribeck velocity; the joint fit's coefficients as initial
