@@ -25,6 +25,7 @@
 
 #include "models/diagnosis/effect_catalogue.h"
 #include "models/diagnosis/signal_processing.h"
+#include "tests/tools/report/report_test_files.h"
 #include "tools/report/chart_data.h"
 #include "tools/report/improve_report.h"
 #include "tools/report/report.h"
@@ -40,25 +41,9 @@ using ::testing::StartsWith;
 
 constexpr double kPi = std::numbers::pi;
 
-fs::path Folder(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string Read(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-std::size_t Count(const std::string& text, const std::string& what) {
-  std::size_t n = 0;
-  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
-}
+using report_test::Count;
+using report_test::Folder;
+using report_test::Read;
 
 // The charts' JSON embedded in a written report (ChartJson of each interactive chart, in page order).
 json EmbeddedCharts(const std::string& page) {

@@ -17,6 +17,7 @@
 
 #include <unistd.h>
 
+#include "tests/tools/report/report_test_files.h"
 #include "tools/report/chart_data.h"
 #include "tools/report/report.h"
 #include "tools/report/run_program.h"
@@ -30,25 +31,9 @@ using ::testing::Not;
 
 constexpr const char* kHostile = "</script><script>alert(1)</script>";
 
-fs::path Folder(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string Read(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-std::size_t Count(const std::string& text, const std::string& what) {
-  std::size_t n = 0;
-  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
-}
+using report_test::Count;
+using report_test::Folder;
+using report_test::Read;
 
 // A noisy record of n samples with isolated spikes (up and down, one per chosen pixel column at most) at random
 // places: the spikes' indices are returned through `spikes`.
