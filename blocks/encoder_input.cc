@@ -57,6 +57,6 @@ MB_REGISTER_BLOCK(EncoderInput, BlockType{
     [](const BlockConfig& c) { return std::make_unique<EncoderInput>(c); }})
 
 // A board channel (engine/block_roles.h; hw/virtual_stage.h reads the I/O subsystem by it).
-MB_REGISTER_IO_CHANNEL(EncoderInput, "encoder_input", IoChannelTrait{true, "counts_per_metre"})
+MB_REGISTER_IO_CHANNEL(EncoderInput, "encoder_input", IoChannelTrait{true, "counts_per_metre", ""})
 
 }  // namespace mb

@@ -390,7 +390,6 @@ bool IsRotary(Hidden hidden) { return hidden == Hidden::kGravity; }
 
 Eigen::VectorXd TruthForce(Hidden hidden, const Eigen::VectorXd& t, const Eigen::VectorXd& angle_or_x,
                            const Eigen::VectorXd& v_in, const Eigen::VectorXd& a_in, const Eigen::VectorXd* logged) {
-  const Eigen::Index n = t.size();
   if (IsRotary(hidden)) {  // the carriage's own coordinates, the force back to a torque
     const Eigen::VectorXd x = (angle_or_x.array() / kRadPerMetre + 0.1).matrix();
     const Eigen::VectorXd logged_force = logged ? Eigen::VectorXd(*logged * kRadPerMetre) : Eigen::VectorXd();

@@ -150,9 +150,15 @@ TEST(TrajectoryTest, Figure9ProfileReaches600mmWithTheStatedVelocities) {
   const auto& a = r.log.Column("r.acceleration");
   EXPECT_NEAR(x.back(), 0.6, 1e-12);
   for (std::size_t i = 0; i < t.size(); ++i) {
-    if (t[i] > 0.25 && t[i] < 1.15) EXPECT_NEAR(v[i], 0.15, 1e-12);
-    if (t[i] > 1.45 && t[i] < 2.35) EXPECT_NEAR(v[i], 0.35, 1e-12);
-    if (t[i] > 2.65) EXPECT_NEAR(v[i], 0.0, 1e-12);
+    if (t[i] > 0.25 && t[i] < 1.15) {
+      EXPECT_NEAR(v[i], 0.15, 1e-12);
+    }
+    if (t[i] > 1.45 && t[i] < 2.35) {
+      EXPECT_NEAR(v[i], 0.35, 1e-12);
+    }
+    if (t[i] > 2.65) {
+      EXPECT_NEAR(v[i], 0.0, 1e-12);
+    }
   }
   // Peak acceleration of a half-sine transition: Δv·π/(2T); the deceleration is the largest.
   double a_min = 0.0;
@@ -190,7 +196,9 @@ TEST(ScanTest, StrokesCoverTheTravelAtEachVelocity) {
   for (std::size_t i = 0; i < x.size(); ++i) {
     x_max = std::max(x_max, x[i]);
     x_min = std::min(x_min, x[i]);
-    if (cv[i] == 1.0) EXPECT_NEAR(std::abs(v[i]), v[i] > 0 ? 0.1 : 0.35, 1e-12) << r.log.time[i];
+    if (cv[i] == 1.0) {
+      EXPECT_NEAR(std::abs(v[i]), v[i] > 0 ? 0.1 : 0.35, 1e-12) << r.log.time[i];
+    }
   }
   EXPECT_NEAR(x_max, 0.35, 1e-9);
   EXPECT_NEAR(x_min, -0.35, 1e-9);

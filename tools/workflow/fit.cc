@@ -30,7 +30,7 @@ FitOutcome FitToMeasurement(const DiagramDocument& document, const MeasurementLo
   outcome.mode = document.Mode();
   outcome.diagram = document.source();
   outcome.measurement = measurement_name;
-  outcome.samples = log.rows();
+  outcome.samples = static_cast<std::size_t>(log.rows());
   const double output_filter_hz =
       outcome.mode == ExperimentMode::kEquationError ? settings.measurement.derivative_cutoff_hz : 0.0;
   outcome.result = FitDiagram(document.json(), document.base_directory(), document.source(), log,

@@ -51,7 +51,7 @@ Limits ScanLimits(const ProposalContext& c) {
   for (double& m : magnitude) m = std::abs(m);
   std::sort(magnitude.begin(), magnitude.end());
   const auto n = magnitude.size();
-  const double lo = magnitude[n / 2], hi = magnitude[n - 1 - static_cast<std::size_t>(kMinShareBeyond * n)];
+  const double lo = magnitude[n / 2], hi = magnitude[n - 1 - static_cast<std::size_t>(kMinShareBeyond * static_cast<double>(n))];
   if (!(hi > lo && lo > 0.0)) return {};
   const double symmetric = MinimiseOnLogGrid(lo, hi, 21, 20, [&](double l) { return sse(-l, l); });
   const double upper = MinimiseOnLogGrid(lo, hi, 21, 20, [&](double l) { return sse(-symmetric, l); });
