@@ -42,17 +42,9 @@ using ::testing::StartsWith;
 constexpr double kPi = std::numbers::pi;
 
 using report_test::Count;
+using report_test::EmbeddedCharts;
 using report_test::Folder;
 using report_test::Read;
-
-// The charts' JSON embedded in a written report (ChartJson of each interactive chart, in page order).
-json EmbeddedCharts(const std::string& page) {
-  const std::string open = "<script type=\"application/json\" id=\"mb-charts\">";
-  const std::size_t from = page.find(open);
-  if (from == std::string::npos) return json::array();
-  const std::size_t begin = from + open.size(), end = page.find("</script>", begin);
-  return json::parse(page.substr(begin, end - begin));
-}
 
 // The chart whose title contains `title`, or null.
 json ChartTitled(const json& charts, const std::string& title) {

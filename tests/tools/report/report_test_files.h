@@ -1,6 +1,6 @@
 #pragma once
 // What the report tests do with the files a report writes: a fresh folder per process, a file read whole, a string
-// counted in a page.
+// counted in a page, the chart specifications a page embeds.
 #include <cstddef>
 #include <filesystem>
 #include <fstream>
@@ -8,6 +8,8 @@
 #include <string>
 
 #include <unistd.h>
+
+#include <nlohmann/json.hpp>
 
 namespace mb::report_test {
 
@@ -32,6 +34,16 @@ inline std::size_t Count(const std::string& text, const std::string& what) {
   std::size_t n = 0;
   for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
   return n;
+}
+
+/// The charts' specifications an interactive report embeds (ChartJson, tools/report/chart_data.h: the JSON array in
+/// <script id="mb-charts">), or null when the page embeds none (no charting library installed).
+inline nlohmann::json EmbeddedCharts(const std::string& page) {
+  const std::string open = "<script type=\"application/json\" id=\"mb-charts\">";
+  const std::size_t from = page.find(open);
+  if (from == std::string::npos) return nlohmann::json();
+  const std::size_t begin = from + open.size();
+  return nlohmann::json::parse(page.substr(begin, page.find("</script>", begin) - begin));
 }
 
 }  // namespace mb::report_test

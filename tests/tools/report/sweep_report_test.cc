@@ -26,6 +26,7 @@
 
 #include "engine/csv.h"
 #include "tests/tools/batch/sweep_test_files.h"
+#include "tests/tools/report/report_test_files.h"
 #include "tools/batch/shard.h"
 #include "tools/batch/sweep.h"
 #include "tools/report/output_files.h"
@@ -39,6 +40,9 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 using ::testing::HasSubstr;
 using ::testing::Not;
+using report_test::Count;
+using report_test::EmbeddedCharts;
+using report_test::Read;
 
 class SweepReportTest : public ::testing::Test {
  protected:
@@ -60,13 +64,6 @@ class SweepReportTest : public ::testing::Test {
     out_ = dir_ / name;
     RunSweep(diagram_, ParseSweep(json::parse(sweep), "s.json"), out_, options);
     return Read(out_ / "report.html");
-  }
-
-  static std::string Read(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream text;
-    text << in.rdbuf();
-    return text.str();
   }
 
   fs::path dir_, diagram_, out_;
@@ -104,21 +101,6 @@ std::string Section(const std::string& html, const std::string& title) {
   const std::size_t at = html.find("<h2>" + title + "</h2>");
   if (at == std::string::npos) return {};
   return html.substr(at, html.find("<h2>", at + 4) - at);
-}
-
-// The charts' specifications the page embeds (ChartJson), or null without the charting library.
-json EmbeddedCharts(const std::string& html) {
-  const std::string tag = "<script type=\"application/json\" id=\"mb-charts\">";
-  const std::size_t at = html.find(tag);
-  if (at == std::string::npos) return json();
-  const std::size_t begin = at + tag.size();
-  return json::parse(html.substr(begin, html.find("</script>", begin) - begin));
-}
-
-std::size_t Count(const std::string& text, const std::string& what) {
-  std::size_t n = 0;
-  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
-  return n;
 }
 
 TEST_F(SweepReportTest, TablesAndChartsHoldRunsCsvAndTheFailedRunIsListed) {
