@@ -15,6 +15,7 @@
 
 #include "engine/units.h"
 #include "models/diagnosis/effect_registry.h"
+#include "models/diagnosis/parameter_text.h"
 #include "models/diagnosis/robust_weighting.h"
 
 namespace mb::diagnosis_detail {
@@ -24,27 +25,6 @@ namespace {
 std::string FormatPosition(double x, const std::string& unit) {
   if (unit == "m") return fmt::format("{:.4g} mm", x * 1e3);
   return fmt::format("{:.4g} {}", x, unit);
-}
-
-// The registry's unit of `effect`'s parameter `name` (SI, "" when none or unknown).
-std::string UnitOf(const std::string& effect, const std::string& name) {
-  if (const EffectType* type = EffectRegistry::Global().Find(effect)) {
-    for (const auto& p : type->parameters) {
-      if (p.name == name) return p.unit;
-    }
-  }
-  return "";
-}
-
-// A value in its unit: a length or speed in mm, mm/s for metres (else in the position's unit), a count as an integer.
-std::string FormatWithUnit(double v, const std::string& unit, const std::string& position_unit) {
-  if (unit == "m") return FormatPosition(v, position_unit);
-  if (unit == "m/s") {
-    return position_unit == "m" ? fmt::format("{:.4g} mm/s", v * 1e3) : fmt::format("{:.4g} {}/s", v, position_unit);
-  }
-  if (unit.empty() && std::abs(v) < 1e15 && v == std::round(v)) return fmt::format("{}", static_cast<long long>(v));
-  if (unit == "s" || unit == "Hz") return fmt::format("{:.4g} {}", v, unit);
-  return fmt::format("{:.4g}", v);
 }
 
 std::string FormatParameters(const std::string& effect, const std::map<std::string, double>& p,
@@ -66,7 +46,7 @@ std::string FormatParameters(const std::string& effect, const std::map<std::stri
     else if (k == "frequency_hz") item = fmt::format("frequency {:.4g} Hz", v);
     else if (k == "harmonics") item = fmt::format("{} harmonic(s)", static_cast<int>(v));
     else if (k == "amplitude") item = fmt::format("amplitude {:.3g}", v);
-    else item = fmt::format("{} {}", k, FormatWithUnit(v, UnitOf(effect, k), position_unit));
+    else item = fmt::format("{} {}", k, FormatParameterValue(v, EffectParameterUnit(effect, k), position_unit));
     out += (out.empty() ? "" : ", ") + item;
   }
   return out;

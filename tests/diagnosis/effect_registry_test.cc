@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "models/diagnosis/effect_proposal.h"
+#include "models/diagnosis/parameter_text.h"
 #include "models/diagnosis/signal_processing.h"
 #include "tests/error_message.h"
 
@@ -252,6 +253,22 @@ TEST(EffectRegistry, RecordSpecificParametersComeFromTheBlockTemplates) {
             std::vector<std::string>{"position_offset"});
   EXPECT_TRUE(RecordSpecificParameters("gain").empty());
   EXPECT_TRUE(RecordSpecificParameters("no_such_block").empty());
+}
+
+// A parameter in words with the registry's unit (parameter_text.h): what the diagnosis text and the compare report's
+// table both show.
+TEST(ParameterText, UnitsFromTheRegistryInTheReadersUnitsAndCountsAsIntegers) {
+  EXPECT_EQ(EffectParameterUnit("position_periodic", "period"), "m");
+  EXPECT_EQ(EffectParameterUnit("stribeck_friction", "stribeck_velocity"), "m/s");
+  EXPECT_EQ(EffectParameterUnit("time_periodic", "harmonics"), "");
+  EXPECT_EQ(EffectParameterUnit("no_such_effect", "period"), "");
+  EXPECT_EQ(FormatParameterValue(0.0025034, "m", "m"), "2.503 mm");
+  EXPECT_EQ(FormatParameterValue(0.02827, "m/s", "m"), "28.27 mm/s");
+  EXPECT_EQ(FormatParameterValue(0.5, "m", "rad"), "0.5 rad");  // a rotary axis keeps its unit
+  EXPECT_EQ(FormatParameterValue(0.5, "m/s", "rad"), "0.5 rad/s");
+  EXPECT_EQ(FormatParameterValue(0.004092, "s", "m"), "0.004092 s");
+  EXPECT_EQ(FormatParameterValue(2.0, "", "m"), "2");  // harmonics, not 2.0
+  EXPECT_EQ(FormatParameterValue(116.8, "", "m"), "116.8");
 }
 
 }  // namespace

@@ -1,10 +1,9 @@
 #include "tools/report/compare_report.h"
 
-#include <cmath>
-
 #include <fmt/format.h>
 
 #include "models/diagnosis/effect_registry.h"
+#include "models/diagnosis/parameter_text.h"
 #include "models/gpr/gpr_io.h"
 #include "tools/report/output_files.h"
 #include "tools/report/diagram_drawing.h"
@@ -93,10 +92,9 @@ std::vector<std::vector<std::string>> FittedParameterRows(const DiagnosedCompari
   return rows;
 }
 
-// A diagnosed effect's parameters with their units, integers as integers: "amplitude = 1.57 N, harmonics = 2,
-// period = 16.29 mm". Units from the effect registry (SI: a length or speed is given in mm, mm/s when the position is
-// in metres, else in the position's own unit); a parameter the registry does not list (a fitted coefficient) without
-// one.
+// A diagnosed effect's parameters with their units, integers as integers: "amplitude = 1.569 N, harmonics = 1,
+// period = 16.29 mm" (FormatParameterValue, the diagnosis text's); the amplitude of Fourier columns in the output's
+// unit.
 std::string ParametersWithUnits(const DiagnosedEffect& e, const std::string& position_unit,
                                 const std::string& output_unit) {
   const EffectType* type = EffectRegistry::Global().Find(e.effect);
@@ -109,25 +107,9 @@ std::string ParametersWithUnits(const DiagnosedEffect& e, const std::string& pos
   }
   std::string out;
   for (const auto& [name, value] : e.parameters) {
-    std::string unit = name == "amplitude" ? amplitude_unit : "";
-    if (type) {
-      for (const auto& p : type->parameters) {
-        if (p.name == name && (p.unit == "m" || p.unit == "m/s" || p.unit == "s" || p.unit == "Hz")) unit = p.unit;
-      }
-    }
-    double shown = value;
-    if (unit == "m" || unit == "m/s") {
-      if (position_unit == "m") {
-        shown *= 1e3;
-        unit = "m" + unit;
-      } else {
-        unit = position_unit + unit.substr(1);
-      }
-    }
-    const bool integer = unit.empty() && std::abs(value) < 1e9 && value == std::round(value);
-    out += fmt::format("{}{} = {}{}{}", out.empty() ? "" : ", ", name,
-                       integer ? fmt::format("{}", static_cast<long long>(value)) : fmt::format("{:.5g}", shown),
-                       unit.empty() ? "" : " ", unit);
+    std::string shown = FormatParameterValue(value, EffectParameterUnit(e.effect, name), position_unit);
+    if (name == "amplitude" && !amplitude_unit.empty()) shown = fmt::format("{:.4g} {}", value, amplitude_unit);
+    out += fmt::format("{}{} = {}", out.empty() ? "" : ", ", name, shown);
   }
   return out;
 }
