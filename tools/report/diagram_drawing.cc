@@ -14,6 +14,7 @@
 #include "engine/diagram_loader.h"
 #include "engine/output_file.h"
 #include "engine/registry.h"
+#include "tools/report/diagram_panel.h"
 #include "tools/report/report.h"
 #include "tools/report/run_program.h"
 #include "tools/report/temporary_folder.h"
@@ -365,7 +366,9 @@ void AddDiagramDrawing(HtmlReport* report, const Diagram& diagram, const Drawing
     WriteDrawing(dot_text, DrawingFormat::kDot, directory / names[0]);
     RequireDrawableSize(diagram);
     WriteDrawing(dot_text, DrawingFormat::kSvg, directory / names[1]);
-    report->Image(names[1], fmt::format("The diagram {} (Graphviz; its DOT text: {})", diagram.name(), names[0]));
+    report->Fragment(ClickableDiagramHtml(
+        InlineSvg(ReadWholeFile(directory / names[1])), DiagramBlockData(diagram),
+        fmt::format("The diagram {} (Graphviz; its DOT text: {}).", diagram.name(), names[0]), names[1]));
   } catch (const std::exception& e) {
     report->Warning(fmt::format("Diagram drawing missing: {}", e.what()));
   }

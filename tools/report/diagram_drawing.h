@@ -78,7 +78,8 @@ DrawnDiagram DrawDiagram(const nlohmann::json& diagram, const std::filesystem::p
 std::vector<std::string> DiagramDrawingFileNames(const std::string& file_stem = "diagram");
 
 /// Adds a "Diagram" section to `report`: `directory`/`file_stem`.svg (and plot/`file_stem`.dot) drawn from
-/// `diagram` with `marks`, shown as an image. A drawing that fails (no Graphviz) becomes a note in the report, never
+/// `diagram` with `marks`, shown inline with a click on a block showing its parameters and their units
+/// (ClickableDiagramHtml, diagram_panel.h). A drawing that fails (no Graphviz) becomes a note in the report, never
 /// an error.
 void AddDiagramDrawing(HtmlReport* report, const Diagram& diagram, const DrawingMarks& marks,
                        const std::filesystem::path& directory, const std::string& file_stem = "diagram");

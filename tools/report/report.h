@@ -107,6 +107,9 @@ class HtmlReport {
   void AddFigure(const Figure& figure, const std::filesystem::path& directory);
   /// Shows the image `file` (a name inside the report's folder: PNG or SVG) with `caption`.
   void Image(const std::string& file, const std::string& caption);
+  /// Appends `html` as it is: markup built by a function that escaped every string in it (ClickableDiagramHtml,
+  /// diagram_panel.h), never a user's text.
+  void Fragment(const std::string& html) { body_ += html; }
   /// A paragraph marked as a warning (what is missing from the report and why).
   void Warning(const std::string& text);
   /// A heat map as a table (no script: it shows and prints as it is): cell (r, c) coloured by `values[r][c]` on one

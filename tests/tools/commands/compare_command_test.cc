@@ -74,7 +74,7 @@ TEST(CompareCommand, NamesTheMissingEffectFitsTheFallbackAndSuggests) {
   // The report draws the diagram it compared (diagram_drawing.h).
   std::ifstream report(out / "report.html");
   const std::string html((std::istreambuf_iterator<char>(report)), std::istreambuf_iterator<char>());
-  EXPECT_THAT(html, HasSubstr("<img src=\"diagram.svg\""));
+  EXPECT_THAT(html, HasSubstr("<a href=\"diagram.svg\">diagram.svg</a>"));
   EXPECT_TRUE(fs::exists(out / "diagram.svg"));
   fs::remove_all(out);
 }

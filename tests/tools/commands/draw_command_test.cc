@@ -132,7 +132,7 @@ TEST(DrawCommand, TheRunReportShowsTheDiagram) {
   const fs::path dir = FreshDir("mb_draw_run");
   const auto r = RunMotionblocksIn(dir, {"run", kHil, "--out", "out", "--quiet"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_THAT(ReadText(dir / "out" / "report.html"), HasSubstr("<img src=\"diagram.svg\""));
+  EXPECT_THAT(ReadText(dir / "out" / "report.html"), HasSubstr("<a href=\"diagram.svg\">diagram.svg</a>"));
   EXPECT_THAT(ReadText(dir / "out" / "diagram.svg"), HasSubstr(">controller</text>"));
   EXPECT_THAT(ReadText(dir / "out" / "plot" / "diagram.dot"), HasSubstr("digraph diagram {"));
   fs::remove_all(dir);

@@ -85,7 +85,7 @@ TEST(ImproveCommand, FindsTheTwinsCoggingAtThePolePitchAndTheErrorFalls) {
   std::ifstream report(out / "report.html"), dot(out / "plot" / "diagram.dot");
   const std::string html((std::istreambuf_iterator<char>(report)), std::istreambuf_iterator<char>());
   const std::string dot_text((std::istreambuf_iterator<char>(dot)), std::istreambuf_iterator<char>());
-  EXPECT_THAT(html, HasSubstr("<img src=\"diagram.svg\""));
+  EXPECT_THAT(html, HasSubstr("<a href=\"diagram.svg\">diagram.svg</a>"));
   EXPECT_TRUE(fs::exists(out / "diagram.svg"));
   EXPECT_THAT(dot_text, HasSubstr("label=\"added by improve\", fillcolor=white, color=\"#ff7f0e\""));
   EXPECT_THAT(dot_text, HasSubstr("\\n" + first));  // the added block's type under its name

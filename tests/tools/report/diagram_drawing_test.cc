@@ -1,9 +1,11 @@
 // The picture of a diagram (tools/report/diagram_drawing.h): what its DOT text holds (record nodes with ports,
 // edges port to port, subsystems as clusters, sample-time colours and their legend, key parameters bounded), the
 // escaping of hostile names (the text parses with Graphviz's dot and runs nothing), the highlighted algebraic loop,
-// and improve's added elements.
+// and improve's added elements; the clickable diagram of a report (tools/report/diagram_panel.h): each block's
+// parameters with their SI values and units, hostile names kept as data.
 
 #include "tools/report/diagram_drawing.h"
+#include "tools/report/diagram_panel.h"
 
 #include <fmt/format.h>
 #include <gmock/gmock.h>
@@ -18,6 +20,7 @@
 #include <string>
 
 #include "engine/diagram_loader.h"
+#include "engine/registry.h"
 #include "tools/report/report.h"
 #include "tools/report/run_program.h"
 
@@ -294,10 +297,106 @@ TEST(DiagramDrawingTest, AReportShowsTheDiagramOrSaysWhyNot) {
   AddDiagramDrawing(&report, broken, "", "broken.json", {}, dir, "broken");
   report.Write(dir / "report.html");
   const std::string html = ReadText(dir / "report.html");
-  EXPECT_THAT(html, HasSubstr("<img src=\"diagram.svg\""));
+  EXPECT_THAT(html, HasSubstr("<figure class=\"mb-diagram\">"));  // inline, clickable (diagram_panel.h)
+  EXPECT_THAT(html, HasSubstr("<a href=\"diagram.svg\">diagram.svg</a>"));
+  EXPECT_THAT(ReadText(dir / "diagram.svg"), HasSubstr(">controller</text>"));
   EXPECT_THAT(ReadText(dir / "plot" / "diagram.dot"), HasSubstr("digraph diagram"));
   EXPECT_THAT(html, HasSubstr("<p class=\"warn\">Diagram drawing missing: broken.json"));
   EXPECT_FALSE(fs::exists(dir / "broken.svg"));
+}
+
+// The entry of DiagramBlockData named `name`, or null.
+const json* BlockEntry(const json& blocks, const std::string& name) {
+  for (const auto& b : blocks) {
+    if (b["name"] == name) return &b;
+  }
+  return nullptr;
+}
+
+// The parameter `name` of a DiagramBlockData entry, or null.
+const json* ParameterOf(const json& block, const std::string& name) {
+  for (const auto& p : block["parameters"]) {
+    if (p["name"] == name) return &p;
+  }
+  return nullptr;
+}
+
+TEST(DiagramPanelTest, EachBlockCarriesEveryParameterWithItsSiValueAndUnit) {
+  json j = PdLoop();
+  j["elements"][4]["diagram"]["elements"][0]["parameters"]["mass"] = {{"value", 262.1}, {"unit", "g"}};
+  const json blocks = DiagramBlockData(BuildDiagram(j, "", "test.json"));
+  ASSERT_EQ(blocks.size(), 5u);  // trajectory, error, controller, monitor, plant/body
+  const json* body = BlockEntry(blocks, "plant/body");
+  ASSERT_NE(body, nullptr) << blocks.dump(1);
+  EXPECT_EQ((*body)["type"], "rigid_body");
+  const json* mass = ParameterOf(*body, "mass");
+  ASSERT_NE(mass, nullptr);
+  EXPECT_EQ((*mass)["value"], "0.2621");  // written in g, shown in SI
+  EXPECT_EQ((*mass)["unit"], "kg");
+  EXPECT_EQ((*mass)["default"], false);
+  const json* damping = ParameterOf(*body, "damping");
+  ASSERT_NE(damping, nullptr);
+  EXPECT_EQ((*damping)["value"], "3");
+  EXPECT_EQ((*damping)["unit"], "N·s/m");
+  const json* controller = BlockEntry(blocks, "controller");
+  ASSERT_NE(controller, nullptr);
+  EXPECT_EQ((*controller)["type"], "pd_controller");
+  const json* filter = ParameterOf(*controller, "derivative_filter");
+  ASSERT_NE(filter, nullptr);
+  EXPECT_EQ((*filter)["value"], "0.0005");
+  EXPECT_EQ((*filter)["unit"], "s");
+  EXPECT_EQ((*ParameterOf(*controller, "kp"))["unit"], "");  // dimensionless as declared: no unit
+  // Every parameter, defaults included (flagged): sine's phase is not in the diagram.
+  const json* trajectory = BlockEntry(blocks, "trajectory");
+  ASSERT_NE(trajectory, nullptr);
+  const json* phase = ParameterOf(*trajectory, "phase");
+  ASSERT_NE(phase, nullptr);
+  EXPECT_EQ((*phase)["value"], "0");
+  EXPECT_EQ((*phase)["unit"], "rad");
+  EXPECT_EQ((*phase)["default"], true);
+  EXPECT_EQ((*trajectory)["parameters"].size(), BlockRegistry::Global().Find("sine")->parameters.size());
+  EXPECT_EQ((*BlockEntry(blocks, "error"))["parameters"][0]["value"], "+-");
+}
+
+TEST(DiagramPanelTest, AReportEmbedsTheClickableDiagramWithHostileNamesAsData) {
+  const std::string hostile = "<svg onload=alert(1)><script>alert(2)<!--\"'";
+  json j = {{"schemaVersion", "1.0"},
+            {"name", "h"},
+            {"connectors", {{{"name", "in"}, {"kind", "input"}}, {{"name", "out"}, {"kind", "output"}}}},
+            {"elements", {{{"name", hostile}, {"type", "gain"}, {"parameters", {{"gain", 2.5}}}}}},
+            {"connections", {Connect("in", hostile + ".u"), Connect(hostile + ".y", "out")}}};
+  const fs::path dir = TempDir("diagram_panel_hostile");
+  HtmlReport report("r");
+  AddDiagramDrawing(&report, j, "", "hostile.json", {}, dir);
+  report.Write(dir / "report.html");
+  const std::string html = ReadText(dir / "report.html");
+  EXPECT_THAT(html, Not(HasSubstr("<script>alert")));
+  EXPECT_THAT(html, Not(HasSubstr("<svg onload")));
+  EXPECT_EQ(Count(html, "<script"), 2u);  // the block data and the panel's script, nothing else
+  EXPECT_EQ(Count(html, "<svg"), 1u);
+  EXPECT_THAT(html, HasSubstr("\\u003csvg onload=alert(1)>\\u003cscript>alert(2)\\u003c!--"));  // in the JSON
+  EXPECT_THAT(html, HasSubstr(">&lt;svg onload=alert(1)&gt;&lt;script&gt;alert(2)&lt;!"));      // in the picture
+  // The block data, read back as the page reads it, holds the name exactly.
+  const std::string start = "<script type=\"application/json\" class=\"mb-blocks\">";
+  const std::size_t begin = html.find(start);
+  ASSERT_NE(begin, std::string::npos);
+  const std::size_t end = html.find("</script>", begin + start.size());
+  const json blocks = json::parse(html.substr(begin + start.size(), end - begin - start.size()));
+  ASSERT_EQ(blocks.size(), 1u);
+  EXPECT_EQ(blocks[0]["name"], hostile);
+  EXPECT_EQ(blocks[0]["parameters"][0]["name"], "gain");
+  EXPECT_EQ(blocks[0]["parameters"][0]["value"], "2.5");
+  // The drawing's node of block 0 is "b0", the key the panel's script uses.
+  EXPECT_THAT(html, HasSubstr("<title>b0</title>"));
+}
+
+TEST(DiagramPanelTest, InlineSvgKeepsTheSvgElementAndRefusesScript) {
+  EXPECT_EQ(InlineSvg("<?xml version=\"1.0\"?>\n<!DOCTYPE svg>\n<svg width=\"1pt\"><text>a onclick=b</text></svg>\n"),
+            "<svg width=\"1pt\"><text>a onclick=b</text></svg>");
+  EXPECT_THROW(InlineSvg("no picture"), std::runtime_error);
+  EXPECT_THROW(InlineSvg("<svg><script>x()</script></svg>"), std::runtime_error);
+  EXPECT_THROW(InlineSvg("<svg><foreignObject></foreignObject></svg>"), std::runtime_error);
+  EXPECT_THROW(InlineSvg("<svg><g ONLOAD = \"x()\"></g></svg>"), std::runtime_error);
 }
 
 }  // namespace
