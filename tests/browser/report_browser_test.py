@@ -12,12 +12,15 @@ DevTools protocol over a pipe (devtools.py), and checked:
     object exists (the page keeps it as the chart box's `mbDygraph`), holds as many rows as the embedded data (> 0),
     and its box is not marked failed;
   - the charts respond: unticking a series' toggle hides it, and zooming one chart of a linked group moves the others;
-  - the diagram's picture is present and loaded (an image of non-zero width). The blocks of the drawing are not
-    interactive yet (item 5), so no click on them is tried.
+  - the diagram's picture is present (inline SVG whose block nodes the page's script made clickable), and its blocks
+    respond: a mouse click (a real one, through the protocol's Input domain, at the centre of the block's node) shows
+    the panel with that block's name and one row per parameter the report embeds for it, each with its unit; in the
+    compare report the block is EMPS's `friction`, whose panel must show viscous in N·s/m and coulomb in N (item 5).
   - every in-page link ("#…") has its target; compare shows an evidence figure (id fig-effect_<k>) per ranked effect
     of compare.json, and improve's step table links to each step after step 0 (ids step-<i>, items 2 and 3).
 The checker must be able to fail: the compare report is also loaded in broken copies (one chart's data emptied, a
-script that throws, the diagram's picture missing), and each must be caught for what it is.
+script that throws, the diagram's picture missing, blocks that no longer answer a click), and each must be caught for
+what it is.
 
 Without a browser the test fails and says how to install one, unless MB_NO_BROWSER=1 is set: then it prints why it
 skips and exits 77 (CTest's SKIP_RETURN_CODE).
@@ -62,7 +65,8 @@ INSPECT = r"""(() => {
   const dangling = Array.from(document.querySelectorAll('a[href^="#"]')).map(a => a.getAttribute('href'))
       .filter(h => !document.getElementById(h.slice(1)));
   return {specs: specs.length, charts: charts, images: images, library: typeof Dygraph,
-          inline_svgs: document.querySelectorAll('svg').length, dangling_links: dangling,
+          diagram_blocks: document.querySelectorAll('figure.mb-diagram svg g.mb-block').length,
+          dangling_links: dangling,
           evidence: document.querySelectorAll('[id^="fig-effect_"]').length,
           step_links: document.querySelectorAll('td a[href^="#step-"]').length};
 })()"""
@@ -94,6 +98,70 @@ ZOOM = r"""(() => {
   return stuck.map(b => b.parentNode.querySelector('.mb-title').textContent);
 })()"""
 
+# The centre of the diagram's node of block `name` (scrolled into view first; name null: the first block with a
+# parameter that has a unit), in the viewport's CSS pixels, with the block's name and its parameters as the report
+# embeds them ([name, unit]); null if there is no such node.
+BLOCK_NODE = r"""((name) => {
+  const figure = document.querySelector('figure.mb-diagram');
+  if (!figure) return null;
+  const blocks = JSON.parse(figure.querySelector('script.mb-blocks').textContent);
+  const node = Array.from(figure.querySelectorAll('g.mb-block')).find(g => {
+    const b = blocks[+g.dataset.block];
+    return name === null ? b.parameters.some(p => p.unit) : b.name === name;
+  });
+  if (!node) return null;
+  node.scrollIntoView({block: 'center', inline: 'center'});
+  const r = node.getBoundingClientRect(), b = blocks[+node.dataset.block];
+  return {x: r.left + r.width / 2, y: r.top + r.height / 2, name: b.name,
+          parameters: b.parameters.map(p => [p.name, p.unit])};
+})(%s)"""
+
+# What the block panel shows: whether it is visible, its title, and its rows [parameter, value, unit].
+PANEL = r"""(() => {
+  const panel = document.querySelector('figure.mb-diagram .mb-block-panel');
+  if (!panel) return null;
+  const title = panel.querySelector('.mb-block-title');
+  return {visible: !panel.hidden && panel.offsetHeight > 0, title: title ? title.textContent : '',
+          rows: Array.from(panel.querySelectorAll('tr')).slice(1)
+              .map(tr => Array.from(tr.cells).map(td => td.textContent))};
+})()"""
+
+# The block clicked in the compare report's diagram of EMPS, and parameters its panel must show with these units
+# (the friction block's type declares them; the diagram writes viscous as {"value": 200, "unit": "N·s/m"}).
+EMPS_BLOCK = "friction"
+EMPS_UNITS = {"viscous": "N·s/m", "coulomb": "N"}
+NO_UNIT = "1 (no unit)"  # what the panel writes for a dimensionless parameter
+
+
+def click_block(browser, session, name=None, expected_units=None):
+    """Clicks the diagram's node of block `name` (None: the first block with a unit) with the mouse; returns the list
+    of what is wrong with the panel it shows (empty: it shows the block's name and every parameter the report
+    embeds for it, each with its unit, and `expected_units` {parameter: unit})."""
+    node = browser.evaluate(session, BLOCK_NODE % json.dumps(name))
+    if node is None:
+        return [f"the diagram has no clickable block {name or 'with a unit'}"]
+    name = node["name"]
+    for kind in ("mousePressed", "mouseReleased"):
+        browser.call("Input.dispatchMouseEvent", {"type": kind, "x": node["x"], "y": node["y"], "button": "left",
+                                                  "clickCount": 1}, session)
+    panel = browser.evaluate(session, PANEL)
+    if not panel or not panel["visible"]:
+        return [f"clicking block {name!r} showed no panel"]
+    problems = []
+    if not panel["title"].startswith(name + " "):
+        problems.append(f"clicking block {name!r}: the panel is titled {panel['title']!r}")
+    shown = [(row[0], row[2]) for row in panel["rows"] if len(row) == 3]
+    embedded = [(p, u or NO_UNIT) for p, u in node["parameters"]]
+    if shown != embedded:
+        problems.append(f"clicking block {name!r}: the panel shows {shown}, the report embeds {embedded}")
+    units = dict(shown)
+    for parameter, unit in (expected_units or {}).items():
+        if units.get(parameter) != unit:
+            problems.append(f"clicking block {name!r}: parameter {parameter} shown with unit "
+                            f"{units.get(parameter)!r}, expected {unit!r}")
+    return problems
+
+
 # Scrolls to the first heading containing the text; returns whether there was one.
 SCROLL_TO = r"""((words) => {
   const h = Array.from(document.querySelectorAll('h2')).find(e => e.textContent.includes(words));
@@ -102,9 +170,10 @@ SCROLL_TO = r"""((words) => {
 })(%s)"""
 
 
-def check_page(browser, path, diagram_expected=True, linked_expected=True):
+def check_page(browser, path, diagram_expected=True, linked_expected=True, click=(EMPS_BLOCK, EMPS_UNITS)):
     """Loads `path` and returns the list of what is wrong with it (empty: nothing) and what it holds. A sweep's report
-    has neither a diagram nor linked time charts (diagram_expected, linked_expected False)."""
+    has neither a diagram nor linked time charts (diagram_expected, linked_expected False). `click`: the block clicked
+    in the diagram and the units its panel must show (click_block's arguments)."""
     session = browser.open_page(pathlib.Path(path).resolve().as_uri())
     page = browser.evaluate(session, INSPECT)
     problems = list(browser.page_errors(session))
@@ -137,9 +206,11 @@ def check_page(browser, path, diagram_expected=True, linked_expected=True):
     for img in page["images"]:
         if not img["complete"] or img["width"] == 0:
             problems.append(f"image {img['src']} did not load")
-    if diagram_expected and not any(i["src"].endswith(".svg") and i["width"] > 0 for i in page["images"]) \
-            and page["inline_svgs"] == 0:
-        problems.append("no picture of the diagram")
+    if diagram_expected:
+        if page["diagram_blocks"] == 0:
+            problems.append("no picture of the diagram (no clickable block in an inline SVG)")
+        else:
+            problems += click_block(browser, session, *click)
     return problems, page, session
 
 
@@ -196,12 +267,16 @@ def broken_copies(report, folder):
     specs[0]["data"] = []
     empty_chart = text[:begin] + json.dumps(specs).replace("<", "\\u003c") + text[end:]
     throwing = text.replace("</body>", "<script>window.mbNoSuchFunction();</script></body>")
-    no_diagram = text.replace('src="diagram.svg"', 'src="diagram_missing.svg"')
-    if no_diagram == text:
-        raise SystemExit("FAIL: the compare report shows no diagram.svg to break")
+    svg_begin = text.find('<div class="mb-diagram-svg">')
+    svg_end = text.find("</svg>", svg_begin)
+    dead_blocks = text.replace("node.addEventListener('click'", "node.addEventListener('dblclick'")
+    if svg_begin < 0 or svg_end < 0 or dead_blocks == text:
+        raise SystemExit("FAIL: the compare report shows no clickable diagram to break")
+    no_diagram = text[:svg_begin] + text[svg_end + len("</svg>"):]
     cases = {"broken_empty_chart.html": (empty_chart, "chart 0 "),
              "broken_throws.html": (throwing, "uncaught exception"),
-             "broken_no_diagram.html": (no_diagram, "diagram_missing.svg")}
+             "broken_no_diagram.html": (no_diagram, "no picture of the diagram"),
+             "broken_dead_blocks.html": (dead_blocks, f"clicking block {EMPS_BLOCK!r} showed no panel")}
     out = []
     for name, (html, expected) in cases.items():
         path = os.path.join(os.path.dirname(report), name)
@@ -249,8 +324,10 @@ def main():
     failed = []
     with devtools.Browser(chromium, timeout=args.timeout) as browser:
         for kind, report in reports.items():
+            # compare draws EMPS as given; improve's diagram may have its friction replaced: any block with a unit
             problems, page, session = check_page(browser, report, diagram_expected=kind != "sweep",
-                                                 linked_expected=kind != "sweep")
+                                                 linked_expected=kind != "sweep",
+                                                 click=(EMPS_BLOCK, EMPS_UNITS) if kind == "compare" else ())
             rows = sum(c["rows"] for c in page["charts"] if c["rows"] > 0)
             print(f"{kind} report: {len(page['charts'])} charts, {rows} rows drawn, {len(page['images'])} images"
                   f"{'' if not problems else ': ' + str(len(problems)) + ' problems'}")
@@ -287,7 +364,8 @@ def main():
     if failed:
         print("FAIL:\n  " + "\n  ".join(failed))
         return 1
-    print("OK: every report loads without an error, every chart holds its data and responds, the diagram is shown")
+    print("OK: every report loads without an error, every chart holds its data and responds, the diagram is shown and "
+          "a click on a block shows its parameters with their units")
     return 0
 
 
