@@ -96,8 +96,9 @@ std::string InlineSvg(const std::string& svg_file_text) {
 namespace {
 
 constexpr const char* kPanelCss =
-    ".mb-diagram-svg{overflow:auto;max-height:80vh}.mb-diagram-svg g.mb-block{cursor:pointer}"
-    ".mb-diagram-svg g.mb-block:hover polygon,.mb-diagram-svg g.mb-selected polygon{stroke:#1f77b4;stroke-width:3}"
+    ".mb-diagram-svg{overflow:auto;max-height:80vh}.mb-diagram-svg g.mb-block{cursor:pointer;outline:none}"
+    ".mb-diagram-svg g.mb-block:hover polygon,.mb-diagram-svg g.mb-block:focus-visible polygon,"
+    ".mb-diagram-svg g.mb-selected polygon{stroke:#1f77b4;stroke-width:3}"
     ".mb-block-panel{border:1px solid #1f77b4;border-radius:4px;padding:.4em .8em;margin:.5em 0;background:#f5f9fd}"
     ".mb-block-panel table{margin:.4em 0}.mb-block-panel td,.mb-block-panel th{text-align:left}"
     ".mb-block-panel tr.mb-default td{color:#777}.mb-block-title{font-weight:bold}";
