@@ -353,6 +353,36 @@ void Simulator::Derivatives(double t, const double* x, double* dx) {
   std::copy(dxc_.begin(), dxc_.end(), dx);
 }
 
+void Simulator::EvaluateContinuousPart(const std::vector<double>& x, std::vector<double>* dx, std::vector<double>* y) {
+  if (!initialised_) throw std::logic_error("Simulator::EvaluateContinuousPart before Initialize");
+  if (x.size() != xc_.size()) {
+    throw std::invalid_argument(fmt::format("EvaluateContinuousPart: diagram '{}' has {} continuous states, got {}",
+                                            diagram_.name(), xc_.size(), x.size()));
+  }
+  const std::vector<double> saved = xc_;
+  const auto evaluate = [&](const std::vector<double>& state) {
+    std::copy(state.begin(), state.end(), xc_.begin());
+    UpdateInputs(time_);
+    const auto& blocks = diagram_.blocks();
+    for (int b : diagram_.execution_order()) {
+      const auto bi = static_cast<std::size_t>(b);
+      if (blocks[bi]->sample_time().is_discrete()) continue;
+      contexts_[bi].time_ = time_;
+      blocks[bi]->CalcOutput(contexts_[bi]);
+    }
+    for (std::size_t b = 0; b < blocks.size(); ++b) {
+      if (blocks[b]->num_continuous_states() == 0) continue;
+      contexts_[b].time_ = time_;
+      blocks[b]->CalcDerivatives(contexts_[b]);
+    }
+  };
+  evaluate(x);
+  dx->assign(dxc_.begin(), dxc_.end());
+  y->clear();
+  for (const auto& out : diagram_.outputs()) y->push_back(SignalValue(out.source));
+  evaluate(saved);
+}
+
 void Simulator::Roots(double t, const double* x, double* g) {
   std::copy(x, x + num_continuous_, xc_.begin());
   UpdateInputs(t);

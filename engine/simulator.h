@@ -126,6 +126,18 @@ class Simulator final : private OdeSystem {
   SimulationResult Run();
 
   double time() const { return time_; }
+  /// The diagram's continuous states now, in block order (num_continuous_states() values).
+  const std::vector<double>& continuous_states() const { return xc_; }
+  int num_continuous_states() const { return num_continuous_; }
+  /// "block 'name' continuous state k of n" for continuous state i in [0, num_continuous_states()).
+  std::string ContinuousStateName(int i) const { return DescribeState(i); }
+  /// The continuous part of the diagram about the current point, for linearisation (engine/linearization.h, as
+  /// Simulink's linmod): at time() with continuous state `x` (num_continuous_states() values) and the inputs as held
+  /// now (SetInput / HoldInput), every non-discrete block recomputes its outputs (discrete blocks hold theirs: their
+  /// paths stay open) and the continuous-state blocks their derivatives. Writes the derivatives to `dx` and the
+  /// diagram's output connectors (diagram.outputs() order) to `y`, then restores the simulator's own state.
+  /// @throws std::logic_error before Initialize; std::invalid_argument if x has the wrong size.
+  void EvaluateContinuousPart(const std::vector<double>& x, std::vector<double>* dx, std::vector<double>* y);
   /// Current value of a signal (first element for a wide signal).
   double SignalValue(const SignalRef& ref) const;
   const SignalLog& log() const { return log_; }

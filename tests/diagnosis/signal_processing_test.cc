@@ -2,11 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <numbers>
 #include <random>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include "models/diagnosis/frequency_response.h"
 
 namespace mb {
 namespace {
@@ -175,6 +178,42 @@ TEST(WelchPowerSpectrum, PeakAtTheToneAndParsevalHolds) {
   const double df = p.frequency_hz(1) - p.frequency_hz(0);
   const double variance = (s.array() - s.mean()).square().mean();  // 2 + 0.01
   EXPECT_NEAR(p.density.sum() * df, variance, 0.03 * variance);
+}
+
+// A known FIR system y[n] = 0.5 u[n] + 0.3 u[n−1] driven by white noise: H1 is its response
+// H(f) = 0.5 + 0.3 e^{−j2πf Ts} and the coherence 1; output noise leaves H1 unbiased and lowers the coherence
+// where |H| is small (γ² = |H|²/(|H|² + σ²) for unit input variance).
+TEST(EstimateFrequencyResponse, FindsAFirFiltersResponseAndTheNoiseInItsCoherence) {
+  const double ts = 1e-3;
+  const Eigen::Index n = 1 << 16;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::VectorXd u(n), y(n), noisy(n);
+  for (Eigen::Index i = 0; i < n; ++i) u(i) = normal(rng);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    y(i) = 0.5 * u(i) + (i > 0 ? 0.3 * u(i - 1) : 0.0);
+    noisy(i) = y(i) + 0.3 * normal(rng);
+  }
+  const FrequencyResponseEstimate clean = EstimateFrequencyResponse(u, y, ts, 256);
+  EXPECT_EQ(clean.frequency_hz.size(), 129);
+  EXPECT_NEAR(clean.frequency_hz(128), 500.0, 1e-9);
+  EXPECT_GT(clean.segments, 500);
+  for (Eigen::Index k = 1; k < clean.frequency_hz.size(); ++k) {
+    const std::complex<double> h = 0.5 + 0.3 * std::polar(1.0, -2.0 * kPi * clean.frequency_hz(k) * ts);
+    EXPECT_LT(std::abs(clean.response(k) - h), 0.02) << clean.frequency_hz(k) << " Hz";
+    EXPECT_GT(clean.coherence(k), 0.98) << clean.frequency_hz(k) << " Hz";
+  }
+  const FrequencyResponseEstimate with_noise = EstimateFrequencyResponse(u, noisy, ts, 256);
+  for (Eigen::Index k = 1; k < with_noise.frequency_hz.size(); ++k) {
+    const std::complex<double> h = 0.5 + 0.3 * std::polar(1.0, -2.0 * kPi * with_noise.frequency_hz(k) * ts);
+    EXPECT_LT(std::abs(with_noise.response(k) - h), 0.05) << with_noise.frequency_hz(k) << " Hz";
+    const double expected = std::norm(h) / (std::norm(h) + 0.09);
+    EXPECT_NEAR(with_noise.coherence(k), expected, 0.1) << with_noise.frequency_hz(k) << " Hz";
+  }
+  EXPECT_THROW(EstimateFrequencyResponse(u, y.head(10), ts), std::invalid_argument);
+  Eigen::VectorXd bad = u;
+  bad(3) = std::nan("");
+  EXPECT_THROW(EstimateFrequencyResponse(bad, y, ts), std::invalid_argument);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include "tools/commands/cli_options.h"
 
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
@@ -140,6 +141,23 @@ std::map<std::string, std::string> ParseColumnMap(const std::vector<std::string>
     column_map[m.substr(0, eq)] = m.substr(eq + 1);
   }
   return column_map;
+}
+
+std::map<std::string, double> ParseInputValues(const std::vector<std::string>& inputs) {
+  std::map<std::string, double> values;
+  for (const auto& in : inputs) {
+    const auto eq = in.find('=');
+    const std::string number = eq == std::string::npos ? std::string() : in.substr(eq + 1);
+    double value = 0.0;
+    const auto [end, error] = std::from_chars(number.data(), number.data() + number.size(), value);
+    if (eq == std::string::npos || eq == 0 || number.empty() || error != std::errc() ||
+        end != number.data() + number.size() || !std::isfinite(value)) {
+      throw std::invalid_argument(fmt::format("--input '{}': write connector=number (a finite number in the "
+                                              "connector's unit), e.g. --input velocity=0.1", Excerpt(in)));
+    }
+    values[in.substr(0, eq)] = value;
+  }
+  return values;
 }
 
 std::vector<std::string> SplitCommaLists(const std::vector<std::string>& items) {

@@ -70,6 +70,10 @@ nlohmann::json ReadDiagramWithOverrides(const std::string& path, const std::vect
 /// "--map 'x': write connector=column" for a value without '='.
 std::map<std::string, std::string> ParseColumnMap(const std::vector<std::string>& maps);
 
+/// Parses --input values "connector=value" (a finite number in the connector's unit) into connector → value.
+/// @throws std::invalid_argument "--input 'x=abc': write connector=number" for a value without '=' or a number.
+std::map<std::string, double> ParseInputValues(const std::vector<std::string>& inputs);
+
 /// Splits comma lists ("a,b", "c" → a, b, c); empty items are dropped.
 std::vector<std::string> SplitCommaLists(const std::vector<std::string>& items);
 

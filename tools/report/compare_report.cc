@@ -8,6 +8,7 @@
 #include "tools/report/output_files.h"
 #include "tools/report/diagram_drawing.h"
 #include "tools/report/report.h"
+#include "tools/report/frequency_figures.h"
 #include "tools/report/resid_figures.h"
 #include "tools/report/residual_figures.h"
 #include "tools/workflow/suggest.h"
@@ -212,6 +213,9 @@ void WriteCompareReport(const CompareOutcome& outcome, const MeasurementLog& log
   AddResidFigures(&report, files.out, "", log, primary_after.residual(), nullptr,
                   ChooseResidInput(outcome.mode, compared.compared_diagram, fs::path(files.diagram).parent_path(), log,
                                    files.position_column));
+  report.Heading("Frequency response: measured (as MATLAB tfestimate) vs the model linearised (as linmod, bode)");
+  AddFrequencyResponseFigures(&report, files.out, outcome.mode, compared.fitted_diagram,
+                              fs::path(files.diagram).parent_path(), log, primary_after);
   if (!compared.notes.empty()) {  // once (the intake's, then the diagnosis's), after the figures
     report.Heading("Notes");
     for (const auto& note : compared.notes) report.Paragraph(note);
