@@ -30,7 +30,7 @@ TEST(CommandLine, VersionPrintsTheProjectVersion) {
   EXPECT_THAT(r.output, ::testing::StartsWith("motionblocks " MB_PROJECT_VERSION));
 }
 
-// Issue 26: each command registers itself from its own file (command_registry.h); --help lists all fifteen under
+// Issue 26: each command registers itself from its own file (command_registry.h); --help lists all sixteen under
 // their groups, and the simulating ones, only they, get --max-steps and the progress options.
 TEST(CommandLine, HelpListsEveryRegisteredCommandUnderItsGroup) {
   const CommandResult r = RunMotionblocks("--help");
@@ -41,7 +41,7 @@ TEST(CommandLine, HelpListsEveryRegisteredCommandUnderItsGroup) {
       {"Learned compensation (TISO-GPR)", {"fit-gpr", "predict-gpr", "reproduce", "stability"}},
       {"Hardware in the loop", {"hil", "virtual-stage"}},
       {"Batch", {"sweep", "sweep-merge"}},
-      {"Inspect", {"blocks", "draw", "schema"}}};
+      {"Inspect", {"blocks", "draw", "linearize", "schema"}}};
   std::size_t previous = 0;
   for (const auto& [title, commands] : groups) {
     const std::size_t at = r.output.find(title + ":");
@@ -54,6 +54,45 @@ TEST(CommandLine, HelpListsEveryRegisteredCommandUnderItsGroup) {
     EXPECT_THAT(RunMotionblocks(std::string(simulating) + " --help").output, HasSubstr("--max-steps")) << simulating;
   }
   EXPECT_THAT(RunMotionblocks("stability --help").output, ::testing::Not(HasSubstr("--max-steps")));
+}
+
+// Issue 27 item 4: `linearize` on H(s) = 1/(s + 2): A = −2, B = 1, C = 1, D = 0 printed and in the JSON with the Bode
+// data (−6.02 dB at low frequency), the Bode report written; an unknown input connector is bad input (exit 2).
+TEST(LinearizeCommand, PrintsTheMatricesWritesTheJsonAndTheBodeReport) {
+  const fs::path dir = ProcessTempDir("mb_linearize");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const nlohmann::json diagram = {
+      {"schemaVersion", "1.0"},
+      {"name", "first_order"},
+      {"connectors", {{{"name", "u"}, {"kind", "input"}, {"unit", "N"}}, {{"name", "y"}, {"kind", "output"}, {"unit", "m"}}}},
+      {"elements", {{{"name", "lag"}, {"type", "transfer_function"}, {"parameters", {{"numerator", {1.0}}, {"denominator", {1.0, 2.0}}}}}}},
+      {"connections", {{{"startConnector", "u"}, {"endElement", "lag"}, {"endConnector", "u"}},
+                       {{"startElement", "lag"}, {"startConnector", "y"}, {"endConnector", "y"}}}}};
+  std::ofstream(dir / "lag.json") << diagram.dump();
+  CommandResult r = testing::RunMotionblocksIn(dir, {"linearize", "lag.json", "--input", "u=1", "--from-hz", "0.001",
+                                                     "--to-hz", "10", "--points", "5", "--report", "bode"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("1 states, 1 inputs, 1 outputs"));
+  EXPECT_THAT(r.output, HasSubstr("state: block 'lag' continuous state 0 of 1"));
+  EXPECT_THAT(r.output, HasSubstr("wrote lag.linearization.json"));
+  std::ifstream in(dir / "lag.linearization.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_NEAR(j["A"][0][0].get<double>(), -2.0, 1e-8);
+  EXPECT_NEAR(j["B"][0][0].get<double>(), 1.0, 1e-8);
+  EXPECT_NEAR(j["C"][0][0].get<double>(), 1.0, 1e-8);
+  EXPECT_NEAR(j["D"][0][0].get<double>(), 0.0, 1e-8);
+  EXPECT_EQ(j["inputs"][0]["value"], 1.0);
+  EXPECT_EQ(j["bode"][0]["frequency_hz"].size(), 5u);
+  EXPECT_NEAR(j["bode"][0]["gain_db"][0].get<double>(), -6.0206, 1e-3);
+  EXPECT_TRUE(fs::exists(dir / "bode" / "report.html"));
+  r = testing::RunMotionblocksIn(dir, {"linearize", "lag.json", "--input", "force=1"});
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("no input connector 'force'; its inputs: u"));
+  r = testing::RunMotionblocksIn(dir, {"linearize", "lag.json", "--input", "u=abc"});
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("write connector=number"));
+  fs::remove_all(dir);
 }
 
 // Issue 28: `blocks` shows every type's ports and an example element; an unknown name is an error with "did you mean"
