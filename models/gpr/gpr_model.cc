@@ -102,7 +102,13 @@ GprModel::GprModel(GprModelData data) : data_(std::move(data)) {
   GprSpectralWeights(data_.basis, data_.hyperparameters, &spectral_weights_);
   prior_variance_ = data_.hyperparameters.signal_variance_x + data_.hyperparameters.signal_variance_xdot;
   feature_map_ = GprFeatureMap(data_.basis);
-  packed_covariance_ = GprPackedLowerTriangle(data_.weight_covariance);
+  // The fitted covariance in the form its quadratic form reads fastest: cosine series for "DS", else packed.
+  if (data_.kernel == GprKernel::kSeSe) {
+    series_covariance_ = GprSeriesCovariance(feature_map_.constants(), data_.weight_covariance);
+  } else {
+    packed_covariance_ = GprPackedLowerTriangle(data_.weight_covariance);
+  }
+  packed_weights_ = GprPackedWeights(feature_map_.constants(), data_.weights.data());
 }
 
 double GprModel::ClampXdot(double xdot) const noexcept {
@@ -115,7 +121,10 @@ double GprModel::PredictPosteriorMean(double x, double xdot) const noexcept {
 
 double GprModel::PredictPosteriorMean(const GprPosteriorView& posterior, double x, double xdot) const noexcept {
   if (!std::isfinite(x) || !std::isfinite(xdot)) return data_.mean;
-  return data_.mean + feature_map_.Dot(posterior.weights, x, ClampXdot(xdot));
+  // The fitted β is read from its packed copy (aligned whole blocks; the same bits).
+  return data_.mean + (posterior.weights == data_.weights.data()
+                           ? feature_map_.Dot(packed_weights_, x, ClampXdot(xdot))
+                           : feature_map_.Dot(posterior.weights, x, ClampXdot(xdot)));
 }
 
 void GprModel::Predict(double x, double xdot, double* mean, double* std) const noexcept {
@@ -134,13 +143,21 @@ void GprModel::Predict(const GprPosteriorView& posterior, double x, double xdot,
     return;
   }
   GprFeatureBuffer psi;  // uninitialised scratch on the stack
-  const double dot = feature_map_.EvaluateAndDot(posterior.weights, x, ClampXdot(xdot), psi.values);
+  const double clamped_xdot = ClampXdot(xdot);
+  const bool fitted_weights = posterior.weights == data_.weights.data();
+  const double dot = fitted_weights ? feature_map_.EvaluateAndDot(packed_weights_, x, clamped_xdot, psi.values)
+                                    : feature_map_.EvaluateAndDot(posterior.weights, x, clamped_xdot, psi.values);
   if (mean != nullptr) *mean = data_.mean + dot;  // the bits of PredictPosteriorMean
-  // ψᵀΣψ from the lower triangle, and the prior variance carried by the basis, Σ s_k ψ_k².
-  // The fitted posterior's covariance is read from its packed copy (aligned, no remainder loops).
-  const double var = posterior.covariance == data_.weight_covariance.data()
-                         ? feature_map_.QuadraticForm(packed_covariance_, psi)
-                         : feature_map_.QuadraticForm(posterior.covariance, psi.values);
+  // ψᵀΣψ from the lower triangle, and the prior variance carried by the basis, Σ s_k ψ_k². The fitted
+  // posterior's covariance is read from its transformed copy (cosine series for "DS", else packed).
+  double var = 0.0;
+  if (posterior.covariance != data_.weight_covariance.data()) {
+    var = feature_map_.QuadraticForm(posterior.covariance, psi.values);
+  } else if (data_.kernel == GprKernel::kSeSe) {
+    var = feature_map_.QuadraticForm(series_covariance_, x, clamped_xdot, psi);
+  } else {
+    var = feature_map_.QuadraticForm(packed_covariance_, psi);
+  }
   const double represented_prior = feature_map_.WeightedSquares(spectral_weights_.data(), psi.values);
   const double missing_prior = std::max(prior_variance_ - represented_prior, 0.0);
   *std = std::sqrt(std::max(var, 0.0) + missing_prior);

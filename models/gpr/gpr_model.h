@@ -180,7 +180,9 @@ class GprModel final {
   Eigen::VectorXd spectral_weights_;  ///< s (M) at the model's hyperparameters, for the variance
   double prior_variance_ = 0.0;       ///< k(a, a) = σ²_x + σ²_ẋ
   GprFeatureMap feature_map_;         ///< data_.basis with its constants precomputed
-  GprPackedLowerTriangle packed_covariance_;  ///< data_.weight_covariance for the quadratic form
+  GprPackedLowerTriangle packed_covariance_;  ///< data_.weight_covariance for the quadratic form ("PS")
+  GprSeriesCovariance series_covariance_;     ///< the same for "DS"
+  GprPackedWeights packed_weights_;           ///< data_.weights for the dot product
 };
 
 }  // namespace mb

@@ -91,11 +91,16 @@ TEST(GprFeatureMap, FeaturesMatchTheDirectFormulas) {
     std::normal_distribution<double> normal;
     Eigen::VectorXd beta(GprFeatureCount(basis));
     for (Eigen::Index k = 0; k < beta.size(); ++k) beta(k) = normal(rng);
+    const GprPackedWeights packed(map.constants(), beta.data());
+    GprFeatureBuffer psi_packed;
     for (int i = 0; i < 500; ++i) {
       const double x = x_of(rng);
       const double v = v_of(rng);
       const double dot = map.EvaluateAndDot(beta.data(), x, v, psi.values);
       EXPECT_EQ(dot, map.Dot(beta.data(), x, v)) << "EvaluateAndDot and Dot give the same bits";
+      EXPECT_EQ(dot, map.Dot(packed, x, v)) << "the packed β gives the same bits";
+      EXPECT_EQ(dot, map.EvaluateAndDot(packed, x, v, psi_packed.values));
+      for (int k = 0; k < map.feature_count(); ++k) ASSERT_EQ(psi_packed.values[k], psi.values[k]);
       EvaluateGprBasis(basis, x, v, reference.data());
       const std::vector<double> direct = DirectFeatures(basis, x, v);
       for (std::size_t k = 0; k < direct.size(); ++k) {
@@ -150,6 +155,31 @@ TEST(GprFeatureMap, PredictionsMatchTheStraightforwardFormulas) {
       model.Predict(copy, x, v, &mean_unpacked, &std_unpacked);
       EXPECT_EQ(mean_unpacked, mean);
       EXPECT_NEAR(std_unpacked, expected_std, 1e-12 * expected_std) << GprKernelName(c.kernel) << " (unpacked)";
+    }
+  }
+}
+
+// The "DS" covariance as cosine series and a cross block (GprSeriesCovariance): the quadratic form of the
+// matrix to round-off, inside and outside the Hilbert domains.
+TEST(GprFeatureMap, SeriesQuadraticFormEqualsTheMatrixOne) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> x_of(-0.2, 0.6);
+  std::uniform_real_distribution<double> v_of(0.0, 0.55);
+  for (const Case& c : kCases) {
+    if (c.kernel != GprKernel::kSeSe) continue;
+    const GprBasis basis = TestBasis(c.kernel, c.length_scale_x, c.length_scale_xdot);
+    const GprModel model = RandomModel(basis, rng);
+    const GprFeatureMap& map = model.feature_map();
+    const Eigen::MatrixXd& cov = model.data().weight_covariance;
+    const GprSeriesCovariance series(map.constants(), cov);
+    GprFeatureBuffer psi;
+    for (int i = 0; i < 300; ++i) {
+      const double x = x_of(rng);
+      const double v = v_of(rng);
+      map.EvaluateAndDot(model.data().weights.data(), x, v, psi.values);
+      const Eigen::Map<const Eigen::VectorXd> p(psi.values, map.feature_count());
+      const double scale = p.cwiseAbs().dot(cov.cwiseAbs() * p.cwiseAbs());
+      EXPECT_NEAR(map.QuadraticForm(series, x, v, psi), p.dot(cov * p), 1e-12 * scale) << "x = " << x << " v = " << v;
     }
   }
 }
