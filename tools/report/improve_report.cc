@@ -1,6 +1,7 @@
 #include "tools/report/improve_report.h"
 
 #include <fstream>
+#include <set>
 
 #include <fmt/format.h>
 
@@ -123,8 +124,13 @@ void WriteImproveReport(const ImproveResult& result, const MeasurementLog& train
 
   DrawingMarks added;
   added.added_label = "added by improve";
-  for (const auto& s : result.steps) {
-    if (s.accepted && !s.element.empty()) added.added.push_back(s.element);
+  // Every element the improved diagram has and step 0's has not: an effect's block and what wires it in (a sum).
+  std::set<std::string> given;
+  for (const auto& e : result.steps.front().training.fitted_diagram.value("elements", nlohmann::json::array())) {
+    given.insert(e.value("name", ""));
+  }
+  for (const auto& e : last.training.fitted_diagram.value("elements", nlohmann::json::array())) {
+    if (!given.count(e.value("name", ""))) added.added.push_back(e.value("name", ""));
   }
   AddDiagramDrawing(&report, last.training.fitted_diagram, diagram_directory, title, added, directory);
 

@@ -89,6 +89,15 @@ TEST(ImproveCommand, FindsTheTwinsCoggingAtThePolePitchAndTheErrorFalls) {
   EXPECT_TRUE(fs::exists(out / "diagram.svg"));
   EXPECT_THAT(dot_text, HasSubstr("label=\"added by improve\", fillcolor=white, color=\"#ff7f0e\""));
   EXPECT_THAT(dot_text, HasSubstr("\\n" + first));  // the added block's type under its name
+  // Every element improve added is outlined (the effect's block and the sum wiring it in), plus the legend's entry.
+  std::ifstream given_file(kPaper + "/motor_rigid_body.json");
+  const std::size_t added = improved["elements"].size() - nlohmann::json::parse(given_file)["elements"].size();
+  EXPECT_GE(added, 2u);
+  std::size_t outlined = 0;
+  for (auto at = dot_text.find("color=\"#ff7f0e\""); at != std::string::npos; at = dot_text.find("color=\"#ff7f0e\"", at + 1)) {
+    ++outlined;
+  }
+  EXPECT_EQ(outlined, added + 1);
   fs::remove_all(dir);
 }
 
