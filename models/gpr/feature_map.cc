@@ -419,6 +419,15 @@ const GprFeatureMap::Kernels* WidestKernels() noexcept {
   return &kKernelsbaseline;
 }
 
+bool Supported(const GprFeatureMap::Kernels* kernels) noexcept {
+#ifdef MB_GPR_X86_KERNELS
+  __builtin_cpu_init();
+  if (kernels == &kKernelsavx512f) return __builtin_cpu_supports("avx512f");
+  if (kernels == &kKernelsavx2_fma) return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+#endif
+  return kernels == &kKernelsbaseline;
+}
+
 GprHilbertAxis AxisOf(const HilbertDomain& d) noexcept {
   GprHilbertAxis a;
   a.center = d.center;
@@ -454,6 +463,22 @@ GprPackedLowerTriangle::GprPackedLowerTriangle(const Eigen::Ref<const Eigen::Mat
 }
 
 GprFeatureMap::GprFeatureMap() noexcept : kernels_(WidestKernels()) {}
+
+bool GprFeatureMap::UseInstructionSet(std::string_view name) noexcept {
+  const Kernels* const all[] = {
+      &kKernelsbaseline,
+#ifdef MB_GPR_X86_KERNELS
+      &kKernelsavx2_fma, &kKernelsavx512f,
+#endif
+  };
+  for (const Kernels* kernels : all) {
+    if (name == kernels->name && Supported(kernels)) {
+      kernels_ = kernels;
+      return true;
+    }
+  }
+  return false;
+}
 
 GprFeatureMap::GprFeatureMap(const GprBasis& basis) noexcept
     : kind_(basis.kernel == GprKernel::kPeriodicSe ? 0 : 1), kernels_(WidestKernels()) {

@@ -23,6 +23,7 @@
 // packed and the unpacked β.
 
 #include <cstddef>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -162,6 +163,10 @@ class GprFeatureMap final {
   const GprFeatureConstants& constants() const noexcept { return constants_; }
   /// The instruction set the kernels use: "avx512f", "avx2_fma" or "baseline".
   const char* instruction_set() const noexcept { return kernels_->name; }
+  /// Switches to the kernels of `name` ("baseline", "avx2_fma" or "avx512f") if this build has them and the CPU
+  /// supports them, and returns true; else returns false and changes nothing. For tests: every set gives the
+  /// same results to round-off, and the constructor's choice is the widest.
+  bool UseInstructionSet(std::string_view name) noexcept;
 
   /// ψ(x, ẋ)ᵀβ for β of length M; x [m] and ẋ [m/s] finite (ẋ clamped by the caller if wanted).
   double Dot(const double* beta, double x, double xdot) const noexcept {

@@ -184,6 +184,58 @@ TEST(GprFeatureMap, SeriesQuadraticFormEqualsTheMatrixOne) {
   }
 }
 
+// The map runs the widest kernels the CPU has; the others run on other machines (CI runners without AVX-512, the
+// baseline anywhere). Every set this CPU supports gives the widest set's results to round-off.
+TEST(GprFeatureMap, EveryInstructionSetGivesTheSameResults) {
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> x_of(-0.2, 0.6);
+  std::uniform_real_distribution<double> v_of(0.05, 0.5);
+  for (const Case& c : kCases) {
+    const GprBasis basis = TestBasis(c.kernel, c.length_scale_x, c.length_scale_xdot);
+    const GprModel model = RandomModel(basis, rng);
+    const GprModelData& data = model.data();
+    const GprFeatureMap widest(basis);
+    const GprPackedWeights packed(widest.constants(), data.weights.data());
+    const GprPackedLowerTriangle packed_covariance(data.weight_covariance);
+    const GprSeriesCovariance series(widest.constants(), data.weight_covariance);
+    const int m = widest.feature_count();
+    int sets = 0;
+    for (const char* name : {"baseline", "avx2_fma", "avx512f"}) {
+      GprFeatureMap map(basis);
+      if (!map.UseInstructionSet(name)) continue;
+      ++sets;
+      EXPECT_STREQ(map.instruction_set(), name);
+      GprFeatureBuffer psi;
+      GprFeatureBuffer reference;
+      for (int i = 0; i < 100; ++i) {
+        const double x = x_of(rng);
+        const double v = v_of(rng);
+        const double dot = map.EvaluateAndDot(packed, x, v, psi.values);
+        const double expected_dot = widest.EvaluateAndDot(packed, x, v, reference.values);
+        EXPECT_EQ(map.Dot(data.weights.data(), x, v), dot) << name;
+        const Eigen::Map<const Eigen::VectorXd> p(reference.values, m);
+        EXPECT_NEAR(dot, expected_dot, 1e-12 * p.cwiseProduct(data.weights).cwiseAbs().sum()) << name;
+        for (int k = 0; k < m; ++k) ASSERT_NEAR(psi.values[k], reference.values[k], 1e-13) << name << " k = " << k;
+        const double scale = p.cwiseAbs().dot(data.weight_covariance.cwiseAbs() * p.cwiseAbs());
+        const double expected = widest.QuadraticForm(data.weight_covariance.data(), reference.values);
+        EXPECT_NEAR(map.QuadraticForm(data.weight_covariance.data(), psi.values), expected, 1e-12 * scale) << name;
+        EXPECT_NEAR(map.QuadraticForm(packed_covariance, psi), expected, 1e-12 * scale) << name;
+        if (c.kernel == GprKernel::kSeSe) {
+          EXPECT_NEAR(map.QuadraticForm(series, x, v, psi), expected, 1e-12 * scale) << name;
+        }
+        EXPECT_NEAR(map.WeightedSquares(model.spectral_weights().data(), psi.values),
+                    widest.WeightedSquares(model.spectral_weights().data(), reference.values),
+                    1e-12 * p.cwiseAbs2().dot(model.spectral_weights()))
+            << name;
+      }
+    }
+    EXPECT_GE(sets, 1) << "the baseline is always there";
+    GprFeatureMap map(basis);
+    EXPECT_FALSE(map.UseInstructionSet("sse9"));
+    EXPECT_STREQ(map.instruction_set(), widest.instruction_set());
+  }
+}
+
 TEST(GprFeatureMap, QuadraticFormReadsOnlyTheLowerTriangle) {
   std::mt19937 rng(3);
   const GprBasis basis = TestBasis(GprKernel::kSeSe, 0.05, 0.2);
