@@ -65,5 +65,6 @@ void BindDiagram(py::module_& m);
 void BindWorkflow(py::module_& m);
 void BindGpr(py::module_& m);
 void BindSweep(py::module_& m);
+void BindHil(py::module_& m);
 
 }  // namespace mb::python

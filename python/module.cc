@@ -12,4 +12,5 @@ PYBIND11_MODULE(motionblocks, m) {
   mb::python::BindWorkflow(m);
   mb::python::BindGpr(m);
   mb::python::BindSweep(m);
+  mb::python::BindHil(m);
 }
