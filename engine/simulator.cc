@@ -427,7 +427,7 @@ void Simulator::LogNow() {
                                         : contexts_[static_cast<std::size_t>(ref.block)].outputs_[static_cast<std::size_t>(ref.port)];
     for (int k = 0; k < width; ++k) row_[col++] = v[k];
   }
-  const bool keep = !sink_ || (keep_every_ > 0 && logged_samples_ % keep_every_ == 0);
+  const bool keep = !sink_;
   ++logged_samples_;
   if (sink_) {
     sink_->Append(time_, row_);
@@ -438,10 +438,29 @@ void Simulator::LogNow() {
       const double x = row_[static_cast<std::size_t>(signal)];
       metric_sums_[m].Add(reference < 0 ? x : x - row_[static_cast<std::size_t>(reference)]);
     }
+    if (keep_every_ > 0) KeepEnvelope();
   }
   if (!keep) return;
   log_.time.push_back(time_);
   for (std::size_t c = 0; c < row_.size(); ++c) log_.columns[c].push_back(row_[c]);
+}
+
+// A streamed log's in-memory envelope (StreamLogTo): each stretch of keep_every_ samples is two rows, the first
+// sample's time with each signal's minimum and the latest time with each maximum, updated in place as samples come.
+void Simulator::KeepEnvelope() {
+  if (keep_every_ == 1 || (logged_samples_ - 1) % keep_every_ == 0) {
+    for (int copy = keep_every_ == 1 ? 1 : 2; copy > 0; --copy) {
+      log_.time.push_back(time_);
+      for (std::size_t c = 0; c < row_.size(); ++c) log_.columns[c].push_back(row_[c]);
+    }
+    return;
+  }
+  const std::size_t lo = log_.time.size() - 2, hi = lo + 1;
+  log_.time[hi] = time_;
+  for (std::size_t c = 0; c < row_.size(); ++c) {
+    log_.columns[c][lo] = std::min(log_.columns[c][lo], row_[c]);
+    log_.columns[c][hi] = std::max(log_.columns[c][hi], row_[c]);
+  }
 }
 
 void Simulator::StreamLogTo(LogSink* sink, std::size_t max_samples_in_memory) {
@@ -466,7 +485,10 @@ void Simulator::BeginStreaming(double samples) {
   }
   metric_sums_.assign(metric_columns_.size(), MetricAccumulator{});
   if (max_samples_in_memory_ > 0) {
-    const double every = std::ceil(samples / static_cast<double>(max_samples_in_memory_));
+    // Two rows per stretch (KeepEnvelope) unless every sample fits.
+    const double every = samples <= static_cast<double>(max_samples_in_memory_)
+                             ? 1.0
+                             : std::ceil(2.0 * samples / static_cast<double>(max_samples_in_memory_));
     keep_every_ = std::max(1LL, static_cast<long long>(every));
   }
 }
@@ -505,7 +527,7 @@ void Simulator::Initialize(double start_time) {
   // log keeps at most max_samples_in_memory_.
   const double samples = std::max(0.0, (diagram_.experiment().stop_time - start_time) / log_step_) + 2.0;
   BeginStreaming(samples);
-  const double in_memory = sink_ ? std::min(samples, static_cast<double>(max_samples_in_memory_) + 1.0) : samples;
+  const double in_memory = sink_ ? std::min(samples, static_cast<double>(max_samples_in_memory_) + 2.0) : samples;
   const auto expected = static_cast<std::size_t>(std::min(in_memory, limits_.max_steps));
   log_.time.reserve(expected);
   for (auto& c : log_.columns) c.reserve(expected);

@@ -95,7 +95,9 @@ class Simulator final : private OdeSystem {
   bool HoldInput(std::size_t index, double value) noexcept;
 
   /// Streams every logged sample to `sink` (it must outlive the runs) instead of holding the log in memory: log()
-  /// then keeps at most `max_samples_in_memory` samples, every k-th one (evenly thinned, for figures; 0 = none),
+  /// then keeps at most `max_samples_in_memory` rows (0 = none) for figures: the envelope of the log, each stretch of
+  /// k samples as two rows — its first time with every signal's minimum over the stretch, its latest time with every
+  /// maximum — so that no peak is lost however long the run (k = 1: every sample);
   /// the metrics are accumulated sample by sample (StreamedMetrics: the values ComputeMetrics gives on the whole
   /// log), and SimulationLimits' bound on the log's size applies to what stays in memory only (the bound on steps
   /// still applies). Call before Initialize; nullptr returns to the in-memory log.
@@ -168,6 +170,7 @@ class Simulator final : private OdeSystem {
   void ComputeOutputs(double t, bool major);
   bool MakeModesConsistent(double t, bool major);
   void LogNow();
+  void KeepEnvelope();
   void BeginStreaming(double samples);
   double NextMajorTime(double t) const;
   double NextLogTime() const;

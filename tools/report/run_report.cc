@@ -93,8 +93,8 @@ void WriteRunResults(const Diagram& diagram, const RunFiles& files, const RunOut
     report.Table({"metric", "value", "unit", "type", "signal"}, rows);
   }
   report.Heading("Logged signals");
-  report.Paragraph(fmt::format("{} samples per signal in {} (the charts: an even thinning to at most {}; zoom one "
-                               "and the others follow).",
+  report.Paragraph(fmt::format("{} samples per signal in {} (the charts: its envelope, each stretch's minimum and "
+                               "maximum, in {} rows; zoom one and the others follow).",
                                outcome.samples, kSignalsFile, result.log.time.size()));
   for (std::size_t i = 0; i < result.log.names.size(); ++i) {
     Figure f;

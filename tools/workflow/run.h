@@ -1,7 +1,8 @@
 #pragma once
 // Run: one `motionblocks run` as a library call (DiagramRun). The diagram simulated from its experiment's start to its
 // stop time, its input connectors fed from CSV logs, its log streamed to a sink as it is taken (memory stays bounded
-// however long the run) while an evenly thinned copy is kept for figures, its metrics accumulated sample by sample.
+// however long the run) while its envelope is kept for figures (each stretch's minimum and maximum: no peak lost), its
+// metrics accumulated sample by sample.
 // Nothing is written here but what the sink writes: tools/report/run_report.h writes summary.json and report.html.
 
 #include <cstddef>
@@ -18,13 +19,13 @@ namespace mb {
 struct RunSettings {
   /// Input connectors fed from CSV logs: "connector=FILE[:COLUMN]" (FeedInputsFromFiles, measurement.h).
   std::vector<std::string> inputs;
-  /// Samples per signal kept in memory for the figures (an even thinning of the streamed log); 0: every sample.
+  /// Rows per signal kept in memory for the figures (the streamed log's envelope, Simulator::StreamLogTo); 0: none.
   std::size_t samples_in_memory = 20000;
 };
 
 /// What one run gave.
 struct RunOutcome {
-  /// log: the thinned copy (at most samples_in_memory samples); metrics: the diagram's metrics over every sample [SI];
+  /// log: the envelope (at most samples_in_memory rows); metrics: the diagram's metrics over every sample [SI];
   /// solver statistics; wall time of the simulation [s] (not counting the reading of the diagram and inputs).
   SimulationResult result;
   long long samples = 0;  ///< samples streamed to the sink
