@@ -136,7 +136,7 @@ json ChartJson(const Figure& figure, const std::string& csv_file, std::size_t co
   std::vector<std::tuple<double, std::size_t, double>> points;
   std::size_t samples = 0;
   bool decimated = false;
-  json point_styles = json::array(), step_styles = json::array();
+  json point_styles = json::array(), step_styles = json::array(), marker_styles = json::array();
   for (std::size_t s = 0; s < k; ++s) {
     const Series& series = figure.series[s];
     const std::size_t n = std::min(series.x.size(), series.y.size());
@@ -151,6 +151,7 @@ json ChartJson(const Figure& figure, const std::string& csv_file, std::size_t co
     }
     point_styles.push_back(IsDots(series) || IsBars(series));
     step_styles.push_back(series.style == "steps");
+    marker_styles.push_back(series.style == "linespoints");
   }
   std::stable_sort(points.begin(), points.end(),
                    [](const auto& a, const auto& b) { return std::get<0>(a) < std::get<0>(b); });
@@ -180,7 +181,7 @@ json ChartJson(const Figure& figure, const std::string& csv_file, std::size_t co
   for (const auto& [x, text] : figure.x_marks) marks.push_back({x, text});
   return {{"title", figure.title},   {"xlabel", figure.xlabel}, {"ylabel", figure.ylabel},
           {"labels", label_list},    {"points", point_styles},  {"data", std::move(data)},
-          {"steps", step_styles},
+          {"steps", step_styles},    {"markers", marker_styles},
           {"logx", figure.log_x},    {"logy", figure.log_y},    {"link", figure.x_link},
           {"shaded", shaded},        {"marks", marks},          {"samples", samples},
           {"decimated", decimated},  {"csv", csv_file},

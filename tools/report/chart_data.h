@@ -30,6 +30,7 @@ std::vector<std::size_t> DecimateScatter(const std::vector<double>& x, const std
 
 /// A figure as the interactive chart reads it: {"title", "xlabel", "ylabel", "labels" (x's label, then each series'
 /// label made unique), "points" (per series: drawn as dots), "steps" (per series: drawn as steps, style "steps"),
+/// "markers" (per series: a line with a marker at each point, style "linespoints"),
 /// "data" (rows [x, y₁|null, …] sorted by x: the series
 /// decimated — DecimateMinMax for lines, DecimateScatter for dots — and merged on equal x), "logx", "logy", "link"
 /// (Figure::x_link), "shaded" ([[x0, x1]]), "marks" ([[x, label]]), "samples" (the longest series' length), "decimated"

@@ -175,7 +175,8 @@ constexpr const char* kChartScript = R"JS((function () {
       series[label] = spec.points[k] ? {strokeWidth: 0, drawPoints: true, pointSize: 1.5, highlightCircleSize: 3,
                                         color: pale(colors[k])}  // dots pale: the lines drawn over them show
                                      : {strokeWidth: spec.points.some(Boolean) ? 2 : 1.2,
-                                        stepPlot: !!(spec.steps && spec.steps[k])};
+                                        stepPlot: !!(spec.steps && spec.steps[k]),
+                                        drawPoints: !!(spec.markers && spec.markers[k]), pointSize: 2.5};
     });
     var g = new Dygraph(plot, spec.data, {
       labels: spec.labels, colors: colors, series: series, xlabel: esc(spec.xlabel), ylabel: esc(spec.ylabel),

@@ -137,6 +137,7 @@ TEST(HistogramOfResiduals, CountsEverySampleOnceOnSharedBinsAndTheChartsRowsSumT
   EXPECT_EQ(f.series[0].style, "steps");
   const json chart = ChartJson(f, "residual_histogram.full.csv", 2000);
   EXPECT_EQ(chart["steps"], json::array({true, true}));
+  EXPECT_EQ(chart["markers"], json::array({false, false}));
   ASSERT_EQ(chart["data"].size(), bins + 1);  // a row per left edge, and the right edge
   double rows_before = 0.0, rows_after = 0.0;
   for (std::size_t i = 0; i < bins; ++i) {

@@ -130,6 +130,19 @@ TEST(ChartJson, AMillionSampleRecordBecomesAFewThousandRowsWithItsSpikes) {
   EXPECT_NEAR(top, *std::max_element(s.y.begin(), s.y.end()), 1e-6);
 }
 
+// Each series says how it is drawn: dots, steps, or a line with a marker at each point (gnuplot's linespoints, e.g.
+// resid's correlations: a marker per lag), which the chart drew as a bare line.
+TEST(ChartJson, SaysPerSeriesWhetherItIsDotsStepsOrMarkedLine) {
+  const std::vector<double> x{0.0, 1.0, 2.0};
+  Figure f{"styles.png", "styles", "lag", "ρ",
+           {{x, {1.0, 0.5, 0.2}, "correlation", "linespoints"}, {x, {0.1, 0.1, 0.1}, "band", "lines"},
+            {x, {0.3, 0.2, 0.1}, "samples", "dots"}, {x, {2.0, 1.0, 0.0}, "histogram", "steps"}}};
+  const nlohmann::json chart = ChartJson(f, "styles.csv", 2000);
+  EXPECT_EQ(chart["markers"], nlohmann::json::array({true, false, false, false}));
+  EXPECT_EQ(chart["points"], nlohmann::json::array({false, false, true, false}));
+  EXPECT_EQ(chart["steps"], nlohmann::json::array({false, false, false, true}));
+}
+
 // A figure whose every text is hostile, on a time axis shared by two series.
 Figure HostileFigure() {
   Series a{{0.0, 0.5, 1.0, 1.5}, {1.25, -2.5, 3.75, 4.0}, kHostile, "lines"};
