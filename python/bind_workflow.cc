@@ -2,7 +2,6 @@
 // with the measurement given as a CSV path, a dict of columns or a NumPy structured array; each returns an outcome
 // object whose to_dict() is the JSON the command writes (tools/report), less the entries that name written files.
 
-#include <cmath>
 #include <iostream>
 #include <optional>
 
@@ -15,7 +14,6 @@
 #include "tools/report/compare_report.h"
 #include "tools/report/improve_report.h"
 #include "tools/workflow/compare.h"
-#include "tools/workflow/fallback.h"
 #include "tools/workflow/fit.h"
 #include "tools/workflow/improve.h"
 #include "tools/workflow/measurement_in_memory.h"
@@ -29,47 +27,14 @@ namespace {
 
 // ---- The measurement ------------------------------------------------------------------------------------------
 
-// What a log file's reader refuses (engine/table.h), for columns in memory: a value that is not finite, a time that
-// decreases. Rows are counted from 0, as NumPy indexes them.
-void CheckColumns(const std::vector<std::string>& names, const std::vector<Eigen::VectorXd>& columns) {
-  for (std::size_t c = 0; c < columns.size(); ++c) {
-    for (Eigen::Index i = 0; i < columns[c].size(); ++i) {
-      if (!std::isfinite(columns[c](i))) {
-        throw std::invalid_argument(fmt::format("measurement: column '{}' row {} is {}: give finite values (drop or "
-                                                "interpolate that sample)",
-                                                names[c], i, columns[c](i)));
-      }
-    }
-  }
-  const Eigen::VectorXd& t = columns.front();
-  for (Eigen::Index i = 1; i < t.size(); ++i) {
-    if (t(i) < t(i - 1)) {
-      throw std::invalid_argument(fmt::format("measurement: time '{}' decreases at row {} ({} s after {} s): sort the "
-                                              "samples by time",
-                                              names.front(), i, t(i), t(i - 1)));
-    }
-  }
-}
-
-// A measurement log in memory from named columns: the one named time_s first (else the first given).
+// A measurement log in memory from named columns (MeasurementOfColumns checks them as a log file's reader would).
 MeasurementLog TableOfColumns(const std::vector<std::pair<std::string, py::object>>& given) {
-  if (given.empty()) throw std::invalid_argument("measurement: no columns given; give time_s and the measured columns");
   const py::module_ numpy = py::module_::import("numpy");
-  std::vector<std::string> names;
-  std::vector<Eigen::VectorXd> columns;
+  std::vector<std::pair<std::string, Eigen::VectorXd>> columns;
   for (const auto& [name, values] : given) {
-    const auto column = numpy.attr("ravel")(numpy.attr("asarray")(values, "float64")).cast<Eigen::VectorXd>();
-    if (!columns.empty() && column.size() != columns.front().size()) {
-      throw std::invalid_argument(fmt::format("measurement: column '{}' has {} values, '{}' has {}: give every column "
-                                              "one value per sample",
-                                              name, column.size(), names.front(), columns.front().size()));
-    }
-    const bool time = name == "time_s";
-    names.insert(time ? names.begin() : names.end(), name);
-    columns.insert(time ? columns.begin() : columns.end(), column);
+    columns.emplace_back(name, numpy.attr("ravel")(numpy.attr("asarray")(values, "float64")).cast<Eigen::VectorXd>());
   }
-  CheckColumns(names, columns);
-  return MeasurementLog(names, columns, "<measurement arrays>");
+  return MeasurementOfColumns(columns, "<measurement arrays>");
 }
 
 // The columns of a dict (or any mapping) or of a NumPy structured array.
@@ -160,9 +125,7 @@ struct PyFit {
 };
 
 struct PyImprove {
-  ImproveResult result;
-  FallbackOutcome fallback;
-  json context;
+  ImproveOutcome outcome;
   PyDiagram diagram;
 };
 
@@ -204,32 +167,17 @@ PyFit Fit(const PyDiagram& d, const py::object& measurement, std::vector<std::st
 }
 
 PyImprove Improve(const PyDiagram& d, const py::object& measurement, const py::object& validation,
-                  const ImproveSettings& settings, bool fallback, bool progress) {
+                  const ImproveSettings& settings, bool progress) {
   const json& diagram = d.document.json();
   std::string name, validation_name;
   const MeasurementLog training = MeasurementFor(diagram, measurement, settings.measurement, &name);
   std::optional<MeasurementLog> held_out;
   if (!validation.is_none()) held_out = MeasurementFor(diagram, validation, settings.measurement, &validation_name);
-  // improve.json's head, as `motionblocks improve` writes it.
-  const json context = {{"diagram", SourceOf(d)},
-                        {"measurement", name},
-                        {"validation", held_out ? json(validation_name) : json(nullptr)},
-                        {"mode", ModeOf(diagram)},
-                        {"max_effects", settings.max_effects},
-                        {"min_relative_gain", settings.min_relative_gain}};
+  const DiagramDocument document(diagram, d.document.base_directory(), SourceOf(d));
   py::gil_scoped_release release;
-  ImproveResult result = ImproveModel(diagram, d.document.base_directory(), SourceOf(d), training,
-                                      held_out ? &*held_out : nullptr, settings, ProgressTo(progress));
-  FallbackOutcome fitted = fallback ? FitImproveFallback(result, ProgressTo(progress)) : FallbackOutcome{};
-  return PyImprove{std::move(result), std::move(fitted), context, d};
-}
-
-json ImproveJson(const PyImprove& i) {
-  json j = i.context;
-  j.update(i.result.ToJson());
-  if (i.fallback.attempted) j["nonparametric_fallback"] = ImproveFallbackRecord(i.fallback);
-  j["complete"] = true;  // the call returned: the whole result, as the command's last improve.json says
-  return j;
+  return PyImprove{ImproveToMeasurement(document, training, name, held_out ? &*held_out : nullptr, validation_name,
+                                        settings, ProgressTo(progress)),
+                   d};
 }
 
 // ---- Named series, DataFrames, reprs ------------------------------------------------------------------------
@@ -314,24 +262,24 @@ std::string StepRepr(const ImproveStep& s) {
 }
 
 std::string ImproveRepr(const PyImprove& i) {
-  const ImproveStep& first = i.result.first();
-  const ImproveStep& last = i.result.last_accepted();
+  const ImproveStep& first = i.outcome.result.first();
+  const ImproveStep& last = i.outcome.result.last_accepted();
   std::vector<std::string> accepted;
-  for (std::size_t k = 1; k < i.result.steps.size(); ++k) {
-    if (i.result.steps[k].accepted) accepted.push_back(i.result.steps[k].effect);
+  for (std::size_t k = 1; k < i.outcome.result.steps.size(); ++k) {
+    if (i.outcome.result.steps[k].accepted) accepted.push_back(i.outcome.result.steps[k].effect);
   }
   // From the diagram as given (refit: step 0) to the last accepted step.
   return fmt::format("<ImproveOutcome {}: {} effects tried, {} accepted{}; RMSE {}, held out {}; stop {}>",
-                     first.training.after.front().column, i.result.steps.size() - 1, accepted.size(),
+                     first.training.after.front().column, i.outcome.result.steps.size() - 1, accepted.size(),
                      accepted.empty() ? "" : fmt::format(" ({})", fmt::join(accepted, ", ")),
                      BeforeAfter(first.rmse_train, last.rmse_train, first.unit()),
-                     BeforeAfter(first.rmse_heldout, last.rmse_heldout, first.unit()), ToString(i.result.stop));
+                     BeforeAfter(first.rmse_heldout, last.rmse_heldout, first.unit()), ToString(i.outcome.result.stop));
 }
 
 // improve as a table: one row per step, in the order tried.
 py::object ImproveFrame(const PyImprove& i) {
   py::list rounds, accepted, effect, element, train_before, train, heldout_before, heldout, verdict;
-  for (const auto& s : i.result.steps) {
+  for (const auto& s : i.outcome.result.steps) {
     rounds.append(s.round);
     accepted.append(s.accepted);
     effect.append(s.effect);
@@ -342,7 +290,7 @@ py::object ImproveFrame(const PyImprove& i) {
     heldout.append(s.rmse_heldout);
     verdict.append(s.verdict);
   }
-  const std::string unit = i.result.first().unit();
+  const std::string unit = i.outcome.result.first().unit();
   return DataFrame({{"round", rounds, ""},
                     {"accepted", accepted, ""},
                     {"effect", effect, ""},
@@ -548,18 +496,18 @@ void BindImprove(py::module_& m) {
   py::class_<PyImprove>(m, "ImproveOutcome",
                         "The improve loop's steps, why it stopped, and the improved diagram; to_pandas(): one row per "
                         "step.")
-      .def_property_readonly("steps", [](const PyImprove& i) { return i.result.steps; },
+      .def_property_readonly("steps", [](const PyImprove& i) { return i.outcome.result.steps; },
                              "list of ImproveStep in the order tried; steps[0] is the diagram as given.")
-      .def_property_readonly("unit", [](const PyImprove& i) { return i.result.first().unit(); },
+      .def_property_readonly("unit", [](const PyImprove& i) { return i.outcome.result.first().unit(); },
                              "The primary output's unit, of every RMSE.")
-      .def_property_readonly("stop", [](const PyImprove& i) { return ToString(i.result.stop); },
+      .def_property_readonly("stop", [](const PyImprove& i) { return ToString(i.outcome.result.stop); },
                              "Why it stopped: 'no_missing_effect', 'catalogue_exhausted', 'no_heldout_gain' or "
                              "'max_effects'.")
-      .def_property_readonly("stop_reason", [](const PyImprove& i) { return i.result.stop_reason; },
+      .def_property_readonly("stop_reason", [](const PyImprove& i) { return i.outcome.result.stop_reason; },
                              "The same in words.")
       .def_property_readonly("improved_diagram",
                              [](const PyImprove& i) {
-                               return DiagramOf(i.result.last_accepted().training.fitted_diagram, i.diagram);
+                               return DiagramOf(i.outcome.result.last_accepted().training.fitted_diagram, i.diagram);
                              },
                              "The last accepted step's Diagram, refit.")
       .def("to_pandas", &ImproveFrame,
@@ -567,7 +515,7 @@ void BindImprove(py::module_& m) {
            "effect, element, rmse_train_before, rmse_train, rmse_heldout_before, rmse_heldout (in `unit`), verdict; "
            "df.attrs['units'] = {column: unit}. Raises ImportError naming Debian's python3-pandas when pandas is "
            "missing.")
-      .def("to_dict", [](const PyImprove& i) { return FromJson(ImproveJson(i)); },
+      .def("to_dict", [](const PyImprove& i) { return FromJson(i.outcome.ToJson()); },
            "improve.json as `motionblocks improve` writes it, less the written files' entries.")
       .def("__repr__", &ImproveRepr);
 }
@@ -581,16 +529,22 @@ void BindWorkflow(py::module_& m) {
   BindImprove(m);
   // Docstrings outlive this function: pybind11 keeps the pointers.
   static std::string kCompareDoc, kFitDoc, kImproveDoc;
+  // The defaults are the settings structs' (the only ones: the command line takes them from there too).
+  const MeasurementSettings measured;
+  const CompareSettings compared;
+  const ImproveSettings improved;
+  const std::string hold = IntersampleName(measured.intersample);
   static const std::string kMeasurement =
       " `measurement`: a CSV path, a dict of columns {name: 1-D array} or a NumPy structured array — time_s [s] "
       "(or the first column), then the measured columns (position_m [m], force_N [N], …); `map` = {connector: "
       "column} as --map; velocity and acceleration are derived from `position_column` when absent; `intersample` 'zoh' "
       "when the measured outputs are held commands (a logged force or current reference), as --intersample.";
   m.def("compare", &Compare, py::arg("diagram"), py::arg("measurement"), py::kw_only(),
-        py::arg("fit") = std::vector<std::string>{}, py::arg("no_fit") = false, py::arg("gpr_fallback") = true,
+        py::arg("fit") = std::vector<std::string>{}, py::arg("no_fit") = false, py::arg("gpr_fallback") = compared.gpr_fallback,
         py::arg("suggest") = false, py::arg("suggest_effect") = "",
-        py::arg("map") = std::map<std::string, std::string>{}, py::arg("position_column") = "position_m",
-        py::arg("derivative_cutoff_hz") = 100.0, py::arg("intersample") = "foh", py::arg("progress") = false,
+        py::arg("map") = std::map<std::string, std::string>{}, py::arg("position_column") = measured.position_column,
+        py::arg("derivative_cutoff_hz") = measured.derivative_cutoff_hz, py::arg("intersample") = hold,
+        py::arg("progress") = false,
         (kCompareDoc = std::string("Compares `diagram` with a measurement as `motionblocks compare` does: refits `fit` "
                      "('block.param'; default the diagram's free list), ranks the missing effects, fits the TISO-GPR "
                      "fallback. Returns a CompareOutcome.") +
@@ -598,8 +552,8 @@ void BindWorkflow(py::module_& m) {
             .c_str());
   m.def("fit", &Fit, py::arg("diagram"), py::arg("measurement"), py::kw_only(),
         py::arg("fit") = std::vector<std::string>{}, py::arg("map") = std::map<std::string, std::string>{},
-        py::arg("position_column") = "position_m", py::arg("derivative_cutoff_hz") = 100.0,
-        py::arg("intersample") = "foh",
+        py::arg("position_column") = measured.position_column,
+        py::arg("derivative_cutoff_hz") = measured.derivative_cutoff_hz, py::arg("intersample") = hold,
         (kFitDoc = std::string("Refits parameters of `diagram` (`fit`: 'block.param'; default its free list) by "
                      "Levenberg–Marquardt, as `motionblocks fit`. Returns a FitOutcome.") +
          kMeasurement)
@@ -617,14 +571,16 @@ void BindWorkflow(py::module_& m) {
         s.min_relative_gain = min_gain;
         s.refine_periods = refine_periods;
         s.validation_free = validation_fit;
-        return Improve(d, measurement, validation, s, fallback, progress);
+        s.fallback = fallback;
+        return Improve(d, measurement, validation, s, progress);
       },
       py::arg("diagram"), py::arg("measurement"), py::kw_only(), py::arg("validation") = py::none(),
-      py::arg("max_effects") = 3, py::arg("max_trials") = 3, py::arg("min_gain") = 0.002,
-      py::arg("refine_periods") = true, py::arg("validation_fit") = std::vector<std::string>{},
-      py::arg("fallback") = true, py::arg("map") = std::map<std::string, std::string>{},
-      py::arg("position_column") = "position_m", py::arg("derivative_cutoff_hz") = 100.0,
-      py::arg("intersample") = "foh", py::arg("progress") = false,
+      py::arg("max_effects") = improved.max_effects, py::arg("max_trials") = improved.max_trials_per_round,
+      py::arg("min_gain") = improved.min_relative_gain, py::arg("refine_periods") = improved.refine_periods,
+      py::arg("validation_fit") = std::vector<std::string>{}, py::arg("fallback") = improved.fallback,
+      py::arg("map") = std::map<std::string, std::string>{}, py::arg("position_column") = measured.position_column,
+      py::arg("derivative_cutoff_hz") = measured.derivative_cutoff_hz, py::arg("intersample") = hold,
+      py::arg("progress") = false,
       (kImproveDoc = std::string("The loop compare → suggest → fit → compare of `motionblocks improve`: adds ranked effects one at "
                    "a time, keeps those that lower the held-out RMSE (on `validation`, same forms as `measurement`, "
                    "else cross-validated). Returns an ImproveOutcome.") +

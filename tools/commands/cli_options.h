@@ -83,9 +83,10 @@ struct MeasurementOptions {
   std::string measurement;                    ///< the measurement log CSV (time_s first)
   std::vector<std::string> maps;              ///< --map connector=column
   std::vector<std::string> overrides;         ///< --set block.param=value
-  std::string position_column = "position_m";
-  double derivative_cutoff_hz = 100.0;
-  std::string intersample = "foh";            ///< --intersample foh|zoh (MeasurementSettings::intersample)
+  // The defaults are MeasurementSettings' (the only ones; the Python module takes them from there too).
+  std::string position_column = MeasurementSettings{}.position_column;
+  double derivative_cutoff_hz = MeasurementSettings{}.derivative_cutoff_hz;
+  std::string intersample = IntersampleName(MeasurementSettings{}.intersample);  ///< --intersample foh|zoh
   /// The --map, --position-column, --derivative-cutoff-hz and --intersample values as the workflow takes them.
   /// @throws std::invalid_argument as ParseColumnMap.
   MeasurementSettings Settings() const;

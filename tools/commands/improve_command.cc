@@ -12,13 +12,13 @@
 
 #include <fmt/format.h>
 
+#include "engine/diagram_document.h"
 #include "engine/diagram_loader.h"
 #include "tools/commands/cli_options.h"
 #include "tools/commands/command_registry.h"
 #include "tools/report/improve_report.h"
 #include "tools/report/output_files.h"
 #include "tools/report/progress.h"
-#include "tools/workflow/fallback.h"
 #include "tools/workflow/improve.h"
 
 namespace mb {
@@ -35,9 +35,9 @@ struct ImproveOptions {
   MeasurementOptions measurement;
   std::string validation;
   std::vector<std::string> validation_fit;
-  int max_effects = 3;
-  int max_trials = 3;
-  double min_gain = 0.002;
+  int max_effects = ImproveSettings{}.max_effects;
+  int max_trials = ImproveSettings{}.max_trials_per_round;
+  double min_gain = ImproveSettings{}.min_relative_gain;
   bool no_refine_periods = false;
   std::string out = "out/improve";
 };
@@ -76,7 +76,8 @@ void RunImprove(const ImproveOptions& o) {
   std::vector<CommandFile> inputs{{"DIAGRAM", o.diagram}, {"--measurement", o.measurement.measurement}};
   if (!o.validation.empty()) inputs.push_back({"--validation", o.validation});
   RefuseOutputsOverInputs(inputs, {}, {{"--out", o.out, ImproveOutputNames()}});
-  const json diagram = ReadDiagramWithOverrides(o.diagram, o.measurement.overrides);
+  const DiagramDocument document(ReadDiagramWithOverrides(o.diagram, o.measurement.overrides),
+                                 fs::path(o.diagram).parent_path(), o.diagram);
   ImproveSettings settings;
   settings.measurement = o.measurement.Settings();
   settings.max_effects = o.max_effects;
@@ -85,39 +86,30 @@ void RunImprove(const ImproveOptions& o) {
   settings.refine_periods = !o.no_refine_periods;
   settings.validation_free = SplitCommaLists(o.validation_fit);
 
-  const MeasurementLog training = ReadMeasurementFor(diagram, o.measurement.measurement, settings.measurement);
+  const MeasurementLog training = ReadMeasurementFor(document.json(), o.measurement.measurement, settings.measurement);
   std::optional<MeasurementLog> validation;
-  if (!o.validation.empty()) validation = ReadMeasurementFor(diagram, o.validation, settings.measurement);
+  if (!o.validation.empty()) validation = ReadMeasurementFor(document.json(), o.validation, settings.measurement);
   const fs::path out(o.out);
   RemoveEarlierImproveResult(out, {o.diagram, o.measurement.measurement, o.validation});
-  json context = {{"diagram", o.diagram},
-                  {"measurement", o.measurement.measurement},
-                  {"validation", o.validation.empty() ? json(nullptr) : json(o.validation)},
-                  {"mode", ModeOf(diagram)},
-                  {"max_effects", o.max_effects},
-                  {"min_relative_gain", o.min_gain},
-                  {"complete", false}};  // until the last file is written (below)
   const auto progress = [](const std::string& line) { ProgressNote("improve: " + line); };
-  const ImproveResult result = ImproveModel(
-      diagram, fs::path(o.diagram).parent_path(), o.diagram, training, validation ? &*validation : nullptr, settings,
-      progress, [&](const ImproveStep&, const ImproveResult& so_far) { WriteImproveProgress(so_far, out, context); });
-  // When the loop stops with a residual that is still not white: the TISO-GPR fallback (fallback.h).
-  const FallbackOutcome fallback = FitImproveFallback(result, progress);
-  std::optional<json> fallback_record;
-  if (fallback.attempted) fallback_record = WriteImproveFallback(result, fallback, out, fs::path(o.diagram).parent_path());
+  // improve.json with "complete": false after each step, so that a killed run keeps the steps it finished.
+  const ImproveOutcome outcome = ImproveToMeasurement(
+      document, training, o.measurement.measurement, validation ? &*validation : nullptr, o.validation, settings,
+      progress, [&](const ImproveResult& so_far, const json& head) { WriteImproveProgress(so_far, out, head); });
+  std::optional<json> fallback_record;  // its files (residual_gpr.json, improved_with_gp.json) named in it
+  if (outcome.fallback.attempted) {
+    fallback_record = WriteImproveFallback(outcome.result, outcome.fallback, out, document.base_directory());
+  }
   ProgressNote("improve: writing the report …");
-  WriteImproveReport(result, training, validation ? &*validation : nullptr,
+  WriteImproveReport(outcome.result, training, validation ? &*validation : nullptr,
                      fmt::format("motionblocks improve: {} on {}", fs::path(o.diagram).filename().string(),
                                  fs::path(o.measurement.measurement).filename().string()),
-                     fs::path(o.diagram).parent_path(), o.measurement.position_column, out);
-  // Last: improve.json whole, with the stop and its reason (set after the last step's progress file was written)
-  // and "complete": true. The same keys as the progress files, the fallback's record kept.
-  context["complete"] = true;
-  json final_result = context;
-  final_result.update(result.ToJson());
+                     document.base_directory(), o.measurement.position_column, out);
+  // Last: improve.json whole, with the stop and its reason and "complete": true; the fallback's record with its files.
+  json final_result = outcome.ToJson();
   if (fallback_record) final_result["nonparametric_fallback"] = *fallback_record;
   WriteJsonFile(final_result, out / kImproveResultFile);
-  PrintImproveResult(result, fallback_record, out);
+  PrintImproveResult(outcome.result, fallback_record, out);
 }
 
 void SetupImproveCommand(CLI::App& app) {

@@ -178,11 +178,6 @@ void WriteImproveReport(const ImproveResult& result, const MeasurementLog& train
 }
 
 
-json ImproveFallbackRecord(const FallbackOutcome& fallback) {
-  if (fallback.gpr) return fallback.gpr->ToJson();
-  return {{"useful", false}, {"skipped", fallback.skipped}, {"description", "no fallback: " + fallback.skipped}};
-}
-
 json WriteImproveFallback(const ImproveResult& result, const FallbackOutcome& fallback, const fs::path& directory,
                           const fs::path& diagram_folder) {
   json record = ImproveFallbackRecord(fallback);

@@ -37,10 +37,6 @@ void WriteImproveReport(const ImproveResult& result, const MeasurementLog& train
                         const std::string& title, const std::filesystem::path& diagram_directory,
                         const std::string& position_column, const std::filesystem::path& directory);
 
-/// improve.json's "nonparametric_fallback" record without the files: ResidualGprResult::ToJson, or {"useful": false,
-/// "skipped", "description"} when the fit failed.
-nlohmann::json ImproveFallbackRecord(const FallbackOutcome& fallback);
-
 /// The fallback's files (FitImproveFallback, fallback.h): with a model, DIR/residual_gpr.json and
 /// DIR/improved_with_gp.json (the last accepted diagram with the gpr block, SuggestGprFallbackBlock); its record
 /// (ResidualGprResult::ToJson, or {"useful": false, "skipped", "description"}) is added to DIR/improve.json under

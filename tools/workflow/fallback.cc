@@ -55,4 +55,9 @@ FallbackOutcome FitImproveFallback(const ImproveResult& result,
   return outcome;
 }
 
+nlohmann::json ImproveFallbackRecord(const FallbackOutcome& fallback) {
+  if (fallback.gpr) return fallback.gpr->ToJson();
+  return {{"useful", false}, {"skipped", fallback.skipped}, {"description", "no fallback: " + fallback.skipped}};
+}
+
 }  // namespace mb

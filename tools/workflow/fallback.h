@@ -8,6 +8,8 @@
 #include <optional>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "models/gpr/residual_gpr.h"
 #include "tools/workflow/comparison.h"
 
@@ -34,5 +36,9 @@ FallbackOutcome FitCompareFallback(const DiagnosedComparison& compared,
 /// recorded in `skipped`. `progress` as above.
 FallbackOutcome FitImproveFallback(const ImproveResult& result,
                                    const std::function<void(const std::string&)>& progress = {});
+
+/// improve.json's "nonparametric_fallback" record without the files: ResidualGprResult::ToJson, or {"useful": false,
+/// "skipped", "description"} when the fit failed.
+nlohmann::json ImproveFallbackRecord(const FallbackOutcome& fallback);
 
 }  // namespace mb

@@ -391,4 +391,42 @@ ImproveResult ImproveModel(const json& diagram, const fs::path& base_directory, 
   return result;
 }
 
+json ImproveOutcome::Head(bool complete) const {
+  return {{"diagram", diagram},
+          {"measurement", measurement},
+          {"validation", validation ? json(*validation) : json(nullptr)},
+          {"mode", mode},
+          {"max_effects", max_effects},
+          {"min_relative_gain", min_relative_gain},
+          {"complete", complete}};
+}
+
+json ImproveOutcome::ToJson() const {
+  json j = Head(true);
+  j.update(result.ToJson());
+  if (fallback.attempted) j["nonparametric_fallback"] = ImproveFallbackRecord(fallback);
+  return j;
+}
+
+ImproveOutcome ImproveToMeasurement(const DiagramDocument& document, const MeasurementLog& training,
+                                    const std::string& training_name, const MeasurementLog* validation,
+                                    const std::string& validation_name, const ImproveSettings& settings,
+                                    const std::function<void(const std::string&)>& progress,
+                                    const ImproveProgressCallback& on_step) {
+  ImproveOutcome outcome;
+  outcome.diagram = document.source();
+  outcome.measurement = training_name;
+  if (validation) outcome.validation = validation_name;
+  outcome.mode = document.Mode();
+  outcome.max_effects = settings.max_effects;
+  outcome.min_relative_gain = settings.min_relative_gain;
+  const json head = outcome.Head(false);
+  ImproveStepCallback each_step;
+  if (on_step) each_step = [&](const ImproveStep&, const ImproveResult& so_far) { on_step(so_far, head); };
+  outcome.result = ImproveModel(document.json(), document.base_directory(), document.source(), training, validation,
+                                settings, progress, each_step);
+  if (settings.fallback) outcome.fallback = FitImproveFallback(outcome.result, progress);
+  return outcome;
+}
+
 }  // namespace mb

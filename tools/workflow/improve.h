@@ -30,9 +30,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/diagram_document.h"
+#include "engine/experiment_mode.h"
 #include "models/diagnosis/diagnosis.h"
 #include "models/diagnosis/measurement_log.h"
 #include "tools/workflow/comparison.h"
+#include "tools/workflow/fallback.h"
 
 namespace mb {
 
@@ -47,6 +50,9 @@ struct ImproveSettings {
   bool refine_periods = true;
   /// Parameters refit on the validation record ("block.param"); empty: RecordParameters of each step's diagram.
   std::vector<std::string> validation_free;
+  /// ImproveToMeasurement: fit the TISO-GPR fallback when the loop stops with a residual that is not white
+  /// (FitImproveFallback, fallback.h). ImproveModel, the loop alone, ignores it.
+  bool fallback = true;
 };
 
 /// The parameters that belong to a record rather than to the machine: "<element>.<parameter>" of every element whose
@@ -128,5 +134,38 @@ ImproveResult ImproveModel(const nlohmann::json& diagram, const std::filesystem:
                            const MeasurementLog* validation, const ImproveSettings& settings,
                            const std::function<void(const std::string&)>& progress = {},
                            const ImproveStepCallback& on_step = {});
+
+/// The improve use case (`motionblocks improve`, Python `motionblocks.improve`): the loop, its fallback, and what
+/// improve.json's head names. The command line and the Python module only fill ImproveSettings, call
+/// ImproveToMeasurement and print, write (tools/report/improve_report.h) or convert its ImproveOutcome.
+struct ImproveOutcome {
+  std::string diagram;                    ///< the diagram's source (DiagramDocument::source)
+  std::string measurement;                ///< the training log's name, as given
+  std::optional<std::string> validation;  ///< the held-out log's name; none: cross-validated on the measurement
+  ExperimentMode mode = ExperimentMode::kSimulation;
+  int max_effects = 0;                    ///< as asked (ImproveSettings)
+  double min_relative_gain = 0.0;         ///< as asked (ImproveSettings)
+  ImproveResult result;                   ///< the loop's steps and why it stopped
+  FallbackOutcome fallback;               ///< attempted only with ImproveSettings::fallback, when needed
+  /// improve.json's head: diagram, measurement, validation (null when none), mode, max_effects, min_relative_gain
+  /// and "complete" (false in the files written while the loop runs).
+  nlohmann::json Head(bool complete) const;
+  /// improve.json less the files the command writes: Head(true), ImproveResult::ToJson and, when the fallback was
+  /// attempted, its "nonparametric_fallback" record (ImproveFallbackRecord).
+  nlohmann::json ToJson() const;
+};
+
+/// Called as each step completes with the result so far and improve.json's head (Head(false)): what
+/// WriteImproveProgress (tools/report/improve_report.h) takes.
+using ImproveProgressCallback = std::function<void(const ImproveResult& so_far, const nlohmann::json& head)>;
+
+/// Runs ImproveModel on `document` (its folder and source) against `training` (named `training_name`) and, if
+/// given, `validation` (named `validation_name`), then, with settings.fallback, FitImproveFallback. `progress` gets
+/// the loop's and the fallback's lines. @throws as ImproveModel.
+ImproveOutcome ImproveToMeasurement(const DiagramDocument& document, const MeasurementLog& training,
+                                    const std::string& training_name, const MeasurementLog* validation,
+                                    const std::string& validation_name, const ImproveSettings& settings,
+                                    const std::function<void(const std::string&)>& progress = {},
+                                    const ImproveProgressCallback& on_step = {});
 
 }  // namespace mb

@@ -2,6 +2,7 @@
 #include "tools/workflow/measurement_in_memory.h"
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <stdexcept>
 
@@ -200,6 +201,51 @@ const char* IntersampleName(Intersample intersample) {
 MeasurementLog ReadMeasurementFor(const json& diagram, const std::string& path, const MeasurementSettings& settings) {
   return ReadMeasurementWithDerivatives(path, settings.position_column, settings.derivative_cutoff_hz,
                                         FilteredColumns(diagram, settings), HeldColumns(diagram, settings));
+}
+
+namespace {
+
+// What a log file's reader refuses (engine/table.h), for columns in memory: a value that is not finite, a time that
+// decreases. Rows are counted from 0, as NumPy indexes them.
+void CheckColumns(const std::vector<std::string>& names, const std::vector<Eigen::VectorXd>& columns) {
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    for (Eigen::Index i = 0; i < columns[c].size(); ++i) {
+      if (!std::isfinite(columns[c](i))) {
+        throw std::invalid_argument(fmt::format("measurement: column '{}' row {} is {}: give finite values (drop or "
+                                                "interpolate that sample)",
+                                                names[c], i, columns[c](i)));
+      }
+    }
+  }
+  const Eigen::VectorXd& t = columns.front();
+  for (Eigen::Index i = 1; i < t.size(); ++i) {
+    if (t(i) < t(i - 1)) {
+      throw std::invalid_argument(fmt::format("measurement: time '{}' decreases at row {} ({} s after {} s): sort the "
+                                              "samples by time",
+                                              names.front(), i, t(i), t(i - 1)));
+    }
+  }
+}
+
+}  // namespace
+
+MeasurementLog MeasurementOfColumns(const std::vector<std::pair<std::string, Eigen::VectorXd>>& given,
+                                    const std::string& source) {
+  if (given.empty()) throw std::invalid_argument("measurement: no columns given; give time_s and the measured columns");
+  std::vector<std::string> names;
+  std::vector<Eigen::VectorXd> columns;
+  for (const auto& [name, column] : given) {
+    if (!columns.empty() && column.size() != columns.front().size()) {
+      throw std::invalid_argument(fmt::format("measurement: column '{}' has {} values, '{}' has {}: give every column "
+                                              "one value per sample",
+                                              name, column.size(), names.front(), columns.front().size()));
+    }
+    const bool time = name == "time_s";
+    names.insert(time ? names.begin() : names.end(), name);
+    columns.insert(time ? columns.begin() : columns.end(), column);
+  }
+  CheckColumns(names, columns);
+  return MeasurementLog(names, columns, source);
 }
 
 MeasurementLog TakeMeasurementFor(const json& diagram, const MeasurementLog& raw, const MeasurementSettings& settings) {

@@ -3,7 +3,10 @@
 // intake and derived motion as ReadMeasurementFor (tools/workflow/measurement.h). Implemented in measurement.cc.
 
 #include <string>
+#include <utility>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include <nlohmann/json.hpp>
 
@@ -11,6 +14,13 @@
 #include "tools/workflow/measurement.h"
 
 namespace mb {
+
+/// A raw measurement log from named columns in memory, the one named time_s first (else the first given), named
+/// `source` in messages. @throws std::invalid_argument naming the column and the row (counted from 0, as NumPy
+/// indexes) for what a log file's reader refuses: no columns, columns of different lengths, a value that is not
+/// finite, a time that decreases.
+MeasurementLog MeasurementOfColumns(const std::vector<std::pair<std::string, Eigen::VectorXd>>& columns,
+                                    const std::string& source);
 
 /// ReadMeasurementWithDerivatives on a log taken in already (IntakeMeasurementLog): its segments are kept.
 MeasurementLog AddMeasurementDerivatives(const MeasurementLog& raw, const std::string& position_column,

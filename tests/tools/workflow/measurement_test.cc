@@ -166,5 +166,33 @@ TEST(AutomaticCutoff, At1kHzTheDefaultIs100HzBitForBit) {
   EXPECT_TRUE(log.notes().empty());
 }
 
+// Columns in memory (the Python module's arrays): time_s first whatever its place, and refused as a log file's reader
+// refuses them, naming the column and the row.
+TEST(MeasurementOfColumns, PutsTheTimeFirstAndRefusesWhatAFileReaderRefuses) {
+  const Motion m = Sampled(1e-3, 10);
+  const MeasurementLog log = MeasurementOfColumns({{"force_N", m.force}, {"time_s", m.t}}, "<arrays>");
+  EXPECT_EQ(log.time(), m.t);
+  EXPECT_EQ(log.column("force_N"), m.force);
+  EXPECT_THROW(MeasurementOfColumns({}, "<arrays>"), std::invalid_argument);
+  Eigen::VectorXd bad = m.force;
+  bad(7) = std::nan("");
+  try {
+    MeasurementOfColumns({{"time_s", m.t}, {"force_N", bad}}, "<arrays>");
+    ADD_FAILURE() << "a NaN was taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), HasSubstr("column 'force_N' row 7 is nan"));
+  }
+  Eigen::VectorXd back = m.t;
+  back(9) = 0.0;
+  try {
+    MeasurementOfColumns({{"time_s", back}, {"force_N", m.force}}, "<arrays>");
+    ADD_FAILURE() << "a decreasing time was taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), HasSubstr("time 'time_s' decreases at row 9"));
+  }
+  EXPECT_THROW(MeasurementOfColumns({{"time_s", m.t}, {"force_N", m.force.head(5)}}, "<arrays>"),
+               std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace mb
