@@ -159,6 +159,157 @@ double LombScarglePower(const Eigen::Ref<const Eigen::VectorXd>& abscissa,
   return ExplainedSumOfSquares(w, c, s, c2, s2, y, yc, ys) / chi0;
 }
 
+namespace {
+
+// P_min and P_max of `options`, or the automatic ones: 4 × the median |Δx|, half the span.
+void SetPeriodRange(const Eigen::Ref<const Eigen::VectorXd>& abscissa, double span, const PeriodogramOptions& options,
+                    Periodogram* out) {
+  const Eigen::Index n = abscissa.size();
+  out->min_period = options.min_period;
+  if (out->min_period <= 0.0) {
+    std::vector<double> steps(static_cast<std::size_t>(n - 1));
+    for (Eigen::Index i = 1; i < n; ++i) steps[static_cast<std::size_t>(i - 1)] = std::abs(abscissa(i) - abscissa(i - 1));
+    const auto mid = steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2);
+    std::nth_element(steps.begin(), mid, steps.end());
+    out->min_period = 4.0 * *mid;
+    if (!(out->min_period > 0.0)) out->min_period = 8.0 * span / static_cast<double>(n);
+  }
+  out->max_period = options.max_period > 0.0 ? options.max_period : 0.5 * span;
+  if (!(out->min_period < out->max_period)) {
+    throw std::invalid_argument(fmt::format(
+        "LombScarglePeriodogram: the period range [{}, {}] is empty; the abscissa spans {} — choose "
+        "min_period < max_period",
+        out->min_period, out->max_period, span));
+  }
+}
+
+// Bin width: P_min/8, but at most 2^21 bins. A uniformly sampled, increasing abscissa (time) is binned at its own
+// step: every sample sits on a bin centre, binning changes nothing.
+double BinWidth(const Eigen::Ref<const Eigen::VectorXd>& abscissa, double span, double min_period) {
+  constexpr double kMaxBins = 2097152.0;
+  double width = std::max(min_period / 8.0, span / (kMaxBins - 1.0));
+  const Eigen::Index n = abscissa.size();
+  const double step = span / static_cast<double>(n - 1);
+  bool uniform = true;
+  for (Eigen::Index i = 1; i < n && uniform; ++i) uniform = std::abs(abscissa(i) - abscissa(i - 1) - step) <= 1e-6 * step;
+  if (uniform && step > width) width = step;
+  return width;
+}
+
+// The fine frequency grid k·df, k in [k_lo, k_hi], of an FFT of the bins zero-padded to K: df = 1/(K h) ≤ 1/(4 span)
+// (4 nodes per main lobe; peaks are refined afterwards). The DFT sums are exact at every index < K, which must
+// include 2 f_max.
+class FineGrid {
+ public:
+  FineGrid(const Bins& bins, const Periodogram& p) {
+    const auto m = bins.weight.size();
+    while (k_size_ < 4 * m) k_size_ *= 2;
+    df_ = 1.0 / (static_cast<double>(k_size_) * bins.h);
+    k_lo_ = std::max<Eigen::Index>(1, static_cast<Eigen::Index>(std::floor(1.0 / p.max_period / df_)));
+    k_hi_ = static_cast<Eigen::Index>(std::ceil(1.0 / p.min_period / df_));
+    if (2 * k_hi_ >= k_size_) {
+      throw std::invalid_argument(fmt::format(
+          "LombScarglePeriodogram: min_period {} is below 2 sample steps ({}) of a uniformly sampled abscissa "
+          "(above the Nyquist frequency); raise min_period",
+          p.min_period, 2.0 * bins.h));
+    }
+    weights_ = Dft(fft_, bins.weight, k_size_);
+    w_total_ = bins.weight.sum();
+  }
+  double df() const { return df_; }
+  Eigen::Index k_lo() const { return k_lo_; }
+  Eigen::Index k_hi() const { return k_hi_; }
+  // The explained sum of squares / chi_ref at each node for the bin means of `work`.
+  Eigen::VectorXd Power(const Bins& work, double chi_ref) {
+    const Eigen::VectorXd wy = work.weight.cwiseProduct(work.mean);
+    const auto b = Dft(fft_, wy, k_size_);
+    const double y = wy.sum();
+    Eigen::VectorXd p(k_hi_ - k_lo_ + 1);
+    for (Eigen::Index k = k_lo_; k <= k_hi_; ++k) {
+      const auto& ak = weights_[static_cast<std::size_t>(k)];
+      const auto& a2k = weights_[static_cast<std::size_t>(2 * k)];
+      const auto& bk = b[static_cast<std::size_t>(k)];
+      p(k - k_lo_) =
+          ExplainedSumOfSquares(w_total_, ak.real(), ak.imag(), a2k.real(), a2k.imag(), y, bk.real(), bk.imag()) /
+          chi_ref;
+    }
+    return p;
+  }
+
+ private:
+  Eigen::FFT<double> fft_;
+  Eigen::Index k_size_ = 1, k_lo_ = 0, k_hi_ = 0;
+  double df_ = 0.0, w_total_ = 0.0;
+  std::vector<std::complex<double>> weights_;  // the DFT of the bin weights
+};
+
+// The reported curve on the log grid of options.num_periods: the fine grid's maximum within each log cell, else
+// interpolated between its nodes.
+void ReportedCurve(const Eigen::VectorXd& fine, const FineGrid& grid, Eigen::Index num_periods, Periodogram* out) {
+  out->periods = Eigen::VectorXd::LinSpaced(num_periods, std::log(out->min_period), std::log(out->max_period))
+                     .array().exp().matrix();
+  out->power.resize(num_periods);
+  const double log_step = std::log(out->max_period / out->min_period) / static_cast<double>(num_periods - 1);
+  const double df = grid.df();
+  const Eigen::Index k_lo = grid.k_lo(), k_hi = grid.k_hi();
+  for (Eigen::Index i = 0; i < num_periods; ++i) {
+    const double f = 1.0 / out->periods(i);
+    const double f_hi = f * std::exp(0.5 * log_step), f_lo = f * std::exp(-0.5 * log_step);
+    const auto j_lo = std::max(k_lo, static_cast<Eigen::Index>(std::ceil(f_lo / df)));
+    const auto j_hi = std::min(k_hi, static_cast<Eigen::Index>(std::floor(f_hi / df)));
+    if (j_lo <= j_hi) {
+      out->power(i) = fine.segment(j_lo - k_lo, j_hi - j_lo + 1).maxCoeff();
+    } else {
+      const double u = std::clamp(f / df, static_cast<double>(k_lo), static_cast<double>(k_hi));
+      const auto j0 = std::min(k_hi - 1, static_cast<Eigen::Index>(std::floor(u)));
+      const double t = u - static_cast<double>(j0);
+      out->power(i) = (1.0 - t) * fine(j0 - k_lo) + t * fine(j0 + 1 - k_lo);
+    }
+  }
+}
+
+// The frequency of the maximum of the exact binned power on [lo, hi]: golden-section search.
+double RefinePeak(const Bins& work, double lo, double hi) {
+  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+  double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
+  double e1 = BinnedExplained(work, x1), e2 = BinnedExplained(work, x2);
+  for (int it = 0; it < 40 && hi - lo > 1e-9 * hi; ++it) {
+    if (e1 > e2) {
+      hi = x2; x2 = x1; e2 = e1; x1 = hi - g * (hi - lo); e1 = BinnedExplained(work, x1);
+    } else {
+      lo = x1; x1 = x2; e1 = e2; x2 = lo + g * (hi - lo); e2 = BinnedExplained(work, x2);
+    }
+  }
+  return 0.5 * (lo + hi);
+}
+
+// Marks `peak` as a harmonic (or sub-harmonic) of the first stronger peak whose period it divides (or multiplies) by
+// an integer k in 2..8, within `tolerance`.
+void MarkHarmonic(const std::vector<PeriodogramPeak>& stronger, double tolerance, PeriodogramPeak* peak) {
+  for (std::size_t i = 0; i < stronger.size() && peak->harmonic_of < 0; ++i) {
+    const double ratio = stronger[i].period / peak->period;
+    const double big = ratio >= 1.0 ? ratio : 1.0 / ratio;
+    const double k = std::round(big);
+    if (k >= 2.0 && k <= 8.0 && std::abs(big - k) <= tolerance * k) {
+      peak->harmonic_of = static_cast<int>(i);
+      peak->harmonic_order = ratio >= 1.0 ? static_cast<int>(k) : -static_cast<int>(k);
+    }
+  }
+}
+
+// Subtracts the sinusoid c0 + a cos(2πf x) + b sin(2πf x) from the bin means.
+void Prewhiten(double f, const Eigen::Vector3d& coef, Bins* work) {
+  const std::complex<double> step = std::polar(1.0, kTwoPi * f * work->h);
+  std::complex<double> z(1.0, 0.0);
+  for (Eigen::Index j = 0; j < work->mean.size(); ++j) {
+    work->mean(j) -= coef(0) + coef(1) * z.real() + coef(2) * z.imag();
+    z *= step;
+    if ((j & 1023) == 1023) z /= std::abs(z);
+  }
+}
+
+}  // namespace
+
 Periodogram LombScarglePeriodogram(const Eigen::Ref<const Eigen::VectorXd>& abscissa,
                                    const Eigen::Ref<const Eigen::VectorXd>& residual,
                                    const PeriodogramOptions& options) {
@@ -177,125 +328,35 @@ Periodogram LombScarglePeriodogram(const Eigen::Ref<const Eigen::VectorXd>& absc
 
   Periodogram out;
   out.samples = n;
-  out.min_period = options.min_period;
-  if (out.min_period <= 0.0) {
-    std::vector<double> steps(static_cast<std::size_t>(n - 1));
-    for (Eigen::Index i = 1; i < n; ++i) steps[static_cast<std::size_t>(i - 1)] = std::abs(abscissa(i) - abscissa(i - 1));
-    const auto mid = steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2);
-    std::nth_element(steps.begin(), mid, steps.end());
-    out.min_period = 4.0 * *mid;
-    if (!(out.min_period > 0.0)) out.min_period = 8.0 * span / static_cast<double>(n);
-  }
-  out.max_period = options.max_period > 0.0 ? options.max_period : 0.5 * span;
-  if (!(out.min_period < out.max_period)) {
-    throw std::invalid_argument(fmt::format(
-        "LombScarglePeriodogram: the period range [{}, {}] is empty; the abscissa spans {} — choose "
-        "min_period < max_period",
-        out.min_period, out.max_period, span));
-  }
-  // Bin width: P_min/8, but at most 2^21 bins. A uniformly sampled, increasing abscissa (time) is
-  // binned at its own step: every sample sits on a bin centre, binning changes nothing.
-  constexpr double kMaxBins = 2097152.0;
-  out.bin_width = std::max(out.min_period / 8.0, span / (kMaxBins - 1.0));
-  {
-    const double step = span / static_cast<double>(n - 1);
-    bool uniform = true;
-    for (Eigen::Index i = 1; i < n && uniform; ++i) {
-      uniform = std::abs(abscissa(i) - abscissa(i - 1) - step) <= 1e-6 * step;
-    }
-    if (uniform && step > out.bin_width) out.bin_width = step;
-  }
+  SetPeriodRange(abscissa, span, options, &out);
+  out.bin_width = BinWidth(abscissa, span, out.min_period);
   const Eigen::Index m = static_cast<Eigen::Index>(std::ceil(span / out.bin_width)) + 1;
   const Bins bins = MakeBins(abscissa, r, x_min, out.bin_width, m);
-
-  // FFT length: frequency step 1/(K h) <= 1/(4 span) (4 nodes per main lobe; peaks are refined
-  // afterwards). The DFT sums are exact at every index < K, which must include 2 f_max.
-  Eigen::Index k_size = 1;
-  while (k_size < 4 * m) k_size *= 2;
-  const double df = 1.0 / (static_cast<double>(k_size) * out.bin_width);
-  const double f_min = 1.0 / out.max_period, f_max = 1.0 / out.min_period;
-  const auto k_lo = std::max<Eigen::Index>(1, static_cast<Eigen::Index>(std::floor(f_min / df)));
-  const auto k_hi = static_cast<Eigen::Index>(std::ceil(f_max / df));
-  if (2 * k_hi >= k_size) {
-    throw std::invalid_argument(fmt::format(
-        "LombScarglePeriodogram: min_period {} is below 2 sample steps ({}) of a uniformly sampled abscissa "
-        "(above the Nyquist frequency); raise min_period",
-        out.min_period, 2.0 * out.bin_width));
-  }
-  Eigen::FFT<double> fft;
-  const auto a = Dft(fft, bins.weight, k_size);
-  const double w_total = bins.weight.sum();
+  FineGrid grid(bins, out);
+  const double f_min = 1.0 / out.max_period, f_max = 1.0 / out.min_period, df = grid.df();
   const double abscissa_variance = (abscissa.array() - abscissa.mean()).square().mean();
   const double n_eff = options.effective_samples > 0.0 ? options.effective_samples : static_cast<double>(n);
-
-  // Power on the fine FFT grid for the current (possibly prewhitened) bin means.
   Bins work = bins;
-  auto fine_power = [&](double chi_ref) {
-    const Eigen::VectorXd wy = work.weight.cwiseProduct(work.mean);
-    const auto b = Dft(fft, wy, k_size);
-    const double y = wy.sum();
-    Eigen::VectorXd p(k_hi - k_lo + 1);
-    for (Eigen::Index k = k_lo; k <= k_hi; ++k) {
-      const auto& ak = a[static_cast<std::size_t>(k)];
-      const auto& a2k = a[static_cast<std::size_t>(2 * k)];
-      const auto& bk = b[static_cast<std::size_t>(k)];
-      p(k - k_lo) = ExplainedSumOfSquares(w_total, ak.real(), ak.imag(), a2k.real(), a2k.imag(), y,
-                                          bk.real(), bk.imag()) / chi_ref;
-    }
-    return p;
-  };
+  const Eigen::VectorXd fine = grid.Power(work, chi0);
+  ReportedCurve(fine, grid, options.num_periods, &out);
 
-  const Eigen::VectorXd fine = fine_power(chi0);
-  // Reported curve on the log grid: max of the fine grid within each log cell, else interpolated.
-  out.periods = Eigen::VectorXd::LinSpaced(options.num_periods, std::log(out.min_period), std::log(out.max_period))
-                    .array().exp().matrix();
-  out.power.resize(options.num_periods);
-  const double log_step = std::log(out.max_period / out.min_period) / static_cast<double>(options.num_periods - 1);
-  for (Eigen::Index i = 0; i < options.num_periods; ++i) {
-    const double f = 1.0 / out.periods(i);
-    const double f_hi = f * std::exp(0.5 * log_step), f_lo = f * std::exp(-0.5 * log_step);
-    const auto j_lo = std::max(k_lo, static_cast<Eigen::Index>(std::ceil(f_lo / df)));
-    const auto j_hi = std::min(k_hi, static_cast<Eigen::Index>(std::floor(f_hi / df)));
-    if (j_lo <= j_hi) {
-      out.power(i) = fine.segment(j_lo - k_lo, j_hi - j_lo + 1).maxCoeff();
-    } else {
-      const double u = std::clamp(f / df, static_cast<double>(k_lo), static_cast<double>(k_hi));
-      const auto j0 = std::min(k_hi - 1, static_cast<Eigen::Index>(std::floor(u)));
-      const double t = u - static_cast<double>(j0);
-      out.power(i) = (1.0 - t) * fine(j0 - k_lo) + t * fine(j0 + 1 - k_lo);
-    }
-  }
-
-  // Peaks by iterative prewhitening: take the highest fine-grid node away from the accepted peaks,
-  // refine its frequency by golden-section search on the exact binned power, subtract the fitted
-  // sinusoid from the bin means, repeat.
+  // Peaks by iterative prewhitening: take the highest fine-grid node away from the accepted peaks, refine its
+  // frequency on the exact binned power, subtract the fitted sinusoid from the bin means, repeat.
   double chi_left = chi0;
   std::vector<double> accepted_f;
   const double exclusion = 1.0 / span;  // a peak's half width in frequency
   for (Eigen::Index iter = 0; iter < options.max_peaks; ++iter) {
-    const Eigen::VectorXd p = iter == 0 ? fine : fine_power(chi_left);
+    const Eigen::VectorXd p = iter == 0 ? fine : grid.Power(work, chi_left);
     Eigen::Index best = -1;
     for (Eigen::Index j = 0; j < p.size(); ++j) {
-      const double f = static_cast<double>(j + k_lo) * df;
+      const double f = static_cast<double>(j + grid.k_lo()) * df;
       bool near = false;
       for (double fa : accepted_f) near = near || std::abs(f - fa) < exclusion;
       if (!near && (best < 0 || p(j) > p(best))) best = j;
     }
     if (best < 0 || !(p(best) > 0.0)) break;
-    // Golden-section search for the maximum on [f − df, f + df] (within the searched band).
-    double lo = std::max(f_min, static_cast<double>(best + k_lo - 1) * df);
-    double hi = std::min(f_max, static_cast<double>(best + k_lo + 1) * df);
-    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
-    double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
-    double e1 = BinnedExplained(work, x1), e2 = BinnedExplained(work, x2);
-    for (int it = 0; it < 40 && hi - lo > 1e-9 * hi; ++it) {
-      if (e1 > e2) {
-        hi = x2; x2 = x1; e2 = e1; x1 = hi - g * (hi - lo); e1 = BinnedExplained(work, x1);
-      } else {
-        lo = x1; x1 = x2; e1 = e2; x2 = lo + g * (hi - lo); e2 = BinnedExplained(work, x2);
-      }
-    }
-    const double f_best = 0.5 * (lo + hi);
+    const double f_best = RefinePeak(work, std::max(f_min, static_cast<double>(best + grid.k_lo() - 1) * df),
+                                     std::min(f_max, static_cast<double>(best + grid.k_lo() + 1) * df));
     Eigen::Vector3d coef;
     const double explained = BinnedExplained(work, f_best, &coef);
     PeriodogramPeak peak;
@@ -305,25 +366,10 @@ Periodogram LombScarglePeriodogram(const Eigen::Ref<const Eigen::VectorXd>& absc
     peak.false_alarm_probability =
         BaluevFalseAlarmProbability(explained / chi_left, n_eff, out.min_period, abscissa_variance);
     peak.significant = peak.false_alarm_probability < options.false_alarm_level;
-    for (std::size_t i = 0; i < out.peaks.size() && peak.harmonic_of < 0; ++i) {
-      const double ratio = out.peaks[i].period / peak.period;
-      const double big = ratio >= 1.0 ? ratio : 1.0 / ratio;
-      const double k = std::round(big);
-      if (k >= 2.0 && k <= 8.0 && std::abs(big - k) <= options.harmonic_tolerance * k) {
-        peak.harmonic_of = static_cast<int>(i);
-        peak.harmonic_order = ratio >= 1.0 ? static_cast<int>(k) : -static_cast<int>(k);
-      }
-    }
+    MarkHarmonic(out.peaks, options.harmonic_tolerance, &peak);
     out.peaks.push_back(peak);
     accepted_f.push_back(f_best);
-    // Prewhiten the bin means.
-    const std::complex<double> step = std::polar(1.0, kTwoPi * f_best * work.h);
-    std::complex<double> z(1.0, 0.0);
-    for (Eigen::Index j = 0; j < m; ++j) {
-      work.mean(j) -= coef(0) + coef(1) * z.real() + coef(2) * z.imag();
-      z *= step;
-      if ((j & 1023) == 1023) z /= std::abs(z);
-    }
+    Prewhiten(f_best, coef, &work);
     chi_left -= explained;
     if (!(chi_left > 1e-12 * chi0)) break;
   }
