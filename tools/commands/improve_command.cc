@@ -28,8 +28,6 @@ using nlohmann::json;
 
 namespace {
 
-constexpr const char* kImproveResultFile = "improve.json";
-
 struct ImproveOptions {
   std::string diagram;
   MeasurementOptions measurement;
@@ -54,22 +52,6 @@ void PrintImproveResult(const ImproveResult& result, const std::optional<json>& 
   std::cout << "stop: " << result.stop_reason << "\n";
   if (fallback) std::cout << (*fallback)["description"].get<std::string>() << "\n";
   std::cout << fmt::format("wrote {}/improved.json, improve.json, step_*/diagram.json and report.html\n", out.string());
-}
-
-// Removes DIR/improve.json of an earlier run, unless it is one of the inputs, so that what DIR holds while this run
-// works is never taken for a finished result.
-void RemoveEarlierImproveResult(const fs::path& out, const std::vector<std::string>& inputs) {
-  const fs::path result = out / kImproveResultFile;
-  std::error_code error;
-  if (!fs::is_regular_file(result, error)) return;
-  for (const auto& input : inputs) {
-    if (!input.empty() && fs::equivalent(result, input, error)) return;
-  }
-  if (!fs::remove(result, error) && error) {
-    throw std::runtime_error(fmt::format("{}: cannot remove the result of an earlier run ({}): remove it, or give "
-                                         "another --out",
-                                         result.string(), error.message()));
-  }
 }
 
 void RunImprove(const ImproveOptions& o) {

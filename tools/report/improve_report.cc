@@ -2,6 +2,8 @@
 
 #include <fstream>
 #include <set>
+#include <stdexcept>
+#include <system_error>
 
 #include <fmt/format.h>
 
@@ -40,7 +42,7 @@ void WriteImproveProgress(const ImproveResult& so_far, const fs::path& directory
   WriteDiagramFile(so_far.last_accepted().training.fitted_diagram, folder, directory / "improved.json");
   json j = context;
   j.update(so_far.ToJson());
-  WriteJsonFile(j, directory / "improve.json");
+  WriteJsonFile(j, directory / kImproveResultFile);
 }
 
 namespace {
@@ -178,6 +180,20 @@ void WriteImproveReport(const ImproveResult& result, const MeasurementLog& train
 }
 
 
+void RemoveEarlierImproveResult(const fs::path& out, const std::vector<std::string>& inputs) {
+  const fs::path result = out / kImproveResultFile;
+  std::error_code error;
+  if (!fs::is_regular_file(result, error)) return;
+  for (const auto& input : inputs) {
+    if (!input.empty() && fs::equivalent(result, input, error)) return;
+  }
+  if (!fs::remove(result, error) && error) {
+    throw std::runtime_error(fmt::format("{}: cannot remove the result of an earlier run ({}): remove it, or give "
+                                         "another --out",
+                                         result.string(), error.message()));
+  }
+}
+
 json WriteImproveFallback(const ImproveResult& result, const FallbackOutcome& fallback, const fs::path& directory,
                           const fs::path& diagram_folder) {
   json record = ImproveFallbackRecord(fallback);
@@ -204,10 +220,10 @@ json WriteImproveFallback(const ImproveResult& result, const FallbackOutcome& fa
                               " The fallback was not added to a diagram: " + std::string(e.what());
     }
   }
-  std::ifstream in(directory / "improve.json");
+  std::ifstream in(directory / kImproveResultFile);
   json written = json::parse(in);
   written["nonparametric_fallback"] = record;
-  WriteJsonFile(written, directory / "improve.json");
+  WriteJsonFile(written, directory / kImproveResultFile);
   return record;
 }
 

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -13,6 +14,14 @@
 #include "tools/workflow/improve.h"
 
 namespace mb {
+
+/// improve.json, the file that says whether the result is whole ("complete").
+inline constexpr const char* kImproveResultFile = "improve.json";
+
+/// Removes DIR/improve.json of an earlier run, unless it is one of `inputs` (paths as given; "" ignored), so that what
+/// DIR holds while this run works is never taken for a finished result. @throws std::runtime_error naming the file
+/// when it cannot be removed.
+void RemoveEarlierImproveResult(const std::filesystem::path& out, const std::vector<std::string>& inputs);
 
 /// The files an improve writes into its folder (exact names and figure patterns; "plot/…" for what draws the
 /// figures), for RefuseOutputsOverInputs.
