@@ -341,16 +341,17 @@ bool Simulator::MakeModesConsistent(double t, bool major) {
 }
 
 void Simulator::Derivatives(double t, const double* x, double* dx) {
-  std::copy(x, x + num_continuous_, xc_.begin());
+  // Element by element, not std::copy: a handful of states, where memmove's call costs more than the copy.
+  for (int i = 0; i < num_continuous_; ++i) xc_[static_cast<std::size_t>(i)] = x[i];
   UpdateInputs(t);
   ComputeOutputs(t, /*major=*/false);
   const auto& blocks = diagram_.blocks();
-  for (std::size_t b = 0; b < blocks.size(); ++b) {
-    if (blocks[b]->num_continuous_states() == 0) continue;
+  for (std::size_t b = 0; b < contexts_.size(); ++b) {
+    if (contexts_[b].nxc_ == 0) continue;  // the block's count, kept in its context (no pointer chase)
     contexts_[b].time_ = t;
     blocks[b]->CalcDerivatives(contexts_[b]);
   }
-  std::copy(dxc_.begin(), dxc_.end(), dx);
+  for (int i = 0; i < num_continuous_; ++i) dx[i] = dxc_[static_cast<std::size_t>(i)];
 }
 
 void Simulator::EvaluateContinuousPart(const std::vector<double>& x, std::vector<double>* dx, std::vector<double>* y) {
@@ -406,8 +407,12 @@ double Simulator::NextLogTime() const {
 
 double Simulator::NextMajorTime(double t) const {
   double next_hit = std::numeric_limits<double>::infinity();
+  const SampleTime* previous = nullptr;
   for (int b : discrete_blocks_) {
     const SampleTime& st = diagram_.blocks()[static_cast<std::size_t>(b)]->sample_time();
+    // Blocks of one rate mostly come in runs: the same period and offset give the same next hit.
+    if (previous && st.period == previous->period && st.offset == previous->offset) continue;
+    previous = &st;
     long long k = st.FirstHitIndexAtOrAfter(t);
     if (std::abs(st.HitTime(k) - t) <= 1e-9 * st.period) ++k;  // the hit at t is being handled
     next_hit = std::min(next_hit, st.HitTime(k));
@@ -572,10 +577,17 @@ void Simulator::AdvanceTo(double t_end) {
     time_ = t_next;
     // Start the next major step: hits, outputs, modes, log.
     bool any_hit = false;
+    const SampleTime* previous = nullptr;  // a run of blocks of one rate: one IsHit
+    char previous_hit = 0;
     for (int b : discrete_blocks_) {
       const auto bi = static_cast<std::size_t>(b);
-      hit_now_[bi] = blocks[bi]->sample_time().IsHit(time_) ? 1 : 0;
-      any_hit = any_hit || hit_now_[bi];
+      const SampleTime& st = blocks[bi]->sample_time();
+      if (!previous || st.period != previous->period || st.offset != previous->offset) {
+        previous = &st;
+        previous_hit = st.IsHit(time_) ? 1 : 0;
+      }
+      hit_now_[bi] = previous_hit;
+      any_hit = any_hit || previous_hit;
     }
     UpdateInputs(time_);
     ComputeOutputs(time_, /*major=*/true);

@@ -32,7 +32,11 @@ void ValidateFrictionParameters(const FrictionParameters& p, const std::string& 
 double StribeckLevel(double coulomb, double breakaway, double stribeck_velocity, double velocity) noexcept {
   if (!(stribeck_velocity > 0.0)) return coulomb;
   const double r = velocity / stribeck_velocity;
-  return coulomb + (breakaway - coulomb) * std::exp(-r * r);
+  const double r2 = r * r;
+  // exp(−r²) is exactly 0 in double precision for r² > 745.14: skip glibc's slow underflow path (errno), which
+  // a moving stage takes on nearly every call (|v| > 0.14 m/s at v_s = 5 mm/s). Same result, bit for bit.
+  if (r2 > 746.0) return coulomb;
+  return coulomb + (breakaway - coulomb) * std::exp(-r2);
 }
 
 double RegularizedFriction(const FrictionParameters& p, double regularization_velocity, double velocity) noexcept {

@@ -1,10 +1,12 @@
 // models/physics/friction.h and rigid_body.h: the friction curve, the stick force, the mode transitions.
 
 #include <cmath>
+#include <numbers>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "models/physics/cogging.h"
 #include "models/physics/friction.h"
 #include "models/physics/rigid_body.h"
 #include "models/physics/stribeck.h"
@@ -15,6 +17,25 @@ namespace {
 using ::testing::HasSubstr;
 
 const FrictionParameters kStribeck{0.5, 1.0, 1.5, 0.01};  // σ, F_c, F_s, v_s
+
+// The hot-path shortcuts of the plant (issue 29): the Stribeck level skips exp(−r²) where it is 0 in double, and
+// the cogging shape's SinCosBounded stands in for std::sin/std::cos up to 2048 rad: both give the formula.
+TEST(FrictionModelTest, HotPathShortcutsGiveTheFormula) {
+  for (const double v : {0.0, 0.01, 0.1, 0.13, 0.1365, 0.137, 0.2, 10.0, -0.137, -3.0}) {
+    const double r = v / 0.005;
+    EXPECT_EQ(StribeckLevel(0.1, 0.15, 0.005, v), 0.1 + (0.15 - 0.1) * std::exp(-r * r)) << v;
+  }
+  CoggingParameters p;
+  p.harmonics = Eigen::Vector3d(1.0, 0.25, 0.1);
+  p.phases = Eigen::Vector3d(0.0, 0.7, 1.9);
+  const CoggingForce cogging(p);
+  const double k = 2.0 * std::numbers::pi / p.pole_pitch;
+  for (double x = -7.5; x <= 7.5; x += 0.0123457) {  // beyond ±2048 rad at both ends: std::sin/std::cos there
+    double expected = 0.0;
+    for (int h = 1; h <= 3; ++h) expected += p.harmonics(h - 1) * std::sin(h * k * x + p.phases(h - 1));
+    ASSERT_NEAR(cogging.Shape(x), expected, 1e-12) << x;
+  }
+}
 
 TEST(FrictionModelTest, SlidingFrictionUsesTheModeNotTheVelocitySign) {
   EXPECT_DOUBLE_EQ(SlidingFriction(kStribeck, FrictionMode::kSlipPositive, 0.0), 1.5);  // F_s at v = 0
