@@ -127,12 +127,18 @@ void WriteImproveReport(const ImproveResult& result, const MeasurementLog& train
   DrawingMarks added;
   added.added_label = "added by improve";
   // Every element the improved diagram has and step 0's has not: an effect's block and what wires it in (a sum).
-  std::set<std::string> given;
-  for (const auto& e : result.steps.front().training.fitted_diagram.value("elements", nlohmann::json::array())) {
-    given.insert(e.value("name", ""));
-  }
-  for (const auto& e : last.training.fitted_diagram.value("elements", nlohmann::json::array())) {
-    if (!given.count(e.value("name", ""))) added.added.push_back(e.value("name", ""));
+  const auto elements = [](const nlohmann::json& diagram) {  // none for a diagram not given (a report from parts)
+    std::vector<std::string> names;
+    if (!diagram.is_object() || !diagram.contains("elements") || !diagram["elements"].is_array()) return names;
+    for (const auto& e : diagram["elements"]) {
+      if (e.is_object() && e.contains("name") && e["name"].is_string()) names.push_back(e["name"]);
+    }
+    return names;
+  };
+  const std::vector<std::string> given_names = elements(result.steps.front().training.fitted_diagram);
+  const std::set<std::string> given(given_names.begin(), given_names.end());
+  for (const auto& name : elements(last.training.fitted_diagram)) {
+    if (!given.count(name)) added.added.push_back(name);
   }
   AddDiagramDrawing(&report, last.training.fitted_diagram, diagram_directory, title, added, directory);
 
