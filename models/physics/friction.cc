@@ -40,7 +40,10 @@ double StribeckLevel(double coulomb, double breakaway, double stribeck_velocity,
 }
 
 double RegularizedFriction(const FrictionParameters& p, double regularization_velocity, double velocity) noexcept {
-  return std::tanh(velocity / regularization_velocity) *
+  // tanh(a) is exactly ±1 in double for |a| ≥ 22 (glibc returns 1 − tiny there): skip the call, bit-identical.
+  const double a = velocity / regularization_velocity;
+  const double sign = std::abs(a) >= 22.0 ? std::copysign(1.0, a) : std::tanh(a);
+  return sign *
              StribeckLevel(p.coulomb, p.breakaway, p.stribeck_velocity, velocity) +
          p.viscous * velocity;
 }

@@ -25,6 +25,10 @@ TEST(FrictionModelTest, HotPathShortcutsGiveTheFormula) {
     const double r = v / 0.005;
     EXPECT_EQ(StribeckLevel(0.1, 0.15, 0.005, v), 0.1 + (0.15 - 0.1) * std::exp(-r * r)) << v;
   }
+  for (const double v : {0.0, 0.001, 0.019, 0.021999, 0.022, 0.0221, 0.5, -0.022, -0.03}) {  // tanh(v/1e-3)
+    EXPECT_EQ(RegularizedFriction(kStribeck, 1e-3, v),
+              std::tanh(v / 1e-3) * StribeckLevel(1.0, 1.5, 0.01, v) + 0.5 * v) << v;
+  }
   CoggingParameters p;
   p.harmonics = Eigen::Vector3d(1.0, 0.25, 0.1);
   p.phases = Eigen::Vector3d(0.0, 0.7, 1.9);
