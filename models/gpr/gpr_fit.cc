@@ -247,6 +247,108 @@ GprRange TrainedVelocityRange(const Eigen::Ref<const Eigen::VectorXd>& xdot) {
   return {v - half_width, v + half_width};
 }
 
+namespace {
+
+// The MAP problem FitGpr solves: the centred targets, the priors, which parameters are free, the trained ranges.
+struct MapProblem {
+  Eigen::Ref<const Eigen::VectorXd> x, xdot;
+  const Eigen::VectorXd& yc;
+  const GprFitOptions& options;
+  const GprPriors& priors;
+  FreeMask free;
+  GprRange x_range, xdot_range;
+
+  // exp(log τ) need not return τ to the last bit: a fixed period must stay exactly the basis' period.
+  GprHyperparameters Hyperparameters(const Eigen::VectorXd& th) const {
+    GprHyperparameters hp = FromLogParameters(th);
+    if (!options.estimate_period) hp.period = options.period;
+    return hp;
+  }
+  double LogPrior(const Eigen::VectorXd& th, Eigen::VectorXd* g) const { return GprLogPrior(priors, th, free, g); }
+};
+
+// The maximum a posteriori: log hyperparameters, the log posterior there, and the basis for them.
+struct MapFit {
+  Eigen::VectorXd theta;
+  double log_posterior = 0.0;
+  GprBasis basis;
+};
+
+// The starting hyperparameters: options.initial, else the priors' medians; the period is options.period.
+GprHyperparameters InitialHyperparameters(const GprFitOptions& options, const GprPriors& priors) {
+  GprHyperparameters hp0;
+  if (options.initial) {
+    hp0 = *options.initial;
+  } else {
+    hp0.signal_variance_x = priors[kLogSignalVarianceX].median;
+    hp0.length_scale_x = priors[kLogLengthScaleX].median;
+    hp0.signal_variance_xdot = priors[kLogSignalVarianceXdot].median;
+    hp0.length_scale_xdot = priors[kLogLengthScaleXdot].median;
+    hp0.noise_variance = priors[kLogNoiseVariance].median;
+  }
+  hp0.period = options.period;
+  return hp0;
+}
+
+// MAP with the exact (O(N³)) log marginal likelihood, then the basis for the result.
+MapFit FitExact(const MapProblem& p, const Eigen::VectorXd& theta0) {
+  const GprFitOptions& options = p.options;
+  const LogPosterior objective = [&](const Eigen::VectorXd& th, Eigen::VectorXd* g) {
+    const double lml = ExactLogMarginalLikelihood(options.kernel, p.Hyperparameters(th), p.x, p.xdot, p.yc, g);
+    return lml + p.LogPrior(th, g);
+  };
+  const MapResult map = MaximizeLogPosterior(
+      objective, Starts(theta0, p.priors, p.free, options.restarts, options.seed), p.free, p.priors,
+      options.max_evaluations);
+  if (!std::isfinite(map.log_posterior)) {
+    throw std::runtime_error("FitGpr (exact): every start failed:" + FailureText(map.failures));
+  }
+  return {map.theta, map.log_posterior,
+          ChooseGprBasis(options.kernel, p.Hyperparameters(map.theta), p.x_range, p.xdot_range, options.tolerance)};
+}
+
+// MAP in weight space: the basis chosen with headroom for the start, refit until it suffices for the hyperparameters
+// found (at most kMaxBasisRounds), then tightened to the tolerance if it still does not.
+MapFit FitWeightSpace(const MapProblem& p, const GprHyperparameters& hp0, Eigen::VectorXd theta) {
+  const GprFitOptions& options = p.options;
+  GprBasis basis =
+      ChooseGprBasis(options.kernel, hp0, p.x_range, p.xdot_range, options.tolerance * kBasisHeadroom);
+  double log_posterior = 0.0;
+  GprFeatureStatistics stats;
+  for (int round = 0; round < kMaxBasisRounds; ++round) {
+    stats = AccumulateGprFeatureStatistics(basis, p.x, p.xdot, p.yc, options.estimate_period);
+    const LogPosterior objective = [&](const Eigen::VectorXd& th, Eigen::VectorXd* g) {
+      const GprHyperparameters hp = p.Hyperparameters(th);
+      if (options.estimate_period && hp.period != stats.basis.period) {
+        GprBasis moved = stats.basis;
+        moved.period = hp.period;
+        stats = AccumulateGprFeatureStatistics(moved, p.x, p.xdot, p.yc, true);
+      }
+      return WeightSpaceLogMarginalLikelihood(stats, hp, g) + p.LogPrior(th, g);
+    };
+    const std::vector<Eigen::VectorXd> starts = round == 0
+                                                    ? Starts(theta, p.priors, p.free, options.restarts, options.seed)
+                                                    : std::vector<Eigen::VectorXd>{theta};
+    const MapResult map = MaximizeLogPosterior(objective, starts, p.free, p.priors, options.max_evaluations);
+    if (!std::isfinite(map.log_posterior)) {
+      throw std::runtime_error("FitGpr (weight_space): every start failed:" + FailureText(map.failures));
+    }
+    theta = map.theta;
+    log_posterior = map.log_posterior;
+    const GprHyperparameters hp = p.Hyperparameters(theta);
+    basis.period = hp.period;
+    if (GprBasisSuffices(basis, hp, p.x_range, p.xdot_range, options.tolerance)) break;
+    basis = ChooseGprBasis(options.kernel, hp, p.x_range, p.xdot_range, options.tolerance * kBasisHeadroom);
+  }
+  const GprHyperparameters hp = p.Hyperparameters(theta);
+  if (!GprBasisSuffices(basis, hp, p.x_range, p.xdot_range, options.tolerance)) {
+    basis = ChooseGprBasis(options.kernel, hp, p.x_range, p.xdot_range, options.tolerance);
+  }
+  return {theta, log_posterior, basis};
+}
+
+}  // namespace
+
 GprModel FitGpr(const Eigen::Ref<const Eigen::VectorXd>& x,
                 const Eigen::Ref<const Eigen::VectorXd>& xdot,
                 const Eigen::Ref<const Eigen::VectorXd>& y, const GprFitOptions& options) {
@@ -268,98 +370,26 @@ GprModel FitGpr(const Eigen::Ref<const Eigen::VectorXd>& x,
   FreeMask free{};
   free.fill(true);
   free[kLogPeriod] = options.estimate_period;
-  GprHyperparameters hp0;
-  if (options.initial) {
-    hp0 = *options.initial;
-  } else {
-    hp0.signal_variance_x = priors[kLogSignalVarianceX].median;
-    hp0.length_scale_x = priors[kLogLengthScaleX].median;
-    hp0.signal_variance_xdot = priors[kLogSignalVarianceXdot].median;
-    hp0.length_scale_xdot = priors[kLogLengthScaleXdot].median;
-    hp0.noise_variance = priors[kLogNoiseVariance].median;
-  }
-  hp0.period = options.period;
-  Eigen::VectorXd theta = ToLogParameters(hp0);
-  if (!theta.allFinite()) {
+  const GprHyperparameters hp0 = InitialHyperparameters(options, priors);
+  const Eigen::VectorXd theta0 = ToLogParameters(hp0);
+  if (!theta0.allFinite()) {
     throw std::invalid_argument("FitGpr: the initial hyperparameters must all be finite and > 0");
   }
-  // exp(log τ) need not return τ to the last bit: a fixed period must stay exactly the basis' period.
-  const auto Hyperparameters = [&](const Eigen::VectorXd& th) {
-    GprHyperparameters hp = FromLogParameters(th);
-    if (!options.estimate_period) hp.period = options.period;
-    return hp;
-  };
-  const auto log_prior = [&](const Eigen::VectorXd& th, Eigen::VectorXd* g) {
-    return GprLogPrior(priors, th, free, g);
-  };
-
-  GprBasis basis;
-  double log_posterior = 0.0;
-  if (!options.optimize) {
-    basis = ChooseGprBasis(options.kernel, hp0, x_range, xdot_range, options.tolerance);
-  } else if (options.solver == GprSolver::kExact) {
-    const LogPosterior objective = [&](const Eigen::VectorXd& th, Eigen::VectorXd* g) {
-      const double lml = ExactLogMarginalLikelihood(options.kernel, Hyperparameters(th), x, xdot,
-                                                    yc, g);
-      return lml + log_prior(th, g);
-    };
-    const MapResult map = MaximizeLogPosterior(
-        objective, Starts(theta, priors, free, options.restarts, options.seed), free, priors,
-        options.max_evaluations);
-    if (!std::isfinite(map.log_posterior)) {
-      throw std::runtime_error("FitGpr (exact): every start failed:" + FailureText(map.failures));
-    }
-    theta = map.theta;
-    log_posterior = map.log_posterior;
-    basis = ChooseGprBasis(options.kernel, Hyperparameters(theta), x_range, xdot_range,
-                           options.tolerance);
-  } else {
-    basis = ChooseGprBasis(options.kernel, hp0, x_range, xdot_range,
-                           options.tolerance * kBasisHeadroom);
-    GprFeatureStatistics stats;
-    for (int round = 0; round < kMaxBasisRounds; ++round) {
-      stats = AccumulateGprFeatureStatistics(basis, x, xdot, yc, options.estimate_period);
-      const LogPosterior objective = [&](const Eigen::VectorXd& th, Eigen::VectorXd* g) {
-        const GprHyperparameters hp = Hyperparameters(th);
-        if (options.estimate_period && hp.period != stats.basis.period) {
-          GprBasis moved = stats.basis;
-          moved.period = hp.period;
-          stats = AccumulateGprFeatureStatistics(moved, x, xdot, yc, true);
-        }
-        return WeightSpaceLogMarginalLikelihood(stats, hp, g) + log_prior(th, g);
-      };
-      const std::vector<Eigen::VectorXd> starts =
-          round == 0 ? Starts(theta, priors, free, options.restarts, options.seed)
-                     : std::vector<Eigen::VectorXd>{theta};
-      const MapResult map =
-          MaximizeLogPosterior(objective, starts, free, priors, options.max_evaluations);
-      if (!std::isfinite(map.log_posterior)) {
-        throw std::runtime_error("FitGpr (weight_space): every start failed:" +
-                                 FailureText(map.failures));
-      }
-      theta = map.theta;
-      log_posterior = map.log_posterior;
-      const GprHyperparameters hp = Hyperparameters(theta);
-      basis.period = hp.period;
-      if (GprBasisSuffices(basis, hp, x_range, xdot_range, options.tolerance)) break;
-      basis = ChooseGprBasis(options.kernel, hp, x_range, xdot_range,
-                             options.tolerance * kBasisHeadroom);
-    }
-    const GprHyperparameters hp = Hyperparameters(theta);
-    if (!GprBasisSuffices(basis, hp, x_range, xdot_range, options.tolerance)) {
-      basis = ChooseGprBasis(options.kernel, hp, x_range, xdot_range, options.tolerance);
-    }
-  }
+  const MapProblem problem{x, xdot, yc, options, priors, free, x_range, xdot_range};
+  const MapFit fit = !options.optimize ? MapFit{theta0, 0.0, ChooseGprBasis(options.kernel, hp0, x_range, xdot_range,
+                                                                            options.tolerance)}
+                     : options.solver == GprSolver::kExact ? FitExact(problem, theta0)
+                                                           : FitWeightSpace(problem, hp0, theta0);
 
   GprModelData data;
   data.kernel = options.kernel;
-  data.hyperparameters = Hyperparameters(theta);
-  data.basis = basis;
+  data.hyperparameters = problem.Hyperparameters(fit.theta);
+  data.basis = fit.basis;
   data.mean = mean;
   data.x_range = x_range;
   data.xdot_range = xdot_range;
   const GprFeatureStatistics stats =
-      AccumulateGprFeatureStatistics(basis, x, xdot, yc, /*period_derivative=*/false);
+      AccumulateGprFeatureStatistics(fit.basis, x, xdot, yc, /*period_derivative=*/false);
   GprWeightPosterior posterior = SolveGprWeightPosterior(stats, data.hyperparameters);
   data.weights = std::move(posterior.weights);
   data.weight_covariance = std::move(posterior.covariance);
@@ -371,14 +401,12 @@ GprModel FitGpr(const Eigen::Ref<const Eigen::VectorXd>& x,
   prov.source = options.source;
   prov.sample_count = static_cast<std::int64_t>(x.size());
   prov.log_marginal_likelihood = posterior.log_marginal_likelihood;
-  prov.log_posterior =
-      options.optimize ? log_posterior
-                       : posterior.log_marginal_likelihood + log_prior(theta, nullptr);
+  prov.log_posterior = options.optimize ? fit.log_posterior
+                                        : posterior.log_marginal_likelihood + problem.LogPrior(fit.theta, nullptr);
   prov.tolerance = options.tolerance;
   prov.period_estimated = options.estimate_period && options.optimize;
   prov.priors = priors;
-  prov.fit_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  prov.fit_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return GprModel(std::move(data));
 }
 

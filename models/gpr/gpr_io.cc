@@ -222,107 +222,110 @@ json GprModelToJson(const GprModel& model) {
   return j;
 }
 
-GprModel GprModelFromJson(const json& j, std::string_view origin) {
-  if (!j.is_object()) Throw(origin, {"/: the model must be a JSON object"});
-  {
-    Reader header(j);
-    const std::string format = header.String("/format");
-    const int version = header.Integer("/version", 0);
-    if (!header.errors().empty()) Throw(origin, header.errors());
-    if (format != kGprModelFormat) {
-      Throw(origin, {"/format: expected \"" + std::string(kGprModelFormat) + "\", got \"" +
-                     format + "\" (not a motionblocks GPR model)"});
-    }
-    if (version != kGprModelFileVersion) {
-      Throw(origin, {"/version: file version " + std::to_string(version) +
-                     " is not supported (this build reads version " +
-                     std::to_string(kGprModelFileVersion) + "); refit the model with this build"});
-    }
+namespace {
+
+// /format and /version: a motionblocks GPR model of the version this build reads.
+void CheckHeader(const json& j, std::string_view origin) {
+  Reader header(j);
+  const std::string format = header.String("/format");
+  const int version = header.Integer("/version", 0);
+  if (!header.errors().empty()) Throw(origin, header.errors());
+  if (format != kGprModelFormat) {
+    Throw(origin, {"/format: expected \"" + std::string(kGprModelFormat) + "\", got \"" + format +
+                   "\" (not a motionblocks GPR model)"});
   }
-  Reader r(j);
-  GprModelData m;
+  if (version != kGprModelFileVersion) {
+    Throw(origin, {"/version: file version " + std::to_string(version) +
+                   " is not supported (this build reads version " + std::to_string(kGprModelFileVersion) +
+                   "); refit the model with this build"});
+  }
+}
+
+// The kernel, hyperparameters, mean, trained ranges, basis, weights and their covariance (errors collected in r).
+void ReadPosterior(Reader& r, GprModelData* m) {
   const std::string kernel = r.String("/kernel");
   if (kernel == "PS" || kernel == "DS") {
-    m.kernel = ParseGprKernel(kernel);
+    m->kernel = ParseGprKernel(kernel);
   } else if (!kernel.empty()) {
     r.Fail("/kernel: must be \"PS\" or \"DS\", got \"" + kernel + "\"");
   }
-  GprHyperparameters& hp = m.hyperparameters;
+  GprHyperparameters& hp = m->hyperparameters;
   hp.signal_variance_x = r.Number("/hyperparameters/signal_variance_x", true);
   hp.length_scale_x = r.Number("/hyperparameters/length_scale_x", true);
   hp.signal_variance_xdot = r.Number("/hyperparameters/signal_variance_xdot", true);
   hp.length_scale_xdot = r.Number("/hyperparameters/length_scale_xdot", true);
   hp.noise_variance = r.Number("/hyperparameters/noise_variance", true);
   hp.period = r.Number("/hyperparameters/period", true);
-  m.mean = r.Number("/mean");
-  m.x_range = r.ReadRange("/trained_range/x");
-  m.xdot_range = r.ReadRange("/trained_range/xdot");
-  m.basis.kernel = m.kernel;
-  if (m.kernel == GprKernel::kPeriodicSe) {
-    m.basis.harmonics = r.Integer("/basis/harmonics", 0);
-    m.basis.period = r.Number("/basis/period", true);
+  m->mean = r.Number("/mean");
+  m->x_range = r.ReadRange("/trained_range/x");
+  m->xdot_range = r.ReadRange("/trained_range/xdot");
+  m->basis.kernel = m->kernel;
+  if (m->kernel == GprKernel::kPeriodicSe) {
+    m->basis.harmonics = r.Integer("/basis/harmonics", 0);
+    m->basis.period = r.Number("/basis/period", true);
   } else {
-    m.basis.x_domain = r.ReadDomain("/basis/x_domain");
+    m->basis.x_domain = r.ReadDomain("/basis/x_domain");
   }
-  m.basis.xdot_domain = r.ReadDomain("/basis/xdot_domain");
-  const Eigen::Index features = r.errors().empty() ? GprFeatureCount(m.basis) : -1;
-  m.weights = r.Numbers("/weights", features);
+  m->basis.xdot_domain = r.ReadDomain("/basis/xdot_domain");
+  const Eigen::Index features = r.errors().empty() ? GprFeatureCount(m->basis) : -1;
+  m->weights = r.Numbers("/weights", features);
   const Eigen::VectorXd lower =
       r.Numbers("/weight_covariance_lower", features >= 0 ? features * (features + 1) / 2 : -1);
   if (features >= 0 && lower.size() == features * (features + 1) / 2) {
-    m.weight_covariance.resize(features, features);
+    m->weight_covariance.resize(features, features);
     Eigen::Index k = 0;
     for (Eigen::Index row = 0; row < features; ++row) {
       for (Eigen::Index col = 0; col <= row; ++col, ++k) {
-        m.weight_covariance(row, col) = lower(k);
-        m.weight_covariance(col, row) = lower(k);
+        m->weight_covariance(row, col) = lower(k);
+        m->weight_covariance(col, row) = lower(k);
       }
     }
   }
-  GprProvenance& p = m.provenance;
-  p.created_utc = r.String("/provenance/created_utc");
-  p.library_version = r.String("/provenance/library_version");
-  p.solver = r.String("/provenance/solver");
-  p.source = r.String("/provenance/source");
-  p.sample_count = r.Integer("/provenance/sample_count", 0);
-  p.log_marginal_likelihood = r.Number("/provenance/log_marginal_likelihood");
-  p.log_posterior = r.Number("/provenance/log_posterior");
-  p.fit_seconds = r.Number("/provenance/fit_seconds");
-  p.tolerance = r.Number("/provenance/tolerance");
-  p.period_estimated = r.Boolean("/provenance/period_estimated");
-  for (auto [key, column] : {std::pair{"position_column", &p.position_column}, {"velocity_column", &p.velocity_column}}) {
+}
+
+// How the model was made: /provenance and its priors (errors collected in r).
+void ReadProvenance(const json& j, Reader& r, GprProvenance* p) {
+  p->created_utc = r.String("/provenance/created_utc");
+  p->library_version = r.String("/provenance/library_version");
+  p->solver = r.String("/provenance/solver");
+  p->source = r.String("/provenance/source");
+  p->sample_count = r.Integer("/provenance/sample_count", 0);
+  p->log_marginal_likelihood = r.Number("/provenance/log_marginal_likelihood");
+  p->log_posterior = r.Number("/provenance/log_posterior");
+  p->fit_seconds = r.Number("/provenance/fit_seconds");
+  p->tolerance = r.Number("/provenance/tolerance");
+  p->period_estimated = r.Boolean("/provenance/period_estimated");
+  for (auto [key, column] : {std::pair{"position_column", &p->position_column}, {"velocity_column", &p->velocity_column}}) {
     if (j.contains("provenance") && j["provenance"].is_object() && j["provenance"].contains(key)) {
       *column = r.String(std::string("/provenance/") + key);
     }
   }
   for (int i = 0; i < kGprParameterCount; ++i) {
     const std::string base = "/provenance/priors/" + std::string(GprParameterName(i));
-    auto& prior = p.priors[static_cast<std::size_t>(i)];
+    auto& prior = p->priors[static_cast<std::size_t>(i)];
     prior.median = r.Number(base + "/median");
     prior.log_sd = r.Number(base + "/log_sd", false, true);
     prior.lower = r.Number(base + "/lower");
     prior.upper = r.Number(base + "/upper", false, true);
   }
-  if (!r.errors().empty()) Throw(origin, r.errors());
-  // The posterior must be one (issue 30: a negative covariance gave std 0 everywhere): Cov β positive semidefinite.
-  if (m.weight_covariance.size() > 0) {
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(m.weight_covariance, Eigen::EigenvaluesOnly);
-    const Eigen::VectorXd& lambda = eigen.eigenvalues();  // ascending
-    const double largest = lambda.cwiseAbs().maxCoeff();
-    if (!(lambda(0) >= -1e-9 * largest)) {
-      Throw(origin, {"/weight_covariance_lower: the weight covariance is not positive semidefinite (smallest "
-                     "eigenvalue " + FormatNumber(lambda(0)) + ", largest " + FormatNumber(lambda(lambda.size() - 1)) +
-                     "): the file was edited or is corrupt; refit the model (motionblocks fit-gpr)"});
-    }
+}
+
+// The posterior must be one (issue 30: a negative covariance gave std 0 everywhere): Cov β positive semidefinite.
+void CheckCovariance(const Eigen::MatrixXd& covariance, std::string_view origin) {
+  if (covariance.size() == 0) return;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(covariance, Eigen::EigenvaluesOnly);
+  const Eigen::VectorXd& lambda = eigen.eigenvalues();  // ascending
+  const double largest = lambda.cwiseAbs().maxCoeff();
+  if (!(lambda(0) >= -1e-9 * largest)) {
+    Throw(origin, {"/weight_covariance_lower: the weight covariance is not positive semidefinite (smallest "
+                   "eigenvalue " + FormatNumber(lambda(0)) + ", largest " + FormatNumber(lambda(lambda.size() - 1)) +
+                   "): the file was edited or is corrupt; refit the model (motionblocks fit-gpr)"});
   }
-  GprModel model = [&] {
-    try {
-      return GprModel(std::move(m));
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument(std::string(origin) + ": " + e.what());
-    }
-  }();
-  // Weights that overflow (all 1e308) predict NaN: checked where the model is meant to be used.
+}
+
+// Weights that overflow (all 1e308) predict NaN: checked at the corners and the centre of the trained range, where
+// the model is meant to be used.
+void CheckPredictionsAreFinite(const GprModel& model, std::string_view origin) {
   const GprModelData& d = model.data();
   for (double x : {d.x_range.min, 0.5 * (d.x_range.min + d.x_range.max), d.x_range.max}) {
     for (double xdot : {d.xdot_range.min, 0.5 * (d.xdot_range.min + d.xdot_range.max), d.xdot_range.max}) {
@@ -336,6 +339,27 @@ GprModel GprModelFromJson(const json& j, std::string_view origin) {
       }
     }
   }
+}
+
+}  // namespace
+
+GprModel GprModelFromJson(const json& j, std::string_view origin) {
+  if (!j.is_object()) Throw(origin, {"/: the model must be a JSON object"});
+  CheckHeader(j, origin);
+  Reader r(j);
+  GprModelData m;
+  ReadPosterior(r, &m);
+  ReadProvenance(j, r, &m.provenance);
+  if (!r.errors().empty()) Throw(origin, r.errors());
+  CheckCovariance(m.weight_covariance, origin);
+  GprModel model = [&] {
+    try {
+      return GprModel(std::move(m));
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string(origin) + ": " + e.what());
+    }
+  }();
+  CheckPredictionsAreFinite(model, origin);
   return model;
 }
 
