@@ -66,5 +66,6 @@ void BindWorkflow(py::module_& m);
 void BindGpr(py::module_& m);
 void BindSweep(py::module_& m);
 void BindHil(py::module_& m);
+void BindLinearize(py::module_& m);
 
 }  // namespace mb::python

@@ -13,4 +13,5 @@ PYBIND11_MODULE(motionblocks, m) {
   mb::python::BindGpr(m);
   mb::python::BindSweep(m);
   mb::python::BindHil(m);
+  mb::python::BindLinearize(m);
 }
