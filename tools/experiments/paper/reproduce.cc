@@ -48,7 +48,15 @@ const GprModel& ReproduceContext::ModelOf(int kernel, int window, bool paper_siz
   throw std::logic_error("missing fit");
 }
 
-double ReproduceContext::RmseUm(std::size_t i) const { return cases[i].result.metrics.at("tracking_rmse") * 1e6; }
+const ClosedLoopCase& ReproduceContext::Case(PaperCase which) const {
+  const auto i = static_cast<std::size_t>(which);
+  if (cases.size() != kPaperCaseCount) throw std::logic_error("ReproduceContext::Case before the closed-loop runs");
+  return cases[i];
+}
+
+double ReproduceContext::RmseUm(PaperCase which) const {
+  return Case(which).result.metrics.at("tracking_rmse") * 1e6;
+}
 
 SimulationResult Simulate(const fs::path& diagram, const Assignments& assignments) {
   const json j = ApplySweepAssignments(ReadDiagramJson(diagram), assignments, diagram.string());

@@ -92,10 +92,11 @@ void CompareConfidenceWeighting(ReproduceContext& c) {
 
   const double half_width = 0.5 * kWindowLength[1];
   json rmse, outside;
-  const char* fixed_names[] = {"conventional", "DS", "PS"};
-  for (std::size_t i = 0; i < 3; ++i) {
-    rmse[fixed_names[i]] = c.RmseUm(i);
-    outside[fixed_names[i]] = RmseOutsideWindowUm(c.cases[i].result, c.window_centre, half_width);
+  const std::pair<const char*, PaperCase> fixed[] = {
+      {"conventional", PaperCase::kConventional}, {"DS", PaperCase::kDs}, {"PS", PaperCase::kPs}};
+  for (const auto& [name, which] : fixed) {
+    rmse[name] = c.RmseUm(which);
+    outside[name] = RmseOutsideWindowUm(c.Case(which).result, c.window_centre, half_width);
   }
   for (const ClosedLoopCase& k : c.confidence_cases) {
     rmse[k.name + "_weighted"] = k.result.metrics.at("tracking_rmse") * 1e6;

@@ -60,8 +60,23 @@ struct PaperFit {
   double seconds = 0.0;
 };
 
-/// One closed-loop Fig. 9 run of steps 5–6 (cases[0..6]: conventional, DS, PS, the three with the payload, and PS
-/// trained on the true disturbance).
+/// The closed-loop Fig. 9 runs of steps 5–6, in ReproduceContext::cases' order: conventional, DS, PS (D(2)); the
+/// three with the payload; PS trained on the true disturbance (the ablation); PS trained on the smoothed estimate,
+/// without and with the payload.
+enum class PaperCase {
+  kConventional,
+  kDs,
+  kPs,
+  kConventionalPayload,
+  kDsPayload,
+  kPsPayload,
+  kPsTrueDisturbance,
+  kPsSmoothed,
+  kPsSmoothedPayload,
+};
+inline constexpr std::size_t kPaperCaseCount = 9;
+
+/// One closed-loop Fig. 9 run (PaperCase).
 struct ClosedLoopCase {
   std::string name;
   std::filesystem::path diagram;
@@ -99,7 +114,7 @@ struct ReproduceContext {
   double window_centre = 0.0;       ///< the D(2) window's centre [m]
   double fraction_inside_d2 = 0.0;  ///< share of the Fig. 9 run inside D(2)
   // 5–6. Table 2, the payload case and study
-  std::vector<ClosedLoopCase> cases;
+  std::vector<ClosedLoopCase> cases;  ///< kPaperCaseCount runs, in PaperCase's order
   nlohmann::json table2, payload_json;
   // 7–8. stability and timing
   nlohmann::json stability, timing;
@@ -120,8 +135,10 @@ struct ReproduceContext {
   double Elapsed() const;
   /// The model of a fit of step 3. @throws std::logic_error if there is none.
   const GprModel& ModelOf(int kernel, int window, bool paper_sized) const;
-  /// cases[i]'s tracking RMSE [µm].
-  double RmseUm(std::size_t i) const;
+  /// The run of a paper case (cases, in PaperCase's order). @throws std::logic_error before step 5 has run.
+  const ClosedLoopCase& Case(PaperCase which) const;
+  /// A paper case's tracking RMSE [µm].
+  double RmseUm(PaperCase which) const;
 };
 
 // The steps, in order (reproduce.cc).

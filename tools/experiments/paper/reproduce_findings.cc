@@ -14,13 +14,14 @@ using json = nlohmann::json;
 void StateFindings(ReproduceContext& c) {
   const auto& ps1 = c.table1_ours.at("PS");
   const auto& ds1 = c.table1_ours.at("DS");
+  const double conv = c.RmseUm(PaperCase::kConventional), ds = c.RmseUm(PaperCase::kDs), ps = c.RmseUm(PaperCase::kPs);
   // Findings: where ours differ from the paper, stated from the numbers.
   {
     const bool order = c.table2["order_ps_ds_conventional"].get<bool>();
     c.findings.push_back(fmt::format(
         "Table 2: conventional {:.1f} µm (paper 42.0), DS {:.1f} µm (paper 29.2), PS {:.1f} µm (paper 22.4); the "
         "ordering PS < DS < conventional {}.",
-        c.RmseUm(0), c.RmseUm(1), c.RmseUm(2), order ? "holds" : "does NOT hold"));
+        conv, ds, ps, order ? "holds" : "does NOT hold"));
     c.findings.push_back(fmt::format(
         "The conventional figure matches by construction: the twin's disturbance and the PD/Q settings were "
         "calibrated so that conventional.json gives about 41 µm (docs/paper.md); DS and PS are predictions of this "
@@ -28,7 +29,7 @@ void StateFindings(ReproduceContext& c) {
         "0.53. The GP path's weight α = {:.2f} and F_gp cut-off are ours (gp_loop.json; the paper states neither); "
         "`motionblocks sweep diagrams/paper/gp_loop.json diagrams/paper/sweeps/gp_weight.json` shows the "
         "sensitivity.",
-        c.RmseUm(1) / c.RmseUm(0), c.RmseUm(2) / c.RmseUm(0), c.stability["alpha"].get<double>()));
+        ds / conv, ps / conv, c.stability["alpha"].get<double>()));
     const double ps_change = c.table1["ps_change_d1_to_d3_percent"].get<double>();
     c.findings.push_back(fmt::format(
         "Table 1: PS changes by {:+.1f} % from D(1) to D(3) (paper −1.5 %; required < 15 %): {}; DS {} as the "
@@ -56,20 +57,22 @@ void StateFindings(ReproduceContext& c) {
         "the paper (×{:.2f} vs ×0.53) because it compensates the lagged, attenuated DOB estimate it was trained on; "
         "at 350 mm/s the cogging fundamental ({:.1f} Hz) and its harmonics sit near and above the Q cut-off "
         "({:.0f} Hz).",
-        c.RmseUm(1) / c.RmseUm(0), 100.0 * c.fraction_inside_d2, c.window_centre, c.RmseUm(2) / c.RmseUm(0),
+        ds / conv, 100.0 * c.fraction_inside_d2, c.window_centre, ps / conv,
         0.35 / c.ModelOf(1, 1, false).hyperparameters().period,
         c.stability["PS"]["loop"]["q_cutoff_hz"].get<double>()));
     c.findings.push_back(fmt::format(
         "Ablation (only a simulation can run it): PS trained on D(2) with the true disturbance as target instead of "
         "the DOB estimate gives {:.1f} µm in Table 2 (vs {:.1f} µm; paper 22.4) and {:.3f} N in Table 1 (vs {:.3f} "
         "N): this is how much of the gap to the paper the DOB estimate's lag and attenuation explain.",
-        c.RmseUm(6), c.RmseUm(2), c.table1["ablation_ps_d2_trained_on_true_disturbance"].get<double>(), ps1[1]));
+        c.RmseUm(PaperCase::kPsTrueDisturbance), ps,
+        c.table1["ablation_ps_d2_trained_on_true_disturbance"].get<double>(), ps1[1]));
     c.findings.push_back(fmt::format(
         "Beyond the paper, from measured signals only: PS trained on D(2) with the smoothed estimate (the nominal "
         "inverse model M_n·ẍ + B_n·ẋ − u with a zero-phase low-pass, models/gpr/disturbance_target.h: offline "
         "training may look ahead) gives {:.1f} µm in Table 2, {:.2f} of the conventional loop (ablation on the true "
         "disturbance {:.1f} µm); with the payload {:.1f} µm.",
-        c.RmseUm(7), c.RmseUm(7) / c.RmseUm(0), c.RmseUm(6), c.RmseUm(8)));
+        c.RmseUm(PaperCase::kPsSmoothed), c.RmseUm(PaperCase::kPsSmoothed) / conv,
+        c.RmseUm(PaperCase::kPsTrueDisturbance), c.RmseUm(PaperCase::kPsSmoothedPayload)));
     c.findings.push_back(fmt::format(
         "Training data: {} scans, all in the +x direction (one stroke per velocity, {} … {} m/s), sampled at 1 kHz; "
         "every sample in the window is used ({} samples in D(2) vs the paper's 2096 after downsampling); the "
@@ -80,7 +83,8 @@ void StateFindings(ReproduceContext& c) {
         "units); we add {} kg, doubling the twin's moving mass, with M_n, B_n and the GP unchanged: conventional "
         "{:.1f} → {:.1f} µm, DS {:.1f} → {:.1f} µm, PS {:.1f} → {:.1f} µm. The paper gives no payload RMSE, only "
         "Figs. 14–17.",
-        kPayloadMass, c.RmseUm(0), c.RmseUm(3), c.RmseUm(1), c.RmseUm(4), c.RmseUm(2), c.RmseUm(5)));
+        kPayloadMass, conv, c.RmseUm(PaperCase::kConventionalPayload), ds, c.RmseUm(PaperCase::kDsPayload), ps,
+        c.RmseUm(PaperCase::kPsPayload)));
   }
   c.results["findings"] = c.findings;
   c.results["table1"] = c.table1;

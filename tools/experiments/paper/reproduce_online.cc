@@ -127,18 +127,18 @@ void LearnOnline(ReproduceContext& c) {
     track_json["segment_rmse_um"][k.name.substr(6)] = SegmentRmseUm(k.result.log, segments);
     track_json["rmse_um"][k.name.substr(6)] = rmse(i);
   }
-  const double ps_no_payload = c.RmseUm(2);
+  const double ps_no_payload = c.RmseUm(PaperCase::kPs);
   c.online = {{"unit", "µm"},
               {"forgetting", kForgetting},
               {"table2",
                {{"PS", ps_no_payload},
-                {"PS_payload", c.RmseUm(5)},
+                {"PS_payload", c.RmseUm(PaperCase::kPsPayload)},
                 {"PS_online", rmse(0)},
                 {"PS_online_payload", rmse(1)},
                 {"PS_online_from_prior", rmse(2)},
-                {"conventional", c.RmseUm(0)},
-                {"PS_online_over_conventional", rmse(0) / c.RmseUm(0)},
-                {"payload_over_no_payload_fixed", c.RmseUm(5) / ps_no_payload},
+                {"conventional", c.RmseUm(PaperCase::kConventional)},
+                {"PS_online_over_conventional", rmse(0) / c.RmseUm(PaperCase::kConventional)},
+                {"payload_over_no_payload_fixed", c.RmseUm(PaperCase::kPsPayload) / ps_no_payload},
                 {"payload_over_no_payload_online", rmse(1) / ps_no_payload}}},
               {"adaptive_mass_feedforward",
                {{"PS_mass", rmse(3)},
@@ -147,14 +147,14 @@ void LearnOnline(ReproduceContext& c) {
                 {"PS_smoothed_mass_payload", rmse(6)},
                 {"mass_only", rmse(7)},
                 {"mass_only_payload", rmse(8)},
-                {"PS_smoothed", c.RmseUm(7)},
-                {"PS_smoothed_payload", c.RmseUm(8)},
+                {"PS_smoothed", c.RmseUm(PaperCase::kPsSmoothed)},
+                {"PS_smoothed_payload", c.RmseUm(PaperCase::kPsSmoothedPayload)},
                 {"mass_estimate_payload_kg", FinalMass(c.online_cases[4].result.log)},
                 {"mass_estimate_no_payload_kg", FinalMass(c.online_cases[3].result.log)},
                 {"mass_estimate_smoothed_payload_kg", FinalMass(c.online_cases[6].result.log)},
                 {"payload_over_no_payload_PS_mass", rmse(4) / ps_no_payload},
-                {"payload_over_no_payload_PS_smoothed_mass", rmse(6) / c.RmseUm(7)},
-                {"PS_smoothed_mass_payload_over_conventional", rmse(6) / c.RmseUm(0)}}},
+                {"payload_over_no_payload_PS_smoothed_mass", rmse(6) / c.RmseUm(PaperCase::kPsSmoothed)},
+                {"PS_smoothed_mass_payload_over_conventional", rmse(6) / c.RmseUm(PaperCase::kConventional)}}},
               {"track", track_json}};
   c.results["online_learning"] = c.online;
 }

@@ -73,18 +73,25 @@ void AddTables(const ReproduceContext& c, HtmlReport& report) {
     report.Table({"window", "samples (ours, all)", "paper-size downsample", "paper"}, sizes);
   }
   report.Heading("Table 2: tracking RMSE on the Fig. 9 profile [µm]");
-  report.Table({"", "conv", "DS", "PS"}, {{"ours", Fixed(c.RmseUm(0), 3), Fixed(c.RmseUm(1), 3), Fixed(c.RmseUm(2), 3)},
-                                          {"paper", "42.048", "29.228", "22.408"},
-                                          {"difference", Percent(c.RmseUm(0), 42.048), Percent(c.RmseUm(1), 29.228),
-                                           Percent(c.RmseUm(2), 22.408)},
-                                          {"ablation: PS trained on the true d", "", "", Fixed(c.RmseUm(6), 3)},
-                                          {"PS trained on the smoothed estimate (measured signals)", "", "",
-                                           Fixed(c.RmseUm(7), 3)}});
+  {
+    const double conv = c.RmseUm(PaperCase::kConventional), ds = c.RmseUm(PaperCase::kDs), ps = c.RmseUm(PaperCase::kPs);
+    const double paper_conv = kPaperTable2.at("conventional"), paper_ds = kPaperTable2.at("DS"),
+                 paper_ps = kPaperTable2.at("PS");
+    report.Table({"", "conv", "DS", "PS"},
+                 {{"ours", Fixed(conv, 3), Fixed(ds, 3), Fixed(ps, 3)},
+                  {"paper", Fixed(paper_conv, 3), Fixed(paper_ds, 3), Fixed(paper_ps, 3)},
+                  {"difference", Percent(conv, paper_conv), Percent(ds, paper_ds), Percent(ps, paper_ps)},
+                  {"ablation: PS trained on the true d", "", "", Fixed(c.RmseUm(PaperCase::kPsTrueDisturbance), 3)},
+                  {"PS trained on the smoothed estimate (measured signals)", "", "",
+                   Fixed(c.RmseUm(PaperCase::kPsSmoothed), 3)}});
+  }
   report.Heading(
       fmt::format("Section 5.3: payload {} kg (moving mass doubled), models not retrained [µm]", kPayloadMass));
   report.Table({"", "conv", "DS", "PS"},
-               {{"without payload", Fixed(c.RmseUm(0), 3), Fixed(c.RmseUm(1), 3), Fixed(c.RmseUm(2), 3)},
-                {"with payload", Fixed(c.RmseUm(3), 3), Fixed(c.RmseUm(4), 3), Fixed(c.RmseUm(5), 3)}});
+               {{"without payload", Fixed(c.RmseUm(PaperCase::kConventional), 3), Fixed(c.RmseUm(PaperCase::kDs), 3),
+                 Fixed(c.RmseUm(PaperCase::kPs), 3)},
+                {"with payload", Fixed(c.RmseUm(PaperCase::kConventionalPayload), 3),
+                 Fixed(c.RmseUm(PaperCase::kDsPayload), 3), Fixed(c.RmseUm(PaperCase::kPsPayload), 3)}});
   {
     const json& study = c.payload_json["sweep"];
     Figure f = MakeFigure("payload_study.png", "Tracking RMSE on Fig. 9 against the added moving mass (not retrained)",
@@ -133,10 +140,10 @@ void AddConfidenceTable(const ReproduceContext& c, HtmlReport& report) {
       "(10 % margin) in the analysis with the Lipschitz constants of g·d̂.",
       k["alpha"].get<double>(), k["high_alpha"].get<double>()));
   report.Table({"", "RMSE", "RMSE outside D(2)", "with payload"},
-               {{"conventional", um(rmse["conventional"]), um(outside["conventional"]), Fixed(c.RmseUm(3), 3)},
-                {"DS", um(rmse["DS"]), um(outside["DS"]), Fixed(c.RmseUm(4), 3)},
+               {{"conventional", um(rmse["conventional"]), um(outside["conventional"]), Fixed(c.RmseUm(PaperCase::kConventionalPayload), 3)},
+                {"DS", um(rmse["DS"]), um(outside["DS"]), Fixed(c.RmseUm(PaperCase::kDsPayload), 3)},
                 {"DS, weighted", um(rmse["DS_weighted"]), um(outside["DS_weighted"]), um(rmse["DS_payload_weighted"])},
-                {"PS", um(rmse["PS"]), um(outside["PS"]), Fixed(c.RmseUm(5), 3)},
+                {"PS", um(rmse["PS"]), um(outside["PS"]), Fixed(c.RmseUm(PaperCase::kPsPayload), 3)},
                 {"PS, weighted", um(rmse["PS_weighted"]), um(outside["PS_weighted"]), um(rmse["PS_payload_weighted"])},
                 {fmt::format("PS, weighted, α_max = {:.3g}", k["high_alpha"].get<double>()),
                  um(rmse["PS_high_alpha_weighted"]), um(outside["PS_high_alpha_weighted"]),
@@ -166,7 +173,7 @@ void AddAdaptiveMassFeedforward(const ReproduceContext& c, HtmlReport& report) {
       a["mass_estimate_payload_kg"].get<double>(), kPayloadMass, a["mass_estimate_no_payload_kg"].get<double>()));
   report.Table({"Fig. 9 [µm]", "no payload", "with payload", "with payload / the same GP model without payload or mass"},
                {{"conventional + adaptive mass (α = 0)", um(a["mass_only"]), um(a["mass_only_payload"]),
-                 Fixed(a["mass_only_payload"].get<double>() / c.RmseUm(0), 3)},
+                 Fixed(a["mass_only_payload"].get<double>() / c.RmseUm(PaperCase::kConventional), 3)},
                 {"PS + adaptive mass", um(a["PS_mass"]), um(a["PS_mass_payload"]),
                  Fixed(a["payload_over_no_payload_PS_mass"].get<double>(), 3)},
                 {"PS, smoothed", um(a["PS_smoothed"]), um(a["PS_smoothed_payload"]),
@@ -188,7 +195,7 @@ void AddOnlineLearning(const ReproduceContext& c, HtmlReport& report) {
       "data.",
       k["forgetting"].get<double>(), kPayloadMass));
   report.Table({"", "no payload", "with payload", "payload / no payload"},
-               {{"conventional", um(t["conventional"]), Fixed(c.RmseUm(3), 3), Fixed(c.RmseUm(3) / c.RmseUm(0), 3)},
+               {{"conventional", um(t["conventional"]), Fixed(c.RmseUm(PaperCase::kConventionalPayload), 3), Fixed(c.RmseUm(PaperCase::kConventionalPayload) / c.RmseUm(PaperCase::kConventional), 3)},
                 {"PS (fixed)", um(t["PS"]), um(t["PS_payload"]), Fixed(t["payload_over_no_payload_fixed"].get<double>(), 3)},
                 {"PS, learning online", um(t["PS_online"]), um(t["PS_online_payload"]),
                  Fixed(t["PS_online_payload"].get<double>() / t["PS_online"].get<double>(), 3)},
@@ -380,11 +387,11 @@ void AddClosedLoopFigures(const ReproduceContext& c, HtmlReport& report) {
     for (const Panel& p : panels) {
       Figure f = MakeFigure(p.file, p.title, "time [s]", p.ylabel);
       if (p.conv_signal)
-        f.series.push_back(MakeSeries(t, Scaled(c.cases[0].result.log.Column(p.conv_signal), p.scale), "conv"));
+        f.series.push_back(MakeSeries(t, Scaled(c.Case(PaperCase::kConventional).result.log.Column(p.conv_signal), p.scale), "conv"));
       f.series.push_back(
-          MakeSeries(c.cases[1].result.log.time, Scaled(c.cases[1].result.log.Column(p.gp_signal), p.scale), "DS"));
+          MakeSeries(c.Case(PaperCase::kDs).result.log.time, Scaled(c.Case(PaperCase::kDs).result.log.Column(p.gp_signal), p.scale), "DS"));
       f.series.push_back(
-          MakeSeries(c.cases[2].result.log.time, Scaled(c.cases[2].result.log.Column(p.gp_signal), p.scale), "PS"));
+          MakeSeries(c.Case(PaperCase::kPs).result.log.time, Scaled(c.Case(PaperCase::kPs).result.log.Column(p.gp_signal), p.scale), "PS"));
       report.AddFigure(f, o.out);
     }
   }
@@ -398,11 +405,13 @@ void AddClosedLoopFigures(const ReproduceContext& c, HtmlReport& report) {
     for (const auto& [signal, label] : panels) {
       const double scale = std::string(signal) == "error.y" ? 1e6 : 1.0;
       Figure f = MakeFigure(fmt::format("fig{}_payload.png", n++), label, "time [s]", label);
-      const std::pair<std::size_t, const char*> which[] = {
-          {1, "DS"}, {2, "PS"}, {4, "DS + payload"}, {5, "PS + payload"}};
-      for (const auto& [i, name] : which) {
-        f.series.push_back(
-            MakeSeries(c.cases[i].result.log.time, Scaled(c.cases[i].result.log.Column(signal), scale), name));
+      const std::pair<PaperCase, const char*> runs[] = {{PaperCase::kDs, "DS"},
+                                                        {PaperCase::kPs, "PS"},
+                                                        {PaperCase::kDsPayload, "DS + payload"},
+                                                        {PaperCase::kPsPayload, "PS + payload"}};
+      for (const auto& [which, name] : runs) {
+        const SignalLog& log = c.Case(which).result.log;
+        f.series.push_back(MakeSeries(log.time, Scaled(log.Column(signal), scale), name));
       }
       report.AddFigure(f, o.out);
     }

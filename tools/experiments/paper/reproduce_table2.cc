@@ -15,7 +15,7 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 
 void RunClosedLoopCases(ReproduceContext& c) {
-  // 5–6. Table 2 and the payload case: six closed-loop runs in parallel.
+  // 5–6. Table 2 and the payload case: the runs of PaperCase, in its order, in parallel.
   c.cases = {{"conventional", c.conventional, {}, {}},
              {"DS", c.gp_loop, {{"gpr.model", c.model_paths["DS_D2"].string()}}, {}},
              {"PS", c.gp_loop, {{"gpr.model", c.model_paths["PS_D2"].string()}}, {}},
@@ -42,27 +42,28 @@ void RunClosedLoopCases(ReproduceContext& c) {
     tbb::parallel_for(std::size_t{0}, c.cases.size(),
                       [&](std::size_t i) { c.cases[i].result = Simulate(c.cases[i].diagram, c.cases[i].assignments); });
   });
+  const double conv = c.RmseUm(PaperCase::kConventional), ds = c.RmseUm(PaperCase::kDs), ps = c.RmseUm(PaperCase::kPs);
   c.table2 = {{"unit", "µm"},
-              {"conventional", c.RmseUm(0)},
-              {"DS", c.RmseUm(1)},
-              {"PS", c.RmseUm(2)},
+              {"conventional", conv},
+              {"DS", ds},
+              {"PS", ps},
               {"max_abs_um",
-               {{"conventional", c.cases[0].result.metrics.at("tracking_max_abs") * 1e6},
-                {"DS", c.cases[1].result.metrics.at("tracking_max_abs") * 1e6},
-                {"PS", c.cases[2].result.metrics.at("tracking_max_abs") * 1e6}}},
+               {{"conventional", c.Case(PaperCase::kConventional).result.metrics.at("tracking_max_abs") * 1e6},
+                {"DS", c.Case(PaperCase::kDs).result.metrics.at("tracking_max_abs") * 1e6},
+                {"PS", c.Case(PaperCase::kPs).result.metrics.at("tracking_max_abs") * 1e6}}},
               {"paper", kPaperTable2},
-              {"order_ps_ds_conventional", c.RmseUm(2) < c.RmseUm(1) && c.RmseUm(1) < c.RmseUm(0)},
-              {"ablation_ps_trained_on_true_disturbance", c.RmseUm(6)},
-              {"ps_trained_on_smoothed_estimate", c.RmseUm(7)},
-              {"ps_smoothed_ratio_to_conventional", c.RmseUm(7) / c.RmseUm(0)}};
+              {"order_ps_ds_conventional", ps < ds && ds < conv},
+              {"ablation_ps_trained_on_true_disturbance", c.RmseUm(PaperCase::kPsTrueDisturbance)},
+              {"ps_trained_on_smoothed_estimate", c.RmseUm(PaperCase::kPsSmoothed)},
+              {"ps_smoothed_ratio_to_conventional", c.RmseUm(PaperCase::kPsSmoothed) / conv}};
   c.payload_json = {{"unit", "µm"},
                     {"payload_mass_kg", kPayloadMass},
                     {"moving_mass_kg", 0.2621},
-                    {"conventional", c.RmseUm(3)},
-                    {"DS", c.RmseUm(4)},
-                    {"PS", c.RmseUm(5)},
-                    {"PS_smoothed", c.RmseUm(8)},
-                    {"without_payload", {{"conventional", c.RmseUm(0)}, {"DS", c.RmseUm(1)}, {"PS", c.RmseUm(2)}}}};
+                    {"conventional", c.RmseUm(PaperCase::kConventionalPayload)},
+                    {"DS", c.RmseUm(PaperCase::kDsPayload)},
+                    {"PS", c.RmseUm(PaperCase::kPsPayload)},
+                    {"PS_smoothed", c.RmseUm(PaperCase::kPsSmoothedPayload)},
+                    {"without_payload", {{"conventional", conv}, {"DS", ds}, {"PS", ps}}}};
 }
 
 void RunPayloadSweeps(ReproduceContext& c) {
