@@ -156,6 +156,13 @@ class Simulator final : private OdeSystem {
   void Roots(double t, const double* x, double* g) override;
   std::string DescribeNonFinite(const double* x) const override;
 
+  // Construction's phases, in this order (simulator_setup.cc): signal storage and each context's port pointers;
+  // state storage, each context's state pointers and the discrete blocks; minor_step_order_; the inputs' series,
+  // the log grid and the logged columns.
+  void LayOutSignals();
+  void LayOutStates();
+  void OrderMinorSteps();
+  void LayOutInputsAndLog();
   // Refuses runs that cannot advance or exceed limits_ (Initialize's checks).
   void CheckRunLength(double start_time) const;
   // Throws NumericalError if a block output or state is NaN/Inf at major time t.
