@@ -107,14 +107,12 @@ double BinnedExplained(const Bins& b, double f, Eigen::Vector3d* coef = nullptr)
   return ExplainedSumOfSquares(w, c, s, c2, s2, y, yc, ys, coef);
 }
 
-// Σ_j v_j e^{+2πi jk/K} for k = 0..K−1 (the conjugate of the forward FFT of real v).
-std::vector<std::complex<double>> Dft(Eigen::FFT<double>& fft, const Eigen::VectorXd& v, Eigen::Index k_size) {
-  std::vector<double> in(static_cast<std::size_t>(k_size), 0.0);
-  for (Eigen::Index j = 0; j < v.size(); ++j) in[static_cast<std::size_t>(j)] = v(j);
-  std::vector<std::complex<double>> out;
-  fft.fwd(out, in);
-  for (auto& z : out) z = std::conj(z);
-  return out;
+// The forward FFT of real v zero-padded to K, its half spectrum k = 0..K/2 (the rest is its conjugate mirror), into
+// `out`; `in` is the zero-padded input buffer, kept between calls (its tail beyond v stays zero).
+void HalfSpectrum(Eigen::FFT<double>& fft, const Eigen::VectorXd& v, std::vector<double>* in,
+                  std::vector<std::complex<double>>* out) {
+  std::copy(v.data(), v.data() + v.size(), in->begin());
+  fft.fwd(*out, *in);
 }
 
 }  // namespace
@@ -213,7 +211,8 @@ class FineGrid {
           "(above the Nyquist frequency); raise min_period",
           p.min_period, 2.0 * bins.h));
     }
-    weights_ = Dft(fft_, bins.weight, k_size_);
+    in_.assign(static_cast<std::size_t>(k_size_), 0.0);
+    HalfSpectrum(fft_, bins.weight, &in_, &weights_);
     w_total_ = bins.weight.sum();
   }
   double df() const { return df_; }
@@ -222,13 +221,12 @@ class FineGrid {
   // The explained sum of squares / chi_ref at each node for the bin means of `work`.
   Eigen::VectorXd Power(const Bins& work, double chi_ref) {
     const Eigen::VectorXd wy = work.weight.cwiseProduct(work.mean);
-    const auto b = Dft(fft_, wy, k_size_);
+    HalfSpectrum(fft_, wy, &in_, &sums_);  // k_hi < K/2: every node's sum is in the half spectrum
     const double y = wy.sum();
     Eigen::VectorXd p(k_hi_ - k_lo_ + 1);
     for (Eigen::Index k = k_lo_; k <= k_hi_; ++k) {
-      const auto& ak = weights_[static_cast<std::size_t>(k)];
-      const auto& a2k = weights_[static_cast<std::size_t>(2 * k)];
-      const auto& bk = b[static_cast<std::size_t>(k)];
+      const auto ak = Weights(k), a2k = Weights(2 * k);
+      const auto bk = std::conj(sums_[static_cast<std::size_t>(k)]);
       p(k - k_lo_) =
           ExplainedSumOfSquares(w_total_, ak.real(), ak.imag(), a2k.real(), a2k.imag(), y, bk.real(), bk.imag()) /
           chi_ref;
@@ -237,10 +235,19 @@ class FineGrid {
   }
 
  private:
-  Eigen::FFT<double> fft_;
+  // Σ_j w_j e^{+2πi jk/K}: the conjugate of the forward FFT, whose upper half mirrors the lower (exactly: Eigen's
+  // full spectrum is filled in as conj(F[K−k]) too).
+  std::complex<double> Weights(Eigen::Index k) const {
+    return k <= k_size_ / 2 ? std::conj(weights_[static_cast<std::size_t>(k)])
+                            : weights_[static_cast<std::size_t>(k_size_ - k)];
+  }
+
+  Eigen::FFT<double> fft_{Eigen::FFT<double>::impl_type(), Eigen::FFT<double>::HalfSpectrum};
   Eigen::Index k_size_ = 1, k_lo_ = 0, k_hi_ = 0;
   double df_ = 0.0, w_total_ = 0.0;
-  std::vector<std::complex<double>> weights_;  // the DFT of the bin weights
+  std::vector<double> in_;                     // the zero-padded input, reused by every transform
+  std::vector<std::complex<double>> weights_;  // the forward FFT of the bin weights, k = 0..K/2
+  std::vector<std::complex<double>> sums_;     // the forward FFT of the weighted bin means, k = 0..K/2
 };
 
 // The reported curve on the log grid of options.num_periods: the fine grid's maximum within each log cell, else
