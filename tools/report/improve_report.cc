@@ -79,6 +79,27 @@ void AddStepSections(HtmlReport* report, const ImproveResult& result, const Meas
   }
 }
 
+// The element names of a diagram's JSON (none for a diagram not given: a report written from parts).
+std::vector<std::string> ElementNames(const nlohmann::json& diagram) {
+  std::vector<std::string> names;
+  if (!diagram.is_object() || !diagram.contains("elements") || !diagram["elements"].is_array()) return names;
+  for (const auto& e : diagram["elements"]) {
+    if (e.is_object() && e.contains("name") && e["name"].is_string()) names.push_back(e["name"]);
+  }
+  return names;
+}
+
+// Every element `improved` has and `given` has not: an effect's block and what wires it in (a sum).
+std::vector<std::string> AddedElements(const nlohmann::json& given, const nlohmann::json& improved) {
+  const std::vector<std::string> given_names = ElementNames(given);
+  const std::set<std::string> before(given_names.begin(), given_names.end());
+  std::vector<std::string> added;
+  for (const auto& name : ElementNames(improved)) {
+    if (!before.count(name)) added.push_back(name);
+  }
+  return added;
+}
+
 }  // namespace
 
 void WriteImproveReport(const ImproveResult& result, const MeasurementLog& training, const MeasurementLog* validation,
@@ -126,20 +147,7 @@ void WriteImproveReport(const ImproveResult& result, const MeasurementLog& train
 
   DrawingMarks added;
   added.added_label = "added by improve";
-  // Every element the improved diagram has and step 0's has not: an effect's block and what wires it in (a sum).
-  const auto elements = [](const nlohmann::json& diagram) {  // none for a diagram not given (a report from parts)
-    std::vector<std::string> names;
-    if (!diagram.is_object() || !diagram.contains("elements") || !diagram["elements"].is_array()) return names;
-    for (const auto& e : diagram["elements"]) {
-      if (e.is_object() && e.contains("name") && e["name"].is_string()) names.push_back(e["name"]);
-    }
-    return names;
-  };
-  const std::vector<std::string> given_names = elements(result.steps.front().training.fitted_diagram);
-  const std::set<std::string> given(given_names.begin(), given_names.end());
-  for (const auto& name : elements(last.training.fitted_diagram)) {
-    if (!given.count(name)) added.added.push_back(name);
-  }
+  added.added = AddedElements(result.steps.front().training.fitted_diagram, last.training.fitted_diagram);
   AddDiagramDrawing(&report, last.training.fitted_diagram, diagram_directory, title, added, directory);
 
   report.Heading("RMSE per step");
