@@ -263,8 +263,9 @@ std::string FirstRowUnlikeRunsJson(const ShardRows& shard) {
   const auto& header = shard.table.header;
   for (const auto& [index, r] : shard.rows) {
     const auto& cells = shard.table.rows[r];
+    const auto line = shard.table.row_lines[r];  // not the binding itself: clang 14 cannot capture one
     const auto where = [&](const std::string& what) {
-      return fmt::format("{}:{}: run {}: {}", shard.table.source, shard.table.row_lines[r], cells[0], what);
+      return fmt::format("{}:{}: run {}: {}", shard.table.source, line, cells[0], what);
     };
     const auto it = by_id.find(cells[0]);
     if (it == by_id.end()) return where("not in runs.json");
