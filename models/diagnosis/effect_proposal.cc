@@ -311,8 +311,9 @@ double EstimateModelOutputDelay(const ProposalContext& c) {
   const double d0 = -beta(1);
   if (!std::isfinite(d0) || !(std::abs(d0) > 1e-3 * ts)) return 0.0;
   const double sign = d0 > 0.0 ? 1.0 : -1.0;
+  const JointFitResidual joint_fit(base, r);  // the base's Gram and moment once, not per trial delay
   auto sse = [&](double magnitude) {
-    return ResidualSumOfSquares(base, ShiftedInTime(s.time, y, sign * magnitude) - y, r);
+    return joint_fit(ShiftedInTime(s.time, y, sign * magnitude) - y);
   };
   constexpr int kGrid = 25;
   const double lo_grid = std::abs(d0) / 8.0, ratio = std::pow(64.0, 1.0 / (kGrid - 1));
