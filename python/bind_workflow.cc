@@ -143,8 +143,9 @@ PyCompare Compare(const PyDiagram& d, const py::object& measurement, const std::
   std::string name;
   MeasurementLog log = MeasurementFor(d.document.json(), measurement, settings.measurement, &name);
   py::gil_scoped_release release;
-  CompareOutcome outcome = mb::Compare(d.document.json(), d.document.base_directory(), SourceOf(d), log, settings,
-                                       ProgressTo(progress));
+  CompareOutcome outcome =
+      mb::Compare(DiagramDocument(d.document.json(), d.document.base_directory(), SourceOf(d)), log, settings,
+                  ProgressTo(progress));
   return PyCompare{std::move(outcome), std::move(log), d, name};
 }
 

@@ -57,9 +57,9 @@ void BM_Improve25k(benchmark::State& state) {
   const PreparedCase& c = Prepared(25.0);
   double rmse = 0.0;
   for (auto _ : state) {
-    const mb::ImproveResult r = mb::ImproveModel(c.diagram, mb::independent::UserDiagramDirectory(),
-                                                 mb::independent::kUserDiagramFile, c.training, &c.validation,
-                                                 c.settings);
+    const mb::ImproveResult r = mb::ImproveModel(
+        mb::DiagramDocument(c.diagram, mb::independent::UserDiagramDirectory(), mb::independent::kUserDiagramFile),
+        c.training, &c.validation, c.settings);
     // No DoNotOptimize(rmse): GCC miscompiles its "+m,r" constraint on a double (the counter read 9.5e-130);
     // the result is used below, and ImproveModel writes files, so nothing is optimised away.
     rmse = r.last_accepted().rmse_heldout;

@@ -143,7 +143,7 @@ CaseResult RunCase(const CaseSpec& spec, const fs::path& directory, bool run_imp
   r.improve_run = true;
   const auto t1 = std::chrono::steady_clock::now();
   const ImproveResult improved =
-      ImproveModel(diagram, DiagramFolder(spec), DiagramFile(spec), training, &validation, settings);
+      ImproveModel(DiagramDocument(diagram, DiagramFolder(spec), DiagramFile(spec)), training, &validation, settings);
   r.improve_seconds = Seconds(t1);
   r.heldout_before = improved.first().rmse_heldout;
   r.heldout_after = improved.last_accepted().rmse_heldout;

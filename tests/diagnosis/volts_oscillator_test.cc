@@ -121,7 +121,7 @@ TEST_F(VoltsOscillator, CompareNamesTheCubicStiffnessAsAForceOfThePosition) {
 
 TEST_F(VoltsOscillator, ImproveAddsItOnTheVoltsConnectorAndReachesTheFloor) {
   const ImproveResult improved =
-      ImproveModel(diagram_, kFolder, "linear_oscillator.json", *training_, &*validation_, settings_);
+      ImproveModel(DiagramDocument(diagram_, kFolder, "linear_oscillator.json"), *training_, &*validation_, settings_);
   const double floor = NoiseFloor(*validation_);
   const double before = improved.first().rmse_heldout, after = improved.last_accepted().rmse_heldout;
   fmt::print("held-out RMSE {:.4f} V → {:.4f} V (floor {:.4f} V): {}\n", before, after, floor, improved.stop_reason);

@@ -78,8 +78,8 @@ void RunCompare(const CompareOptions& o) {
   settings.suggest = !o.suggest.empty();
   settings.suggest_effect = o.suggest_effect;
   settings.fallback_model_path = fs::absolute(fs::path(o.out) / "residual_gpr.json").string();
-  const CompareOutcome outcome = Compare(diagram, fs::path(o.diagram).parent_path(), o.diagram, log, settings,
-                                         ProgressNote);
+  const CompareOutcome outcome =
+      Compare(DiagramDocument(diagram, fs::path(o.diagram).parent_path(), o.diagram), log, settings, ProgressNote);
   const CompareFiles files{o.diagram, o.measurement.measurement, o.out, o.write_fitted, o.suggest,
                            o.measurement.position_column};
   const json written = WriteCompareResults(outcome, log, files);

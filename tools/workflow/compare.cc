@@ -81,18 +81,19 @@ CompareSuggestion SuggestFromComparison(const json& input_diagram, const Diagnos
   return suggestion;
 }
 
-CompareOutcome Compare(const json& diagram, const std::filesystem::path& base_directory, const std::string& source,
-                       const MeasurementLog& log, const CompareSettings& settings,
+CompareOutcome Compare(const DiagramDocument& document, const MeasurementLog& log, const CompareSettings& settings,
                        const std::function<void(const std::string&)>& progress) {
+  const json& diagram = document.json();
   CompareOutcome outcome;
   outcome.mode = ModeOf(diagram);
   // Refit the free parameters (settings.fit, else the diagram's "free" list).
   std::vector<std::string> fit_names = settings.fit;
-  if (fit_names.empty() && !settings.no_fit) fit_names = DiagramDocument(diagram).FreeParameters();
+  if (fit_names.empty() && !settings.no_fit) fit_names = document.FreeParameters();
   if (settings.no_fit) fit_names.clear();
   Say(progress, fmt::format("fitting {} parameter(s) by Levenberg–Marquardt, diagnosing the residual …",
                             fit_names.size()));
-  outcome.compared = CompareAndDiagnose(diagram, base_directory, source, log, settings.measurement, fit_names);
+  outcome.compared = CompareAndDiagnose(diagram, document.base_directory(), document.source(), log,
+                                        settings.measurement, fit_names);
   if (settings.gpr_fallback) outcome.fallback = FitCompareFallback(outcome.compared, progress);
   if (settings.suggest && outcome.compared.diagnosis) {
     outcome.suggestion = SuggestFromComparison(diagram, outcome.compared, outcome.fallback, settings, progress);

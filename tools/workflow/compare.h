@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/diagram_document.h"
 #include "models/diagnosis/measurement_log.h"
 #include "tools/workflow/comparison.h"
 #include "tools/workflow/fallback.h"
@@ -55,11 +56,10 @@ struct CompareOutcome {
   const ComparedOutput& primary_after() const { return compared.after.front(); }
 };
 
-/// Runs one compare of `diagram` (its file's folder `base_directory`, `source` for messages; --set already applied)
-/// against `log` (read with ReadMeasurementFor and settings.measurement). `progress` gets one line per stage and
-/// why a ranked effect could not be suggested (stderr in the command; may be empty). @throws as CompareAndDiagnose.
-CompareOutcome Compare(const nlohmann::json& diagram, const std::filesystem::path& base_directory,
-                       const std::string& source, const MeasurementLog& log, const CompareSettings& settings,
+/// Runs one compare of `diagram` (it holds its folder and its source for messages; --set already applied) against
+/// `log` (read with ReadMeasurementFor and settings.measurement). `progress` gets one line per stage and why a ranked
+/// effect could not be suggested (stderr in the command; may be empty). @throws as CompareAndDiagnose.
+CompareOutcome Compare(const DiagramDocument& diagram, const MeasurementLog& log, const CompareSettings& settings,
                        const std::function<void(const std::string&)>& progress = {});
 
 /// The suggestion step of Compare: the compared diagram amended, in compare's order (EffectsInApplicationOrder,

@@ -322,10 +322,13 @@ void NoteResidualWhiteness(ImproveResult* result) {
 
 }  // namespace
 
-ImproveResult ImproveModel(const json& diagram, const fs::path& base_directory, const std::string& source,
-                           const MeasurementLog& training, const MeasurementLog* validation,
-                           const ImproveSettings& settings, const std::function<void(const std::string&)>& progress,
+ImproveResult ImproveModel(const DiagramDocument& document, const MeasurementLog& training,
+                           const MeasurementLog* validation, const ImproveSettings& settings,
+                           const std::function<void(const std::string&)>& progress,
                            const ImproveStepCallback& on_step) {
+  const json& diagram = document.json();
+  const fs::path& base_directory = document.base_directory();
+  const std::string& source = document.source();
   CheckImproveSettings(settings);
   CheckValidationFree(diagram, settings);
   const auto say = [&](const std::string& line) {
@@ -423,8 +426,7 @@ ImproveOutcome ImproveToMeasurement(const DiagramDocument& document, const Measu
   const json head = outcome.Head(false);
   ImproveStepCallback each_step;
   if (on_step) each_step = [&](const ImproveStep&, const ImproveResult& so_far) { on_step(so_far, head); };
-  outcome.result = ImproveModel(document.json(), document.base_directory(), document.source(), training, validation,
-                                settings, progress, each_step);
+  outcome.result = ImproveModel(document, training, validation, settings, progress, each_step);
   if (settings.fallback) outcome.fallback = FitImproveFallback(outcome.result, progress);
   return outcome;
 }

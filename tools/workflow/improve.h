@@ -122,15 +122,14 @@ struct ImproveResult {
 /// Called as each step completes (accepted or rejected), before the next starts: progress and files.
 using ImproveStepCallback = std::function<void(const ImproveStep& step, const ImproveResult& so_far)>;
 
-/// Runs the loop on `diagram` (its file's folder `base_directory`, `source` for messages) against `training`
+/// Runs the loop on `diagram` (it holds its folder and its source for messages) against `training`
 /// and, if given, `validation` (both read with ReadMeasurementFor and the same settings). `progress` gets one line
 /// per stage (stderr in the command). @throws std::invalid_argument for settings out of range, a validation record
 /// the diagram cannot be compared with (checked before any fitting; the message names the file), and as
 /// CompareAndDiagnose for step 0; NumericalError when step 0's parameters cannot be estimated from `training`
 /// (FitResult::identifiable false: no motion, parameters that cannot be told apart). An amended diagram that fails (a suggestion that needs an input the diagram
 /// lacks, a diverging refit) is a rejected step with the reason, not an error.
-ImproveResult ImproveModel(const nlohmann::json& diagram, const std::filesystem::path& base_directory,
-                           const std::string& source, const MeasurementLog& training,
+ImproveResult ImproveModel(const DiagramDocument& diagram, const MeasurementLog& training,
                            const MeasurementLog* validation, const ImproveSettings& settings,
                            const std::function<void(const std::string&)>& progress = {},
                            const ImproveStepCallback& on_step = {});

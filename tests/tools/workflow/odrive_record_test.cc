@@ -93,7 +93,8 @@ TEST(OdriveRecord, ImproveAddsTheCoggingAndTheHeldOutErrorFalls) {
   ImproveSettings settings;
   settings.measurement = kSettings;
   settings.max_effects = 1;
-  const ImproveResult r = ImproveModel(diagram, kDiagram.parent_path(), kDiagram.string(), log, nullptr, settings);
+  const ImproveResult r =
+      ImproveModel(DiagramDocument(diagram, kDiagram.parent_path(), kDiagram.string()), log, nullptr, settings);
   const ImproveStep& last = r.last_accepted();
   ASSERT_EQ(last.effect, "position_periodic") << r.stop_reason;
   std::cout << fmt::format("ODrive improve: + {}: RMSE held out {:.4f} → {:.4f} A, fit {:.4f} → {:.4f} A\n",
