@@ -428,7 +428,7 @@ void BindCompare(py::module_& m) {
           "str; empty when none).")
       .def("to_dict",
            [](const PyCompare& c) {
-             return FromJson(CompareResultsJson(c.outcome, c.log, SourceOf(c.diagram), c.measurement));
+             return FromJson(c.outcome.ToJson(SourceOf(c.diagram), c.measurement));
            },
            "compare.json as `motionblocks compare` writes it, less the written files' entries.")
       .def("__repr__", &CompareRepr);

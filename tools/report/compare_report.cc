@@ -27,36 +27,6 @@ using nlohmann::json;
 
 namespace {
 
-// compare.json's "diagnosis" (the ranked effects) and what the diagnosis says, or why there is none.
-void AddDiagnosisJson(const DiagnosedComparison& compared, json* result) {
-  json ranked = json::array();
-  if (compared.diagnosis) {
-    const DiagnosisResult& diagnosis = *compared.diagnosis;
-    for (const auto& e : diagnosis.effects) {
-      ranked.push_back({{"effect", e.effect}, {"score", e.score}, {"parameters", e.ParametersJson()},
-                        {"description", e.description}});
-    }
-    (*result)["missing_effect_found"] = diagnosis.missing_effect_found;
-    (*result)["position_time_indistinguishable"] = diagnosis.position_time_indistinguishable;
-    (*result)["summary"] = diagnosis.summary;
-    (*result)["details"] = diagnosis.ToJson();
-  } else {
-    (*result)["missing_effect_found"] = false;
-    (*result)["summary"] = compared.diagnosis_skipped;
-  }
-  (*result)["diagnosis"] = ranked;
-  (*result)["notes"] = compared.notes;  // the intake's (merged rows, resampling, gaps), then the diagnosis's
-}
-
-// The fallback's record (the model is saved by WriteFallbackAndDiagrams).
-void AddFallbackJson(const FallbackOutcome& fallback, json* result) {
-  if (fallback.gpr) {
-    (*result)["nonparametric_fallback"] = fallback.gpr->ToJson();
-  } else if (!fallback.skipped.empty()) {
-    (*result)["nonparametric_fallback"] = {{"useful", false}, {"skipped", fallback.skipped}};
-  }
-}
-
 // The fallback's model saved beside compare.json (its path in the record), the fitted and the amended diagrams.
 void WriteFallbackAndDiagrams(const CompareOutcome& outcome, const CompareFiles& files, json* result) {
   const fs::path folder = fs::path(files.diagram).parent_path();  // what the diagram's file names are relative to
@@ -141,27 +111,6 @@ void AddDiagnosisSection(const CompareOutcome& outcome, const std::string& posit
 
 }  // namespace
 
-json CompareResultsJson(const CompareOutcome& outcome, const MeasurementLog& log, const std::string& diagram,
-                        const std::string& measurement) {
-  const ComparedOutput& primary_before = outcome.primary_before();
-  const ComparedOutput& primary_after = outcome.primary_after();
-  json result = {{"diagram", diagram},
-                 {"measurement", measurement},
-                 {"mode", outcome.mode},
-                 {"samples", log.rows()},
-                 {"output", primary_after.connector},
-                 {"unit", primary_after.unit},
-                 {"rmse_before", primary_before.rmse},
-                 {"rmse_after", primary_after.rmse},
-                 {"fit_percent_before", primary_before.fit_percent},
-                 {"fit_percent_after", primary_after.fit_percent},
-                 {"outputs", ComparedOutputsJson(outcome.compared.before, outcome.compared.after)}};
-  if (outcome.compared.fit) result["fit"] = outcome.compared.fit->ToJson();
-  AddDiagnosisJson(outcome.compared, &result);
-  AddFallbackJson(outcome.fallback, &result);
-  return result;
-}
-
 std::vector<std::string> CompareOutputNames() {
   std::vector<std::string> names{kCompareJson, kCompareReport, kFallbackModel};
   for (const auto& name : DiagramDrawingFileNames()) names.push_back(name);
@@ -171,7 +120,7 @@ std::vector<std::string> CompareOutputNames() {
 
 json WriteCompareResults(const CompareOutcome& outcome, const MeasurementLog& log, const CompareFiles& files) {
   fs::create_directories(files.out);
-  json result = CompareResultsJson(outcome, log, files.diagram, files.measurement);
+  json result = outcome.ToJson(files.diagram, files.measurement);
   WriteFallbackAndDiagrams(outcome, files, &result);
   WriteJsonFile(result, files.out / kCompareJson);
   WriteCompareReport(outcome, log, files);

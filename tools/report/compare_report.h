@@ -24,19 +24,13 @@ struct CompareFiles {
   std::string position_column = "position_m";  ///< for the residual-against-position figures
 };
 
-/// compare.json's content without the files a compare writes: diagram and measurement (as given), mode, samples,
-/// the primary output's RMSE and fit % before and after, every output, the fit, the ranked effects and the fallback's
-/// record (no "model" path, no fitted or suggested diagram). What the Python module's CompareOutcome.to_dict() gives.
-nlohmann::json CompareResultsJson(const CompareOutcome& outcome, const MeasurementLog& log, const std::string& diagram,
-                                  const std::string& measurement);
-
 /// The names of the files WriteCompareResults writes into CompareFiles::out (patterns with '*' for the figures;
 /// "plot/…" for their gnuplot scripts and data and the diagram's DOT text), for RefuseOutputsOverInputs
 /// (output_files.h).
 std::vector<std::string> CompareOutputNames();
 
 /// Writes every file of a compare (the folder is created) and returns compare.json's content: diagram,
-/// CompareResultsJson plus the fallback's model path and the fitted and suggested diagrams' entries.
+/// CompareOutcome::ToJson plus the fallback's model path and the fitted and suggested diagrams' entries.
 /// @throws std::runtime_error if a file cannot be written.
 nlohmann::json WriteCompareResults(const CompareOutcome& outcome, const MeasurementLog& log, const CompareFiles& files);
 

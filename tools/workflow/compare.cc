@@ -81,11 +81,64 @@ CompareSuggestion SuggestFromComparison(const json& input_diagram, const Diagnos
   return suggestion;
 }
 
+namespace {
+
+// compare.json's "diagnosis" (the ranked effects) and what the diagnosis says, or why there is none.
+void AddDiagnosisJson(const DiagnosedComparison& compared, json* result) {
+  json ranked = json::array();
+  if (compared.diagnosis) {
+    const DiagnosisResult& diagnosis = *compared.diagnosis;
+    for (const auto& e : diagnosis.effects) {
+      ranked.push_back({{"effect", e.effect}, {"score", e.score}, {"parameters", e.ParametersJson()},
+                        {"description", e.description}});
+    }
+    (*result)["missing_effect_found"] = diagnosis.missing_effect_found;
+    (*result)["position_time_indistinguishable"] = diagnosis.position_time_indistinguishable;
+    (*result)["summary"] = diagnosis.summary;
+    (*result)["details"] = diagnosis.ToJson();
+  } else {
+    (*result)["missing_effect_found"] = false;
+    (*result)["summary"] = compared.diagnosis_skipped;
+  }
+  (*result)["diagnosis"] = ranked;
+  (*result)["notes"] = compared.notes;  // the intake's (merged rows, resampling, gaps), then the diagnosis's
+}
+
+// The fallback's record (the report library saves the model and adds its path).
+void AddFallbackJson(const FallbackOutcome& fallback, json* result) {
+  if (fallback.gpr) {
+    (*result)["nonparametric_fallback"] = fallback.gpr->ToJson();
+  } else if (!fallback.skipped.empty()) {
+    (*result)["nonparametric_fallback"] = {{"useful", false}, {"skipped", fallback.skipped}};
+  }
+}
+
+}  // namespace
+
+json CompareOutcome::ToJson(const std::string& diagram, const std::string& measurement) const {
+  json result = {{"diagram", diagram},
+                 {"measurement", measurement},
+                 {"mode", mode},
+                 {"samples", samples},
+                 {"output", primary_after().connector},
+                 {"unit", primary_after().unit},
+                 {"rmse_before", primary_before().rmse},
+                 {"rmse_after", primary_after().rmse},
+                 {"fit_percent_before", primary_before().fit_percent},
+                 {"fit_percent_after", primary_after().fit_percent},
+                 {"outputs", ComparedOutputsJson(compared.before, compared.after)}};
+  if (compared.fit) result["fit"] = compared.fit->ToJson();
+  AddDiagnosisJson(compared, &result);
+  AddFallbackJson(fallback, &result);
+  return result;
+}
+
 CompareOutcome Compare(const DiagramDocument& document, const MeasurementLog& log, const CompareSettings& settings,
                        const std::function<void(const std::string&)>& progress) {
   const json& diagram = document.json();
   CompareOutcome outcome;
   outcome.mode = ModeOf(diagram);
+  outcome.samples = log.rows();
   // Refit the free parameters (settings.fit, else the diagram's "free" list).
   std::vector<std::string> fit_names = settings.fit;
   if (fit_names.empty() && !settings.no_fit) fit_names = document.FreeParameters();

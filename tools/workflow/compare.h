@@ -52,8 +52,14 @@ struct CompareOutcome {
   DiagnosedComparison compared;                 ///< the fit and the diagnosis (comparison.h)
   FallbackOutcome fallback;                     ///< the TISO-GPR fallback (set when diagnosed and asked)
   std::optional<CompareSuggestion> suggestion;  ///< set when asked and diagnosed
+  Eigen::Index samples = 0;                     ///< the log's rows
   const ComparedOutput& primary_before() const { return compared.before.front(); }
   const ComparedOutput& primary_after() const { return compared.after.front(); }
+  /// compare.json's content without the files a compare writes: `diagram` and `measurement` (as the caller names
+  /// them), mode, samples, the primary output's RMSE and fit % before and after, every output, the fit, the ranked
+  /// effects and the fallback's record (no "model" path, no fitted or suggested diagram). What the Python module's
+  /// CompareOutcome.to_dict() gives; tools/report/compare_report.h adds the files.
+  nlohmann::json ToJson(const std::string& diagram, const std::string& measurement) const;
 };
 
 /// Runs one compare of `diagram` (it holds its folder and its source for messages; --set already applied) against

@@ -8,7 +8,7 @@
 //
 //   Simulate   RunSettings → DiagramRun(diagram, settings).Execute(sink) → RunOutcome (run.h); summary.json:
 //              RunSummaryJson (tools/report/run_report.h). run_command.cc; motionblocks.simulate (bind_diagram.cc).
-//   Compare    CompareSettings → Compare(...) → CompareOutcome (compare.h); compare.json: CompareResultsJson
+//   Compare    CompareSettings → Compare(...) → CompareOutcome (compare.h); compare.json: CompareOutcome::ToJson
 //              (tools/report/compare_report.h). compare_command.cc; motionblocks.compare (bind_workflow.cc).
 //   Fit        FitSettings → FitToMeasurement(...) → FitOutcome (fit.h); fit.json: FitOutcome::ToJson.
 //              fit_command.cc; motionblocks.fit (bind_workflow.cc).
