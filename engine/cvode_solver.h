@@ -9,6 +9,7 @@
 #include <string>
 
 #include "engine/solver.h"
+#include "engine/solver_type.h"
 
 namespace mb {
 
@@ -23,7 +24,7 @@ class CvodeSolver final : public ContinuousSolver {
   void Reset(double t, const double* x) override;
   double Integrate(double t_stop, double* x, bool* root_found) override;
   const SolverStats& stats() const override;
-  std::string name() const override { return "cvode"; }
+  std::string name() const override { return std::string(Name(SolverType::kCvode)); }
   int last_root() const override;
 
  private:

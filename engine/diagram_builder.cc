@@ -22,6 +22,7 @@
 #include "engine/file_access.h"
 #include "engine/json_schema.h"
 #include "engine/registry.h"
+#include "engine/solver_type.h"
 #include "engine/subsystem_expansion.h"
 #include "engine/text_excerpt.h"
 #include "engine/units.h"
@@ -132,10 +133,10 @@ class DiagramBuilder {
     x.rtol = NumberOr(s, "rtol", 1e-6, "/solver", &problems_);
     x.atol = NumberOr(s, "atol", 1e-9, "/solver", &problems_);
     x.max_step = NumberOr(s, "maxStep", 0.0, "/solver", &problems_);
-    if (x.type != "euler" && x.type != "rk4" && x.type != "cvode") {
-      Problem(fmt::format("/solver/type: '{}' is not a solver; use \"euler\", \"rk4\" or \"cvode\"", x.type));
+    if (!SolverTypeNamed(x.type)) {
+      Problem(fmt::format("/solver/type: '{}' is not a solver; use \"{}\"", x.type, fmt::join(kSolverTypeNames, "\", \"")));
     }
-    if (x.method != "bdf" && x.method != "adams") {
+    if (std::find(kCvodeMethodNames.begin(), kCvodeMethodNames.end(), x.method) == kCvodeMethodNames.end()) {
       Problem(fmt::format("/solver/method: '{}': CVODE's methods are \"bdf\" (stiff) and \"adams\"", x.method));
     }
     if (!(x.step > 0.0)) Problem("/solver/step: must be > 0 s");

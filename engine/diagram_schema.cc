@@ -10,6 +10,7 @@
 #include "engine/diagram_loader.h"
 #include "engine/experiment_mode.h"
 #include "engine/metric_type.h"
+#include "engine/solver_type.h"
 #include "engine/units.h"
 
 namespace mb {
@@ -212,8 +213,8 @@ json Sections(const BlockRegistry& registry) {
                      {"stepSize", Described({{"type", "number"}, {"minimum", 0}},
                                             "log interval [s]; 0 = the fastest discrete period")}})},
       {"solver",
-       StrictObject({{"type", {{"enum", {"euler", "rk4", "cvode"}}}},
-                     {"method", Described({{"enum", {"bdf", "adams"}}}, "CVODE only")},
+       StrictObject({{"type", {{"enum", Names(kSolverTypeNames)}}},
+                     {"method", Described({{"enum", Names(kCvodeMethodNames)}}, "CVODE only")},
                      {"step", Described({{"type", "number"}, {"exclusiveMinimum", 0}}, "fixed-step solvers [s]")},
                      {"rtol", {{"type", "number"}, {"exclusiveMinimum", 0}}},
                      {"atol", {{"type", "number"}, {"exclusiveMinimum", 0}}},

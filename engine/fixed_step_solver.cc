@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "engine/cvode_solver.h"
 #include "engine/numerical_error.h"
+#include "engine/solver_type.h"
 
 namespace mb {
 
@@ -93,10 +96,19 @@ void FixedStepSolver::CheckFinite() const {
 }
 
 std::unique_ptr<ContinuousSolver> MakeSolver(const SolverSpec& spec, OdeSystem* system) {
-  if (spec.type == "euler") return std::make_unique<FixedStepSolver>(system, FixedStepSolver::Method::kEuler, spec.step);
-  if (spec.type == "rk4") return std::make_unique<FixedStepSolver>(system, FixedStepSolver::Method::kRk4, spec.step);
-  if (spec.type == "cvode") return std::make_unique<CvodeSolver>(system, spec);
-  throw std::invalid_argument(fmt::format("unknown solver '{}': use euler, rk4 or cvode", spec.type));
+  const std::optional<SolverType> type = SolverTypeNamed(spec.type);
+  if (!type) {
+    throw std::invalid_argument(fmt::format("unknown solver '{}': use {}", spec.type, fmt::join(kSolverTypeNames, ", ")));
+  }
+  switch (*type) {
+    case SolverType::kEuler:
+      return std::make_unique<FixedStepSolver>(system, FixedStepSolver::Method::kEuler, spec.step);
+    case SolverType::kRk4:
+      return std::make_unique<FixedStepSolver>(system, FixedStepSolver::Method::kRk4, spec.step);
+    case SolverType::kCvode:
+      return std::make_unique<CvodeSolver>(system, spec);
+  }
+  throw std::logic_error("MakeSolver: a solver type without a solver");
 }
 
 }  // namespace mb

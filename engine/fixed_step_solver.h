@@ -2,9 +2,11 @@
 // Fixed-step explicit solvers: forward Euler (order 1) and classical Runge–Kutta (order 4). Source: Hairer,
 // Nørsett, Wanner, "Solving Ordinary Differential Equations I", §II.1.
 
+#include <string>
 #include <vector>
 
 #include "engine/solver.h"
+#include "engine/solver_type.h"
 
 namespace mb {
 
@@ -17,7 +19,9 @@ class FixedStepSolver final : public ContinuousSolver {
   void Reset(double t, const double* x) override;
   double Integrate(double t_stop, double* x, bool* root_found) override;
   const SolverStats& stats() const override { return stats_; }
-  std::string name() const override { return method_ == Method::kEuler ? "euler" : "rk4"; }
+  std::string name() const override {
+    return std::string(Name(method_ == Method::kEuler ? SolverType::kEuler : SolverType::kRk4));
+  }
   int last_root() const override { return last_root_; }
 
  private:
