@@ -8,21 +8,20 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <optional>
 #include <iostream>
 #include <stdexcept>
 #include <vector>
 
 #include <fmt/format.h>
 
-#include "engine/diagram_loader.h"
 #include "engine/table.h"
-#include "models/gpr/disturbance_target.h"
 #include "models/gpr/gpr_io.h"
 #include "models/gpr/gpr_log.h"
 #include "tools/commands/cli_options.h"
 #include "tools/commands/command_registry.h"
 #include "tools/report/output_files.h"
-#include "tools/workflow/loop_from_diagram.h"
+#include "tools/workflow/gpr_training.h"
 
 namespace mb {
 
@@ -45,65 +44,12 @@ struct FitGprOptions {
   int restarts = 2;
   std::uint64_t seed = 1;
   std::string output;
-  // --target smoothed
-  std::string target = "dob";
-  std::string time_column = "time_s";
-  std::string force_column;
-  std::string diagram;  // the loop whose DOB gives M_n, B_n
-  double nominal_mass = 0.0, nominal_damping = -1.0;
-  double smoothing_cutoff_hz = SmoothedDisturbanceOptions{}.cutoff_hz;
+  std::string target = "dob";       // or "smoothed": the estimate of `smoothed`
+  SmoothedTargetSettings smoothed;  // --time-column, --force-column, --diagram, --nominal-*, --smoothing-cutoff-hz
 };
 
-constexpr const char* kSmoothedColumn = "smoothed_disturbance";
-
-// The smoothed target's options: M_n, B_n given, or read from the DOB of --diagram.
-SmoothedDisturbanceOptions SmoothedTargetOptions(const FitGprOptions& o) {
-  SmoothedDisturbanceOptions so;
-  so.cutoff_hz = o.smoothing_cutoff_hz;
-  if (!o.diagram.empty()) {
-    const PaperLoop loop = PaperLoopFromDiagram(LoadDiagram(o.diagram));
-    if (!loop.has_dob) {
-      throw std::invalid_argument(fmt::format("fit-gpr --diagram {}: the diagram has no dob block to read the nominal "
-                                              "plant from: give --nominal-mass and --nominal-damping",
-                                              o.diagram));
-    }
-    so.nominal_mass = loop.nominal_mass;
-    so.nominal_damping = loop.nominal_damping;
-  }
-  if (o.nominal_mass > 0.0) so.nominal_mass = o.nominal_mass;
-  if (o.nominal_damping >= 0.0) so.nominal_damping = o.nominal_damping;
-  if (!(so.nominal_mass > 0.0) || o.force_column.empty()) {
-    throw std::invalid_argument("fit-gpr --target smoothed: give --force-column COL (the force the plant received "
-                                "[N]) and the nominal plant: --nominal-mass M_n [kg] and --nominal-damping B_n "
-                                "[N*s/m], or --diagram LOOP.json (its dob block's)");
-  }
-  if (so.nominal_damping < 0.0) so.nominal_damping = 0.0;
-  return so;
-}
-
-// Reads the log; with --target smoothed, appends the smoothed estimate and points the selection at it.
-Table ReadTrainingTable(const FitGprOptions& o, GprTrainingSelection* selection) {
-  if (o.target != "smoothed") {
-    return ReadGprTable(o.log, {selection->position_column, selection->velocity_column,
-                                selection->disturbance_column});
-  }
-  const SmoothedDisturbanceOptions so = SmoothedTargetOptions(o);
-  Table log = ReadGprTable(o.log, {o.time_column, selection->position_column, selection->velocity_column,
-                                   o.force_column});
-  AddSmoothedDisturbanceColumn(log, o.time_column, selection->position_column, o.force_column, so, kSmoothedColumn);
-  selection->disturbance_column = kSmoothedColumn;
-  return log;
-}
-
 void RunFitGpr(const FitGprOptions& o) {
-  RefuseOutputsOverInputs({{"LOG", o.log}, {"--diagram", o.diagram}}, {{"-o", o.output}});
-  if (o.target == "smoothed" && !o.selection.disturbance_column.empty()) {
-    throw std::invalid_argument("fit-gpr: --target smoothed computes the disturbance from time, position and force: "
-                                "drop --disturbance-column (or use --target dob)");
-  }
-  if (o.target != "smoothed" && o.selection.disturbance_column.empty()) {
-    throw std::invalid_argument("fit-gpr: name the disturbance column (the DOB estimate): --disturbance-column COL");
-  }
+  RefuseOutputsOverInputs({{"LOG", o.log}, {"--diagram", o.smoothed.diagram}}, {{"-o", o.output}});
   GprTrainingSelection selection = o.selection;
   if (!o.window.empty()) selection.window = GprRange{o.window[0], o.window[1]};
   GprFitOptions fit;
@@ -114,9 +60,10 @@ void RunFitGpr(const FitGprOptions& o) {
   fit.restarts = o.restarts;
   fit.seed = o.seed;
 
-  CreateParentDirectory(o.output);  // before the fit, so that a bad path fails at once
   // The regression ignores time: no time column needed, rows in any order, scans concatenated, a pandas index.
-  const Table log = ReadTrainingTable(o, &selection);
+  const Table log = ReadGprTrainingTable(o.log, &selection,
+                                         o.target == "smoothed" ? std::optional(o.smoothed) : std::nullopt);
+  CreateParentDirectory(o.output);  // before the fit, so that a bad path fails at once
   const GprModel model = FitGprToLog(log, selection, fit);
   SaveGprModel(model, o.output);
 
@@ -179,16 +126,16 @@ void SetupFitGprCommand(CLI::App& app) {
                   "and --force-column: no Q-filter lag)")
       ->check(CLI::IsMember({"dob", "smoothed"}))
       ->capture_default_str();
-  cmd->add_option("--time-column", o->time_column, "time column [s] (--target smoothed; one scan after another)")
+  cmd->add_option("--time-column", o->smoothed.time_column, "time column [s] (--target smoothed; one scan after another)")
       ->capture_default_str();
-  cmd->add_option("--force-column", o->force_column, "force the plant received u [N] (--target smoothed)");
-  cmd->add_option("--nominal-mass", o->nominal_mass, "nominal mass M_n [kg] (--target smoothed)")
+  cmd->add_option("--force-column", o->smoothed.force_column, "force the plant received u [N] (--target smoothed)");
+  cmd->add_option("--nominal-mass", o->smoothed.nominal_mass, "nominal mass M_n [kg] (--target smoothed)")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--nominal-damping", o->nominal_damping, "nominal damping B_n [N*s/m] (--target smoothed)")
+  cmd->add_option("--nominal-damping", o->smoothed.nominal_damping, "nominal damping B_n [N*s/m] (--target smoothed)")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--diagram", o->diagram, "read M_n, B_n from this loop's dob block (--target smoothed)")
+  cmd->add_option("--diagram", o->smoothed.diagram, "read M_n, B_n from this loop's dob block (--target smoothed)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--smoothing-cutoff-hz", o->smoothing_cutoff_hz,
+  cmd->add_option("--smoothing-cutoff-hz", o->smoothed.cutoff_hz,
                   "zero-phase low-pass cut-off of --target smoothed [Hz] (above the disturbance's band)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
