@@ -4,12 +4,7 @@
 // verdict (models/stability/stability.h, StabilityVerdict): certified or not, the failing condition, the largest α.
 // Writes stability.json and report.html (Bode magnitude and phase, continuous against the sampled loop).
 
-#include <algorithm>
-#include <cmath>
-#include <complex>
 #include <iostream>
-#include <limits>
-#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -22,7 +17,7 @@
 #include "tools/commands/cli_options.h"
 #include "tools/commands/command_registry.h"
 #include "tools/report/output_files.h"
-#include "tools/report/report.h"
+#include "tools/report/stability_report.h"
 
 namespace mb {
 
@@ -38,47 +33,6 @@ struct StabilityCommandOptions {
   int bode_points = 200;
 };
 
-std::string Show(double value, const char* unit = "") {
-  if (std::isnan(value)) return "—";
-  if (std::isinf(value)) return value > 0 ? "+∞" : "−∞";
-  return fmt::format("{:.4g}{}{}", value, *unit ? " " : "", unit);
-}
-
-// |G| in dB and ∠G in degrees of one transfer function across the Bode points.
-struct BodeCurves {
-  Series magnitude, phase;
-};
-
-template <typename Pick>
-BodeCurves Curves(const std::vector<BodePoint>& bode, const std::string& label, Pick pick) {
-  BodeCurves c{{{}, {}, label}, {{}, {}, label}};
-  for (const BodePoint& b : bode) {
-    const std::complex<double> g = pick(b);
-    c.magnitude.x.push_back(b.frequency_hz);
-    c.magnitude.y.push_back(20.0 * std::log10(std::max(std::abs(g), 1e-300)));
-    c.phase.x.push_back(b.frequency_hz);
-    c.phase.y.push_back(std::arg(g) * 180.0 / std::numbers::pi);
-  }
-  return c;
-}
-
-void AddBode(HtmlReport& report, const fs::path& out, const std::string& stem, const std::string& what,
-             const std::string& unit, const BodeCurves& continuous, const BodeCurves& discrete) {
-  report.AddFigure({stem + "_magnitude.png", what + ": magnitude", "frequency [Hz]", "|G| [dB " + unit + "]",
-                    {continuous.magnitude, discrete.magnitude}, true},
-                   out);
-  report.AddFigure({stem + "_phase.png", what + ": phase", "frequency [Hz]", "phase [deg]",
-                    {continuous.phase, discrete.phase}, true},
-                   out);
-}
-
-// The files stability writes into --out: refused over an input before any work (RefuseOutputsOverInputs).
-std::vector<std::string> StabilityOutputNames() {
-  std::vector<std::string> names{"stability.json", "report.html"};
-  for (const auto& name : FigureFileNames("*.png")) names.push_back(name);
-  return names;
-}
-
 void RunStability(const StabilityCommandOptions& o) {
   RefuseOutputsOverInputs({{"DIAGRAM", o.diagram}, {"--gpr", o.gpr}}, {},
                           {{"--out", o.out, StabilityOutputNames()}});
@@ -90,13 +44,7 @@ void RunStability(const StabilityCommandOptions& o) {
   options.bode_points = o.bode_points;
   const StabilityReport r = AnalyseStability(diagram, gpr ? &*gpr : nullptr, options);
 
-  const fs::path out(o.out);
-  fs::create_directories(out);
-  nlohmann::json j = ToJson(r);
-  j["diagram"] = fs::absolute(o.diagram).string();
-  j["gpr_model"] = o.gpr;
-  j["overrides"] = o.overrides;
-  WriteJsonFile(j, out / "stability.json");
+  WriteStabilityResults(r, diagram.name(), options.impulse_samples, {o.diagram, o.gpr, o.overrides, o.out});
 
   const PaperLoop& l = r.loop;
   std::cout << fmt::format("stability of {} (Ts = {} ms; M = {} kg, B = {} N·s/m; M_n = {} kg, B_n = {} N·s/m)\n",
@@ -104,53 +52,18 @@ void RunStability(const StabilityCommandOptions& o) {
                            l.nominal_damping);
   std::cout << fmt::format("  inner loop P with C_FB stable: {}; conventional FF/FB/DOB loop stable: {}\n",
                            r.inner_loop_stable ? "yes" : "NO", r.dob_loop_stable ? "yes" : "NO");
-  std::cout << fmt::format("  eq. 58 (paper) ρ = {}; consistent ρ' = {}; eq. 62: {}\n", Show(r.rho_paper),
-                           Show(r.rho_consistent), AlphaBoundText(r.alpha_max_bound_paper, r.has_gpr));
-  std::cout << fmt::format("  DOB loop closed, GP path fed back: ρ = {}; {}\n", Show(r.rho_dob),
+  std::cout << fmt::format("  eq. 58 (paper) ρ = {}; consistent ρ' = {}; eq. 62: {}\n",
+                           StabilityTermText(r.rho_paper), StabilityTermText(r.rho_consistent),
+                           AlphaBoundText(r.alpha_max_bound_paper, r.has_gpr));
+  std::cout << fmt::format("  DOB loop closed, GP path fed back: ρ = {}; {}\n", StabilityTermText(r.rho_dob),
                            AlphaBoundText(r.alpha_max_bound_dob, r.has_gpr));
   if (r.has_gpr) {
-    std::cout << fmt::format("  GPR: L_x = {}, L_ẋ = {}, b_μ = {}\n", Show(r.dob.lipschitz_x, "N/m"),
-                             Show(r.dob.lipschitz_xdot, "N·s/m"), Show(r.b_mu, "N"));
+    std::cout << fmt::format("  GPR: L_x = {}, L_ẋ = {}, b_μ = {}\n", StabilityTermText(r.dob.lipschitz_x, "N/m"),
+                             StabilityTermText(r.dob.lipschitz_xdot, "N·s/m"), StabilityTermText(r.b_mu, "N"));
   }
   for (const auto& note : r.notes) std::cout << "  note: " << note << "\n";
 
-  HtmlReport report(fmt::format("motionblocks stability: {}", diagram.name()));
-  report.Paragraph(fmt::format(
-      "Small-gain analysis of section 4.2 for {} (l1 norms of the sampled loop's impulse responses, {} samples). "
-      "The 'paper' column is eq. 54–62 as printed; the 'DOB loop' column closes the conventional FF/FB/DOB loop "
-      "and feeds back only the GP path (models/stability/stability.h explains both).",
-      o.diagram, options.impulse_samples));
-  report.Paragraph("Verdict: " + r.verdict.line);
-  const auto row = [](const std::string& name, const std::string& unit, double paper, double dob) {
-    return std::vector<std::string>{name, unit, Show(paper), Show(dob)};
-  };
-  report.Table({"term", "unit", "paper", "DOB loop"},
-               {row("γ_d→x", "m/N", r.paper.gamma_d_to_x, r.dob.gamma_d_to_x),
-                row("γ_xd→x", "", r.paper.gamma_xd_to_x, r.dob.gamma_xd_to_x),
-                row("γ_q = ‖Q∘P_n⁻¹‖₁", "N/m", r.paper.gamma_q, r.dob.gamma_q),
-                row("γ_x→u", "N/m", r.paper.gamma_x_to_u, r.dob.gamma_x_to_u),
-                row("γ_ẋ = ‖F_ẋ‖₁", "1/s", r.paper.gamma_xdot, r.dob.gamma_xdot),
-                row("γ_g = ‖F_gp‖₁", "", r.paper.gamma_g, r.dob.gamma_g),
-                row("L_x (eq. 47)", "N/m", r.paper.lipschitz_x, r.dob.lipschitz_x),
-                row("L_ẋ (eq. 47)", "N·s/m", r.paper.lipschitz_xdot, r.dob.lipschitz_xdot),
-                row("α (f_gp weight)", "", r.paper.alpha_max, r.dob.alpha_max),
-                row("ρ (eq. 58)", "", r.rho_paper, r.rho_dob),
-                {"α_max bound (eq. 62)", "", AlphaBoundText(r.alpha_max_bound_paper, r.has_gpr),
-                 AlphaBoundText(r.alpha_max_bound_dob, r.has_gpr)}});
-  if (r.has_gpr) report.Paragraph(fmt::format("b_μ (Remark 1, eq. 50) = {}.", Show(r.b_mu, "N")));
-  for (const auto& note : r.notes) report.Paragraph(note);
-
-  AddBode(report, out, "eq6_reference_to_position", "Eq. 6, reference to position", "",
-          Curves(r.bode, "continuous (s = jω)", [](const BodePoint& b) { return b.xd_to_x_continuous; }),
-          Curves(r.bode, "sampled loop (z = e^{jωTs})", [](const BodePoint& b) { return b.xd_to_x_discrete; }));
-  AddBode(report, out, "eq7_disturbance_to_position", "Eq. 7, disturbance to position", "m/N",
-          Curves(r.bode, "continuous (s = jω)", [](const BodePoint& b) { return b.d_to_x_continuous; }),
-          Curves(r.bode, "sampled loop (z = e^{jωTs})", [](const BodePoint& b) { return b.d_to_x_discrete; }));
-  AddBode(report, out, "eq12_disturbance_to_estimate", "Eq. 12, disturbance to DOB estimate", "",
-          Curves(r.bode, "continuous (s = jω)", [](const BodePoint& b) { return b.d_to_dhat_continuous; }),
-          Curves(r.bode, "sampled loop (z = e^{jωTs})", [](const BodePoint& b) { return b.d_to_dhat_discrete; }));
-  report.Write(out / "report.html");
-  std::cout << "wrote " << (out / "stability.json").string() << " and report.html\n";
+  std::cout << "wrote " << (fs::path(o.out) / "stability.json").string() << " and report.html\n";
   std::cout << "verdict: " << r.verdict.line << "\n";
 }
 
