@@ -8,7 +8,6 @@
 #include <iostream>
 
 #include <fmt/format.h>
-#include <fmt/ranges.h>
 
 #include "engine/diagram_loader.h"
 #include "tools/commands/cli_options.h"
@@ -17,7 +16,6 @@
 #include "tools/report/output_files.h"
 #include "tools/report/progress.h"
 #include "tools/workflow/compare.h"
-#include "tools/workflow/suggest.h"
 
 namespace mb {
 
@@ -37,30 +35,6 @@ struct CompareOptions {
   std::string write_fitted;
   bool no_gpr_fallback = false;
 };
-
-void PrintCompareOutcome(const CompareOutcome& outcome, const fs::path& out) {
-  const ComparedOutput& before = outcome.primary_before();
-  const ComparedOutput& after = outcome.primary_after();
-  std::cout << fmt::format("{}: RMSE {:.5g} → {:.5g} {} (fit {:.1f} % → {:.1f} %)\n", after.connector, before.rmse,
-                           after.rmse, after.unit, before.fit_percent, after.fit_percent);
-  if (const auto& diagnosis = outcome.compared.diagnosis) {
-    std::cout << diagnosis->summary << "\n";
-    for (const DiagnosedEffect* e : EffectsInApplicationOrder(*diagnosis)) {  // the order --suggest applies them
-      std::cout << fmt::format("  {:<28} {:5.1f} %  {}\n", e->effect, 100.0 * e->score, e->description);
-    }
-  }
-  if (outcome.fallback.gpr) std::cout << outcome.fallback.gpr->description << "\n";
-  for (const auto& note : outcome.compared.notes) std::cout << "note: " << note << "\n";
-  std::cout << fmt::format("wrote {}/compare.json and report.html\n", out.string());
-}
-
-// A diagram compare wrote elsewhere whose files lie outside its new folder: how to load it.
-void PrintReadsOutsideNote(const std::string& written, const json& outside) {
-  if (outside.empty()) return;
-  std::cerr << fmt::format("note: {} reads files outside its folder ({}): load it with --allow-path DIR, or write it "
-                           "beside the diagram\n",
-                           written, fmt::join(outside.get<std::vector<std::string>>(), ", "));
-}
 
 void RunCompare(const CompareOptions& o) {
   RefuseOutputsOverInputs({{"DIAGRAM", o.diagram}, {"--measurement", o.measurement.measurement}},
@@ -83,17 +57,7 @@ void RunCompare(const CompareOptions& o) {
   const CompareFiles files{o.diagram, o.measurement.measurement, o.out, o.write_fitted, o.suggest,
                            o.measurement.position_column};
   const json written = WriteCompareResults(outcome, log, files);
-  PrintCompareOutcome(outcome, o.out);
-  const json suggested = written.value("suggested_diagram", json::object());
-  if (outcome.suggestion && outcome.suggestion->diagram) {
-    std::cout << fmt::format("wrote {}: the diagram with {} added (free: their coefficients, refit by the next "
-                             "compare)\n",
-                             o.suggest, fmt::join(outcome.suggestion->effects, ", then "));
-  } else if (outcome.suggestion) {
-    std::cout << fmt::format("wrote no {}: {}\n", o.suggest, outcome.suggestion->why_not);
-  }
-  PrintReadsOutsideNote(o.suggest, suggested.value("reads_outside_its_folder", json::array()));
-  PrintReadsOutsideNote(o.write_fitted, written.value("fitted_diagram_reads_outside_its_folder", json::array()));
+  PrintCompareSummary(outcome, written, files, std::cout, std::cerr);
 }
 
 void SetupCompareCommand(CLI::App& app) {

@@ -1,6 +1,7 @@
 #include "tools/report/compare_report.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/parameter_text.h"
@@ -170,6 +171,45 @@ void WriteCompareReport(const CompareOutcome& outcome, const MeasurementLog& log
     for (const auto& note : compared.notes) report.Paragraph(note);
   }
   report.Write(files.out / kCompareReport);
+}
+
+namespace {
+
+// A diagram compare wrote elsewhere whose files lie outside its new folder: how to load it.
+void PrintReadsOutsideNote(const std::string& written, const json& outside, std::ostream& notes) {
+  if (outside.empty()) return;
+  notes << fmt::format("note: {} reads files outside its folder ({}): load it with --allow-path DIR, or write it "
+                       "beside the diagram\n",
+                       written, fmt::join(outside.get<std::vector<std::string>>(), ", "));
+}
+
+}  // namespace
+
+void PrintCompareSummary(const CompareOutcome& outcome, const json& written, const CompareFiles& files,
+                         std::ostream& out, std::ostream& notes) {
+  const ComparedOutput& before = outcome.primary_before();
+  const ComparedOutput& after = outcome.primary_after();
+  out << fmt::format("{}: RMSE {:.5g} → {:.5g} {} (fit {:.1f} % → {:.1f} %)\n", after.connector, before.rmse,
+                     after.rmse, after.unit, before.fit_percent, after.fit_percent);
+  if (const auto& diagnosis = outcome.compared.diagnosis) {
+    out << diagnosis->summary << "\n";
+    for (const DiagnosedEffect* e : EffectsInApplicationOrder(*diagnosis)) {  // the order --suggest applies them
+      out << fmt::format("  {:<28} {:5.1f} %  {}\n", e->effect, 100.0 * e->score, e->description);
+    }
+  }
+  if (outcome.fallback.gpr) out << outcome.fallback.gpr->description << "\n";
+  for (const auto& note : outcome.compared.notes) out << "note: " << note << "\n";
+  out << fmt::format("wrote {}/compare.json and report.html\n", files.out.string());
+  const json suggested = written.value("suggested_diagram", json::object());
+  if (outcome.suggestion && outcome.suggestion->diagram) {
+    out << fmt::format("wrote {}: the diagram with {} added (free: their coefficients, refit by the next compare)\n",
+                       files.suggest, fmt::join(outcome.suggestion->effects, ", then "));
+  } else if (outcome.suggestion) {
+    out << fmt::format("wrote no {}: {}\n", files.suggest, outcome.suggestion->why_not);
+  }
+  PrintReadsOutsideNote(files.suggest, suggested.value("reads_outside_its_folder", json::array()), notes);
+  PrintReadsOutsideNote(files.write_fitted, written.value("fitted_diagram_reads_outside_its_folder", json::array()),
+                        notes);
 }
 
 }  // namespace mb

@@ -4,6 +4,7 @@
 // the residual figures (residual_figures.h).
 
 #include <filesystem>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -37,5 +38,12 @@ nlohmann::json WriteCompareResults(const CompareOutcome& outcome, const Measurem
 /// DIR/report.html of a compare: the outputs before and after the fit, the fitted parameters, the ranked effects
 /// and the residual figures. @throws std::runtime_error if it cannot be written.
 void WriteCompareReport(const CompareOutcome& outcome, const MeasurementLog& log, const CompareFiles& files);
+
+/// What `motionblocks compare` prints once WriteCompareResults wrote the files (`written`, compare.json's content): on
+/// `out`, the primary output's RMSE and fit before → after, the diagnosis' summary and its effects in the order
+/// --suggest applies them, the fallback's description, the notes, the files written and what --suggest wrote or why
+/// not; on `notes` (stderr), for a written diagram that reads files outside its new folder, how to load it.
+void PrintCompareSummary(const CompareOutcome& outcome, const nlohmann::json& written, const CompareFiles& files,
+                         std::ostream& out, std::ostream& notes);
 
 }  // namespace mb
