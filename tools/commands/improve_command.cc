@@ -10,8 +10,6 @@
 #include <iostream>
 #include <optional>
 
-#include <fmt/format.h>
-
 #include "engine/diagram_document.h"
 #include "engine/diagram_loader.h"
 #include "tools/commands/cli_options.h"
@@ -33,26 +31,10 @@ struct ImproveOptions {
   MeasurementOptions measurement;
   std::string validation;
   std::vector<std::string> validation_fit;
-  int max_effects = ImproveSettings{}.max_effects;
-  int max_trials = ImproveSettings{}.max_trials_per_round;
-  double min_gain = ImproveSettings{}.min_relative_gain;
+  ImproveSettings settings;  // --max-effects, --max-trials, --min-gain: their defaults are the library's
   bool no_refine_periods = false;
   std::string out = "out/improve";
 };
-
-void PrintImproveResult(const ImproveResult& result, const std::optional<json>& fallback, const fs::path& out) {
-  int k = 0;
-  for (const auto& s : result.steps) {
-    std::cout << fmt::format("{:>4}  {:<28} fit RMSE {:.4g} → {:.4g}  held out {:.4g} → {:.4g} {}  {}\n",
-                             s.accepted ? fmt::format("{}", k++) : "—",
-                             s.effect.empty() ? "(as given, refit)" : s.effect,
-                             s.rmse_train_before, s.rmse_train, s.rmse_heldout_before, s.rmse_heldout, s.unit(),
-                             s.accepted ? "" : "(rejected)");
-  }
-  std::cout << "stop: " << result.stop_reason << "\n";
-  if (fallback) std::cout << (*fallback)["description"].get<std::string>() << "\n";
-  std::cout << fmt::format("wrote {}/improved.json, improve.json, step_*/diagram.json and report.html\n", out.string());
-}
 
 void RunImprove(const ImproveOptions& o) {
   std::vector<CommandFile> inputs{{"DIAGRAM", o.diagram}, {"--measurement", o.measurement.measurement}};
@@ -60,38 +42,26 @@ void RunImprove(const ImproveOptions& o) {
   RefuseOutputsOverInputs(inputs, {}, {{"--out", o.out, ImproveOutputNames()}});
   const DiagramDocument document(ReadDiagramWithOverrides(o.diagram, o.measurement.overrides),
                                  fs::path(o.diagram).parent_path(), o.diagram);
-  ImproveSettings settings;
+  ImproveSettings settings = o.settings;
   settings.measurement = o.measurement.Settings();
-  settings.max_effects = o.max_effects;
-  settings.max_trials_per_round = o.max_trials;
-  settings.min_relative_gain = o.min_gain;
   settings.refine_periods = !o.no_refine_periods;
   settings.validation_free = SplitCommaLists(o.validation_fit);
 
   const MeasurementLog training = ReadMeasurementFor(document.json(), o.measurement.measurement, settings.measurement);
   std::optional<MeasurementLog> validation;
   if (!o.validation.empty()) validation = ReadMeasurementFor(document.json(), o.validation, settings.measurement);
+  const MeasurementLog* held_out = validation ? &*validation : nullptr;
   const fs::path out(o.out);
   RemoveEarlierImproveResult(out, {o.diagram, o.measurement.measurement, o.validation});
   const auto progress = [](const std::string& line) { ProgressNote("improve: " + line); };
   // improve.json with "complete": false after each step, so that a killed run keeps the steps it finished.
   const ImproveOutcome outcome = ImproveToMeasurement(
-      document, training, o.measurement.measurement, validation ? &*validation : nullptr, o.validation, settings,
+      document, training, o.measurement.measurement, held_out, o.validation, settings,
       progress, [&](const ImproveResult& so_far, const json& head) { WriteImproveProgress(so_far, out, head); });
-  std::optional<json> fallback_record;  // its files (residual_gpr.json, improved_with_gp.json) named in it
-  if (outcome.fallback.attempted) {
-    fallback_record = WriteImproveFallback(outcome.result, outcome.fallback, out, document.base_directory());
-  }
-  ProgressNote("improve: writing the report …");
-  WriteImproveReport(outcome.result, training, validation ? &*validation : nullptr,
-                     fmt::format("motionblocks improve: {} on {}", fs::path(o.diagram).filename().string(),
-                                 fs::path(o.measurement.measurement).filename().string()),
-                     document.base_directory(), o.measurement.position_column, out);
-  // Last: improve.json whole, with the stop and its reason and "complete": true; the fallback's record with its files.
-  json final_result = outcome.ToJson();
-  if (fallback_record) final_result["nonparametric_fallback"] = *fallback_record;
-  WriteJsonFile(final_result, out / kImproveResultFile);
-  PrintImproveResult(outcome.result, fallback_record, out);
+  const ImproveFiles files{o.diagram, o.measurement.measurement, document.base_directory(), out,
+                           o.measurement.position_column};
+  const std::optional<json> fallback = WriteImproveResults(outcome, training, held_out, files);
+  PrintImproveSummary(outcome.result, fallback, out, std::cout);
 }
 
 void SetupImproveCommand(CLI::App& app) {
@@ -105,13 +75,15 @@ void SetupImproveCommand(CLI::App& app) {
                   "held-out log CSV: scores each step; only the record's parameters (ripple position offsets) are "
                   "refit on it (default: cross-validation on the measurement)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--max-effects", o->max_effects, "effects to add at most")
+  cmd->add_option("--max-effects", o->settings.max_effects, "effects to add at most")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--max-trials", o->max_trials, "ranked effects tried per round before stopping")
+  cmd->add_option("--max-trials", o->settings.max_trials_per_round,
+                  "ranked effects tried per round before stopping")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--min-gain", o->min_gain, "keep an effect if the held-out RMSE falls by at least this share")
+  cmd->add_option("--min-gain", o->settings.min_relative_gain,
+                  "keep an effect if the held-out RMSE falls by at least this share")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 0.999));
   cmd->add_option("--validation-fit", o->validation_fit,

@@ -10,6 +10,7 @@
 #include "engine/diagram_document.h"
 #include "models/gpr/gpr_io.h"
 #include "tools/report/output_files.h"
+#include "tools/report/progress.h"
 #include "tools/report/diagram_drawing.h"
 #include "tools/report/report.h"
 #include "tools/report/resid_figures.h"
@@ -239,6 +240,39 @@ json WriteImproveFallback(const ImproveResult& result, const FallbackOutcome& fa
   written["nonparametric_fallback"] = record;
   WriteJsonFile(written, directory / kImproveResultFile);
   return record;
+}
+
+std::optional<json> WriteImproveResults(const ImproveOutcome& outcome, const MeasurementLog& training,
+                                        const MeasurementLog* validation, const ImproveFiles& files) {
+  std::optional<json> fallback_record;  // its files (residual_gpr.json, improved_with_gp.json) named in it
+  if (outcome.fallback.attempted) {
+    fallback_record = WriteImproveFallback(outcome.result, outcome.fallback, files.out, files.diagram_folder);
+  }
+  ProgressNote("improve: writing the report …");
+  WriteImproveReport(outcome.result, training, validation,
+                     fmt::format("motionblocks improve: {} on {}", fs::path(files.diagram).filename().string(),
+                                 fs::path(files.measurement).filename().string()),
+                     files.diagram_folder, files.position_column, files.out);
+  // Last: improve.json whole, with the stop and its reason and "complete": true; the fallback's record with its files.
+  json final_result = outcome.ToJson();
+  if (fallback_record) final_result["nonparametric_fallback"] = *fallback_record;
+  WriteJsonFile(final_result, files.out / kImproveResultFile);
+  return fallback_record;
+}
+
+void PrintImproveSummary(const ImproveResult& result, const std::optional<json>& fallback, const fs::path& directory,
+                         std::ostream& out) {
+  int k = 0;
+  for (const auto& s : result.steps) {
+    out << fmt::format("{:>4}  {:<28} fit RMSE {:.4g} → {:.4g}  held out {:.4g} → {:.4g} {}  {}\n",
+                       s.accepted ? fmt::format("{}", k++) : "—", s.effect.empty() ? "(as given, refit)" : s.effect,
+                       s.rmse_train_before, s.rmse_train, s.rmse_heldout_before, s.rmse_heldout, s.unit(),
+                       s.accepted ? "" : "(rejected)");
+  }
+  out << "stop: " << result.stop_reason << "\n";
+  if (fallback) out << (*fallback)["description"].get<std::string>() << "\n";
+  out << fmt::format("wrote {}/improved.json, improve.json, step_*/diagram.json and report.html\n",
+                     directory.string());
 }
 
 }  // namespace mb

@@ -4,6 +4,8 @@
 // non-parametric fallback's files.
 
 #include <filesystem>
+#include <optional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -55,5 +57,28 @@ void WriteImproveReport(const ImproveResult& result, const MeasurementLog& train
 nlohmann::json WriteImproveFallback(const ImproveResult& result, const FallbackOutcome& fallback,
                                     const std::filesystem::path& directory,
                                     const std::filesystem::path& diagram_folder);
+
+/// Where an improve's results go and what heads its report (as CompareFiles, compare_report.h).
+struct ImproveFiles {
+  std::string diagram;                          ///< the diagram file improved (as given)
+  std::string measurement;                      ///< the training log (as given)
+  std::filesystem::path diagram_folder;         ///< the diagram's folder (DiagramDocument::base_directory)
+  std::filesystem::path out;                    ///< output folder
+  std::string position_column = "position_m";  ///< for the residual-against-position figures
+};
+
+/// The files of an improve once its loop ended (ImproveToMeasurement, whose on_step wrote the steps with
+/// WriteImproveProgress): the fallback's when it was attempted (WriteImproveFallback), report.html (WriteImproveReport,
+/// titled "motionblocks improve: <diagram's file name> on <measurement's file name>"), and last improve.json whole
+/// (ImproveOutcome::ToJson, "complete": true, with the fallback's record naming its files). Returns that record
+/// (none when the fallback was not attempted). @throws std::runtime_error if a file cannot be written.
+std::optional<nlohmann::json> WriteImproveResults(const ImproveOutcome& outcome, const MeasurementLog& training,
+                                                  const MeasurementLog* validation, const ImproveFiles& files);
+
+/// What `motionblocks improve` prints once WriteImproveResults wrote the files: a line per step tried (its number
+/// among the accepted ones, or "—" when rejected; the effect; the fit and held-out RMSE before → after), the stop
+/// and its reason, the fallback's description (`fallback`: its record) and the files written into `directory`.
+void PrintImproveSummary(const ImproveResult& result, const std::optional<nlohmann::json>& fallback,
+                         const std::filesystem::path& directory, std::ostream& out);
 
 }  // namespace mb
