@@ -38,6 +38,24 @@ double ShareSpannedByBase(const Eigen::MatrixXd& columns, const Eigen::MatrixXd&
 
 }  // namespace
 
+Eigen::MatrixXd::ConstColXpr RegressorMatrix::Raw(Eigen::Index j) const {
+  const Eigen::Index p = base.cols();
+  if (j < p) return base.col(j);
+  const Candidate& c = cands[owner_[static_cast<std::size_t>(j - p)]];
+  return c.reg.columns.col(j - c.idx.front());
+}
+
+void RegressorMatrix::WeightedRows(Eigen::Index start, Eigen::Index count, Eigen::MatrixXd* chunk) const {
+  chunk->resize(count, cols());
+  const auto w = sw.segment(start, count);
+  for (Eigen::Index j = 0; j < cols(); ++j) chunk->col(j) = w.cwiseProduct(Col(j).segment(start, count));
+}
+
+void RegressorMatrix::IndexColumns() {
+  owner_.clear();
+  for (std::size_t c = 0; c < cands.size(); ++c) owner_.insert(owner_.end(), cands[c].idx.size(), c);
+}
+
 void FilterCandidateColumns(const EffectType& type, const DiagnosisSignals& signals, const DiagnosisOptions& options,
                             Eigen::MatrixXd* columns) {
   if (!(options.regressor_filter_hz > 0.0) || type.traits.regressor_in_output_band) return;
@@ -79,19 +97,17 @@ RegressorMatrix BuildCandidateMatrix(const DiagnosisSignals& signals, const Eige
     total_cols += c.reg.columns.cols();
     m.cands.push_back(std::move(c));
   }
-  m.x.resize(n, total_cols);
-  if (p > 0) m.x.leftCols(p) = base_cols;
+  m.base = base_cols;
   Eigen::Index col = p;
   for (auto& c : m.cands) {
-    m.x.middleCols(col, c.reg.columns.cols()) = c.reg.columns;
     for (Eigen::Index j = 0; j < c.reg.columns.cols(); ++j) c.idx.push_back(col + j);
     col += c.reg.columns.cols();
   }
   m.scale.resize(total_cols);
+  m.IndexColumns();
   for (Eigen::Index j = 0; j < total_cols; ++j) {
-    const double rms = m.x.col(j).norm() / std::sqrt(static_cast<double>(n));
+    const double rms = m.Raw(j).norm() / std::sqrt(static_cast<double>(n));
     m.scale(j) = rms > 0.0 ? rms : 1.0;
-    m.x.col(j) /= m.scale(j);
   }
   return m;
 }

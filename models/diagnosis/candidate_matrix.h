@@ -2,6 +2,7 @@
 // The candidates' regressor matrix of the diagnosis (candidate_matrix.cc): every proposed effect's regressor columns
 // beside the base's, scaled to unit RMS, less those the base already spans (DiagnoseMissingEffects, step 2).
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -24,19 +25,35 @@ struct Candidate {
   std::vector<Eigen::Index> idx;
 };
 
-// The full regressor matrix [base, candidates' columns] (N × total), each column scaled to unit RMS by `scale`.
+// The full regressor matrix [base, candidates' columns] (N × cols()), each column scaled to unit RMS by `scale`. It is
+// held as the base's columns and each candidate's own (Candidate::reg.columns, in their own units), not copied into
+// one N × cols() matrix, nor weighted into another: column j is Raw(j)/scale(j), and the Grams read the rows weighted
+// a block at a time (WeightedRows). On a record of 10⁶ samples and ≈ 100 columns each copy would be 0.8 GB.
 struct RegressorMatrix {
   std::vector<Candidate> cands;
-  Eigen::MatrixXd x;
-  Eigen::VectorXd scale;
-  // The rows weighted by √w (Huber weights): what the Grams, held-out errors and significance test see.
-  Eigen::MatrixXd wx;
+  Eigen::MatrixXd base;   // N × p: the base's regressors, in their own units
+  Eigen::VectorXd scale;  // cols(): each column's RMS (1 where it is 0)
+  // √w of the Huber weights and √w ⊙ r (N each, Weigh): what the Grams, held-out errors and significance test see.
+  Eigen::VectorXd sw;
   Eigen::VectorXd wr;
+
+  Eigen::Index rows() const { return base.rows(); }
+  Eigen::Index cols() const { return scale.size(); }
+  // Column j (0 ≤ j < cols()) in its own units: the base's, or a candidate's (N).
+  Eigen::MatrixXd::ConstColXpr Raw(Eigen::Index j) const;
+  // Column j scaled to unit RMS (N).
+  auto Col(Eigen::Index j) const { return Raw(j) / scale(j); }
+  // Rows [start, start + count) of every scaled column weighted by √w, into `chunk` (resized to count × cols()).
+  void WeightedRows(Eigen::Index start, Eigen::Index count, Eigen::MatrixXd* chunk) const;
   void Weigh(const Eigen::VectorXd& r, const Eigen::VectorXd& w) {
-    const Eigen::VectorXd sw = w.cwiseSqrt();
-    wx = sw.asDiagonal() * x;
+    sw = w.cwiseSqrt();
     wr = sw.cwiseProduct(r);
   }
+  // Records which candidate holds each column beyond the base's (BuildCandidateMatrix, after `cands` is final).
+  void IndexColumns();
+
+ private:
+  std::vector<std::size_t> owner_;  // cols() − p: the candidate of column p + i
 };
 
 // Parallel filtering of a candidate's columns (DiagnosisOptions::regressor_filter_hz). Regressors built from the model

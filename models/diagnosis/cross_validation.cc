@@ -8,23 +8,33 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <utility>
 
 #include <Eigen/Dense>
 
 namespace mb::diagnosis_detail {
 
-BlockGrams::BlockGrams(const Eigen::MatrixXd& x, const Eigen::VectorXd& r, Eigen::Index folds) {
-  const Eigen::Index n = x.rows();
+BlockGrams::BlockGrams(const RegressorMatrix& m, Eigen::Index folds) {
+  constexpr Eigen::Index kChunk = 1024;  // rows per chunk: 1024 × q doubles stay in the cache
+  const Eigen::Index n = m.rows(), q = m.cols();
+  Eigen::MatrixXd chunk;
   for (Eigen::Index b = 0; b < folds; ++b) {
     const Eigen::Index start = b * n / folds, end = (b + 1) * n / folds;
-    const auto xb = x.middleRows(start, end - start);
-    const auto rb = r.segment(start, end - start);
-    gram_.push_back(xb.transpose() * xb);
-    xty_.push_back(xb.transpose() * rb);
-    yty_.push_back(rb.squaredNorm());
+    Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(q, q);
+    Eigen::VectorXd xty = Eigen::VectorXd::Zero(q);
+    for (Eigen::Index lo = start; lo < end; lo += kChunk) {
+      const Eigen::Index count = std::min(kChunk, end - lo);
+      m.WeightedRows(lo, count, &chunk);
+      gram.selfadjointView<Eigen::Lower>().rankUpdate(chunk.transpose());
+      xty.noalias() += chunk.transpose() * m.wr.segment(lo, count);
+    }
+    gram.triangularView<Eigen::StrictlyUpper>() = gram.transpose();
+    gram_.push_back(std::move(gram));
+    xty_.push_back(std::move(xty));
+    yty_.push_back(m.wr.segment(start, end - start).squaredNorm());
   }
-  total_gram_ = Eigen::MatrixXd::Zero(x.cols(), x.cols());
-  total_xty_ = Eigen::VectorXd::Zero(x.cols());
+  total_gram_ = Eigen::MatrixXd::Zero(q, q);
+  total_xty_ = Eigen::VectorXd::Zero(q);
   for (std::size_t b = 0; b < gram_.size(); ++b) {
     total_gram_ += gram_[b];
     total_xty_ += xty_[b];
@@ -34,17 +44,18 @@ BlockGrams::BlockGrams(const Eigen::MatrixXd& x, const Eigen::VectorXd& r, Eigen
   folds_ = folds;
 }
 
-Eigen::VectorXd BlockGrams::HeldOutErrors(const std::vector<Eigen::Index>& idx, const Eigen::MatrixXd& x,
-                                          const Eigen::VectorXd& r) const {
-  Eigen::VectorXd e = r;
+Eigen::VectorXd BlockGrams::HeldOutErrors(const std::vector<Eigen::Index>& idx, const RegressorMatrix& m) const {
+  Eigen::VectorXd e = m.wr;
   if (idx.empty()) return e;
-  const Eigen::Index n = x.rows();
+  const Eigen::Index n = m.rows();
   for (Eigen::Index b = 0; b < folds_; ++b) {
     const Eigen::Index start = b * n / folds_, end = (b + 1) * n / folds_;
     const auto ub = static_cast<std::size_t>(b);
     const Eigen::VectorXd theta = Solve(SubMatrix(total_gram_ - gram_[ub], idx), SubVector(total_xty_ - xty_[ub], idx));
+    const auto sw = m.sw.segment(start, end - start);
     for (std::size_t j = 0; j < idx.size(); ++j) {
-      e.segment(start, end - start) -= theta(static_cast<Eigen::Index>(j)) * x.col(idx[j]).segment(start, end - start);
+      e.segment(start, end - start) -=
+          theta(static_cast<Eigen::Index>(j)) * sw.cwiseProduct(m.Col(idx[j]).segment(start, end - start));
     }
   }
   return e;

@@ -6,17 +6,21 @@
 
 #include <Eigen/Core>
 
+#include "models/diagnosis/candidate_matrix.h"
+
 namespace mb::diagnosis_detail {
 
 // Per-block Gram matrices of the scaled regressor matrix, for fast contiguous-block cross-validation.
 class BlockGrams {
  public:
-  // x (N × q, columns scaled to unit RMS) and r (N) split into `folds` contiguous blocks.
-  BlockGrams(const Eigen::MatrixXd& x, const Eigen::VectorXd& r, Eigen::Index folds);
+  // The weighted regressor matrix of `m` (its columns scaled to unit RMS, times √w: N × m.cols()) and the weighted
+  // residual m.wr (N) split into `folds` contiguous blocks; each block's Gram is accumulated over row chunks
+  // (RegressorMatrix::WeightedRows), so no N × q matrix is formed. m must have been weighed (RegressorMatrix::Weigh).
+  BlockGrams(const RegressorMatrix& m, Eigen::Index folds);
 
-  // The held-out residuals r_b − X_b(idx)·θ_{−b} of every block, on the rows the Grams were built from.
-  Eigen::VectorXd HeldOutErrors(const std::vector<Eigen::Index>& idx, const Eigen::MatrixXd& x,
-                                const Eigen::VectorXd& r) const;
+  // The held-out residuals √w⊙r_b − √w⊙X_b(idx)·θ_{−b} of every block (N), for the rows of `m` (the one the Grams
+  // were built from).
+  Eigen::VectorXd HeldOutErrors(const std::vector<Eigen::Index>& idx, const RegressorMatrix& m) const;
 
   // Held-out mean squared error of the least-squares fit on the columns `idx`.
   double HeldOutMse(const std::vector<Eigen::Index>& idx) const;

@@ -109,7 +109,7 @@ JointFit FitJointly(const RegressorMatrix& m, const BlockGrams& grams, const std
   JointFit fit;
   fit.coef.resize(k);
   fit.coef_std.resize(k);
-  fit.fitted = Eigen::VectorXd::Zero(m.x.rows());
+  fit.fitted = Eigen::VectorXd::Zero(m.rows());
   if (k == 0) return fit;
   const Eigen::MatrixXd g = grams.TotalGram(selected);
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(g);
@@ -123,7 +123,7 @@ JointFit FitJointly(const RegressorMatrix& m, const BlockGrams& grams, const std
     const double s = m.scale(selected[static_cast<std::size_t>(i)]);
     fit.coef(i) = theta(i) / s;
     fit.coef_std(i) = std::sqrt(std::max(0.0, cov(i, i))) / s;
-    fit.fitted += theta(i) * m.x.col(selected[static_cast<std::size_t>(i)]);
+    fit.fitted += theta(i) * m.Col(selected[static_cast<std::size_t>(i)]);
   }
   return fit;
 }
@@ -167,9 +167,10 @@ Ranking RankEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base
     std::vector<EffectInstance> list = law.effects;  // the replacements chosen are the first candidates
     list.insert(list.end(), search.candidates.begin(), search.candidates.end());
     matrix_notes.clear();
+    out.m = RegressorMatrix();  // the last pass's columns freed before this pass's are built
     out.m = BuildCandidateMatrix(corrected, base_cols, list, options, &matrix_notes);
     out.m.Weigh(r, out.weights);
-    out.grams.emplace(out.m.wx, out.m.wr, options.folds);
+    out.grams.emplace(out.m, options.folds);
     out.chosen = StartSelection(*out.grams, p);
     for (std::size_t i = 0; i < law.effects.size(); ++i) {
       out.chosen.order.push_back(i);
@@ -210,12 +211,12 @@ JointFit FitFinally(const DiagnosisSignals& signals, Eigen::Index p, const Diagn
   if (!chosen.selected.empty()) {
     Eigen::MatrixXd selected(n, static_cast<Eigen::Index>(chosen.selected.size()));
     for (std::size_t j = 0; j < chosen.selected.size(); ++j) {
-      selected.col(static_cast<Eigen::Index>(j)) = m.x.col(chosen.selected[j]);
+      selected.col(static_cast<Eigen::Index>(j)) = m.Col(chosen.selected[j]);
     }
     Eigen::VectorXd rest;
     weights = RobustWeights(selected, r, options.huber_k, &rest);
     ranked->m.Weigh(r, weights);
-    ranked->grams.emplace(ranked->m.wx, ranked->m.wr, options.folds);
+    ranked->grams.emplace(ranked->m, options.folds);
   }
   const JointFit fit = FitJointly(m, *ranked->grams, chosen.selected);
   result->condition_number = fit.condition_number;

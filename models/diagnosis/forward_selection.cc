@@ -100,8 +100,8 @@ Selection SelectInOrder(const RegressorMatrix& m, const BlockGrams& grams, Eigen
 
 double GainSignificance(const RegressorMatrix& m, const BlockGrams& grams, const std::vector<Eigen::Index>& selected,
                         const std::vector<Eigen::Index>& trial, Eigen::Index batches) {
-  const Eigen::VectorXd before = grams.HeldOutErrors(selected, m.wx, m.wr);
-  const Eigen::VectorXd after = grams.HeldOutErrors(trial, m.wx, m.wr);
+  const Eigen::VectorXd before = grams.HeldOutErrors(selected, m);
+  const Eigen::VectorXd after = grams.HeldOutErrors(trial, m);
   const Eigen::VectorXd delta = before.array().square() - after.array().square();
   const Eigen::Index n = delta.size();
   batches = std::clamp<Eigen::Index>(batches, 2, std::max<Eigen::Index>(2, n / 8));
@@ -178,7 +178,7 @@ bool AddFrictionLaw(const RegressorMatrix& m, const BlockGrams& grams, const Sel
   law->columns.conservativeResize(Eigen::NoChange, k + kc);
   for (Eigen::Index j = 0; j < kc; ++j) {
     const Eigen::Index col = c.idx[static_cast<std::size_t>(j)];
-    law->columns.col(k + j) = m.x.col(col) * m.scale(col);
+    law->columns.col(k + j) = m.Col(col) * m.scale(col);
   }
   return true;
 }

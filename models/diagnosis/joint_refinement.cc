@@ -200,13 +200,13 @@ void InstallRefined(const DiagnosisSignals& signals, const Eigen::MatrixXd& base
     out->law_columns.conservativeResize(Eigen::NoChange, k + kc);
     for (Eigen::Index j = 0; j < kc; ++j) {
       const Eigen::Index col = m.cands[i].idx[static_cast<std::size_t>(j)];
-      out->law_columns.col(k + j) = m.x.col(col) * m.scale(col);
+      out->law_columns.col(k + j) = m.Col(col) * m.scale(col);
     }
   }
   RobustWeights(out->law_columns, signals.residual, options.huber_k, &out->law_residual);
   out->weights = weights;
   out->m = std::move(m);
-  out->grams.emplace(out->m.wx, out->m.wr, options.folds);
+  out->grams.emplace(out->m, options.folds);
   out->chosen = std::move(s);
 }
 
@@ -231,7 +231,7 @@ void RefineChosenEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd&
   RegressorMatrix m = BuildCandidateMatrix(refinement.corrected(), base_cols, refinement.effects(), options, &build_notes);
   if (m.cands.size() != chosen.size()) return;  // a refined effect the base spans now: keep the ranking's
   m.Weigh(signals.residual, refinement.weights());
-  const BlockGrams grams(m.wx, m.wr, options.folds);
+  const BlockGrams grams(m, options.folds);
   Selection s = SelectInOrder(m, grams, base_cols.cols(), m.cands.size());
   InstallRefined(signals, base_cols, options, laws, refinement.weights(), std::move(m), std::move(s), out);
   notes->insert(notes->end(), moved.begin(), moved.end());
@@ -260,7 +260,7 @@ void RetrySetAside(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_
     RegressorMatrix m = BuildCandidateMatrix(refinement.corrected(), base_cols, refinement.effects(), options, &trial_notes);
     if (m.cands.size() != trial.size()) continue;
     m.Weigh(signals.residual, refinement.weights());
-    const BlockGrams grams(m.wx, m.wr, options.folds);
+    const BlockGrams grams(m, options.folds);
     Selection s = SelectInOrder(m, grams, base_cols.cols(), m.cands.size() - 1);
     std::vector<bool> used(m.cands.size(), true);
     used.back() = false;
