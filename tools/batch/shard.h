@@ -21,6 +21,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,10 @@ SweepShard ParseSweepShard(const std::string& text, const EnvironmentLookup& env
 /// two halves), for scripts that number from 0. @throws std::invalid_argument naming the text, the numbering and the
 /// fix (not K/N, N = 0, K ≥ N).
 SweepShard ParseSweepShardIndex(const std::string& text);
+
+/// The shard `--shard` (ParseSweepShard) or else `--shard-index` (ParseSweepShardIndex) names; none (the whole
+/// sweep) when both are "". @throws as those.
+std::optional<SweepShard> ParseSweepShardOptions(const std::string& shard, const std::string& shard_index);
 
 /// The shard as `--shard` writes it, counted from 1: "2/3" for index 1 of 3.
 std::string ShardLabel(const SweepShard& shard);

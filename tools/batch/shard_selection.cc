@@ -1,5 +1,6 @@
 // Which shard of a sweep a process runs (shard.h): --shard K/N (counted from 1), --shard-index K/N (from 0) and
-// --shard auto[/N] from the scheduler's variables; the shard's label and its runs' positions.
+// --shard auto[/N] from the scheduler's variables, from whichever option is given; the shard's label and its runs'
+// positions.
 #include "tools/batch/shard.h"
 
 #include <charconv>
@@ -128,6 +129,12 @@ SweepShard ParseSweepShardIndex(const std::string& text) {
                                             text, *n - 1, *n, *n - 1, *n));
   }
   return SweepShard{*k, *n};
+}
+
+std::optional<SweepShard> ParseSweepShardOptions(const std::string& shard, const std::string& shard_index) {
+  if (!shard.empty()) return ParseSweepShard(shard);
+  if (!shard_index.empty()) return ParseSweepShardIndex(shard_index);
+  return std::nullopt;
 }
 
 std::string ShardLabel(const SweepShard& shard) { return fmt::format("{}/{}", shard.index + 1, shard.count); }

@@ -26,8 +26,10 @@
 #include "engine/diagram_schema.h"
 #include "engine/output_file.h"
 #include "engine/text_excerpt.h"
+#include "tools/batch/shard.h"
 #include "tools/batch/sweep_runner.h"
 #include "tools/report/output_files.h"
+#include "tools/report/progress.h"
 #include "tools/report/sweep_report.h"
 
 namespace mb {
@@ -354,6 +356,39 @@ SweepOutcome RunSweep(const fs::path& diagram_path, const SweepSpec& spec, const
                       tbb::simple_partitioner());
   });
   return runner.Finish();
+}
+
+std::vector<std::string> SweepOutputNames() {
+  std::vector<std::string> outputs = {"runs.csv", "runs.json", kShardManifest};
+  for (const auto& name : SweepReportFileNames()) outputs.push_back(name);
+  return outputs;
+}
+
+namespace {
+
+// Memory a sweep's rows take by the time runs.csv and runs.json are written (measured: 100,000 runs of one parameter
+// and two metrics peaked at 245 MB), per run [bytes].
+constexpr double kSweepBytesPerRun = 2500.0;
+
+}  // namespace
+
+void NoteSweepMemory(const SweepSpec& spec) {
+  if (spec.run_count() <= kDefaultMaxSweepRuns) return;
+  ProgressNote(fmt::format("sweep: {} runs; every row is kept until runs.csv and runs.json are written at the end: "
+                           "about {:.1f} GB of memory (more with more parameters and metrics)",
+                           spec.run_count(), static_cast<double>(spec.run_count()) * kSweepBytesPerRun / 1e9));
+}
+
+void PrintSweepSummary(const SweepOutcome& outcome, const std::string& kind, const std::string& shard_label,
+                       const std::string& folder, bool saved_logs, std::ostream& out) {
+  out << fmt::format("{} runs ({}{}): {} run now, {} already done, {} failed\n", outcome.rows.size(), kind,
+                     shard_label.empty() ? "" : ", shard " + shard_label, outcome.ran, outcome.resumed,
+                     outcome.failed);
+  for (const auto& row : outcome.rows) {
+    if (row.status != "ok") out << fmt::format("  run {} failed: {}\n", row.id, row.error);
+  }
+  out << fmt::format("wrote {0}/runs.csv, {0}/runs.json, {0}/{1}{2}\n", folder, kSweepReportFile,
+                     saved_logs ? ", runs/<id>/signals.csv" : "");
 }
 
 }  // namespace mb

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <ostream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -71,5 +72,19 @@ SweepOutcome RunSweep(const std::filesystem::path& diagram, const SweepSpec& spe
 
 /// CSV cell of a value: a JSON string without quotes, anything else as compact JSON.
 std::string SweepValueText(const nlohmann::json& value);
+
+/// The names of the files a sweep, or a shard of one, writes into its folder (runs.csv, runs.json, the shard's
+/// manifest, the report's: SweepReportFileNames), for RefuseOutputsOverInputs (tools/report/output_files.h).
+std::vector<std::string> SweepOutputNames();
+
+/// Above kDefaultMaxSweepRuns (only with --max-runs raised), says on stderr (ProgressNote) how much memory the rows
+/// will hold before runs.csv and runs.json are written; otherwise nothing.
+void NoteSweepMemory(const SweepSpec& spec);
+
+/// What `motionblocks sweep` prints once its runs are done: how many ran now, were already done and failed (of the
+/// sweep's `kind`, and of shard `shard_label` unless it is ""), each failed run's error, and the files written into
+/// `folder` (with runs/<id>/signals.csv when `saved_logs`).
+void PrintSweepSummary(const SweepOutcome& outcome, const std::string& kind, const std::string& shard_label,
+                       const std::string& folder, bool saved_logs, std::ostream& out);
 
 }  // namespace mb

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <iostream>
 #include <stdexcept>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -56,6 +57,12 @@ CLI::Validator FiniteRange(double low, double high, bool low_open) {
         return inside ? std::string() : fmt::format("{} is not a number in {}", text, range);
       },
       "NUMBER in " + range);
+}
+
+std::function<std::string(const std::string&)> NonEmpty(std::string what) {
+  return [what = std::move(what)](const std::string& value) {
+    return value.empty() ? fmt::format("an empty value: {}", what) : std::string();
+  };
 }
 
 namespace {

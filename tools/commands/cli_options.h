@@ -4,6 +4,7 @@
 // (--measurement, --map, --set, --position-column, --derivative-cutoff-hz) and --max-steps.
 
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -45,6 +46,10 @@ void AddProgressOptions(CLI::App* command);
 /// refused, which CLI::Range and CLI::PositiveNumber let through. Refused at parse time: exit 2, "--duration: nan is
 /// not a number in (0, 86400]".
 CLI::Validator FiniteRange(double low, double high, bool low_open = false);
+
+/// A CLI11 check that refuses an empty value ("an empty value: <what>"), e.g. `--shard ''`, which would otherwise
+/// count as not given.
+std::function<std::string(const std::string&)> NonEmpty(std::string what);
 
 /// Adds --max-steps N (SimulationLimits::max_steps for every simulation the command runs) to a subcommand.
 void AddMaxStepsOption(CLI::App* command);

@@ -7,18 +7,16 @@
 // --shard-index K/N (from 0) runs one share of the runs (tools/batch/shard.h; merged by sweep-merge),
 // --mpi spreads them over the ranks of `mpirun` (tools/batch/sweep_mpi.h).
 
-#include <functional>
 #include <iostream>
 
 #include <fmt/format.h>
 
+#include "tools/commands/cli_options.h"
 #include "tools/commands/command_registry.h"
 #include "tools/batch/shard.h"
 #include "tools/batch/sweep.h"
 #include "tools/batch/sweep_mpi.h"
 #include "tools/report/output_files.h"
-#include "tools/report/progress.h"
-#include "tools/report/sweep_report.h"
 
 namespace mb {
 
@@ -29,28 +27,13 @@ namespace {
 struct SweepCommandOptions {
   std::vector<std::string> files;  // [DIAGRAM] SWEEP
   std::string out;
-  int jobs = 0;
+  SweepOptions run;  // --jobs, --save-logs: their defaults are the library's
   bool fresh = false;
-  bool save_logs = false;
   std::size_t max_runs = kDefaultMaxSweepRuns;
   std::string shard;        // --shard x/y (from 1) or auto[/N]; "" = not given
   std::string shard_index;  // --shard-index K/N (from 0); "" = not given
   bool mpi = false;
 };
-
-// A check that refuses an empty value (`--shard ''` ran the whole sweep as if no shard were given).
-std::function<std::string(const std::string&)> NonEmpty(std::string what) {
-  return [what = std::move(what)](const std::string& value) {
-    return value.empty() ? fmt::format("an empty value: {}", what) : std::string();
-  };
-}
-
-// The shard of --shard or --shard-index; nullopt for the whole sweep.
-std::optional<SweepShard> ShardOf(const SweepCommandOptions& o) {
-  if (!o.shard.empty()) return ParseSweepShard(o.shard);
-  if (!o.shard_index.empty()) return ParseSweepShardIndex(o.shard_index);
-  return std::nullopt;
-}
 
 // The outcome on this process: the whole sweep, one shard, or (MPI) nothing on ranks > 0.
 std::optional<SweepOutcome> RunSweepOn(const fs::path& diagram, const SweepSpec& spec, const SweepCommandOptions& o,
@@ -60,39 +43,20 @@ std::optional<SweepOutcome> RunSweepOn(const fs::path& diagram, const SweepSpec&
   return RunSweep(diagram, spec, o.out, options);
 }
 
-// Memory a sweep's rows take by the time runs.csv and runs.json are written (measured: 100,000 runs of one parameter
-// and two metrics peaked at 245 MB), per run [bytes].
-constexpr double kSweepBytesPerRun = 2500.0;
-
 void RunSweepCommand(const SweepCommandOptions& o) {
   const std::string& sweep = o.files.back();
   const SweepSpec spec = ReadSweepFile(sweep, o.max_runs);
-  if (spec.run_count() > kDefaultMaxSweepRuns) {  // only with --max-runs raised: say what it will cost first
-    ProgressNote(fmt::format("sweep: {} runs; every row is kept until runs.csv and runs.json are written at the end: "
-                             "about {:.1f} GB of memory (more with more parameters and metrics)",
-                             spec.run_count(), static_cast<double>(spec.run_count()) * kSweepBytesPerRun / 1e9));
-  }
+  NoteSweepMemory(spec);  // only with --max-runs raised: say what it will cost first
   const fs::path diagram = o.files.size() == 2 ? fs::path(o.files.front()) : SweepDiagramPath(spec, sweep);
-  std::vector<std::string> outputs = {"runs.csv", "runs.json", kShardManifest};
-  for (const auto& name : SweepReportFileNames()) outputs.push_back(name);
-  RefuseOutputsOverInputs({{"SWEEP", sweep}, {"DIAGRAM", diagram}}, {}, {{"--out", o.out, outputs}});
-  SweepOptions options;
-  options.jobs = o.jobs;
+  RefuseOutputsOverInputs({{"SWEEP", sweep}, {"DIAGRAM", diagram}}, {}, {{"--out", o.out, SweepOutputNames()}});
+  SweepOptions options = o.run;
   options.resume = !o.fresh;
-  options.save_logs = o.save_logs;
-  const std::optional<SweepShard> shard = ShardOf(o);
+  const std::optional<SweepShard> shard = ParseSweepShardOptions(o.shard, o.shard_index);
   const std::optional<SweepOutcome> result = RunSweepOn(diagram, spec, o, shard, options);
   if (!result) return;  // an MPI worker: rank 0 reports
-  const SweepOutcome& outcome = *result;
-  std::cout << fmt::format("{} runs ({}{}): {} run now, {} already done, {} failed\n", outcome.rows.size(), spec.kind,
-                           shard ? ", shard " + ShardLabel(*shard) : "", outcome.ran, outcome.resumed, outcome.failed);
-  for (const auto& row : outcome.rows) {
-    if (row.status != "ok") std::cout << fmt::format("  run {} failed: {}\n", row.id, row.error);
-  }
-  std::cout << fmt::format("wrote {0}/runs.csv, {0}/runs.json, {0}/{1}{2}\n", o.out, kSweepReportFile,
-                           o.save_logs ? ", runs/<id>/signals.csv" : "");
-  if (outcome.failed > 0) {
-    throw std::runtime_error(fmt::format("{} of {} runs failed", outcome.failed, outcome.rows.size()));
+  PrintSweepSummary(*result, spec.kind, shard ? ShardLabel(*shard) : "", o.out, options.save_logs, std::cout);
+  if (result->failed > 0) {
+    throw std::runtime_error(fmt::format("{} of {} runs failed", result->failed, result->rows.size()));
   }
 }
 
@@ -109,9 +73,9 @@ void SetupSweepCommand(CLI::App& app) {
       ->type_name("[DIAGRAM] SWEEP")
       ->check(CLI::ExistingFile);
   cmd->add_option("--out", options->out, "output folder (runs.csv, runs.json, report.html)")->required();
-  cmd->add_option("--jobs,-j", options->jobs, "parallel runs (default: all cores)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--jobs,-j", options->run.jobs, "parallel runs (default: all cores)")->check(CLI::NonNegativeNumber);
   cmd->add_flag("--fresh", options->fresh, "run everything again (default: skip runs already in runs.csv)");
-  cmd->add_flag("--save-logs", options->save_logs, "also write DIR/runs/<id>/signals.csv for every run");
+  cmd->add_flag("--save-logs", options->run.save_logs, "also write DIR/runs/<id>/signals.csv for every run");
   cmd->add_option("--max-runs", options->max_runs,
                   fmt::format("refuse a sweep of more runs than N (at most {}: every run's row is held in memory)",
                               kMaxSweepRunsCeiling))
