@@ -4,6 +4,7 @@
 
 #include "tools/commands/cli_options.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
@@ -62,6 +63,14 @@ CLI::Validator FiniteRange(double low, double high, bool low_open) {
 std::function<std::string(const std::string&)> NonEmpty(std::string what) {
   return [what = std::move(what)](const std::string& value) {
     return value.empty() ? fmt::format("an empty value: {}", what) : std::string();
+  };
+}
+
+std::function<std::string(const std::string&)> WholeNumberText(std::size_t max_digits) {
+  return [max_digits](const std::string& text) {
+    const bool digits = !text.empty() && text.size() <= max_digits &&
+                        std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+    return digits ? std::string() : fmt::format("give a whole number from 0 to {}", std::string(max_digits, '9'));
   };
 }
 

@@ -51,6 +51,10 @@ CLI::Validator FiniteRange(double low, double high, bool low_open = false);
 /// count as not given.
 std::function<std::string(const std::string&)> NonEmpty(std::string what);
 
+/// A CLI11 check on the raw text of a whole number of at most `max_digits` digits (a number that overflows would be
+/// read as 2^64 − 1): "give a whole number from 0 to 99…9" otherwise.
+std::function<std::string(const std::string&)> WholeNumberText(std::size_t max_digits);
+
 /// Adds --max-steps N (SimulationLimits::max_steps for every simulation the command runs) to a subcommand.
 void AddMaxStepsOption(CLI::App* command);
 

@@ -6,7 +6,6 @@
 // estimate computed from the log's time, position and force (models/gpr/disturbance_target.h) — and writes the model
 // file that the `gpr` block loads (docs/gpr.md).
 
-#include <algorithm>
 #include <filesystem>
 #include <optional>
 #include <iostream>
@@ -27,22 +26,13 @@ namespace mb {
 
 namespace {
 
-// The output's folder, created if missing (as `run --out` does).
-void CreateParentDirectory(const std::string& path) {
-  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-  if (!parent.empty()) std::filesystem::create_directories(parent);
-}
-
 struct FitGprOptions {
   std::string log;
   GprTrainingSelection selection;
   std::vector<double> window;  // empty or {xmin, xmax} [m]
   std::string kernel = "PS";
   std::string solver = "weight_space";
-  double period = 0.0225;
-  bool estimate_period = false;
-  int restarts = 2;
-  std::uint64_t seed = 1;
+  GprFitOptions fit;  // --period, --estimate-period, --restarts, --seed: their defaults are the library's
   std::string output;
   std::string target = "dob";       // or "smoothed": the estimate of `smoothed`
   SmoothedTargetSettings smoothed;  // --time-column, --force-column, --diagram, --nominal-*, --smoothing-cutoff-hz
@@ -52,33 +42,18 @@ void RunFitGpr(const FitGprOptions& o) {
   RefuseOutputsOverInputs({{"LOG", o.log}, {"--diagram", o.smoothed.diagram}}, {{"-o", o.output}});
   GprTrainingSelection selection = o.selection;
   if (!o.window.empty()) selection.window = GprRange{o.window[0], o.window[1]};
-  GprFitOptions fit;
+  GprFitOptions fit = o.fit;
   fit.kernel = ParseGprKernel(o.kernel);
   fit.solver = ParseGprSolver(o.solver);
-  fit.period = o.period;
-  fit.estimate_period = o.estimate_period;
-  fit.restarts = o.restarts;
-  fit.seed = o.seed;
 
   // The regression ignores time: no time column needed, rows in any order, scans concatenated, a pandas index.
   const Table log = ReadGprTrainingTable(o.log, &selection,
                                          o.target == "smoothed" ? std::optional(o.smoothed) : std::nullopt);
-  CreateParentDirectory(o.output);  // before the fit, so that a bad path fails at once
+  CreateParentFolder(o.output);  // before the fit, so that a bad path fails at once
   const GprModel model = FitGprToLog(log, selection, fit);
   SaveGprModel(model, o.output);
 
-  const GprModelData& m = model.data();
-  const GprHyperparameters& h = m.hyperparameters;
-  std::cout << fmt::format(
-      "fit {} ({} solver) to {} samples: {} features, log marginal likelihood {:.6g}, {:.2f} s\n"
-      "  signal_variance_x {:.6g}, length_scale_x {:.6g}, signal_variance_xdot {:.6g}, "
-      "length_scale_xdot {:.6g} m/s, noise_variance {:.6g}, period {:.6g} m, mean {:.6g}\n"
-      "  trained ranges: x [{:.6g}, {:.6g}] m, xdot [{:.6g}, {:.6g}] m/s\n"
-      "wrote {}\n",
-      GprKernelName(m.kernel), m.provenance.solver, m.provenance.sample_count, model.feature_count(),
-      m.provenance.log_marginal_likelihood, m.provenance.fit_seconds, h.signal_variance_x, h.length_scale_x,
-      h.signal_variance_xdot, h.length_scale_xdot, h.noise_variance, h.period, m.mean, m.x_range.min,
-      m.x_range.max, m.xdot_range.min, m.xdot_range.max, o.output);
+  std::cout << DescribeGprFit(model) << fmt::format("wrote {}\n", o.output);
 }
 
 void SetupFitGprCommand(CLI::App& app) {
@@ -97,10 +72,10 @@ void SetupFitGprCommand(CLI::App& app) {
   cmd->add_option("--kernel", o->kernel, "PS (periodic + SE, eq. 19) or DS (SE + SE, eq. 27)")
       ->check(CLI::IsMember({"PS", "DS"}))
       ->capture_default_str();
-  cmd->add_option("--period", o->period, "spatial period tau [m] of the periodic kernel (pole pitch)")
+  cmd->add_option("--period", o->fit.period, "spatial period tau [m] of the periodic kernel (pole pitch)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  cmd->add_flag("--estimate-period", o->estimate_period, "let tau vary under its prior (PS only)");
+  cmd->add_flag("--estimate-period", o->fit.estimate_period, "let tau vary under its prior (PS only)");
   cmd->add_option("--solver", o->solver, "weight_space (every sample, O(N M^2)) or exact (Cholesky, N <= 10000)")
       ->check(CLI::IsMember({"weight_space", "exact"}))
       ->capture_default_str();
@@ -110,16 +85,12 @@ void SetupFitGprCommand(CLI::App& app) {
   cmd->add_option("--downsample", o->selection.downsample, "keep every N-th sample (after the window)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  cmd->add_option("--restarts", o->restarts, "extra optimiser starts drawn from the priors")
+  cmd->add_option("--restarts", o->fit.restarts, "extra optimiser starts drawn from the priors")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  cmd->add_option("--seed", o->seed, "seed of the restart draws (a whole number below 10^18)")
+  cmd->add_option("--seed", o->fit.seed, "seed of the restart draws (a whole number below 10^18)")
       ->capture_default_str()
-      ->check([](const std::string& text) {  // the raw text: an overflowing number was read as 2^64 − 1
-        const bool digits = !text.empty() && text.size() <= 18 &&
-                            std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
-        return digits ? std::string() : std::string("give a whole number from 0 to 999999999999999999");
-      });
+      ->check(WholeNumberText(18));
   cmd->add_option("--target", o->target,
                   "what the GP learns: dob (the --disturbance-column, e.g. the DOB estimate) or smoothed (the "
                   "zero-phase inverse-model estimate M_n*xddot + B_n*xdot - u from --time-column, --position-column "

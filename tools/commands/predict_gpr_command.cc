@@ -19,12 +19,6 @@ namespace mb {
 
 namespace {
 
-// The output's folder, created if missing (as `run --out` does).
-void CreateParentDirectory(const std::string& path) {
-  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-  if (!parent.empty()) std::filesystem::create_directories(parent);
-}
-
 struct PredictGprOptions {
   std::string model;
   std::string input;
@@ -36,7 +30,7 @@ struct PredictGprOptions {
 void RunPredictGpr(const PredictGprOptions& o) {
   RefuseOutputsOverInputs({{"MODEL", o.model}, {"INPUT", o.input}}, {{"-o", o.output}});
   const GprModel model = LoadGprModel(o.model);
-  CreateParentDirectory(o.output);
+  CreateParentFolder(o.output);
   const auto [position, velocity] = GprInputColumns(model, o.position, o.velocity);
   const Table in = ReadGprTable(o.input, {position, velocity});
   const Table out = PredictGprOnLog(model, in, position, velocity);

@@ -28,6 +28,11 @@ void WriteSignalLog(const SignalLog& log, const fs::path& path) {
   WriteMeasurementLog(MeasurementLog(names, columns, path.string()), path.string());
 }
 
+void CreateParentFolder(const fs::path& file) {
+  const fs::path parent = file.parent_path();
+  if (!parent.empty()) fs::create_directories(parent);
+}
+
 void WriteJsonFile(const nlohmann::json& j, const fs::path& path) {
   WriteFileSafely(path, j.dump(2) + "\n");
 }

@@ -18,6 +18,10 @@ namespace mb {
 /// Writes the log as CSV: time_s, then one column per logged signal. @throws std::runtime_error.
 void WriteSignalLog(const SignalLog& log, const std::filesystem::path& path);
 
+/// Creates the folder `file` is to be written in, if missing (as `run --out` creates its folder); nothing for a file
+/// name without a folder. @throws std::filesystem::filesystem_error if it cannot be created.
+void CreateParentFolder(const std::filesystem::path& file);
+
 /// Writes pretty JSON (2-space indent). @throws std::runtime_error if the file cannot be written.
 void WriteJsonFile(const nlohmann::json& j, const std::filesystem::path& path);
 

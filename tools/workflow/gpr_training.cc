@@ -59,4 +59,18 @@ Table ReadGprTrainingTable(const std::string& path, GprTrainingSelection* select
   return log;
 }
 
+std::string DescribeGprFit(const GprModel& model) {
+  const GprModelData& m = model.data();
+  const GprHyperparameters& h = m.hyperparameters;
+  return fmt::format(
+      "fit {} ({} solver) to {} samples: {} features, log marginal likelihood {:.6g}, {:.2f} s\n"
+      "  signal_variance_x {:.6g}, length_scale_x {:.6g}, signal_variance_xdot {:.6g}, "
+      "length_scale_xdot {:.6g} m/s, noise_variance {:.6g}, period {:.6g} m, mean {:.6g}\n"
+      "  trained ranges: x [{:.6g}, {:.6g}] m, xdot [{:.6g}, {:.6g}] m/s\n",
+      GprKernelName(m.kernel), m.provenance.solver, m.provenance.sample_count, model.feature_count(),
+      m.provenance.log_marginal_likelihood, m.provenance.fit_seconds, h.signal_variance_x, h.length_scale_x,
+      h.signal_variance_xdot, h.length_scale_xdot, h.noise_variance, h.period, m.mean, m.x_range.min,
+      m.x_range.max, m.xdot_range.min, m.xdot_range.max);
+}
+
 }  // namespace mb

@@ -9,6 +9,7 @@
 #include "engine/table.h"
 #include "models/gpr/disturbance_target.h"
 #include "models/gpr/gpr_log.h"
+#include "models/gpr/gpr_model.h"
 
 namespace mb {
 
@@ -33,5 +34,9 @@ inline constexpr const char* kSmoothedDisturbanceColumn = "smoothed_disturbance"
 /// as ReadGprTable, LoadDiagram and AddSmoothedDisturbanceColumn.
 Table ReadGprTrainingTable(const std::string& path, GprTrainingSelection* selection,
                            const std::optional<SmoothedTargetSettings>& smoothed);
+
+/// What `motionblocks fit-gpr` says of a fitted model, three lines each ending in '\n': the kernel, solver, samples,
+/// features, log marginal likelihood and fit time; the hyperparameters; the trained ranges of x and ẋ.
+std::string DescribeGprFit(const GprModel& model);
 
 }  // namespace mb
