@@ -5,6 +5,7 @@
 #include <time.h>
 
 #include <algorithm>
+#include <csignal>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -151,5 +152,27 @@ void LoopRecorder::Columns(std::vector<double>* scheduled, std::vector<double>* 
     (*flags)[i] = static_cast<double>(flags_[i]);
   }
 }
+
+namespace {
+
+std::atomic<bool> g_stop_requested{false};
+
+extern "C" void RequestStop(int) { g_stop_requested.store(true); }
+
+}  // namespace
+
+void StopOnSignals::Install() {
+  std::signal(SIGINT, RequestStop);
+  std::signal(SIGTERM, RequestStop);
+  installed_ = true;
+}
+
+StopOnSignals::~StopOnSignals() {
+  if (!installed_) return;
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+}
+
+const std::atomic<bool>& StopOnSignals::requested() noexcept { return g_stop_requested; }
 
 }  // namespace mb

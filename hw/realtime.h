@@ -3,6 +3,7 @@
 // memory locking, and per-tick timing records with their statistics (wake-up latency, period jitter, compute
 // time, overruns). Linux (POSIX clock_nanosleep, sched_setscheduler, mlockall).
 
+#include <atomic>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -25,6 +26,25 @@ struct RealTimeOptions {
 /// SCHED_FIFO still runs, with more jitter): returns one line per setting saying what was done or why it
 /// failed (e.g. "SCHED_FIFO 80: not permitted (run as root or grant CAP_SYS_NICE / an rtprio limit)").
 std::vector<std::string> ApplyRealTimeOptions(const RealTimeOptions& options);
+
+/// The safe stop a signal requests (`hil`, `virtual-stage`): from Install() until this object ends, SIGINT and SIGTERM
+/// set requested() (one process-wide flag, which the loop polls) instead of ending the process; then their default
+/// actions come back. The flag is never reset: one loop per process.
+class StopOnSignals final {
+ public:
+  StopOnSignals() = default;
+  StopOnSignals(const StopOnSignals&) = delete;
+  StopOnSignals& operator=(const StopOnSignals&) = delete;
+  ~StopOnSignals();
+
+  /// From now on, SIGINT and SIGTERM set requested().
+  void Install();
+  /// True once SIGINT or SIGTERM arrived while installed.
+  static const std::atomic<bool>& requested() noexcept;
+
+ private:
+  bool installed_ = false;
+};
 
 /// How one tick of the loop went: a bit set of these flags (0 = on time with fresh inputs).
 inline constexpr std::uint8_t kTickMissedSample = 1;  ///< no fresh inputs this tick

@@ -253,4 +253,10 @@ VirtualStageReport VirtualStage::Run(const std::atomic<bool>& stop, std::ostream
   return report;
 }
 
+std::string DescribeVirtualStageRun(const VirtualStageReport& r) {
+  return fmt::format("stopped at t = {:.3f} s: {} sample requests answered, {} outputs applied, {} outputs lost "
+                     "(sequence gaps), {} packets dropped (fault injection), {} watchdog trips",
+                     r.time, r.requests, r.outputs, r.lost_outputs, r.dropped, r.watchdog_trips);
+}
+
 }  // namespace mb

@@ -82,6 +82,10 @@ struct VirtualStageReport {
   std::string fault;
 };
 
+/// What `motionblocks virtual-stage` says of a run, one line: "stopped at t = … s: … sample requests answered, …
+/// outputs applied, … outputs lost (sequence gaps), … packets dropped (fault injection), … watchdog trips".
+std::string DescribeVirtualStageRun(const VirtualStageReport& report);
+
 class VirtualStage {
  public:
   /// Loads the plant diagram (overrides applied), checks the wiring against its connectors and binds the

@@ -48,6 +48,11 @@ void AddMaxStepsOption(CLI::App* command) {
       ->type_name("N");  // the range (finite, [1, 1e13]) is SetDefaultSimulationLimits' check: NaN and inf too
 }
 
+void AddFifoOption(CLI::App* command, int* priority) {
+  command->add_option("--fifo", *priority, "SCHED_FIFO priority 1–99 (0 = default scheduler)")
+      ->check(CLI::Range(0, 99));
+}
+
 CLI::Validator FiniteRange(double low, double high, bool low_open) {
   const std::string range = fmt::format("{}{}, {}]", low_open ? "(" : "[", low, high);
   return CLI::Validator(

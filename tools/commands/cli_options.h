@@ -1,7 +1,8 @@
 #pragma once
 // The options several `motionblocks` subcommands share, declared and parsed in one place: --set overrides,
 // --map connector=column, comma lists ("block.param,…"), the measurement options of compare, fit and improve
-// (--measurement, --map, --set, --position-column, --derivative-cutoff-hz) and --max-steps.
+// (--measurement, --map, --set, --position-column, --derivative-cutoff-hz), --max-steps, --fifo (hil and
+// virtual-stage), and the checks of a non-empty value and of a whole number's text.
 
 #include <filesystem>
 #include <functional>
@@ -54,6 +55,10 @@ std::function<std::string(const std::string&)> NonEmpty(std::string what);
 /// A CLI11 check on the raw text of a whole number of at most `max_digits` digits (a number that overflows would be
 /// read as 2^64 − 1): "give a whole number from 0 to 99…9" otherwise.
 std::function<std::string(const std::string&)> WholeNumberText(std::size_t max_digits);
+
+/// Adds --fifo PRIO (SCHED_FIFO priority 1–99, 0 = the default scheduler; hw/realtime.h RealTimeOptions) to a
+/// command that runs a real-time loop, stored into `priority`.
+void AddFifoOption(CLI::App* command, int* priority);
 
 /// Adds --max-steps N (SimulationLimits::max_steps for every simulation the command runs) to a subcommand.
 void AddMaxStepsOption(CLI::App* command);

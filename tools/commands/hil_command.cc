@@ -5,8 +5,6 @@
 // one library call, RunHilSession (tools/hil/hil_session.h, docs/hil.md). This file fills its settings, stops the
 // loop safely on SIGINT/SIGTERM and prints; a safe stop is an error exit after the files are written.
 
-#include <atomic>
-#include <csignal>
 #include <cstdint>
 #include <iostream>
 #include <memory>
@@ -15,6 +13,7 @@
 
 #include <fmt/format.h>
 
+#include "hw/realtime.h"
 #include "tools/commands/cli_options.h"
 #include "tools/commands/command_registry.h"
 #include "tools/hil/hil_session.h"
@@ -22,28 +21,6 @@
 namespace mb {
 
 namespace {
-
-std::atomic<bool> g_hil_stop{false};
-
-extern "C" void StopHil(int) { g_hil_stop.store(true); }
-
-// SIGINT and SIGTERM request the safe stop from just before the loop starts (Install) until this object ends.
-class StopOnSignals {
- public:
-  void Install() {
-    std::signal(SIGINT, StopHil);
-    std::signal(SIGTERM, StopHil);
-    installed_ = true;
-  }
-  ~StopOnSignals() {
-    if (!installed_) return;
-    std::signal(SIGINT, SIG_DFL);
-    std::signal(SIGTERM, SIG_DFL);
-  }
-
- private:
-  bool installed_ = false;
-};
 
 // The session's settings (their defaults are the library's), and the options given in other units or types.
 struct HilCommandOptions {
@@ -55,19 +32,6 @@ struct HilCommandOptions {
   double hardware_watchdog_ms = settings.quanser.watchdog_timeout * 1e3;
 };
 
-void PrintResult(const HilSessionResult& result, const std::string& out) {
-  for (const auto& note : result.run.realtime_notes) std::cout << note << "\n";
-  const LoopStatistics& s = result.run.statistics;
-  std::cout << fmt::format("{} ticks at {:.0f} Hz: latency mean {:.1f} µs, p99 {:.1f} µs, max {:.1f} µs; period "
-                           "jitter rms {:.1f} µs, max {:.1f} µs; compute mean {:.1f} µs, max {:.1f} µs; {} overruns, "
-                           "{} missed samples\n",
-                           s.ticks, 1.0 / s.period, s.latency_mean * 1e6, s.latency_p99 * 1e6, s.latency_max * 1e6,
-                           s.jitter_rms * 1e6, s.jitter_max_abs * 1e6, s.compute_mean * 1e6, s.compute_max * 1e6,
-                           s.overruns, s.missed_samples);
-  for (const auto& [name, value] : result.run.metrics) std::cout << fmt::format("{} = {:.6g}\n", name, value);
-  std::cout << fmt::format("wrote {}/signals.csv, timing.csv, summary.json\n", out);
-}
-
 void RunHil(const HilCommandOptions& o) {
   HilSessionSettings settings = o.settings;
   settings.board = ParseHilBoardKind(o.board);
@@ -77,17 +41,13 @@ void RunHil(const HilCommandOptions& o) {
   settings.quanser.watchdog_timeout = o.hardware_watchdog_ms * 1e-3;
   StopOnSignals signals;
   const HilSessionResult result = RunHilSession(
-      settings, &g_hil_stop,
-      [](const std::string& dropped) {
-        std::cerr << fmt::format("hil: dropped {} (it names the replaced plant)\n", dropped);
-      },
+      settings, &StopOnSignals::requested(),
+      [](const std::string& dropped) { std::cerr << DescribeHilDroppedItem(dropped) << "\n"; },
       [&signals](const HilSessionStart& start) {
         signals.Install();
-        std::cout << fmt::format("hil {} on {}: {} s at {} Hz\n", start.name, start.board, start.duration,
-                                 1.0 / start.period)
-                  << std::flush;
+        std::cout << DescribeHilSessionStart(start) << "\n" << std::flush;
       });
-  PrintResult(result, o.out);
+  PrintHilSessionSummary(result, o.out, std::cout);
   if (!result.run.completed) throw std::runtime_error("hil: " + result.run.stop_reason);
 }
 
@@ -137,8 +97,7 @@ void SetupHilCommand(CLI::App& app) {
   cmd->add_option("--max-overruns", s.loop.max_overrun_streak, "safe stop after this many consecutive overruns")
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
-  cmd->add_option("--fifo", s.loop.realtime.fifo_priority, "SCHED_FIFO priority 1–99 (0 = default scheduler)")
-      ->check(CLI::Range(0, 99));
+  AddFifoOption(cmd, &s.loop.realtime.fifo_priority);
   cmd->add_flag("--lock-memory", s.loop.realtime.lock_memory, "mlockall the process and prefault the stack");
   cmd->callback([options] { RunHil(*options); });
 }

@@ -3,7 +3,6 @@
 // Runs the plant diagram in real time as a separate process that speaks the UDP board protocol on 127.0.0.1
 // (hw/virtual_stage.h, docs/hil.md): the no-hardware path of `motionblocks hil --board udp`.
 
-#include <csignal>
 #include <iostream>
 
 #include <fmt/format.h>
@@ -16,10 +15,6 @@
 namespace mb {
 
 namespace {
-
-std::atomic<bool> g_stage_stop{false};
-
-extern "C" void StopStage(int) { g_stage_stop.store(true); }
 
 struct VirtualStageCommandOptions {
   std::string plant;
@@ -43,17 +38,15 @@ void RunVirtualStage(const VirtualStageCommandOptions& o) {
   if (o.drop_from >= 0.0) options.drop_from = o.drop_from;
   VirtualStage stage(o.plant, StageWiring::FromIoFile(o.io), options, overrides);
   for (const auto& note : ApplyRealTimeOptions({o.fifo_priority, false})) std::cout << note << "\n";
-  std::signal(SIGINT, StopStage);
-  std::signal(SIGTERM, StopStage);
+  StopOnSignals signals;  // from here until the stage stopped and said so
+  signals.Install();
   // The first line names the port (tests and scripts read it when --port 0 picked a free one).
   std::cout << fmt::format("virtual-stage listening on 127.0.0.1:{}\n", stage.port());
   std::cout << fmt::format("plant '{}' from {}, tick {} ms, watchdog {} ms; stop with Ctrl-C\n",
                            stage.plant().name(), o.plant, o.period_ms, o.watchdog_ms)
             << std::flush;
-  const VirtualStageReport r = stage.Run(g_stage_stop, std::cout);
-  std::cout << fmt::format("stopped at t = {:.3f} s: {} sample requests answered, {} outputs applied, {} outputs "
-                           "lost (sequence gaps), {} packets dropped (fault injection), {} watchdog trips\n",
-                           r.time, r.requests, r.outputs, r.lost_outputs, r.dropped, r.watchdog_trips);
+  const VirtualStageReport r = stage.Run(StopOnSignals::requested(), std::cout);
+  std::cout << DescribeVirtualStageRun(r) << "\n";
   if (!r.fault.empty()) throw std::runtime_error("virtual-stage: " + r.fault);
 }
 
@@ -90,8 +83,7 @@ void SetupVirtualStageCommand(CLI::App& app) {
                   "fault injection: drop every packet from this many seconds on (tests the safe stop)")
       ->check(FiniteRange(0.0, kStageMaxDuration));
   AddSetOption(cmd, &options->overrides, "plant parameter override block.param=value (repeatable)");
-  cmd->add_option("--fifo", options->fifo_priority, "SCHED_FIFO priority 1–99 (0 = default scheduler)")
-      ->check(CLI::Range(0, 99));
+  AddFifoOption(cmd, &options->fifo_priority);
   cmd->callback([options] { RunVirtualStage(*options); });
 }
 

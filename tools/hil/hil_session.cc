@@ -199,4 +199,24 @@ HilSessionResult RunHilSession(const HilSessionSettings& settings, const std::at
   return RunHilSessionOnBoard(settings, prepared.json, *board, stop, on_start);
 }
 
+std::string DescribeHilSessionStart(const HilSessionStart& start) {
+  return fmt::format("hil {} on {}: {} s at {} Hz", start.name, start.board, start.duration, 1.0 / start.period);
+}
+
+std::string DescribeHilDroppedItem(const std::string& dropped) {
+  return fmt::format("hil: dropped {} (it names the replaced plant)", dropped);
+}
+
+void PrintHilSessionSummary(const HilSessionResult& result, const std::string& out, std::ostream& os) {
+  for (const auto& note : result.run.realtime_notes) os << note << "\n";
+  const LoopStatistics& s = result.run.statistics;
+  os << fmt::format("{} ticks at {:.0f} Hz: latency mean {:.1f} µs, p99 {:.1f} µs, max {:.1f} µs; period jitter rms "
+                    "{:.1f} µs, max {:.1f} µs; compute mean {:.1f} µs, max {:.1f} µs; {} overruns, {} missed samples\n",
+                    s.ticks, 1.0 / s.period, s.latency_mean * 1e6, s.latency_p99 * 1e6, s.latency_max * 1e6,
+                    s.jitter_rms * 1e6, s.jitter_max_abs * 1e6, s.compute_mean * 1e6, s.compute_max * 1e6,
+                    s.overruns, s.missed_samples);
+  for (const auto& [name, value] : result.run.metrics) os << fmt::format("{} = {:.6g}\n", name, value);
+  os << fmt::format("wrote {}/signals.csv, timing.csv, summary.json\n", out);
+}
+
 }  // namespace mb

@@ -15,6 +15,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -87,6 +88,13 @@ struct HilSessionStart {
   double period = 0.0;   ///< the loop's sample period [s] (HilLoopPeriod)
 };
 
+/// What `motionblocks hil` says as the loop starts: "hil NAME on BOARD: DURATION s at RATE Hz".
+std::string DescribeHilSessionStart(const HilSessionStart& start);
+
+/// What `motionblocks hil` says (on stderr) of an item a replacement dropped (PreparedHilDiagram::dropped): "hil:
+/// dropped logged signal plant/x (it names the replaced plant)".
+std::string DescribeHilDroppedItem(const std::string& dropped);
+
 /// What one session gave: the content of summary.json, and the loop's log and timing records.
 struct HilSessionResult {
   std::string diagram;                              ///< the diagram file, absolute
@@ -125,5 +133,10 @@ HilSessionResult RunHilSessionOnBoard(const HilSessionSettings& settings, const 
 HilSessionResult RunHilSession(const HilSessionSettings& settings, const std::atomic<bool>* stop,
                                const std::function<void(const std::string&)>& on_dropped = {},
                                const std::function<void(const HilSessionStart&)>& on_start = {});
+
+/// What `motionblocks hil` prints once the session's files are written into `out`: the real-time notes, the loop's
+/// statistics (ticks, rate, latency, period jitter, compute time [µs], overruns, missed samples), the metrics and the
+/// files written.
+void PrintHilSessionSummary(const HilSessionResult& result, const std::string& out, std::ostream& os);
 
 }  // namespace mb
