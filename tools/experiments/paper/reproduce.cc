@@ -58,6 +58,17 @@ double ReproduceContext::RmseUm(PaperCase which) const {
   return Case(which).result.metrics.at("tracking_rmse") * 1e6;
 }
 
+const ClosedLoopCase& ReproduceContext::Online(OnlineCase which) const {
+  if (online_cases.size() != kOnlineCaseCount) {
+    throw std::logic_error("ReproduceContext::Online before the online-learning runs");
+  }
+  return online_cases[static_cast<std::size_t>(which)];
+}
+
+double ReproduceContext::OnlineRmseUm(OnlineCase which) const {
+  return Online(which).result.metrics.at("tracking_rmse") * 1e6;
+}
+
 SimulationResult Simulate(const fs::path& diagram, const Assignments& assignments) {
   const json j = ApplySweepAssignments(ReadDiagramJson(diagram), assignments, diagram.string());
   const Diagram d = BuildDiagram(j, diagram.parent_path(), diagram.string());

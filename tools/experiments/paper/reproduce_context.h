@@ -76,6 +76,31 @@ enum class PaperCase {
 };
 inline constexpr std::size_t kPaperCaseCount = 9;
 
+/// The runs of step 7, learning online, in ReproduceContext::online_cases' order: Table 2's Fig. 9 runs with the
+/// gpr block learning online (from the PS model of D(2), with the payload, from the prior), with the adaptive mass
+/// feedforward (the PS model, the PS model trained on the smoothed estimate, the mass alone; each without and with
+/// the payload); then the endless-track runs, from kTrackConventional on (the conventional loop, the fixed PS model,
+/// the learner from it and from the prior, the PS model with the mass, the smoothed PS model without and with it).
+enum class OnlineCase {
+  kPsOnline,
+  kPsOnlinePayload,
+  kPsOnlineFromPrior,
+  kPsMass,
+  kPsMassPayload,
+  kPsSmoothedMass,
+  kPsSmoothedMassPayload,
+  kMassOnly,
+  kMassOnlyPayload,
+  kTrackConventional,  ///< the first track run
+  kTrackPs,
+  kTrackPsOnline,
+  kTrackOnlineFromPrior,
+  kTrackPsMass,
+  kTrackPsSmoothed,
+  kTrackPsSmoothedMass,
+};
+inline constexpr std::size_t kOnlineCaseCount = 16;
+
 /// One closed-loop Fig. 9 run (PaperCase).
 struct ClosedLoopCase {
   std::string name;
@@ -122,7 +147,7 @@ struct ReproduceContext {
   std::vector<ClosedLoopCase> confidence_cases;
   nlohmann::json confidence;
   // 7. learning online
-  std::vector<ClosedLoopCase> online_cases;  ///< PS_online, PS_online_payload, then the track runs
+  std::vector<ClosedLoopCase> online_cases;  ///< kOnlineCaseCount runs, in OnlineCase's order
   nlohmann::json online;
   // 8. real motor
   nlohmann::json real_motor;
@@ -139,6 +164,10 @@ struct ReproduceContext {
   const ClosedLoopCase& Case(PaperCase which) const;
   /// A paper case's tracking RMSE [µm].
   double RmseUm(PaperCase which) const;
+  /// A run of step 7 (online_cases, in OnlineCase's order). @throws std::logic_error before step 7 has run.
+  const ClosedLoopCase& Online(OnlineCase which) const;
+  /// A run of step 7's tracking RMSE [µm].
+  double OnlineRmseUm(OnlineCase which) const;
 };
 
 // The steps, in order (reproduce.cc).

@@ -14,6 +14,8 @@
 //      in (a)'s Fig. 9 runs (and with α = 0: the conventional loop plus the mass) and in (b)'s track.
 
 #include <cmath>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -30,7 +32,6 @@ using json = nlohmann::json;
 
 constexpr double kSegment = 1.2;      // [s] between speed changes (Fig. 9's transition starts)
 constexpr double kForgetting = 0.9999;  // λ: a memory of about 10 s at 1 kHz
-constexpr std::size_t kFirstTrackCase = 9;  // online_cases[0..8]: Fig. 9 runs; from 9: the track runs
 
 // The endless-track reference: 150 and 350 mm/s alternating every 1.2 s, `segments` segments, and the payload
 // picked up at half time.
@@ -79,6 +80,39 @@ std::vector<double> SegmentRmseUm(const SignalLog& log, int segments) {
 // The adaptive feedforward's mass estimate at the end of a run [kg].
 double FinalMass(const SignalLog& log) { return log.Column("mass_ff.mass").back(); }
 
+// Step 7's runs, each at its OnlineCase (`segments`: the track's).
+std::vector<ClosedLoopCase> OnlineCases(const ReproduceContext& c, int segments) {
+  const std::string ps = c.model_paths.at("PS_D2").string();
+  const std::string ps_smoothed = c.ps_smoothed_target_path.string();
+  const Assignments track = TrackRun(segments);
+  const Assignments payload = {{"plant.payload_mass", kPayloadMass}};
+  const fs::path& mass = c.gp_loop_adaptive_mass;
+  std::vector<ClosedLoopCase> cases(kOnlineCaseCount);
+  const auto run = [&](OnlineCase which, std::string name, const fs::path& diagram, Assignments assignments) {
+    cases[static_cast<std::size_t>(which)] = {std::move(name), diagram, std::move(assignments), {}};
+  };
+  run(OnlineCase::kPsOnline, "PS_online", c.gp_loop_online, Learner(ps));
+  run(OnlineCase::kPsOnlinePayload, "PS_online_payload", c.gp_loop_online, With(Learner(ps), payload));
+  run(OnlineCase::kPsOnlineFromPrior, "PS_online_from_prior", c.gp_loop_online, Learner(ps, "prior"));
+  run(OnlineCase::kPsMass, "PS_mass", mass, {{"gpr.model", ps}});
+  run(OnlineCase::kPsMassPayload, "PS_mass_payload", mass, With({{"gpr.model", ps}}, payload));
+  run(OnlineCase::kPsSmoothedMass, "PS_smoothed_mass", mass, {{"gpr.model", ps_smoothed}});
+  run(OnlineCase::kPsSmoothedMassPayload, "PS_smoothed_mass_payload", mass,
+      With({{"gpr.model", ps_smoothed}}, payload));
+  run(OnlineCase::kMassOnly, "mass_only", mass, {{"gpr.model", ps}, {"f_gp.weight", 0.0}});
+  run(OnlineCase::kMassOnlyPayload, "mass_only_payload", mass,
+      With({{"gpr.model", ps}, {"f_gp.weight", 0.0}}, payload));
+  run(OnlineCase::kTrackConventional, "track_conventional", c.conventional, track);
+  run(OnlineCase::kTrackPs, "track_PS", c.gp_loop, With(track, {{"gpr.model", ps}}));
+  run(OnlineCase::kTrackPsOnline, "track_PS_online", c.gp_loop_online, With(track, Learner(ps)));
+  run(OnlineCase::kTrackOnlineFromPrior, "track_online_from_prior", c.gp_loop_online,
+      With(track, Learner(ps, "prior")));
+  run(OnlineCase::kTrackPsMass, "track_PS_mass", mass, With(track, {{"gpr.model", ps}}));
+  run(OnlineCase::kTrackPsSmoothed, "track_PS_smoothed", c.gp_loop, With(track, {{"gpr.model", ps_smoothed}}));
+  run(OnlineCase::kTrackPsSmoothedMass, "track_PS_smoothed_mass", mass, With(track, {{"gpr.model", ps_smoothed}}));
+  return cases;
+}
+
 }  // namespace
 
 void LearnOnline(ReproduceContext& c) {
@@ -86,34 +120,13 @@ void LearnOnline(ReproduceContext& c) {
   c.Say(fmt::format("[7/{}] learning online: Table 2's payload case, and a payload picked up at {:.1f} s of a {:.1f} s "
                     "run",
                     kSteps, 0.5 * kSegment * segments, kSegment * segments));
-  const std::string ps = c.model_paths.at("PS_D2").string();
-  const std::string ps_smoothed = c.ps_smoothed_target_path.string();
-  const Assignments track = TrackRun(segments);
-  const Assignments payload = {{"plant.payload_mass", kPayloadMass}};
-  const fs::path& mass = c.gp_loop_adaptive_mass;
-  c.online_cases = {
-      {"PS_online", c.gp_loop_online, Learner(ps), {}},
-      {"PS_online_payload", c.gp_loop_online, With(Learner(ps), payload), {}},
-      {"PS_online_from_prior", c.gp_loop_online, Learner(ps, "prior"), {}},
-      {"PS_mass", mass, {{"gpr.model", ps}}, {}},
-      {"PS_mass_payload", mass, With({{"gpr.model", ps}}, payload), {}},
-      {"PS_smoothed_mass", mass, {{"gpr.model", ps_smoothed}}, {}},
-      {"PS_smoothed_mass_payload", mass, With({{"gpr.model", ps_smoothed}}, payload), {}},
-      {"mass_only", mass, {{"gpr.model", ps}, {"f_gp.weight", 0.0}}, {}},
-      {"mass_only_payload", mass, With({{"gpr.model", ps}, {"f_gp.weight", 0.0}}, payload), {}},
-      {"track_conventional", c.conventional, track, {}},
-      {"track_PS", c.gp_loop, With(track, {{"gpr.model", ps}}), {}},
-      {"track_PS_online", c.gp_loop_online, With(track, Learner(ps)), {}},
-      {"track_online_from_prior", c.gp_loop_online, With(track, Learner(ps, "prior")), {}},
-      {"track_PS_mass", mass, With(track, {{"gpr.model", ps}}), {}},
-      {"track_PS_smoothed", c.gp_loop, With(track, {{"gpr.model", ps_smoothed}}), {}},
-      {"track_PS_smoothed_mass", mass, With(track, {{"gpr.model", ps_smoothed}}), {}}};
+  c.online_cases = OnlineCases(c, segments);
   c.arena.execute([&] {
     tbb::parallel_for(std::size_t{0}, c.online_cases.size(), [&](std::size_t i) {
       c.online_cases[i].result = Simulate(c.online_cases[i].diagram, c.online_cases[i].assignments);
     });
   });
-  const auto rmse = [&](std::size_t i) { return c.online_cases[i].result.metrics.at("tracking_rmse") * 1e6; };
+  const auto rmse = [&](OnlineCase which) { return c.OnlineRmseUm(which); };
   json track_json = {{"segment_s", kSegment},
                      {"payload_time_s", 0.5 * kSegment * segments},
                      {"segment_start_s", json::array()},
@@ -122,10 +135,11 @@ void LearnOnline(ReproduceContext& c) {
     track_json["segment_start_s"].push_back(kSegment * k);
     track_json["segment_speed_m_s"].push_back(k % 2 == 0 ? 0.15 : 0.35);
   }
-  for (std::size_t i = kFirstTrackCase; i < c.online_cases.size(); ++i) {
-    const ClosedLoopCase& k = c.online_cases[i];
-    track_json["segment_rmse_um"][k.name.substr(6)] = SegmentRmseUm(k.result.log, segments);
-    track_json["rmse_um"][k.name.substr(6)] = rmse(i);
+  for (std::size_t i = static_cast<std::size_t>(OnlineCase::kTrackConventional); i < kOnlineCaseCount; ++i) {
+    const auto which = static_cast<OnlineCase>(i);
+    const ClosedLoopCase& k = c.Online(which);
+    track_json["segment_rmse_um"][k.name.substr(6)] = SegmentRmseUm(k.result.log, segments);  // less "track_"
+    track_json["rmse_um"][k.name.substr(6)] = rmse(which);
   }
   const double ps_no_payload = c.RmseUm(PaperCase::kPs);
   c.online = {{"unit", "µm"},
@@ -133,28 +147,31 @@ void LearnOnline(ReproduceContext& c) {
               {"table2",
                {{"PS", ps_no_payload},
                 {"PS_payload", c.RmseUm(PaperCase::kPsPayload)},
-                {"PS_online", rmse(0)},
-                {"PS_online_payload", rmse(1)},
-                {"PS_online_from_prior", rmse(2)},
+                {"PS_online", rmse(OnlineCase::kPsOnline)},
+                {"PS_online_payload", rmse(OnlineCase::kPsOnlinePayload)},
+                {"PS_online_from_prior", rmse(OnlineCase::kPsOnlineFromPrior)},
                 {"conventional", c.RmseUm(PaperCase::kConventional)},
-                {"PS_online_over_conventional", rmse(0) / c.RmseUm(PaperCase::kConventional)},
+                {"PS_online_over_conventional", rmse(OnlineCase::kPsOnline) / c.RmseUm(PaperCase::kConventional)},
                 {"payload_over_no_payload_fixed", c.RmseUm(PaperCase::kPsPayload) / ps_no_payload},
-                {"payload_over_no_payload_online", rmse(1) / ps_no_payload}}},
+                {"payload_over_no_payload_online", rmse(OnlineCase::kPsOnlinePayload) / ps_no_payload}}},
               {"adaptive_mass_feedforward",
-               {{"PS_mass", rmse(3)},
-                {"PS_mass_payload", rmse(4)},
-                {"PS_smoothed_mass", rmse(5)},
-                {"PS_smoothed_mass_payload", rmse(6)},
-                {"mass_only", rmse(7)},
-                {"mass_only_payload", rmse(8)},
+               {{"PS_mass", rmse(OnlineCase::kPsMass)},
+                {"PS_mass_payload", rmse(OnlineCase::kPsMassPayload)},
+                {"PS_smoothed_mass", rmse(OnlineCase::kPsSmoothedMass)},
+                {"PS_smoothed_mass_payload", rmse(OnlineCase::kPsSmoothedMassPayload)},
+                {"mass_only", rmse(OnlineCase::kMassOnly)},
+                {"mass_only_payload", rmse(OnlineCase::kMassOnlyPayload)},
                 {"PS_smoothed", c.RmseUm(PaperCase::kPsSmoothed)},
                 {"PS_smoothed_payload", c.RmseUm(PaperCase::kPsSmoothedPayload)},
-                {"mass_estimate_payload_kg", FinalMass(c.online_cases[4].result.log)},
-                {"mass_estimate_no_payload_kg", FinalMass(c.online_cases[3].result.log)},
-                {"mass_estimate_smoothed_payload_kg", FinalMass(c.online_cases[6].result.log)},
-                {"payload_over_no_payload_PS_mass", rmse(4) / ps_no_payload},
-                {"payload_over_no_payload_PS_smoothed_mass", rmse(6) / c.RmseUm(PaperCase::kPsSmoothed)},
-                {"PS_smoothed_mass_payload_over_conventional", rmse(6) / c.RmseUm(PaperCase::kConventional)}}},
+                {"mass_estimate_payload_kg", FinalMass(c.Online(OnlineCase::kPsMassPayload).result.log)},
+                {"mass_estimate_no_payload_kg", FinalMass(c.Online(OnlineCase::kPsMass).result.log)},
+                {"mass_estimate_smoothed_payload_kg",
+                 FinalMass(c.Online(OnlineCase::kPsSmoothedMassPayload).result.log)},
+                {"payload_over_no_payload_PS_mass", rmse(OnlineCase::kPsMassPayload) / ps_no_payload},
+                {"payload_over_no_payload_PS_smoothed_mass",
+                 rmse(OnlineCase::kPsSmoothedMassPayload) / c.RmseUm(PaperCase::kPsSmoothed)},
+                {"PS_smoothed_mass_payload_over_conventional",
+                 rmse(OnlineCase::kPsSmoothedMassPayload) / c.RmseUm(PaperCase::kConventional)}}},
               {"track", track_json}};
   c.results["online_learning"] = c.online;
 }
