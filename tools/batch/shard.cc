@@ -19,6 +19,7 @@
 #include "engine/input_file.h"
 #include "engine/output_file.h"
 #include "engine/text_excerpt.h"
+#include "tools/batch/whole_number.h"
 #include "tools/report/output_files.h"
 #include "tools/report/sweep_report.h"
 
@@ -30,13 +31,6 @@ using json = nlohmann::json;
 namespace {
 
 constexpr std::size_t kListedIds = 10;  // ids named in a merge error; the rest are counted
-
-std::optional<std::size_t> WholeNumber(const std::string& text) {
-  std::size_t value = 0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (text.empty() || error != std::errc() || end != text.data() + text.size()) return std::nullopt;
-  return value;
-}
 
 // FNV-1a, 64 bits (Fowler, Noll, Vo; http://www.isthe.com/chongo/tech/comp/fnv/).
 std::uint64_t Fnv1a64(const std::string& text) {

@@ -3,7 +3,6 @@
 // positions.
 #include "tools/batch/shard.h"
 
-#include <charconv>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -13,17 +12,11 @@
 #include <fmt/format.h>
 
 #include "engine/text_excerpt.h"
+#include "tools/batch/whole_number.h"
 
 namespace mb {
 
 namespace {
-
-std::optional<std::size_t> WholeNumber(const std::string& text) {
-  std::size_t value = 0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (text.empty() || error != std::errc() || end != text.data() + text.size()) return std::nullopt;
-  return value;
-}
 
 std::size_t EnvironmentNumber(const char* name, const char* value) {
   const auto n = WholeNumber(value);
