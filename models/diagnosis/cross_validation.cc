@@ -88,6 +88,21 @@ Eigen::VectorXd BlockGrams::Fit(const std::vector<Eigen::Index>& idx, double* ss
   return theta;
 }
 
+BlockGrams BlockGrams::Restrict(const std::vector<Eigen::Index>& idx) const {
+  BlockGrams out;
+  for (std::size_t b = 0; b < gram_.size(); ++b) {
+    out.gram_.push_back(SubMatrix(gram_[b], idx));
+    out.xty_.push_back(SubVector(xty_[b], idx));
+  }
+  out.yty_ = yty_;
+  out.total_gram_ = SubMatrix(total_gram_, idx);
+  out.total_xty_ = SubVector(total_xty_, idx);
+  out.total_yty_ = total_yty_;
+  out.n_ = n_;
+  out.folds_ = folds_;
+  return out;
+}
+
 Eigen::MatrixXd BlockGrams::SubMatrix(const Eigen::MatrixXd& m, const std::vector<Eigen::Index>& idx) {
   Eigen::MatrixXd out(static_cast<Eigen::Index>(idx.size()), static_cast<Eigen::Index>(idx.size()));
   for (std::size_t i = 0; i < idx.size(); ++i)

@@ -28,10 +28,14 @@ class BlockGrams {
   // In-sample fit on all data: coefficients (scaled columns) and the residual sum of squares.
   Eigen::VectorXd Fit(const std::vector<Eigen::Index>& idx, double* sse) const;
 
+  // The Grams of the columns `idx` alone, column k of the result being idx[k]: the same entries, exactly.
+  BlockGrams Restrict(const std::vector<Eigen::Index>& idx) const;
+
   Eigen::MatrixXd TotalGram(const std::vector<Eigen::Index>& idx) const { return SubMatrix(total_gram_, idx); }
   double n() const { return n_; }
 
  private:
+  BlockGrams() = default;
   static Eigen::MatrixXd SubMatrix(const Eigen::MatrixXd& m, const std::vector<Eigen::Index>& idx);
   static Eigen::VectorXd SubVector(const Eigen::VectorXd& v, const std::vector<Eigen::Index>& idx);
   // Columns have unit RMS, so a ridge of 1e-9·(mean diagonal) only matters for collinear columns.

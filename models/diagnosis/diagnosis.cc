@@ -38,6 +38,7 @@ using diagnosis_detail::Candidate;
 using diagnosis_detail::CheckPositionTimeAmbiguity;
 using diagnosis_detail::ChosenInstances;
 using diagnosis_detail::DescribeEffect;
+using diagnosis_detail::KeepChosenOnly;
 using diagnosis_detail::LawSearch;
 using diagnosis_detail::NoteHysteresis;
 using diagnosis_detail::PruneChosenEffects;
@@ -153,6 +154,8 @@ Ranking RankEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base
   // passes' notes would repeat.
   std::vector<std::string> matrix_notes;
   for (int pass = 0;; ++pass) {
+    out.m = RegressorMatrix();  // the last pass's columns freed before this pass's periodograms and matrix
+    out.grams.reset();
     out.weights = RobustWeights(law.columns, r, options.huber_k, &out.law_residual);
     if (pass == 0) {
       result->rmse_base_refit = std::sqrt(out.law_residual.squaredNorm() / static_cast<double>(n));
@@ -167,7 +170,6 @@ Ranking RankEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base
     std::vector<EffectInstance> list = law.effects;  // the replacements chosen are the first candidates
     list.insert(list.end(), search.candidates.begin(), search.candidates.end());
     matrix_notes.clear();
-    out.m = RegressorMatrix();  // the last pass's columns freed before this pass's are built
     out.m = BuildCandidateMatrix(corrected, base_cols, list, options, &matrix_notes);
     out.m.Weigh(r, out.weights);
     out.grams.emplace(out.m, options.folds);
@@ -190,6 +192,7 @@ Ranking RankEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base
   }
   SelectEffects(out.m, *out.grams, used, options, &out.chosen, &result->notes);
   const std::vector<EffectInstance> retry = SetAsideForRetry(out);
+  KeepChosenOnly(&out);
   RefineChosenEffects(signals, base_cols, options, law.effects.size(), &out, &result->notes);
   RetrySetAside(signals, base_cols, options, law.effects.size(), retry, &out, &result->notes);
   const std::size_t laws = PruneChosenEffects(signals, base_cols, options, law.effects.size(), &out, &result->notes);

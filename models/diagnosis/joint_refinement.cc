@@ -186,6 +186,33 @@ bool JointRefinement::RefineOne(std::size_t j) {
   return false;
 }
 
+void KeepChosenOnly(Ranking* ranking) {
+  RegressorMatrix& m = ranking->m;
+  Selection& s = ranking->chosen;
+  std::vector<Eigen::Index> columns;
+  for (Eigen::Index j = 0; j < m.base.cols(); ++j) columns.push_back(j);
+  for (std::size_t c : s.order) columns.insert(columns.end(), m.cands[c].idx.begin(), m.cands[c].idx.end());
+  if (columns != s.selected || !ranking->grams) return;  // not the selection's layout: keep everything
+  RegressorMatrix kept;
+  kept.base = std::move(m.base);
+  kept.sw = std::move(m.sw);
+  kept.wr = std::move(m.wr);
+  Eigen::Index col = kept.base.cols();
+  for (std::size_t c : s.order) {
+    Candidate candidate = std::move(m.cands[c]);
+    for (Eigen::Index& j : candidate.idx) j = col++;
+    kept.cands.push_back(std::move(candidate));
+  }
+  kept.scale.resize(col);
+  for (Eigen::Index j = 0; j < col; ++j) kept.scale(j) = m.scale(s.selected[static_cast<std::size_t>(j)]);
+  kept.IndexColumns();
+  ranking->grams = ranking->grams->Restrict(s.selected);
+  for (Eigen::Index j = 0; j < col; ++j) s.selected[static_cast<std::size_t>(j)] = j;
+  for (std::size_t i = 0; i < s.order.size(); ++i) s.order[i] = i;
+  s.set_aside.clear();
+  m = std::move(kept);
+}
+
 std::vector<EffectInstance> ChosenInstances(const Ranking& ranking) {
   std::vector<EffectInstance> chosen;
   for (std::size_t c : ranking.chosen.order) chosen.push_back(ranking.m.cands[c].effect);

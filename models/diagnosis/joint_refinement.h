@@ -88,6 +88,12 @@ struct Ranking {
   Eigen::VectorXd law_residual;    // the residual after their robust fit
 };
 
+// Keeps only the chosen effects' candidates in the ranking's matrix (in the order chosen: the selection becomes its
+// columns 0, 1, …) and their entries of the Grams, exactly; the other candidates' columns are freed (on 10⁶ samples,
+// ≈ 30 columns of 8 MB each), since the steps after the selection read the chosen ones only. The candidates set aside
+// are forgotten (their indices were the old matrix's): call SetAsideForRetry first.
+void KeepChosenOnly(Ranking* ranking);
+
 // The chosen effects as instances, in the order they were chosen.
 std::vector<EffectInstance> ChosenInstances(const Ranking& ranking);
 
