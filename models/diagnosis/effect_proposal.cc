@@ -2,12 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
-#include <cmath>
 #include <utility>
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
+#include <tbb/parallel_invoke.h>
 
 #include "models/diagnosis/effect_regressors.h"
 #include "models/diagnosis/signal_processing.h"
@@ -128,15 +129,44 @@ ProposalContext::ProposalContext(const DiagnosisSignals& signals, const Eigen::V
   const auto skipped = [&](const char* what, const std::exception& e) {
     Note(fmt::format("{} skipped on this record: {}", what, e.what()));
   };
-  if (position_span_ > 0.0) {
-    PeriodogramOptions po = options.position_periodogram;
-    if (po.max_period <= 0.0) po.max_period = position_span_ / options.min_position_cycles;
-    // Only the samples in motion: while the machine dwells its samples pile up at a few positions, and a fine period
-    // fits their means by chance (a "ripple" of 0.4 mm was named first on a point-to-point record whose dwells hold a
-    // smooth spring force).
-    const auto [position, moving_residual] = MovingSamples(signals, residual, dead_band_);
+  // The three periodograms are independent: computed in parallel, then used (and their failures noted) in order.
+  const std::pair<Eigen::VectorXd, Eigen::VectorXd> moving =
+      position_span_ > 0.0 ? MovingSamples(signals, residual, dead_band_) : std::pair<Eigen::VectorXd, Eigen::VectorXd>();
+  const Eigen::VectorXd& position = moving.first;
+  const Eigen::VectorXd& moving_residual = moving.second;
+  std::exception_ptr position_error, time_error, motion_error;
+  Periodogram motion;
+  const auto guarded = [](std::exception_ptr* error, const auto& compute) {
     try {
-      search->position_periodogram = PositionPeriodogram(position, moving_residual, po);
+      compute();
+    } catch (...) {
+      *error = std::current_exception();
+    }
+  };
+  tbb::parallel_invoke(
+      [&] {
+        if (!(position_span_ > 0.0)) return;
+        PeriodogramOptions po = options.position_periodogram;
+        if (po.max_period <= 0.0) po.max_period = position_span_ / options.min_position_cycles;
+        // Only the samples in motion: while the machine dwells its samples pile up at a few positions, and a fine
+        // period fits their means by chance (a "ripple" of 0.4 mm was named first on a point-to-point record whose
+        // dwells hold a smooth spring force).
+        guarded(&position_error,
+                [&] { search->position_periodogram = PositionPeriodogram(position, moving_residual, po); });
+      },
+      [&] {
+        guarded(&time_error,
+                [&] { search->time_periodogram = TimePeriodogram(signals.time, residual, options.time_periodogram); });
+      },
+      [&] {
+        if (!(position_span_ > 0.0)) return;
+        PeriodogramOptions mo = options.time_periodogram;
+        mo.max_peaks = 1;  // only the strongest (the first found: best() is the same)
+        guarded(&motion_error, [&] { motion = TimePeriodogram(signals.time, signals.position, mo); });
+      });
+  if (position_span_ > 0.0) {
+    try {
+      if (position_error) std::rethrow_exception(position_error);
       position_periods_ = PositionPeriods(search->position_periodogram, options);
       AddFewCyclePeriods(position, moving_residual);
     } catch (const std::invalid_argument& e) {
@@ -144,14 +174,14 @@ ProposalContext::ProposalContext(const DiagnosisSignals& signals, const Eigen::V
     }
   }
   try {
-    search->time_periodogram = TimePeriodogram(signals.time, residual, options.time_periodogram);
+    if (time_error) std::rethrow_exception(time_error);
   } catch (const std::invalid_argument& e) {
     skipped("the time periodogram (time-periodic candidates)", e);
   }
   if (position_span_ > 0.0) {
     try {
-      search->motion_frequency_hz =
-          1.0 / TimePeriodogram(signals.time, signals.position, options.time_periodogram).best().period;
+      if (motion_error) std::rethrow_exception(motion_error);
+      search->motion_frequency_hz = 1.0 / motion.best().period;
     } catch (const std::exception& e) {
       skipped("the motion's repetition frequency", e);
     }
