@@ -253,6 +253,10 @@ JointFitResidual::JointFitResidual(const Eigen::MatrixXd& base, const Eigen::Vec
     : base_(base), r_(r), base_gram_(base.transpose() * base), base_moment_(base.transpose() * r),
       r_squared_(r.squaredNorm()) {}
 
+JointFitResidual::JointFitResidual(const Eigen::MatrixXd& base, const Eigen::MatrixXd& base_gram,
+                                   const Eigen::VectorXd& r)
+    : base_(base), r_(r), base_gram_(base_gram), base_moment_(base.transpose() * r), r_squared_(r.squaredNorm()) {}
+
 double JointFitResidual::operator()(const Eigen::Ref<const Eigen::MatrixXd>& extra) const {
   const Eigen::Index p = base_.cols(), k = extra.cols();
   Eigen::MatrixXd gram(p + k, p + k);

@@ -94,6 +94,8 @@ double ResidualSumOfSquares(const Eigen::MatrixXd& base, const Eigen::Ref<const 
 class JointFitResidual {
  public:
   JointFitResidual(const Eigen::MatrixXd& base, const Eigen::VectorXd& r);
+  /// The same with BᵀB given (p × p, formed as base.transpose() * base): for a scan whose r changes but not B.
+  JointFitResidual(const Eigen::MatrixXd& base, const Eigen::MatrixXd& base_gram, const Eigen::VectorXd& r);
   double operator()(const Eigen::Ref<const Eigen::MatrixXd>& extra) const;
 
  private:

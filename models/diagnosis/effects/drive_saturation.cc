@@ -44,8 +44,10 @@ Limits ScanLimits(const ProposalContext& c) {
   const Eigen::VectorXd& u = c.signals().logged_command;
   const Eigen::MatrixXd base = c.BaseWithConstant();
   const Eigen::MatrixXd none(c.size(), 0);
+  const Eigen::MatrixXd gram = base.transpose() * base;  // once for the scans (N·p² each time otherwise)
   const auto sse = [&](double lower, double upper) {
-    return ResidualSumOfSquares(base, none, c.residual() - Excess(u, lower, upper));
+    const Eigen::VectorXd r = c.residual() - Excess(u, lower, upper);
+    return JointFitResidual(base, gram, r)(none);
   };
   std::vector<double> magnitude(u.data(), u.data() + u.size());
   for (double& m : magnitude) m = std::abs(m);
