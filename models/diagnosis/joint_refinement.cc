@@ -29,9 +29,8 @@ JointRefinement::JointRefinement(const DiagnosisSignals& signals, const Eigen::M
                                  std::vector<EffectInstance> effects, std::size_t laws)
     : signals_(signals), corrected_(signals), base_(base), options_(options), effects_(std::move(effects)), laws_(laws) {
   weights_ = weights;
-  sw_ = weights.cwiseSqrt();
-  wbase_ = sw_.asDiagonal() * base;
-  wr_ = sw_.cwiseProduct(signals.residual);
+  base_norm_ = base.colwise().norm().transpose();
+  Weigh();
   columns_.resize(effects_.size());
   Rebuild(kAll);
 }
@@ -67,19 +66,43 @@ void JointRefinement::Rebuild(std::size_t j) {
 void JointRefinement::Correct() {
   const Eigen::Index n = signals_.size();
   if (signals_.model_output.size() != n) return;
-  Eigen::Index k = base_.cols();
-  for (std::size_t i = 0; i < laws_; ++i) k += columns_[i].cols();
-  Eigen::MatrixXd x(n, k);
-  x.leftCols(base_.cols()) = base_;
-  for (std::size_t i = 0, col = static_cast<std::size_t>(base_.cols()); i < laws_; col += static_cast<std::size_t>(columns_[i].cols()), ++i) {
-    x.middleCols(static_cast<Eigen::Index>(col), columns_[i].cols()) = columns_[i];
+  const Eigen::Index p = base_.cols();
+  Eigen::Index kl = 0;
+  for (std::size_t i = 0; i < laws_; ++i) kl += columns_[i].cols();
+  // The laws' columns weighted; the base's weighted Gram and moment are the sweep's (Weigh).
+  Eigen::MatrixXd wl(n, kl);
+  Eigen::VectorXd norm(p + kl);
+  norm.head(p) = base_norm_;
+  Eigen::Index c = 0;
+  for (std::size_t i = 0; i < laws_; c += columns_[i].cols(), ++i) {
+    wl.middleCols(c, columns_[i].cols()) = sw_.asDiagonal() * columns_[i];
+    norm.segment(p + c, columns_[i].cols()) = columns_[i].colwise().norm().transpose();
   }
-  const Eigen::VectorXd scale = (x.colwise().norm().array() + 1e-300).inverse();
-  x = x * scale.asDiagonal();
-  const Eigen::MatrixXd wx = sw_.asDiagonal() * x;
-  Eigen::MatrixXd g = wx.transpose() * wx;
+  Eigen::MatrixXd g(p + kl, p + kl);
+  g.topLeftCorner(p, p) = base_wgram_;
+  g.topRightCorner(p, kl) = wbase_.transpose() * wl;
+  g.bottomLeftCorner(kl, p) = g.topRightCorner(p, kl).transpose();
+  g.bottomRightCorner(kl, kl) = wl.transpose() * wl;
+  Eigen::VectorXd h(p + kl);
+  h << base_wmoment_, wl.transpose() * wr_;
+  // Columns scaled to unit norm (unweighted), a ridge of 1e-10 on the scaled normal equations.
+  const Eigen::VectorXd scale = (norm.array() + 1e-300).inverse();
+  g = scale.asDiagonal() * g * scale.asDiagonal();
   g.diagonal().array() += 1e-10;
-  corrected_.model_output = signals_.model_output + x * g.ldlt().solve(wx.transpose() * wr_);
+  const Eigen::VectorXd coef = scale.cwiseProduct(g.ldlt().solve(scale.cwiseProduct(h)));
+  corrected_.model_output = signals_.model_output + base_ * coef.head(p);
+  Eigen::Index col = p;
+  for (std::size_t i = 0; i < laws_; col += columns_[i].cols(), ++i) {
+    corrected_.model_output += columns_[i] * coef.segment(col, columns_[i].cols());
+  }
+}
+
+void JointRefinement::Weigh() {
+  sw_ = weights_.cwiseSqrt();
+  wbase_ = sw_.asDiagonal() * base_;
+  wr_ = sw_.cwiseProduct(signals_.residual);
+  base_wgram_ = wbase_.transpose() * wbase_;
+  base_wmoment_ = wbase_.transpose() * wr_;
 }
 
 void JointRefinement::Reweigh() {
@@ -94,9 +117,7 @@ void JointRefinement::Reweigh() {
   }
   Eigen::VectorXd rest;
   weights_ = RobustWeights(x, signals_.residual, options_.huber_k, &rest);
-  sw_ = weights_.cwiseSqrt();
-  wbase_ = sw_.asDiagonal() * base_;
-  wr_ = sw_.cwiseProduct(signals_.residual);
+  Weigh();
   Rebuild(kAll);
 }
 

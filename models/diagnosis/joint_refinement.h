@@ -46,6 +46,8 @@ class JointRefinement {
   void Correct();
   // The Huber weights of the joint fit with the current columns (RobustWeights), and ŷ corrected with them.
   void Reweigh();
+  // √w, the weighted base and residual, the base's weighted Gram and moment, from weights_.
+  void Weigh();
   // While effect j's parameter is scanned: does effect i's column change with it (j itself; for a law, the columns
   // built from ŷ)?
   bool Varies(std::size_t i, std::size_t j) const;
@@ -75,6 +77,9 @@ class JointRefinement {
   std::size_t laws_;
   Eigen::VectorXd weights_, sw_, wr_;
   Eigen::MatrixXd wbase_;
+  Eigen::VectorXd base_norm_;      // the base's column norms (p)
+  Eigen::MatrixXd base_wgram_;     // wbase_ᵀ wbase_ (p × p)
+  Eigen::VectorXd base_wmoment_;   // wbase_ᵀ wr_ (p)
   std::vector<Eigen::MatrixXd> columns_;
 };
 
