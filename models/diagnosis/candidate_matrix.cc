@@ -7,11 +7,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/signal_processing.h"
@@ -72,30 +74,43 @@ RegressorMatrix BuildCandidateMatrix(const DiagnosisSignals& signals, const Eige
   // (Eigen's QR of an N × 0 matrix is not defined: without base regressors nothing is spanned.)
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> base_qr =
       p > 0 ? Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(base_cols) : Eigen::ColPivHouseholderQR<Eigen::MatrixXd>();
-  RegressorMatrix m;
-  Eigen::Index total_cols = p;
-  for (const auto& e : proposed) {
+  // Each candidate's columns, filtering and share in the base's span are its own: computed in parallel, kept (and
+  // noted) in the order proposed.
+  struct Built {
+    std::optional<Candidate> candidate;
+    std::string note;
+  };
+  std::vector<Built> built(proposed.size());
+  tbb::parallel_for(std::size_t{0}, proposed.size(), [&](std::size_t i) {
+    const EffectInstance& e = proposed[i];
     const EffectType& type = LookupEffect(e.name);
     Candidate c{e, &type, {}, {}};
     try {
       c.reg = type.regressors(e, signals);
     } catch (const std::invalid_argument& error) {  // e.g. a parameter out of range on this record: skip it, say why
-      notes->push_back(fmt::format("{} skipped: its regressors cannot be computed on this record ({})", e.name,
-                                   error.what()));
-      continue;
+      built[i].note = fmt::format("{} skipped: its regressors cannot be computed on this record ({})", e.name,
+                                  error.what());
+      return;
     }
     FilterCandidateColumns(type, signals, options, &c.reg.columns);
-    if (c.reg.columns.cwiseAbs().maxCoeff() == 0.0) continue;  // nothing to fit (e.g. no positive motion)
+    if (c.reg.columns.cwiseAbs().maxCoeff() == 0.0) return;  // nothing to fit (e.g. no positive motion)
     const double spanned = ShareSpannedByBase(c.reg.columns, base_cols, base_qr);
     if (spanned >= options.redundant_with_base) {
-      notes->push_back(fmt::format(
+      built[i].note = fmt::format(
           "{} is already in the model: the base's free parameters reproduce {:.1f} % of its regressor, so it is "
           "refit with them rather than proposed as missing",
-          e.name, 100.0 * spanned));
-      continue;
+          e.name, 100.0 * spanned);
+      return;
     }
-    total_cols += c.reg.columns.cols();
-    m.cands.push_back(std::move(c));
+    built[i].candidate = std::move(c);
+  });
+  RegressorMatrix m;
+  Eigen::Index total_cols = p;
+  for (Built& b : built) {
+    if (!b.note.empty()) notes->push_back(std::move(b.note));
+    if (!b.candidate) continue;
+    total_cols += b.candidate->reg.columns.cols();
+    m.cands.push_back(std::move(*b.candidate));
   }
   m.base = base_cols;
   Eigen::Index col = p;
