@@ -145,21 +145,31 @@ JointRefinement::FixedPart JointRefinement::Fix(std::size_t j) const {
     col += columns_[i].cols();
   }
   f.gram = f.x.transpose() * f.x;
+  f.moment = f.x.transpose() * f.response;
+  f.response_squared = f.response.squaredNorm();
   return f;
 }
 
 double JointRefinement::Sse(const FixedPart& f, std::size_t j) const {
-  Eigen::VectorXd response = f.response;
+  // The response changes only with a varying effect whose regressor is the error: else the fixed part's moment holds.
+  Eigen::VectorXd own;
+  const Eigen::VectorXd* response = &f.response;
   Eigen::Index kv = 0;
   for (std::size_t i = 0; i < columns_.size(); ++i) {
-    if (Varies(i, j) && !LookupEffect(effects_[i].name).traits.regressor_is_error) kv += columns_[i].cols();
+    if (!Varies(i, j)) continue;
+    if (!LookupEffect(effects_[i].name).traits.regressor_is_error) {
+      kv += columns_[i].cols();
+    } else if (response == &f.response) {
+      own = f.response;
+      response = &own;
+    }
   }
   Eigen::MatrixXd xv(wbase_.rows(), kv);
   Eigen::Index col = 0;
   for (std::size_t i = 0; i < columns_.size(); ++i) {
     if (!Varies(i, j)) continue;
     if (LookupEffect(effects_[i].name).traits.regressor_is_error) {
-      response -= sw_.cwiseProduct(columns_[i].rowwise().sum());
+      own -= sw_.cwiseProduct(columns_[i].rowwise().sum());
       continue;
     }
     xv.middleCols(col, columns_[i].cols()) = sw_.asDiagonal() * columns_[i];
@@ -172,12 +182,17 @@ double JointRefinement::Sse(const FixedPart& f, std::size_t j) const {
   g.bottomLeftCorner(kv, kf) = g.topRightCorner(kf, kv).transpose();
   g.bottomRightCorner(kv, kv) = xv.transpose() * xv;
   Eigen::VectorXd h(k);
-  h << f.x.transpose() * response, xv.transpose() * response;
+  if (response == &f.response) {
+    h << f.moment, xv.transpose() * f.response;
+  } else {
+    h << f.x.transpose() * own, xv.transpose() * own;
+  }
   const Eigen::VectorXd d = (g.diagonal().array() > 0.0).select(g.diagonal().array().rsqrt(), 1.0);
   g = d.asDiagonal() * g * d.asDiagonal();
   g.diagonal().array() += 1e-10;
   h = d.cwiseProduct(h);
-  return std::max(0.0, response.squaredNorm() - h.dot(g.ldlt().solve(h)));
+  const double response_squared = response == &f.response ? f.response_squared : own.squaredNorm();
+  return std::max(0.0, response_squared - h.dot(g.ldlt().solve(h)));
 }
 
 bool JointRefinement::RefineOne(std::size_t j) {

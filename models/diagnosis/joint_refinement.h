@@ -58,7 +58,8 @@ class JointRefinement {
   // trades the coefficient against the parameter (a delay of 3.1 ms with coefficient 1.16 for 3.5 ms).
   struct FixedPart {
     Eigen::MatrixXd x, gram;
-    Eigen::VectorXd response;
+    Eigen::VectorXd response, moment;  // moment = xᵀ·response
+    double response_squared = 0.0;
   };
   FixedPart Fix(std::size_t j) const;
 
