@@ -143,7 +143,7 @@ namespace {
 
 // The diagram file's JSON syntax, checked before DiagramDocument::Load reads it: a syntax error is a DiagramError
 // (a ValueError naming the file, the line and the column), as a diagram's other problems are, not a RuntimeError.
-void RequireJsonSyntax(const std::string& path) {
+void RequireDiagramJsonSyntax(const std::string& path) {
   if (!std::filesystem::is_regular_file(path)) return;  // Load says why (missing, a folder, a device)
   std::istringstream in(ReadInputFile(path, "diagram file"));
   try {
@@ -388,7 +388,7 @@ void BindDiagram(py::module_& m) {
           "load",
           [](const py::object& path) {
             const std::string p = PathText(path);
-            RequireJsonSyntax(p);
+            RequireDiagramJsonSyntax(p);
             return PyDiagram{DiagramDocument::Load(p), p, {}};
           },
           py::arg("path"),

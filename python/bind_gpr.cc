@@ -52,7 +52,7 @@ GprModel FitGprToArrays(const Vector& x, const Vector& xdot, const Vector& d, co
 
 // A model file's JSON syntax, checked before LoadGprModel: a syntax error is a ValueError as the model's other
 // problems are (the docstring's promise), not a RuntimeError.
-void RequireJsonSyntax(const std::string& path) {
+void RequireGprModelJsonSyntax(const std::string& path) {
   if (!std::filesystem::is_regular_file(path)) return;  // LoadGprModel says why (missing, a folder, a device)
   std::istringstream in(ReadInputFile(path, "GP model file"));
   try {
@@ -95,7 +95,7 @@ void BindGpr(py::module_& m) {
           "load",
           [](const py::object& path) {
             const std::string p = PathText(path);
-            RequireJsonSyntax(p);
+            RequireGprModelJsonSyntax(p);
             return LoadGprModel(p);
           },
           py::arg("path"),

@@ -14,8 +14,6 @@
 namespace mb {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 // GCC/Clang vector extensions: the compiler maps them onto the registers of each function's target
 // (4 SSE2 registers for V8 in the baseline kernels, 2 AVX2 registers, 1 AVX-512 register).
 using V2 = double __attribute__((vector_size(16)));
@@ -85,7 +83,7 @@ template <typename V>
   constexpr double kShift = 0x1.8p52;
   const V shifted = q * 0.5 + kShift;  // round(q/2) in the low mantissa bits
   const V n = shifted - kShift;
-  const V r = (q - 2.0 * n) * (0.5 * kPi);
+  const V r = (q - 2.0 * n) * (0.5 * std::numbers::pi);
   const V z = r * r;
   const V z2 = z * z;
   const V z4 = z2 * z2;

@@ -19,7 +19,7 @@ using testing::Element;
 using testing::MakeDiagram;
 using ::testing::HasSubstr;
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
+using testing::kTwoPi;
 
 TEST(BacklashFrictionTest, FrictionIsFeltOnlyOnceThePlayIsTakenUp) {
   const double ts = 1e-3, amplitude = 2e-3, gap = 1e-3, load = 4.0, dead_band = 1e-4;

@@ -1,6 +1,7 @@
 #pragma once
 // Helpers for block tests: one-line diagram skeletons and error-message capture.
 
+#include <numbers>
 #include <string>
 
 #include <gmock/gmock.h>
@@ -13,6 +14,8 @@
 #include "tests/engine/test_util.h"
 
 namespace mb::testing {
+
+inline constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 /// `v` as an array: a braced list of ONE json value, {x}, is x itself (copy construction wins), not [x].
 inline nlohmann::json AsArray(const nlohmann::json& v) {

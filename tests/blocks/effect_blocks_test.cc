@@ -17,7 +17,7 @@ using testing::Element;
 using testing::MakeDiagram;
 using ::testing::HasSubstr;
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
+using testing::kTwoPi;
 
 // Output at hit n = u[n − k] for a whole number of samples; the first input is held before the start.
 TEST(TransportDelayTest, WholeSampleDelayOfASampledSine) {

@@ -17,7 +17,7 @@ using testing::Element;
 using testing::MakeDiagram;
 using ::testing::HasSubstr;
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
+using testing::kTwoPi;
 
 // a = A from t = 0, load at rest: e(t) = −(A/ω²)(1 − e^{−ζωt}(cos ω_d t + ζω/ω_d sin ω_d t)),
 // ė(t) = −(A/ω_d) e^{−ζωt} sin ω_d t, f = −m(ω² e + 2ζω ė): rings at ω_d around m·A, settles at m·A.

@@ -15,7 +15,6 @@ using testing::Build;
 using testing::Connect;
 
 using testing::MinimalDiagram;
-const auto Minimal = MinimalDiagram;
 
 std::string ErrorOf(const json& j) {
   try {
@@ -27,19 +26,19 @@ std::string ErrorOf(const json& j) {
 }
 
 TEST(DiagramLoaderTest, MinimalDiagramBuilds) {
-  const Diagram d = Build(Minimal());
+  const Diagram d = Build(MinimalDiagram());
   EXPECT_EQ(d.blocks().size(), 2u);
   EXPECT_EQ(d.execution_order(), (std::vector<int>{0, 1}));
 }
 
 TEST(DiagramLoaderTest, UnknownBlockTypeSuggestsName) {
-  json j = Minimal();
+  json j = MinimalDiagram();
   j["elements"][1]["type"] = "gian";
   EXPECT_THAT(ErrorOf(j), HasSubstr("/elements/1/type: unknown block type 'gian' in element 'g'; did you mean: gain"));
 }
 
 TEST(DiagramLoaderTest, MissingExtraAndMistypedParametersAllReported) {
-  json j = Minimal();
+  json j = MinimalDiagram();
   j["elements"][1]["parameters"] = {{"gain", "two"}, {"gainn", 1}};
   j["elements"].push_back({{"name", "z"}, {"type", "unit_delay"}});
   const std::string e = ErrorOf(j);
@@ -64,13 +63,13 @@ TEST(DiagramLoaderTest, ParameterUnitsAreChecked) {
 }
 
 TEST(DiagramLoaderTest, UnconnectedInputNamed) {
-  json j = Minimal();
+  json j = MinimalDiagram();
   j["connections"] = json::array();
   EXPECT_THAT(ErrorOf(j), HasSubstr("/elements/1: input 'g.u' is not connected"));
 }
 
 TEST(DiagramLoaderTest, WidthMismatchNamed) {
-  json j = Minimal();
+  json j = MinimalDiagram();
   j["elements"][0]["parameters"]["value"] = {1.0, 2.0};
   EXPECT_THAT(ErrorOf(j), HasSubstr("/connections/0: width mismatch: c.y has width 2, input g.u expects 1"));
 }
@@ -100,7 +99,7 @@ TEST(DiagramLoaderTest, AlgebraicLoopNamesEveryBlockInTheCycle) {
 }
 
 TEST(DiagramLoaderTest, SchemaVersionAndSolverChecked) {
-  json j = Minimal();
+  json j = MinimalDiagram();
   j["schemaVersion"] = "0.9";
   j["solver"] = {{"type", "ode45"}};
   const std::string e = ErrorOf(j);
@@ -109,7 +108,7 @@ TEST(DiagramLoaderTest, SchemaVersionAndSolverChecked) {
 }
 
 TEST(DiagramLoaderTest, OverridesApplyAndUnknownBlockIsReported) {
-  json j = Minimal();
+  json j = MinimalDiagram();
   ApplyOverrides(&j, {ParameterOverride::Parse("g.gain=3.5")}, "test.json");
   EXPECT_EQ(j["elements"][1]["parameters"]["gain"], 3.5);
   EXPECT_THROW(ApplyOverrides(&j, {ParameterOverride::Parse("h.gain=1")}, "test.json"), DiagramError);
@@ -120,7 +119,7 @@ TEST(DiagramLoaderTest, OverridesApplyAndUnknownBlockIsReported) {
 // Issue 30: `--set mass.mass=2` on a mass written {"value": 2000, "unit": "g"} is 2 kg, not 2 g; a quantity object
 // is accepted and converted.
 TEST(DiagramLoaderTest, OverrideNumbersAreInTheSiUnit) {
-  json j = Minimal();
+  json j = MinimalDiagram();
   j["elements"].push_back({{"name", "mass"}, {"type", "rigid_body"},
                            {"parameters", {{"mass", {{"value", 2000.0}, {"unit", "g"}}}}}});
   j["connections"].push_back(Connect("g.y", "mass.f"));
@@ -134,7 +133,7 @@ TEST(DiagramLoaderTest, OverrideNumbersAreInTheSiUnit) {
 }
 
 TEST(DiagramLoaderTest, QuantityWithAnotherKeyIsRefused) {
-  json j = Minimal();
+  json j = MinimalDiagram();
   j["elements"].push_back({{"name", "mass"}, {"type", "rigid_body"},
                            {"parameters", {{"mass", {{"value", 500.0}, {"unti", "g"}}}}}});
   j["connections"].push_back(Connect("g.y", "mass.f"));
@@ -147,7 +146,7 @@ TEST(DiagramLoaderTest, QuantityWithAnotherKeyIsRefused) {
 
 // Issue 30: an output connector is unit-checked like an input port; connector names are unique.
 TEST(DiagramLoaderTest, OutputConnectorUnitAndNameAreChecked) {
-  json j = Minimal();
+  json j = MinimalDiagram();
   j["elements"].push_back({{"name", "mass"}, {"type", "rigid_body"}, {"parameters", {{"mass", 1.0}}}});
   j["connections"].push_back(Connect("g.y", "mass.f"));
   j["connectors"] = {{{"name", "position"}, {"kind", "output"}, {"unit", "kg"}}};
@@ -165,7 +164,7 @@ TEST(DiagramLoaderTest, OutputConnectorUnitAndNameAreChecked) {
 // A metric type outside the table (engine/metric_type.h; the schema enum comes from it) is a load error listing the
 // table, not a NaN after the run.
 TEST(DiagramLoaderTest, UnknownMetricTypeIsALoadErrorListingTheTypes) {
-  json j = Minimal();
+  json j = MinimalDiagram();
   j["metrics"] = {{{"name", "peak"}, {"type", "maximum"}, {"signal", "g.y"}}};
   EXPECT_THAT(ErrorOf(j), HasSubstr("/metrics/0/type: \"maximum\" is not allowed here; use one of \"rmse\", "
                                     "\"max_abs\", \"mean\", \"final\", \"rms_difference\""));
@@ -175,7 +174,7 @@ TEST(DiagramLoaderTest, UnknownMetricTypeIsALoadErrorListingTheTypes) {
 
 // Two metrics of one name were both computed and one silently lost in the results (found by tests/hostile).
 TEST(DiagramLoaderTest, TwoMetricsOfOneNameAreALoadError) {
-  json j = Minimal();
+  json j = MinimalDiagram();
   j["metrics"] = {{{"name", "peak"}, {"type", "max_abs"}, {"signal", "g.y"}},
                   {{"name", "peak"}, {"type", "final"}, {"signal", "g.y"}}};
   EXPECT_THAT(ErrorOf(j), HasSubstr("/metrics/1/name: the metric name 'peak' is used by /metrics/0 too"));
@@ -186,7 +185,7 @@ TEST(DiagramLoaderTest, TwoMetricsOfOneNameAreALoadError) {
 // Issue 25: a connector in a unit of no motion quantity (a voltage standing for a position) declares what it stands
 // for, and the blocks take it on ports of that quantity; a declaration that contradicts the unit is refused.
 TEST(DiagramLoaderTest, ConnectorQuantityLetsAVoltageStandForAPosition) {
-  json j = Minimal();
+  json j = MinimalDiagram();
   j["elements"].push_back({{"name", "spring"}, {"type", "position_dependent_force"}});
   j["connectors"] = {{{"name", "x"}, {"kind", "input"}, {"unit", "V"}}};
   j["connections"].push_back({{"startConnector", "x"}, {"endElement", "spring"}, {"endConnector", "x"}});

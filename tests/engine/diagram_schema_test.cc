@@ -26,7 +26,6 @@ using testing::Build;
 using testing::Connect;
 
 using testing::MinimalDiagram;
-const auto Minimal = MinimalDiagram;
 
 std::vector<std::string> ProblemsOf(const json& j, const fs::path& base = ".") {
   try {
@@ -163,7 +162,7 @@ TEST(DiagramSchemaTest, CommittedSchemaIsTheGeneratedOne) {
 }
 
 TEST(DiagramSchemaTest, MisspelledExperimentAndSolverKeysAreErrorsWithTheClosestKey) {
-  json j = Minimal();
+  json j = MinimalDiagram();
   j["defaultExperiment"] = {{"stopTme", 1.0}};
   j["solver"] = {{"tpye", "rk4"}, {"stepp", 1e-3}};
   EXPECT_THAT(ProblemsOf(j),
@@ -176,7 +175,7 @@ TEST(DiagramSchemaTest, MisspelledExperimentAndSolverKeysAreErrorsWithTheClosest
 }
 
 TEST(DiagramSchemaTest, MisspelledConnectionMetricAndTopLevelKeysAreErrors) {
-  json j = Minimal();
+  json j = MinimalDiagram();
   j["connections"][0].erase("endConnector");
   j["connections"][0]["endConector"] = "u";
   j["metrics"] = {{{"name", "m"}, {"signal", "g.y"}, {"tpye", "rmse"}}};
@@ -189,14 +188,14 @@ TEST(DiagramSchemaTest, MisspelledConnectionMetricAndTopLevelKeysAreErrors) {
 }
 
 TEST(DiagramSchemaTest, ExperimentModeIsOneOfTheModes) {
-  json j = Minimal();
+  json j = MinimalDiagram();
   j["experiment"] = {{"mode", "equation_eror"}};
   EXPECT_THAT(ProblemsOf(j), ElementsAre("/experiment/mode: \"equation_eror\" is not allowed here (did you mean "
                                          "\"equation_error\"?); use one of \"simulation\", \"equation_error\""));
 }
 
 TEST(DiagramSchemaTest, WrongTypesStopBeforeTheLoaderReadsThem) {
-  json j = Minimal();
+  json j = MinimalDiagram();
   j["elements"][0]["name"] = 5;
   j["solver"] = {{"type", 4}};
   EXPECT_THAT(ProblemsOf(j), ElementsAre("/elements/0/name: must be string, got an integer",
@@ -205,7 +204,7 @@ TEST(DiagramSchemaTest, WrongTypesStopBeforeTheLoaderReadsThem) {
 }
 
 TEST(DiagramSchemaTest, LoaderMessagesWinWhereItHasThem) {
-  json j = Minimal();
+  json j = MinimalDiagram();
   j["schemaVersion"] = "0.9";
   j["elements"][1]["parameters"]["gainn"] = 1;
   j["elements"][1]["descripton"] = "typo";
@@ -217,13 +216,13 @@ TEST(DiagramSchemaTest, LoaderMessagesWinWhereItHasThem) {
 }
 
 TEST(DiagramSchemaTest, DuplicatedFreeEntriesAreErrors) {
-  json j = Minimal();
+  json j = MinimalDiagram();
   j["free"] = {"g.gain", "c.value", "g.gain"};
   EXPECT_THAT(ProblemsOf(j), ElementsAre(HasSubstr("/free: Elements at indexes #0 and #2 violate uniqueness")));
 }
 
 TEST(DiagramSchemaTest, TwoConnectionsIntoOneOutputConnectorAreAnError) {
-  json j = Minimal();
+  json j = MinimalDiagram();
   j["connectors"] = {{{"name", "y"}, {"kind", "output"}}};
   j["connections"].push_back({{"startElement", "g"}, {"startConnector", "y"}, {"endConnector", "y"}});
   j["connections"].push_back({{"startElement", "c"}, {"startConnector", "y"}, {"endConnector", "y"}});
@@ -233,7 +232,7 @@ TEST(DiagramSchemaTest, TwoConnectionsIntoOneOutputConnectorAreAnError) {
 }
 
 TEST(DiagramSchemaTest, ConnectionToAMissingOrInputConnectorIsAnError) {
-  json j = Minimal();
+  json j = MinimalDiagram();
   j["connectors"] = {{{"name", "u"}, {"kind", "input"}}, {{"name", "position"}, {"kind", "output"}}};
   j["connections"].push_back({{"startElement", "g"}, {"startConnector", "y"}, {"endConnector", "positon"}});
   j["connections"].push_back({{"startElement", "g"}, {"startConnector", "y"}, {"endConnector", "u"}});
@@ -247,7 +246,7 @@ TEST(DiagramSchemaTest, ConnectionToAMissingOrInputConnectorIsAnError) {
 }
 
 TEST(DiagramSchemaTest, TwoConnectionsIntoOneInputAreAnError) {
-  json j = Minimal();
+  json j = MinimalDiagram();
   j["connections"].push_back(Connect("c.y", "g.u"));
   EXPECT_THAT(ProblemsOf(j), ElementsAre("/connections/1: input 'g.u' is already connected; an input takes exactly "
                                          "one signal (use a sum block to add signals)"));
@@ -280,7 +279,7 @@ TEST(DiagramSchemaTest, ProblemsInsideASubsystemPointIntoTheSubsystemFile) {
     "connections": [{"endElement": "k", "endConnector": "u", "startConnector": "u"},
                     {"startElement": "k", "startConnector": "y", "endElement": "z", "endConnector": "u"},
                     {"startElement": "z", "startConnector": "y", "endConnector": "y"}]})");
-  json j = Minimal();
+  json j = MinimalDiagram();
   const json sub = {{"name", "sub"}, {"type", "subsystem"}, {"diagram", "inner.json"}};
   j["elements"].insert(j["elements"].begin(), sub);
   j["elements"].push_back({{"name", "h"}, {"type", "gain"}, {"parameters", {{"gainx", 1}}}});
@@ -307,7 +306,7 @@ TEST(DiagramSchemaTest, SubsystemFilesIncludingEachOtherAreACycleNamedByItsFiles
   };
   folder.Write("a.json", wrapper("b.json"));
   folder.Write("b.json", wrapper("a.json"));
-  json j = Minimal();
+  json j = MinimalDiagram();
   j["elements"].push_back({{"name", "sub"}, {"type", "subsystem"}, {"diagram", "a.json"}});
   const std::string a = fs::weakly_canonical(folder.path() / "a.json").string();
   const std::string b = fs::weakly_canonical(folder.path() / "b.json").string();
@@ -340,7 +339,7 @@ TEST(DiagramSchemaTest, AFileHoldingNoObjectIsRefusedNamingTheFile) {
 
 // A name a megabyte long is an ordinary problem, not a stack overflow in the schema's regular expressions.
 TEST(DiagramSchemaTest, AMegabyteNameIsRefusedWithoutOverflowingTheStack) {
-  json j = Minimal();
+  json j = MinimalDiagram();
   j["elements"][0]["name"] = std::string(1 << 20, 'a') + ".b";
   const auto problems = ProblemsOf(j);
   ASSERT_FALSE(problems.empty());
@@ -351,7 +350,7 @@ TEST(DiagramSchemaTest, ASubsystemFileIsValidatedAsWritten) {
   TempFolder folder;
   folder.Write("inner.json", R"({"schemaVersion": "1.0", "solver": {"tpye": "rk4"},
     "elements": [{"name": "k", "type": "gain"}]})");
-  json j = Minimal();
+  json j = MinimalDiagram();
   j["elements"].push_back({{"name", "sub"}, {"type", "subsystem"}, {"diagram", "inner.json"}});
   const std::string inner = (folder.path() / "inner.json").string();
   EXPECT_THAT(ProblemsOf(j, folder.path()),
@@ -360,7 +359,7 @@ TEST(DiagramSchemaTest, ASubsystemFileIsValidatedAsWritten) {
 }
 
 TEST(DiagramSchemaTest, InlineSubsystemsAreValidatedWithTheirParent) {
-  json j = Minimal();
+  json j = MinimalDiagram();
   j["elements"].push_back({{"name", "sub"},
                            {"type", "subsystem"},
                            {"diagram", {{"schemaVersion", "1.0"},

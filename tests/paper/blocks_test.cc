@@ -18,7 +18,7 @@ using paper_testing::Connect;
 using paper_testing::LoopWithInputs;
 using paper_testing::RigidPlant;
 using paper_testing::Series;
-constexpr double kPi = std::numbers::pi;
+using paper_testing::kPi;
 
 Diagram Build(const json& j) { return BuildDiagram(j, ".", "test.json"); }
 

@@ -19,7 +19,7 @@ using paper_testing::FitSinusoid;
 using paper_testing::LoopWithInputs;
 using paper_testing::RigidPlant;
 using paper_testing::Series;
-constexpr double kPi = std::numbers::pi;
+using paper_testing::kPi;
 
 const std::string kConventional = std::string(MB_SOURCE_DIR) + "/diagrams/paper/conventional.json";
 

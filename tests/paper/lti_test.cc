@@ -8,11 +8,12 @@
 
 #include "models/stability/dob_design.h"
 #include "models/stability/lti.h"
+#include "tests/paper/paper_util.h"
 
 namespace mb {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using paper_testing::kPi;
 
 TEST(LtiTest, ZohOfFirstOrderLowPassMatchesClosedForm) {
   // ω/(s + ω) → (1 − e^{−ωT}) z⁻¹ / (1 − e^{−ωT} z⁻¹).

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <complex>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,8 @@
 #include "engine/simulator.h"
 
 namespace mb::paper_testing {
+
+inline constexpr double kPi = std::numbers::pi;
 
 inline nlohmann::json Connect(const std::string& from, const std::string& to) {
   const auto a = from.find('.'), b = to.find('.');

@@ -19,7 +19,7 @@
 namespace mb {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using paper_testing::kPi;
 
 TEST(StabilityTest, RhoAndAlphaMaxByHand) {
   SmallGainTerms t;

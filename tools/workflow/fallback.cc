@@ -9,7 +9,7 @@ namespace mb {
 
 namespace {
 
-void Say(const std::function<void(const std::string&)>& progress, const std::string& line) {
+void ReportFallbackProgress(const std::function<void(const std::string&)>& progress, const std::string& line) {
   if (progress) progress(line);
 }
 
@@ -19,13 +19,14 @@ FallbackOutcome FitCompareFallback(const DiagnosedComparison& compared,
                                    const std::function<void(const std::string&)>& progress) {
   FallbackOutcome outcome;
   if (!compared.diagnosis) return outcome;
-  Say(progress, "fitting the non-parametric fallback (TISO-GPR on position and velocity) to what is left …");
+  ReportFallbackProgress(progress,
+                         "fitting the non-parametric fallback (TISO-GPR on position and velocity) to what is left …");
   outcome.attempted = true;
   try {
     outcome.gpr = FitResidualGprAfterDiagnosis(compared.signals, compared.base, *compared.diagnosis);
   } catch (const std::exception& e) {
     outcome.skipped = e.what();
-    Say(progress, "no non-parametric fallback: " + outcome.skipped);
+    ReportFallbackProgress(progress, "no non-parametric fallback: " + outcome.skipped);
   }
   return outcome;
 }
@@ -35,7 +36,8 @@ FallbackOutcome FitImproveFallback(const ImproveResult& result,
   FallbackOutcome outcome;
   const ImproveStep& last = result.last_accepted();
   if (!result.residual_not_white || !last.training.diagnosis) return outcome;
-  Say(progress, "fitting the non-parametric fallback (TISO-GPR on position and velocity) to what is left …");
+  ReportFallbackProgress(progress,
+                         "fitting the non-parametric fallback (TISO-GPR on position and velocity) to what is left …");
   outcome.attempted = true;
   ResidualGprOptions options;
   options.position_unit = last.training.diagnosis->position_unit;
@@ -50,7 +52,7 @@ FallbackOutcome FitImproveFallback(const ImproveResult& result,
     outcome.gpr = FitResidualGpr(last.training.signals, last.training.signals.residual, options);
   } catch (const std::exception& e) {  // the loop's result stands without it (e.g. a log too short for the folds)
     outcome.skipped = e.what();
-    Say(progress, std::string("no non-parametric fallback: ") + e.what());
+    ReportFallbackProgress(progress, std::string("no non-parametric fallback: ") + e.what());
   }
   return outcome;
 }
