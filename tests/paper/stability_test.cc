@@ -14,6 +14,7 @@
 #include "models/gpr/gpr_io.h"
 #include "models/stability/dob_design.h"
 #include "models/stability/stability.h"
+#include "tests/paper/paper_util.h"
 #include "tools/workflow/loop_from_diagram.h"
 
 namespace mb {
