@@ -5,9 +5,11 @@
 #include <exception>
 #include <limits>
 #include <utility>
+#include <vector>
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
 #include "models/diagnosis/effect_regressors.h"
@@ -302,13 +304,23 @@ bool BaseHasCoulombLaw(const ProposalContext& context) {
   return HasCoulombLaw(context.base_columns(), context.signals().velocity);
 }
 
-double MinimiseOnLogGrid(double lo, double hi, int grid, int iterations, const std::function<double(double)>& sse) {
+double MinimiseOnLogGrid(double lo, double hi, int grid, int iterations, const std::function<double(double)>& sse,
+                         bool parallel_grid) {
   const auto sse_log = [&](double log_value) { return sse(std::exp(log_value)); };
   const double a = std::log(lo), step = (std::log(hi) - a) / (grid - 1);
+  // The grid's values are independent: with parallel_grid (sse then thread-safe) evaluated concurrently, the best
+  // then taken in the grid's order as serially (the same result).
+  std::vector<double> grid_sse(static_cast<std::size_t>(std::max(grid, 0)));
+  const auto evaluate = [&](int i) { grid_sse[static_cast<std::size_t>(i)] = sse_log(a + i * step); };
+  if (parallel_grid) {
+    tbb::parallel_for(0, grid, evaluate);
+  } else {
+    for (int i = 0; i < grid; ++i) evaluate(i);
+  }
   int best = 0;
   double best_sse = std::numeric_limits<double>::infinity();
   for (int i = 0; i < grid; ++i) {
-    const double e = sse_log(a + i * step);
+    const double e = grid_sse[static_cast<std::size_t>(i)];
     if (e < best_sse) { best_sse = e; best = i; }
   }
   double l = a + std::max(0, best - 1) * step, h = a + std::min(grid - 1, best + 1) * step;
@@ -327,7 +339,8 @@ double ScanJointFit(const ProposalContext& context, double lo, double hi, int gr
   if (!(lo > 0.0) || !(hi > lo) || grid < 3) return 0.0;
   const Eigen::MatrixXd base = context.BaseWithConstant();
   const JointFitResidual joint_fit(base, context.residual());
-  return MinimiseOnLogGrid(lo, hi, grid, 20, [&](double value) { return joint_fit(columns(value)); });
+  // The columns' callbacks are pure functions of the value: the grid in parallel.
+  return MinimiseOnLogGrid(lo, hi, grid, 20, [&](double value) { return joint_fit(columns(value)); }, true);
 }
 
 double EstimateModelOutputDelay(const ProposalContext& c) {

@@ -117,11 +117,14 @@ Eigen::Index CoulombLawColumn(const Eigen::MatrixXd& base_columns, const Eigen::
 
 /// The minimum of sse(value) over [lo, hi] (0 < lo < hi): a log grid of `grid` points (>= 3), then a golden-section
 /// search in log between the best point's neighbours (`iterations` steps); the grid's best when the search ends higher.
-double MinimiseOnLogGrid(double lo, double hi, int grid, int iterations, const std::function<double(double)>& sse);
+/// parallel_grid: the grid's points evaluated concurrently (TBB; sse must then be thread-safe), the same result.
+double MinimiseOnLogGrid(double lo, double hi, int grid, int iterations, const std::function<double(double)>& sse,
+                         bool parallel_grid = false);
 
 /// A one-parameter scan of the joint fit: the value in [lo, hi] (log grid of `grid` points, then golden section in
 /// log between the best point's neighbours) minimising the residual sum of squares of the residual on
-/// [base, 1, columns(value)]. Returns 0 when lo or hi is not positive or lo >= hi.
+/// [base, 1, columns(value)]. Returns 0 when lo or hi is not positive or lo >= hi. The grid's values are tried in
+/// parallel: columns must be thread-safe (a pure function of the value).
 double ScanJointFit(const ProposalContext& context, double lo, double hi, int grid,
                     const std::function<Eigen::MatrixXd(double)>& columns);
 

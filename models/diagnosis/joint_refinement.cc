@@ -44,9 +44,9 @@ void JointRefinement::Run(int sweeps) {
   }
 }
 
-Eigen::MatrixXd JointRefinement::Columns(std::size_t i) const {
-  const EffectType& type = LookupEffect(effects_[i].name);
-  Eigen::MatrixXd columns = type.regressors(effects_[i], corrected_).columns;
+Eigen::MatrixXd JointRefinement::ColumnsOf(const EffectInstance& effect) const {
+  const EffectType& type = LookupEffect(effect.name);
+  Eigen::MatrixXd columns = type.regressors(effect, corrected_).columns;
   FilterCandidateColumns(type, corrected_, options_, &columns);
   return columns;
 }
@@ -150,7 +150,10 @@ JointRefinement::FixedPart JointRefinement::Fix(std::size_t j) const {
   return f;
 }
 
-double JointRefinement::Sse(const FixedPart& f, std::size_t j) const {
+double JointRefinement::Sse(const FixedPart& f, std::size_t j, const Eigen::MatrixXd* own_columns) const {
+  const auto column = [&](std::size_t i) -> const Eigen::MatrixXd& {
+    return own_columns && i == j ? *own_columns : columns_[i];
+  };
   // The response changes only with a varying effect whose regressor is the error: else the fixed part's moment holds.
   Eigen::VectorXd own;
   const Eigen::VectorXd* response = &f.response;
@@ -158,7 +161,7 @@ double JointRefinement::Sse(const FixedPart& f, std::size_t j) const {
   for (std::size_t i = 0; i < columns_.size(); ++i) {
     if (!Varies(i, j)) continue;
     if (!LookupEffect(effects_[i].name).traits.regressor_is_error) {
-      kv += columns_[i].cols();
+      kv += column(i).cols();
     } else if (response == &f.response) {
       own = f.response;
       response = &own;
@@ -169,11 +172,11 @@ double JointRefinement::Sse(const FixedPart& f, std::size_t j) const {
   for (std::size_t i = 0; i < columns_.size(); ++i) {
     if (!Varies(i, j)) continue;
     if (LookupEffect(effects_[i].name).traits.regressor_is_error) {
-      own -= sw_.cwiseProduct(columns_[i].rowwise().sum());
+      own -= sw_.cwiseProduct(column(i).rowwise().sum());
       continue;
     }
-    xv.middleCols(col, columns_[i].cols()) = sw_.asDiagonal() * columns_[i];
-    col += columns_[i].cols();
+    xv.middleCols(col, column(i).cols()) = sw_.asDiagonal() * column(i);
+    col += column(i).cols();
   }
   const Eigen::Index kf = f.x.cols(), k = kf + kv;
   Eigen::MatrixXd g(k, k);
@@ -211,11 +214,28 @@ bool JointRefinement::RefineOne(std::size_t j) {
     }
     return Sse(fixed, j);
   };
+  // When only its own columns vary (an effect after the laws; a law when no chosen effect's columns are built from ŷ),
+  // a trial need not touch the state: the same sum of squares from the trial's own columns (a law's ŷ correction
+  // enters no column then), the grid's values tried in parallel (MinimiseOnLogGrid), the state set after.
+  bool own_only = true;
+  for (std::size_t i = 0; i < effects_.size(); ++i) own_only = own_only && (i == j || !Varies(i, j));
+  const auto trial_sse = [&](double value) {
+    EffectInstance trial = effects_[j];
+    trial.parameters[traits.refined_parameter] = sign * value;
+    Eigen::MatrixXd columns;
+    try {
+      columns = ColumnsOf(trial);
+    } catch (const std::invalid_argument&) {
+      return std::numeric_limits<double>::infinity();
+    }
+    return Sse(fixed, j, &columns);
+  };
   const double before = sse(magnitude);
   // A log grid of ratio 1.6 (7 points over a factor 4 either way), then 12 golden-section steps (to 0.3 %).
   const int grid = std::max(5, static_cast<int>(std::ceil(2.0 * std::log(traits.refinement_range) / std::log(1.6))) + 1);
-  const double found = MinimiseOnLogGrid(magnitude / traits.refinement_range, magnitude * traits.refinement_range,
-                                         grid, 12, sse);
+  const double lo = magnitude / traits.refinement_range, hi = magnitude * traits.refinement_range;
+  const double found = own_only ? MinimiseOnLogGrid(lo, hi, grid, 12, trial_sse, true)
+                                : MinimiseOnLogGrid(lo, hi, grid, 12, sse);
   const double after = sse(found);
   if (after < before && std::abs(found / magnitude - 1.0) > 1e-3) return true;
   sse(magnitude);  // back to the start

@@ -39,7 +39,9 @@ class JointRefinement {
   static constexpr std::size_t kAll = static_cast<std::size_t>(-1);
 
   // Effect i's columns on the corrected signals, filtered as BuildCandidateMatrix filters them.
-  Eigen::MatrixXd Columns(std::size_t i) const;
+  Eigen::MatrixXd Columns(std::size_t i) const { return ColumnsOf(effects_[i]); }
+  // The same for an instance of one of the effects (a trial value of its parameter).
+  Eigen::MatrixXd ColumnsOf(const EffectInstance& effect) const;
   // Effect j's columns anew (kAll: every effect's); after a law, ŷ corrected anew and the columns built from it.
   void Rebuild(std::size_t j);
   // ŷ + the weighted least-squares fit of the residual on [base, laws' columns], as RankEffects' passes correct it.
@@ -64,8 +66,9 @@ class JointRefinement {
   FixedPart Fix(std::size_t j) const;
 
   // The weighted residual sum of squares of the joint fit: the fixed part and the varying effects' current columns
-  // (normal equations scaled to a unit diagonal, ridge 1e-10, as ResidualSumOfSquares).
-  double Sse(const FixedPart& f, std::size_t j) const;
+  // (normal equations scaled to a unit diagonal, ridge 1e-10, as ResidualSumOfSquares); effect j's taken from
+  // own_columns when given (a trial's, columns_ untouched).
+  double Sse(const FixedPart& f, std::size_t j, const Eigen::MatrixXd* own_columns = nullptr) const;
 
   // Scans effect j's refined parameter with the others fixed; true when it moved by more than 0.1 %.
   bool RefineOne(std::size_t j);

@@ -125,10 +125,9 @@ void ProposeAt(ProposalContext& c, double f, double bin, bool scanned = false) {
     const Eigen::MatrixXd base = c.BaseWithConstant();
     const DiagnosisSignals& s = c.signals();
     const Eigen::VectorXd& r = c.residual();
-    auto sse_f = [&](double trial) { return ResidualSumOfSquares(base, ResonanceColumns(s, ts, trial, zeta), r); };
-    auto sse_log_zeta = [&](double log_zeta) {
-      return ResidualSumOfSquares(base, ResonanceColumns(s, ts, f, std::exp(log_zeta)), r);
-    };
+    const JointFitResidual joint_fit(base, r);  // the base's Gram and moment once, not per trial
+    auto sse_f = [&](double trial) { return joint_fit(ResonanceColumns(s, ts, trial, zeta)); };
+    auto sse_log_zeta = [&](double log_zeta) { return joint_fit(ResonanceColumns(s, ts, f, std::exp(log_zeta))); };
     // (The scan refined f already: ζ alone, to 1 %, keeps the scan's cost within compare's budget.)
     if (!scanned) f = GoldenSectionMinimum(sse_f, f - 2.0 * bin, f + 2.0 * bin, 1e-5);
     zeta = std::exp(GoldenSectionMinimum(sse_log_zeta, std::log(0.002), std::log(0.3), scanned ? 1e-2 : 1e-3));
