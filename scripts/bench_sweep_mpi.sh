@@ -9,10 +9,12 @@ RUNS=${RUNS:-320}
 REPETITIONS=${REPETITIONS:-3}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
+# The sweep's "diagram" lies outside the copy's folder, which a sweep file may not read from: it is given on the
+# command line instead (motionblocks sweep DIAGRAM SWEEP).
 python3 - "$PWD/diagrams/paper/sweeps/controller_random.json" "$work/sweep.json" "$RUNS" <<'PY'
-import json, os, sys
+import json, sys
 sweep = json.load(open(sys.argv[1]))
-sweep["diagram"] = os.path.normpath(os.path.join(os.path.dirname(sys.argv[1]), sweep["diagram"]))
+sweep.pop("diagram")
 sweep["random"]["samples"] = int(sys.argv[3])
 json.dump(sweep, open(sys.argv[2], "w"))
 PY
@@ -22,8 +24,8 @@ echo "sweep --mpi, $RUNS runs of the conventional loop (3 s each), load: $(cut -
 for ranks in 1 2 3; do
   for ((r = 0; r < REPETITIONS; r++)); do
     start=$(date +%s.%N)
-    mpirun "${root[@]}" --oversubscribe -n "$ranks" "$BUILD/tools/motionblocks" sweep "$work/sweep.json" --mpi --fresh \
-      --quiet --out "$work/out" > /dev/null
+    mpirun "${root[@]}" --oversubscribe -n "$ranks" "$BUILD/tools/motionblocks" sweep \
+      diagrams/paper/conventional.json "$work/sweep.json" --mpi --fresh --quiet --out "$work/out" > /dev/null
     end=$(date +%s.%N)
     awk -v s="$start" -v e="$end" -v n="$RUNS" -v k="$ranks" \
       'BEGIN { printf "%d ranks: %.2f s, %.1f runs/s\n", k, e - s, n / (e - s) }'
