@@ -45,6 +45,8 @@ LinearMotor::LinearMotor(const BlockConfig& config)
     : Block(config.name),
       mass_(config.parameters.Number("mass") + config.parameters.Number("payload_mass")),
       mass_without_payload_(config.parameters.Number("mass")),
+      inverse_mass_(1.0 / mass_),
+      inverse_mass_without_payload_(1.0 / mass_without_payload_),
       payload_time_(config.parameters.Number("payload_time")),
       damping_(config.parameters.Number("damping")),
       initial_position_(config.parameters.Number("initial_position")),
@@ -89,12 +91,12 @@ void LinearMotor::CalcDerivatives(const BlockContext& c) const {
   auto ds = c.derivatives();
   const double force = c.u(0) + Disturbance(s(0), s(1));
   const bool payload_on = payload_time_ <= 0.0 || c.discrete_state()(0) > 0.5;
-  const double mass = payload_on ? mass_ : mass_without_payload_;
+  const double inverse_mass = payload_on ? inverse_mass_ : inverse_mass_without_payload_;
   ds(0) = s(1);
-  ds(1) = (force - damping_ * s(1)) / mass;
+  ds(1) = (force - damping_ * s(1)) * inverse_mass;
   if (resonance_.enabled()) {
     ds(2) = s(3);
-    ds(3) = resonance_.ModalAcceleration(s(2), s(3), force / mass);
+    ds(3) = resonance_.ModalAcceleration(s(2), s(3), force * inverse_mass);
   }
 }
 

@@ -168,10 +168,10 @@ void Simulator::Derivatives(double t, const double* x, double* dx) {
   UpdateInputs(t);
   ComputeOutputs(t, /*major=*/false);
   const auto& blocks = diagram_.blocks();
-  for (std::size_t b = 0; b < contexts_.size(); ++b) {
-    if (contexts_[b].nxc_ == 0) continue;  // the block's count, kept in its context (no pointer chase)
-    contexts_[b].time_ = t;
-    blocks[b]->CalcDerivatives(contexts_[b]);
+  for (const int b : continuous_blocks_) {
+    const auto bi = static_cast<std::size_t>(b);
+    contexts_[bi].time_ = t;
+    blocks[bi]->CalcDerivatives(contexts_[bi]);
   }
   for (int i = 0; i < num_continuous_; ++i) dx[i] = dxc_[static_cast<std::size_t>(i)];
 }

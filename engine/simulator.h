@@ -188,6 +188,7 @@ class Simulator final : private OdeSystem {
   std::vector<std::size_t> output_offset_;  // per block, offset of its first output
   std::vector<double> xc_, dxc_, xd_, zc_;
   std::vector<int> discrete_blocks_;
+  std::vector<int> continuous_blocks_;  // the blocks with continuous states, in index order (each derivative call)
   // Minor steps (solver stages, root searches) recompute only the non-discrete blocks that feed a block with
   // continuous states or zero crossings, in execution order; the rest only changes at major steps.
   std::vector<int> minor_step_order_;

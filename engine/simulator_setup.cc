@@ -132,6 +132,7 @@ void Simulator::LayOutStates() {
     od += static_cast<std::size_t>(c.nxd_);
     oz += static_cast<std::size_t>(c.nzc_);
     if (block.sample_time().is_discrete()) discrete_blocks_.push_back(static_cast<int>(b));
+    if (c.nxc_ > 0) continuous_blocks_.push_back(static_cast<int>(b));
   }
 }
 

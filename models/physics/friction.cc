@@ -31,7 +31,9 @@ void ValidateFrictionParameters(const FrictionParameters& p, const std::string& 
 
 double StribeckLevel(double coulomb, double breakaway, double stribeck_velocity, double velocity) noexcept {
   if (!(stribeck_velocity > 0.0)) return coulomb;
-  const double r = velocity / stribeck_velocity;
+  // × the reciprocal, not ÷: the division then waits for no velocity, off the solver stage's dependency chain
+  // (within 1 ulp of the quotient).
+  const double r = velocity * (1.0 / stribeck_velocity);
   const double r2 = r * r;
   // exp(−r²) is exactly 0 in double precision for r² > 745.14: skip glibc's slow underflow path (errno), which
   // a moving stage takes on nearly every call (|v| > 0.14 m/s at v_s = 5 mm/s). Same result, bit for bit.
@@ -41,7 +43,7 @@ double StribeckLevel(double coulomb, double breakaway, double stribeck_velocity,
 
 double RegularizedFriction(const FrictionParameters& p, double regularization_velocity, double velocity) noexcept {
   // tanh(a) is exactly ±1 in double for |a| ≥ 22 (glibc returns 1 − tiny there): skip the call, bit-identical.
-  const double a = velocity / regularization_velocity;
+  const double a = velocity * (1.0 / regularization_velocity);  // × the reciprocal, as in StribeckLevel
   const double sign = std::abs(a) >= 22.0 ? std::copysign(1.0, a) : std::tanh(a);
   return sign *
              StribeckLevel(p.coulomb, p.breakaway, p.stribeck_velocity, velocity) +
