@@ -1,9 +1,13 @@
 #include "models/diagnosis/effect_catalogue.h"
 
 #include <cmath>
+#include <exception>
 #include <stdexcept>
+#include <vector>
 
 #include <fmt/format.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
@@ -74,13 +78,29 @@ CandidateSearch ProposeCandidateEffects(const DiagnosisSignals& s, const Eigen::
   const Eigen::VectorXd r = residual;
   const Eigen::MatrixXd base = base_columns;
   CandidateSearch out;
-  ProposalContext context(s, r, base, options, &out);
-  for (const EffectType* effect : EffectRegistry::Global().Effects()) {
-    try {
-      effect->propose(context);
-    } catch (const std::invalid_argument& e) {  // what this record cannot support: skip the effect, say why
-      context.Note(fmt::format("{} not proposed: {}", effect->name, e.what()));
+  const ProposalContext context(s, r, base, options, &out);
+  // The rules are independent (pure functions of the shared analyses): run concurrently, each into a sink of its own,
+  // then merged in catalogue order — the candidates and notes a serial run gives, and its first error.
+  const std::vector<const EffectType*> effects = EffectRegistry::Global().Effects();
+  std::vector<ProposalSink> sinks(effects.size());
+  std::vector<std::exception_ptr> errors(effects.size());
+  const tbb::blocked_range<std::size_t> all(0, effects.size(), 1);
+  tbb::parallel_for(all, [&](const tbb::blocked_range<std::size_t>& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i) {
+      ProposalContext own = context.WithSink(&sinks[i]);
+      try {
+        effects[i]->propose(own);
+      } catch (const std::invalid_argument& e) {  // what this record cannot support: skip the effect, say why
+        own.Note(fmt::format("{} not proposed: {}", effects[i]->name, e.what()));
+      } catch (...) {
+        errors[i] = std::current_exception();
+      }
     }
+  });
+  for (std::size_t i = 0; i < effects.size(); ++i) {
+    if (errors[i]) std::rethrow_exception(errors[i]);
+    out.candidates.insert(out.candidates.end(), sinks[i].candidates.begin(), sinks[i].candidates.end());
+    out.notes.insert(out.notes.end(), sinks[i].notes.begin(), sinks[i].notes.end());
   }
   return out;
 }

@@ -9,6 +9,7 @@
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
+#include <tbb/collaborative_call_once.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
@@ -118,10 +119,16 @@ std::pair<Eigen::VectorXd, Eigen::VectorXd> MovingSamples(const DiagnosisSignals
 
 }  // namespace
 
+struct ProposalContext::OutputDelayOnce {
+  tbb::collaborative_once_flag flag;  // waiting callers help rather than block a TBB worker
+  double delay = 0.0;
+};
+
 ProposalContext::ProposalContext(const DiagnosisSignals& signals, const Eigen::VectorXd& residual,
                                  const Eigen::MatrixXd& base_columns, const CatalogueOptions& options,
                                  CandidateSearch* search)
-    : signals_(signals), residual_(residual), base_columns_(base_columns), options_(options), search_(search) {
+    : signals_(signals), residual_(residual), base_columns_(base_columns), options_(options), search_(search),
+      model_output_delay_(std::make_shared<OutputDelayOnce>()) {
   max_speed_ = signals.velocity.cwiseAbs().maxCoeff();
   dead_band_ = options.dead_band_fraction * max_speed_;
   position_span_ = signals.position.maxCoeff() - signals.position.minCoeff();
@@ -233,14 +240,23 @@ Eigen::MatrixXd ProposalContext::BaseWithConstant() const {
 }
 
 void ProposalContext::Propose(std::string effect, std::map<std::string, double> parameters) {
-  search_->candidates.push_back({std::move(effect), std::move(parameters)});
+  (sink_ != nullptr ? sink_->candidates : search_->candidates).push_back({std::move(effect), std::move(parameters)});
 }
 
-void ProposalContext::Note(std::string note) { search_->notes.push_back(std::move(note)); }
+void ProposalContext::Note(std::string note) {
+  (sink_ != nullptr ? sink_->notes : search_->notes).push_back(std::move(note));
+}
+
+ProposalContext ProposalContext::WithSink(ProposalSink* sink) const {
+  ProposalContext copy = *this;
+  copy.sink_ = sink;
+  return copy;
+}
 
 double ProposalContext::model_output_delay() const {
-  if (!model_output_delay_) model_output_delay_ = EstimateModelOutputDelay(*this);
-  return *model_output_delay_;
+  OutputDelayOnce& once = *model_output_delay_;
+  tbb::collaborative_call_once(once.flag, [&] { once.delay = EstimateModelOutputDelay(*this); });
+  return once.delay;
 }
 
 int HarmonicCount(const Periodogram& pg, std::size_t index, int max_harmonics) {

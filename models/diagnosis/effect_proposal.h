@@ -7,7 +7,7 @@
 
 #include <functional>
 #include <map>
-#include <optional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -22,6 +22,13 @@ struct ProposedPeriod {
   double period = 0.0;  ///< [m]; a sub-harmonic found in the periodogram makes it k × the peak's period
   int harmonics = 1;    ///< 1 + the highest harmonic order flagged, at most CatalogueOptions::max_harmonics
   double power = 0.0;   ///< its periodogram peak's share of the residual's variance, 0..1 (PeriodogramPeak::power)
+};
+
+/// Where one effect's proposal rule puts its candidates and notes when the rules run concurrently
+/// (ProposeCandidateEffects merges the sinks in catalogue order: the same list as a serial run).
+struct ProposalSink {
+  std::vector<EffectInstance> candidates;
+  std::vector<std::string> notes;
 };
 
 class ProposalContext {
@@ -55,12 +62,17 @@ class ProposalContext {
   /// contiguous blocks (5 folds, jointly with the base), placed by their power.
   const std::vector<ProposedPeriod>& position_periods() const { return position_periods_; }
 
-  /// EstimateModelOutputDelay(*this), computed once (time_delay and actuator_lag both ask).
+  /// EstimateModelOutputDelay(*this), computed once (time_delay and actuator_lag both ask) and shared with the
+  /// copies WithSink makes; thread-safe (a second caller waits for, or helps, the first).
   double model_output_delay() const;
 
-  /// Adds a candidate (catalogue name, SI parameters).
+  /// A copy that adds its candidates and notes to `sink` (which must outlive it) instead of the search: one effect's
+  /// rule run concurrently with the others'. The analyses and the model-output delay are shared.
+  ProposalContext WithSink(ProposalSink* sink) const;
+
+  /// Adds a candidate (catalogue name, SI parameters) to the search, or to the sink of a WithSink copy.
   void Propose(std::string effect, std::map<std::string, double> parameters = {});
-  /// Adds a note for the report (why something was or was not proposed).
+  /// Adds a note for the report (why something was or was not proposed), to the search or the sink.
   void Note(std::string note);
 
  private:
@@ -69,11 +81,13 @@ class ProposalContext {
   const Eigen::MatrixXd& base_columns_;
   const CatalogueOptions& options_;
   CandidateSearch* search_;
+  ProposalSink* sink_ = nullptr;
   // Adds the periods of too few cycles for the main search that their harmonics confirm (CatalogueOptions).
   void AddFewCyclePeriods(const Eigen::VectorXd& position, const Eigen::VectorXd& residual);
   double max_speed_ = 0.0, dead_band_ = 0.0, position_span_ = 0.0, sample_period_ = 0.0;
   std::vector<ProposedPeriod> position_periods_;
-  mutable std::optional<double> model_output_delay_;
+  struct OutputDelayOnce;  // the delay and its once-flag (effect_proposal.cc)
+  std::shared_ptr<OutputDelayOnce> model_output_delay_;
 };
 
 /// Harmonics of peak `index` of a periodogram: 1 + the highest positive harmonic order flagged against it, at

@@ -55,9 +55,10 @@ Limits ScanLimits(const ProposalContext& c) {
   const auto n = magnitude.size();
   const double lo = magnitude[n / 2], hi = magnitude[n - 1 - static_cast<std::size_t>(kMinShareBeyond * static_cast<double>(n))];
   if (!(hi > lo && lo > 0.0)) return {};
-  const double symmetric = MinimiseOnLogGrid(lo, hi, 21, 20, [&](double l) { return sse(-l, l); });
-  const double upper = MinimiseOnLogGrid(lo, hi, 21, 20, [&](double l) { return sse(-symmetric, l); });
-  const double lower = -MinimiseOnLogGrid(lo, hi, 21, 20, [&](double l) { return sse(-l, upper); });
+  // sse is thread-safe (its own vectors per call): the grids in parallel.
+  const double symmetric = MinimiseOnLogGrid(lo, hi, 21, 20, [&](double l) { return sse(-l, l); }, true);
+  const double upper = MinimiseOnLogGrid(lo, hi, 21, 20, [&](double l) { return sse(-symmetric, l); }, true);
+  const double lower = -MinimiseOnLogGrid(lo, hi, 21, 20, [&](double l) { return sse(-l, upper); }, true);
   const double sse_base = ResidualSumOfSquares(base, none, c.residual());
   if (!(sse(lower, upper) < (1.0 - kMinExplained) * sse_base)) return {};
   const auto beyond = [&](auto&& passes) {
