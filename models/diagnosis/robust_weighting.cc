@@ -7,8 +7,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <vector>
 
 #include <Eigen/Dense>
+#include <tbb/parallel_for.h>
 
 namespace mb::diagnosis_detail {
 namespace {
@@ -30,6 +32,37 @@ Eigen::VectorXd HuberWeights(const Eigen::VectorXd& e, double k) {
   return w;
 }
 
+// r − xθ with θ minimising ‖√w ⊙ (r − xθ)‖ (the residual is unique even when x is rank-deficient): a tall-skinny QR.
+// Each block of kBlockRows rows of [√w ⊙ x, √w ⊙ r] is reduced to its triangle by a blocked Householder QR (in
+// parallel, in cache), the triangles stacked in block order and solved by ColPivHouseholderQR — the pivoted QR of the
+// whole N × q matrix to round-off (the stack has its Gram matrix), without an N × q copy or N-long reflector sweeps.
+// Source: Demmel, Grigori, Hoemmen, Langou, "Communication-optimal parallel and sequential QR and LU
+// factorizations", SIAM J. Sci. Comput. 34 (2012) (TSQR).
+Eigen::VectorXd WeightedFitResidual(const Eigen::MatrixXd& x, const Eigen::VectorXd& r, const Eigen::VectorXd& sw) {
+  constexpr Eigen::Index kBlockRows = 8192;
+  const Eigen::Index n = x.rows(), q = x.cols(), blocks = (n + kBlockRows - 1) / kBlockRows;
+  std::vector<Eigen::MatrixXd> triangles(static_cast<std::size_t>(blocks));
+  tbb::parallel_for(Eigen::Index{0}, blocks, [&](Eigen::Index b) {
+    const Eigen::Index begin = b * kBlockRows, rows = std::min(kBlockRows, n - begin);
+    Eigen::MatrixXd a(rows, q + 1);
+    a.leftCols(q) = sw.segment(begin, rows).asDiagonal() * x.middleRows(begin, rows);
+    a.col(q) = sw.segment(begin, rows).cwiseProduct(r.segment(begin, rows));
+    const Eigen::HouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(a);
+    const Eigen::Index kept = std::min(rows, q + 1);
+    triangles[static_cast<std::size_t>(b)] = a.topRows(kept).triangularView<Eigen::Upper>();
+  });
+  Eigen::Index stacked_rows = 0;
+  for (const auto& t : triangles) stacked_rows += t.rows();
+  Eigen::MatrixXd stacked(stacked_rows, q + 1);
+  Eigen::Index row = 0;
+  for (const auto& t : triangles) {
+    stacked.middleRows(row, t.rows()) = t;
+    row += t.rows();
+  }
+  const Eigen::VectorXd theta = stacked.leftCols(q).colPivHouseholderQr().solve(stacked.col(q));
+  return r - x * theta;
+}
+
 }  // namespace
 
 double Percentile(std::vector<double> v, double q) {
@@ -44,8 +77,7 @@ Eigen::VectorXd RobustWeights(const Eigen::MatrixXd& x, const Eigen::VectorXd& r
   *residual = r;
   for (int iteration = 0; iteration < 10; ++iteration) {
     if (x.cols() > 0) {
-      const Eigen::VectorXd sw = w.cwiseSqrt();
-      *residual = r - x * (sw.asDiagonal() * x).colPivHouseholderQr().solve(sw.cwiseProduct(r));
+      *residual = WeightedFitResidual(x, r, w.cwiseSqrt());
     }
     if (!(k > 0.0)) break;
     const Eigen::VectorXd next = HuberWeights(*residual, k);
