@@ -49,12 +49,4 @@ double CoggingForce::Shape(double x) const noexcept {
   return y;
 }
 
-double CoggingForce::Amplitude(double xdot) const noexcept { return p_.amplitude + p_.amplitude_velocity * std::abs(xdot); }
-
-double CoggingForce::Offset(double xdot) const noexcept {
-  return p_.offset + p_.offset_velocity * xdot + p_.offset_velocity_squared * xdot * std::abs(xdot);
-}
-
-double CoggingForce::Force(double x, double xdot) const noexcept { return Amplitude(xdot) * Shape(x) + Offset(xdot); }
-
 }  // namespace mb

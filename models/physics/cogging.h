@@ -8,6 +8,8 @@
 // Source: Jung et al., eq. 1–2 (τ = 22.5 mm for the Kovery 2P-06 stage); harmonics of the pole pitch as in
 // Tan et al. 2004 (force ripple of PM linear motors). With r = [1] and α_1 = β_* = 0 this is eq. 1.
 
+#include <cmath>
+
 #include <Eigen/Core>
 
 namespace mb {
@@ -30,13 +32,16 @@ class CoggingForce final {
   /// any value is not finite.
   explicit CoggingForce(CoggingParameters parameters);
 
-  /// F_cog(x, ẋ) [N] at position x [m], velocity ẋ [m/s].
-  double Force(double x, double xdot) const noexcept;
+  /// F_cog(x, ẋ) [N] at position x [m], velocity ẋ [m/s]. Inline with α and β (the plant's hot path: no calls
+  /// around Shape on each derivative evaluation's dependency chain).
+  double Force(double x, double xdot) const noexcept { return Amplitude(xdot) * Shape(x) + Offset(xdot); }
   /// The position-periodic shape Σ r_h sin(2π h x/τ + φ_h) (dimensionless).
   double Shape(double x) const noexcept;
   /// α(ẋ) [N] and β(ẋ) [N].
-  double Amplitude(double xdot) const noexcept;
-  double Offset(double xdot) const noexcept;
+  double Amplitude(double xdot) const noexcept { return p_.amplitude + p_.amplitude_velocity * std::abs(xdot); }
+  double Offset(double xdot) const noexcept {
+    return p_.offset + p_.offset_velocity * xdot + p_.offset_velocity_squared * xdot * std::abs(xdot);
+  }
 
   const CoggingParameters& parameters() const noexcept { return p_; }
 
