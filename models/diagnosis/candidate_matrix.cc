@@ -62,9 +62,10 @@ void FilterCandidateColumns(const EffectType& type, const DiagnosisSignals& sign
                             Eigen::MatrixXd* columns) {
   if (!(options.regressor_filter_hz > 0.0) || type.traits.regressor_in_output_band) return;
   const double ts = MedianTimeStep(signals.time);
-  for (Eigen::Index j = 0; j < columns->cols(); ++j) {
+  // The columns are filtered independently: in parallel (a refinement's serial golden section waits on them).
+  tbb::parallel_for(Eigen::Index{0}, columns->cols(), [&](Eigen::Index j) {
     columns->col(j) = ZeroPhaseLowPass(columns->col(j), ts, options.regressor_filter_hz);
-  }
+  });
 }
 
 RegressorMatrix BuildCandidateMatrix(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols,
