@@ -43,7 +43,7 @@ class LinearMotor final : public Block {
   double mass_;  // M + m_p
   double mass_without_payload_;  // M: before payload_time
   // 1/(M + m_p) and 1/M: the derivative multiplies by them rather than dividing, which takes a division's latency
-  // (≈ 15 cycles) off each RK4 stage's dependency chain; the result differs from the quotient by ≤ 1 ulp.
+  // (≈ 15 cycles) off each RK4 stage's dependency chain; the result differs from the quotient by ≤ 2 ulp.
   double inverse_mass_;
   double inverse_mass_without_payload_;
   double payload_time_;          // the payload is on for t ≥ payload_time_ (mode in x_d(0) when > 0)

@@ -32,7 +32,7 @@ void ValidateFrictionParameters(const FrictionParameters& p, const std::string& 
 double StribeckLevel(double coulomb, double breakaway, double stribeck_velocity, double velocity) noexcept {
   if (!(stribeck_velocity > 0.0)) return coulomb;
   // × the reciprocal, not ÷: the division then waits for no velocity, off the solver stage's dependency chain
-  // (within 1 ulp of the quotient).
+  // (within 2 ulp of the quotient).
   const double r = velocity * (1.0 / stribeck_velocity);
   const double r2 = r * r;
   // exp(−r²) is exactly 0 in double precision for r² > 745.14: skip glibc's slow underflow path (errno), which
