@@ -32,7 +32,9 @@ Eigen::VectorXd HuberWeights(const Eigen::VectorXd& e, double k) {
   return w;
 }
 
-// r − xθ with θ minimising ‖√w ⊙ (r − xθ)‖ (the residual is unique even when x is rank-deficient): a tall-skinny QR.
+// r − xθ with θ minimising ‖√w ⊙ (r − xθ)‖: a tall-skinny QR. Columns that depend on others exactly are dropped only
+// where round-off leaves their pivot under ColPivHouseholderQR's default threshold (ε·q of the largest), as in the
+// dense QR this replaced; above it the residual carries that pivot's round-off.
 // Each block of kBlockRows rows of [√w ⊙ x, √w ⊙ r] is reduced to its triangle by a blocked Householder QR (in
 // parallel, in cache), the triangles stacked in block order and solved by ColPivHouseholderQR — the pivoted QR of the
 // whole N × q matrix to round-off (the stack has its Gram matrix), without an N × q copy or N-long reflector sweeps.
