@@ -43,6 +43,13 @@ std::string SummingTypeName() {
   }
 }
 
+// A block's ports by name, "a, b" ("(none)" without any), for messages.
+std::string PortList(const std::vector<PortSpec>& ports) {
+  std::string names;
+  for (const auto& p : ports) names += (names.empty() ? "" : ", ") + p.name;
+  return names.empty() ? "(none)" : names;
+}
+
 }  // namespace
 
 /// Builds a Diagram step by step; each step appends problems instead of throwing so that the user sees them
@@ -76,6 +83,7 @@ class DiagramBuilder {
     ReadLog();
     ReadMetrics();
     ReadRoles();
+    ReadFree();
     ThrowIfProblems();
     try {
       Sort();
@@ -121,7 +129,13 @@ class DiagramBuilder {
       Problem(fmt::format("/defaultExperiment: stopTime ({}) must be greater than startTime ({})", x.stop_time,
                           x.start_time));
     }
-    if (x.step_size < 0.0) Problem("/defaultExperiment/stepSize: must be >= 0 (0 = automatic)");
+    // Absent = automatic (the fastest discrete period, else the solver's steps); a number given must be a log
+    // interval: 0 would log at no interval at all (issue 41: it was taken for "automatic" without a word).
+    if (e.is_object() && e.contains("stepSize") && !(x.step_size > 0.0)) {
+      Problem(fmt::format("/defaultExperiment/stepSize: must be > 0 s (the log interval), got {}; leave stepSize out "
+                          "to log at the fastest discrete period (or every solver step)",
+                          x.step_size));
+    }
   }
 
   void ReadSolver() {
@@ -253,7 +267,13 @@ class DiagramBuilder {
       return std::nullopt;
     }
     const Block& block = *d_.blocks_[static_cast<std::size_t>(b)];
-    int port = connector.empty() && block.output_ports().size() == 1 ? 0 : block.FindOutputPort(connector);
+    if (connector.empty()) {  // issue 41: no port is guessed, even for a block of one output
+      Problem(fmt::format("{}/startConnector: missing; name the output of element '{}' that the connection starts "
+                          "from (its outputs: {})",
+                          ptr, element, PortList(block.output_ports())));
+      return std::nullopt;
+    }
+    const int port = block.FindOutputPort(connector);
     if (port < 0) {
       std::string ports;
       for (const auto& p : block.output_ports()) ports += (ports.empty() ? "" : ", ") + p.name;
@@ -283,7 +303,13 @@ class DiagramBuilder {
       }
       const Block& block = *d_.blocks_[static_cast<std::size_t>(b)];
       const std::string connector = c.value("endConnector", "");
-      const int port = connector.empty() && block.input_ports().size() == 1 ? 0 : block.FindInputPort(connector);
+      if (connector.empty()) {  // issue 41: no port is guessed, even for a block of one input
+        Problem(fmt::format("{}/endConnector: missing; name the input of element '{}' that the connection feeds "
+                            "(its inputs: {})",
+                            ptr, end_element, PortList(block.input_ports())));
+        continue;
+      }
+      const int port = block.FindInputPort(connector);
       if (port < 0) {
         std::string ports;
         for (const auto& p : block.input_ports()) ports += (ports.empty() ? "" : ", ") + p.name;
@@ -499,6 +525,43 @@ class DiagramBuilder {
     }
   }
 
+  // "free": ["element.parameter", …], what compare and fit refit by default: each entry names an element of the
+  // diagram and one of its type's parameters (issue 41: a misspelt entry was ignored by run and failed fit later).
+  void ReadFree() {
+    if (!j_.contains("free") || !j_["free"].is_array()) return;  // the schema says what a non-array is
+    const json& free = j_["free"];
+    for (std::size_t i = 0; i < free.size(); ++i) {
+      if (!free[i].is_string()) continue;  // the schema's problem
+      const std::string entry = free[i].get<std::string>();
+      const std::string ptr = fmt::format("/free/{}", i);
+      const auto dot = entry.find('.');
+      if (dot == std::string::npos || dot == 0 || dot + 1 == entry.size()) {
+        Problem(fmt::format("{}: '{}': write element.parameter, e.g. \"friction.viscous\"", ptr, Excerpt(entry)));
+        continue;
+      }
+      const std::string element = entry.substr(0, dot), parameter = entry.substr(dot + 1);
+      const int b = d_.FindBlock(element);
+      if (b < 0) {
+        std::vector<std::string> names;
+        for (const auto& block : d_.blocks_) names.push_back(block->name());
+        const auto closest = ClosestNames(element, names);
+        Problem(fmt::format("{}: '{}': no element named '{}'{}", ptr, Excerpt(entry), Excerpt(element),
+                            closest.empty() ? "" : fmt::format(" (did you mean '{}'?)", closest.front())));
+        continue;
+      }
+      const std::string& type = d_.block_types_[static_cast<std::size_t>(b)];
+      std::vector<std::string> names;
+      for (const auto& spec : BlockRegistry::Global().Get(type).parameters) names.push_back(spec.name);
+      if (std::find(names.begin(), names.end(), parameter) == names.end()) {
+        const auto closest = ClosestNames(parameter, names);
+        Problem(fmt::format("{}: '{}': element '{}' ({}) has no parameter '{}'{}; it takes: {}", ptr, Excerpt(entry),
+                            element, type, Excerpt(parameter),
+                            closest.empty() ? "" : fmt::format(" (did you mean '{}'?)", closest.front()),
+                            fmt::join(names, ", ")));
+      }
+    }
+  }
+
   void Sort() {
     std::vector<FeedthroughEdge> edges;
     std::vector<std::string> names;
@@ -530,13 +593,30 @@ class DiagramBuilder {
   std::vector<SchemaProblem> schema_problems_;
 };
 
+std::string TooManyElementsProblem(std::size_t count, bool or_more, bool expanded) {
+  return fmt::format("/elements: {} elements{}{}, more than the {} a diagram may hold (each is a block built, sorted "
+                     "and stepped: a run would take minutes before its first step); simulate a part of the model, or "
+                     "merge blocks (a gain or state_space of width n for n scalar ones)",
+                     count, or_more ? " or more" : "", expanded ? " once its subsystems are expanded" : "",
+                     kMaxDiagramElements);
+}
+
 namespace {
+
+// Refuses a diagram of more than kMaxDiagramElements elements (`expanded`: counted after its subsystems' expansion).
+void RequireAtMostMaxElements(const json& diagram, const std::string& source, bool expanded) {
+  if (!diagram.is_object() || !diagram.contains("elements") || !diagram["elements"].is_array()) return;
+  const std::size_t count = diagram["elements"].size();
+  if (count <= kMaxDiagramElements) return;
+  throw DiagramError(source, {TooManyElementsProblem(count, /*or_more=*/false, expanded)});
+}
 
 Diagram BuildDiagramImpl(const json& diagram, const fs::path& base_directory, const std::string& source,
                          std::optional<AlgebraicLoopError>* algebraic_loop,
                          SchemaCheck schema = SchemaCheck::kValidate) {
   // The diagram as the user wrote it against the schema first; a value of the wrong JSON type stops here (the
   // builder would not know what to make of it), other schema problems are reported with the builder's.
+  RequireAtMostMaxElements(diagram, source, /*expanded=*/false);  // before any work that grows with the size
   std::vector<SchemaProblem> schema_problems;
   if (schema == SchemaCheck::kValidate) schema_problems = DiagramSchemaProblems(diagram);
   std::vector<std::string> problems;
@@ -547,6 +627,7 @@ Diagram BuildDiagramImpl(const json& diagram, const fs::path& base_directory, co
   const std::size_t schema_count = problems.size();
   SubsystemExpansion expanded = ExpandSubsystemsWithOrigins(diagram, base_directory, source, &problems);
   if (problems.size() > schema_count) throw DiagramError(source, problems);
+  RequireAtMostMaxElements(expanded.diagram, source, /*expanded=*/true);
   return DiagramBuilder(expanded.diagram, base_directory, source, std::move(expanded.origins),
                         std::move(schema_problems))
       .Build(algebraic_loop);

@@ -94,22 +94,89 @@ void ApplyOverrides(json* diagram, const std::vector<ParameterOverride>& overrid
   if (!problems.empty()) throw DiagramError(source, problems);
 }
 
+namespace {
+
+// Counts the entries of the top-level "elements" array while the text is read (a SAX pass that builds nothing) and
+// stops once there are more than kMaxDiagramElements: a diagram of a million blocks is refused after reading a fifth
+// of it, not after parsing, checking and building all of it (issue 41: more than 30 s without a word).
+class ElementCounter final : public nlohmann::json_sax<json> {
+ public:
+  bool null() override { return Value(); }
+  bool boolean(bool) override { return Value(); }
+  bool number_integer(number_integer_t) override { return Value(); }
+  bool number_unsigned(number_unsigned_t) override { return Value(); }
+  bool number_float(number_float_t, const string_t&) override { return Value(); }
+  bool string(string_t&) override { return Value(); }
+  bool binary(binary_t&) override { return Value(); }
+  bool start_object(std::size_t) override { return Open(); }
+  bool key(string_t& key) override {
+    in_elements_key_ = depth_ == 1 && key == "elements";
+    return true;
+  }
+  bool end_object() override { return Close(); }
+  bool start_array(std::size_t) override {
+    if (depth_ == 1 && in_elements_key_) in_elements_ = true;
+    return Open();
+  }
+  bool end_array() override {
+    if (depth_ == 2) in_elements_ = false;
+    return Close();
+  }
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override {
+    return false;  // the real parse reports it
+  }
+  std::size_t count() const { return count_; }
+
+ private:
+  bool Value() {
+    if (in_elements_ && depth_ == 2) ++count_;
+    return count_ <= kMaxDiagramElements;
+  }
+  bool Open() {
+    const bool go_on = Value();
+    return ++depth_ <= kMaxJsonDepth && go_on;  // too deep: the depth check reports it
+  }
+  bool Close() {
+    --depth_;
+    return true;
+  }
+  int depth_ = 0;
+  bool in_elements_key_ = false;
+  bool in_elements_ = false;
+  std::size_t count_ = 0;
+};
+
+void RequireAtMostMaxElements(const std::string& text, const fs::path& path) {
+  if (text.size() < kMaxDiagramElements * 16) return;  // an element takes more than 16 bytes: nothing to count
+  ElementCounter counter;
+  json::sax_parse(text, &counter, json::input_format_t::json, /*strict=*/false);
+  if (counter.count() > kMaxDiagramElements) {
+    throw DiagramError(path.string(), {TooManyElementsProblem(counter.count(), /*or_more=*/true, false)});
+  }
+}
+
+}  // namespace
+
 // Also refuses (DiagramError naming the file) a file that holds no JSON object: null, an array, a number.
 json ReadDiagramJson(const fs::path& path) {
   CheckInputFile(path, "diagram file");  // a regular file within the size limit: /dev/zero or a FIFO is never opened
   if (!fs::exists(path)) {
     throw FileOpenError(fmt::format("{}: cannot open the diagram file (does it exist?)", path.string()));
   }
-  std::istringstream in(ReadInputFile(path, "diagram file"));
+  const std::string text = ReadInputFile(path, "diagram file");
+  RequireAtMostMaxElements(text, path);
+  std::istringstream in(text);
   try {
-    json j = ParseJsonRejectingDuplicateKeys(in, path.string(), /*ignore_comments=*/true);
+    // Plain JSON, as the schema, editors and Python's json module read it: no comments (issue 41).
+    json j = ParseJsonRejectingDuplicateKeys(in, path.string(), /*ignore_comments=*/false);
     if (!j.is_object()) {  // named here, where the file is known (the documents built from it say only "diagram")
       throw DiagramError(path.string(), {fmt::format("/: a diagram is a JSON object {{…}}, but this file holds {}",
                                                      j.is_null() ? "null" : j.is_array() ? "an array" : fmt::format("a {}", j.type_name()))});
     }
     return j;
   } catch (const json::parse_error& e) {
-    throw std::runtime_error(fmt::format("{}: not valid JSON: {}", path.string(), JsonErrorText(e)));
+    throw std::runtime_error(
+        fmt::format("{}: not valid JSON: {}{}", path.string(), JsonErrorText(e), JsonCommentHint(text, e.byte)));
   } catch (const DuplicateKeyError& e) {
     throw DiagramError(path.string(), e.problems());
   }

@@ -58,6 +58,14 @@ nlohmann::json ReadDiagramJson(const std::filesystem::path& path);
 nlohmann::json ExpandSubsystems(const nlohmann::json& diagram, const std::filesystem::path& base_directory,
                                 const std::string& source);
 
+/// Most elements a diagram may hold, its subsystems expanded. 100,000 blocks load and run (tests/hostile); a million
+/// took minutes before the first step, without a word (issue 41). Beyond this, BuildDiagram refuses the diagram at
+/// once, before the schema, the expansion or any block is built.
+inline constexpr std::size_t kMaxDiagramElements = 200000;
+/// The problem a diagram of `count` elements (`or_more`: counting stopped there) beyond kMaxDiagramElements is:
+/// "/elements: N elements[ or more][ once its subsystems are expanded], more than the 200000 a diagram may hold (…)".
+std::string TooManyElementsProblem(std::size_t count, bool or_more, bool expanded);
+
 /// Whether BuildDiagram checks the JSON against the diagram schema first.
 enum class SchemaCheck {
   kValidate,  ///< always, for a diagram as read (the default)
@@ -68,7 +76,8 @@ enum class SchemaCheck {
 };
 
 /// Validates and builds a diagram from JSON. `base_directory` resolves relative file parameters;
-/// `source` names the file in messages. @throws DiagramError (all problems at once) or AlgebraicLoopError.
+/// `source` names the file in messages. @throws DiagramError (all problems at once; a diagram of more than
+/// kMaxDiagramElements elements alone, at once) or AlgebraicLoopError.
 Diagram BuildDiagram(const nlohmann::json& diagram, const std::filesystem::path& base_directory,
                      const std::string& source, SchemaCheck schema = SchemaCheck::kValidate);
 

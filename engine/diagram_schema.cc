@@ -210,8 +210,9 @@ json Sections(const BlockRegistry& registry) {
       {"defaultExperiment",
        StrictObject({{"startTime", Described(number, "[s]")},
                      {"stopTime", Described(number, "[s]")},
-                     {"stepSize", Described({{"type", "number"}, {"minimum", 0}},
-                                            "log interval [s]; 0 = the fastest discrete period")}})},
+                     {"stepSize", Described({{"type", "number"}, {"exclusiveMinimum", 0}},
+                                            "log interval [s] > 0; leave it out to log at the fastest discrete "
+                                            "period (or every solver step)")}})},
       {"solver",
        StrictObject({{"type", {{"enum", Names(kSolverTypeNames)}}},
                      {"method", Described({{"enum", Names(kCvodeMethodNames)}}, "CVODE only")},
@@ -227,18 +228,19 @@ json Sections(const BlockRegistry& registry) {
             {"startConnector",
              {{"type", "string"},
               {"description", "an output port of startElement (its type's ports: motionblocks blocks TYPE) or an "
-                              "input connector's name"},
+                              "input connector's name; always given, even for a block of one output"},
               {"examples", PortNames(registry, false)}}},
             {"endElement", Described(string, "omit or \"\" for an output connector of the diagram")},
             {"endConnector",
              {{"type", "string"},
               {"description", "an input port of endElement (its type's ports: motionblocks blocks TYPE) or an "
-                              "output connector's name"},
+                              "output connector's name; always given, even for a block of one input"},
               {"examples", PortNames(registry, true)}}}}))},
       {"log", ArrayOf(Described(string, "element.port or a connector name"))},
       {"metrics", ArrayOf(metric)},
       {"free", Described({{"type", "array"}, {"items", string}, {"uniqueItems", true}},
-                         "element.parameter names that compare and fit refit by default")},
+                         "element.parameter names that compare and fit refit by default (each an element of the "
+                         "diagram and one of its type's parameters)")},
       {"roles", Described({{"type", "object"}, {"additionalProperties", string}},
                           "role → element name, for analyses that find parts of the loop by role "
                           "(docs/engine.md)")},

@@ -1,5 +1,6 @@
 #include "engine/json_limits.h"
 
+#include <algorithm>
 #include <iterator>
 
 #include <fmt/format.h>
@@ -60,7 +61,24 @@ void CheckJsonDepth(std::string_view text, const std::string& source, bool ignor
   }
 }
 
+void RefuseNulBytes(std::string_view text) {
+  const auto nul = text.find('\0');
+  if (nul == std::string_view::npos) return;
+  const std::string_view before = text.substr(0, nul);
+  const auto line = 1 + static_cast<std::size_t>(std::count(before.begin(), before.end(), '\n'));
+  const auto line_start = before.rfind('\n');
+  const std::size_t column = line_start == std::string_view::npos ? nul + 1 : nul - line_start;
+  const bool only_zeros_follow = text.find_first_not_of('\0', nul) == std::string_view::npos;
+  throw json::parse_error::create(
+      101, nul + 1,
+      fmt::format("a NUL byte at line {}, column {}{}: no JSON text holds one (is the file truncated, padded with "
+                  "zeros or binary?); restore the file",
+                  line, column, only_zeros_follow ? fmt::format(" (and {} more to the end of the file)", text.size() - nul - 1) : ""),
+      nullptr);
+}
+
 json ParseJsonLimited(std::string_view text, const std::string& source, bool ignore_comments) {
+  RefuseNulBytes(text);
   CheckJsonDepth(text, source, ignore_comments);
   return json::parse(text, nullptr, /*allow_exceptions=*/true, ignore_comments);
 }

@@ -103,12 +103,19 @@ class DuplicateKeyFinder {
 
 json ParseJsonRejectingDuplicateKeys(std::istream& in, const std::string& source, bool ignore_comments) {
   const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  RefuseNulBytes(text);
   CheckJsonDepth(text, source, ignore_comments);
   json out = json::parse(text, nullptr, /*allow_exceptions=*/true, ignore_comments);
   DuplicateKeyFinder finder;
   json::sax_parse(text, &finder, json::input_format_t::json, /*strict=*/true, ignore_comments);
   if (!finder.problems().empty()) throw DuplicateKeyError(finder.problems());
   return out;
+}
+
+std::string JsonCommentHint(std::string_view text, std::size_t byte) {
+  if (byte == 0 || byte >= text.size() || text[byte - 1] != '/' || (text[byte] != '/' && text[byte] != '*')) return {};
+  return "; comments (// or /* */) are not JSON: remove them (a diagram keeps its notes in \"description\" or "
+         "\"notes\")";
 }
 
 }  // namespace mb

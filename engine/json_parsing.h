@@ -5,6 +5,7 @@
 #include <istream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -24,8 +25,13 @@ class DuplicateKeyError : public std::runtime_error {
 
 /// Parses `in` (read to its end) like nlohmann::json::parse (comments allowed when `ignore_comments`), after the
 /// nesting-depth check of engine/json_limits.h. `source` names the file in messages.
-/// @throws JsonDepthError beyond kMaxJsonDepth levels; nlohmann::json::parse_error on a syntax error;
+/// @throws JsonDepthError beyond kMaxJsonDepth levels; nlohmann::json::parse_error on a syntax error or a NUL byte
+/// (RefuseNulBytes, engine/json_limits.h);
 /// DuplicateKeyError if an object repeats a key.
 nlohmann::json ParseJsonRejectingDuplicateKeys(std::istream& in, const std::string& source, bool ignore_comments);
+
+/// For a syntax error at byte `byte` (nlohmann::json::parse_error::byte, 1-based) of `text`: "; comments (// or /* */)
+/// are not JSON: remove them (…)" when a comment starts there, else "".
+std::string JsonCommentHint(std::string_view text, std::size_t byte);
 
 }  // namespace mb

@@ -2,6 +2,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <fmt/format.h>
 
 #include "engine/execution_order.h"
 #include "tests/engine/test_util.h"
@@ -254,6 +255,51 @@ TEST(DiagramLoaderTest, ALongChainBuildsAndEveryBlockIsFoundByName) {
   EXPECT_EQ(d.FindBlock("g7"), 8);
   EXPECT_EQ(d.FindBlock("source"), 0);
   EXPECT_EQ(d.FindBlock("g20000"), -1);
+}
+
+// Issue 41: what was accepted without a word is refused with its pointer.
+TEST(DiagramLoaderTest, AZeroLogIntervalIsRefusedAndAnAbsentOneIsAutomatic) {
+  json j = MinimalDiagram();
+  j["defaultExperiment"] = {{"startTime", 0.0}, {"stopTime", 1.0}, {"stepSize", 0.0}};
+  EXPECT_THAT(ErrorOf(j), HasSubstr("/defaultExperiment/stepSize: must be > 0 s (the log interval), got 0; leave "
+                                    "stepSize out to log at the fastest discrete period (or every solver step)"));
+  j["defaultExperiment"].erase("stepSize");
+  EXPECT_EQ(ErrorOf(j), "no error");
+}
+
+TEST(DiagramLoaderTest, AFreeEntryNamesAnElementAndOneOfItsParameters) {
+  json j = MinimalDiagram();
+  j["free"] = {"g.gian", "k.gain", "g", "g.gain"};
+  const std::string e = ErrorOf(j);
+  EXPECT_THAT(e, HasSubstr("/free/0: 'g.gian': element 'g' (gain) has no parameter 'gian' (did you mean 'gain'?); it "
+                           "takes: gain, width"));
+  EXPECT_THAT(e, HasSubstr("/free/1: 'k.gain': no element named 'k'"));
+  EXPECT_THAT(e, HasSubstr("/free/2: 'g': write element.parameter"));
+  EXPECT_THAT(e, ::testing::Not(HasSubstr("/free/3")));
+}
+
+TEST(DiagramLoaderTest, AConnectionNamesBothPortsEvenOfABlockWithOne) {
+  json j = MinimalDiagram();
+  j["connections"][0].erase("endConnector");
+  EXPECT_THAT(ErrorOf(j), HasSubstr("/connections/0/endConnector: missing; name the input of element 'g' that the "
+                                    "connection feeds (its inputs: u)"));
+  j = MinimalDiagram();
+  j["connections"][0]["startConnector"] = "";
+  EXPECT_THAT(ErrorOf(j), HasSubstr("/connections/0/startConnector: missing; name the output of element 'c' that "
+                                    "the connection starts from (its outputs: y)"));
+}
+
+// Issue 41: a million blocks ran past 30 s without a word; beyond kMaxDiagramElements the diagram is refused at once.
+TEST(DiagramLoaderTest, ADiagramOfMoreThanTheMostElementsIsRefusedAtOnce) {
+  json j = MinimalDiagram();
+  for (std::size_t i = j["elements"].size(); i <= kMaxDiagramElements; ++i) {
+    j["elements"].push_back({{"name", "c" + std::to_string(i)}, {"type", "constant"}});
+  }
+  EXPECT_EQ(ErrorOf(j), fmt::format("test.json: 1 problem in the diagram:\n  /elements: {} elements, more than the "
+                                    "{} a diagram may hold (each is a block built, sorted and stepped: a run would "
+                                    "take minutes before its first step); simulate a part of the model, or merge "
+                                    "blocks (a gain or state_space of width n for n scalar ones)",
+                                    kMaxDiagramElements + 1, kMaxDiagramElements));
 }
 
 }  // namespace

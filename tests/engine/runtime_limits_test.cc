@@ -287,5 +287,55 @@ TEST(JsonLimitsTest, DiagramFilesGoThroughTheDepthCheck) {
   EXPECT_THROW(ReadDiagramJson(path), JsonDepthError);
 }
 
+// Issue 41: nlohmann's parser takes a NUL byte for the end of the input, so a diagram padded with zeros after its
+// closing brace (a truncated copy, a preallocated file) was read as whole; and comments, which no JSON reader but
+// this one took, are refused with a hint.
+TEST(JsonLimitsTest, ANulByteOrACommentInADiagramIsRefusedWithItsPlace) {
+  const std::string path = ::testing::TempDir() + "padded_diagram.json";
+  const std::string diagram = R"({"schemaVersion": "1.0", "elements": [{"name": "c", "type": "constant"}]})";
+  const auto error = [&](const std::string& text) -> std::string {
+    std::ofstream(path, std::ios::binary) << text;
+    try {
+      ReadDiagramJson(path);
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_EQ(error(diagram + "\n" + std::string(3, '\0')),
+            path + ": not valid JSON: parse error at byte 75: a NUL byte at line 2, column 1 (and 2 more to the end of "
+                   "the file): no JSON text holds one (is the file truncated, padded with zeros or binary?); restore "
+                   "the file");
+  EXPECT_THAT(error(std::string("{\"schemaVersion\": \"1.0\",") + '\0' + " \"elements\": []}"),
+              HasSubstr("a NUL byte at line 1, column 25: no JSON text holds one"));
+  EXPECT_THAT(error("// a comment\n" + diagram),
+              HasSubstr("; comments (// or /* */) are not JSON: remove them (a diagram keeps its notes in "
+                        "\"description\" or \"notes\")"));
+  EXPECT_THAT(error(diagram.substr(0, 25) + "/* a comment */" + diagram.substr(25)),
+              HasSubstr("comments (// or /* */) are not JSON"));
+  EXPECT_EQ(error(diagram), "no error");
+  EXPECT_THROW(ParseJsonLimited(std::string("{}\0\0", 4), "x"), nlohmann::json::parse_error);  // GP models too
+}
+
+// Issue 41: a file of a million elements is refused after reading a fifth of it, before it is parsed.
+TEST(JsonLimitsTest, ADiagramFileOfTooManyElementsIsRefusedBeforeItIsParsed) {
+  const std::string path = ::testing::TempDir() + "many_elements.json";
+  {
+    std::ofstream out(path);
+    out << R"({"schemaVersion": "1.0", "notes": "x", "elements": [)";
+    for (std::size_t i = 0; i < 2 * kMaxDiagramElements; ++i) {
+      out << (i ? "," : "") << R"({"name": "c)" << i << R"(", "type": "constant"})";
+    }
+    out << "], \"connections\": [}";  // a syntax error at the end: never reached
+  }
+  try {
+    ReadDiagramJson(path);
+    FAIL() << "no exception";
+  } catch (const DiagramError& e) {
+    EXPECT_THAT(e.what(), HasSubstr(fmt::format("/elements: {} elements or more, more than the {} a diagram may hold",
+                                                kMaxDiagramElements + 1, kMaxDiagramElements)));
+  }
+}
+
 }  // namespace
 }  // namespace mb
