@@ -155,8 +155,12 @@ void ValidateInputs(const Eigen::Ref<const Eigen::VectorXd>& x,
                                 std::to_string(x.size()) + ", " + std::to_string(xdot.size()) +
                                 ", " + std::to_string(y.size()) + ")");
   }
-  if (x.size() < 2) {
-    throw std::invalid_argument("FitGpr: need at least 2 samples, got " + std::to_string(x.size()));
+  if (x.size() < kMinGprSamples) {
+    throw std::invalid_argument(fmt::format(
+        "{}{} training sample{}, too few for a GP fit: it needs at least {} (its hyperparameters are estimated "
+        "from the data); give a longer record{}",
+        options.source.empty() ? "" : options.source + ": ", x.size(), x.size() == 1 ? "" : "s", kMinGprSamples,
+        options.source.empty() ? "" : " or a wider --window"));
   }
   for (Eigen::Index i = 0; i < x.size(); ++i) {
     if (!std::isfinite(x(i)) || !std::isfinite(xdot(i)) || !std::isfinite(y(i))) {

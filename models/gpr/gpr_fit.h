@@ -36,6 +36,10 @@ inline constexpr int kMaxGprRestarts = 1000;
 inline constexpr double kMinGprPeriod = 1e-6;
 inline constexpr double kMaxGprPeriod = 1e6;
 
+/// The fewest samples FitGpr fits: its MAP estimate sets up to kGprParameterCount (6) hyperparameters from the data,
+/// which fewer samples than this cannot tell apart (issue 41: two rows gave a 56-feature model without a word).
+inline constexpr int kMinGprSamples = 10;
+
 struct GprFitOptions {
   GprKernel kernel = GprKernel::kPeriodicSe;
   GprSolver solver = GprSolver::kWeightSpace;

@@ -6,6 +6,7 @@
 
 #include "engine/output_file.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -13,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/closest_names.h"
 #include "engine/file_error.h"
 #include "engine/input_file.h"
 #include "engine/json_limits.h"
@@ -20,6 +22,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 namespace mb {
 namespace {
@@ -283,6 +286,54 @@ void ReadPosterior(Reader& r, GprModelData* m) {
   }
 }
 
+// Keys the reader does not know, at every level (issue 41: a model file with an unknown key was read as if it were
+// not there): "<pointer>/<key>: unknown key (did you mean 'k'?); the keys here are: …".
+void CheckKnownKeys(const json& object, const std::string& pointer, const std::vector<std::string>& known, Reader& r) {
+  if (!object.is_object()) return;  // the typed reads say what a non-object is
+  for (const auto& item : object.items()) {
+    if (std::find(known.begin(), known.end(), item.key()) != known.end()) continue;
+    const auto closest = ClosestNames(item.key(), known, 1);
+    r.Fail(fmt::format("{}/{}: unknown key{}; the keys here are: {} (a model file holds what fit-gpr writes: refit "
+                       "the model, or remove the key)",
+                       pointer, Excerpt(item.key(), 80),
+                       closest.empty() ? "" : fmt::format(" (did you mean '{}'?)", closest.front()),
+                       fmt::join(known, ", ")));
+  }
+}
+
+void CheckModelKeys(const json& j, GprKernel kernel, Reader& r) {
+  CheckKnownKeys(j, "", {"format", "version", "kernel", "hyperparameters", "mean", "trained_range", "basis", "weights",
+                         "weight_covariance_lower", "provenance"}, r);
+  std::vector<std::string> parameters;
+  for (int i = 0; i < kGprParameterCount; ++i) parameters.emplace_back(GprParameterName(i));
+  const auto child = [&](const json& parent, const char* key) -> const json& {
+    static const json kNone;
+    return parent.is_object() && parent.contains(key) ? parent[key] : kNone;
+  };
+  CheckKnownKeys(child(j, "hyperparameters"), "/hyperparameters", parameters, r);
+  CheckKnownKeys(child(j, "trained_range"), "/trained_range", {"x", "xdot"}, r);
+  const json& basis = child(j, "basis");
+  CheckKnownKeys(basis, "/basis",
+                 kernel == GprKernel::kPeriodicSe ? std::vector<std::string>{"harmonics", "period", "xdot_domain"}
+                                                  : std::vector<std::string>{"x_domain", "xdot_domain"},
+                 r);
+  for (const char* domain : {"x_domain", "xdot_domain"}) {
+    CheckKnownKeys(child(basis, domain), fmt::format("/basis/{}", domain), {"center", "half_width", "count"}, r);
+  }
+  const json& provenance = child(j, "provenance");
+  CheckKnownKeys(provenance, "/provenance",
+                 {"created_utc", "library_version", "solver", "source", "sample_count", "log_marginal_likelihood",
+                  "log_posterior", "fit_seconds", "tolerance", "period_estimated", "priors", "position_column",
+                  "velocity_column"},
+                 r);
+  const json& priors = child(provenance, "priors");
+  CheckKnownKeys(priors, "/provenance/priors", parameters, r);
+  for (const auto& name : parameters) {
+    CheckKnownKeys(child(priors, name.c_str()), "/provenance/priors/" + name, {"median", "log_sd", "lower", "upper"},
+                   r);
+  }
+}
+
 // How the model was made: /provenance and its priors (errors collected in r).
 void ReadProvenance(const json& j, Reader& r, GprProvenance* p) {
   p->created_utc = r.String("/provenance/created_utc");
@@ -323,12 +374,20 @@ void CheckCovariance(const Eigen::MatrixXd& covariance, std::string_view origin)
   }
 }
 
-// Weights that overflow (all 1e308) predict NaN: checked at the corners and the centre of the trained range, where
-// the model is meant to be used.
+// A posterior variance is never above the prior's: ψᵀ Cov(β) ψ ≤ ψᵀ diag(s) ψ ≤ σ_f² (the data can only pin the
+// model down). Twice the prior (round-off has no such size) marks a covariance edited or corrupt (issue 41: one of
+// 1e200 everywhere predicted ± 1e101 N as if the model knew nothing less than that).
+constexpr double kMaxPosteriorOverPriorVariance = 2.0;
+
+// Weights that overflow (all 1e308) predict NaN, a covariance far above the prior a standard deviation no fit gives:
+// both checked on a 5 × 5 grid over the trained range, where the model is meant to be used.
 void CheckPredictionsAreFinite(const GprModel& model, std::string_view origin) {
   const GprModelData& d = model.data();
-  for (double x : {d.x_range.min, 0.5 * (d.x_range.min + d.x_range.max), d.x_range.max}) {
-    for (double xdot : {d.xdot_range.min, 0.5 * (d.xdot_range.min + d.xdot_range.max), d.xdot_range.max}) {
+  const double prior_variance = d.hyperparameters.signal_variance_x + d.hyperparameters.signal_variance_xdot;
+  for (int i = 0; i <= 4; ++i) {
+    const double x = d.x_range.min + 0.25 * i * (d.x_range.max - d.x_range.min);
+    for (int k = 0; k <= 4; ++k) {
+      const double xdot = d.xdot_range.min + 0.25 * k * (d.xdot_range.max - d.xdot_range.min);
       double mean = 0.0, std = 0.0;
       model.Predict(x, xdot, &mean, &std);
       if (!std::isfinite(mean) || !std::isfinite(std)) {
@@ -336,6 +395,13 @@ void CheckPredictionsAreFinite(const GprModel& model, std::string_view origin) {
                        " at x = " + FormatNumber(x) + " m, xdot = " + FormatNumber(xdot) +
                        " m/s inside its trained range (weights or mean too large for double arithmetic): the file "
                        "was edited or is corrupt; refit the model (motionblocks fit-gpr)"});
+      }
+      if (std * std > kMaxPosteriorOverPriorVariance * prior_variance) {
+        Throw(origin, {"/weight_covariance_lower: the model's standard deviation at x = " + FormatNumber(x) +
+                       " m, xdot = " + FormatNumber(xdot) + " m/s inside its trained range is " + FormatNumber(std) +
+                       ", above its prior's " + FormatNumber(std::sqrt(prior_variance)) +
+                       " (signal_variance_x + signal_variance_xdot): a posterior is never less certain than its "
+                       "prior, so the covariance was edited or is corrupt; refit the model (motionblocks fit-gpr)"});
       }
     }
   }
@@ -350,6 +416,7 @@ GprModel GprModelFromJson(const json& j, std::string_view origin) {
   GprModelData m;
   ReadPosterior(r, &m);
   ReadProvenance(j, r, &m.provenance);
+  CheckModelKeys(j, m.kernel, r);
   if (!r.errors().empty()) Throw(origin, r.errors());
   CheckCovariance(m.weight_covariance, origin);
   GprModel model = [&] {

@@ -102,16 +102,17 @@ GprTrainingData SelectGprTrainingData(const MeasurementLog& log, const GprTraini
     if (selection.window && !(x(i) >= selection.window->min && x(i) <= selection.window->max)) continue;
     if (in_window++ % selection.downsample == 0) rows.push_back(i);
   }
-  if (rows.size() < 2) {
+  if (rows.size() < static_cast<std::size_t>(kMinGprSamples)) {
     const std::string window =
         selection.window ? fmt::format(" in the position window [{:g}, {:g}] m", selection.window->min,
                                        selection.window->max)
                          : "";
     throw std::invalid_argument(fmt::format(
-        "{}: {} training sample(s){} (column {} spans [{:g}, {:g}] m over {} rows); at least 2 are needed: "
-        "widen the window or lower --downsample",
+        "{}: {} training sample(s){} (column {} spans [{:g}, {:g}] m over {} rows); a GP fit needs at least {} "
+        "(it estimates its hyperparameters from the data): give a longer log, widen the window or lower "
+        "--downsample",
         log.source(), rows.size(), window, selection.position_column, log.rows() > 0 ? x.minCoeff() : 0.0,
-        log.rows() > 0 ? x.maxCoeff() : 0.0, log.rows()));
+        log.rows() > 0 ? x.maxCoeff() : 0.0, log.rows(), kMinGprSamples));
   }
 
   const auto n = static_cast<Eigen::Index>(rows.size());

@@ -192,6 +192,11 @@ TEST(FitGpr, InvalidInputsAreClearErrors) {
   EXPECT_NE(message(big, big, big, exact).find("use the weight_space solver"), std::string::npos);
   EXPECT_EQ(ParseGprSolver("exact"), GprSolver::kExact);
   EXPECT_THROW(ParseGprSolver("cholesky"), std::invalid_argument);
+  GprFitOptions named;
+  named.source = "t.csv";
+  EXPECT_EQ(message(x.head(9), v.head(9), y.head(9), named),
+            "t.csv: 9 training samples, too few for a GP fit: it needs at least 10 (its hyperparameters are "
+            "estimated from the data); give a longer record or a wider --window");
 }
 
 // A model whose posterior mean is known in closed form: μ = m + a cos(ωx) + b·ψ_1(ẋ).

@@ -173,5 +173,49 @@ TEST_F(GprModelFile, WeightsThatOverflowOrACovarianceNotPositiveSemidefiniteAreR
   EXPECT_NO_THROW(GprModelFromJson(GprModelToJson(*model_)));  // a fitted model passes
 }
 
+// Issue 41: a covariance of 1e200 everywhere (positive semidefinite, rank one) predicted ± 1e101 and was read; a
+// posterior is never less certain than its prior.
+TEST_F(GprModelFile, ACovarianceAboveThePriorIsRefused) {
+  for (const GprModel* model : {model_, ds_model_}) {
+    nlohmann::json j = GprModelToJson(*model);
+    for (auto& c : j["weight_covariance_lower"]) c = 1e200;
+    const std::string error = LoadError(j);
+    EXPECT_NE(error.find(": invalid GPR model file:\n  /weight_covariance_lower: the model's standard deviation at "
+                         "x = "),
+              std::string::npos)
+        << error;
+    EXPECT_NE(error.find("a posterior is never less certain than its prior, so the covariance was edited or is "
+                         "corrupt; refit the model (motionblocks fit-gpr)"),
+              std::string::npos)
+        << error;
+    EXPECT_NO_THROW(GprModelFromJson(GprModelToJson(*model)));  // the fitted model passes
+  }
+}
+
+// Issue 41: keys the reader does not know are refused at every level, with the closest known key.
+TEST_F(GprModelFile, UnknownKeysAreRefusedWithTheClosestKnownOne) {
+  nlohmann::json j = GprModelToJson(*model_);
+  j["extra"] = 1;
+  j["hyperparameters"]["lenght_scale_x"] = 0.1;
+  j["basis"]["x_domain"] = {{"center", 0.0}, {"half_width", 1.0}, {"count", 8}};  // a "DS" key in a "PS" model
+  j["provenance"]["priors"]["period"]["medain"] = 1.0;
+  const std::string error = LoadError(j);
+  EXPECT_NE(error.find("\n  /extra: unknown key; the keys here are: format, version, kernel, hyperparameters, mean, "
+                       "trained_range, basis, weights, weight_covariance_lower, provenance (a model file holds what "
+                       "fit-gpr writes: refit the model, or remove the key)"),
+            std::string::npos)
+      << error;
+  EXPECT_NE(error.find("\n  /hyperparameters/lenght_scale_x: unknown key (did you mean 'length_scale_x'?)"),
+            std::string::npos)
+      << error;
+  EXPECT_NE(error.find("\n  /basis/x_domain: unknown key (did you mean 'xdot_domain'?); the keys here are: harmonics, "
+                       "period, xdot_domain"),
+            std::string::npos)
+      << error;
+  EXPECT_NE(error.find("\n  /provenance/priors/period/medain: unknown key (did you mean 'median'?)"),
+            std::string::npos)
+      << error;
+}
+
 }  // namespace
 }  // namespace mb

@@ -175,6 +175,18 @@ TEST_F(GprLog, ErrorsNameTheProblemAndTheFix) {
   EXPECT_THAT(ErrorOf([&] { SelectGprTrainingData(log, selection); }),
               HasSubstr("<memory>: 0 training sample(s) in the position window [0.5, 0.6] m (column position_m "
                         "spans ["));
+  // Two rows are no fit (issue 41: a 56-feature model came of them without a word): the minimum is said.
+  const Eigen::VectorXd& x = log.column("position_m");
+  const auto two = [&](const Eigen::VectorXd& column) { return Eigen::VectorXd(column.head(2)); };
+  const MeasurementLog two_rows({"time_s", "position_m", "velocity_m_s", "dob_N"},
+                                {two(log.column("time_s")), two(x), two(log.column("velocity_m_s")),
+                                 two(log.column("dob_N"))});
+  selection.window.reset();
+  EXPECT_THAT(ErrorOf([&] { SelectGprTrainingData(two_rows, selection); }),
+              HasSubstr(fmt::format("<memory>: 2 training sample(s) (column position_m spans [{:g}, {:g}] m over 2 "
+                                    "rows); a GP fit needs at least 10 (it estimates its hyperparameters from the "
+                                    "data)",
+                                    std::min(x(0), x(1)), std::max(x(0), x(1)))));
   selection.window = GprRange{0.3, 0.2};
   EXPECT_THAT(ErrorOf([&] { SelectGprTrainingData(log, selection); }),
               HasSubstr("position window [0.3, 0.2] m is empty or not finite: give xmin < xmax"));
