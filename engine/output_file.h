@@ -15,7 +15,8 @@ namespace mb {
 ///  - no file or a regular file at `path`: the text goes to a temporary file beside it, which is then renamed
 ///    over `path` (atomic on POSIX);
 ///  - a symbolic link: the same, applied to the file it points to (the link stays a link);
-///  - a FIFO or character device (a pipe, /dev/stdout, /dev/null): written through, never replaced;
+///  - a FIFO or character device (a pipe, /dev/stdout, /dev/null): written through, never replaced; a FIFO that no
+///    process has open for reading is refused at once (opening it would wait forever);
 ///  - a folder, block device, socket or a dangling link: refused.
 /// @throws std::runtime_error naming the path, what is there and how to fix it, when the target is refused or
 /// cannot be written (the temporary file is removed; the original is untouched).
@@ -40,6 +41,27 @@ class StreamedFile {
   std::filesystem::path temporary_;  ///< empty when written through
   std::ofstream out_;
   bool committed_ = false;
+};
+
+/// From now on SIGINT, SIGTERM and SIGHUP first remove every temporary file a StreamedFile (or WriteFileSafely) is
+/// writing and write the InterruptMarker's file, if one lives, then end the process as the signal's default action
+/// would (so a shell sees the interrupt). The handler does only what a signal handler may (unlink, open, write,
+/// rename). Call once, from main (issue 41: Ctrl-C left signals.csv.tmpNNNN beside an earlier run's files).
+void RemoveTemporaryFilesOnInterrupt();
+
+/// While it lives, an interrupt (RemoveTemporaryFilesOnInterrupt) writes `text` to `path` (through a temporary file
+/// renamed over it): a folder left by an interrupted command says it is incomplete. One at a time.
+class InterruptMarker {
+ public:
+  InterruptMarker(const std::filesystem::path& path, std::string text);
+  ~InterruptMarker();
+  InterruptMarker(const InterruptMarker&) = delete;
+  InterruptMarker& operator=(const InterruptMarker&) = delete;
+
+ private:
+  std::string path_;
+  std::string temporary_;
+  std::string text_;
 };
 
 /// A simulation log streamed to CSV as it is taken (Simulator::StreamLogTo): the header "time_s,<names>", then

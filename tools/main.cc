@@ -17,6 +17,7 @@
 #include "engine/file_access.h"
 #include "engine/input_file.h"
 #include "engine/numerical_error.h"
+#include "engine/output_file.h"
 #include "engine/terminal_text.h"
 #include "tools/commands/cli_options.h"
 #include "tools/commands/command_registry.h"
@@ -64,6 +65,7 @@ class EscapedTerminalOutput {
 
 int main(int argc, char** argv) {
   const EscapedTerminalOutput escaped_output;
+  mb::RemoveTemporaryFilesOnInterrupt();  // Ctrl-C leaves no half-written "<file>.tmp<pid>" (issue 41)
   CLI::App app{"motionblocks — block-diagram simulation, model-vs-measurement diagnosis and learned disturbance "
                "compensation for precision motion control"};
   app.set_version_flag("--version", std::string("motionblocks ") + MB_VERSION);

@@ -3,6 +3,7 @@
 
 #include <sys/stat.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -174,7 +175,18 @@ TEST_F(DiagramFiles, AnOutputIntoAFifoOrDeviceIsWrittenThroughNeverReplaced) {
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   std::string received;
   std::thread reader([&] { received = ReadAll(fifo); });
-  WriteFileSafely(fifo, "through the pipe");
+  // The reader thread may not have opened the FIFO yet: until it has, the output is refused (no reader), not
+  // waited for.
+  for (int attempt = 0;; ++attempt) {
+    try {
+      WriteFileSafely(fifo, "through the pipe");
+      break;
+    } catch (const std::runtime_error& e) {
+      ASSERT_THAT(e.what(), HasSubstr("that no process reads"));
+      ASSERT_LT(attempt, 500) << "the reader never opened the FIFO";
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  }
   reader.join();
   EXPECT_EQ(received, "through the pipe");
   EXPECT_TRUE(fs::is_fifo(fs::status(fifo)));
@@ -186,6 +198,26 @@ TEST_F(DiagramFiles, AnOutputIntoAFifoOrDeviceIsWrittenThroughNeverReplaced) {
   } catch (const std::runtime_error& e) {
     EXPECT_THAT(e.what(), HasSubstr("is a folder, not a file"));
   }
+}
+
+// Issue 41: draw -o FIFO waited forever for a reader; a FIFO nobody reads is refused at once, nothing written.
+TEST_F(DiagramFiles, AnOutputIntoAFifoThatNobodyReadsIsRefusedAtOnce) {
+  const fs::path out = root_ / "out";
+  fs::create_directories(out);
+  const fs::path fifo = out / "unread";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    WriteFileSafely(fifo, "nobody listens");
+    ADD_FAILURE() << "a FIFO without a reader was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), fifo.string() + " is a FIFO (named pipe) that no process reads: writing to it "
+                                                      "would wait forever; start its reader first, or give a file "
+                                                      "name");
+  }
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(5));
+  EXPECT_TRUE(fs::is_fifo(fs::status(fifo)));
+  EXPECT_EQ(std::distance(fs::directory_iterator(out), fs::directory_iterator{}), 1);  // no temporary beside it
 }
 
 }  // namespace

@@ -1,12 +1,14 @@
 // motionblocks run DIAGRAM [--set id.param=value …] [--input connector=FILE[:COLUMN] …] [--out DIR]
 // Simulates a diagram (RunDiagram, tools/workflow/run.h); writes signals.csv (streamed as the run goes), summary.json
 // (metrics in SI units) and report.html with plots (tools/report/run_report.h). Complete or absent: the files an
-// earlier run left in --out are removed before this one starts, and each file is written whole by rename, so an
-// interrupted run leaves no summary.json (issue 30).
+// earlier run left in --out are removed before this one starts, and each file is written whole by rename, so a killed
+// run leaves no summary.json (issue 30); an interrupted one (Ctrl-C, SIGTERM, SIGHUP) removes its temporary files and
+// leaves summary.json saying "complete": false (issue 41).
 
 #include <iostream>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "engine/diagram_loader.h"
 #include "engine/output_file.h"
@@ -43,8 +45,21 @@ struct RunOptions {
   std::string out = "out/run";
 };
 
+// What summary.json says when the run is interrupted (SIGINT, SIGTERM, SIGHUP) before it has finished: written by the
+// signal handler (engine/output_file.h, InterruptMarker) after it removed the run's temporary files (issue 41).
+std::string InterruptedSummary(const RunOptions& o) {
+  return nlohmann::json{{"complete", false},
+                        {"interrupted", "the run was interrupted (SIGINT, SIGTERM or SIGHUP) before it finished: no "
+                                        "file in this folder is its result; run it again"},
+                        {"diagram", fs::absolute(o.diagram).string()},
+                        {"overrides", o.overrides}}
+             .dump(2) +
+         "\n";
+}
+
 void RunRun(const RunOptions& o) {
   RefuseOutputsOverInputs(RunInputFiles(o.diagram, o.inputs), {}, {{"--out", o.out, RunOutputNames()}});
+  const InterruptMarker interrupted(fs::path(o.out) / "summary.json", InterruptedSummary(o));
   const Diagram diagram = LoadDiagram(o.diagram, ParseOverrides(o.overrides));
   DiagramRun run(diagram, {o.inputs});  // refuses a bad diagram or input before any file is touched
   const RunFiles files{o.diagram, o.overrides, o.out};
