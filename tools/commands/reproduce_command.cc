@@ -9,6 +9,7 @@
 #include "tools/commands/cli_options.h"
 #include "tools/commands/command_registry.h"
 #include "tools/experiments/paper/reproduce.h"
+#include "tools/report/output_files.h"
 
 namespace mb {
 
@@ -25,6 +26,7 @@ struct ReproduceCommandOptions {
 };
 
 void RunReproduceCommand(const ReproduceCommandOptions& o) {
+  RequireReportFolderName("--out", o.out);
   ReproduceOptions options;
   options.out = o.out;
   options.diagrams = o.diagrams.empty() ? ShippedDataFolder() / "diagrams" / "paper" : fs::path(o.diagrams);

@@ -10,6 +10,7 @@
 #include "tools/batch/shard.h"
 #include "tools/commands/command_registry.h"
 #include "tools/report/sweep_report.h"
+#include "tools/report/output_files.h"
 
 namespace mb {
 
@@ -21,6 +22,7 @@ struct SweepMergeCommandOptions {
 };
 
 void RunSweepMergeCommand(const SweepMergeCommandOptions& o) {
+  RequireReportFolderName("--out", o.out);  // its report.html (issue 41)
   std::vector<std::filesystem::path> shards(o.shards.begin(), o.shards.end());
   const SweepMergeOutcome outcome = MergeSweepShards(shards, o.out);
   std::cout << fmt::format("merged {} shard folders: {} runs, each once ({} failed)\n", shards.size(), outcome.runs,

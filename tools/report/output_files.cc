@@ -10,6 +10,7 @@
 
 #include "engine/diagram_document.h"
 #include "engine/output_file.h"
+#include "engine/text_excerpt.h"
 #include "models/diagnosis/measurement_log.h"
 
 namespace mb {
@@ -120,8 +121,22 @@ bool SameFile(const fs::path& a, const fs::path& b) {
 
 }  // namespace
 
+void RequireReportFolderName(const std::string& option, const fs::path& folder) {
+  const std::string text = folder.string();
+  const auto at = text.find_first_of("?#*[]");
+  if (at == std::string::npos) return;
+  throw std::invalid_argument(fmt::format(
+      "{} {}: a report folder's path may not hold '?', '#', '*', '[' or ']' (it holds '{}'): a browser takes '?' and "
+      "'#' in the report's address for the end of its path, so its pictures would go missing, and a shell expands "
+      "'*', '?' and '[…]' in the commands that redraw them; nothing was done: choose another {}",
+      option, Excerpt(text), text[at], option));
+}
+
 void RefuseOutputsOverInputs(const std::vector<CommandFile>& inputs, const std::vector<CommandFile>& outputs,
                              const std::vector<OutputFolder>& folders) {
+  for (const auto& folder : folders) {
+    if (!folder.folder.empty()) RequireReportFolderName(folder.option, folder.folder);
+  }
   for (const auto& in : inputs) {
     if (in.path.empty()) continue;
     for (const auto& out : outputs) {

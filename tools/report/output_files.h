@@ -56,6 +56,12 @@ class OutputReplacesInputError : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
+/// Refuses (std::invalid_argument, exit 2) an output folder whose path holds '?', '#', '*', '[' or ']' (issue 41): a
+/// browser reads '?' and '#' in report.html's address as the end of its path, so the report's pictures went missing
+/// while the command said it had written them, and a shell expands '*', '?' and "[…]" in the commands printed to
+/// redraw them. `option` names it ("--out"). RefuseOutputsOverInputs calls it for every folder it is given.
+void RequireReportFolderName(const std::string& option, const std::filesystem::path& folder);
+
 /// Refuses, before a command does any work, an output that would replace one of its inputs: an output file that is an
 /// input (the same path once "..", "." and symbolic links are resolved: std::filesystem::weakly_canonical; or the
 /// same file under another name, a hard link: std::filesystem::equivalent), or an input that lies in an output folder

@@ -111,6 +111,21 @@ TEST(RefuseOutputsOverInputs, AnInputInANamedSubfolderOfAnOutputFolderIsRefused)
 
 // What an earlier run left: the named files in the folder and in its named subfolders, killed writers' temporary
 // files included; nothing else (another name, another subfolder, a folder).
+// Issue 41: a report written under o*?[x] lost its pictures in a browser ('?' and '#' end a URL's path) while the
+// command exited 0; such a folder is refused before any work.
+TEST(RefuseOutputsOverInputs, AFolderWhosePathBreaksTheReportsAddressIsRefused) {
+  for (const std::string name : {"o*?[x]", "o#x", "runs/[a]", "a?b"}) {
+    EXPECT_THAT([&] { RefuseOutputsOverInputs({{"DIAGRAM", "d.json"}}, {}, {{"--out", name, {"report.html"}}}); },
+                ThrowsMessage<std::invalid_argument>(
+                    HasSubstr("--out " + name + ": a report folder's path may not hold '?', '#', '*', '[' or ']'")))
+        << name;
+  }
+  EXPECT_THAT([] { RequireReportFolderName("--out", "o*x"); },
+              ThrowsMessage<std::invalid_argument>(HasSubstr("(it holds '*'): a browser takes '?' and '#' in the "
+                                                             "report's address for the end of its path")));
+  EXPECT_NO_THROW(RequireReportFolderName("--out", "out/run 1 (copy)"));
+}
+
 TEST(OutputFilesIn, FindsTheNamedFilesInTheFolderAndItsSubfolders) {
   const fs::path dir = Folder("mb_outputs_earlier");
   fs::create_directories(dir / "plot" / "deeper");
