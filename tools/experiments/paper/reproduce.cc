@@ -142,6 +142,7 @@ double RootMeanSquareDifference(const std::vector<double>& a, const std::vector<
 }
 
 json Reproduce(const ReproduceOptions& o) {
+  paper::CheckOdriveData(o);  // a folder named explicitly is read or refused before the long steps
   paper::ReproduceContext c(o);
   fs::create_directories(o.out / "models");
   AllowDiagramFilesUnder(o.out / "models");  // the paper's diagrams read the GP models this run writes there

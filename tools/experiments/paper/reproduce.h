@@ -42,7 +42,9 @@ struct ReproduceOptions {
   bool progress = true;   ///< progress lines on stderr
   /// The ODrive records of the "real motor" step, a folder laid out as the shipped diagrams/odrive/data
   /// (slow2_nocomp_{0,1,2}.csv, slow2_slower_nocomp_0.csv, coggingmap_0_a_16.csv); empty: that folder, found from
-  /// `diagrams` (diagrams/paper → ../odrive/data). Missing: the step says so and is skipped.
+  /// `diagrams` (diagrams/paper → ../odrive/data), skipped (the step says so) when absent. A folder named here must
+  /// hold the five records, each valid and at least 100 rows long: Reproduce refuses it before its first step
+  /// otherwise (std::invalid_argument naming the file and the reason).
   std::filesystem::path odrive_data;
   /// Step messages ("[3/8] fitting …"); the command prints them on stdout. May be empty.
   std::function<void(const std::string&)> message;

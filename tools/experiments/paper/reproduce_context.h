@@ -182,6 +182,9 @@ void CompareConfidenceWeighting(ReproduceContext& c);
 void LearnOnline(ReproduceContext& c);
 void TimePosteriorMean(ReproduceContext& c);
 void RunRealMotor(ReproduceContext& c);
+/// A folder the user named (ReproduceOptions::odrive_data) read now, before step 1: its five records must be there and
+/// valid. @throws std::invalid_argument "--odrive-data DIR: <file>: <reason>" (issue 41: it was skipped, exit 0).
+void CheckOdriveData(const ReproduceOptions& options);
 void StateFindings(ReproduceContext& c);
 void WriteReproduceReport(ReproduceContext& c);
 

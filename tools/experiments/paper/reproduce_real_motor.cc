@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 #include <vector>
 
 #include "models/diagnosis/measurement_log.h"
@@ -40,11 +41,19 @@ struct MotorRecord {
   double speed = 0.0;     ///< mean angular speed [rev/s]
 };
 
+// The fewest rows a record of this step may have: a revolution's records hold 4,000 to 15,000 rows, the map 512; a
+// record of fewer is cut short (issue 41: a too-short record was taken without a word).
+constexpr Eigen::Index kMinMotorRecordRows = 100;
+
+// The records of the step, in the folder laid out as diagrams/odrive/data.
+constexpr const char* kMapFile = "coggingmap_0_a_16.csv";
+
 MotorRecord ReadRecord(const fs::path& file, const std::string& name) {
   MeasurementLogOptions read;
   read.required_columns = {"angle_rev", "iq_A"};
   read.max_gap_ratio = 0.0;  // USB-logged: jittered, with gaps; the order of the samples is all this step needs
   read.allow_repeated_times = true;
+  read.min_rows = kMinMotorRecordRows;
   const MeasurementLog log = ReadMeasurementLog(file.string(), read);
   MotorRecord r{name, log.column("angle_rev"), log.column("iq_A"), 0.0};
   // The set-point speed, between the 10th and the 90th percent of the samples: nocomp_1 and _2 begin with a quick
@@ -52,8 +61,32 @@ MotorRecord ReadRecord(const fs::path& file, const std::string& name) {
   const Eigen::VectorXd& t = log.time();
   const Eigen::Index lo = t.size() / 10, hi = t.size() - 1 - t.size() / 10;
   r.speed = (r.angle(hi) - r.angle(lo)) / (t(hi) - t(lo));
+  if (!std::isfinite(r.speed) || r.speed == 0.0) {
+    throw std::invalid_argument(fmt::format("{}: the angle does not advance over the record (mean speed {:g} rev/s): "
+                                            "this step needs a revolution at a constant velocity",
+                                            file.string(), r.speed));
+  }
   r.angle = r.angle.unaryExpr([](double a) { return a - std::floor(a); });
   return r;
+}
+
+MotorRecord ReadMap(const fs::path& data) {
+  MeasurementLogOptions map_read;
+  map_read.required_columns = {"angle_rev", "iq_A"};
+  map_read.min_rows = kMinMotorRecordRows;
+  const MeasurementLog map_log = ReadMeasurementLog((data / kMapFile).string(), map_read);
+  return {"coggingmap_0/a_16", map_log.column("angle_rev"), map_log.column("iq_A"), 0.0};
+}
+
+struct MotorRecords {
+  MotorRecord fast, slow, other1, other2, map;
+};
+
+MotorRecords ReadMotorRecords(const fs::path& data) {
+  return {ReadRecord(data / "slow2_nocomp_0.csv", "slow2/nocomp_0"),
+          ReadRecord(data / "slow2_slower_nocomp_0.csv", "slow2_slower/nocomp_0"),
+          ReadRecord(data / "slow2_nocomp_1.csv", "slow2/nocomp_1"),
+          ReadRecord(data / "slow2_nocomp_2.csv", "slow2/nocomp_2"), ReadMap(data)};
 }
 
 struct Split {
@@ -115,25 +148,37 @@ struct MotorFit {
 
 }  // namespace
 
+void CheckOdriveData(const ReproduceOptions& options) {
+  if (options.odrive_data.empty()) return;  // the shipped folder: read, or skipped when absent
+  const fs::path& data = options.odrive_data;
+  std::error_code ec;
+  if (!fs::is_directory(data, ec)) {
+    throw std::invalid_argument(fmt::format("--odrive-data {}: {}; give the folder of the ODrive records (laid out as "
+                                            "diagrams/odrive/data)",
+                                            data.string(), fs::exists(data, ec) ? "not a folder" : "no such folder"));
+  }
+  try {
+    (void)ReadMotorRecords(data);
+  } catch (const std::exception& e) {
+    throw std::invalid_argument(fmt::format("--odrive-data {}: {}", data.string(), e.what()));
+  }
+}
+
 void RunRealMotor(ReproduceContext& c) {
+  const bool named = !c.options.odrive_data.empty();
   const fs::path data =
-      c.options.odrive_data.empty()
-          ? (c.options.diagrams / ".." / "odrive" / "data").lexically_normal()
-          : c.options.odrive_data;
+      named ? c.options.odrive_data : (c.options.diagrams / ".." / "odrive" / "data").lexically_normal();
   c.Say(fmt::format("[8/{}] real motor: DS and PS on an ODrive BLDC motor's cogging ({})", kSteps, data.string()));
-  if (!fs::exists(data / "coggingmap_0_a_16.csv")) {
+  if (!named && !fs::exists(data / kMapFile)) {  // skipped only when the shipped folder is not installed
     c.real_motor = {{"skipped", fmt::format("no ODrive records at {} (give --odrive-data DIR)", data.string())}};
     return;
   }
-  const MotorRecord fast = ReadRecord(data / "slow2_nocomp_0.csv", "slow2/nocomp_0");
-  const MotorRecord slow = ReadRecord(data / "slow2_slower_nocomp_0.csv", "slow2_slower/nocomp_0");
-  const MotorRecord other1 = ReadRecord(data / "slow2_nocomp_1.csv", "slow2/nocomp_1");
-  const MotorRecord other2 = ReadRecord(data / "slow2_nocomp_2.csv", "slow2/nocomp_2");
-  MeasurementLogOptions map_read;
-  map_read.required_columns = {"angle_rev", "iq_A"};
-  const MeasurementLog map_log = ReadMeasurementLog((data / "coggingmap_0_a_16.csv").string(),
-                                                    map_read);
-  const MotorRecord map{"coggingmap_0/a_16", map_log.column("angle_rev"), map_log.column("iq_A"), 0.0};
+  const MotorRecords records = ReadMotorRecords(data);  // a folder named explicitly was checked before step 1
+  const MotorRecord& fast = records.fast;
+  const MotorRecord& slow = records.slow;
+  const MotorRecord& other1 = records.other1;
+  const MotorRecord& other2 = records.other2;
+  const MotorRecord& map = records.map;
 
   const std::vector<const MotorRecord*> training = {&fast, &slow};
   std::vector<MotorFit> fits;
