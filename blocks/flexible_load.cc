@@ -77,6 +77,8 @@ EffectBlockTemplate ResonanceEffectBlock() {
                           {"damping_ratio", damping}};
   };
   block.free = {"mass", "frequency_hz", "damping_ratio"};
+  // An overdamped "mode" (ζ ≥ 1) has no resonance: the refit turned it into a broad low-pass of the acceleration.
+  block.physical_range = {{"damping_ratio", {0.0, 1.0}}, {"mass", {0.0, std::numeric_limits<double>::infinity()}}};
   return block;
 }
 

@@ -50,4 +50,19 @@ EffectBlockTemplate GravityEffectBlock() {
 MB_REGISTER_EFFECT_BLOCK(position_periodic, PositionPeriodicEffectBlock())
 MB_REGISTER_EFFECT_BLOCK(gravity, GravityEffectBlock())
 
+namespace {
+
+// Adds the grammar's friction_ripple (models/diagnosis/effects/factor_products.cc: sign(v) × a ripple of the position):
+// the ripple times sign(v), a friction that varies along the pitch.
+EffectBlockTemplate FrictionRippleEffectBlock() {
+  EffectBlockTemplate block = PositionRippleBlock("position_periodic", 1);
+  block.element_name = "friction_ripple";
+  block.multiplier = SignOfVelocity();
+  return block;
+}
+
+}  // namespace
+
+MB_REGISTER_EFFECT_BLOCK(friction_ripple, FrictionRippleEffectBlock())
+
 }  // namespace mb

@@ -160,6 +160,8 @@ Ranking RankEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base
     if (pass == 0) {
       result->rmse_base_refit = std::sqrt(out.law_residual.squaredNorm() / static_cast<double>(n));
       result->whiteness_before = Whiteness(out.law_residual);
+      result->noise_floor =
+          EstimateNoiseFloor(out.law_residual, MedianTimeStep(signals.time), options.regressor_filter_hz);
     }
     if (signals.model_output.size() == n) corrected.model_output = signals.model_output + (r - out.law_residual);
     const CandidateSearch search = ProposeCandidateEffects(corrected, out.law_residual, law.columns, catalogue);
@@ -174,6 +176,7 @@ Ranking RankEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base
     out.m.Weigh(r, out.weights);
     out.grams.emplace(out.m, options.folds);
     out.chosen = StartSelection(*out.grams, p);
+    out.chosen.leak_mse = std::pow(options.leak_floor_ratio * result->noise_floor.rms, 2);
     for (std::size_t i = 0; i < law.effects.size(); ++i) {
       out.chosen.order.push_back(i);
       out.chosen.selected.insert(out.chosen.selected.end(), out.m.cands[i].idx.begin(), out.m.cands[i].idx.end());
@@ -302,6 +305,9 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
   const std::string ambiguity_note =
       CheckPositionTimeAmbiguity(signals, ranked.law_residual, ranked.law_columns, options, &result);
   NoteHysteresis(signals, r_after, &result);
+  result.relevance = RankSignalRelevance(signals, r_after, options.folds);
+  result.notes.push_back("what the residual left " + DescribeRelevance(result.relevance) +
+                         " (held-out share a smooth function of each signal alone explains)");
 
   // 7. Evidence and summary.
   Summarise(options, ambiguity_note, &result);

@@ -36,6 +36,7 @@
 #include "models/diagnosis/effect_catalogue.h"
 #include "models/diagnosis/periodogram.h"
 #include "models/diagnosis/signal_processing.h"
+#include "models/diagnosis/signal_relevance.h"
 
 namespace mb {
 
@@ -90,6 +91,11 @@ struct DiagnosisOptions {
   // re-estimated in the joint fit with every other chosen effect in, by at most this many coordinate passes; the
   // scores are then recomputed with the refined parameters (a note per parameter that moved). 0 = off.
   int refinement_sweeps = 2;
+  // No effect may fit the noise (DIAGNOSIS.md, "The noise floor, and leaks"): a candidate whose held-out RMSE would
+  // fall below this fraction of the record's noise floor (EstimateNoiseFloor on the base-refit residual) fits the
+  // measurement's own noise — a regressor built from the compared output, a leak — and is refused with a note.
+  // 0 = off.
+  double leak_floor_ratio = 0.7;
 };
 
 // One effect the ranking chose.
@@ -130,6 +136,9 @@ struct DiagnosisResult {
   double heldout_rmse_base = 0.0;            // cross-validated, base regressors only
   double heldout_rmse_after = 0.0;           // cross-validated, base + chosen effects
   double explained_share = 0.0;              // 1 − heldout_mse_after/heldout_mse_base
+  // The record's noise floor (EstimateNoiseFloor of the base-refit residual): no model can do better than about this
+  // RMS [unit of the output]; 0 when the record is too short to tell.
+  NoiseFloor noise_floor;
 
   std::vector<std::string> base_names;
   Eigen::VectorXd base_coefficients;         // corrections to the base parameters (joint fit)
@@ -145,6 +154,9 @@ struct DiagnosisResult {
   // friction law near zero velocity is wrong; the other effects were searched in what they leave.
   std::vector<std::string> friction_law;
   double robust_weight_share = 1.0;             // mean Huber weight of the final fit (1 = no sample down-weighted)
+  // What the residual left after the chosen effects depends on (RankSignalRelevance): each signal's held-out share,
+  // most relevant first — the answer when no term fits.
+  std::vector<SignalRelevance> relevance;
 
   // The chosen effects as instances (to rebuild regressors on new data).
   std::vector<EffectInstance> chosen() const;

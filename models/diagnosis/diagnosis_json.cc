@@ -60,6 +60,9 @@ nlohmann::json DiagnosisResult::ToJson() const {
   j["heldout_rmse_base"] = heldout_rmse_base;
   j["heldout_rmse_after"] = heldout_rmse_after;
   j["explained_share"] = explained_share;
+  j["relevance"] = nlohmann::json::array();
+  for (const SignalRelevance& s : relevance) j["relevance"].push_back({{"signal", s.signal}, {"heldout_share", s.heldout_share}});
+  j["noise_floor"] = {{"rms", noise_floor.rms}, {"band_hz", {noise_floor.band_low_hz, noise_floor.band_high_hz}}};
   j["condition_number"] = std::isfinite(condition_number) ? nlohmann::json(condition_number) : nlohmann::json(nullptr);
   nlohmann::json base = nlohmann::json::array();
   for (std::size_t i = 0; i < base_names.size(); ++i) {

@@ -99,6 +99,13 @@ DiagnosedEffect DescribeEffect(const Candidate& c, double score, double cumulati
       d.parameters.empty() ? "" : " (" + FormatParameters(d.effect, d.parameters, position_unit) + ")", 100.0 * d.score, 100.0 * d.cumulative_share, d.contribution_rms, d.time_range[0], d.time_range[1],
       FormatPosition(d.position_range[0], position_unit), FormatPosition(d.position_range[1], position_unit),
       d.velocity_range[0], d.velocity_range[1], position_unit, c.type->physics);
+  // A factor of a log column (logged_column) names the column.
+  if (const auto column = d.parameters.find("column"); column != d.parameters.end() && column->second >= 0.0 &&
+                                                        column->second < static_cast<double>(signals.extra_names.size())) {
+    const std::string& name = signals.extra_names[static_cast<std::size_t>(column->second)];
+    d.description += fmt::format(" The residual follows the log column '{}' (coupling from another axis, or what that "
+                                 "column measures acting on this one).", name);
+  }
   return d;
 }
 
@@ -114,6 +121,14 @@ void Summarise(const DiagnosisOptions& options, const std::string& ambiguity_not
         "strongest position-periodogram peak: period {}, {:.1f} % of the variance, false-alarm "
         "probability {:.2g} ({})",
         FormatPosition(pk.period, options.position_unit), 100.0 * pk.power, pk.false_alarm_probability, pk.significant ? "significant" : "not significant"));
+  }
+  if (result->noise_floor.rms > 0.0) {
+    result->notes.push_back(fmt::format(
+        "noise floor: no model can do better than ≈ {:.4g} (RMS, the output's unit) on this record — the residual's "
+        "level at {:.4g}–{:.4g} Hz, above the motion's band, taken as white; held-out RMSE after the chosen effects "
+        "{:.4g} ({:.2f} × the floor)",
+        result->noise_floor.rms, result->noise_floor.band_low_hz, result->noise_floor.band_high_hz,
+        result->heldout_rmse_after, result->heldout_rmse_after / result->noise_floor.rms));
   }
   if (result->robust_weight_share < 0.999) {
     result->notes.push_back(fmt::format(

@@ -65,4 +65,11 @@ EffectBlockTemplate PositionRippleBlock(const std::string& block_type, int defau
   return block;
 }
 
+MotionMultiplier SignOfVelocity() {
+  return {"sign", MotionInput::kVelocity, [](const DiagnosedEffect& d) {
+            const auto it = d.parameters.find("dead_band");
+            return json{{"dead_band", it != d.parameters.end() && it->second > 0.0 ? it->second : 0.0}};
+          }};
+}
+
 }  // namespace mb

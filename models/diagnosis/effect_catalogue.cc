@@ -11,6 +11,7 @@
 
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
+#include "models/diagnosis/parameter_text.h"
 
 namespace mb {
 namespace {
@@ -45,6 +46,11 @@ void DiagnosisSignals::Validate() const {
   CheckLength(model_output, n, "model_output", true);
   CheckLength(input, n, "input", true);
   CheckLength(logged_command, n, "logged_command", true);
+  if (extra_names.size() != extra_columns.size()) {
+    throw std::invalid_argument(fmt::format("DiagnosisSignals: {} extra column names for {} extra columns",
+                                            extra_names.size(), extra_columns.size()));
+  }
+  for (std::size_t k = 0; k < extra_columns.size(); ++k) CheckLength(extra_columns[k], n, extra_names[k].c_str(), false);
   for (Eigen::Index i = 1; i < n; ++i) {
     if (!(time(i) > time(i - 1))) {
       throw std::invalid_argument(fmt::format(
@@ -91,7 +97,7 @@ CandidateSearch ProposeCandidateEffects(const DiagnosisSignals& s, const Eigen::
       try {
         effects[i]->propose(own);
       } catch (const std::invalid_argument& e) {  // what this record cannot support: skip the effect, say why
-        own.Note(fmt::format("{} not proposed: {}", effects[i]->name, e.what()));
+        own.Note(fmt::format("{} not proposed: {}", effects[i]->name, NoteText(e.what())));
       } catch (...) {
         errors[i] = std::current_exception();
       }

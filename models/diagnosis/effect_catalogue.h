@@ -31,6 +31,11 @@ struct DiagnosisSignals {
   Eigen::VectorXd input;         // u (optional; excitation of a resonance, input–residual correlation)
   Eigen::VectorXd logged_command;  // equation-error mode: the measured output, the command the drive was given
                                    // (optional; needed by drive_saturation)
+  // The log's columns that the diagram does not read (another axis, a temperature, a bus voltage, a second sensor),
+  // each of length N, with their names in extra_names (optional: both empty). The logged_column factor reads them by
+  // index, so a record carried to another (PredictCorrection) must list the same columns in the same order.
+  std::vector<std::string> extra_names;
+  std::vector<Eigen::VectorXd> extra_columns;
 
   // Throws std::invalid_argument naming the signal when a length differs, N < 64, a value is NaN/Inf or
   // time does not increase.

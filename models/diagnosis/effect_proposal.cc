@@ -14,6 +14,7 @@
 #include <tbb/parallel_invoke.h>
 
 #include "models/diagnosis/effect_regressors.h"
+#include "models/diagnosis/parameter_text.h"
 #include "models/diagnosis/signal_processing.h"
 
 namespace mb {
@@ -136,7 +137,7 @@ ProposalContext::ProposalContext(const DiagnosisSignals& signals, const Eigen::V
   // A periodogram the record cannot support (e.g. position steps so large against the travel that the period range
   // is empty) is skipped with a note: the effects that need it are not proposed, the others are.
   const auto skipped = [&](const char* what, const std::exception& e) {
-    Note(fmt::format("{} skipped on this record: {}", what, e.what()));
+    Note(fmt::format("{} skipped on this record: {}", what, NoteText(e.what())));
   };
   // The three periodograms are independent: computed in parallel, then used (and their failures noted) in order.
   const std::pair<Eigen::VectorXd, Eigen::VectorXd> moving =

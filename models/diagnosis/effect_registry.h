@@ -88,6 +88,16 @@ enum class BlockPlacement {
 /// A measured motion quantity that a suggested block reads from the diagram's input connectors (found by unit).
 enum class MotionInput { kPosition, kVelocity, kAcceleration };
 
+/// A factor of the motion that multiplies an effect block's output (the grammar's products, models/diagnosis/factors.h:
+/// sign(v) × a table of the position is a friction at one place): a block of `block_type` (ports "u" → "y") reading the
+/// input connector of `input`; a product element multiplies its output and the effect block's, and the product is what
+/// is summed into the model's output (BlockPlacement::kAddToOutput).
+struct MotionMultiplier {
+  std::string block_type;
+  MotionInput input = MotionInput::kVelocity;
+  std::function<nlohmann::json(const DiagnosedEffect&)> parameters;  ///< the multiplier element's parameters
+};
+
 /// The block that adds an effect to a diagram, as `compare --suggest` and `improve` insert it.
 struct EffectBlockTemplate {
   std::string block_type;    ///< a registered block type (blocks/)
@@ -104,6 +114,12 @@ struct EffectBlockTemplate {
   /// Parameters that belong to the record rather than the machine (the encoder zero): refit on a validation
   /// record while the rest stays (improve's held-out score, demo step 4).
   std::vector<std::string> record_specific;
+  /// Where an element parameter keeps its physical meaning, [low, high] in the block's units: a joint refit that
+  /// leaves it (a resonance's damping ratio above 1 is no resonance) makes the step a different effect, and improve
+  /// refuses it with the reason.
+  std::map<std::string, std::pair<double, double>> physical_range;
+  /// The factor of the motion the block's output is multiplied by (kAddToOutput only); nullopt = none.
+  std::optional<MotionMultiplier> multiplier;
 };
 
 /// One registered effect: everything the catalogue knows about it.

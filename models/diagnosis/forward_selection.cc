@@ -131,6 +131,15 @@ bool AddBestEffect(const RegressorMatrix& m, const BlockGrams& grams, const Diag
     std::vector<Eigen::Index> trial = s->selected;
     trial.insert(trial.end(), m.cands[pick].idx.begin(), m.cands[pick].idx.end());
     (*used)[pick] = true;
+    if (mse[pick] < s->leak_mse) {
+      notes->push_back(fmt::format(
+          "{} refused: its held-out error ({:.3g}) would fall below {:g} × the record's noise floor ({:.3g}); no model "
+          "can do better than the noise, so the candidate fits the measurement's own noise (a regressor built from the "
+          "compared output leaks it), not physics",
+          m.cands[pick].effect.name, std::sqrt(mse[pick]), options.leak_floor_ratio,
+          std::sqrt(s->leak_mse) / options.leak_floor_ratio));
+      continue;
+    }
     if (options.significance_t > 0.0 && gain < options.significance_exempt_gain) {
       const double t = GainSignificance(m, grams, s->selected, trial, options.significance_batches);
       if (t < options.significance_t) {

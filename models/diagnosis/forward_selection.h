@@ -22,6 +22,9 @@ struct Selection {
   double mse_base = 0.0;  // held-out MSE of the base alone
   double mse_last = 0.0;  // held-out MSE after the last chosen effect
   std::vector<std::size_t> set_aside;  // candidates whose gain was not significant (AddBestEffect)
+  // Held-out MSE below which a candidate fits the noise (DiagnosisOptions::leak_floor_ratio × the noise floor, squared);
+  // 0 = no check.
+  double leak_mse = 0.0;
 };
 
 // A selection holding the base's p columns.
@@ -38,8 +41,8 @@ double GainSignificance(const RegressorMatrix& m, const BlockGrams& grams, const
                         const std::vector<Eigen::Index>& trial, Eigen::Index batches);
 
 // One round: adds the best candidate not `used` (near-ties to the lower BIC) whose gain reaches min_gain and is
-// significant (GainSignificance; an insignificant best is set aside with a note and the next one tried). False when
-// none passes.
+// significant (GainSignificance; an insignificant best is set aside with a note and the next one tried) and whose
+// held-out MSE stays above s->leak_mse (else it is refused with a note: it fits the noise). False when none passes.
 bool AddBestEffect(const RegressorMatrix& m, const BlockGrams& grams, const DiagnosisOptions& options,
                    std::vector<bool>* used, Selection* s, std::vector<std::string>* notes);
 

@@ -290,7 +290,9 @@ void InstallRefined(const DiagnosisSignals& signals, const Eigen::MatrixXd& base
   out->weights = weights;
   out->m = std::move(m);
   out->grams.emplace(out->m, options.folds);
+  const double leak_mse = out->chosen.leak_mse;
   out->chosen = std::move(s);
+  out->chosen.leak_mse = leak_mse;
 }
 
 void RefineChosenEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols,
@@ -345,6 +347,7 @@ void RetrySetAside(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_
     m.Weigh(signals.residual, refinement.weights());
     const BlockGrams grams(m, options.folds);
     Selection s = SelectInOrder(m, grams, base_cols.cols(), m.cands.size() - 1);
+    s.leak_mse = out->chosen.leak_mse;
     std::vector<bool> used(m.cands.size(), true);
     used.back() = false;
     const bool chosen = AddBestEffect(m, grams, options, &used, &s, &trial_notes);

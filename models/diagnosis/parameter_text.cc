@@ -1,5 +1,6 @@
 #include "models/diagnosis/parameter_text.h"
 
+#include <cctype>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -28,6 +29,15 @@ std::string FormatParameterValue(double value, const std::string& unit, const st
   }
   if (unit == "s" || unit == "Hz") return fmt::format("{:.4g} {}", value, unit);
   return fmt::format("{:.4g}", value);
+}
+
+std::string NoteText(const std::string& what) {
+  const auto colon = what.find(": ");
+  if (colon == std::string::npos || colon == 0 || !std::isupper(static_cast<unsigned char>(what[0]))) return what;
+  for (std::size_t i = 0; i < colon; ++i) {
+    if (!std::isalnum(static_cast<unsigned char>(what[i])) && what[i] != '_') return what;
+  }
+  return what.substr(colon + 2);
 }
 
 }  // namespace mb

@@ -16,4 +16,8 @@ std::string EffectParameterUnit(const std::string& effect, const std::string& na
 /// "0.0025034", "m", "m" → "2.503 mm"; 2.0, "", "m" → "2".
 std::string FormatParameterValue(double value, const std::string& unit, const std::string& position_unit);
 
+/// An exception's message for a user's note: without the leading "FunctionName: " the numerics prefix to their
+/// messages for developers ("LombScarglePeriodogram: the period range … is empty" → "the period range … is empty").
+std::string NoteText(const std::string& what);
+
 }  // namespace mb

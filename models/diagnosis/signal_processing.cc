@@ -336,4 +336,54 @@ PowerSpectrum WelchPowerSpectrum(const Eigen::Ref<const Eigen::VectorXd>& signal
   return out;
 }
 
+NoiseFloor EstimateNoiseFloor(const Eigen::Ref<const Eigen::VectorXd>& residual, double sample_period,
+                              double band_limit_hz) {
+  const double nyquist = 0.5 / sample_period;
+  if (!(sample_period > 0.0) || !(band_limit_hz < nyquist)) {
+    throw std::invalid_argument(fmt::format("EstimateNoiseFloor: needs a positive sample period (got {} s) and a band "
+                                            "limit below the Nyquist frequency {} Hz (got {} Hz)",
+                                            sample_period, nyquist, band_limit_hz));
+  }
+  NoiseFloor out;
+  const Eigen::Index n = residual.size();
+  const Eigen::Index segment = n >= 2048 ? 256 : 128;
+  if (n < 8 * segment) return out;
+  const bool filtered = band_limit_hz > 0.0;
+  out.band_low_hz = filtered ? 0.25 * band_limit_hz : 0.5 * nyquist;
+  out.band_high_hz = filtered ? 0.5 * band_limit_hz : 0.95 * nyquist;
+  // Each segment's median level over the band's bins (each divided by the filter's power gain there), made an unbiased
+  // mean by the expected median of as many exponential variates (a white density's bins, χ²₂/2); the median over the
+  // segments.
+  std::vector<double> level, bins;
+  for (Eigen::Index start = 0; start + segment <= n; start += segment / 2) {
+    const PowerSpectrum spectrum = WelchPowerSpectrum(residual.segment(start, segment), sample_period, segment);
+    bins.clear();
+    for (Eigen::Index k = 0; k < spectrum.frequency_hz.size(); ++k) {
+      const double f = spectrum.frequency_hz(k);
+      if (f < out.band_low_hz || f > out.band_high_hz) continue;
+      const double u4 = filtered ? std::pow(f / band_limit_hz, 4) : 0.0;
+      bins.push_back(spectrum.density(k) * (1.0 + u4) * (1.0 + u4));
+    }
+    if (bins.size() < 3) continue;
+    std::sort(bins.begin(), bins.end());
+    // E[X_(j)] of k standard exponentials = Σ_{i=k−j+1..k} 1/i (Rényi); the median's j = (k + 1)/2, or the mean of the
+    // two middle ones for an even k.
+    const std::size_t k = bins.size();
+    const auto expected = [k](std::size_t j) {
+      double e = 0.0;
+      for (std::size_t i = k - j + 1; i <= k; ++i) e += 1.0 / static_cast<double>(i);
+      return e;
+    };
+    const double median = k % 2 == 1 ? bins[k / 2] : 0.5 * (bins[k / 2 - 1] + bins[k / 2]);
+    const double scale = k % 2 == 1 ? expected(k / 2 + 1) : 0.5 * (expected(k / 2) + expected(k / 2 + 1));
+    level.push_back(median / scale);
+  }
+  if (level.size() < 8) return out;
+  const auto middle = level.begin() + static_cast<std::ptrdiff_t>(level.size() / 2);
+  std::nth_element(level.begin(), middle, level.end());
+  const double bandwidth = filtered ? 3.0 * std::numbers::pi / (8.0 * std::sqrt(2.0)) * band_limit_hz : nyquist;
+  out.rms = std::sqrt(*middle * bandwidth);
+  return out;
+}
+
 }  // namespace mb

@@ -118,6 +118,26 @@ struct PowerSpectrum {
 PowerSpectrum WelchPowerSpectrum(const Eigen::Ref<const Eigen::VectorXd>& signal, double sample_period,
                                  Eigen::Index segment_length = 1024);
 
+// The record's noise floor: the RMS error that no model of the motion can go below (DIAGNOSIS.md, "The noise floor,
+// and leaks"). The residual's density in a band above the motion's, taken as white and integrated over the band the
+// compared signals carry: without parallel filtering (band_limit_hz <= 0) the upper half of the spectrum,
+// [f_N/2, 0.95 f_N] (f_N the Nyquist frequency), integrated up to f_N; with it (the residual low-passed by
+// ZeroPhaseLowPass at band_limit_hz = f_c) the band [f_c/4, f_c/2], each bin divided by the filter's power gain
+// 1/(1 + (f/f_c)⁴)² there, integrated over the filter's noise bandwidth ∫|H|⁴ df = 3π/(8√2)·f_c. The level is each
+// 256-sample segment's (128 below 2048 samples; Hann window, half overlap: WelchPowerSpectrum of the segment) median
+// density over the band, made unbiased for white noise, and the median over the segments: structure that is local in
+// time however broadband — the steps of a sign(v) at the reversals, a friction chattering while the axis dwells — does
+// not raise it, nor does a narrow peak; broadband structure present throughout (a quantizer's error) does, so the
+// floor is an upper estimate there.
+struct NoiseFloor {
+  double rms = 0.0;                             // [unit of the residual]; 0 when the record is too short to tell
+  double band_low_hz = 0.0, band_high_hz = 0.0;  // the band its level was read in
+};
+// 0 when the record is shorter than 1024 samples. Throws std::invalid_argument when sample_period <= 0 or band_limit_hz
+// is at or above the Nyquist frequency.
+NoiseFloor EstimateNoiseFloor(const Eigen::Ref<const Eigen::VectorXd>& residual, double sample_period,
+                              double band_limit_hz = 0.0);
+
 // Median of the time steps t(i+1) − t(i) [s]. Throws std::invalid_argument when N < 2.
 double MedianTimeStep(const Eigen::Ref<const Eigen::VectorXd>& time);
 

@@ -1,4 +1,4 @@
-// Static and linear blocks: product, saturation, quantizer, zero_order_hold, logger, transfer_function,
+// Static and linear blocks: product, sign, lookup_table_1d, saturation, quantizer, zero_order_hold, logger, transfer_function,
 // discrete_transfer_function, state_space — against closed forms, difference equations, sample-time
 // boundaries, feedthrough (algebraic loops) and their error messages.
 
@@ -44,6 +44,49 @@ TEST(ProductTest, RejectsUnknownOperators) {
               HasSubstr("element 'p' (product): ops may contain only '*' (multiply) and '/' (divide), got \"*+\""));
   EXPECT_THAT(BuildError(MakeDiagram({Element("p", "product", {{"ops", ""}})}, json::array(), json::array(), 1, 1)),
               HasSubstr("ops must list at least one"));
+}
+
+TEST(SignTest, IsSimulinksSignWithAnOptionalDeadBand) {
+  for (const auto& [u, y] : std::vector<std::pair<double, double>>{{-3.0, -1.0}, {0.0, 0.0}, {1e-9, 1.0}, {2.0, 1.0}}) {
+    EXPECT_EQ(Evaluate({Constant("u", u), Element("s", "sign", json::object())}, {Connect("u.y", "s.u")}, "s.y"), y)
+        << "u = " << u;
+  }
+  for (const auto& [u, y] : std::vector<std::pair<double, double>>{{-0.3, -1.0}, {-0.1, 0.0}, {0.2, 0.0}, {0.21, 1.0}}) {
+    EXPECT_EQ(Evaluate({Constant("u", u), Element("s", "sign", {{"dead_band", 0.2}})}, {Connect("u.y", "s.u")}, "s.y"),
+              y)
+        << "u = " << u;
+  }
+  EXPECT_THAT(BuildError(MakeDiagram({Element("s", "sign", {{"dead_band", -1.0}})}, json::array(), json::array(), 1, 1)),
+              HasSubstr("dead_band"));
+}
+
+TEST(LookupTable1dTest, InterpolatesLinearlyAndClipsOrExtrapolatesAtTheEnds) {
+  const json table = {{"breakpoints", {0.0, 1.0, 3.0}}, {"table", {10.0, 20.0, 0.0}}};
+  const auto at = [&](double u, const json& extra) {
+    json p = table;
+    p.update(extra);
+    return Evaluate({Constant("u", u), Element("t", "lookup_table_1d", p)}, {Connect("u.y", "t.u")}, "t.y");
+  };
+  EXPECT_DOUBLE_EQ(at(0.25, json::object()), 12.5);  // inside: 10 + 0.25·(20 − 10)
+  EXPECT_DOUBLE_EQ(at(1.0, json::object()), 20.0);   // on a breakpoint
+  EXPECT_DOUBLE_EQ(at(2.5, json::object()), 5.0);    // 20 + 0.75·(0 − 20)
+  EXPECT_DOUBLE_EQ(at(-1.0, json::object()), 10.0);  // clipped (Simulink's default)
+  EXPECT_DOUBLE_EQ(at(7.0, json::object()), 0.0);
+  EXPECT_DOUBLE_EQ(at(-1.0, {{"extrapolation", "linear"}}), 0.0);    // 10 − 1·10
+  EXPECT_DOUBLE_EQ(at(4.0, {{"extrapolation", "linear"}}), -10.0);   // 0 − 1·10
+}
+
+TEST(LookupTable1dTest, RefusesTablesItCannotInterpolate) {
+  const auto error = [](const json& p) {
+    return BuildError(MakeDiagram({Element("t", "lookup_table_1d", p)}, json::array(), json::array(), 1, 1));
+  };
+  EXPECT_THAT(error({{"breakpoints", {0.0, 1.0, 1.0}}, {"table", {1.0, 2.0, 3.0}}}),
+              HasSubstr("breakpoints must increase strictly"));
+  EXPECT_THAT(error({{"breakpoints", {0.0, 1.0}}, {"table", {1.0, 2.0, 3.0}}}),
+              HasSubstr("table has 3 entries for 2 breakpoints"));
+  EXPECT_THAT(error({{"breakpoints", {0.0}}, {"table", {1.0}}}), HasSubstr("give at least 2"));
+  EXPECT_THAT(error({{"breakpoints", {0.0, 1.0}}, {"table", {1.0, 2.0}}, {"extrapolation", "nearest"}}),
+              HasSubstr("write \"clip\""));
 }
 
 TEST(SaturationTest, ClampsToTheLimits) {

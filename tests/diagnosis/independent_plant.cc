@@ -7,6 +7,7 @@
 #include <numbers>
 #include <random>
 #include <stdexcept>
+#include <string>
 
 namespace mb::independent {
 namespace {
@@ -28,6 +29,22 @@ constexpr double kHumAmplitude = 1.5, kHumHz = 50.0;
 constexpr double kShortStrokePeriod = 0.025;  // 7.2 cycles in the 0.18 m travel
 constexpr double kUpperLimit = 120.0, kLowerLimit = -135.0;
 constexpr double kGravityTorque = 7.5, kGravityPhase = 0.4;  // [N·m], [rad]
+constexpr double kPitchFrictionAmplitude = 2.5, kPitchFrictionPeriod = 0.008;  // [N], [m]
+constexpr double kShortPitchAmplitude = 4.0, kShortPitchPeriod = 0.03;        // [N], [m]: 6 cycles in 0.18 m
+constexpr double kRippleDepth = 0.03, kForceRipplePeriod = 0.012;             // [-], [m]
+constexpr double kSpotFriction = 6.0, kSpotStart = 0.12, kSpotEnd = 0.13;     // [N], [m], [m]
+constexpr double kCoupledMass = 4.0;                                          // [kg]
+
+// The other axis's acceleration [m/s²]: bursts of a 3.1 Hz oscillation under a 0.7 Hz envelope.
+double OtherAxisAcceleration(double t) {
+  return 2.0 * std::sin(kTwoPi * 0.7 * t) * std::sin(kTwoPi * 3.1 * t);
+}
+
+// A hall temperature [°C] that drifts slowly and does not act on the axis.
+double HallTemperature(double t) { return 22.0 + 1.5 * std::sin(kTwoPi * t / 40.0) + 0.2 * std::sin(kTwoPi * t / 3.0); }
+
+// The force constant's ripple: the drive applies u·(1 + δ(x)).
+double ForceConstantRipple(double x) { return kRippleDepth * std::sin(kTwoPi * x / kForceRipplePeriod + 1.0); }
 
 bool Has(Hidden h, Hidden what) {
   return h == what || (h == Hidden::kRippleAndDelay && (what == Hidden::kPositionRipple || what == Hidden::kDelay));
@@ -63,6 +80,13 @@ double StatelessHidden(Hidden h, double t, double x, double v) {
     const double d = x - kSpringCentre;
     f += kSpringLinear * d + kSpringCubic * d * d * d;
   }
+  const double slip = std::tanh(v / kCoulombVelocity);
+  if (Has(h, Hidden::kPitchFriction)) {
+    f += kPitchFrictionAmplitude * std::sin(kTwoPi * x / kPitchFrictionPeriod + 0.5) * slip;
+  }
+  if (Has(h, Hidden::kShortPitchFriction)) f += kShortPitchAmplitude * std::sin(kTwoPi * x / kShortPitchPeriod + 1.1) * slip;
+  if (Has(h, Hidden::kLocalFriction) && x >= kSpotStart && x <= kSpotEnd) f += kSpotFriction * slip;
+  if (Has(h, Hidden::kCoupledAxis)) f += kCoupledMass * OtherAxisAcceleration(t);
   if (Has(h, Hidden::kGravity)) {  // the arm's torque as a force on the carriage: τ·dθ/dx
     f += kRadPerMetre * kGravityTorque * std::sin(kRadPerMetre * (x - 0.1) + kGravityPhase);
   }
@@ -250,6 +274,16 @@ std::vector<CaseSpec> Cases() {
   c.push_back(Case("rotary gravity", Hidden::kGravity, "gravity", "amplitude", kGravityTorque, 0.05));
   c.push_back(Case("mains hum", Hidden::kMainsHum, "time_periodic", "frequency_hz", kHumHz, 0.03));
   c.push_back(Case("friction drift", Hidden::kFrictionDrift, "friction_drift", "change", kViscousDrift, 0.10));
+  c.push_back(Case("friction along the pitch", Hidden::kPitchFriction, "friction_ripple", "period",
+                   kPitchFrictionPeriod, 0.03));
+  c.push_back(Case("pitch friction, 6 cycles", Hidden::kShortPitchFriction, "friction_ripple", "period",
+                   kShortPitchPeriod, 0.03));
+  c.push_back(Case("force-constant ripple", Hidden::kForceRipple, "force_constant_ripple", "period", kForceRipplePeriod,
+                   0.03));
+  c.push_back(Case("friction at one spot", Hidden::kLocalFriction, "local_friction", "center",
+                   0.5 * (kSpotStart + kSpotEnd), 0.05));
+  c.push_back(Case("coupled axis (extra column)", Hidden::kCoupledAxis, "logged_column", "", 0.0, 0.0));
+  c.push_back(Case("idle extra column", Hidden::kIdleColumn, "", "", 0.0, 0.0));
   CaseSpec stamps = Case("noisy stamps", Hidden::kPositionRipple, "position_periodic", "period", 0.006, 0.03);
   stamps.stamp_noise = 0.2;
   c.push_back(stamps);
@@ -276,6 +310,8 @@ Record Generate(Hidden hidden, const GeneratorSettings& settings) {
   Record r;
   r.rotary = IsRotary(hidden);
   r.time.resize(n); r.position.resize(n); r.force.resize(n); r.true_force.resize(n);
+  r.extra_name = ExtraColumnName(hidden);
+  if (!r.extra_name.empty()) r.extra.resize(n);
   std::vector<double> command_time, command;  // for the delayed log
   State st;
   Controller pid;
@@ -297,6 +333,7 @@ Record Generate(Hidden hidden, const GeneratorSettings& settings) {
                                            : command[static_cast<std::size_t>(it - command_time.begin() - 1)];
     }
     if (Has(hidden, Hidden::kSaturation)) applied = std::clamp(u, kLowerLimit, kUpperLimit);
+    if (Has(hidden, Hidden::kForceRipple)) applied *= 1.0 + ForceConstantRipple(st.x);
     double logged = u;
     if (Has(hidden, Hidden::kDelay)) {  // the amplifier reports the force it applied kDelay ago (ZOH)
       const auto it = std::upper_bound(command_time.begin(), command_time.end(), t - kDelay);
@@ -309,6 +346,8 @@ Record Generate(Hidden hidden, const GeneratorSettings& settings) {
       r.position(k) = IsRotary(hidden) ? kRadPerMetre * (x_measured - 0.1) : x_measured;
       r.true_force(k) = scale * logged;
       r.force(k) = scale * (logged + noise(rng));
+      if (Has(hidden, Hidden::kCoupledAxis)) r.extra(k) = OtherAxisAcceleration(t);
+      if (Has(hidden, Hidden::kIdleColumn)) r.extra(k) = HallTemperature(t);
     }
     Advance(hidden, t, next - t, applied, &st);
     t = next;
@@ -319,9 +358,13 @@ Record Generate(Hidden hidden, const GeneratorSettings& settings) {
 void WriteCsv(const Record& record, const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (f == nullptr) throw std::runtime_error("WriteCsv: cannot write " + path);
-  std::fprintf(f, record.rotary ? "time_s,angle_rad,torque_Nm\n" : "time_s,position_m,force_N\n");
+  const bool extra = !record.extra_name.empty();
+  std::fprintf(f, "%s%s%s\n", record.rotary ? "time_s,angle_rad,torque_Nm" : "time_s,position_m,force_N",
+               extra ? "," : "", record.extra_name.c_str());
   for (Eigen::Index i = 0; i < record.time.size(); ++i) {
-    std::fprintf(f, "%.17g,%.17g,%.17g\n", record.time(i), record.position(i), record.force(i));
+    std::fprintf(f, "%.17g,%.17g,%.17g", record.time(i), record.position(i), record.force(i));
+    if (extra) std::fprintf(f, ",%.17g", record.extra(i));
+    std::fprintf(f, "\n");
   }
   if (std::fclose(f) != 0) throw std::runtime_error("WriteCsv: cannot write " + path);
 }
@@ -355,6 +398,9 @@ Eigen::VectorXd CarriageForce(Hidden hidden, const Eigen::VectorXd& t, const Eig
       }
     }
   }
+  if (Has(hidden, Hidden::kForceRipple)) {  // the log holds the command, the force that acted over 1 + δ(x)
+    for (Eigen::Index i = 0; i < n; ++i) f(i) /= 1.0 + ForceConstantRipple(x(i));
+  }
   if (Has(hidden, Hidden::kMainsHum)) {
     for (Eigen::Index i = 0; i < n; ++i) f(i) += kHumAmplitude * std::sin(kTwoPi * kHumHz * t(i) + 0.2);
   }
@@ -387,6 +433,12 @@ Eigen::VectorXd CarriageForce(Hidden hidden, const Eigen::VectorXd& t, const Eig
 }  // namespace
 
 bool IsRotary(Hidden hidden) { return hidden == Hidden::kGravity; }
+
+std::string ExtraColumnName(Hidden hidden) {
+  if (hidden == Hidden::kCoupledAxis) return "accel_y_m_s2";
+  if (hidden == Hidden::kIdleColumn) return "temperature_C";
+  return "";
+}
 
 Eigen::VectorXd TruthForce(Hidden hidden, const Eigen::VectorXd& t, const Eigen::VectorXd& angle_or_x,
                            const Eigen::VectorXd& v_in, const Eigen::VectorXd& a_in, const Eigen::VectorXd* logged) {

@@ -36,6 +36,13 @@ enum class Hidden {
   kMainsHum,        ///< 1.5 N of 50 Hz mains hum picked up by the force measurement (not on the carriage)
   kGravity,         ///< a rotary arm (rad, N·m): the stage seen through 20 rad/m, with 7.5 N·m·sin(θ + 0.4) of gravity
   kFrictionDrift,   ///< the viscous friction falls 195 → 145 N·s/m linearly over the first 16 s (the lubricant warms)
+  // Effects no catalogue entry describes (issue 40): products of factors, a place in the travel, another log column.
+  kPitchFriction,   ///< 2.5 N·sin(2πx/8 mm + 0.5)·tanh(v/v_c): friction varying along a pitch (magnet attraction)
+  kShortPitchFriction,  ///< 4 N·sin(2πx/30 mm + 1.1)·tanh(v/v_c): the same over 6 cycles of the travel
+  kForceRipple,     ///< the force constant ripples: the drive applies u·(1 + 0.03·sin(2πx/12 mm + 1.0))
+  kLocalFriction,   ///< 6 N·tanh(v/v_c) more friction between x = 120 and 130 mm (a damaged spot, debris)
+  kCoupledAxis,     ///< 4 kg × another axis's acceleration a_y(t) on the carriage; a_y logged as accel_y_m_s2
+  kIdleColumn,      ///< nothing hidden; a temperature temperature_C logged that does not act on the axis
 };
 
 /// Whether a case's record is of a rotary axis (time_s, angle_rad, torque_Nm; Record::rotary).
@@ -70,7 +77,12 @@ struct Record {
   Eigen::VectorXd force;     ///< [N], the motor force with noise (what the amplifier reports)
   Eigen::VectorXd true_force;  ///< [N], the applied force at the logged instants without noise (for the floor)
   bool rotary = false;         ///< written as angle_rad and torque_Nm (IsRotary)
+  std::string extra_name;      ///< a further logged column (ExtraColumnName), "" = none
+  Eigen::VectorXd extra;       ///< its values
 };
+
+/// The name of the further column a case logs (kCoupledAxis, kIdleColumn), "" for the others.
+std::string ExtraColumnName(Hidden hidden);
 
 struct GeneratorSettings {
   double duration = 16.0;             ///< [s]
@@ -89,7 +101,7 @@ struct GeneratorSettings {
 /// Simulates the closed loop with `hidden` and returns the log.
 Record Generate(Hidden hidden, const GeneratorSettings& settings);
 
-/// Writes time_s,position_m,force_N (17 significant digits). @throws std::runtime_error if it cannot write.
+/// Writes time_s,position_m,force_N and the extra column when there is one (17 significant digits). @throws std::runtime_error if it cannot write.
 void WriteCsv(const Record& record, const std::string& path);
 
 /// The truth's force as an equation-error model would give it, evaluated on (derived) motion signals:

@@ -19,6 +19,28 @@ namespace fs = std::filesystem;
 
 std::vector<double> ToStd(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
 
+namespace {
+
+// A residual axis that a few edge samples do not set (issue 40, item 8: a 150 N spike at the record's end flattened
+// ±4 N of structure): the 0.1–99.9 % range of `y`, padded by a tenth, when samples lie beyond it; the figure's title
+// then says how many and how far. The full data stay in the figure's series (the interactive chart zooms out).
+void RobustResidualAxis(const Eigen::VectorXd& y, Figure* f) {
+  if (y.size() < 100) return;
+  std::vector<double> sorted = ToStd(y);
+  std::sort(sorted.begin(), sorted.end());
+  const std::size_t tail = sorted.size() / 1000;
+  const double lo = sorted[tail], hi = sorted[sorted.size() - 1 - tail], pad = 0.1 * (hi - lo);
+  if (!(hi > lo)) return;
+  const double bottom = lo - pad, top = hi + pad;
+  const auto outside = std::count_if(sorted.begin(), sorted.end(), [&](double v) { return v < bottom || v > top; });
+  if (outside == 0) return;
+  f->y_range = {bottom, top};
+  f->title += fmt::format(" — {} sample(s) beyond the axis, from {:.4g} to {:.4g}", outside, sorted.front(),
+                          sorted.back());
+}
+
+}  // namespace
+
 void AddResidualFigures(HtmlReport* report, const fs::path& out, const MeasurementLog& log,
                         const ComparedOutput& before, const Eigen::VectorXd& residual_after,
                         const std::string& position_column) {
@@ -34,11 +56,13 @@ void AddResidualFigures(HtmlReport* report, const fs::path& out, const Measureme
             fmt::format("measured − model [{}]", before.unit), {}};
   rt.series.push_back({t, ToStd(residual_after), "residual", "lines"});
   rt.x_link = "time";
+  RobustResidualAxis(residual_after, &rt);
   report->AddFigure(rt, out);
   if (log.has_column(position_column)) {
     Figure rx{"residual_vs_position.png", "Residual against position", "position [m]",
               fmt::format("residual [{}]", before.unit), {}};
     rx.series.push_back({ToStd(log.column(position_column)), ToStd(residual_after), "residual", "dots"});
+    RobustResidualAxis(residual_after, &rx);
     report->AddFigure(rx, out);
   }
   const std::string velocity_column = DerivedVelocityColumn(position_column);
@@ -56,12 +80,14 @@ void AddResidualFigures(HtmlReport* report, const fs::path& out, const Measureme
               "velocity [m/s]", fmt::format("residual [{}]", before.unit), {}};
     rv.series.push_back({ToStd(log.column(velocity_column)), ToStd(residual_after), "samples", "dots"});
     rv.series.push_back({xs, ys, "bin mean", "lines"});
+    RobustResidualAxis(residual_after, &rv);
     report->AddFigure(rv, out);
   }
   if (log.has_column(acceleration_column)) {
     Figure ra{"residual_vs_acceleration.png", "Residual against acceleration (a slope: mass mismatch)",
               "acceleration [m/s²]", fmt::format("residual [{}]", before.unit), {}};
     ra.series.push_back({ToStd(log.column(acceleration_column)), ToStd(residual_after), "samples", "dots"});
+    RobustResidualAxis(residual_after, &ra);
     report->AddFigure(ra, out);
   }
 }

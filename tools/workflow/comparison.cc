@@ -522,6 +522,16 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
   signals.residual = primary.residual();
   signals.model_output = primary.model;
   if (equation_error) signals.logged_command = primary.measured;
+  // The grammar's column factor (effects/logged_column.cc): every log column the diagram does not read, by name.
+  std::vector<std::string> read = {log.names().front(), settings.position_column, kMetresPositionColumn,
+                                   velocity_column, DerivedAccelerationColumn(settings.position_column)};
+  for (const auto& [connector, column] : comparison.input_columns()) read.push_back(column);
+  for (const ComparedOutput& o : out.after) read.push_back(o.column);
+  for (const std::string& name : log.names()) {
+    if (std::find(read.begin(), read.end(), name) != read.end()) continue;
+    signals.extra_names.push_back(name);
+    signals.extra_columns.push_back(log.column(name));
+  }
   // The fitted parameters' sensitivities are the base regressors: the diagnosis refits them jointly with each
   // candidate (DIAGNOSIS.md step 1).
   BaseRegressors& base = out.base;

@@ -197,6 +197,7 @@ json ImproveResult::ToJson() const {
   }
   return {{"steps", steps_json},
           {"accepted", table},
+          {"noise_floor", noise_floor},
           {"stop", ToString(stop)},
           {"stop_reason", stop_reason},
           {"residual_not_white", residual_not_white}};
@@ -266,11 +267,29 @@ std::vector<const DiagnosedEffect*> RoundCandidates(const ImproveStep& current, 
   return candidates;
 }
 
+// The added element's refit parameters that left their physical range (EffectBlockTemplate::physical_range), in
+// words; "" when all stayed inside.
+std::string OutOfPhysicalRange(const FitResult& fit, const std::string& element, const EffectBlockTemplate& block) {
+  std::vector<std::string> outside;
+  for (std::size_t i = 0; i < fit.parameters.size(); ++i) {
+    const FreeParameter& p = fit.parameters[i];
+    const auto range = block.physical_range.find(p.parameter);
+    if (p.block != element || range == block.physical_range.end()) continue;
+    const double value = fit.estimate(static_cast<Eigen::Index>(i));
+    if (value >= range->second.first && value <= range->second.second) continue;
+    outside.push_back(fmt::format("{} = {:.4g} outside [{:g}, {:g}]", p.name, value, range->second.first,
+                                  range->second.second));
+  }
+  if (outside.empty()) return "";
+  return fmt::format("the joint refit took it out of its physical range ({}): no longer the effect diagnosed",
+                     fmt::join(outside, ", "));
+}
+
 // One trial of a round: `current` amended with `effect`, refit jointly, scored held out and accepted when the
 // held-out RMSE falls by min_relative_gain; a suggestion or refit that fails is a rejected step with the reason.
 ImproveStep TryEffect(const ImproveStep& current, const DiagnosedEffect& effect, int round,
                       const fs::path& base_directory, const std::string& source, const MeasurementLog& training,
-                      const MeasurementLog* validation, const ImproveSettings& settings) {
+                      const MeasurementLog* validation, const ImproveSettings& settings, double noise_floor) {
   ImproveStep step;
   std::string element;
   try {
@@ -297,12 +316,25 @@ ImproveStep TryEffect(const ImproveStep& current, const DiagnosedEffect& effect,
         step.training.fit ? NotSignificantReason(*step.training.fit, step.element,
                                                  LookupEffect(effect.effect).block->refinable)
                           : std::string();
-    step.accepted = gain >= settings.min_relative_gain && not_significant.empty();
+    const std::string unphysical =
+        step.training.fit ? OutOfPhysicalRange(*step.training.fit, step.element, *LookupEffect(effect.effect).block)
+                          : std::string();
+    const double leak_limit = settings.leak_floor_ratio * noise_floor;
+    const std::string leak =
+        step.rmse_heldout < leak_limit
+            ? fmt::format("a leak: its held-out RMSE lies below {:g} × the record's noise floor ({:.4g} {}), which no "
+                          "model of the physics can reach; it fits the measurement's own noise",
+                          settings.leak_floor_ratio, noise_floor, step.unit())
+            : std::string();
+    step.accepted =
+        gain >= settings.min_relative_gain && not_significant.empty() && unphysical.empty() && leak.empty();
     step.verdict = fmt::format("{}: held-out RMSE {:.4g} → {:.4g} {} ({:+.2f} %, {} {:.2f} %)",
                                step.accepted ? "accepted" : "rejected", current.rmse_heldout, step.rmse_heldout,
                                step.unit(), -100.0 * gain, gain >= settings.min_relative_gain ? "≥" : "<",
                                100.0 * settings.min_relative_gain);
-    if (!not_significant.empty()) step.verdict += "; " + not_significant;
+    for (const std::string* reason : {&not_significant, &unphysical, &leak}) {
+      if (!reason->empty()) step.verdict += "; " + *reason;
+    }
   }
   return step;
 }
@@ -356,6 +388,7 @@ ImproveResult ImproveModel(const DiagramDocument& document, const MeasurementLog
   step0.rmse_train_before = step0.training.before.front().rmse;
   step0.rmse_heldout_before = step0.rmse_heldout;
   step0.verdict = "the diagram as given, its free parameters refit";
+  if (step0.training.diagnosis) result.noise_floor = step0.training.diagnosis->noise_floor.rms;
   say(fmt::format("step 0: RMSE {:.4g} → {:.4g} {} after the refit; held out {:.4g} {}", step0.rmse_train_before,
                   step0.rmse_train, step0.unit(), step0.rmse_heldout, step0.unit()));
   finish(std::move(step0));
@@ -373,7 +406,8 @@ ImproveResult ImproveModel(const DiagramDocument& document, const MeasurementLog
     for (const DiagnosedEffect* effect : candidates) {
       say(fmt::format("round {}: trying {} ({}; {:.1f} % of the held-out residual) — amend, refit jointly …", round,
                       effect->effect, DescribeParameters(effect->parameters), 100.0 * effect->score));
-      ImproveStep step = TryEffect(current, *effect, round, base_directory, source, training, validation, settings);
+      ImproveStep step =
+          TryEffect(current, *effect, round, base_directory, source, training, validation, settings, result.noise_floor);
       say(fmt::format("round {}: {} {}; train RMSE {:.4g} → {:.4g} {}", round, effect->effect, step.verdict,
                       step.rmse_train_before, step.rmse_train, step.unit()));
       accepted_this_round = step.accepted;

@@ -53,6 +53,9 @@ struct ImproveSettings {
   /// ImproveToMeasurement: fit the TISO-GPR fallback when the loop stops with a residual that is not white
   /// (FitImproveFallback, fallback.h). ImproveModel, the loop alone, ignores it.
   bool fallback = true;
+  /// No step may fit the noise: a step whose held-out RMSE falls below this fraction of the record's noise floor (the
+  /// first diagnosis' DiagnosisResult::noise_floor) is refused as a leak. 0 = off.
+  double leak_floor_ratio = 0.7;
 };
 
 /// The parameters that belong to a record rather than to the machine: "<element>.<parameter>" of every element whose
@@ -114,6 +117,8 @@ struct ImproveResult {
   /// When the loop stops with a residual that is still not white (Ljung–Box p < 0.01) and no catalogue effect
   /// explains it: the place for a non-parametric component (TISO-GPR on x, ẋ) to take over.
   bool residual_not_white = false;
+  /// The training record's noise floor (RMS, the primary output's unit; 0 = unknown): no step can honestly go below it.
+  double noise_floor = 0.0;
   const ImproveStep& first() const { return steps.front(); }
   const ImproveStep& last_accepted() const;
   nlohmann::json ToJson() const;

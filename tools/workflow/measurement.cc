@@ -104,10 +104,15 @@ MeasurementLog AddMeasurementDerivatives(const MeasurementLog& raw, const std::s
   const std::string velocity = DerivedVelocityColumn(position_column);
   const std::string acceleration = DerivedAccelerationColumn(position_column);
   if (to_metres != 1.0 && log.has_column(position_column)) {
+    // One flag does it (issue 40, item 8): a diagram whose position connector reads metres finds them without --map.
+    const bool alias = !log.has_column(kMetresPositionColumn);
+    if (alias) log.AddColumn(kMetresPositionColumn, log.column(position_column));
     log.AddNote(fmt::format("{}: the position column '{}' is in {} (its name's suffix): converted to metres (× {:g}) "
-                            "and keeps its name; the derived {} and {} are in m/s and m/s²",
-                            raw.source(), position_column, ColumnUnit(position_column), to_metres, velocity,
-                            acceleration));
+                            "and keeps its name{}; the derived {} and {} are in m/s and m/s²",
+                            raw.source(), position_column, ColumnUnit(position_column), to_metres,
+                            alias ? fmt::format(", also as '{}' for a diagram that reads metres", kMetresPositionColumn)
+                                  : std::string(),
+                            velocity, acceleration));
   }
   for (const auto& name : held) {
     log.AddNote(fmt::format("{} is a held command (intersample zoh): compared at the mean of each pair of samples, the "

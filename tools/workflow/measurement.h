@@ -19,6 +19,9 @@ namespace mb {
 
 /// Columns compare derives when the log lacks them: velocity and acceleration from the position column,
 /// zero-phase low-pass + central differences (the EMPS benchmark's IDIM-LS).
+/// The position in metres as a diagram's connector reads it by default: added as an alias when --position-column names
+/// a column in another length unit (position_mm, converted to metres), unless the log has it.
+inline constexpr const char* kMetresPositionColumn = "position_m";
 inline constexpr const char* kDerivedVelocityColumn = "velocity_m_s";
 inline constexpr const char* kDerivedAccelerationColumn = "acceleration_m_s2";
 

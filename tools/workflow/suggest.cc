@@ -160,6 +160,26 @@ void Wire(DiagramDocument* out, const std::string& connector, const std::string&
   out->Connect({"", connector}, {element, port});
 }
 
+// Adds `element` times a factor of the motion (EffectBlockTemplate::multiplier) to the model's force feeding output
+// connector `output`: the factor's element reads its input connector, a product element "<element>_times_<type>"
+// multiplies the two outputs and is summed in. Returns the element's name.
+std::string AddProductToOutput(DiagramDocument* out, const ElementSpec& element, const MotionMultiplier& multiplier,
+                               const DiagnosedEffect& effect, const std::string& output, const std::string& port) {
+  const std::string input = NeedInput(*out, multiplier.input, effect.effect);
+  const std::string name = out->Add(element);
+  const std::string factor = out->Add({name + "_" + multiplier.block_type, multiplier.block_type,
+                                       multiplier.parameters(effect), std::nullopt,
+                                       fmt::format("the factor of the motion that multiplies '{}'", name)});
+  Wire(out, input, factor, "u");
+  const std::string product = AddToOutput(
+      out, {name + "_times_" + multiplier.block_type, "product", json::object(), std::nullopt,
+            fmt::format("'{}' × '{}' ({})", name, factor, effect.effect)},
+      output, "y");
+  out->Connect({name, port}, {product, "u1"});
+  out->Connect(out->OutputOf(factor), {product, "u2"});
+  return name;
+}
+
 // The diagram's time step: the solver's fixed step, else the default experiment's step size.
 double DiagramStep(const DiagramDocument& diagram, const std::string& effect, const std::string& block) {
   if (const auto step = diagram.SolverStep()) return *step;
@@ -198,7 +218,11 @@ json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, c
   switch (block.placement) {
     case BlockPlacement::kInsertBeforeOutput: name = InsertBeforeOutput(&out, element, output); break;
     case BlockPlacement::kOnCommand: name = AddOnCommand(&out, element, output, effect.effect); break;
-    case BlockPlacement::kAddToOutput: name = AddToOutput(&out, element, output, block.output_port); break;
+    case BlockPlacement::kAddToOutput:
+      name = block.multiplier
+                 ? AddProductToOutput(&out, element, *block.multiplier, effect, output, block.output_port)
+                 : AddToOutput(&out, element, output, block.output_port);
+      break;
   }
   for (std::size_t k = 0; k < inputs.size(); ++k) Wire(&out, inputs[k], name, block.inputs[k].second);
   for (const auto& f : block.free) out.AddFreeParameter(name + "." + f);

@@ -83,7 +83,11 @@ TEST(MeasurementUnits, APositionInMillimetresIsReadInMetres) {
   ASSERT_EQ(in_mm.notes().size(), 1u);
   EXPECT_THAT(in_mm.notes()[0],
               HasSubstr("the position column 'position_mm' is in mm (its name's suffix): converted to metres (× 0.001) "
-                        "and keeps its name; the derived velocity_m_s and acceleration_m_s2 are in m/s and m/s²"));
+                        "and keeps its name, also as 'position_m' for a diagram that reads metres; the derived "
+                        "velocity_m_s and acceleration_m_s2 are in m/s and m/s²"));
+  // Issue 40, item 8: one flag does it — a diagram whose position connector reads position_m finds the metres.
+  ASSERT_TRUE(in_mm.has_column("position_m"));
+  EXPECT_EQ((in_mm.column("position_m") - in_mm.column("position_mm")).cwiseAbs().maxCoeff(), 0.0);
   EXPECT_TRUE(in_m.notes().empty());
 }
 

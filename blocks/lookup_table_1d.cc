@@ -1,0 +1,113 @@
+#include "blocks/lookup_table_1d.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "models/diagnosis/effect_block.h"
+
+namespace mb {
+
+LookupTable1d::LookupTable1d(const BlockConfig& config)
+    : Block(config.name),
+      breakpoints_(config.parameters.Vector("breakpoints")),
+      table_(config.parameters.Vector("table")) {
+  const std::string& extrapolation = config.parameters.String("extrapolation");
+  if (extrapolation != "clip" && extrapolation != "linear") {
+    throw std::invalid_argument(fmt::format("extrapolation \"{}\": write \"clip\" (the end values hold beyond the "
+                                            "breakpoints, Simulink's default) or \"linear\"",
+                                            extrapolation));
+  }
+  clip_ = extrapolation == "clip";
+  if (breakpoints_.size() < 2) {
+    throw std::invalid_argument(fmt::format("breakpoints has {} entries; give at least 2", breakpoints_.size()));
+  }
+  if (table_.size() != breakpoints_.size()) {
+    throw std::invalid_argument(fmt::format("table has {} entries for {} breakpoints; give one value per breakpoint",
+                                            table_.size(), breakpoints_.size()));
+  }
+  for (Eigen::Index i = 0; i < breakpoints_.size(); ++i) {
+    if (!std::isfinite(breakpoints_(i)) || (i > 0 && !(breakpoints_(i) > breakpoints_(i - 1)))) {
+      throw std::invalid_argument(fmt::format("breakpoints[{}] = {} must be finite and above breakpoints[{}] = {}: "
+                                              "breakpoints must increase strictly",
+                                              i, breakpoints_(i), i > 0 ? i - 1 : 0, breakpoints_(i > 0 ? i - 1 : 0)));
+    }
+  }
+  DeclareInputPort("u");
+  DeclareOutputPort("y");
+}
+
+double LookupTable1d::Interpolate(double u) const noexcept {
+  const Eigen::Index n = breakpoints_.size();
+  if (clip_) {
+    if (u <= breakpoints_(0)) return table_(0);
+    if (u >= breakpoints_(n - 1)) return table_(n - 1);
+  }
+  // The segment [b_k, b_{k+1}] holding u (the first or last one beyond the ends when extrapolating).
+  const double* begin = breakpoints_.data();
+  const auto upper = std::upper_bound(begin, begin + n, u);
+  const Eigen::Index k = std::clamp<Eigen::Index>(static_cast<Eigen::Index>(upper - begin) - 1, 0, n - 2);
+  const double q = (u - breakpoints_(k)) / (breakpoints_(k + 1) - breakpoints_(k));
+  return table_(k) + q * (table_(k + 1) - table_(k));
+}
+
+void LookupTable1d::CalcOutput(const BlockContext& c) const { c.y(0) = Interpolate(c.u(0)); }
+
+MB_REGISTER_BLOCK(LookupTable1d, BlockType{
+    "lookup_table_1d",
+    "y = f(u): linear interpolation in a table over strictly increasing breakpoints (Simulink's 1-D Lookup Table), "
+    "clipped at the ends or extrapolated linearly. Inherits its sample time.",
+    {Required("breakpoints", "", "b_1 < … < b_n, n ≥ 2 (unit of u)", ParamType::kVector),
+     Required("table", "", "y_1 … y_n, one per breakpoint (unit of y)", ParamType::kVector),
+     Optional("extrapolation", "clip", "", "\"clip\" (end values hold) or \"linear\"", ParamType::kString)},
+    SampleTimeRule::kNone,
+    [](const BlockConfig& c) { return std::make_unique<LookupTable1d>(c); }})
+
+// The diagnosis' suggestions made with this block (MB_REGISTER_EFFECT_BLOCK, models/diagnosis/effect_registry.h).
+namespace {
+
+constexpr int kBumpBreakpoints = 9;  // over [c − w, c + w]: the bump cos² sampled, its ends 0
+
+// A local effect (effects/factor_products.cc: a bump over [c − w, c + w]) as a table of the position: the bump's shape
+// scaled by the joint fit's coefficient, 0 beyond (clipped ends); the table free, so the refit shapes the stretch.
+EffectBlockTemplate LocalTableBlock(const char* element_name) {
+  EffectBlockTemplate block;
+  block.block_type = "lookup_table_1d";
+  block.element_name = element_name;
+  block.inputs = {{MotionInput::kPosition, "u"}};
+  block.parameters = [](const DiagnosedEffect& d) {
+    const double center = BlockParameter(d, "center"), half_width = BlockParameter(d, "half_width");
+    if (!(half_width > 0.0)) {
+      throw std::invalid_argument(fmt::format("{} with half_width {}: must be > 0 to suggest a table", d.effect,
+                                              half_width));
+    }
+    const double coefficient = BlockCoefficient(d, "");
+    nlohmann::json breakpoints = nlohmann::json::array(), table = nlohmann::json::array();
+    for (int i = 0; i < kBumpBreakpoints; ++i) {
+      const double z = -1.0 + 2.0 * i / (kBumpBreakpoints - 1);
+      const double c = std::cos(0.5 * std::numbers::pi * z);
+      breakpoints.push_back(center + half_width * z);
+      table.push_back(coefficient * c * c);
+    }
+    return nlohmann::json{{"breakpoints", breakpoints}, {"table", table}};
+  };
+  block.free = {"table"};
+  return block;
+}
+
+// local_friction: the table times sign(v) (a friction at one place).
+EffectBlockTemplate LocalFrictionEffectBlock() {
+  EffectBlockTemplate block = LocalTableBlock("local_friction");
+  block.multiplier = SignOfVelocity();
+  return block;
+}
+
+}  // namespace
+
+MB_REGISTER_EFFECT_BLOCK(local_force, LocalTableBlock("local_force"))
+MB_REGISTER_EFFECT_BLOCK(local_friction, LocalFrictionEffectBlock())
+
+}  // namespace mb

@@ -1,0 +1,33 @@
+#pragma once
+// lookup_table_1d: y = f(u) by linear interpolation in a table over strictly increasing breakpoints — Simulink's 1-D
+// Lookup Table (interpolation "Linear point-slope"; extrapolation "Clip" by default: the end values hold beyond the
+// breakpoints, or "Linear": the end segments extended). A force of one place of the travel, a friction or a force
+// constant that varies along it. Inherited sample time; u feeds through.
+
+#include <string>
+
+#include <Eigen/Core>
+
+#include "engine/block.h"
+#include "engine/registry.h"
+
+namespace mb {
+
+/// y = interpolation of (breakpoints, table) at u. Ports: in "u" (the breakpoints' unit, e.g. m), out "y" (the
+/// table's unit). Parameters: breakpoints b_1 < … < b_n (n ≥ 2), table y_1 … y_n, extrapolation "clip" (default) or
+/// "linear". Source: MathWorks, Simulink "1-D Lookup Table" block reference.
+/// @throws std::invalid_argument when fewer than 2 breakpoints are given, they do not increase strictly or are not
+/// finite, the table's length differs, or extrapolation is neither "clip" nor "linear" (each message says how to fix).
+class LookupTable1d final : public Block {
+ public:
+  explicit LookupTable1d(const BlockConfig& config);
+  void CalcOutput(const BlockContext& context) const override;
+  /// The interpolated value at u (what CalcOutput writes); noexcept, no allocation.
+  double Interpolate(double u) const noexcept;
+
+ private:
+  Eigen::VectorXd breakpoints_, table_;
+  bool clip_ = true;
+};
+
+}  // namespace mb

@@ -1,0 +1,153 @@
+// The products of the diagnosis grammar (factors.h): a factor of the position — periodic, cos/sin(2πkx/P) for
+// k = 1..K, or local, a bump over [c − w, c + w] — times a factor of the motion or the force — 1, sign(v), ŷ. One
+// mechanism, one table row per product, each named in the field's words (docs/diagnosis.md, "The grammar"):
+//   friction_ripple        sign(v) × periodic(x)  friction that varies along the pitch (magnetic attraction, preload,
+//                                                 a wavy guide) {period P [m], harmonics K, dead_band [m/s]}
+//   force_constant_ripple  ŷ × periodic(x)        the force constant ripples with position (force/torque ripple)
+//                                                 {period P, harmonics K}; equation-error mode: ŷ is the model's force
+//                                                 from the measured motion, never the logged (compared) command
+//   local_friction         sign(v) × bump(x)      friction at one place (a damaged spot, a seal, debris)
+//                                                 {center c, half_width w [m], dead_band}
+//   local_force            bump(x)                a force at one place of the travel (a magnet, a cable, a stop) {c, w}
+// (|v| × periodic(x) is the catalogue's velocity_dependent_ripple.) Proposal: a periodic product at the period of the
+// residual demodulated by its multiplier (ModulatedPeriod: a friction along the pitch reverses with the direction of
+// travel and cancels in the plain periodogram) and at every proposed position period; a local product at the place
+// ScanBump finds, when it removes at least 0.5 % of the residual's sum of squares. The forward selection's held-out
+// test on contiguous blocks decides. No block yet: the report says how to add it (a lookup table or a ripple block
+// times sign(v)).
+#include <cmath>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "models/diagnosis/effect_proposal.h"
+#include "models/diagnosis/effect_registry.h"
+#include "models/diagnosis/effect_regressors.h"
+#include "models/diagnosis/factors.h"
+
+namespace mb {
+namespace {
+
+constexpr double kMinBumpShare = 0.005;  // of the residual's sum of squares: a bump that removes less is noise
+constexpr double kMinDirectionShare = 0.05;  // of the samples moving each way, for a product with sign(v)
+
+enum class PositionFactor { kPeriodic, kLocal };
+
+struct Product {
+  const char* name;
+  int catalogue_order;
+  Multiplier multiplier;
+  PositionFactor position;
+  const char* physics;
+  const char* formula;
+};
+
+const Product kProducts[] = {
+    {"friction_ripple", 84, Multiplier::kSign, PositionFactor::kPeriodic,
+     "friction that varies with position along the pitch (magnetic attraction or preload changing along the pitch, a "
+     "wavy guide): sign(v) × a ripple of the position; add a ripple block whose output is multiplied by sign(v)",
+     "s(v)·cos(2πkx/P), s(v)·sin(2πkx/P), k = 1..K"},
+    {"force_constant_ripple", 85, Multiplier::kModelForce, PositionFactor::kPeriodic,
+     "the force constant ripples with position (force/torque ripple of the motor): the force that acted × a ripple of "
+     "the position; scale the motor's force constant by 1 + a ripple of the position",
+     "ŷ·cos(2πkx/P), ŷ·sin(2πkx/P), k = 1..K, ŷ the model's force"},
+    {"local_friction", 86, Multiplier::kSign, PositionFactor::kLocal,
+     "friction at one place of the travel (a damaged spot, a seal, debris, a tight stretch of the guide): sign(v) × a "
+     "bump over [c − w, c + w]; add a 1-D lookup table of the position multiplied by sign(v)",
+     "s(v)·cos²(π(x − c)/(2w)) for |x − c| < w"},
+    {"local_force", 87, Multiplier::kOne, PositionFactor::kLocal,
+     "a force at one place of the travel (a magnet, a cable, an end stop's spring): a bump over [c − w, c + w]; add a "
+     "1-D lookup table of the position",
+     "cos²(π(x − c)/(2w)) for |x − c| < w"},
+};
+
+// The multiplier's dead band: the effect's parameter when the multiplier is sign(v), else unused.
+double DeadBand(const Product& p, const EffectInstance& e) {
+  return p.multiplier == Multiplier::kSign ? RequiredParameter(e, "dead_band") : 0.0;
+}
+
+EffectRegressors Regressors(const Product& p, const EffectInstance& e, const DiagnosisSignals& s) {
+  const Eigen::VectorXd m = MultiplierColumn(p.multiplier, s, DeadBand(p, e), e.name);
+  if (p.position == PositionFactor::kPeriodic) {
+    return PeriodicColumns(s.position, PositiveParameter(e, "period"), HarmonicsParameter(e), e.name, &m);
+  }
+  return SingleColumn(e.name,
+                      m.cwiseProduct(Bump(s.position, RequiredParameter(e, "center"), PositiveParameter(e, "half_width"))));
+}
+
+void Propose(const Product& p, ProposalContext& c) {
+  const DiagnosisSignals& s = c.signals();
+  if (!(c.max_speed() > 0.0)) return;
+  // ŷ is the force only in equation-error mode (the logged command compared); in simulation mode it is the output.
+  if (p.multiplier == Multiplier::kModelForce && (s.logged_command.size() != c.size() || s.model_output.size() != c.size())) {
+    return;
+  }
+  const Eigen::VectorXd m = MultiplierColumn(p.multiplier, s, c.dead_band(), p.name);
+  // sign(v) × f(x) is a friction only when the axis travels both ways: one way, it is f(x) itself (position_periodic,
+  // local_force), which the catalogue proposes already.
+  if (p.multiplier == Multiplier::kSign) {
+    const double n = static_cast<double>(c.size());
+    const auto forward = static_cast<double>((m.array() > 0.0).count());
+    const auto back = static_cast<double>((m.array() < 0.0).count());
+    if (!(forward >= kMinDirectionShare * n && back >= kMinDirectionShare * n)) {
+      return;
+    }
+  }
+  std::map<std::string, double> common;
+  if (p.multiplier == Multiplier::kSign) common["dead_band"] = c.dead_band();
+  if (p.position == PositionFactor::kLocal) {
+    const BumpPlace place = ScanBump(c, m);
+    if (!(place.explained >= kMinBumpShare)) return;
+    common["center"] = place.center;
+    common["half_width"] = place.half_width;
+    c.Propose(p.name, common);
+    return;
+  }
+  std::vector<ProposedPeriod> periods = c.position_periods();
+  if (p.multiplier != Multiplier::kOne) {
+    if (const std::optional<ProposedPeriod> own = ModulatedPeriod(c, m)) periods.insert(periods.begin(), *own);
+  }
+  std::vector<double> proposed;
+  for (const ProposedPeriod& period : periods) {
+    bool repeated = false;
+    for (double q : proposed) repeated = repeated || std::abs(q - period.period) < 1e-3 * q;
+    if (repeated) continue;
+    proposed.push_back(period.period);
+    std::map<std::string, double> parameters = common;
+    parameters["period"] = period.period;
+    parameters["harmonics"] = period.harmonics;
+    c.Propose(p.name, parameters);
+  }
+}
+
+EffectType ProductEffect(const Product& p) {
+  EffectType t;
+  t.name = p.name;
+  t.catalogue_order = p.catalogue_order;
+  t.physics = p.physics;
+  t.regressor_formula = p.formula;
+  if (p.position == PositionFactor::kPeriodic) {
+    t.parameters = {{"period", "m", "P: the pitch"}, {"harmonics", "", "K, 1 when absent"}};
+    t.traits.periodicity = Periodicity::kPosition;
+  } else {
+    t.parameters = {{"center", "m", "c: the middle of the stretch where it acts"},
+                    {"half_width", "m", "w: it acts over [c − w, c + w]"}};
+  }
+  if (p.multiplier == Multiplier::kSign) {
+    t.parameters.push_back({"dead_band", "m/s", "v_db: sign(v) is 0 below it"});
+  }
+  t.regressors = [&p](const EffectInstance& e, const DiagnosisSignals& s) { return Regressors(p, e, s); };
+  t.propose = [&p](ProposalContext& c) { Propose(p, c); };
+  return t;
+}
+
+bool RegisterProducts() {
+  for (const Product& p : kProducts) EffectRegistry::Global().Add(ProductEffect(p));
+  return true;
+}
+
+[[maybe_unused]] const bool kProductsRegistered = RegisterProducts();
+
+}  // namespace
+}  // namespace mb

@@ -1,0 +1,103 @@
+// The factors of the diagnosis grammar and what their proposal rules share (factors.h). Sources: DIAGNOSIS.md, "Beyond
+// the catalogue"; Brunton, Proctor & Kutz 2016 (SINDy's library of products); VanderPlas 2018 (Lomb–Scargle).
+#include "models/diagnosis/factors.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "models/diagnosis/effect_regressors.h"
+#include "models/diagnosis/periodogram.h"
+
+namespace mb {
+
+Eigen::VectorXd MultiplierColumn(Multiplier multiplier, const DiagnosisSignals& s, double dead_band,
+                                 const std::string& effect) {
+  switch (multiplier) {
+    case Multiplier::kOne: return Eigen::VectorXd::Ones(s.size());
+    case Multiplier::kSign: return SignDeadBand(s.velocity, dead_band);
+    case Multiplier::kSpeed: return s.velocity.cwiseAbs();
+    case Multiplier::kModelForce: return NeedModelOutput({effect, {}}, s);
+  }
+  throw std::logic_error("MultiplierColumn: unknown multiplier");
+}
+
+Eigen::VectorXd Bump(const Eigen::VectorXd& position, double center, double half_width) {
+  return position.unaryExpr([&](double x) {
+    const double z = (x - center) / half_width;
+    if (!(std::abs(z) < 1.0)) return 0.0;
+    const double c = std::cos(0.5 * std::numbers::pi * z);
+    return c * c;
+  });
+}
+
+std::optional<ProposedPeriod> ModulatedPeriod(const ProposalContext& c, const Eigen::VectorXd& modulation) {
+  const DiagnosisSignals& s = c.signals();
+  const Eigen::Index n = c.size();
+  if (!(c.position_span() > 0.0) || modulation.size() != n) return std::nullopt;
+  std::vector<double> magnitude;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (std::abs(s.velocity(i)) > c.dead_band()) magnitude.push_back(std::abs(modulation(i)));
+  }
+  if (magnitude.size() < 256) return std::nullopt;
+  const auto middle = magnitude.begin() + static_cast<std::ptrdiff_t>(magnitude.size() / 2);
+  std::nth_element(magnitude.begin(), middle, magnitude.end());
+  const double floor = std::max(*middle, 1e-300);
+  std::vector<double> x, d;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (std::abs(s.velocity(i)) > c.dead_band() && std::abs(modulation(i)) >= floor) {
+      x.push_back(s.position(i));
+      d.push_back(c.residual()(i) / modulation(i));
+    }
+  }
+  if (x.size() < 256) return std::nullopt;
+  const Eigen::Map<const Eigen::VectorXd> xs(x.data(), static_cast<Eigen::Index>(x.size()));
+  const Eigen::Map<const Eigen::VectorXd> ds(d.data(), static_cast<Eigen::Index>(d.size()));
+  PeriodogramOptions options = c.options().position_periodogram;
+  options.max_period = (xs.maxCoeff() - xs.minCoeff()) / c.options().min_position_cycles_with_harmonics;
+  Periodogram pg;
+  try {
+    pg = PositionPeriodogram(xs, ds, options);
+  } catch (const std::invalid_argument&) {
+    return std::nullopt;  // an empty period range (a stroke of a few steps), a constant residual: nothing to propose
+  }
+  for (std::size_t i = 0; i < pg.peaks.size(); ++i) {
+    const PeriodogramPeak& p = pg.peaks[i];
+    if (p.harmonic_of >= 0 || !p.significant) continue;
+    return ProposedPeriod{p.period, HarmonicCount(pg, i, c.options().max_harmonics), p.power};
+  }
+  return std::nullopt;
+}
+
+BumpPlace ScanBump(const ProposalContext& c, const Eigen::VectorXd& m) {
+  const DiagnosisSignals& s = c.signals();
+  BumpPlace best;
+  const double span = c.position_span();
+  if (!(span > 0.0)) return best;
+  const double x_min = s.position.minCoeff();
+  const Eigen::MatrixXd base = c.BaseWithConstant();
+  const Eigen::MatrixXd gram = base.transpose() * base;
+  const JointFitResidual fit(base, gram, c.residual());
+  const double sse_base = fit(Eigen::MatrixXd(c.size(), 0));
+  if (!(sse_base > 0.0)) return best;
+  double best_sse = sse_base;
+  for (const double fraction : {1.0 / 40.0, 1.0 / 20.0, 1.0 / 10.0}) {
+    const double w = fraction * span;
+    for (double center = x_min + 0.5 * w; center <= x_min + span - 0.5 * w; center += 0.5 * w) {
+      const Eigen::VectorXd column = m.cwiseProduct(Bump(s.position, center, w));
+      if (!(column.squaredNorm() > 0.0)) continue;
+      const double sse = fit(column);
+      if (sse < best_sse) {
+        best_sse = sse;
+        best = {center, w, 1.0 - sse / sse_base};
+      }
+    }
+  }
+  return best;
+}
+
+}  // namespace mb

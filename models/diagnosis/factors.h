@@ -1,0 +1,56 @@
+#pragma once
+// The factors of the diagnosis grammar (DIAGNOSIS.md, "Beyond the catalogue: effects as products of physical
+// factors"): a candidate effect is a product of a factor of the position — periodic (period P, K harmonics) or local (a
+// bump over a stretch of the travel) — with a factor of the motion or the force: 1, sign(v) (with the dead band), |v|,
+// the model's force ŷ (the force constant; built from the measured motion, never from the compared output). The
+// catalogue's effects are named special cases: velocity_dependent_ripple is |v| × periodic(x), friction_drift
+// v × ramp(t). effects/factor_products.cc registers the products; docs/diagnosis.md holds the table from factor pairs
+// to physics. What the factors share with the proposal rules — the period of a modulated ripple and the place of a
+// local one — is here.
+//
+// Units: SI (x [m], v [m/s], periods and widths [m]); a multiplier's unit is its signal's.
+
+#include <optional>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "models/diagnosis/effect_catalogue.h"
+#include "models/diagnosis/effect_proposal.h"
+
+namespace mb {
+
+/// The factor of the motion or the force that multiplies a position factor.
+enum class Multiplier {
+  kOne,         ///< 1: a force of the position alone
+  kSign,        ///< sign(v), 0 inside the dead band: a friction
+  kSpeed,       ///< |v|: a damping
+  kModelForce,  ///< ŷ, the model's force from the measured motion (equation-error mode): a force constant
+};
+
+/// The multiplier's column on the signals (N). kSign needs `dead_band` [m/s]; kModelForce needs
+/// DiagnosisSignals::model_output (else std::invalid_argument naming `effect`).
+Eigen::VectorXd MultiplierColumn(Multiplier multiplier, const DiagnosisSignals& signals, double dead_band,
+                                 const std::string& effect);
+
+/// The bump of a local factor: cos²(π(x − c)/(2w)) for |x − c| < w, else 0 — one at the centre c, zero with zero slope
+/// at c ± w (a raised cosine of width 2w; N).
+Eigen::VectorXd Bump(const Eigen::VectorXd& position, double center, double half_width);
+
+/// The period of a position ripple that `modulation` multiplies (sign(v) for a friction along the pitch, ŷ for a
+/// force-constant ripple), from the periodogram of the demodulated residual r/m over the samples moving faster than
+/// the dead band whose |m| reaches its median there: periods from the periodogram's automatic minimum up to a third of
+/// the travel (three cycles, DIAGNOSIS.md "Few cycles"). The strongest significant independent peak, its harmonics
+/// flagged (at most CatalogueOptions::max_harmonics); nullopt when there is none or too few samples (< 256).
+std::optional<ProposedPeriod> ModulatedPeriod(const ProposalContext& context, const Eigen::VectorXd& modulation);
+
+/// A local factor's place: the centre and half-width minimising the joint fit of the residual on
+/// [base, 1, m·Bump(x; c, w)], over half-widths of 1/40, 1/20 and 1/10 of the travel and centres every w/2 across it.
+struct BumpPlace {
+  double center = 0.0, half_width = 0.0;  ///< [m]
+  double explained = 0.0;                 ///< share of the residual's sum of squares the bump removes, 0..1
+};
+/// `m` the multiplier's column (N). Throws nothing; explained 0 when the position does not move.
+BumpPlace ScanBump(const ProposalContext& context, const Eigen::VectorXd& m);
+
+}  // namespace mb
