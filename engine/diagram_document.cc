@@ -8,6 +8,7 @@
 #include "engine/closest_names.h"
 #include "engine/diagram_loader.h"
 #include "engine/registry.h"
+#include "engine/text_excerpt.h"
 
 namespace mb {
 
@@ -205,21 +206,28 @@ std::vector<std::string> DiagramDocument::Ports(const std::string& element, bool
     return names;
   }
   const std::string what = fmt::format("{}: element '{}'", source_, element);
-  const BlockType& bt = RegisteredType(type, what);
+  (void)RegisteredType(type, what);
   std::unique_ptr<Block> block;
   try {
-    std::optional<SampleTime> st;
-    if (e.contains("sampleTime")) {
-      const Json& s = e["sampleTime"];
-      st = s.is_array() ? SampleTime::Discrete(s.at(0).get<double>(), s.size() > 1 ? s[1].get<double>() : 0.0)
-                        : SampleTime::Discrete(s.get<double>(), 0.0);
-    }
-    block = bt.factory(BlockConfig{element, ElementParameters(element), st, base_});
+    block = Instantiate(element);
   } catch (const std::exception& ex) {
     throw std::invalid_argument(fmt::format("{} ({}): cannot list its ports: {}", what, type, ex.what()));
   }
   for (const auto& p : inputs ? block->input_ports() : block->output_ports()) names.push_back(p.name);
   return names;
+}
+
+std::unique_ptr<Block> DiagramDocument::Instantiate(const std::string& element) const {
+  const Json& e = Element(element);
+  const std::string type = e.value("type", "");
+  const BlockType& bt = RegisteredType(type, fmt::format("{}: element '{}'", source_, element));
+  std::optional<SampleTime> st;
+  if (e.contains("sampleTime")) {
+    const Json& s = e["sampleTime"];
+    st = s.is_array() ? SampleTime::Discrete(s.at(0).get<double>(), s.size() > 1 ? s[1].get<double>() : 0.0)
+                      : SampleTime::Discrete(s.get<double>(), 0.0);
+  }
+  return bt.factory(BlockConfig{element, ElementParameters(element), st, base_});
 }
 
 Endpoint DiagramDocument::ResolveStart(const Endpoint& start) const {
@@ -396,6 +404,26 @@ void DiagramDocument::SetParameter(const std::string& element, const std::string
   if (!problems.empty()) throw DiagramError(source_, problems);
   Json& slot = (*FindElement(element))["parameters"][parameter];
   slot = ReplacedParameterSlot(FindSpec(bt, parameter), slot, value);
+}
+
+void DiagramDocument::SetParameterChecked(const std::string& element, const std::string& parameter,
+                                          const Json& value) {
+  Parameter(element, parameter);  // an unknown element or parameter: std::invalid_argument, nothing changed
+  const Json before = FindElement(element)->value("parameters", Json());
+  SetParameter(element, parameter, value);  // the value against the parameter's spec: nothing changed if refused
+  try {
+    (void)Instantiate(element);
+  } catch (const std::exception& ex) {
+    Json& e = *FindElement(element);
+    if (before.is_null()) {
+      e.erase("parameters");
+    } else {
+      e["parameters"] = before;
+    }
+    throw DiagramError(source_, {fmt::format("/elements/{}/parameters/{}: {}.{} = {} does not fit element '{}' ({}): {}",
+                                             element, parameter, element, parameter, Excerpt(value.dump(), 80),
+                                             element, TypeOf(element), ex.what())});
+  }
 }
 
 Parameters DiagramDocument::ElementParameters(const std::string& element) const {

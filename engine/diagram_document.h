@@ -10,6 +10,7 @@
 // names a block type or a port: summing uses the type that declares `BlockType::sum_of_two` (blocks/sum.cc).
 
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -22,6 +23,8 @@
 #include "engine/units.h"
 
 namespace mb {
+
+class Block;
 
 /// One end of a connection: port `port` of element `element`, or — `element` empty — the diagram's connector
 /// named `port` (an input connector as a start, an output connector as an end). SSP's startElement /
@@ -135,6 +138,13 @@ class DiagramDocument {
   /// std::invalid_argument as Parameter; DiagramError if the value does not fit the parameter's spec (type,
   /// bounds) — the same error BuildDiagram would give.
   void SetParameter(const std::string& element, const std::string& parameter, const nlohmann::json& value);
+  /// SetParameter, then the element built through its block type's factory as BuildDiagram will build it, so that a
+  /// value right for the parameter alone but not with the element's others (three gains on a gain of width 1) is
+  /// refused at once rather than when the diagram is built (Python's Diagram.set; issue 41). The element is left as
+  /// it was when the value is refused. @throws as SetParameter; DiagramError
+  /// "/elements/<element>/parameters/<parameter>: <element>.<parameter> = <value> does not fit element '…' (type):
+  /// <the block's reason>".
+  void SetParameterChecked(const std::string& element, const std::string& parameter, const nlohmann::json& value);
   /// Every parameter of the element validated against its type's specs, defaults filled in, units stripped.
   /// @throws std::invalid_argument for an unknown element or an unregistered type; DiagramError for bad values.
   Parameters ElementParameters(const std::string& element) const;
@@ -192,6 +202,9 @@ class DiagramDocument {
   const nlohmann::json& Element(const std::string& element) const;
   /// The element's input or output port names (instantiating its block, or reading a subsystem's connectors).
   std::vector<std::string> Ports(const std::string& element, bool inputs) const;
+  /// The element's block built through its registered type's factory (its parameters validated, defaults filled
+  /// in, its sampleTime read). @throws std::invalid_argument for an unregistered type; whatever the factory throws.
+  std::unique_ptr<Block> Instantiate(const std::string& element) const;
   /// `start` with an empty port of an element with one output resolved to that output.
   Endpoint ResolveStart(const Endpoint& start) const;
   /// @throws std::invalid_argument unless `endpoint` exists as a start (an output or input connector) or an end.

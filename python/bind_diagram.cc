@@ -16,6 +16,8 @@
 #include "engine/closest_names.h"
 #include "engine/diagram_loader.h"
 #include "engine/input_file.h"
+#include "engine/json_limits.h"
+#include "engine/json_parsing.h"
 #include "engine/text_excerpt.h"
 #include "engine/simulator.h"
 #include "python/bindings.h"
@@ -59,7 +61,7 @@ void PyDiagram::Set(const std::string& key, const json& value) {
   if (DiagramDocument::IsSettingSection(element) && !document.Has(element)) {
     document.SetSectionSetting(element, name, value);
   } else {
-    document.SetParameter(element, name, value);
+    document.SetParameterChecked(element, name, value);  // the element built with it, as simulate will (issue 41)
   }
   settings.emplace_back(key, value);
 }
@@ -94,8 +96,17 @@ json ToJson(const py::handle& object, const std::string& argument) {
   // Inside dicts and lists too: NumPy values are written as their tolist().
   const py::cpp_function as_list([](const py::object& value) { return value.attr("tolist")(); });
   try {
-    return json::parse(json_module.attr("dumps")(plain, py::arg("default") = as_list).cast<std::string>());
-  } catch (const py::error_already_set& e) {  // an object JSON cannot hold (AttributeError: no tolist, TypeError)
+    // allow_nan=False: NaN and infinity have no JSON form (the json module would write the token NaN, which no JSON
+    // reader takes: issue 41's "parse error at line 1, column 1 … last read: 'N'").
+    return json::parse(json_module.attr("dumps")(plain, py::arg("default") = as_list, py::arg("allow_nan") = false)
+                           .cast<std::string>());
+  } catch (const py::error_already_set& e) {
+    if (e.matches(PyExc_ValueError)) {  // the json module's "Out of range float values are not JSON compliant"
+      throw py::value_error(fmt::format("{}: {} is not finite: NaN and infinity are no parameter's or setting's "
+                                        "value; give finite numbers",
+                                        argument, Excerpt(py::repr(object).cast<std::string>(), 120)));
+    }
+    // an object JSON cannot hold (AttributeError: no tolist, TypeError)
     throw py::type_error(fmt::format("{}: a {} is no JSON value; give a number, str, bool, None, or a list or dict "
                                      "of them (NumPy arrays and scalars are converted)",
                                      argument, py::str(py::type::of(object).attr("__name__")).cast<std::string>()));
@@ -145,11 +156,12 @@ namespace {
 // (a ValueError naming the file, the line and the column), as a diagram's other problems are, not a RuntimeError.
 void RequireDiagramJsonSyntax(const std::string& path) {
   if (!std::filesystem::is_regular_file(path)) return;  // Load says why (missing, a folder, a device)
-  std::istringstream in(ReadInputFile(path, "diagram file"));
+  const std::string text = ReadInputFile(path, "diagram file");
   try {
-    (void)nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
+    RefuseNulBytes(text);  // as ReadDiagramJson: no comments, no NUL byte (issue 41)
+    (void)nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/false);
   } catch (const nlohmann::json::parse_error& e) {
-    throw DiagramError(path, {fmt::format("not valid JSON: {}", JsonErrorText(e))});
+    throw DiagramError(path, {fmt::format("not valid JSON: {}{}", JsonErrorText(e), JsonCommentHint(text, e.byte))});
   }
 }
 
@@ -389,12 +401,18 @@ void BindDiagram(py::module_& m) {
           [](const py::object& path) {
             const std::string p = PathText(path);
             RequireDiagramJsonSyntax(p);
-            return PyDiagram{DiagramDocument::Load(p), p, {}};
+            PyDiagram diagram{DiagramDocument::Load(p), p, {}};
+            // Its subsystems read as the command line reads them (issue 41: a subsystem that includes itself was
+            // loaded, and failed only when simulated): a cycle, a missing or unreadable file is a DiagramError now.
+            (void)ExpandSubsystems(diagram.document.json(), diagram.document.base_directory(), p);
+            return diagram;
           },
           py::arg("path"),
-          "Reads a diagram file (str or os.PathLike). Files it names resolve against its folder. Raises OSError if "
-          "it cannot be opened, DiagramError (a ValueError) with the line and column on a JSON syntax error, "
-          "TypeError if `path` is no str or os.PathLike.")
+          "Reads a diagram file (str or os.PathLike) and the subsystem files it names. Files it names resolve "
+          "against its folder. Raises OSError if it cannot be opened, DiagramError (a ValueError) with the line and "
+          "column on a JSON syntax error, or naming the subsystem for one that includes itself (directly or "
+          "through others), is missing or lies outside the diagram's folder, TypeError if `path` is no str or "
+          "os.PathLike.")
       .def_static(
           "from_dict",
           [](const py::object& diagram, const py::object& base_directory) {
@@ -405,14 +423,16 @@ void BindDiagram(py::module_& m) {
           "A diagram from its JSON as a dict; relative file names resolve against `base_directory`.")
       .def("set",
            [](PyDiagram& d, const std::string& key, const py::object& value) {
-             d.Set(key, ToJson(value, "set(): value"));
+             d.Set(key, ToJson(value, fmt::format("set('{}', …): value", Excerpt(key, 120))));
            },
            py::arg("key"), py::arg("value"),
            "Sets 'element.parameter' (a number in the parameter's SI unit whatever unit the diagram wrote, as "
            "`motionblocks --set` reads it; or {'value': v, 'unit': 'mm'}), 'solver.<key>' or "
-           "'defaultExperiment.<key>' (e.g. 'defaultExperiment.stopTime' [s]). Raises ValueError for an unknown "
-           "element or parameter (naming the closest), DiagramError for a value the parameter refuses, TypeError "
-           "(naming `value`) for an object JSON cannot hold.")
+           "'defaultExperiment.<key>' (e.g. 'defaultExperiment.stopTime' [s]). The element is built with the new "
+           "value at once, as simulate will build it. Raises ValueError for an unknown element or parameter (naming "
+           "the closest) or a value that is no finite number (NaN, infinity), DiagramError for a value the "
+           "parameter or its element refuses (a 3-entry array for a gain of width 1), TypeError (naming `value`) for "
+           "an object JSON cannot hold.")
       .def(
           "get",
           [](const PyDiagram& d, const std::string& key, const py::object& parameter) {

@@ -156,7 +156,8 @@ def test_a_json_syntax_error_is_a_diagram_error_naming_the_line(tmp_path):
 def test_values_json_cannot_hold_are_type_errors_naming_the_argument(conventional):
     with pytest.raises(TypeError) as e:
         conventional.set("plant.payload_mass", object())
-    assert str(e.value).startswith("set(): value: a object is no JSON value; give a number, str, bool, None")
+    assert str(e.value).startswith("set('plant.payload_mass', …): value: a object is no JSON value; give a number, "
+                                   "str, bool, None")
     with pytest.raises(TypeError) as e:
         mb.Diagram.from_dict({"name": {1, 2}})
     assert str(e.value).startswith("from_dict(): diagram: a dict is no JSON value")
@@ -166,6 +167,53 @@ def test_values_json_cannot_hold_are_type_errors_naming_the_argument(conventiona
     assert str(e.value) == ("simulate(): inputs['velocity']: a int is no (time, values) pair; give two 1-D sequences "
                             "of numbers of one length, time [s] increasing")
     assert "Unable to cast" not in str(e.value)
+
+
+GAIN = {"schemaVersion": "1.0", "defaultExperiment": {"stopTime": 0.01}, "solver": {"type": "rk4", "step": 0.001},
+        "elements": [{"name": "c", "type": "constant", "parameters": {"value": 1.0}},
+                     {"name": "k", "type": "gain", "parameters": {"gain": 1.0}}],
+        "connections": [{"startElement": "c", "startConnector": "y", "endElement": "k", "endConnector": "u"}],
+        "log": ["k.y"]}
+
+
+def test_set_refuses_a_non_finite_value_naming_the_key_and_the_value():  # issue 41
+    d = mb.Diagram.from_dict(GAIN)
+    for value, text in ((float("nan"), "nan"), (float("inf"), "inf"), (np.array([1.0, np.nan]), "nan"),
+                        (np.float64("-inf"), "-inf")):
+        with pytest.raises(ValueError) as e:
+            d.set("k.gain", value)
+        assert str(e.value).startswith("set('k.gain', …): value: ")
+        assert f"{text}" in str(e.value) and "is not finite: NaN and infinity are no parameter's" in str(e.value)
+        assert "parse error" not in str(e.value)
+    with pytest.raises(ValueError) as e:
+        d.set("solver.step", float("nan"))
+    assert str(e.value).startswith("set('solver.step', …): value: nan is not finite")
+    assert d.get("k.gain") == 1.0
+
+
+def test_set_builds_the_element_with_the_value_and_keeps_it_unchanged_when_refused():  # issue 41
+    d = mb.Diagram.from_dict(GAIN)
+    with pytest.raises(mb.DiagramError) as e:
+        d.set("k.gain", np.array([1.0, 2.0, 3.0]))
+    assert "/elements/k/parameters/gain: k.gain = [1.0,2.0,3.0] does not fit element 'k' (gain): gain has 3 " \
+           "entries; give one or `width` entries" in str(e.value)
+    assert d.get("k.gain") == 1.0  # unchanged
+    d.set("k.gain", np.array([2.5]))  # one entry: a scalar gain
+    d.set("k.width", 3)
+    d.set("k.gain", np.array([1.0, 2.0, 3.0]))  # three entries on a gain of width 3
+    assert d.get("k.gain") == [1.0, 2.0, 3.0]
+
+
+def test_load_refuses_a_subsystem_that_includes_itself(tmp_path):  # issue 41: the command line refused it already
+    inner = dict(GAIN, connectors=[{"name": "y", "kind": "output", "unit": "1"}],
+                 elements=GAIN["elements"] + [{"name": "s", "type": "subsystem", "diagram": "self.json"}])
+    inner.pop("log")
+    (tmp_path / "self.json").write_text(__import__("json").dumps(inner))
+    top = dict(GAIN, elements=GAIN["elements"] + [{"name": "s", "type": "subsystem", "diagram": "self.json"}])
+    (tmp_path / "top.json").write_text(__import__("json").dumps(top))
+    with pytest.raises(mb.DiagramError) as e:
+        mb.Diagram.load(tmp_path / "top.json")
+    assert "self.json" in str(e.value)
 
 
 def test_inputs_feed_the_input_connectors():
