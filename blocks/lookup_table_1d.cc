@@ -98,7 +98,9 @@ EffectBlockTemplate LocalTableBlock(const char* element_name) {
   return block;
 }
 
-// local_friction: the table times sign(v) (a friction at one place).
+// local_friction: the table times sign(v) (a friction at one place). A force of one place alone is not proposed: at
+// the ends of the travel a bump is confounded with the reversals, and inside it position_dependent_force's smooth
+// basis covers it.
 EffectBlockTemplate LocalFrictionEffectBlock() {
   EffectBlockTemplate block = LocalTableBlock("local_friction");
   block.multiplier = SignOfVelocity();
@@ -107,7 +109,6 @@ EffectBlockTemplate LocalFrictionEffectBlock() {
 
 }  // namespace
 
-MB_REGISTER_EFFECT_BLOCK(local_force, LocalTableBlock("local_force"))
 MB_REGISTER_EFFECT_BLOCK(local_friction, LocalFrictionEffectBlock())
 
 }  // namespace mb

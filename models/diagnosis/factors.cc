@@ -87,7 +87,9 @@ BumpPlace ScanBump(const ProposalContext& c, const Eigen::VectorXd& m) {
   double best_sse = sse_base;
   for (const double fraction : {1.0 / 40.0, 1.0 / 20.0, 1.0 / 10.0}) {
     const double w = fraction * span;
-    for (double center = x_min + 0.5 * w; center <= x_min + span - 0.5 * w; center += 0.5 * w) {
+    // The stretch lies inside the travel with room on both sides, so that the axis passes through it: at an end a
+    // bump is confounded with the reversals there.
+    for (double center = x_min + 2.0 * w; center <= x_min + span - 2.0 * w; center += 0.5 * w) {
       const Eigen::VectorXd column = m.cwiseProduct(Bump(s.position, center, w));
       if (!(column.squaredNorm() > 0.0)) continue;
       const double sse = fit(column);

@@ -45,7 +45,8 @@ Eigen::VectorXd Bump(const Eigen::VectorXd& position, double center, double half
 std::optional<ProposedPeriod> ModulatedPeriod(const ProposalContext& context, const Eigen::VectorXd& modulation);
 
 /// A local factor's place: the centre and half-width minimising the joint fit of the residual on
-/// [base, 1, m·Bump(x; c, w)], over half-widths of 1/40, 1/20 and 1/10 of the travel and centres every w/2 across it.
+/// [base, 1, m·Bump(x; c, w)], over half-widths of 1/40, 1/20 and 1/10 of the travel and centres every w/2 from 2w inside
+/// either end of the travel (the axis passes through the stretch; at an end a bump is confounded with the reversals).
 struct BumpPlace {
   double center = 0.0, half_width = 0.0;  ///< [m]
   double explained = 0.0;                 ///< share of the residual's sum of squares the bump removes, 0..1

@@ -379,10 +379,11 @@ NoiseFloor EstimateNoiseFloor(const Eigen::Ref<const Eigen::VectorXd>& residual,
     level.push_back(median / scale);
   }
   if (level.size() < 8) return out;
-  const auto middle = level.begin() + static_cast<std::ptrdiff_t>(level.size() / 2);
-  std::nth_element(level.begin(), middle, level.end());
+  // The quietest tenth of the segments: the axis at rest (no ripple in the band) or moving without a friction's chatter.
+  const auto quiet = level.begin() + static_cast<std::ptrdiff_t>(level.size() / 10);
+  std::nth_element(level.begin(), quiet, level.end());
   const double bandwidth = filtered ? 3.0 * std::numbers::pi / (8.0 * std::sqrt(2.0)) * band_limit_hz : nyquist;
-  out.rms = std::sqrt(*middle * bandwidth);
+  out.rms = std::sqrt(*quiet * bandwidth);
   return out;
 }
 

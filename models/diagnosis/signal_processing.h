@@ -125,10 +125,11 @@ PowerSpectrum WelchPowerSpectrum(const Eigen::Ref<const Eigen::VectorXd>& signal
 // ZeroPhaseLowPass at band_limit_hz = f_c) the band [f_c/4, f_c/2], each bin divided by the filter's power gain
 // 1/(1 + (f/f_c)⁴)² there, integrated over the filter's noise bandwidth ∫|H|⁴ df = 3π/(8√2)·f_c. The level is each
 // 256-sample segment's (128 below 2048 samples; Hann window, half overlap: WelchPowerSpectrum of the segment) median
-// density over the band, made unbiased for white noise, and the median over the segments: structure that is local in
-// time however broadband — the steps of a sign(v) at the reversals, a friction chattering while the axis dwells — does
-// not raise it, nor does a narrow peak; broadband structure present throughout (a quantizer's error) does, so the
-// floor is an upper estimate there.
+// density over the band, made unbiased for white noise, and of those the quietest tenth (the 10th percentile over the
+// segments): the band of a low-passed record holds the motion's own content too (a ripple at speed, a friction
+// chattering while the axis dwells), local in time, which the quietest segments are free of. It is a lower estimate:
+// on white noise 0.75–0.95 × its RMS (the fewer bins in the band, the lower), so a step refused as fitting the noise
+// (below 0.7 × this floor) lies well below the real one.
 struct NoiseFloor {
   double rms = 0.0;                             // [unit of the residual]; 0 when the record is too short to tell
   double band_low_hz = 0.0, band_high_hz = 0.0;  // the band its level was read in

@@ -530,7 +530,8 @@ TEST(Diagnosis, NothingIsNamedOnTwentyNoiseOnlySeeds) {
       ++named;
     }
     for (const auto& c : r.candidates) EXPECT_NE(c.name, "drive_saturation") << "seed " << seed;
-    EXPECT_NEAR(r.noise_floor.rms, kSigma, 0.1 * kSigma) << "seed " << seed;
+    EXPECT_GE(r.noise_floor.rms, 0.7 * kSigma) << "seed " << seed;  // a lower estimate of the noise
+    EXPECT_LE(r.noise_floor.rms, 1.0 * kSigma) << "seed " << seed;
   }
   RecordProperty("effects_named_over_20_seeds", named);
 }

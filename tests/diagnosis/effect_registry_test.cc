@@ -35,6 +35,8 @@ DiagnosisSignals Motion() {
   s.residual = Eigen::VectorXd::Zero(n);
   s.model_output = 90.0 * s.acceleration + 200.0 * s.velocity;
   s.logged_command = s.model_output;  // equation-error mode: the command the drive was given
+  s.extra_names = {"accel_y_m_s2"};  // a column the diagram does not read (logged_column)
+  s.extra_columns = {0.5 * s.acceleration.reverse()};
   return s;
 }
 
@@ -47,7 +49,8 @@ const std::map<std::string, double> kTypical{{"period", 0.0025},   {"harmonics",
                                              {"degree", 3.0},      {"regularization_velocity", 5e-4},
                                              {"presliding_displacement", 2e-5}, {"lag", 0.004},
                                              {"upper_limit", 50.0}, {"lower_limit", -60.0}, {"change_time", 2.0},
-                                             {"start_time", 0.0}, {"end_time", 4.0}};
+                                             {"start_time", 0.0}, {"end_time", 4.0}, {"half_width", 0.02},
+                                             {"column", 0.0}};
 
 bool IsSnakeCase(const std::string& name) {
   return !name.empty() && std::islower(static_cast<unsigned char>(name.front())) &&

@@ -217,7 +217,8 @@ TEST(EstimateFrequencyResponse, FindsAFirFiltersResponseAndTheNoiseInItsCoherenc
 }
 
 // The noise floor of a residual: white noise under slow structure (a motion's band) and a narrow hum, read in the band
-// above the motion's; with the residual low-passed (parallel filtering), the filtered noise's own RMS.
+// above the motion's; with the residual low-passed (parallel filtering), the filtered noise's own RMS. A lower estimate
+// (the quietest tenth of the segments): within [0.7, 1] × the truth.
 TEST(EstimateNoiseFloor, RecoversTheNoiseUnderStructureWithAndWithoutTheFilter) {
   const double ts = 1e-3, sigma = 0.5;
   const Eigen::Index n = 16000;
@@ -230,14 +231,16 @@ TEST(EstimateNoiseFloor, RecoversTheNoiseUnderStructureWithAndWithoutTheFilter) 
       (3.0 * (2.0 * kPi * 0.7 * t.array()).sin() + 1.5 * (2.0 * kPi * 4.0 * t.array()).sin()).matrix();
   const Eigen::VectorXd hum = (2.0 * (2.0 * kPi * 300.0 * t.array()).sin()).matrix();  // inside the upper band
   const NoiseFloor raw = EstimateNoiseFloor(structure + hum + noise, ts);
-  EXPECT_NEAR(raw.rms, sigma, 0.1 * sigma);  // measured 7.5 % high: the Hann bins are not independent
+  EXPECT_GE(raw.rms, 0.7 * sigma);
+  EXPECT_LE(raw.rms, 1.0 * sigma);
   EXPECT_DOUBLE_EQ(raw.band_low_hz, 250.0);
   // Low-passed at 100 Hz as compare filters an equation-error residual: the floor is the filtered noise's RMS.
   const Eigen::VectorXd filtered = ZeroPhaseLowPass(structure + noise, ts, 100.0);
   const Eigen::VectorXd filtered_noise = ZeroPhaseLowPass(noise, ts, 100.0);
   const double truth = std::sqrt(filtered_noise.squaredNorm() / static_cast<double>(n));
   const NoiseFloor low = EstimateNoiseFloor(filtered, ts, 100.0);
-  EXPECT_NEAR(low.rms, truth, 0.1 * truth);
+  EXPECT_GE(low.rms, 0.7 * truth);
+  EXPECT_LE(low.rms, 1.0 * truth);
   EXPECT_DOUBLE_EQ(low.band_high_hz, 50.0);
   // Too short to tell: 0, not a guess; a band limit at Nyquist is refused.
   EXPECT_EQ(EstimateNoiseFloor(noise.head(100), ts).rms, 0.0);

@@ -529,6 +529,9 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
   for (const ComparedOutput& o : out.after) read.push_back(o.column);
   for (const std::string& name : log.names()) {
     if (std::find(read.begin(), read.end(), name) != read.end()) continue;
+    // "element.port" columns are a simulation's own internal signals (a motionblocks run's log: the twin's
+    // plant.disturbance is the hidden truth itself), not measurements of another physical quantity.
+    if (name.find('.') != std::string::npos) continue;
     signals.extra_names.push_back(name);
     signals.extra_columns.push_back(log.column(name));
   }

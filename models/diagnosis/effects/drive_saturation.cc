@@ -6,13 +6,13 @@
 // are found side by side; a side the command never passes gets a limit beyond the record. Proposal: a scan of the base
 // refit of the residual minus the excess (coefficient 1), one symmetric limit first, then each side (ScanLimits); a
 // side is kept when at least 0.5 % of the samples lie beyond it, the pair when it explains at least 2 % of the
-// residual's sum of squares. The regressor is built from the compared output itself (the logged command), so a limit
-// must first pass a physical test: the drive cannot deliver less than the force the motion shows acted. That force is
-// the model's, from the measured motion, after the base refit (u − r); a limit below its extreme quantiles (0.5 %) is
-// impossible and is not scanned, and beyond a limit the log must exceed that force by more than three noise levels — on a record that never saturates the
-// admissible range is empty, and a limit scanned down to the median |u| would make the regressor the measurement
-// itself, noise included (issue 40: "explains 63 %", its held-out error 3× below the noise floor). Needs the logged
-// command (DiagnosisSignals::logged_command, equation-error mode). Block:
+// residual's sum of squares. The regressor is built from the compared output itself (the logged command), so a side
+// must first pass a physical test: beyond its limit the log must exceed the force the motion shows acted — the
+// model's, from the measured motion, u − r after the base refit — by more than the noise (the median of r over the
+// samples beyond at least three robust noise levels, 1.4826·MAD of r). Else the limit sits in the noise of the force's
+// extremes (a sinusoid's flat top) and the excess is that noise: on a clean record the limit went down to the median
+// |u|, where the regressor is the measurement on half the samples, and "explained 63 %" with a held-out error 3× below
+// the noise floor (issue 40). Needs the logged command (DiagnosisSignals::logged_command, equation-error mode). Block:
 // saturation on the command path (BlockPlacement::kOnCommand, blocks/saturation.cc). Source: DIAGNOSIS.md, "Drive
 // saturation".
 #include <algorithm>
@@ -33,43 +33,26 @@ namespace {
 constexpr const char* kName = "drive_saturation";
 constexpr double kMinShareBeyond = 0.005;  // of the samples beyond a limit: fewer are the noise's extremes
 constexpr double kMinExplained = 0.02;     // of the residual's sum of squares
+constexpr double kExcessNoise = 3.0;       // robust noise levels the log must exceed the acted force by, beyond a limit
 
 // u − clamp(u, lower, upper): what the log holds beyond the limits.
 Eigen::VectorXd Excess(const Eigen::VectorXd& u, double lower, double upper) {
   return u - u.cwiseMax(lower).cwiseMin(upper);
 }
 
-// The value of `values` that a share q of them lies below (0 <= q <= 1; nearest rank).
-double Quantile(const Eigen::VectorXd& values, double q) {
-  std::vector<double> v(values.data(), values.data() + values.size());
-  const auto k = static_cast<std::ptrdiff_t>(std::lround(q * static_cast<double>(v.size() - 1)));
-  std::nth_element(v.begin(), v.begin() + k, v.end());
-  return v[static_cast<std::size_t>(k)];
-}
-
-// The physical test: the force that acted (the model's from the measured motion, u − r after the base refit) bounds
-// the limits — L₊ at least its upper 0.5 % quantile, L₋ at most its lower one; and beyond a limit the log must hold more
-// than the noise: the residual there (what the log holds beyond the force that acted) at least kExcessNoise robust noise
-// levels (1.4826·MAD of the residual) in median. A limit in the noise of a force that dwells at its extremes (a
-// sinusoid's flat top) would otherwise make the excess the noise of those samples.
-constexpr double kExcessNoise = 3.0;
-
-struct ActedForceBounds {
-  double min_upper = 0.0, max_lower = 0.0;
-  double noise = 0.0;  ///< robust noise level of the residual
+// The limits: the residual minus the excess (its physical coefficient 1; free, a larger coefficient on a narrower
+// excess — a limit too high — fits the peaks as well) refit on the base, scanned for one symmetric limit over
+// [median |u|, the |u| that 0.5 % of the samples pass], then for each side with the other held. A side that fewer than
+// 0.5 % of the samples pass shows no saturation (nullopt).
+struct Limits {
+  std::optional<double> lower, upper;
+  std::string refused;  ///< why a scanned limit failed the physical test, for the report's notes
 };
 
-ActedForceBounds BoundsFromActedForce(const ProposalContext& c) {
-  const Eigen::VectorXd acted = c.signals().logged_command - c.residual();
-  const double median = Quantile(c.residual(), 0.5);
-  const double noise = 1.4826 * Quantile((c.residual().array() - median).abs().matrix(), 0.5);
-  return {Quantile(acted, 1.0 - kMinShareBeyond), Quantile(acted, kMinShareBeyond), noise};
-}
-
-// Does the log hold more than the noise beyond the limit? The median residual over the samples `beyond` selects,
-// signed by the side (+1 above L₊, −1 below L₋).
+// The physical test of a side: the median of the residual (what the log holds beyond the force that acted) over the
+// samples `beyond` its limit, signed by the side (+1 above L₊, −1 below L₋), at least kExcessNoise robust noise levels.
 template <typename Beyond>
-bool ExcessAboveNoise(const ProposalContext& c, const ActedForceBounds& bounds, double side, Beyond&& beyond) {
+bool ExcessAboveNoise(const ProposalContext& c, double noise, double side, Beyond&& beyond) {
   const Eigen::VectorXd& u = c.signals().logged_command;
   std::vector<double> excess;
   for (Eigen::Index i = 0; i < u.size(); ++i) {
@@ -78,21 +61,22 @@ bool ExcessAboveNoise(const ProposalContext& c, const ActedForceBounds& bounds, 
   if (excess.empty()) return false;
   const auto middle = excess.begin() + static_cast<std::ptrdiff_t>(excess.size() / 2);
   std::nth_element(excess.begin(), middle, excess.end());
-  return *middle >= kExcessNoise * bounds.noise;
+  return *middle >= kExcessNoise * noise;
 }
 
-// The limits: the residual minus the excess (its physical coefficient 1; free, a larger coefficient on a narrower
-// excess — a limit too high — fits the peaks as well) refit on the base, scanned for one symmetric limit over
-// [median |u|, the |u| that 0.5 % of the samples pass] within the physical bounds, then for each side with the other
-// held. A side that fewer than 0.5 % of the samples pass shows no saturation (nullopt).
-struct Limits {
-  std::optional<double> lower, upper;
-  std::string refused;  ///< why no limit is admissible, for the report's notes
-};
+// The residual's robust noise level: 1.4826 × its median absolute deviation.
+double RobustNoise(const Eigen::VectorXd& r) {
+  std::vector<double> v(r.data(), r.data() + r.size());
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  const double median = *mid;
+  for (double& x : v) x = std::abs(x - median);
+  std::nth_element(v.begin(), mid, v.end());
+  return 1.4826 * *mid;
+}
 
 Limits ScanLimits(const ProposalContext& c) {
   const Eigen::VectorXd& u = c.signals().logged_command;
-  const ActedForceBounds bounds = BoundsFromActedForce(c);
   const Eigen::MatrixXd base = c.BaseWithConstant();
   const Eigen::MatrixXd none(c.size(), 0);
   const Eigen::MatrixXd gram = base.transpose() * base;  // once for the scans (N·p² each time otherwise)
@@ -105,41 +89,27 @@ Limits ScanLimits(const ProposalContext& c) {
   std::sort(magnitude.begin(), magnitude.end());
   const auto n = magnitude.size();
   const double lo = magnitude[n / 2], hi = magnitude[n - 1 - static_cast<std::size_t>(kMinShareBeyond * static_cast<double>(n))];
-  // The admissible ranges of |L₋| and L₊: above the force that acted.
-  const double lo_upper = std::max(lo, bounds.min_upper), lo_lower = std::max(lo, -bounds.max_lower);
-  const double lo_symmetric = std::max(lo_upper, lo_lower);
-  if (!(lo > 0.0)) return {};
-  if (!(hi > lo_upper || hi > lo_lower)) {
-    Limits refused;
-    refused.refused = fmt::format(
-        "drive_saturation not proposed: the force that acted (the model's, from the measured motion) reaches {:.4g} and "
-        "{:.4g} where the logged command reaches {:.4g} and {:.4g} (0.5 % quantiles): no drive limit lies between, the "
-        "drive delivered what it was commanded",
-        bounds.min_upper, bounds.max_lower, hi, -hi);
-    return refused;
-  }
+  if (!(hi > lo && lo > 0.0)) return {};
   // sse is thread-safe (its own vectors per call): the grids in parallel.
-  const double symmetric = hi > lo_symmetric
-                               ? MinimiseOnLogGrid(lo_symmetric, hi, 21, 20, [&](double l) { return sse(-l, l); }, true)
-                               : hi;
-  const double upper =
-      hi > lo_upper ? MinimiseOnLogGrid(lo_upper, hi, 21, 20, [&](double l) { return sse(-symmetric, l); }, true) : hi;
-  const double lower =
-      hi > lo_lower ? -MinimiseOnLogGrid(lo_lower, hi, 21, 20, [&](double l) { return sse(-l, upper); }, true) : -hi;
+  const double symmetric = MinimiseOnLogGrid(lo, hi, 21, 20, [&](double l) { return sse(-l, l); }, true);
+  const double upper = MinimiseOnLogGrid(lo, hi, 21, 20, [&](double l) { return sse(-symmetric, l); }, true);
+  const double lower = -MinimiseOnLogGrid(lo, hi, 21, 20, [&](double l) { return sse(-l, upper); }, true);
   const double sse_base = ResidualSumOfSquares(base, none, c.residual());
   if (!(sse(lower, upper) < (1.0 - kMinExplained) * sse_base)) return {};
   const auto beyond = [&](auto&& passes) {
     return static_cast<double>((u.array().unaryExpr(passes)).count()) >= kMinShareBeyond * static_cast<double>(n);
   };
-  Limits out;
   const auto above = [&](double v) { return v > upper; };
   const auto below = [&](double v) { return v < lower; };
-  if (hi > lo_upper && beyond(above) && ExcessAboveNoise(c, bounds, 1.0, above)) out.upper = upper;
-  if (hi > lo_lower && beyond(below) && ExcessAboveNoise(c, bounds, -1.0, below)) out.lower = lower;
+  const double noise = RobustNoise(c.residual());
+  Limits out;
+  if (beyond(above) && ExcessAboveNoise(c, noise, 1.0, above)) out.upper = upper;
+  if (beyond(below) && ExcessAboveNoise(c, noise, -1.0, below)) out.lower = lower;
   if (!out.upper && !out.lower) {
     out.refused = fmt::format("drive_saturation not proposed: beyond the best limits ({:.4g}, {:.4g}) the logged "
-                              "command exceeds the force that acted by no more than the noise ({:.3g}): no saturation",
-                              lower, upper, bounds.noise);
+                              "command exceeds the force the motion shows acted by no more than the noise ({:.3g} "
+                              "robust RMS): no saturation",
+                              lower, upper, noise);
   }
   return out;
 }

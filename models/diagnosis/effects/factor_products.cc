@@ -8,7 +8,6 @@
 //                                                 from the measured motion, never the logged (compared) command
 //   local_friction         sign(v) × bump(x)      friction at one place (a damaged spot, a seal, debris)
 //                                                 {center c, half_width w [m], dead_band}
-//   local_force            bump(x)                a force at one place of the travel (a magnet, a cable, a stop) {c, w}
 // (|v| × periodic(x) is the catalogue's velocity_dependent_ripple.) Proposal: a periodic product at the period of the
 // residual demodulated by its multiplier (ModulatedPeriod: a friction along the pitch reverses with the direction of
 // travel and cancels in the plain periodogram) and at every proposed position period; a local product at the place
@@ -56,10 +55,6 @@ const Product kProducts[] = {
      "friction at one place of the travel (a damaged spot, a seal, debris, a tight stretch of the guide): sign(v) × a "
      "bump over [c − w, c + w]; add a 1-D lookup table of the position multiplied by sign(v)",
      "s(v)·cos²(π(x − c)/(2w)) for |x − c| < w"},
-    {"local_force", 87, Multiplier::kOne, PositionFactor::kLocal,
-     "a force at one place of the travel (a magnet, a cable, an end stop's spring): a bump over [c − w, c + w]; add a "
-     "1-D lookup table of the position",
-     "cos²(π(x − c)/(2w)) for |x − c| < w"},
 };
 
 // The multiplier's dead band: the effect's parameter when the multiplier is sign(v), else unused.
@@ -85,7 +80,7 @@ void Propose(const Product& p, ProposalContext& c) {
   }
   const Eigen::VectorXd m = MultiplierColumn(p.multiplier, s, c.dead_band(), p.name);
   // sign(v) × f(x) is a friction only when the axis travels both ways: one way, it is f(x) itself (position_periodic,
-  // local_force), which the catalogue proposes already.
+  // position_dependent_force), which the catalogue proposes already.
   if (p.multiplier == Multiplier::kSign) {
     const double n = static_cast<double>(c.size());
     const auto forward = static_cast<double>((m.array() > 0.0).count());

@@ -4,9 +4,11 @@
 // (CentralDifference on the record's own time grid) {column: its index in DiagnosisSignals::extra_columns, named in
 // extra_names}. Proposal: every unused column that varies over the record; the forward selection's held-out test on
 // contiguous blocks decides, so a column that does not matter (a slow temperature on a record whose friction does not
-// drift) is not named. No block yet: add an input connector reading the column and a gain into the force by hand.
+// drift) is not named. A column that is the compared output, the position or the velocity in another form (squared
+// correlation ≥ 0.98: EMPS's input_V beside force_N, its reference_m beside position_m) is not proposed, with a note. No block yet: add an input connector reading the column and a gain into the force by hand.
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -19,6 +21,16 @@ namespace mb {
 namespace {
 
 constexpr const char* kName = "logged_column";
+constexpr double kDuplicate = 0.98;  // squared correlation with a signal the model reads: the same signal
+
+// The squared correlation of a and b (0 when either is constant).
+double SquaredCorrelation(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  const Eigen::ArrayXd da = a.array() - a.mean(), db = b.array() - b.mean();
+  const double saa = da.square().sum(), sbb = db.square().sum();
+  if (!(saa > 0.0 && sbb > 0.0)) return 0.0;
+  const double sab = (da * db).sum();
+  return sab * sab / (saa * sbb);
+}
 
 // The column the effect names; std::invalid_argument when its index is not one of the signals' extra columns.
 std::size_t ColumnIndex(const EffectInstance& e, const DiagnosisSignals& s) {
@@ -54,6 +66,20 @@ EffectType LoggedColumn() {
     for (std::size_t k = 0; k < s.extra_columns.size(); ++k) {
       const Eigen::VectorXd& column = s.extra_columns[k];
       if (!(column.maxCoeff() > column.minCoeff())) continue;
+      // A column that is the compared output (or the motion the model reads) in another unit is no new signal: the
+      // logged command as a voltage would fit the measurement's own noise (EMPS logs input_V beside force_N).
+      const std::pair<const char*, const Eigen::VectorXd*> read[] = {
+          {"the compared output (the logged command)", &s.logged_command}, {"the position", &s.position},
+          {"the velocity", &s.velocity}};
+      const char* duplicate = nullptr;
+      for (const auto& [what, signal] : read) {
+        if (signal->size() == column.size() && SquaredCorrelation(column, *signal) >= kDuplicate) duplicate = what;
+      }
+      if (duplicate != nullptr) {
+        c.Note(fmt::format("logged_column not proposed for '{}': it is {} in another form (squared correlation ≥ {:g})",
+                           s.extra_names[k], duplicate, kDuplicate));
+        continue;
+      }
       c.Propose(kName, {{"column", static_cast<double>(k)}});
     }
   };
