@@ -128,7 +128,8 @@ PowerSpectrum WelchPowerSpectrum(const Eigen::Ref<const Eigen::VectorXd>& signal
 // density over the band, made unbiased for white noise, and of those the quietest tenth (the 10th percentile over the
 // segments): the band of a low-passed record holds the motion's own content too (a ripple at speed, a friction
 // chattering while the axis dwells), local in time, which the quietest segments are free of. It is a lower estimate:
-// on white noise 0.75–0.95 × its RMS (the fewer bins in the band, the lower), so a step refused as fitting the noise
+// on white noise 0.56 × its RMS in a low-passed band (7 bins per segment) to 0.7–1 × in the upper half of an
+// unfiltered spectrum, so a step refused as fitting the noise
 // (below 0.7 × this floor) lies well below the real one.
 struct NoiseFloor {
   double rms = 0.0;                             // [unit of the residual]; 0 when the record is too short to tell
