@@ -58,4 +58,22 @@ EffectBlockTemplate MassMismatchEffectBlock() {
 MB_REGISTER_EFFECT_BLOCK(viscous_friction, ViscousFrictionEffectBlock())
 MB_REGISTER_EFFECT_BLOCK(mass_mismatch, MassMismatchEffectBlock())
 
+namespace {
+
+// Adds the grammar's logged_column (models/diagnosis/effects/logged_column.cc: the residual follows a log column the
+// diagram did not read) to a diagram: a gain on an input connector reading the column, summed into the force.
+EffectBlockTemplate LoggedColumnEffectBlock() {
+  EffectBlockTemplate block;
+  block.block_type = "gain";
+  block.element_name = "coupling";
+  block.log_column_port = "u";
+  block.parameters = [](const DiagnosedEffect& d) { return nlohmann::json{{"gain", BlockCoefficient(d, "")}}; };
+  block.free = {"gain"};
+  return block;
+}
+
+}  // namespace
+
+MB_REGISTER_EFFECT_BLOCK(logged_column, LoggedColumnEffectBlock())
+
 }  // namespace mb

@@ -65,4 +65,20 @@ EffectBlockTemplate FrictionRippleEffectBlock() {
 
 MB_REGISTER_EFFECT_BLOCK(friction_ripple, FrictionRippleEffectBlock())
 
+namespace {
+
+// Adds the grammar's force_constant_ripple (effects/factor_products.cc: ŷ × a ripple of the position): the ripple times
+// the model's force, the force constant scaled by 1 + ripple(x) (equation-error mode).
+EffectBlockTemplate ForceConstantRippleEffectBlock() {
+  EffectBlockTemplate block = PositionRippleBlock("position_periodic", 1);
+  block.element_name = "force_constant_ripple";
+  block.multiplier = MotionMultiplier{};
+  block.multiplier->of_model_force = true;
+  return block;
+}
+
+}  // namespace
+
+MB_REGISTER_EFFECT_BLOCK(force_constant_ripple, ForceConstantRippleEffectBlock())
+
 }  // namespace mb

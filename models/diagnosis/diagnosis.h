@@ -110,6 +110,9 @@ struct DiagnosedEffect {
   // The base's free parameter that this effect takes over (EffectTraits::replaces_coulomb_law: the model's Coulomb
   // level, e.g. "friction.coulomb"); "" for an effect that adds to the model.
   std::string replaced_parameter;
+  // The log column the effect reads, for a factor of a column the diagram does not read (logged_column: its name in
+  // DiagnosisSignals::extra_names); "" for every other effect.
+  std::string log_column;
   // Where the effect's fitted contribution is largest: 5–95 % ranges of t, x, v over the 10 % of samples
   // where |contribution| is largest, and its RMS.
   double contribution_rms = 0.0;

@@ -84,6 +84,7 @@ nlohmann::json DiagnosisResult::ToJson() const {
                     {"position_range", {e.position_range[0], e.position_range[1]}},
                     {"velocity_range", {e.velocity_range[0], e.velocity_range[1]}}, {"description", e.description}});
     if (!e.replaced_parameter.empty()) effs.back()["replaces"] = e.replaced_parameter;
+    if (!e.log_column.empty()) effs.back()["log_column"] = e.log_column;
   }
   j["effects"] = effs;
   j["whiteness_before"] = WhitenessJson(whiteness_before);

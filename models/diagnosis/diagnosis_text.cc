@@ -102,9 +102,9 @@ DiagnosedEffect DescribeEffect(const Candidate& c, double score, double cumulati
   // A factor of a log column (logged_column) names the column.
   if (const auto column = d.parameters.find("column"); column != d.parameters.end() && column->second >= 0.0 &&
                                                         column->second < static_cast<double>(signals.extra_names.size())) {
-    const std::string& name = signals.extra_names[static_cast<std::size_t>(column->second)];
+    d.log_column = signals.extra_names[static_cast<std::size_t>(column->second)];
     d.description += fmt::format(" The residual follows the log column '{}' (coupling from another axis, or what that "
-                                 "column measures acting on this one).", name);
+                                 "column measures acting on this one).", d.log_column);
   }
   return d;
 }

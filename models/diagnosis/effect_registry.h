@@ -88,14 +88,18 @@ enum class BlockPlacement {
 /// A measured motion quantity that a suggested block reads from the diagram's input connectors (found by unit).
 enum class MotionInput { kPosition, kVelocity, kAcceleration };
 
-/// A factor of the motion that multiplies an effect block's output (the grammar's products, models/diagnosis/factors.h:
-/// sign(v) × a table of the position is a friction at one place): a block of `block_type` (ports "u" → "y") reading the
-/// input connector of `input`; a product element multiplies its output and the effect block's, and the product is what
-/// is summed into the model's output (BlockPlacement::kAddToOutput).
+/// A factor that multiplies an effect block's output (the grammar's products, models/diagnosis/factors.h: sign(v) × a
+/// table of the position is a friction at one place): a block of `block_type` (ports "u" → "y") reading the input
+/// connector of `input`, or, with `of_model_force`, the model's own force; a product element multiplies it and the
+/// effect block's output, and the product is what is summed into the model's output (BlockPlacement::kAddToOutput).
 struct MotionMultiplier {
-  std::string block_type;
+  std::string block_type;  ///< empty with of_model_force: the force itself is the factor
   MotionInput input = MotionInput::kVelocity;
   std::function<nlohmann::json(const DiagnosedEffect&)> parameters;  ///< the multiplier element's parameters
+  /// The factor is the force the model computes from the measured motion — the signal summed into the output before
+  /// the effect is (ŷ × a ripple of the position: a force constant that ripples). Equation-error mode only: in
+  /// simulation mode the output is the motion, not the force.
+  bool of_model_force = false;
 };
 
 /// The block that adds an effect to a diagram, as `compare --suggest` and `improve` insert it.
@@ -120,6 +124,9 @@ struct EffectBlockTemplate {
   std::map<std::string, std::pair<double, double>> physical_range;
   /// The factor of the motion the block's output is multiplied by (kAddToOutput only); nullopt = none.
   std::optional<MotionMultiplier> multiplier;
+  /// The block's port that reads the log column the effect names (DiagnosedEffect::log_column: a column the diagram
+  /// did not read), through an input connector on that column, added when the diagram has none; empty = none.
+  std::string log_column_port;
 };
 
 /// One registered effect: everything the catalogue knows about it.

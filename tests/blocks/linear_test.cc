@@ -1,4 +1,4 @@
-// Static and linear blocks: product, sign, lookup_table_1d, saturation, quantizer, zero_order_hold, logger, transfer_function,
+// Static and linear blocks: product, sign, lookup_table_1d, discrete_derivative, saturation, quantizer, zero_order_hold, logger, transfer_function,
 // discrete_transfer_function, state_space — against closed forms, difference equations, sample-time
 // boundaries, feedthrough (algebraic loops) and their error messages.
 
@@ -242,6 +242,26 @@ TEST(DiscreteTransferFunctionTest, ErrorsForImproperAndMissingSampleTime) {
               HasSubstr("improper (non-causal) transfer function: numerator order 1 > denominator order 0"));
   EXPECT_THAT(BuildError(MakeDiagram({Element("H", "discrete_transfer_function")}, json::array(), json::array(), 1.0,
                                      0.1)),
+              HasSubstr("is discrete: add \"sampleTime\""));
+}
+
+// Simulink's Discrete Derivative, K·(u[k] − u[k−1])/Ts, except that the first output is 0 (u[−1] = u[0]): a signal
+// that starts at 22 (a temperature) gives no kick.
+TEST(DiscreteDerivativeTest, IsTheBackwardDifferenceWithoutAFirstSampleKick) {
+  const double Ts = 0.01;
+  const json j = MakeDiagram({Element("u", "sine", {{"frequency_hz", 3.0}, {"amplitude", 2.0}, {"bias", 22.0}}, {Ts, 0.0}),
+                              Element("d", "discrete_derivative", {{"gain", 0.5}}, {Ts, 0.0})},
+                             {Connect("u.y", "d.u")}, {"u.y", "d.y"}, 0.3, Ts);
+  const auto r = Simulator(Build(j)).Run();
+  const auto& u = r.log.Column("u.y");
+  const auto& y = r.log.Column("d.y");
+  ASSERT_GT(y.size(), 20U);
+  EXPECT_EQ(y[0], 0.0);
+  for (std::size_t k = 1; k < y.size(); ++k) EXPECT_NEAR(y[k], 0.5 * (u[k] - u[k - 1]) / Ts, 1e-9) << "k = " << k;
+  // The rate of 22 + 2 sin(2π·3t) is 12π cos(2π·3t): the difference follows it within its O(Ts) error.
+  EXPECT_NEAR(y[10], 0.5 * 12.0 * std::numbers::pi * std::cos(2.0 * std::numbers::pi * 3.0 * (r.log.time[10] - 0.5 * Ts)),
+              0.05);
+  EXPECT_THAT(BuildError(MakeDiagram({Element("d", "discrete_derivative")}, json::array(), json::array(), 1.0, 0.1)),
               HasSubstr("is discrete: add \"sampleTime\""));
 }
 

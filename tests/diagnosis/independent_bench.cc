@@ -147,7 +147,7 @@ CaseResult RunCase(const CaseSpec& spec, const fs::path& directory, bool run_imp
   r.improve_seconds = Seconds(t1);
   r.heldout_before = improved.first().rmse_heldout;
   r.heldout_after = improved.last_accepted().rmse_heldout;
-  r.floor_reached = r.heldout_after <= 1.3 * r.noise_floor;
+  r.floor_reached = r.heldout_after <= 1.3 * r.noise_floor && r.heldout_after >= 0.7 * r.noise_floor;
   return r;
 }
 

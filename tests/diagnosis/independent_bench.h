@@ -32,6 +32,7 @@ struct CaseResult {
   double noise_floor = 0.0;            ///< the truth on the validation record [N]
   double compare_seconds = 0.0, improve_seconds = 0.0;
   bool improve_run = false;  ///< false: compare only (heldout_*, improve_seconds and floor_reached not measured)
+  /// floor_reached: the held-out RMSE after improve within [0.7, 1.3] × the noise floor (below it: a leak).
   bool named_right = false, parameter_right = false, floor_reached = false;
   bool pass() const { return named_right && parameter_right && floor_reached; }
 };

@@ -1,6 +1,7 @@
 #include "tools/workflow/suggest.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <optional>
 #include <stdexcept>
@@ -113,6 +114,21 @@ std::string InsertBeforeOutput(DiagramDocument* out, const ElementSpec& element,
   return name;
 }
 
+// `wish`, or "<wish>_2", "<wish>_3", …: the first name no connector of the diagram has.
+std::string FreeConnectorName(const DiagramDocument& d, const std::string& wish) {
+  const auto taken = [&](const std::string& name) {
+    for (const char* kind : {"input", "output"}) {
+      for (const auto& c : d.Connectors(kind)) {
+        if (c.name == name) return true;
+      }
+    }
+    return false;
+  };
+  std::string name = wish;
+  for (int k = 2; taken(name); ++k) name = fmt::format("{}_{}", wish, k);
+  return name;
+}
+
 // The input connector that reads the logged command compared at output connector `output` (the same measured column),
 // added as "logged_<output>" when the diagram has none.
 std::string CommandInput(DiagramDocument* out, const std::string& output) {
@@ -124,18 +140,28 @@ std::string CommandInput(DiagramDocument* out, const std::string& output) {
   for (const auto& c : out->Connectors("input")) {
     if (c.measurement == compared->measurement) return c.name;
   }
-  const auto taken = [&](const std::string& name) {
-    for (const char* kind : {"input", "output"}) {
-      for (const auto& c : out->Connectors(kind)) {
-        if (c.name == name) return true;
-      }
-    }
-    return false;
-  };
-  DocumentConnector command{"logged_" + output, "input", compared->unit, compared->measurement, compared->quantity};
-  for (int k = 2; taken(command.name); ++k) command.name = fmt::format("logged_{}_{}", output, k);
+  const DocumentConnector command{FreeConnectorName(*out, "logged_" + output), "input", compared->unit,
+                                  compared->measurement, compared->quantity};
   out->AddConnector(command);
   return command.name;
+}
+
+// The input connector that reads log column `column` (an effect's DiagnosedEffect::log_column), added when the diagram
+// has none: named after the column (characters other than letters, digits and '_' as '_'), in the column's own unit.
+std::string ColumnInput(DiagramDocument* out, const std::string& column, const std::string& effect) {
+  if (column.empty()) {
+    throw std::invalid_argument(fmt::format("effect '{}' names no log column: cannot suggest its block", effect));
+  }
+  for (const auto& c : out->Connectors("input")) {
+    if (c.measurement == column) return c.name;
+  }
+  std::string wish = column;
+  for (char& ch : wish) {
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_') ch = '_';
+  }
+  const DocumentConnector connector{FreeConnectorName(*out, wish), "input", "", column, ""};
+  out->AddConnector(connector);
+  return connector.name;
 }
 
 // Puts `element` (ports u → y) on the command path (BlockPlacement::kOnCommand): fed by the logged command, and what the
@@ -160,23 +186,46 @@ void Wire(DiagramDocument* out, const std::string& connector, const std::string&
   out->Connect({"", connector}, {element, port});
 }
 
-// Adds `element` times a factor of the motion (EffectBlockTemplate::multiplier) to the model's force feeding output
-// connector `output`: the factor's element reads its input connector, a product element "<element>_times_<type>"
-// multiplies the two outputs and is summed in. Returns the element's name.
+// Adds `element` times a factor (EffectBlockTemplate::multiplier) to the model's force feeding output connector
+// `output`: the factor's element reads its input connector — or the factor is the model's force itself, the signal
+// that fed the output before — and a product element "<element>_times_<factor>" multiplies the two and is summed in.
+// Returns the element's name.
 std::string AddProductToOutput(DiagramDocument* out, const ElementSpec& element, const MotionMultiplier& multiplier,
                                const DiagnosedEffect& effect, const std::string& output, const std::string& port) {
-  const std::string input = NeedInput(*out, multiplier.input, effect.effect);
+  Endpoint factor_output;
+  std::string factor_name;
+  if (multiplier.of_model_force) {
+    if (out->Mode() != ExperimentMode::kEquationError) {
+      throw std::invalid_argument(fmt::format(
+          "effect '{}' multiplies the model's force; in simulation mode the output is the motion: scale the force "
+          "into the plant by hand (a product of the force and a {} block of the position)",
+          effect.effect, element.type));
+    }
+    const auto force = out->DriverOf(ForceEnd(*out, output));
+    if (!force) {
+      throw std::invalid_argument(fmt::format("effect '{}' multiplies the model's force, but nothing feeds output '{}'",
+                                              effect.effect, output));
+    }
+    factor_output = *force;
+    factor_name = "force";
+  }
   const std::string name = out->Add(element);
-  const std::string factor = out->Add({name + "_" + multiplier.block_type, multiplier.block_type,
-                                       multiplier.parameters(effect), std::nullopt,
-                                       fmt::format("the factor of the motion that multiplies '{}'", name)});
-  Wire(out, input, factor, "u");
+  if (!multiplier.of_model_force) {
+    const std::string input = NeedInput(*out, multiplier.input, effect.effect);
+    const std::string factor = out->Add({name + "_" + multiplier.block_type, multiplier.block_type,
+                                         multiplier.parameters(effect), std::nullopt,
+                                         fmt::format("the factor of the motion that multiplies '{}'", name)});
+    Wire(out, input, factor, "u");
+    factor_output = out->OutputOf(factor);
+    factor_name = multiplier.block_type;
+  }
   const std::string product = AddToOutput(
-      out, {name + "_times_" + multiplier.block_type, "product", json::object(), std::nullopt,
-            fmt::format("'{}' × '{}' ({})", name, factor, effect.effect)},
+      out, {name + "_times_" + factor_name, "product", json::object(), std::nullopt,
+            fmt::format("'{}' × {} ({})", name, multiplier.of_model_force ? "the model's force" : "'" + factor_name + "'",
+                        effect.effect)},
       output, "y");
   out->Connect({name, port}, {product, "u1"});
-  out->Connect(out->OutputOf(factor), {product, "u2"});
+  out->Connect(factor_output, {product, "u2"});
   return name;
 }
 
@@ -225,6 +274,9 @@ json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, c
       break;
   }
   for (std::size_t k = 0; k < inputs.size(); ++k) Wire(&out, inputs[k], name, block.inputs[k].second);
+  if (!block.log_column_port.empty()) {
+    Wire(&out, ColumnInput(&out, effect.log_column, effect.effect), name, block.log_column_port);
+  }
   for (const auto& f : block.free) out.AddFreeParameter(name + "." + f);
   if (!effect.replaced_parameter.empty()) TakeOver(&out, effect.replaced_parameter, name);
   out.AppendNote(fmt::format(" Amended by motionblocks compare --suggest: added '{}' ({}).", name, effect.effect));

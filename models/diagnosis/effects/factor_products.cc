@@ -12,8 +12,9 @@
 // residual demodulated by its multiplier (ModulatedPeriod: a friction along the pitch reverses with the direction of
 // travel and cancels in the plain periodogram) and at every proposed position period; a local product at the place
 // ScanBump finds, when it removes at least 0.5 % of the residual's sum of squares. The forward selection's held-out
-// test on contiguous blocks decides. No block yet: the report says how to add it (a lookup table or a ripple block
-// times sign(v)).
+// test on contiguous blocks decides. Blocks: a position_periodic ripple times sign(v) (friction_ripple) or times the
+// model's force (force_constant_ripple), a lookup_table_1d of the position times sign(v) (local_friction), through a
+// product element summed into the force (tools/workflow/suggest.cc).
 #include <cmath>
 #include <map>
 #include <optional>

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <numbers>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -186,6 +188,91 @@ TEST(SuggestTest, ACommandPathEffectAddsWhatTheLogHoldsBeyondWhatActed) {
     FAIL() << "a command-path effect in simulation mode was accepted";
   } catch (const std::invalid_argument& e) {
     EXPECT_THAT(e.what(), HasSubstr("in simulation mode put a saturation block between the command's input"));
+  }
+}
+
+// The model's force at one instant of constant inputs (position x, velocity v, acceleration a; any other input its
+// `others` value), simulated over 10 ms.
+double ForceAt(const nlohmann::json& diagram, const std::map<std::string, double>& columns) {
+  const Diagram built = BuildDiagram(diagram, kEmps, "amended.json");
+  Simulator sim(built);
+  for (const auto& in : built.inputs()) {
+    const auto it = columns.find(in.measurement);
+    const double value = it == columns.end() ? 0.0 : it->second;
+    sim.SetInput(in.name, InputSeries{{0.0, 1.0}, {value, value}});
+  }
+  sim.Initialize();
+  sim.AdvanceTo(0.01);
+  return sim.log().Column("force").back();
+}
+
+// A force constant that ripples (the grammar's ŷ × periodic(x)): the amended diagram multiplies the model's own force
+// by the ripple of the position and sums it in, so the force becomes ŷ·(1 + a cos(2πx/P) + b sin(2πx/P)); simulation
+// mode, whose output is the motion, is refused with what to do.
+TEST(SuggestTest, AForceConstantRippleScalesTheModelsForce) {
+  auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
+  DiagnosedEffect ripple;
+  ripple.effect = "force_constant_ripple";
+  ripple.parameters = {{"period", 0.012}, {"harmonics", 1}};
+  ripple.column_names = {"force_constant_ripple.cos1", "force_constant_ripple.sin1"};
+  ripple.coefficients = Eigen::Vector2d(0.02, -0.03);
+  const nlohmann::json amended = SuggestAmendedDiagram(diagram, ripple, "force");
+  EXPECT_THAT(DiagramDocument(amended).FreeParameters(), ::testing::Contains("force_constant_ripple.cos_coefficients"));
+  const std::map<std::string, double> motion = {{"position_m", 0.005}, {"velocity_m_s", 0.1},
+                                                {"acceleration_m_s2", 2.0}};
+  const double base = ForceAt(diagram, motion), with_ripple = ForceAt(amended, motion);
+  ASSERT_GT(std::abs(base), 1.0);
+  const double phase = 2.0 * std::numbers::pi * 0.005 / 0.012;
+  EXPECT_NEAR(with_ripple, base * (1.0 + 0.02 * std::cos(phase) - 0.03 * std::sin(phase)), 1e-9 * std::abs(base));
+
+  diagram["experiment"]["mode"] = "simulation";
+  try {
+    SuggestAmendedDiagram(diagram, ripple, "force");
+    FAIL() << "a ripple of the model's force in simulation mode was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), HasSubstr("in simulation mode the output is the motion"));
+  }
+}
+
+// A log column the diagram did not read (logged_column, logged_column_rate): the amended diagram reads it through a new
+// input connector on that column (one, shared by both blocks) into a gain or a discrete derivative summed into the
+// force; an effect that names no column is refused.
+TEST(SuggestTest, ALoggedColumnIsReadThroughANewInputConnector) {
+  const auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
+  DiagnosedEffect coupling;
+  coupling.effect = "logged_column";
+  coupling.parameters = {{"column", 0}};
+  coupling.log_column = "accel y (m/s2)";
+  coupling.column_names = {"logged_column"};
+  coupling.coefficients = Eigen::VectorXd::Constant(1, 4.0);
+  const nlohmann::json amended = SuggestAmendedDiagram(diagram, coupling, "force");
+  const DiagramDocument document(amended);
+  std::string reader;
+  for (const auto& c : document.Connectors("input")) {
+    if (c.measurement == "accel y (m/s2)") reader = c.name;
+  }
+  EXPECT_EQ(reader, "accel_y__m_s2_");
+  EXPECT_EQ(document.Parameter("coupling", "gain"), 4.0);
+  EXPECT_THAT(document.FreeParameters(), ::testing::Contains("coupling.gain"));
+  std::map<std::string, double> inputs = {{"acceleration_m_s2", 1.0}};
+  const double base = ForceAt(diagram, inputs);
+  inputs["accel y (m/s2)"] = 1.5;
+  EXPECT_NEAR(ForceAt(amended, inputs), base + 4.0 * 1.5, 1e-9);
+
+  DiagnosedEffect rate = coupling;
+  rate.effect = "logged_column_rate";
+  rate.column_names = {"logged_column_rate"};
+  const DiagramDocument both(SuggestAmendedDiagram(amended, rate, "force"));
+  EXPECT_EQ(both.Connectors("input").size(), document.Connectors("input").size());  // the column is read once
+  EXPECT_EQ(both.Parameter("coupling_rate", "gain"), 4.0);
+  EXPECT_NEAR(ForceAt(both.json(), inputs), base + 4.0 * 1.5, 1e-9);  // a constant column has no rate
+
+  coupling.log_column.clear();
+  try {
+    SuggestAmendedDiagram(diagram, coupling, "force");
+    FAIL() << "a column effect without its column was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), HasSubstr("names no log column"));
   }
 }
 
