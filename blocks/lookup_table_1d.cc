@@ -69,10 +69,15 @@ MB_REGISTER_BLOCK(LookupTable1d, BlockType{
 // The diagnosis' suggestions made with this block (MB_REGISTER_EFFECT_BLOCK, models/diagnosis/effect_registry.h).
 namespace {
 
-constexpr int kBumpBreakpoints = 9;  // over [c − w, c + w]: the bump cos² sampled, its ends 0
+// The table spans [c − 1.5w, c + 1.5w] with 12 breakpoints per half-width w (37 in all): the refit may widen the
+// stretch the scan found and give it edges as sharp as w/12 (a friction that sets in at one place: with 9 breakpoints
+// over [c − w, c + w] the independent case's 10 mm stretch held out 1.34 × the noise floor, its edges smeared over 2 mm).
+constexpr int kBreakpointsPerHalfWidth = 12;
+constexpr double kSpan = 1.5;  // half-widths either side of the centre
 
 // A local effect (effects/factor_products.cc: a bump over [c − w, c + w]) as a table of the position: the bump's shape
-// scaled by the joint fit's coefficient, 0 beyond (clipped ends); the table free, so the refit shapes the stretch.
+// scaled by the joint fit's coefficient, 0 beyond [c − w, c + w] and past the table's ends (clipped); the table free, so
+// the refit shapes the stretch.
 EffectBlockTemplate LocalTableBlock(const char* element_name) {
   EffectBlockTemplate block;
   block.block_type = "lookup_table_1d";
@@ -86,9 +91,10 @@ EffectBlockTemplate LocalTableBlock(const char* element_name) {
     }
     const double coefficient = BlockCoefficient(d, "");
     nlohmann::json breakpoints = nlohmann::json::array(), table = nlohmann::json::array();
-    for (int i = 0; i < kBumpBreakpoints; ++i) {
-      const double z = -1.0 + 2.0 * i / (kBumpBreakpoints - 1);
-      const double c = std::cos(0.5 * std::numbers::pi * z);
+    const int last = static_cast<int>(2.0 * kSpan * kBreakpointsPerHalfWidth);
+    for (int i = 0; i <= last; ++i) {
+      const double z = -kSpan + 2.0 * kSpan * i / last;  // (x − c)/w
+      const double c = std::abs(z) < 1.0 ? std::cos(0.5 * std::numbers::pi * z) : 0.0;
       breakpoints.push_back(center + half_width * z);
       table.push_back(coefficient * c * c);
     }
@@ -98,12 +104,12 @@ EffectBlockTemplate LocalTableBlock(const char* element_name) {
   return block;
 }
 
-// local_friction: the table times sign(v) (a friction at one place). A force of one place alone is not proposed: at
+// local_friction: the table times the direction of slip tanh(v/v_s) (a friction at one place). A force of one place alone is not proposed: at
 // the ends of the travel a bump is confounded with the reversals, and inside it position_dependent_force's smooth
 // basis covers it.
 EffectBlockTemplate LocalFrictionEffectBlock() {
   EffectBlockTemplate block = LocalTableBlock("local_friction");
-  block.multiplier = SignOfVelocity();
+  block.multiplier = SlipOfVelocity();
   return block;
 }
 

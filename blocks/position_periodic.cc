@@ -52,12 +52,12 @@ MB_REGISTER_EFFECT_BLOCK(gravity, GravityEffectBlock())
 
 namespace {
 
-// Adds the grammar's friction_ripple (models/diagnosis/effects/factor_products.cc: sign(v) × a ripple of the position):
-// the ripple times sign(v), a friction that varies along the pitch.
+// Adds the grammar's friction_ripple (models/diagnosis/effects/factor_products.cc: the direction of slip × a ripple of
+// the position): the ripple times tanh(v/v_s), a friction that varies along the pitch.
 EffectBlockTemplate FrictionRippleEffectBlock() {
   EffectBlockTemplate block = PositionRippleBlock("position_periodic", 1);
   block.element_name = "friction_ripple";
-  block.multiplier = SignOfVelocity();
+  block.multiplier = SlipOfVelocity();
   return block;
 }
 

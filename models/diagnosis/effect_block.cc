@@ -65,10 +65,14 @@ EffectBlockTemplate PositionRippleBlock(const std::string& block_type, int defau
   return block;
 }
 
-MotionMultiplier SignOfVelocity() {
+MotionMultiplier SlipOfVelocity() {
   return {"sign", MotionInput::kVelocity, [](const DiagnosedEffect& d) {
-            const auto it = d.parameters.find("dead_band");
-            return json{{"dead_band", it != d.parameters.end() && it->second > 0.0 ? it->second : 0.0}};
+            const double v_s = BlockParameter(d, "slip_velocity");
+            if (!(v_s > 0.0)) {
+              throw std::invalid_argument(
+                  fmt::format("{} with slip_velocity {}: must be > 0 to suggest its block", d.effect, v_s));
+            }
+            return json{{"regularization_velocity", v_s}};
           }};
 }
 

@@ -37,8 +37,8 @@ nlohmann::json WithUnit(double value, const std::string& unit);
 EffectBlockTemplate PositionRippleBlock(const std::string& block_type, int default_harmonics,
                                         const std::vector<std::pair<MotionInput, std::string>>& extra_inputs = {});
 
-/// sign(v) as a multiplier (blocks/sign.h) on the velocity input, its dead band the diagnosed "dead_band" (0 when
-/// absent): the direction of slip of a friction.
-MotionMultiplier SignOfVelocity();
+/// The direction of slip of a friction as a multiplier: a sign block (blocks/sign.h) on the velocity input, regularised
+/// tanh(v/v_s) with the diagnosed "slip_velocity" v_s (std::invalid_argument when it is absent or not > 0).
+MotionMultiplier SlipOfVelocity();
 
 }  // namespace mb

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <vector>
@@ -15,15 +16,37 @@
 
 namespace mb {
 
-Eigen::VectorXd MultiplierColumn(Multiplier multiplier, const DiagnosisSignals& s, double dead_band,
+Eigen::VectorXd MultiplierColumn(Multiplier multiplier, const DiagnosisSignals& s, double slip_velocity,
                                  const std::string& effect) {
   switch (multiplier) {
     case Multiplier::kOne: return Eigen::VectorXd::Ones(s.size());
-    case Multiplier::kSign: return SignDeadBand(s.velocity, dead_band);
+    case Multiplier::kSlip:
+      if (!(slip_velocity > 0.0 && std::isfinite(slip_velocity))) {
+        throw std::invalid_argument(
+            fmt::format("effect '{}': slip_velocity must be > 0 m/s, got {}", effect, slip_velocity));
+      }
+      return (s.velocity.array() / slip_velocity).tanh().matrix();
     case Multiplier::kSpeed: return s.velocity.cwiseAbs();
     case Multiplier::kModelForce: return NeedModelOutput({effect, {}}, s);
   }
   throw std::logic_error("MultiplierColumn: unknown multiplier");
+}
+
+double BestSlipVelocity(const ProposalContext& c,
+                        const std::function<Eigen::MatrixXd(const Eigen::VectorXd& slip)>& columns) {
+  constexpr int kOctaves = 5;
+  const Eigen::MatrixXd base = c.BaseWithConstant();  // JointFitResidual keeps a reference
+  const JointFitResidual fit(base, c.residual());
+  double best = c.dead_band(), best_sse = std::numeric_limits<double>::infinity();
+  for (int k = 0; k <= kOctaves; ++k) {
+    const double v_s = c.dead_band() * std::ldexp(1.0, -k);
+    const double sse = fit(columns((c.signals().velocity.array() / v_s).tanh().matrix()));
+    if (sse < best_sse) {
+      best_sse = sse;
+      best = v_s;
+    }
+  }
+  return best;
 }
 
 Eigen::VectorXd Bump(const Eigen::VectorXd& position, double center, double half_width) {

@@ -13,6 +13,8 @@
 #include <optional>
 #include <string>
 
+#include <functional>
+
 #include <Eigen/Core>
 
 #include "models/diagnosis/effect_catalogue.h"
@@ -23,15 +25,22 @@ namespace mb {
 /// The factor of the motion or the force that multiplies a position factor.
 enum class Multiplier {
   kOne,         ///< 1: a force of the position alone
-  kSign,        ///< sign(v), 0 inside the dead band: a friction
+  kSlip,        ///< tanh(v/v_s), the direction of slip as a regularised Coulomb law has it: a friction
   kSpeed,       ///< |v|: a damping
   kModelForce,  ///< ŷ, the model's force from the measured motion (equation-error mode): a force constant
 };
 
-/// The multiplier's column on the signals (N). kSign needs `dead_band` [m/s]; kModelForce needs
-/// DiagnosisSignals::model_output (else std::invalid_argument naming `effect`).
-Eigen::VectorXd MultiplierColumn(Multiplier multiplier, const DiagnosisSignals& signals, double dead_band,
+/// The multiplier's column on the signals (N). kSlip needs `slip_velocity` v_s > 0 [m/s] (else std::invalid_argument);
+/// kModelForce needs DiagnosisSignals::model_output (else std::invalid_argument naming `effect`).
+Eigen::VectorXd MultiplierColumn(Multiplier multiplier, const DiagnosisSignals& signals, double slip_velocity,
                                  const std::string& effect);
+
+/// The slip velocity v_s of a friction factor tanh(v/v_s): of the log grid dead_band·2^−k, k = 0..5 (the context's dead
+/// band, 1 % of the top speed, down to 1/32 of it), the one whose `columns(tanh(v/v_s))` (N × k) leave the least of the
+/// residual in a joint fit with the base. A friction of the generator's or the machine's own law near zero velocity: a
+/// sign with a dead band leaves the approach to rest (0.5–2 mm/s) and the dwell wrong.
+double BestSlipVelocity(const ProposalContext& context,
+                        const std::function<Eigen::MatrixXd(const Eigen::VectorXd& slip)>& columns);
 
 /// The bump of a local factor: cos²(π(x − c)/(2w)) for |x − c| < w, else 0 — one at the centre c, zero with zero slope
 /// at c ± w (a raised cosine of width 2w; N).

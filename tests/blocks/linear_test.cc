@@ -58,6 +58,16 @@ TEST(SignTest, IsSimulinksSignWithAnOptionalDeadBand) {
   }
   EXPECT_THAT(BuildError(MakeDiagram({Element("s", "sign", {{"dead_band", -1.0}})}, json::array(), json::array(), 1, 1)),
               HasSubstr("dead_band"));
+  // Regularised: tanh(u/u_r), smooth through 0 (a friction's direction of slip as the regularised Coulomb law has it).
+  for (const double u : {-0.003, 0.0, 0.0005, 0.01}) {
+    EXPECT_DOUBLE_EQ(Evaluate({Constant("u", u), Element("s", "sign", {{"regularization_velocity", 0.001}})},
+                              {Connect("u.y", "s.u")}, "s.y"),
+                     std::tanh(u / 0.001))
+        << "u = " << u;
+  }
+  EXPECT_THAT(BuildError(MakeDiagram({Element("s", "sign", {{"dead_band", 0.1}, {"regularization_velocity", 0.1}})},
+                                     json::array(), json::array(), 1, 1)),
+              HasSubstr("give a dead_band or a regularization_velocity, not both"));
 }
 
 TEST(LookupTable1dTest, InterpolatesLinearlyAndClipsOrExtrapolatesAtTheEnds) {

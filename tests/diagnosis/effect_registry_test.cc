@@ -44,7 +44,7 @@ DiagnosisSignals Motion() {
 // test builds its regressors.
 const std::map<std::string, double> kTypical{{"period", 0.0025},   {"harmonics", 2.0},         {"frequency_hz", 7.0},
                                              {"delay", 0.004},     {"stribeck_velocity", 0.01}, {"damping_ratio", 0.05},
-                                             {"step", 0.5},        {"dead_band", 0.001},
+                                             {"step", 0.5},        {"dead_band", 0.001},        {"slip_velocity", 0.002},
                                              {"backlash", 1e-3},   {"center", 0.1},            {"half_range", 0.1},
                                              {"degree", 3.0},      {"regularization_velocity", 5e-4},
                                              {"presliding_displacement", 2e-5}, {"lag", 0.004},

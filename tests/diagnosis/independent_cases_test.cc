@@ -148,9 +148,11 @@ TEST_P(IndependentImprove, ReachesTheNoiseFloor) {
 INSTANTIATE_TEST_SUITE_P(OffTheLinearStage, IndependentImprove,
                          ::testing::Values("actuator lag", "drive saturation", "payload step", "rotary gravity",
                                            "friction drift",
-                                           // The grammar's blocks (issue 40): a ripple × the model's force, a gain on
-                                           // an unread log column.
-                                           "force-constant ripple", "coupled axis (extra column)"),
+                                           // The grammar's blocks (issue 40): a ripple × the direction of slip or ×
+                                           // the model's force, a table of the position × the direction of slip, a
+                                           // gain on an unread log column.
+                                           "friction along the pitch", "force-constant ripple", "friction at one spot",
+                                           "coupled axis (extra column)"),
                          [](const ::testing::TestParamInfo<std::string>& case_info) {
                            std::string name;
                            for (char c : case_info.param) if (std::isalnum(static_cast<unsigned char>(c))) name += c;

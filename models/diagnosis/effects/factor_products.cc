@@ -1,20 +1,25 @@
 // The products of the diagnosis grammar (factors.h): a factor of the position — periodic, cos/sin(2πkx/P) for
-// k = 1..K, or local, a bump over [c − w, c + w] — times a factor of the motion or the force — 1, sign(v), ŷ. One
-// mechanism, one table row per product, each named in the field's words (docs/diagnosis.md, "The grammar"):
-//   friction_ripple        sign(v) × periodic(x)  friction that varies along the pitch (magnetic attraction, preload,
-//                                                 a wavy guide) {period P [m], harmonics K, dead_band [m/s]}
+// k = 1..K, or local, a bump over [c − w, c + w] — times a factor of the motion or the force — 1, the direction of
+// slip tanh(v/v_s), ŷ. One mechanism, one table row per product, each named in the field's words (docs/diagnosis.md,
+// "The grammar"):
+//   friction_ripple        slip(v) × periodic(x)  friction that varies along the pitch (magnetic attraction, preload,
+//                                                 a wavy guide) {period P [m], harmonics K, slip_velocity v_s [m/s]}
 //   force_constant_ripple  ŷ × periodic(x)        the force constant ripples with position (force/torque ripple)
 //                                                 {period P, harmonics K}; equation-error mode: ŷ is the model's force
 //                                                 from the measured motion, never the logged (compared) command
-//   local_friction         sign(v) × bump(x)      friction at one place (a damaged spot, a seal, debris)
-//                                                 {center c, half_width w [m], dead_band}
+//   local_friction         slip(v) × bump(x)      friction at one place (a damaged spot, a seal, debris)
+//                                                 {center c, half_width w [m], slip_velocity v_s}
 // (|v| × periodic(x) is the catalogue's velocity_dependent_ripple.) Proposal: a periodic product at the period of the
 // residual demodulated by its multiplier (ModulatedPeriod: a friction along the pitch reverses with the direction of
 // travel and cancels in the plain periodogram) and at every proposed position period; a local product at the place
-// ScanBump finds, when it removes at least 0.5 % of the residual's sum of squares. The forward selection's held-out
-// test on contiguous blocks decides. Blocks: a position_periodic ripple times sign(v) (friction_ripple) or times the
-// model's force (force_constant_ripple), a lookup_table_1d of the position times sign(v) (local_friction), through a
+// ScanBump finds, when it removes at least 0.5 % of the residual's sum of squares; v_s by BestSlipVelocity (the
+// generator's friction along the pitch follows its tanh law: a sign with a 1.8 mm/s dead band left 1.4 × the noise
+// floor, the error at the approach to rest and the dwell). The forward selection's held-out
+// test on contiguous blocks decides. Blocks: a position_periodic ripple times the regularised sign of v
+// (friction_ripple) or times the model's force (force_constant_ripple), a lookup_table_1d of the position times the
+// regularised sign (local_friction), through a
 // product element summed into the force (tools/workflow/suggest.cc).
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <optional>
@@ -44,27 +49,49 @@ struct Product {
 };
 
 const Product kProducts[] = {
-    {"friction_ripple", 84, Multiplier::kSign, PositionFactor::kPeriodic,
+    {"friction_ripple", 84, Multiplier::kSlip, PositionFactor::kPeriodic,
      "friction that varies with position along the pitch (magnetic attraction or preload changing along the pitch, a "
-     "wavy guide): sign(v) × a ripple of the position; add a ripple block whose output is multiplied by sign(v)",
-     "s(v)·cos(2πkx/P), s(v)·sin(2πkx/P), k = 1..K"},
+     "wavy guide): the direction of slip × a ripple of the position; add a ripple block whose output is multiplied by "
+     "sign(v)",
+     "tanh(v/v_s)·cos(2πkx/P), tanh(v/v_s)·sin(2πkx/P), k = 1..K"},
     {"force_constant_ripple", 85, Multiplier::kModelForce, PositionFactor::kPeriodic,
      "the force constant ripples with position (force/torque ripple of the motor): the force that acted × a ripple of "
      "the position; scale the motor's force constant by 1 + a ripple of the position",
      "ŷ·cos(2πkx/P), ŷ·sin(2πkx/P), k = 1..K, ŷ the model's force"},
-    {"local_friction", 86, Multiplier::kSign, PositionFactor::kLocal,
-     "friction at one place of the travel (a damaged spot, a seal, debris, a tight stretch of the guide): sign(v) × a "
-     "bump over [c − w, c + w]; add a 1-D lookup table of the position multiplied by sign(v)",
-     "s(v)·cos²(π(x − c)/(2w)) for |x − c| < w"},
+    {"local_friction", 86, Multiplier::kSlip, PositionFactor::kLocal,
+     "friction at one place of the travel (a damaged spot, a seal, debris, a tight stretch of the guide): the direction "
+     "of slip × a bump over [c − w, c + w]; add a 1-D lookup table of the position multiplied by sign(v)",
+     "tanh(v/v_s)·cos²(π(x − c)/(2w)) for |x − c| < w"},
 };
 
-// The multiplier's dead band: the effect's parameter when the multiplier is sign(v), else unused.
-double DeadBand(const Product& p, const EffectInstance& e) {
-  return p.multiplier == Multiplier::kSign ? RequiredParameter(e, "dead_band") : 0.0;
+// The multiplier's slip velocity: the effect's parameter when the multiplier is the direction of slip, else unused.
+double SlipVelocity(const Product& p, const EffectInstance& e) {
+  return p.multiplier == Multiplier::kSlip ? PositiveParameter(e, "slip_velocity") : 0.0;
+}
+
+// The product's columns for the multiplier column m (N × K·2 or N × 1).
+Eigen::MatrixXd Columns(const Product& p, const std::map<std::string, double>& parameters, const Eigen::VectorXd& m,
+                        const DiagnosisSignals& s) {
+  if (p.position == PositionFactor::kLocal) {
+    return m.cwiseProduct(Bump(s.position, parameters.at("center"), parameters.at("half_width")));
+  }
+  return PeriodicColumns(s.position, parameters.at("period"), std::max(1, static_cast<int>(parameters.at("harmonics"))),
+                         p.name, &m)
+      .columns;
+}
+
+// Proposes the product with `parameters`, its slip velocity (BestSlipVelocity) when it multiplies the direction of
+// slip.
+void ProposeWith(const Product& p, ProposalContext& c, std::map<std::string, double> parameters) {
+  if (p.multiplier == Multiplier::kSlip) {
+    parameters["slip_velocity"] = BestSlipVelocity(
+        c, [&](const Eigen::VectorXd& slip) { return Columns(p, parameters, slip, c.signals()); });
+  }
+  c.Propose(p.name, parameters);
 }
 
 EffectRegressors Regressors(const Product& p, const EffectInstance& e, const DiagnosisSignals& s) {
-  const Eigen::VectorXd m = MultiplierColumn(p.multiplier, s, DeadBand(p, e), e.name);
+  const Eigen::VectorXd m = MultiplierColumn(p.multiplier, s, SlipVelocity(p, e), e.name);
   if (p.position == PositionFactor::kPeriodic) {
     return PeriodicColumns(s.position, PositiveParameter(e, "period"), HarmonicsParameter(e), e.name, &m);
   }
@@ -79,10 +106,13 @@ void Propose(const Product& p, ProposalContext& c) {
   if (p.multiplier == Multiplier::kModelForce && (s.logged_command.size() != c.size() || s.model_output.size() != c.size())) {
     return;
   }
-  const Eigen::VectorXd m = MultiplierColumn(p.multiplier, s, c.dead_band(), p.name);
+  // The place and the period are found with sign(v) outside the dead band as the direction of slip; the slip velocity
+  // after (ProposeWith).
+  const Eigen::VectorXd m = p.multiplier == Multiplier::kSlip ? SignDeadBand(s.velocity, c.dead_band())
+                                                              : MultiplierColumn(p.multiplier, s, 0.0, p.name);
   // sign(v) × f(x) is a friction only when the axis travels both ways: one way, it is f(x) itself (position_periodic,
   // position_dependent_force), which the catalogue proposes already.
-  if (p.multiplier == Multiplier::kSign) {
+  if (p.multiplier == Multiplier::kSlip) {
     const double n = static_cast<double>(c.size());
     const auto forward = static_cast<double>((m.array() > 0.0).count());
     const auto back = static_cast<double>((m.array() < 0.0).count());
@@ -90,14 +120,10 @@ void Propose(const Product& p, ProposalContext& c) {
       return;
     }
   }
-  std::map<std::string, double> common;
-  if (p.multiplier == Multiplier::kSign) common["dead_band"] = c.dead_band();
   if (p.position == PositionFactor::kLocal) {
     const BumpPlace place = ScanBump(c, m);
     if (!(place.explained >= kMinBumpShare)) return;
-    common["center"] = place.center;
-    common["half_width"] = place.half_width;
-    c.Propose(p.name, common);
+    ProposeWith(p, c, {{"center", place.center}, {"half_width", place.half_width}});
     return;
   }
   std::vector<ProposedPeriod> periods = c.position_periods();
@@ -110,10 +136,7 @@ void Propose(const Product& p, ProposalContext& c) {
     for (double q : proposed) repeated = repeated || std::abs(q - period.period) < 1e-3 * q;
     if (repeated) continue;
     proposed.push_back(period.period);
-    std::map<std::string, double> parameters = common;
-    parameters["period"] = period.period;
-    parameters["harmonics"] = period.harmonics;
-    c.Propose(p.name, parameters);
+    ProposeWith(p, c, {{"period", period.period}, {"harmonics", period.harmonics}});
   }
 }
 
@@ -130,8 +153,8 @@ EffectType ProductEffect(const Product& p) {
     t.parameters = {{"center", "m", "c: the middle of the stretch where it acts"},
                     {"half_width", "m", "w: it acts over [c − w, c + w]"}};
   }
-  if (p.multiplier == Multiplier::kSign) {
-    t.parameters.push_back({"dead_band", "m/s", "v_db: sign(v) is 0 below it"});
+  if (p.multiplier == Multiplier::kSlip) {
+    t.parameters.push_back({"slip_velocity", "m/s", "v_s: the direction of slip is tanh(v/v_s)"});
   }
   t.regressors = [&p](const EffectInstance& e, const DiagnosisSignals& s) { return Regressors(p, e, s); };
   t.propose = [&p](ProposalContext& c) { Propose(p, c); };
