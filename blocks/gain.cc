@@ -1,6 +1,7 @@
 #include "blocks/gain.h"
 
 #include <stdexcept>
+#include <utility>
 
 #include "engine/block_roles.h"
 #include "models/diagnosis/effect_block.h"
@@ -62,18 +63,29 @@ namespace {
 
 // Adds the grammar's logged_column (models/diagnosis/effects/logged_column.cc: the residual follows a log column the
 // diagram did not read) to a diagram: a gain on an input connector reading the column, summed into the force.
-EffectBlockTemplate LoggedColumnEffectBlock() {
+EffectBlockTemplate ColumnGainEffectBlock(const char* element_name) {
   EffectBlockTemplate block;
   block.block_type = "gain";
-  block.element_name = "coupling";
+  block.element_name = element_name;
   block.log_column_port = "u";
   block.parameters = [](const DiagnosedEffect& d) { return nlohmann::json{{"gain", BlockCoefficient(d, "")}}; };
   block.free = {"gain"};
   return block;
 }
 
+// The grammar's column_friction and column_damping (effects/factor_products.cc: the direction of slip or v × an unread
+// column): the gain on the column times the regularised sign of the velocity, or the velocity.
+EffectBlockTemplate ColumnProductEffectBlock(const char* element_name, MotionMultiplier multiplier) {
+  EffectBlockTemplate block = ColumnGainEffectBlock(element_name);
+  block.multiplier = std::move(multiplier);
+  return block;
+}
+
 }  // namespace
 
-MB_REGISTER_EFFECT_BLOCK(logged_column, LoggedColumnEffectBlock())
+MB_REGISTER_EFFECT_BLOCK(logged_column, ColumnGainEffectBlock("coupling"))
+MB_REGISTER_EFFECT_BLOCK(column_friction, ColumnProductEffectBlock("column_friction", SlipOfVelocity()))
+MB_REGISTER_EFFECT_BLOCK(column_damping,
+                         ColumnProductEffectBlock("column_damping", MeasuredMotion(MotionInput::kVelocity)))
 
 }  // namespace mb

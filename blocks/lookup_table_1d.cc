@@ -117,4 +117,17 @@ EffectBlockTemplate LocalFrictionEffectBlock() {
 
 MB_REGISTER_EFFECT_BLOCK(local_friction, LocalFrictionEffectBlock())
 
+namespace {
+
+// local_damping: the table times the measured velocity (viscous drag at one place).
+EffectBlockTemplate LocalDampingEffectBlock() {
+  EffectBlockTemplate block = LocalTableBlock("local_damping");
+  block.multiplier = MeasuredMotion(MotionInput::kVelocity);
+  return block;
+}
+
+}  // namespace
+
+MB_REGISTER_EFFECT_BLOCK(local_damping, LocalDampingEffectBlock())
+
 }  // namespace mb

@@ -76,4 +76,6 @@ MotionMultiplier SlipOfVelocity() {
           }};
 }
 
+MotionMultiplier MeasuredMotion(MotionInput input) { return {"", input, nullptr}; }
+
 }  // namespace mb

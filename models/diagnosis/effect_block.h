@@ -41,4 +41,7 @@ EffectBlockTemplate PositionRippleBlock(const std::string& block_type, int defau
 /// tanh(v/v_s) with the diagnosed "slip_velocity" v_s (std::invalid_argument when it is absent or not > 0).
 MotionMultiplier SlipOfVelocity();
 
+/// The measured motion `input` itself as a multiplier (the velocity of a damping, the acceleration of an inertia).
+MotionMultiplier MeasuredMotion(MotionInput input);
+
 }  // namespace mb

@@ -93,7 +93,7 @@ enum class MotionInput { kPosition, kVelocity, kAcceleration };
 /// connector of `input`, or, with `of_model_force`, the model's own force; a product element multiplies it and the
 /// effect block's output, and the product is what is summed into the model's output (BlockPlacement::kAddToOutput).
 struct MotionMultiplier {
-  std::string block_type;  ///< empty with of_model_force: the force itself is the factor
+  std::string block_type;  ///< empty: the input connector itself (or, with of_model_force, the force) is the factor
   MotionInput input = MotionInput::kVelocity;
   std::function<nlohmann::json(const DiagnosedEffect&)> parameters;  ///< the multiplier element's parameters
   /// The factor is the force the model computes from the measured motion — the signal summed into the output before

@@ -7,6 +7,7 @@
 #include <limits>
 #include <numbers>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -27,9 +28,48 @@ Eigen::VectorXd MultiplierColumn(Multiplier multiplier, const DiagnosisSignals& 
       }
       return (s.velocity.array() / slip_velocity).tanh().matrix();
     case Multiplier::kSpeed: return s.velocity.cwiseAbs();
+    case Multiplier::kVelocity: return s.velocity;
+    case Multiplier::kAcceleration: return s.acceleration;
     case Multiplier::kModelForce: return NeedModelOutput({effect, {}}, s);
   }
   throw std::logic_error("MultiplierColumn: unknown multiplier");
+}
+
+namespace {
+
+// The squared correlation of a and b (0 when either is constant).
+double SquaredCorrelation(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  const Eigen::ArrayXd da = a.array() - a.mean(), db = b.array() - b.mean();
+  const double saa = da.square().sum(), sbb = db.square().sum();
+  if (!(saa > 0.0 && sbb > 0.0)) return 0.0;
+  const double sab = (da * db).sum();
+  return sab * sab / (saa * sbb);
+}
+
+}  // namespace
+
+const char* UnreadColumnDuplicate(const DiagnosisSignals& s, std::size_t k) {
+  const Eigen::VectorXd& column = s.extra_columns.at(k);
+  const std::pair<const char*, const Eigen::VectorXd*> read[] = {
+      {"the compared output (the logged command)", &s.logged_command}, {"the position", &s.position},
+      {"the velocity", &s.velocity}};
+  for (const auto& [what, signal] : read) {
+    if (signal->size() == column.size() && SquaredCorrelation(column, *signal) >= kDuplicateColumnCorrelation) {
+      return what;
+    }
+  }
+  return nullptr;
+}
+
+const Eigen::VectorXd& UnreadColumn(const EffectInstance& e, const DiagnosisSignals& s) {
+  const double k = RequiredParameter(e, "column");
+  if (!(k >= 0.0 && k < static_cast<double>(s.extra_columns.size()) && k == std::floor(k))) {
+    throw std::invalid_argument(fmt::format(
+        "effect '{}': column {} is not one of the log's {} column(s) that the diagram does not read; a record carried "
+        "to another must hold the same extra columns",
+        e.name, k, s.extra_columns.size()));
+  }
+  return s.extra_columns[static_cast<std::size_t>(k)];
 }
 
 double BestSlipVelocity(const ProposalContext& c,

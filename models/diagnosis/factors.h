@@ -27,6 +27,8 @@ enum class Multiplier {
   kOne,         ///< 1: a force of the position alone
   kSlip,        ///< tanh(v/v_s), the direction of slip as a regularised Coulomb law has it: a friction
   kSpeed,       ///< |v|: a damping
+  kVelocity,    ///< v: a damping (a viscous force)
+  kAcceleration,  ///< a: an inertia
   kModelForce,  ///< ŷ, the model's force from the measured motion (equation-error mode): a force constant
 };
 
@@ -41,6 +43,19 @@ Eigen::VectorXd MultiplierColumn(Multiplier multiplier, const DiagnosisSignals& 
 /// sign with a dead band leaves the approach to rest (0.5–2 mm/s) and the dwell wrong.
 double BestSlipVelocity(const ProposalContext& context,
                         const std::function<Eigen::MatrixXd(const Eigen::VectorXd& slip)>& columns);
+
+/// A column the diagram does not read (DiagnosisSignals::extra_columns) is no new signal when its squared correlation
+/// with the compared output, the position or the velocity reaches this: the same signal in another unit (EMPS logs
+/// input_V beside force_N, reference_m beside position_m).
+inline constexpr double kDuplicateColumnCorrelation = 0.98;
+
+/// What unread column k duplicates ("the compared output (the logged command)", "the position", "the velocity"), or
+/// nullptr when it is a new signal. k < signals.extra_columns.size().
+const char* UnreadColumnDuplicate(const DiagnosisSignals& signals, std::size_t k);
+
+/// The unread column an effect's parameter "column" names (its index in DiagnosisSignals::extra_columns). Throws
+/// std::invalid_argument when the index is not one of them (a record carried to another must hold the same columns).
+const Eigen::VectorXd& UnreadColumn(const EffectInstance& effect, const DiagnosisSignals& signals);
 
 /// The bump of a local factor: cos²(π(x − c)/(2w)) for |x − c| < w, else 0 — one at the centre c, zero with zero slope
 /// at c ± w (a raised cosine of width 2w; N).

@@ -187,8 +187,9 @@ void Wire(DiagramDocument* out, const std::string& connector, const std::string&
 }
 
 // Adds `element` times a factor (EffectBlockTemplate::multiplier) to the model's force feeding output connector
-// `output`: the factor's element reads its input connector — or the factor is the model's force itself, the signal
-// that fed the output before — and a product element "<element>_times_<factor>" multiplies the two and is summed in.
+// `output`: the factor's element reads its input connector — or the factor is that input connector itself (no block
+// type), or the model's force, the signal that fed the output before — and a product element
+// "<element>_times_<factor>" multiplies the two and is summed in.
 // Returns the element's name.
 std::string AddProductToOutput(DiagramDocument* out, const ElementSpec& element, const MotionMultiplier& multiplier,
                                const DiagnosedEffect& effect, const std::string& output, const std::string& port) {
@@ -212,16 +213,22 @@ std::string AddProductToOutput(DiagramDocument* out, const ElementSpec& element,
   const std::string name = out->Add(element);
   if (!multiplier.of_model_force) {
     const std::string input = NeedInput(*out, multiplier.input, effect.effect);
-    const std::string factor = out->Add({name + "_" + multiplier.block_type, multiplier.block_type,
-                                         multiplier.parameters(effect), std::nullopt,
-                                         fmt::format("the factor of the motion that multiplies '{}'", name)});
-    Wire(out, input, factor, "u");
-    factor_output = out->OutputOf(factor);
-    factor_name = multiplier.block_type;
+    if (multiplier.block_type.empty()) {  // the measured motion itself (the velocity of a damping)
+      factor_output = {"", input};
+      factor_name = input;
+    } else {
+      const std::string factor = out->Add({name + "_" + multiplier.block_type, multiplier.block_type,
+                                           multiplier.parameters(effect), std::nullopt,
+                                           fmt::format("the factor of the motion that multiplies '{}'", name)});
+      Wire(out, input, factor, "u");
+      factor_output = out->OutputOf(factor);
+      factor_name = multiplier.block_type;
+    }
   }
   const std::string product = AddToOutput(
       out, {name + "_times_" + factor_name, "product", json::object(), std::nullopt,
-            fmt::format("'{}' × {} ({})", name, multiplier.of_model_force ? "the model's force" : "'" + factor_name + "'",
+            fmt::format("'{}' × {} ({})", name,
+                        multiplier.of_model_force ? std::string("the model's force") : "'" + factor_name + "'",
                         effect.effect)},
       output, "y");
   out->Connect({name, port}, {product, "u1"});

@@ -9,16 +9,23 @@
 //                                                 from the measured motion, never the logged (compared) command
 //   local_friction         slip(v) × bump(x)      friction at one place (a damaged spot, a seal, debris)
 //                                                 {center c, half_width w [m], slip_velocity v_s}
+//   damping_ripple         v × periodic(x)        the damping varies along the pitch (back-EMF constant, eddy currents)
+//   inertia_ripple         a × periodic(x)        the moving mass varies with position (cable carrier, an arm, a linkage)
+//   local_damping          v × bump(x)            viscous drag at one place (a wiper, a seal, thicker grease)
+//   column_friction        slip(v) × c            the friction follows an unread log column c (a temperature, a load)
+//                                                 {column: its index in DiagnosisSignals::extra_columns, slip_velocity}
+//   column_damping         v × c                  the viscous friction follows an unread log column (the lubricant's
+//                                                 temperature) {column}
 // (|v| × periodic(x) is the catalogue's velocity_dependent_ripple.) Proposal: a periodic product at the period of the
 // residual demodulated by its multiplier (ModulatedPeriod: a friction along the pitch reverses with the direction of
 // travel and cancels in the plain periodogram) and at every proposed position period; a local product at the place
 // ScanBump finds, when it removes at least 0.5 % of the residual's sum of squares; v_s by BestSlipVelocity (the
 // generator's friction along the pitch follows its tanh law: a sign with a 1.8 mm/s dead band left 1.4 × the noise
 // floor, the error at the approach to rest and the dwell). The forward selection's held-out
-// test on contiguous blocks decides. Blocks: a position_periodic ripple times the regularised sign of v
-// (friction_ripple) or times the model's force (force_constant_ripple), a lookup_table_1d of the position times the
-// regularised sign (local_friction), through a
-// product element summed into the force (tools/workflow/suggest.cc).
+// test on contiguous blocks decides; a column product is proposed for every unread column that is a new signal
+// (UnreadColumnDuplicate). Blocks: a position_periodic ripple, a lookup_table_1d of the position or a gain on an input
+// connector reading the column, times the regularised sign of v, the velocity or acceleration input, or the model's
+// force, through a product element summed into the force (tools/workflow/suggest.cc).
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -37,7 +44,7 @@ namespace {
 constexpr double kMinBumpShare = 0.005;  // of the residual's sum of squares: a bump that removes less is noise
 constexpr double kMinDirectionShare = 0.05;  // of the samples moving each way, for a product with sign(v)
 
-enum class PositionFactor { kPeriodic, kLocal };
+enum class PositionFactor { kPeriodic, kLocal, kColumn };  // kColumn: an unread log column, not the position
 
 struct Product {
   const char* name;
@@ -62,6 +69,26 @@ const Product kProducts[] = {
      "friction at one place of the travel (a damaged spot, a seal, debris, a tight stretch of the guide): the direction "
      "of slip × a bump over [c − w, c + w]; add a 1-D lookup table of the position multiplied by sign(v)",
      "tanh(v/v_s)·cos²(π(x − c)/(2w)) for |x − c| < w"},
+    {"damping_ripple", 87, Multiplier::kVelocity, PositionFactor::kPeriodic,
+     "the damping varies along the pitch (the back-EMF constant or the eddy currents of the magnet track ripple with "
+     "position): v × a ripple of the position; add a ripple block whose output is multiplied by the velocity",
+     "v·cos(2πkx/P), v·sin(2πkx/P), k = 1..K"},
+    {"inertia_ripple", 88, Multiplier::kAcceleration, PositionFactor::kPeriodic,
+     "the moving mass varies with position (a cable carrier's share of the mass, an arm's inertia with its angle, a "
+     "linkage): a × a ripple of the position; add a ripple block whose output is multiplied by the acceleration",
+     "a·cos(2πkx/P), a·sin(2πkx/P), k = 1..K"},
+    {"local_damping", 89, Multiplier::kVelocity, PositionFactor::kLocal,
+     "viscous drag at one place of the travel (a wiper or a seal, a stretch of thicker grease, a bellows): v × a bump "
+     "over [c − w, c + w]; add a 1-D lookup table of the position multiplied by the velocity",
+     "v·cos²(π(x − c)/(2w)) for |x − c| < w"},
+    {"column_friction", 122, Multiplier::kSlip, PositionFactor::kColumn,
+     "the friction follows a column of the log that the diagram does not read (a temperature, a normal load, a "
+     "preload): the direction of slip × the column; add an input connector reading it, a gain, multiplied by sign(v)",
+     "tanh(v/v_s)·c, c a log column the diagram does not read"},
+    {"column_damping", 123, Multiplier::kVelocity, PositionFactor::kColumn,
+     "the viscous friction follows a column of the log that the diagram does not read (the lubricant's temperature: "
+     "its viscosity): v × the column; add an input connector reading it, a gain, multiplied by the velocity",
+     "v·c, c a log column the diagram does not read"},
 };
 
 // The multiplier's slip velocity: the effect's parameter when the multiplier is the direction of slip, else unused.
@@ -74,6 +101,9 @@ Eigen::MatrixXd Columns(const Product& p, const std::map<std::string, double>& p
                         const DiagnosisSignals& s) {
   if (p.position == PositionFactor::kLocal) {
     return m.cwiseProduct(Bump(s.position, parameters.at("center"), parameters.at("half_width")));
+  }
+  if (p.position == PositionFactor::kColumn) {
+    return m.cwiseProduct(s.extra_columns.at(static_cast<std::size_t>(parameters.at("column"))));
   }
   return PeriodicColumns(s.position, parameters.at("period"), std::max(1, static_cast<int>(parameters.at("harmonics"))),
                          p.name, &m)
@@ -95,6 +125,7 @@ EffectRegressors Regressors(const Product& p, const EffectInstance& e, const Dia
   if (p.position == PositionFactor::kPeriodic) {
     return PeriodicColumns(s.position, PositiveParameter(e, "period"), HarmonicsParameter(e), e.name, &m);
   }
+  if (p.position == PositionFactor::kColumn) return SingleColumn(e.name, m.cwiseProduct(UnreadColumn(e, s)));
   return SingleColumn(e.name,
                       m.cwiseProduct(Bump(s.position, RequiredParameter(e, "center"), PositiveParameter(e, "half_width"))));
 }
@@ -110,15 +141,25 @@ void Propose(const Product& p, ProposalContext& c) {
   // after (ProposeWith).
   const Eigen::VectorXd m = p.multiplier == Multiplier::kSlip ? SignDeadBand(s.velocity, c.dead_band())
                                                               : MultiplierColumn(p.multiplier, s, 0.0, p.name);
-  // sign(v) × f(x) is a friction only when the axis travels both ways: one way, it is f(x) itself (position_periodic,
-  // position_dependent_force), which the catalogue proposes already.
-  if (p.multiplier == Multiplier::kSlip) {
+  // sign(v) × f is a friction only when the axis travels both ways: one way, it is f itself (position_periodic,
+  // position_dependent_force, logged_column), which the catalogue proposes already; and v × f is |v| × f
+  // (velocity_dependent_ripple).
+  if (p.multiplier == Multiplier::kSlip || p.multiplier == Multiplier::kVelocity) {
+    const Eigen::VectorXd direction = SignDeadBand(s.velocity, c.dead_band());
     const double n = static_cast<double>(c.size());
-    const auto forward = static_cast<double>((m.array() > 0.0).count());
-    const auto back = static_cast<double>((m.array() < 0.0).count());
+    const auto forward = static_cast<double>((direction.array() > 0.0).count());
+    const auto back = static_cast<double>((direction.array() < 0.0).count());
     if (!(forward >= kMinDirectionShare * n && back >= kMinDirectionShare * n)) {
       return;
     }
+  }
+  if (p.position == PositionFactor::kColumn) {
+    for (std::size_t k = 0; k < s.extra_columns.size(); ++k) {
+      // A column that varies and is a new signal (logged_column notes the others).
+      if (!(s.extra_columns[k].maxCoeff() > s.extra_columns[k].minCoeff()) || UnreadColumnDuplicate(s, k)) continue;
+      ProposeWith(p, c, {{"column", static_cast<double>(k)}});
+    }
+    return;
   }
   if (p.position == PositionFactor::kLocal) {
     const BumpPlace place = ScanBump(c, m);
@@ -149,9 +190,11 @@ EffectType ProductEffect(const Product& p) {
   if (p.position == PositionFactor::kPeriodic) {
     t.parameters = {{"period", "m", "P: the pitch"}, {"harmonics", "", "K, 1 when absent"}};
     t.traits.periodicity = Periodicity::kPosition;
-  } else {
+  } else if (p.position == PositionFactor::kLocal) {
     t.parameters = {{"center", "m", "c: the middle of the stretch where it acts"},
                     {"half_width", "m", "w: it acts over [c − w, c + w]"}};
+  } else {
+    t.parameters = {{"column", "", "the column's index among the log's unread columns (named in the description)"}};
   }
   if (p.multiplier == Multiplier::kSlip) {
     t.parameters.push_back({"slip_velocity", "m/s", "v_s: the direction of slip is tanh(v/v_s)"});

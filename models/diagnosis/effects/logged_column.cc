@@ -9,42 +9,18 @@
 // ≥ 0.98: EMPS's input_V beside force_N, its reference_m beside position_m) is not proposed, with a note. Blocks: an
 // input connector reading the column into a gain (logged_column) or a discrete_derivative (logged_column_rate),
 // summed into the force (blocks/gain.cc, blocks/discrete_derivative.cc).
-#include <cmath>
 #include <string>
-#include <utility>
 
 #include <fmt/format.h>
 
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
+#include "models/diagnosis/factors.h"
 #include "models/diagnosis/signal_processing.h"
 
 namespace mb {
 namespace {
-
-constexpr double kDuplicate = 0.98;  // squared correlation with a signal the model reads: the same signal
-
-// The squared correlation of a and b (0 when either is constant).
-double SquaredCorrelation(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-  const Eigen::ArrayXd da = a.array() - a.mean(), db = b.array() - b.mean();
-  const double saa = da.square().sum(), sbb = db.square().sum();
-  if (!(saa > 0.0 && sbb > 0.0)) return 0.0;
-  const double sab = (da * db).sum();
-  return sab * sab / (saa * sbb);
-}
-
-// The column the effect names; std::invalid_argument when its index is not one of the signals' extra columns.
-std::size_t ColumnIndex(const EffectInstance& e, const DiagnosisSignals& s) {
-  const double k = RequiredParameter(e, "column");
-  if (!(k >= 0.0 && k < static_cast<double>(s.extra_columns.size()) && k == std::floor(k))) {
-    throw std::invalid_argument(fmt::format(
-        "effect '{}': column {} is not one of the log's {} column(s) that the diagram does not read; a record carried "
-        "to another must hold the same extra columns",
-        e.name, k, s.extra_columns.size()));
-  }
-  return static_cast<std::size_t>(k);
-}
 
 struct ColumnFactor {
   const char* name;
@@ -68,21 +44,11 @@ const ColumnFactor kFactors[] = {
 void Propose(const ColumnFactor& f, ProposalContext& c) {
   const DiagnosisSignals& s = c.signals();
   for (std::size_t k = 0; k < s.extra_columns.size(); ++k) {
-    const Eigen::VectorXd& column = s.extra_columns[k];
-    if (!(column.maxCoeff() > column.minCoeff())) continue;
-    // A column that is the compared output (or the motion the model reads) in another unit is no new signal: the
-    // logged command as a voltage would fit the measurement's own noise (EMPS logs input_V beside force_N).
-    const std::pair<const char*, const Eigen::VectorXd*> read[] = {
-        {"the compared output (the logged command)", &s.logged_command}, {"the position", &s.position},
-        {"the velocity", &s.velocity}};
-    const char* duplicate = nullptr;
-    for (const auto& [what, signal] : read) {
-      if (signal->size() == column.size() && SquaredCorrelation(column, *signal) >= kDuplicate) duplicate = what;
-    }
-    if (duplicate != nullptr) {
+    if (!(s.extra_columns[k].maxCoeff() > s.extra_columns[k].minCoeff())) continue;
+    if (const char* duplicate = UnreadColumnDuplicate(s, k)) {
       if (!f.rate) {  // one note per column
         c.Note(fmt::format("logged_column not proposed for '{}': it is {} in another form (squared correlation ≥ {:g})",
-                           s.extra_names[k], duplicate, kDuplicate));
+                           s.extra_names[k], duplicate, kDuplicateColumnCorrelation));
       }
       continue;
     }
@@ -98,7 +64,7 @@ EffectType ColumnEffect(const ColumnFactor& f) {
   t.regressor_formula = f.formula;
   t.parameters = {{"column", "", "the column's index among the log's unread columns (named in the description)"}};
   t.regressors = [&f](const EffectInstance& e, const DiagnosisSignals& s) {
-    const Eigen::VectorXd& c = s.extra_columns[ColumnIndex(e, s)];
+    const Eigen::VectorXd& c = UnreadColumn(e, s);
     return SingleColumn(e.name, f.rate ? CentralDifference(s.time, c) : c);
   };
   t.propose = [&f](ProposalContext& c) { Propose(f, c); };

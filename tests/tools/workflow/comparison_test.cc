@@ -234,6 +234,34 @@ TEST(SuggestTest, AForceConstantRippleScalesTheModelsForce) {
   }
 }
 
+// A product with the measured motion itself (damping_ripple: v × a ripple of the position; column_damping: v × an
+// unread column): the product reads the velocity's input connector directly, no factor element.
+TEST(SuggestTest, AMotionProductMultipliesTheMeasuredVelocity) {
+  const auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
+  DiagnosedEffect ripple;
+  ripple.effect = "damping_ripple";
+  ripple.parameters = {{"period", 0.03}, {"harmonics", 1}};
+  ripple.column_names = {"damping_ripple.cos1", "damping_ripple.sin1"};
+  ripple.coefficients = Eigen::Vector2d(12.0, 5.0);
+  const nlohmann::json amended = SuggestAmendedDiagram(diagram, ripple, "force");
+  const std::map<std::string, double> motion = {{"position_m", 0.01}, {"velocity_m_s", 0.1}};
+  const double phase = 2.0 * std::numbers::pi * 0.01 / 0.03;
+  EXPECT_NEAR(ForceAt(amended, motion), ForceAt(diagram, motion) + 0.1 * (12.0 * std::cos(phase) + 5.0 * std::sin(phase)),
+              1e-9);
+
+  DiagnosedEffect column;
+  column.effect = "column_damping";
+  column.parameters = {{"column", 0}};
+  column.log_column = "temperature_C";
+  column.column_names = {"column_damping"};
+  column.coefficients = Eigen::VectorXd::Constant(1, -3.0);
+  const DiagramDocument with_column(SuggestAmendedDiagram(diagram, column, "force"));
+  EXPECT_THAT(with_column.FreeParameters(), ::testing::Contains("column_damping.gain"));
+  std::map<std::string, double> inputs = motion;
+  inputs["temperature_C"] = 24.0;
+  EXPECT_NEAR(ForceAt(with_column.json(), inputs), ForceAt(diagram, motion) - 3.0 * 24.0 * 0.1, 1e-9);
+}
+
 // A log column the diagram did not read (logged_column, logged_column_rate): the amended diagram reads it through a new
 // input connector on that column (one, shared by both blocks) into a gain or a discrete derivative summed into the
 // force; an effect that names no column is refused.
