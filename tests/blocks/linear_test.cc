@@ -1,4 +1,4 @@
-// Static and linear blocks: product, sign, lookup_table_1d, discrete_derivative, saturation, quantizer, zero_order_hold, logger, transfer_function,
+// Static and linear blocks: product, sign, abs, lookup_table_1d and _2d, discrete_derivative, saturation, quantizer, zero_order_hold, logger, transfer_function,
 // discrete_transfer_function, state_space — against closed forms, difference equations, sample-time
 // boundaries, feedthrough (algebraic loops) and their error messages.
 
@@ -84,6 +84,46 @@ TEST(LookupTable1dTest, InterpolatesLinearlyAndClipsOrExtrapolatesAtTheEnds) {
   EXPECT_DOUBLE_EQ(at(7.0, json::object()), 0.0);
   EXPECT_DOUBLE_EQ(at(-1.0, {{"extrapolation", "linear"}}), 0.0);    // 10 − 1·10
   EXPECT_DOUBLE_EQ(at(4.0, {{"extrapolation", "linear"}}), -10.0);   // 0 − 1·10
+}
+
+TEST(AbsTest, IsSimulinksAbs) {
+  for (const double u : {-2.5, 0.0, 3.0}) {
+    EXPECT_EQ(Evaluate({Constant("u", u), Element("a", "abs", json::object())}, {Connect("u.y", "a.u")}, "a.y"),
+              std::abs(u));
+  }
+}
+
+// Simulink's 2-D Lookup Table: bilinear inside, the edge values beyond (clip) or the edge cells extended (linear).
+TEST(LookupTable2dTest, InterpolatesBilinearlyAndClipsOrExtrapolatesAtTheEdges) {
+  // y = 1 + 2 u1 + 3 u2 + u1·u2 at the grid points: bilinear interpolation reproduces it exactly inside.
+  const std::vector<double> rows = {0.0, 1.0, 3.0}, columns = {-1.0, 2.0};
+  json table = json::array();
+  for (double r : rows) {
+    for (double c : columns) table.push_back(1.0 + 2.0 * r + 3.0 * c + r * c);
+  }
+  const auto at = [&](double u1, double u2, const char* extrapolation) {
+    return Evaluate({Constant("a", u1), Constant("b", u2),
+                     Element("t", "lookup_table_2d",
+                             {{"row_breakpoints", rows}, {"column_breakpoints", columns}, {"table", table},
+                              {"extrapolation", extrapolation}})},
+                    {Connect("a.y", "t.u1"), Connect("b.y", "t.u2")}, "t.y");
+  };
+  const auto f = [](double u1, double u2) { return 1.0 + 2.0 * u1 + 3.0 * u2 + u1 * u2; };
+  for (const auto& [u1, u2] : std::vector<std::pair<double, double>>{{0.5, 0.0}, {2.0, 1.5}, {3.0, -1.0}, {1.0, 2.0}}) {
+    EXPECT_NEAR(at(u1, u2, "clip"), f(u1, u2), 1e-12) << u1 << ", " << u2;
+  }
+  EXPECT_NEAR(at(5.0, 4.0, "clip"), f(3.0, 2.0), 1e-12);      // beyond both ends: the corner holds
+  EXPECT_NEAR(at(-1.0, 0.5, "clip"), f(0.0, 0.5), 1e-12);     // beyond the first row: the edge holds
+  EXPECT_NEAR(at(-1.0, 0.5, "linear"), f(-1.0, 0.5), 1e-12);  // the first cell extended: bilinear stays exact
+  const auto error = [](const json& parameters) {
+    return BuildError(MakeDiagram({Element("t", "lookup_table_2d", parameters)}, json::array(), json::array(), 1, 1));
+  };
+  EXPECT_THAT(error({{"row_breakpoints", {0.0, 1.0}}, {"column_breakpoints", {0.0, 1.0}}, {"table", {1.0, 2.0, 3.0}}}),
+              HasSubstr("table has 3 entries for 2 row × 2 column breakpoints; give 4 values, row by row"));
+  EXPECT_THAT(error({{"row_breakpoints", {0.0, 0.0}}, {"column_breakpoints", {0.0, 1.0}}, {"table", {1, 2, 3, 4}}}),
+              HasSubstr("row_breakpoints[1] = 0 must be finite and above row_breakpoints[0] = 0"));
+  EXPECT_THAT(error({{"row_breakpoints", {0.0, 1.0}}, {"column_breakpoints", {0.0}}, {"table", {1.0, 2.0}}}),
+              HasSubstr("column_breakpoints has 1 entries; give at least 2"));
 }
 
 TEST(LookupTable1dTest, RefusesTablesItCannotInterpolate) {
