@@ -73,8 +73,8 @@ EffectBlockTemplate ColumnGainEffectBlock(const char* element_name) {
   return block;
 }
 
-// The grammar's column_friction and column_damping (effects/factor_products.cc: the direction of slip or v × an unread
-// column): the gain on the column times the regularised sign of the velocity, or the velocity.
+// The grammar's column_damping (effects/factor_products.cc: v × an unread column): the gain on the column times the
+// velocity.
 EffectBlockTemplate ColumnProductEffectBlock(const char* element_name, MotionMultiplier multiplier) {
   EffectBlockTemplate block = ColumnGainEffectBlock(element_name);
   block.multiplier = std::move(multiplier);
@@ -84,7 +84,6 @@ EffectBlockTemplate ColumnProductEffectBlock(const char* element_name, MotionMul
 }  // namespace
 
 MB_REGISTER_EFFECT_BLOCK(logged_column, ColumnGainEffectBlock("coupling"))
-MB_REGISTER_EFFECT_BLOCK(column_friction, ColumnProductEffectBlock("column_friction", SlipOfVelocity()))
 MB_REGISTER_EFFECT_BLOCK(column_damping,
                          ColumnProductEffectBlock("column_damping", MeasuredMotion(MotionInput::kVelocity)))
 

@@ -72,6 +72,10 @@ const Eigen::VectorXd& UnreadColumn(const EffectInstance& e, const DiagnosisSign
   return s.extra_columns[static_cast<std::size_t>(k)];
 }
 
+Eigen::VectorXd Centered(const Eigen::VectorXd& column) {
+  return (column.array() - (column.size() > 0 ? column.mean() : 0.0)).matrix();
+}
+
 double BestSlipVelocity(const ProposalContext& c,
                         const std::function<Eigen::MatrixXd(const Eigen::VectorXd& slip)>& columns) {
   constexpr int kOctaves = 5;

@@ -57,6 +57,11 @@ const char* UnreadColumnDuplicate(const DiagnosisSignals& signals, std::size_t k
 /// std::invalid_argument when the index is not one of them (a record carried to another must hold the same columns).
 const Eigen::VectorXd& UnreadColumn(const EffectInstance& effect, const DiagnosisSignals& signals);
 
+/// `column` less its mean over the record (N): the grammar's factor of an unread column. Its constant part belongs to
+/// the base — alone the offset, times v the viscous coefficient, times the direction of slip the Coulomb level — and
+/// would make the product look "already in the model" (an oil temperature of 30 ± 4 °C times v is 99.5 % the base's v).
+Eigen::VectorXd Centered(const Eigen::VectorXd& column);
+
 /// The bump of a local factor: cos²(π(x − c)/(2w)) for |x − c| < w, else 0 — one at the centre c, zero with zero slope
 /// at c ± w (a raised cosine of width 2w; N).
 Eigen::VectorXd Bump(const Eigen::VectorXd& position, double center, double half_width);

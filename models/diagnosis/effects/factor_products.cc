@@ -12,10 +12,10 @@
 //   damping_ripple         v × periodic(x)        the damping varies along the pitch (back-EMF constant, eddy currents)
 //   inertia_ripple         a × periodic(x)        the moving mass varies with position (cable carrier, an arm, a linkage)
 //   local_damping          v × bump(x)            viscous drag at one place (a wiper, a seal, thicker grease)
-//   column_friction        slip(v) × c            the friction follows an unread log column c (a temperature, a load)
-//                                                 {column: its index in DiagnosisSignals::extra_columns, slip_velocity}
-//   column_damping         v × c                  the viscous friction follows an unread log column (the lubricant's
-//                                                 temperature) {column}
+//   column_damping         v × (c − c̄)            the viscous friction follows an unread log column c (the lubricant's
+//                                                 temperature) {column: its index in DiagnosisSignals::extra_columns}
+// (No slip(v) × column: on the oil-temperature case it stood in for the friction law's error at rest, which varies
+// with the column over a stretch of the record, and was named before the viscous product that was the truth.)
 // (|v| × periodic(x) is the catalogue's velocity_dependent_ripple.) Proposal: a periodic product at the period of the
 // residual demodulated by its multiplier (ModulatedPeriod: a friction along the pitch reverses with the direction of
 // travel and cancels in the plain periodogram) and at every proposed position period; a local product at the place
@@ -81,14 +81,10 @@ const Product kProducts[] = {
      "viscous drag at one place of the travel (a wiper or a seal, a stretch of thicker grease, a bellows): v × a bump "
      "over [c − w, c + w]; add a 1-D lookup table of the position multiplied by the velocity",
      "v·cos²(π(x − c)/(2w)) for |x − c| < w"},
-    {"column_friction", 122, Multiplier::kSlip, PositionFactor::kColumn,
-     "the friction follows a column of the log that the diagram does not read (a temperature, a normal load, a "
-     "preload): the direction of slip × the column; add an input connector reading it, a gain, multiplied by sign(v)",
-     "tanh(v/v_s)·c, c a log column the diagram does not read"},
     {"column_damping", 123, Multiplier::kVelocity, PositionFactor::kColumn,
      "the viscous friction follows a column of the log that the diagram does not read (the lubricant's temperature: "
      "its viscosity): v × the column; add an input connector reading it, a gain, multiplied by the velocity",
-     "v·c, c a log column the diagram does not read"},
+     "v·(c − c̄), c a log column the diagram does not read"},
 };
 
 // The multiplier's slip velocity: the effect's parameter when the multiplier is the direction of slip, else unused.
@@ -103,7 +99,7 @@ Eigen::MatrixXd Columns(const Product& p, const std::map<std::string, double>& p
     return m.cwiseProduct(Bump(s.position, parameters.at("center"), parameters.at("half_width")));
   }
   if (p.position == PositionFactor::kColumn) {
-    return m.cwiseProduct(s.extra_columns.at(static_cast<std::size_t>(parameters.at("column"))));
+    return m.cwiseProduct(Centered(s.extra_columns.at(static_cast<std::size_t>(parameters.at("column")))));
   }
   return PeriodicColumns(s.position, parameters.at("period"), std::max(1, static_cast<int>(parameters.at("harmonics"))),
                          p.name, &m)
@@ -125,7 +121,7 @@ EffectRegressors Regressors(const Product& p, const EffectInstance& e, const Dia
   if (p.position == PositionFactor::kPeriodic) {
     return PeriodicColumns(s.position, PositiveParameter(e, "period"), HarmonicsParameter(e), e.name, &m);
   }
-  if (p.position == PositionFactor::kColumn) return SingleColumn(e.name, m.cwiseProduct(UnreadColumn(e, s)));
+  if (p.position == PositionFactor::kColumn) return SingleColumn(e.name, m.cwiseProduct(Centered(UnreadColumn(e, s))));
   return SingleColumn(e.name,
                       m.cwiseProduct(Bump(s.position, RequiredParameter(e, "center"), PositiveParameter(e, "half_width"))));
 }

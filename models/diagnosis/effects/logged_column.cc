@@ -1,7 +1,8 @@
 // logged_column, logged_column_rate: the residual follows a column of the log that the diagram does not read — another
 // axis's acceleration or force (coupling through the frame), a temperature, a bus voltage, a second sensor. The
 // grammar's factor of an unused column (DIAGNOSIS.md, "Beyond the catalogue"), two products of one table:
-//   logged_column       c        {column: its index in DiagnosisSignals::extra_columns, named in extra_names}
+//   logged_column       c − c̄    {column: its index in DiagnosisSignals::extra_columns, named in extra_names; the mean
+//                                 c̄ is the base's offset}
 //   logged_column_rate  dc/dt    (CentralDifference on the record's own time grid: a coupling through a lag)
 // Proposal: every unused column that varies over the record; the forward selection's held-out test on contiguous
 // blocks decides, so a column that does not matter (a slow temperature on a record whose friction does not drift) is
@@ -34,7 +35,7 @@ const ColumnFactor kFactors[] = {
     {"logged_column", 120, false,
      "the residual follows a column of the log that the diagram does not read (coupling from another axis, a "
      "temperature, a bus voltage): add an input connector reading it and a gain into the force",
-     "c, a log column the diagram does not read"},
+     "c − c̄, a log column the diagram does not read less its mean"},
     {"logged_column_rate", 121, true,
      "the residual follows the rate of a column of the log that the diagram does not read (a coupling through a lag, "
      "another axis's jerk or velocity): add an input connector reading it and a discrete derivative into the force",
@@ -65,7 +66,7 @@ EffectType ColumnEffect(const ColumnFactor& f) {
   t.parameters = {{"column", "", "the column's index among the log's unread columns (named in the description)"}};
   t.regressors = [&f](const EffectInstance& e, const DiagnosisSignals& s) {
     const Eigen::VectorXd& c = UnreadColumn(e, s);
-    return SingleColumn(e.name, f.rate ? CentralDifference(s.time, c) : c);
+    return SingleColumn(e.name, f.rate ? CentralDifference(s.time, c) : Centered(c));
   };
   t.propose = [&f](ProposalContext& c) { Propose(f, c); };
   return t;
