@@ -199,6 +199,7 @@ class DiagramBuilder {
     }
     std::set<std::string> names;
     const auto& registry = BlockRegistry::Global();
+    const MotionAxis axis = DiagramAxis(j_);  // a rotary diagram's parameters in rotary units (N·m·s/rad …)
     for (std::size_t i = 0; i < j_["elements"].size(); ++i) {
       const json& e = j_["elements"][i];
       const std::string ptr = At("elements", i);
@@ -220,8 +221,8 @@ class DiagramBuilder {
         continue;
       }
       std::vector<std::string> param_problems;
-      auto values = ValidateParameters(bt->parameters, e.value("parameters", json::object()), ptr + "/parameters",
-                                       &param_problems);
+      auto values = ValidateParameters(OnAxis(bt->parameters, axis), e.value("parameters", json::object()),
+                                       ptr + "/parameters", &param_problems);
       for (auto& p : param_problems) Problem(fmt::format("{} (element '{}', {})", p, name, type));
       std::optional<SampleTime> st;
       if (e.contains("sampleTime")) {

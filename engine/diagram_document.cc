@@ -180,12 +180,18 @@ std::string DiagramDocument::Add(const ElementSpec& spec) {
   }
   const std::string name = UniqueName(spec.name);
   std::vector<std::string> problems;
-  ValidateParameters(type.parameters, spec.parameters, fmt::format("/elements/{}/parameters", name), &problems);
+  const std::vector<ParamSpec> specs = OnAxis(type.parameters, Axis());
+  ValidateParameters(specs, spec.parameters, fmt::format("/elements/{}/parameters", name), &problems);
   if (!problems.empty()) throw std::invalid_argument(fmt::format("{} ({}): {}", what, spec.type, List(problems)));
   Json element = {{"name", name}, {"type", spec.type}};
   if (!spec.description.empty()) element["description"] = spec.description;
   if (spec.sample_time) element["sampleTime"] = {spec.sample_time->first, spec.sample_time->second};
   element["parameters"] = spec.parameters;
+  for (const auto& s : specs) {  // a suggested block's {"value", "unit": "N·s/m"} reads N·m·s/rad on a rotary axis
+    if (element["parameters"].is_object() && element["parameters"].contains(s.name)) {
+      element["parameters"][s.name] = ParameterSlotOnAxis(s, element["parameters"][s.name]);
+    }
+  }
   json_["elements"].push_back(std::move(element));
   return name;
 }
@@ -382,6 +388,14 @@ void DiagramDocument::AddConnector(const DocumentConnector& connector) {
 
 Json DiagramDocument::Parameter(const std::string& element, const std::string& parameter) const {
   const Json& e = Element(element);
+  const ParamSpec spec = ParameterSpec(element, parameter);
+  const Json params = e.value("parameters", Json::object());
+  if (params.contains(parameter)) return ParameterValueInSi(spec, params[parameter]);
+  return spec.default_value ? *spec.default_value : Json();
+}
+
+ParamSpec DiagramDocument::ParameterSpec(const std::string& element, const std::string& parameter) const {
+  const Json& e = Element(element);
   const std::string type = e.value("type", "");
   const BlockType& bt = RegisteredType(type, fmt::format("{}: element '{}'", source_, element));
   const ParamSpec* spec = FindSpec(bt, parameter);
@@ -390,20 +404,18 @@ Json DiagramDocument::Parameter(const std::string& element, const std::string& p
                                             element, type, parameter, DidYouMean(parameter, SpecNames(bt)),
                                             List(SpecNames(bt))));
   }
-  const Json params = e.value("parameters", Json::object());
-  if (params.contains(parameter)) return ParameterValueInSi(*spec, params[parameter]);
-  return spec->default_value ? *spec->default_value : Json();
+  return OnAxis(*spec, Axis());
 }
 
+MotionAxis DiagramDocument::Axis() const { return DiagramAxis(json_); }
+
 void DiagramDocument::SetParameter(const std::string& element, const std::string& parameter, const Json& value) {
-  Parameter(element, parameter);  // checks the element and the parameter's name
-  const BlockType& bt = *BlockRegistry::Global().Find(TypeOf(element));
+  const ParamSpec spec = ParameterSpec(element, parameter);  // checks the element and the parameter's name
   std::vector<std::string> problems;
-  ValidateParameters({*FindSpec(bt, parameter)}, Json{{parameter, value}},
-                     fmt::format("/elements/{}/parameters", element), &problems);
+  ValidateParameters({spec}, Json{{parameter, value}}, fmt::format("/elements/{}/parameters", element), &problems);
   if (!problems.empty()) throw DiagramError(source_, problems);
   Json& slot = (*FindElement(element))["parameters"][parameter];
-  slot = ReplacedParameterSlot(FindSpec(bt, parameter), slot, value);
+  slot = ParameterSlotOnAxis(spec, ReplacedParameterSlot(&spec, slot, value));
 }
 
 void DiagramDocument::SetParameterChecked(const std::string& element, const std::string& parameter,
@@ -430,7 +442,7 @@ Parameters DiagramDocument::ElementParameters(const std::string& element) const 
   const Json& e = Element(element);
   const BlockType& bt = RegisteredType(e.value("type", ""), fmt::format("{}: element '{}'", source_, element));
   std::vector<std::string> problems;
-  auto values = ValidateParameters(bt.parameters, e.value("parameters", Json::object()),
+  auto values = ValidateParameters(OnAxis(bt.parameters, Axis()), e.value("parameters", Json::object()),
                                    fmt::format("/elements/{}/parameters", element), &problems);
   if (!problems.empty()) throw DiagramError(source_, problems);
   return Parameters(element, std::move(values));

@@ -95,6 +95,8 @@ class DiagramDocument {
   /// fails on a name clash, so a suggestion can be applied twice). @throws std::invalid_argument for an empty
   /// name or one with '.', an unknown type ("did you mean"), a sampleTime the type does not take / lacks, and
   /// every parameter problem at once (unknown parameter, missing required one, wrong type, unit or bound).
+  /// A quantity given in a parameter's linear unit (a suggested block's {"value": 0.5, "unit": "N·s/m"}) is written
+  /// in its unit on this diagram's axis, the value unchanged ({"value": 0.5, "unit": "N·m·s/rad"}; ParameterSpec).
   std::string Add(const ElementSpec& spec);
 
   // ---- Connections -------------------------------------------------------------------------------------
@@ -132,6 +134,13 @@ class DiagramDocument {
   /// ParameterValueInSi), else the type's default, else null (a required parameter not given). @throws std::invalid_argument for an unknown element or a parameter the
   /// type does not declare ("did you mean").
   nlohmann::json Parameter(const std::string& element, const std::string& parameter) const;
+  /// The spec of `element.parameter` on this diagram's axis (OnAxis, Axis()): its unit as this diagram reads it
+  /// (N·m·s/rad for a friction's viscous coefficient on a rotary diagram in rad and N·m, N·s/m on a linear one).
+  /// @throws std::invalid_argument as Parameter.
+  ParamSpec ParameterSpec(const std::string& element, const std::string& parameter) const;
+  /// The axis this diagram's motion is in, from its connectors (engine/parameters.h DiagramAxis): m and N, or rad
+  /// and N·m, rev and A, …
+  MotionAxis Axis() const;
   /// Sets `element.parameter` to `value`: a number (or array) in the parameter's SI unit, written in the unit the
   /// diagram used if it wrote a quantity {"value", "unit"}; or a quantity object, written as given
   /// (ReplacedParameterSlot). @throws

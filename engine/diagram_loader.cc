@@ -72,6 +72,7 @@ void ApplyOverrides(json* diagram, const std::vector<ParameterOverride>& overrid
       continue;
     }
     bool found = false;
+    const MotionAxis axis = DiagramAxis(*diagram);
     if (diagram->contains("elements") && (*diagram)["elements"].is_array()) {
       for (auto& element : (*diagram)["elements"]) {
         if (element.value("name", "") != o.block) continue;
@@ -79,7 +80,10 @@ void ApplyOverrides(json* diagram, const std::vector<ParameterOverride>& overrid
         auto& params = element["parameters"];
         if (params.is_null()) params = json::object();
         auto& slot = params[o.parameter];
-        slot = ReplacedParameterSlot(FindParamSpec(element.value("type", ""), o.parameter), slot, o.value);
+        const ParamSpec* declared = FindParamSpec(element.value("type", ""), o.parameter);
+        const std::optional<ParamSpec> spec =
+            declared != nullptr ? std::optional<ParamSpec>(OnAxis(*declared, axis)) : std::nullopt;
+        slot = ReplacedParameterSlot(spec ? &*spec : nullptr, slot, o.value);
       }
     }
     if (!found) {

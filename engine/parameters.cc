@@ -24,13 +24,13 @@ const char* ToString(ParamType type) {
 }
 
 ParamSpec Required(std::string name, std::string unit, std::string description, ParamType type) {
-  return ParamSpec{std::move(name), type, std::move(unit), std::nullopt, std::move(description), {}, {}, {}, false};
+  return ParamSpec{std::move(name), type, std::move(unit), std::nullopt, std::move(description), {}, {}, {}, false, {}};
 }
 
 ParamSpec Optional(std::string name, nlohmann::json default_value, std::string unit, std::string description,
                    ParamType type) {
   return ParamSpec{std::move(name), type, std::move(unit), std::move(default_value), std::move(description),
-                   {}, {}, {}, false};
+                   {}, {}, {}, false, {}};
 }
 
 ParamSpec Bounded(std::string name, nlohmann::json default_value, std::string unit, std::string description,
@@ -40,6 +40,38 @@ ParamSpec Bounded(std::string name, nlohmann::json default_value, std::string un
   spec.min = min;
   spec.max = max;
   return spec;
+}
+
+ParamSpec OnAxis(ParamSpec spec, const MotionAxis& axis) {
+  if (!spec.linear_unit.empty()) return spec;  // already on an axis
+  std::string unit = AxisUnit(spec.unit, axis);
+  if (unit != spec.unit) {
+    spec.linear_unit = std::move(spec.unit);
+    spec.unit = std::move(unit);
+  }
+  return spec;
+}
+
+std::vector<ParamSpec> OnAxis(std::vector<ParamSpec> specs, const MotionAxis& axis) {
+  if (axis.is_linear()) return specs;
+  for (auto& spec : specs) spec = OnAxis(std::move(spec), axis);
+  return specs;
+}
+
+MotionAxis DiagramAxis(const nlohmann::json& diagram) {
+  if (!diagram.is_object() || !diagram.contains("connectors") || !diagram["connectors"].is_array()) return {};
+  std::vector<std::pair<std::string, std::string>> units;
+  for (const char* kind : {"input", "output"}) {
+    for (const auto& c : diagram["connectors"]) {
+      if (!c.is_object() || !c.contains("unit") || !c["unit"].is_string()) continue;
+      const auto k = c.find("kind");
+      if (k == c.end() || !k->is_string() || k->get<std::string>() != kind) continue;
+      const auto q = c.find("quantity");
+      units.emplace_back(c["unit"].get<std::string>(),
+                         q != c.end() && q->is_string() ? q->get<std::string>() : std::string());
+    }
+  }
+  return AxisOfConnectors(units);
 }
 
 ParamSpec FileName(std::string name, std::string description) {
@@ -142,6 +174,13 @@ std::string CheckValue(const ParamSpec& spec, const nlohmann::json& v) {
   return {};
 }
 
+// The factor from `unit` to `spec`'s unit: UnitFactor, or 1 for the linear unit a spec put OnAxis stands for.
+std::optional<double> UnitFactorToSpec(const std::string& unit, const ParamSpec& spec) {
+  if (const auto factor = UnitFactor(unit, spec.unit)) return factor;
+  if (!spec.linear_unit.empty() && SameUnit(unit, spec.linear_unit)) return 1.0;
+  return std::nullopt;
+}
+
 // Turns `value` written in `unit` into the spec's declared unit (engine/units.h: UnitFactor), numbers and arrays
 // of numbers scaled; "" when done, else the message (without the pointer).
 std::string ConvertToDeclaredUnit(const ParamSpec& spec, const nlohmann::json& unit_json, nlohmann::json* value) {
@@ -152,8 +191,15 @@ std::string ConvertToDeclaredUnit(const ParamSpec& spec, const nlohmann::json& u
                        "unit",
                        unit);
   }
-  const std::optional<double> factor = UnitFactor(unit, spec.unit);
-  if (!factor) return fmt::format("unit mismatch: given '{}', this parameter is in '{}' (SI)", unit, spec.unit);
+  const std::optional<double> factor = UnitFactorToSpec(unit, spec);
+  if (!factor) {
+    if (spec.linear_unit.empty()) {
+      return fmt::format("unit mismatch: given '{}', this parameter is in '{}' (SI)", unit, spec.unit);
+    }
+    return fmt::format("unit mismatch: given '{}', this parameter is in '{}' on this diagram's axis (SI; '{}' on a "
+                       "linear axis)",
+                       unit, spec.unit, spec.linear_unit);
+  }
   if (*factor == 1.0) return {};
   if (value->is_number()) {
     *value = *factor * value->get<double>();
@@ -215,7 +261,7 @@ std::optional<double> QuantityFactor(const ParamSpec& spec, const nlohmann::json
     return std::nullopt;
   }
   if (spec.unit.empty()) return std::nullopt;
-  return UnitFactor(slot["unit"].get<std::string>(), spec.unit);
+  return UnitFactorToSpec(slot["unit"].get<std::string>(), spec);
 }
 
 }  // namespace
@@ -224,6 +270,18 @@ nlohmann::json ParameterValueInSi(const ParamSpec& spec, const nlohmann::json& s
   if (!slot.is_object() || !slot.contains("value")) return slot;
   const auto factor = QuantityFactor(spec, slot);
   return factor && *factor != 1.0 ? Scaled(slot["value"], *factor) : slot["value"];
+}
+
+nlohmann::json ParameterSlotOnAxis(const ParamSpec& spec, const nlohmann::json& slot) {
+  if (spec.linear_unit.empty() || !slot.is_object() || !slot.contains("value") || !slot.contains("unit") ||
+      !slot["unit"].is_string()) {
+    return slot;
+  }
+  const std::string unit = slot["unit"].get<std::string>();
+  if (UnitFactor(unit, spec.unit) || !SameUnit(unit, spec.linear_unit)) return slot;
+  nlohmann::json out = slot;
+  out["unit"] = spec.unit;
+  return out;
 }
 
 nlohmann::json ReplacedParameterSlot(const ParamSpec* spec, const nlohmann::json& slot, const nlohmann::json& value) {

@@ -10,6 +10,8 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include "engine/units.h"
+
 namespace mb {
 
 enum class ParamType { kNumber, kInteger, kBool, kString, kVector };
@@ -34,7 +36,22 @@ struct ParamSpec {
   /// A string naming a file, relative to the diagram's folder (from_file.file, gpr.model): a diagram written to
   /// another folder gets it rewritten (DiagramDocument::RelocateFiles).
   bool file = false;
+  /// Set by OnAxis when `unit` is the analogue on a diagram's axis of the linear SI unit declared (N·m·s/rad for
+  /// N·s/m): that linear unit, still taken for a value with factor 1 (as a linear port takes a rotary signal). Empty:
+  /// `unit` is the declared one.
+  std::string linear_unit;
 };
+
+/// `spec` on a diagram's axis (engine/units.h MotionAxis): its unit the axis's analogue of the declared linear one
+/// (AxisUnit: N·s/m → N·m·s/rad, N → N·m, kg → kg·m² on a rotary axis in rad and N·m), the declared one kept in
+/// `linear_unit`; unchanged on the linear axis or for a unit with none of N, m, kg. The value keeps its meaning (a
+/// number is in `unit`, which is what the block computes with). Throws nothing.
+ParamSpec OnAxis(ParamSpec spec, const MotionAxis& axis);
+std::vector<ParamSpec> OnAxis(std::vector<ParamSpec> specs, const MotionAxis& axis);
+
+/// The axis of a diagram (a JSON object with "connectors", as in a diagram file): AxisOfConnectors over its input
+/// connectors, then its output connectors. The linear axis (m, N) when it has none of motion units. Throws nothing.
+MotionAxis DiagramAxis(const nlohmann::json& diagram);
 
 /// Builder helpers for readable block specs: Required("mass", "kg", "moving mass").
 ParamSpec Required(std::string name, std::string unit, std::string description,
@@ -77,8 +94,9 @@ class Parameters {
 
 /// Validates raw JSON parameter values against the specs: unknown (extra) names, missing required ones,
 /// wrong types, unit mismatch (a value may be written as a quantity {"value": 94, "unit": "kg"}, converted from any
-/// unit of the declared one's quantity: engine/units.h; a quantity with another key, such as "unti", is refused
-/// with the closest key), bounds, NaN. Each problem is appended to `errors` as "<pointer>: <message>" where pointer is
+/// unit of the declared one's quantity: engine/units.h; for specs put OnAxis, a unit of the axis's quantity
+/// ({"value": 0.5, "unit": "N*m*s/rad"} for a rotary friction's viscous coefficient) or the linear unit itself; a
+/// quantity with another key, such as "unti", is refused with the closest key), bounds, NaN. Each problem is appended to `errors` as "<pointer>: <message>" where pointer is
 /// `json_pointer` + "/<param>". Returns the values with defaults filled in (and units stripped).
 std::map<std::string, nlohmann::json> ValidateParameters(const std::vector<ParamSpec>& specs,
                                                          const nlohmann::json& raw,
@@ -101,5 +119,11 @@ nlohmann::json ParameterValueInSi(const ParamSpec& spec, const nlohmann::json& s
 /// unit (2 kg into {"value": 2000, "unit": "g"} stays in g: {"value": 2000, "unit": "g"}), so that the diagram keeps
 /// the unit its author chose; otherwise the bare `value` replaces the slot. Throws nothing.
 nlohmann::json ReplacedParameterSlot(const ParamSpec* spec, const nlohmann::json& slot, const nlohmann::json& value);
+
+/// `slot` (a parameter's JSON as written in a diagram) for `spec` put OnAxis: a quantity in the linear unit the spec
+/// stands for ({"value": 0.5, "unit": "N·s/m"} for a rotary friction's viscous coefficient) is written in the axis's
+/// unit with the same value ({"value": 0.5, "unit": "N·m·s/rad"}), so that a diagram on a rotary axis reads in its own
+/// units; any other slot as it is. Throws nothing.
+nlohmann::json ParameterSlotOnAxis(const ParamSpec& spec, const nlohmann::json& slot);
 
 }  // namespace mb

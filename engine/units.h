@@ -18,6 +18,8 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace mb {
 
@@ -90,6 +92,30 @@ inline std::optional<std::pair<const KnownUnit*, int>> ParseFactor(std::string_v
 }
 }  // namespace units_detail
 
+namespace units_detail {
+// Calls `each(factor_text, sign)` for every factor of `unit` ('*', '·' or ' ' between factors; '/' before each factor
+// of the denominator: sign -1 from there on). False when a factor is empty everywhere (no factor at all).
+template <class Each>
+bool ForEachFactor(std::string_view unit, Each&& each) {
+  bool any = false;
+  int sign = 1;
+  std::size_t start = 0;
+  for (std::size_t i = 0; i <= unit.size(); ++i) {
+    const bool end = i == unit.size();
+    const bool dot = !end && unit.substr(i, std::string_view("·").size()) == "·";
+    if (!end && !dot && unit[i] != '*' && unit[i] != ' ' && unit[i] != '/') continue;
+    if (i > start) {
+      if (!each(unit.substr(start, i - start), sign)) return false;
+      any = true;
+    }
+    if (!end && unit[i] == '/') sign = -1;
+    start = dot ? i + std::string_view("·").size() : i + 1;
+    if (dot) i += std::string_view("·").size() - 1;
+  }
+  return any;
+}
+}  // namespace units_detail
+
 /// A unit parsed by ParseUnit: the factor to its SI unit and its dimension (exponents of kg, m, s, A, rad).
 struct ParsedUnit {
   double scale = 1.0;
@@ -100,27 +126,16 @@ struct ParsedUnit {
 /// nullopt when a factor is not a known unit or the text is empty.
 inline std::optional<ParsedUnit> ParseUnit(std::string_view unit) {
   ParsedUnit parsed;
-  bool any = false;
-  int sign = 1;
-  std::size_t start = 0;
-  for (std::size_t i = 0; i <= unit.size(); ++i) {
-    const bool end = i == unit.size();
-    const bool dot = !end && unit.substr(i, std::string_view("·").size()) == "·";
-    if (!end && !dot && unit[i] != '*' && unit[i] != ' ' && unit[i] != '/') continue;
-    if (i > start) {
-      const auto factor = units_detail::ParseFactor(unit.substr(start, i - start));
-      if (!factor) return std::nullopt;
-      parsed.scale *= std::pow(factor->first->scale, sign * factor->second);
-      for (std::size_t k = 0; k < parsed.dimension.size(); ++k) {
-        parsed.dimension[k] += sign * factor->second * factor->first->dimension[k];
-      }
-      any = true;
+  const bool known = units_detail::ForEachFactor(unit, [&parsed](std::string_view text, int sign) {
+    const auto factor = units_detail::ParseFactor(text);
+    if (!factor) return false;
+    parsed.scale *= std::pow(factor->first->scale, sign * factor->second);
+    for (std::size_t k = 0; k < parsed.dimension.size(); ++k) {
+      parsed.dimension[k] += sign * factor->second * factor->first->dimension[k];
     }
-    if (!end && unit[i] == '/') sign = -1;
-    start = dot ? i + std::string_view("·").size() : i + 1;
-    if (dot) i += std::string_view("·").size() - 1;
-  }
-  if (!any) return std::nullopt;
+    return true;
+  });
+  if (!known) return std::nullopt;
   return parsed;
 }
 
@@ -198,6 +213,138 @@ inline double RevolutionIn(std::string_view position_unit) {
   if (position_unit == "rad") return 6.283185307179586;
   if (position_unit == "deg") return 360.0;
   return 0.0;
+}
+
+/// The units a diagram's motion is in (issue 40): its position unit (m; rad, rev, deg on a rotary axis; a declared
+/// quantity's own unit, such as V) and its force unit (N; N·m for a torque; A for a drive's current). The blocks
+/// declare their parameters in linear SI units (ParamSpec::unit: N·s/m, N, kg, m); on another axis each reads as its
+/// analogue (AxisUnit): the number is the same, only what it is per changes.
+struct MotionAxis {
+  std::string position = "m";
+  std::string force = "N";
+  /// True for the linear axis in SI (m and N), where a parameter's unit reads as declared.
+  bool is_linear() const { return SameUnit(position, "m") && SameUnit(force, "N"); }
+  /// "rad, N·m".
+  std::string ToString() const { return position + ", " + force; }
+};
+
+namespace units_detail {
+using FactorList = std::vector<std::pair<std::string, int>>;
+inline void AddFactor(FactorList* list, std::string_view name, int exponent) {
+  for (auto& f : *list) {
+    if (f.first == name) {
+      f.second += exponent;
+      return;
+    }
+  }
+  list->emplace_back(std::string(name), exponent);
+}
+// A unit's factors with their exponents ("N·m" → N¹ m¹); the whole text as one factor when a factor is not known.
+inline FactorList FactorsOf(std::string_view unit) {
+  FactorList out;
+  const bool known = ForEachFactor(unit, [&out](std::string_view text, int sign) {
+    const auto factor = ParseFactor(text);
+    if (!factor) return false;
+    AddFactor(&out, factor->first->name, sign * factor->second);
+    return true;
+  });
+  if (!known) return {{std::string(unit), 1}};
+  return out;
+}
+inline std::string PowerText(const std::string& name, int exponent) {
+  if (exponent == 1) return name;
+  if (exponent == 2) return name + "²";
+  if (exponent == 3) return name + "³";
+  return name + "^" + std::to_string(exponent);
+}
+// "N·m·s/rad": the numerator's factors joined by '·', then '/' before each factor of the denominator ("1/rad" when
+// the numerator is empty); "1" when nothing is left.
+inline std::string UnitText(const FactorList& factors) {
+  std::string numerator, denominator;
+  for (const auto& [name, exponent] : factors) {
+    if (exponent > 0) numerator += (numerator.empty() ? "" : "·") + PowerText(name, exponent);
+    if (exponent < 0) denominator += "/" + PowerText(name, -exponent);
+  }
+  if (numerator.empty()) numerator = "1";
+  return numerator + denominator;
+}
+}  // namespace units_detail
+
+/// A parameter's unit on `axis`, from the linear SI unit it is declared in: each N becomes the axis's force unit,
+/// each m its position unit and each kg (a mass: N·s²/m) force·s²/position; other factors (s, Hz, rad, V, A) stay,
+/// and a factor of the force and the position alike cancels. On a rotary axis (rad, N·m): N·s/m → N·m·s/rad (a
+/// rotary viscous coefficient), N → N·m, m/s → rad/s, N/m → N·m/rad, kg → kg·m² (an inertia, N·m·s²/rad); in a
+/// drive's units (rev, A): N·s/m → A·s/rev, kg → A·s²/rev; with a voltage standing for both (V, V): N·s/m → s.
+/// The linear axis, a unit with none of N, m and kg, an empty or unknown unit: returned as given. Throws nothing.
+inline std::string AxisUnit(std::string_view linear_unit, const MotionAxis& axis) {
+  if (linear_unit.empty() || axis.is_linear()) return std::string(linear_unit);
+  const units_detail::FactorList force = units_detail::FactorsOf(axis.force);
+  const units_detail::FactorList position = units_detail::FactorsOf(axis.position);
+  units_detail::FactorList out;
+  const auto add = [&out](const units_detail::FactorList& factors, int exponent) {
+    for (const auto& [name, e] : factors) units_detail::AddFactor(&out, name, e * exponent);
+  };
+  bool mechanical = false;
+  const bool known = units_detail::ForEachFactor(linear_unit, [&](std::string_view text, int sign) {
+    const auto factor = units_detail::ParseFactor(text);
+    if (!factor) return false;
+    const std::string_view name = factor->first->name;
+    const int e = sign * factor->second;
+    if (name == "N") {
+      add(force, e);
+    } else if (name == "m") {
+      add(position, e);
+    } else if (name == "kg") {
+      add(force, e);
+      units_detail::AddFactor(&out, "s", 2 * e);
+      add(position, -e);
+    } else {
+      units_detail::AddFactor(&out, name, e);
+      return true;
+    }
+    mechanical = true;
+    return true;
+  });
+  if (!known || !mechanical) return std::string(linear_unit);
+  const std::string text = units_detail::UnitText(out);
+  return text == "N·m·s²/rad" ? std::string("kg·m²") : text;  // rad is 1 in SI: an inertia
+}
+
+/// The axis of a diagram's motion signals, from its connectors' units and declared quantities (ConnectorQuantity;
+/// the input connectors first, each as {unit, declared quantity}): the first position, velocity or acceleration
+/// gives the position unit (rad/s → rad), the first force the force unit. A rotary position without a force
+/// connector takes N·m, a torque without a position rad; nothing of either: the linear axis (m, N).
+inline MotionAxis AxisOfConnectors(const std::vector<std::pair<std::string, std::string>>& unit_and_quantity) {
+  std::string position, force;
+  for (const auto& [unit, declared] : unit_and_quantity) {
+    const std::string u = units_detail::Canonical(unit);
+    const auto strip = [&u](std::string_view suffix) {
+      return u.size() > suffix.size() && u.ends_with(suffix) ? u.substr(0, u.size() - suffix.size()) : std::string();
+    };
+    switch (ConnectorQuantity(unit, declared)) {
+      case MotionQuantity::kPosition:
+        if (position.empty()) position = u;
+        break;
+      case MotionQuantity::kVelocity:
+        if (position.empty()) position = strip("/s");
+        break;
+      case MotionQuantity::kAcceleration:
+        if (position.empty()) position = strip("/s^2");
+        break;
+      case MotionQuantity::kForce:
+        if (force.empty()) force = u;
+        break;
+      case MotionQuantity::kOther:
+        break;
+    }
+  }
+  MotionAxis axis;
+  const bool rotary = !position.empty() && RevolutionIn(position) > 0.0;
+  if (!position.empty()) axis.position = position;
+  if (!force.empty()) axis.force = force;
+  if (force.empty() && rotary) axis.force = "N·m";
+  if (position.empty() && force == "N·m") axis.position = "rad";
+  return axis;
 }
 
 }  // namespace mb
