@@ -106,6 +106,9 @@ class Diagram {
   /// The diagram's optional "roles" map, role → element name (after subsystem expansion: "plant/body"). The
   /// engine checks only that each names an element; what a role means belongs to the analysis that reads it.
   const std::map<std::string, std::string>& roles() const { return roles_; }
+  /// The axis its motion is in, from its connectors (engine/parameters.h DiagramAxis: m and N, rad and N·m, …): its
+  /// parameters read in that axis's units (OnAxis(spec, axis()).unit: N·m·s/rad for a rotary viscous coefficient).
+  const MotionAxis& axis() const { return axis_; }
 
   /// Index of the block with this instance name, or -1. O(1) (a hash map: a diagram of 100,000 blocks loads in
   /// linear time).
@@ -133,6 +136,7 @@ class Diagram {
   std::vector<int> execution_order_;
   std::vector<std::string> block_types_;
   std::vector<Parameters> block_parameters_;
+  MotionAxis axis_;
   std::map<std::string, std::string> roles_;
   std::filesystem::path path_;
 };

@@ -200,6 +200,7 @@ class DiagramBuilder {
     std::set<std::string> names;
     const auto& registry = BlockRegistry::Global();
     const MotionAxis axis = DiagramAxis(j_);  // a rotary diagram's parameters in rotary units (N·m·s/rad …)
+    d_.axis_ = axis;
     for (std::size_t i = 0; i < j_["elements"].size(); ++i) {
       const json& e = j_["elements"][i];
       const std::string ptr = At("elements", i);

@@ -176,6 +176,17 @@ std::string BlockReference(const BlockType& type) {
                        p.default_value ? " = " + p.default_value->dump() : " [required]", p.description);
   }
   if (type.parameters.empty()) out += "    none\n";
+  // The units above are a linear axis's (m, N); on a rotary diagram the same numbers read in its units (AxisUnit).
+  const MotionAxis rotary{"rad", "N·m"};
+  std::string rotary_units;
+  for (const auto& p : type.parameters) {
+    if (const std::string unit = AxisUnit(p.unit, rotary); unit != p.unit) {
+      rotary_units += fmt::format("{}{} [{}]", rotary_units.empty() ? "" : ", ", p.name, unit);
+    }
+  }
+  if (!rotary_units.empty()) {
+    out += fmt::format("  on a rotary diagram (connectors in rad and N·m) the same numbers are in: {}\n", rotary_units);
+  }
   out += fmt::format("  sampleTime: {}\n", SampleTimeText(type.sample_time_rule));
   out += fmt::format("  example: {}\n", ExampleElement(type).dump());
   return out;

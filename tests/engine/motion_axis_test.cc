@@ -19,6 +19,7 @@ namespace {
 
 using nlohmann::json;
 using ::testing::HasSubstr;
+using ::testing::Not;
 namespace fs = std::filesystem;
 
 const fs::path kRigidArm = fs::path(MB_SOURCE_DIR) / "diagrams" / "rotary" / "rigid_arm.json";
@@ -77,6 +78,15 @@ TEST(DiagramAxis, FromTheConnectors) {
   // A rotary velocity alone: the torque is taken for the force; a diagram without connectors is linear.
   EXPECT_EQ(AxisOfConnectors({{"deg/s", ""}}).ToString(), "deg, N·m");
   EXPECT_TRUE(DiagramAxis(json::object()).is_linear());
+}
+
+// `motionblocks blocks friction` says how its linear units read on a rotary diagram.
+TEST(BlockReferenceAxis, NamesTheRotaryUnitsOfTheMechanicalParameters) {
+  EXPECT_THAT(BlockReference(BlockRegistry::Global().Get("friction")),
+              HasSubstr("  on a rotary diagram (connectors in rad and N·m) the same numbers are in: viscous "
+                        "[N·m·s/rad], coulomb [N·m], static [N·m], stribeck_velocity [rad/s]"));
+  EXPECT_THAT(BlockReference(BlockRegistry::Global().Get("flexible_load")), HasSubstr("mass [kg·m²]"));
+  EXPECT_THAT(BlockReference(BlockRegistry::Global().Get("gain")), Not(HasSubstr("on a rotary diagram")));
 }
 
 TEST(DiagramDocumentAxis, ParameterSpecsReadInTheDiagramsUnits) {

@@ -70,8 +70,10 @@ void RunFit(const FitOptions& o) {
   const auto& after = result.after.front();
   for (std::size_t i = 0; i < result.fit.parameters.size(); ++i) {
     const auto k = static_cast<Eigen::Index>(i);
-    std::cout << fmt::format("  {:<32} {:>12.6g} → {:>12.6g}  ± {:.3g} (95 %)\n", result.fit.parameters[i].name,
-                             result.fit.initial(k), result.fit.estimate(k), 1.96 * result.fit.standard_error(k));
+    const std::string& unit = result.fit.parameters[i].unit;  // on the diagram's axis: N·m·s/rad on a rotary one
+    std::cout << fmt::format("  {:<32} {:>12.6g} → {:>12.6g}  ± {:.3g}{}{} (95 %)\n", result.fit.parameters[i].name,
+                             result.fit.initial(k), result.fit.estimate(k), 1.96 * result.fit.standard_error(k),
+                             unit.empty() ? "" : " ", unit);
   }
   std::cout << fmt::format("{}: RMSE {:.5g} → {:.5g} {} (fit {:.1f} % → {:.1f} %); {}\n", after.connector, before.rmse,
                            after.rmse, after.unit, before.fit_percent, after.fit_percent, result.fit.status);

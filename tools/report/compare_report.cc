@@ -59,7 +59,8 @@ std::vector<std::vector<std::string>> FittedParameterRows(const DiagnosedCompari
   for (std::size_t i = 0; i < compared.parameters.size(); ++i) {
     const auto k = static_cast<Eigen::Index>(i);
     rows.push_back({compared.parameters[i].name, fmt::format("{:.6g}", fit.initial(k)),
-                    fmt::format("{:.6g}", fit.estimate(k)), fmt::format("± {:.3g}", 1.96 * fit.standard_error(k))});
+                    fmt::format("{:.6g}", fit.estimate(k)), fmt::format("± {:.3g}", 1.96 * fit.standard_error(k)),
+                    compared.parameters[i].unit.empty() ? "1 (no unit)" : compared.parameters[i].unit});
   }
   return rows;
 }
@@ -147,7 +148,7 @@ void WriteCompareReport(const CompareOutcome& outcome, const MeasurementLog& log
                     files.out);
   if (compared.fit) {
     report.Heading("Fitted parameters (Levenberg–Marquardt)");
-    report.Table({"parameter", "initial", "estimate", "95 % CI"}, FittedParameterRows(compared));
+    report.Table({"parameter", "initial", "estimate", "95 % CI", "unit"}, FittedParameterRows(compared));
     report.Paragraph(fmt::format("{}; {} iterations; condition number of the scaled Jacobian {:.3g}.",
                                  compared.fit->status, compared.fit->iterations, compared.fit->condition_number));
   }

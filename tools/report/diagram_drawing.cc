@@ -94,7 +94,8 @@ std::vector<std::string> KeyParameters(const Diagram& diagram, int b) {
   if (type == nullptr) return lines;
   const auto& values = diagram.block_parameters(b).values();
   std::size_t more = 0;
-  for (const auto& spec : type->parameters) {
+  for (const auto& declared : type->parameters) {
+    const ParamSpec spec = OnAxis(declared, diagram.axis());  // its unit on the diagram's axis (N·m·s/rad)
     const auto it = values.find(spec.name);
     if (it == values.end() || (spec.default_value && *spec.default_value == it->second)) continue;
     if (lines.size() == kMaxKeyParameters) {

@@ -60,7 +60,8 @@ nlohmann::json DiagramBlockData(const Diagram& diagram) {
     nlohmann::json parameters = nlohmann::json::array();
     const BlockType* type = BlockRegistry::Global().Find(diagram.block_type(index));
     if (type != nullptr) {
-      for (const auto& spec : type->parameters) {  // the declared order, as the block reference lists them
+      for (const auto& declared : type->parameters) {  // the declared order, as the block reference lists them
+        const ParamSpec spec = OnAxis(declared, diagram.axis());  // N·m·s/rad on a rotary diagram
         const auto it = values.find(spec.name);
         if (it != values.end()) parameters.push_back(ParameterEntry(spec.name, it->second, &spec));
       }

@@ -6,7 +6,8 @@
 // Where the units come from: the loader converts a value written with a unit ({"value": 200, "unit": "N·s/m"}, or
 // {"value": 2000, "unit": "g"}) to the SI unit its block type declares (ParamSpec::unit, engine/parameters.h), and a
 // parameter whose type declares no unit is dimensionless (the loader refuses a unit for it). So a block's values
-// (Diagram::block_parameters) are SI, and their unit is the registry's: that pair is what the panel shows.
+// (Diagram::block_parameters) are SI, and their unit is the registry's on the diagram's axis (Diagram::axis, OnAxis:
+// N·s/m on a linear diagram, N·m·s/rad on a rotary one in rad and N·m): that pair is what the panel shows.
 //
 // Every string of the diagram reaches the page as data: the block data as JSON inside a <script
 // type="application/json"> (ScriptSafeJson: no "</script>" can occur in it), written into the panel by the page's
@@ -23,7 +24,7 @@ namespace mb {
 
 /// The panel's data, one entry per block in block order (entry b is the drawing's node "b<b>"): {"name", "type",
 /// "parameters": [{"name", "value" (text: a number to 6 significant digits, an integer as it is, a vector's first
-/// kMaxPanelVectorEntries entries, a string cut at kMaxPanelTextLength bytes), "unit" (SI; "" dimensionless),
+/// kMaxPanelVectorEntries entries, a string cut at kMaxPanelTextLength bytes), "unit" (SI, on the diagram's axis; "" dimensionless),
 /// "default" (whether the value is the type's default), "description"}]}, parameters in the type's declared order.
 /// Throws nothing for a diagram's strings.
 nlohmann::json DiagramBlockData(const Diagram& diagram);

@@ -37,11 +37,12 @@ std::vector<FreeParameter> ResolveFreeParameters(const json& diagram, const std:
     const std::string block = name.substr(0, dot), parameter = name.substr(dot + 1);
     if (!document.Has(block)) throw std::invalid_argument(fmt::format("free parameter '{}': no element '{}'", name, block));
     const json value = document.Parameter(block, parameter);
+    const std::string unit = document.ParameterSpec(block, parameter).unit;  // on the diagram's axis
     if (value.is_number()) {
-      out.push_back({block, parameter, -1, name});
+      out.push_back({block, parameter, -1, name, unit});
     } else if (value.is_array() && !value.empty() && value[0].is_number()) {
       for (std::size_t i = 0; i < value.size(); ++i) {
-        out.push_back({block, parameter, static_cast<int>(i), fmt::format("{}[{}]", name, i)});
+        out.push_back({block, parameter, static_cast<int>(i), fmt::format("{}[{}]", name, i), unit});
       }
     } else {
       throw std::invalid_argument(fmt::format(
@@ -320,6 +321,7 @@ json FitResult::ToJson() const {
   for (std::size_t i = 0; i < parameters.size(); ++i) {
     const auto k = static_cast<Eigen::Index>(i);
     params_json.push_back({{"name", parameters[i].name},
+                           {"unit", parameters[i].unit},
                            {"initial", initial(k)},
                            {"estimate", estimate(k)},
                            {"standard_error", standard_error(k)},

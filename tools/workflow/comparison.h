@@ -28,12 +28,15 @@ namespace mb {
 
 
 /// One scalar the fit may change: element `block`, parameter `parameter`, entry `index` of a vector (or -1 for
-/// a scalar). `name` is "block.param" or "block.param[i]".
+/// a scalar). `name` is "block.param" or "block.param[i]". `unit` is the parameter's SI unit on the diagram's axis
+/// (DiagramDocument::ParameterSpec: N·m·s/rad for a friction's viscous coefficient on a rotary diagram in rad and
+/// N·m, N·s/m on a linear one; "" for a dimensionless or free one such as a gain).
 struct FreeParameter {
   std::string block;
   std::string parameter;
   int index = -1;
   std::string name;
+  std::string unit;
 };
 
 /// Expands "block.param" names (a vector parameter gives one FreeParameter per entry) against the diagram JSON.
@@ -124,7 +127,7 @@ struct FitResult {
   std::vector<std::string> no_effect;                      ///< parameters the log does not excite
   std::vector<std::vector<std::string>> indistinguishable;  ///< groups that change the output alike
   std::string identifiability_problem;  ///< what is wrong and how to fix it, for messages (empty when identifiable)
-  /// {"parameters": [{name, initial, estimate, standard_error, ci95}], iterations, status, condition_number,
+  /// {"parameters": [{name, unit, initial, estimate, standard_error, ci95}], iterations, status, condition_number,
   /// identifiable, and when not: "not_identifiable": {no_effect, cannot_be_told_apart}, "warning"}.
   nlohmann::json ToJson() const;
 };

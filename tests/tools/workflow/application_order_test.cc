@@ -64,10 +64,10 @@ TEST(ApplicationOrder, NothingDiagnosedGivesNothing) {
 // A fit of base parameters and one added element "ripple" (two coefficients and its period).
 FitResult RippleFit(double cos_estimate, double cos_std, double sin_estimate, double sin_std) {
   FitResult fit;
-  fit.parameters = {{"plant", "mass", -1, "plant.mass"},
-                    {"ripple", "cos_coefficients", 0, "ripple.cos_coefficients[0]"},
-                    {"ripple", "sin_coefficients", 0, "ripple.sin_coefficients[0]"},
-                    {"ripple", "period", -1, "ripple.period"}};
+  fit.parameters = {{"plant", "mass", -1, "plant.mass", "kg"},
+                    {"ripple", "cos_coefficients", 0, "ripple.cos_coefficients[0]", "N"},
+                    {"ripple", "sin_coefficients", 0, "ripple.sin_coefficients[0]", "N"},
+                    {"ripple", "period", -1, "ripple.period", "m"}};
   fit.estimate = Eigen::Vector4d(95.0, cos_estimate, sin_estimate, 4.21e-3);
   fit.standard_error = Eigen::Vector4d(0.1, cos_std, sin_std, 1e-6);
   return fit;
