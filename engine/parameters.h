@@ -96,8 +96,9 @@ class Parameters {
 /// wrong types, unit mismatch (a value may be written as a quantity {"value": 94, "unit": "kg"}, converted from any
 /// unit of the declared one's quantity: engine/units.h; for specs put OnAxis, a unit of the axis's quantity
 /// ({"value": 0.5, "unit": "N*m*s/rad"} for a rotary friction's viscous coefficient) or the linear unit itself; a
-/// quantity with another key, such as "unti", is refused with the closest key), bounds, NaN. Each problem is appended to `errors` as "<pointer>: <message>" where pointer is
-/// `json_pointer` + "/<param>". Returns the values with defaults filled in (and units stripped).
+/// quantity with another key, such as "unti", is refused with the closest key), bounds, NaN. Each problem is
+/// appended to `errors` as "<pointer>: <message>" where pointer is `json_pointer` + "/<param>". Returns the values
+/// with defaults filled in (and units stripped).
 std::map<std::string, nlohmann::json> ValidateParameters(const std::vector<ParamSpec>& specs,
                                                          const nlohmann::json& raw,
                                                          const std::string& json_pointer,

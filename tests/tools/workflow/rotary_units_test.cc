@@ -10,6 +10,8 @@
 #include <random>
 #include <sstream>
 
+#include <unistd.h>
+
 #include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -69,7 +71,9 @@ const nlohmann::json* FitParameter(const nlohmann::json& fit, const std::string&
 class RotaryUnits : public ::testing::Test {
  protected:
   void SetUp() override {
-    folder_ = fs::temp_directory_path() / fmt::format("mb_rotary_units_{}", ::testing::UnitTest::GetInstance()->random_seed());
+    folder_ = fs::temp_directory_path() /
+              fmt::format("mb_rotary_units_{}_{}", ::testing::UnitTest::GetInstance()->current_test_info()->name(),
+                          static_cast<long>(::getpid()));
     record_ = WriteArmRecord(folder_);
   }
   void TearDown() override { fs::remove_all(folder_); }
