@@ -1,6 +1,8 @@
 // The blocks `compare --suggest` inserts for a diagnosed missing effect: transport_delay, time_periodic,
-// velocity_dependent_ripple, position_dependent_force — each against its header's equation.
+// velocity_dependent_ripple, position_dependent_force, ramped_gain (linear and exponential), speed_dependent_saturation —
+// each against its header's equation.
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -116,6 +118,85 @@ TEST(PositionDependentForceTest, RefusesANonPositiveHalfRange) {
                               Element("f", "position_dependent_force", {{"half_range", 0.0}})},
                              {Connect("x.y", "f.x")}, {"f.f"}, 1.0, 1e-3);
   EXPECT_THAT(BuildError(j), HasSubstr("half_range"));
+}
+
+// ramped_gain, shape "exponential": 0 before start_time, gain·(1 − exp(−(t − start_time)/T))·u after (a warm-up).
+TEST(RampedGainTest, ExponentialShapeSettlesWithItsTimeConstant) {
+  const double gain = -46.0, start = 0.2, T = 0.35;
+  const json j = MakeDiagram({Element("u", "constant", {{"value", 0.15}}),
+                              Element("g", "ramped_gain", {{"gain", gain}, {"start_time", start}, {"shape", "exponential"},
+                                                           {"time_constant", T}})},
+                             {Connect("u.y", "g.u")}, {"g.y"}, 2.0, 0.05);
+  const auto r = Simulator(Build(j)).Run();
+  const auto& y = r.log.Column("g.y");
+  ASSERT_EQ(y.size(), 41u);
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    const double t = r.log.time[i];
+    EXPECT_NEAR(y[i], t < start ? 0.0 : gain * 0.15 * (1.0 - std::exp(-(t - start) / T)), 1e-12) << "t = " << t;
+  }
+  EXPECT_NEAR(y[11], gain * 0.15 * (1.0 - std::exp(-1.0)), 1e-12);  // t = start + T: 63 % of the change
+}
+
+TEST(RampedGainTest, LinearShapeIsTheDefaultAndEachShapeChecksItsTimes) {
+  const json linear = MakeDiagram({Element("u", "constant", {{"value", 2.0}}),
+                                   Element("g", "ramped_gain", {{"gain", 3.0}, {"start_time", 0.5}, {"end_time", 1.5}})},
+                                  {Connect("u.y", "g.u")}, {"g.y"}, 2.0, 0.25);
+  const auto r = Simulator(Build(linear)).Run();
+  const auto& y = r.log.Column("g.y");
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    EXPECT_NEAR(y[i], 6.0 * std::clamp(r.log.time[i] - 0.5, 0.0, 1.0), 1e-12) << "t = " << r.log.time[i];
+  }
+  // The exponential needs no end_time after its start, the ramp no time constant; each refuses its own bad value.
+  const auto with = [](json parameters) {
+    return MakeDiagram({Element("u", "constant", {{"value", 1.0}}), Element("g", "ramped_gain", std::move(parameters))},
+                       {Connect("u.y", "g.u")}, {"g.y"}, 1.0, 0.5);
+  };
+  EXPECT_NO_THROW(Build(with({{"shape", "exponential"}, {"start_time", 2.0}, {"end_time", 1.0}})));
+  EXPECT_THAT(BuildError(with({{"shape", "exponential"}, {"time_constant", 0.0}})),
+              HasSubstr("shape \"exponential\" needs time_constant > 0 s"));
+  EXPECT_THAT(BuildError(with({{"start_time", 2.0}, {"end_time", 1.0}})), HasSubstr("end_time 1 s must lie after"));
+}
+
+// speed_dependent_saturation: y = clamp(u, lower − k·v, upper − k·v) — the limit falls with the speed while the drive
+// pushes in the direction of motion and rises while it brakes.
+TEST(SpeedDependentSaturationTest, LimitsFallWithSpeedInTheDirectionOfMotion) {
+  const double upper = 150.0, lower = -150.0, k = 225.0;
+  const json j = MakeDiagram(
+      {Element("u", "sine", {{"amplitude", 200.0}, {"frequency_hz", 1.0}}),
+       Element("v", "sine", {{"amplitude", 0.2}, {"frequency_hz", 0.5}, {"phase", 0.3}}),
+       Element("s", "speed_dependent_saturation", {{"upper", upper}, {"lower", lower}, {"speed_slope", k}})},
+      {Connect("u.y", "s.u"), Connect("v.y", "s.v")}, {"s.y", "u.y", "v.y"}, 2.0, 1e-3);
+  const auto r = Simulator(Build(j)).Run();
+  const auto& y = r.log.Column("s.y");
+  const auto& u = r.log.Column("u.y");
+  const auto& v = r.log.Column("v.y");
+  int limited_fast = 0;
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    EXPECT_NEAR(y[i], std::clamp(u[i], lower - k * v[i], upper - k * v[i]), 1e-12) << "t = " << r.log.time[i];
+    if (v[i] > 0.1 && u[i] > upper - k * v[i]) ++limited_fast;
+  }
+  EXPECT_GT(limited_fast, 0);  // the test passes through the speed-dependent part
+  // At v = 0.2 m/s forward: pushing forward is limited to 150 − 45 = 105, braking to −150 − 45 = −195.
+  const json at_speed = MakeDiagram(
+      {Element("u", "constant", {{"value", 400.0}}), Element("w", "constant", {{"value", -400.0}}),
+       Element("v", "constant", {{"value", 0.2}}),
+       Element("p", "speed_dependent_saturation", {{"upper", upper}, {"lower", lower}, {"speed_slope", k}}),
+       Element("b", "speed_dependent_saturation", {{"upper", upper}, {"lower", lower}, {"speed_slope", k}})},
+      {Connect("u.y", "p.u"), Connect("v.y", "p.v"), Connect("w.y", "b.u"), Connect("v.y", "b.v")}, {"p.y", "b.y"},
+      0.1, 0.1);
+  const auto s = Simulator(Build(at_speed)).Run();
+  EXPECT_NEAR(s.log.Column("p.y").front(), 105.0, 1e-12);
+  EXPECT_NEAR(s.log.Column("b.y").front(), -195.0, 1e-12);
+}
+
+TEST(SpeedDependentSaturationTest, RefusesLimitsInTheWrongOrderAndANegativeSlope) {
+  const auto with = [](json parameters) {
+    return MakeDiagram({Element("u", "constant", {{"value", 1.0}}), Element("v", "constant", {{"value", 0.0}}),
+                        Element("s", "speed_dependent_saturation", std::move(parameters))},
+                       {Connect("u.y", "s.u"), Connect("v.y", "s.v")}, {"s.y"}, 1.0, 0.5);
+  };
+  EXPECT_THAT(BuildError(with({{"lower", 2.0}, {"upper", 1.0}})), HasSubstr("lower limit 2 is above upper limit 1"));
+  EXPECT_THAT(BuildError(with({{"speed_slope", -1.0}})), HasSubstr("speed_slope"));
 }
 
 }  // namespace

@@ -50,7 +50,8 @@ const std::map<std::string, double> kTypical{{"period", 0.0025},   {"harmonics",
                                              {"presliding_displacement", 2e-5}, {"lag", 0.004},
                                              {"upper_limit", 50.0}, {"lower_limit", -60.0}, {"change_time", 2.0},
                                              {"start_time", 0.0}, {"end_time", 4.0}, {"half_width", 0.02},
-                                             {"column", 0.0}};
+                                             {"column", 0.0},      {"time_constant", 1.5},     {"speed_slope", 100.0},
+                                             {"no_load_speed", 0.5}};
 
 bool IsSnakeCase(const std::string& name) {
   return !name.empty() && std::islower(static_cast<unsigned char>(name.front())) &&
@@ -244,7 +245,8 @@ TEST(EffectRegistry, EveryBlockFileTemplateFindsItsEffect) {
   for (const char* effect : {"constant_offset", "viscous_friction", "coulomb_friction", "stribeck_friction",
                              "mass_mismatch", "position_periodic", "velocity_dependent_ripple", "time_periodic",
                              "time_delay", "quantization", "resonance", "position_dependent_force",
-                             "regularized_coulomb_friction", "backlash"}) {
+                             "regularized_coulomb_friction", "backlash", "friction_drift", "friction_warm_up",
+                             "drive_saturation", "drive_voltage_limit"}) {
     EXPECT_TRUE(LookupEffect(effect).block.has_value()) << effect;
   }
   EXPECT_FALSE(LookupEffect("presliding_friction").block.has_value());  // added by hand (the report says so)

@@ -58,7 +58,7 @@ TEST(IndependentPlant, PointToPointMovesDwellAtRestAndStayInTheTravel) {
 }
 
 TEST(IndependentPlant, EachCaseNamesACatalogueEffectAndATolerance) {
-  ASSERT_EQ(Cases().size(), 29U);
+  ASSERT_EQ(Cases().size(), 31U);
   for (const auto& c : Cases()) {
     EXPECT_EQ(c.parameter.empty(), c.tolerance == 0.0) << c.name;
     // The idle column acts on nothing: like kNone, nothing may be named.
@@ -99,6 +99,7 @@ INSTANTIATE_TEST_SUITE_P(ComparePasses, IndependentCase,
                                            "friction along the pitch", "pitch friction, 6 cycles",
                                            "force-constant ripple", "friction at one spot",
                                            "coupled axis (extra column)", "idle extra column",
+                                           "damping along the pitch", "viscosity follows oil temperature",
                                            // The grammar's warm-up of time and a limit that is a function of the
                                            // speed: the grease's thermal lag (T), the winding's back-EMF (k).
                                            "grease warm-up", "back-EMF voltage limit"),
@@ -152,7 +153,8 @@ INSTANTIATE_TEST_SUITE_P(OffTheLinearStage, IndependentImprove,
                                            // the model's force, a table of the position × the direction of slip, a
                                            // gain on an unread log column.
                                            "friction along the pitch", "force-constant ripple", "friction at one spot",
-                                           "coupled axis (extra column)"),
+                                           "coupled axis (extra column)", "damping along the pitch",
+                                           "grease warm-up", "back-EMF voltage limit"),
                          [](const ::testing::TestParamInfo<std::string>& case_info) {
                            std::string name;
                            for (char c : case_info.param) if (std::isalnum(static_cast<unsigned char>(c))) name += c;

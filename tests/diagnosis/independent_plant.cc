@@ -34,6 +34,17 @@ constexpr double kShortPitchAmplitude = 4.0, kShortPitchPeriod = 0.03;        //
 constexpr double kRippleDepth = 0.03, kForceRipplePeriod = 0.012;             // [-], [m]
 constexpr double kSpotFriction = 6.0, kSpotStart = 0.12, kSpotEnd = 0.13;     // [N], [m], [m]
 constexpr double kCoupledMass = 4.0;                                          // [kg]
+// A cold start: the grease's temperature rise [K], its thermal time constant [s], the viscosity's temperature
+// coefficient [1/K] (Reynolds' law μ = μ₀·exp(−β·Δθ)).
+constexpr double kGreaseRise = 9.0, kThermalTimeConstant = 3.5, kViscosityCoefficient = 0.03;
+// The voltage-limited drive: winding resistance [Ω] and inductance [H], force constant [N/A], back-EMF constant
+// [V·s/m], bus voltage [V]; the current loop's bandwidth [rad/s] and its update period [s].
+constexpr double kWindingResistance = 4.0, kWindingInductance = 2e-3, kForceConstant = 30.0, kBackEmfConstant = 30.0;
+constexpr double kBusVoltage = 20.0;
+constexpr double kCurrentBandwidth = 2.0 * std::numbers::pi * 3000.0, kCurrentPeriod = 1e-5;
+// Its steady-state force limits: ±k_t·V_bus/R at standstill, falling by k_t·k_e/R per m/s in the direction of motion.
+constexpr double kStallForce = kForceConstant * kBusVoltage / kWindingResistance;                 // 150 N
+constexpr double kEmfSlope = kForceConstant * kBackEmfConstant / kWindingResistance;              // 225 N·s/m
 
 // The other axis's acceleration [m/s²]: bursts of a 3.1 Hz oscillation under a 0.7 Hz envelope.
 double OtherAxisAcceleration(double t) {
@@ -45,6 +56,12 @@ double HallTemperature(double t) { return 22.0 + 1.5 * std::sin(kTwoPi * t / 40.
 
 // The force constant's ripple: the drive applies u·(1 + δ(x)).
 double ForceConstantRipple(double x) { return kRippleDepth * std::sin(kTwoPi * x / kForceRipplePeriod + 1.0); }
+
+// The grease's temperature above its cold start [K]: the coils' constant heat through a first-order thermal lag.
+double GreaseWarming(double t) { return kGreaseRise * -std::expm1(-std::max(t, 0.0) / kThermalTimeConstant); }
+
+// The viscous coefficient of the warming grease [N·s/m]: the viscosity's exponential fall with temperature.
+double WarmViscous(double t) { return kViscous * std::exp(-kViscosityCoefficient * GreaseWarming(t)); }
 
 bool Has(Hidden h, Hidden what) {
   return h == what || (h == Hidden::kRippleAndDelay && (what == Hidden::kPositionRipple || what == Hidden::kDelay));
@@ -66,6 +83,14 @@ double FrictionLaw(Hidden h, double v) {
   return f;
 }
 
+constexpr double kDampingRippleCoefficient = 40.0, kDampingRipplePeriod = 0.015;  // [N·s/m], [m]
+constexpr double kViscosityPerKelvin = -8.0, kOilReference = 30.0;      // [N·s/m/K], [°C]
+
+// The oil temperature [°C]: the machine's duty cycle heats and cools it around 30 °C (periods 7 s and 2.3 s).
+double OilTemperature(double t) {
+  return kOilReference + 3.0 * std::sin(kTwoPi * t / 7.0) + 1.2 * std::sin(kTwoPi * t / 2.3 + 1.0);
+}
+
 // The hidden force of (x, v, t) resisting the motion (what the motor must add), without states.
 double StatelessHidden(Hidden h, double t, double x, double v) {
   double f = 0.0;
@@ -74,6 +99,7 @@ double StatelessHidden(Hidden h, double t, double x, double v) {
   }
   if (Has(h, Hidden::kSpeedRipple)) f += 15.0 * std::abs(v) * std::sin(kTwoPi * x / 0.005);
   if (Has(h, Hidden::kFrictionDrift)) f += kViscousDrift * std::min(t / kDriftSpan, 1.0) * v;
+  if (Has(h, Hidden::kWarmUp)) f += (WarmViscous(t) - kViscous) * v;
   if (Has(h, Hidden::kShortStroke)) f += 15.0 * std::abs(v) * std::sin(kTwoPi * x / kShortStrokePeriod);
   if (Has(h, Hidden::kVibration)) f -= kVibrationAmplitude * std::sin(kTwoPi * kVibrationHz * t + 0.7);
   if (Has(h, Hidden::kPositionForce)) {
@@ -87,6 +113,8 @@ double StatelessHidden(Hidden h, double t, double x, double v) {
   if (Has(h, Hidden::kShortPitchFriction)) f += kShortPitchAmplitude * std::sin(kTwoPi * x / kShortPitchPeriod + 1.1) * slip;
   if (Has(h, Hidden::kLocalFriction) && x >= kSpotStart && x <= kSpotEnd) f += kSpotFriction * slip;
   if (Has(h, Hidden::kCoupledAxis)) f += kCoupledMass * OtherAxisAcceleration(t);
+  if (Has(h, Hidden::kDampingRipple)) f += kDampingRippleCoefficient * v * std::sin(kTwoPi * x / kDampingRipplePeriod + 0.3);
+  if (Has(h, Hidden::kOilTemperature)) f += kViscosityPerKelvin * (OilTemperature(t) - kOilReference) * v;
   if (Has(h, Hidden::kGravity)) {  // the arm's torque as a force on the carriage: τ·dθ/dx
     f += kRadPerMetre * kGravityTorque * std::sin(kRadPerMetre * (x - 0.1) + kGravityPhase);
   }
@@ -164,9 +192,37 @@ Reference MakeReference(double duration, std::mt19937* rng) {
   return r;
 }
 
+// The drive's winding and its current loop: a PI on the current error with pole–zero cancellation (K_p = L·ω_c,
+// K_i = R·ω_c), updated every kCurrentPeriod, its voltage clamped at ±V_bus (integration stops while clamped), the
+// winding L·di/dt = V − R·i − k_e·v solved exactly over each update (v held).
+class Winding {
+ public:
+  /// The mean current [A] over the next `dt` [s] for the reference `reference` [A] at the carriage speed v [m/s].
+  double Advance(double reference, double v, double dt) {
+    const int steps = std::max(1, static_cast<int>(std::lround(dt / kCurrentPeriod)));
+    const double h = dt / steps, decay = std::exp(-kWindingResistance * h / kWindingInductance);
+    double charge = 0.0;
+    for (int k = 0; k < steps; ++k) {
+      const double error = reference - current_;
+      const double wanted = kWindingInductance * kCurrentBandwidth * error +
+                            kWindingResistance * kCurrentBandwidth * integral_;
+      const double voltage = std::clamp(wanted, -kBusVoltage, kBusVoltage);
+      if (voltage == wanted) integral_ += error * h;
+      const double settled = (voltage - kBackEmfConstant * v) / kWindingResistance;
+      charge += settled * h + (current_ - settled) * (1.0 - decay) * kWindingInductance / kWindingResistance;
+      current_ = settled + (current_ - settled) * decay;
+    }
+    return charge / dt;
+  }
+
+ private:
+  double current_ = 0.0, integral_ = 0.0;
+};
+
 // The plant's state: carriage, resonant load, the play's far side.
 struct State {
   double x = 0.1, v = 0.0, xl = 0.1, vl = 0.0, far = 0.1;
+  Winding winding;  // kBackEmf
 };
 
 // ẋ of (x, v, xl, vl) under the force u at time t.
@@ -190,13 +246,16 @@ void Advance(Hidden h, double t0, double dt, double u, State* st) {
   std::array<double, 4> s{st->x, st->v, st->xl, st->vl};
   for (int i = 0; i < steps; ++i) {
     const double t = t0 + i * hstep;
+    // The voltage-limited drive turns the force command into the winding's mean current over the sub-step.
+    const double force =
+        Has(h, Hidden::kBackEmf) ? kForceConstant * st->winding.Advance(u / kForceConstant, s[1], hstep) : u;
     auto add = [](const std::array<double, 4>& a, const std::array<double, 4>& b, double f) {
       return std::array<double, 4>{a[0] + f * b[0], a[1] + f * b[1], a[2] + f * b[2], a[3] + f * b[3]};
     };
-    const auto k1 = Derivative(h, t, s, st->far, u);
-    const auto k2 = Derivative(h, t + hstep / 2, add(s, k1, hstep / 2), st->far, u);
-    const auto k3 = Derivative(h, t + hstep / 2, add(s, k2, hstep / 2), st->far, u);
-    const auto k4 = Derivative(h, t + hstep, add(s, k3, hstep), st->far, u);
+    const auto k1 = Derivative(h, t, s, st->far, force);
+    const auto k2 = Derivative(h, t + hstep / 2, add(s, k1, hstep / 2), st->far, force);
+    const auto k3 = Derivative(h, t + hstep / 2, add(s, k2, hstep / 2), st->far, force);
+    const auto k4 = Derivative(h, t + hstep, add(s, k3, hstep), st->far, force);
     for (std::size_t j = 0; j < 4; ++j) s[j] += hstep / 6.0 * (k1[j] + 2 * k2[j] + 2 * k3[j] + k4[j]);
     st->far = Play(s[0], st->far);
   }
@@ -284,6 +343,12 @@ std::vector<CaseSpec> Cases() {
                    0.5 * (kSpotStart + kSpotEnd), 0.05));
   c.push_back(Case("coupled axis (extra column)", Hidden::kCoupledAxis, "logged_column", "", 0.0, 0.0));
   c.push_back(Case("idle extra column", Hidden::kIdleColumn, "", "", 0.0, 0.0));
+  c.push_back(Case("damping along the pitch", Hidden::kDampingRipple, "damping_ripple", "period",
+                   kDampingRipplePeriod, 0.03));
+  c.push_back(Case("viscosity follows oil temperature", Hidden::kOilTemperature, "column_damping", "", 0.0, 0.0));
+  c.push_back(Case("grease warm-up", Hidden::kWarmUp, "friction_warm_up", "time_constant", kThermalTimeConstant,
+                   0.3));
+  c.push_back(Case("back-EMF voltage limit", Hidden::kBackEmf, "drive_voltage_limit", "speed_slope", kEmfSlope, 0.15));
   CaseSpec stamps = Case("noisy stamps", Hidden::kPositionRipple, "position_periodic", "period", 0.006, 0.03);
   stamps.stamp_noise = 0.2;
   c.push_back(stamps);
@@ -348,6 +413,7 @@ Record Generate(Hidden hidden, const GeneratorSettings& settings) {
       r.force(k) = scale * (logged + noise(rng));
       if (Has(hidden, Hidden::kCoupledAxis)) r.extra(k) = OtherAxisAcceleration(t);
       if (Has(hidden, Hidden::kIdleColumn)) r.extra(k) = HallTemperature(t);
+      if (Has(hidden, Hidden::kOilTemperature)) r.extra(k) = OilTemperature(t);
     }
     Advance(hidden, t, next - t, applied, &st);
     t = next;
@@ -407,6 +473,12 @@ Eigen::VectorXd CarriageForce(Hidden hidden, const Eigen::VectorXd& t, const Eig
   if (Has(hidden, Hidden::kSaturation) && logged != nullptr) {  // the log holds the command beyond what acted
     f += *logged - logged->cwiseMax(kLowerLimit).cwiseMin(kUpperLimit);
   }
+  if (Has(hidden, Hidden::kBackEmf) && logged != nullptr) {  // beyond the steady-state voltage limit at each speed
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double u = (*logged)(i), shift = kEmfSlope * v(i);
+      f(i) += u - std::clamp(u, -kStallForce - shift, kStallForce - shift);
+    }
+  }
   if (Has(hidden, Hidden::kActuatorLag)) {  // the log leads the applied force by the lag
     Eigen::VectorXd advanced(n);
     for (Eigen::Index i = 0; i < n; ++i) {
@@ -437,6 +509,7 @@ bool IsRotary(Hidden hidden) { return hidden == Hidden::kGravity; }
 std::string ExtraColumnName(Hidden hidden) {
   if (hidden == Hidden::kCoupledAxis) return "accel_y_m_s2";
   if (hidden == Hidden::kIdleColumn) return "temperature_C";
+  if (hidden == Hidden::kOilTemperature) return "oil_temperature_C";
   return "";
 }
 

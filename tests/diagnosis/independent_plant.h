@@ -43,6 +43,19 @@ enum class Hidden {
   kLocalFriction,   ///< 6 N·tanh(v/v_c) more friction between x = 120 and 130 mm (a damaged spot, debris)
   kCoupledAxis,     ///< 4 kg × another axis's acceleration a_y(t) on the carriage; a_y logged as accel_y_m_s2
   kIdleColumn,      ///< nothing hidden; a temperature temperature_C logged that does not act on the axis
+  /// The guide's grease warms from a cold start: its temperature follows the coils' constant heat through a
+  /// first-order thermal lag (9 K rise, T_th = 3.5 s), its viscosity falls as exp(−0.03/K·Δθ) (Reynolds): the viscous
+  /// friction settles from 195 to 149 N·s/m.
+  kWarmUp,
+  /// The drive runs out of voltage at speed: an RL winding (R = 4 Ω, L = 2 mH, k_t = 30 N/A, k_e = 30 V·s/m) on a
+  /// 20 V bus, its current PI loop (3 kHz, anti-windup) clamped at the bus voltage; in steady state the force lies in
+  /// ±150 N − 225 N·s/m·v.
+  kBackEmf,
+  // Forces that depend jointly on two signals (issue 40: the products the grammar crosses).
+  kDampingRipple,   ///< 40 N·s/m·v·sin(2πx/15 mm + 0.3): eddy-current damping rippling along a slotted magnet track
+  /// The viscous friction follows the oil temperature θ, logged as oil_temperature_C (the diagram does not read it):
+  /// −8 N·s/m per K·(θ − 30 °C)·v, θ swinging ±4 K with the machine's duty cycle (not a drift in time).
+  kOilTemperature,
 };
 
 /// Whether a case's record is of a rotary axis (time_s, angle_rad, torque_Nm; Record::rotary).

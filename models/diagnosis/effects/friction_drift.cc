@@ -5,50 +5,36 @@
 // (the change of the viscous coefficient over the record, in the force's unit per unit of velocity; reported as
 // "change"). Proposed when the velocity changes sign or speed and a drift fits the residual better than a step of
 // the viscous coefficient at the best time (a sup-F scan as mass_change's): a step is a change of the machine, not a
-// drift. Its significance is the forward selection's held-out test on contiguous blocks. Block: ramped_gain
-// "friction_drift" on the velocity input, its gain free (blocks/ramped_gain.cc). Source: DIAGNOSIS.md, "Parameters
+// drift; and not when a first-order warm-up that settles inside the record fits better (friction_warm_up is proposed
+// then; the shared scan: models/diagnosis/viscous_drift.h). Its significance is the forward selection's held-out test
+// on contiguous blocks. Block: ramped_gain "friction_drift" on the velocity input, its gain free
+// (blocks/ramped_gain.cc). Source: DIAGNOSIS.md, "Parameters
 // that change"; Armstrong-Hélouvry, Dupont, Canudas de Wit (1994), Automatica 30(7), §2.5 (temperature).
 #include <cmath>
-#include <limits>
 
 #include <fmt/format.h>
 
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
+#include "models/diagnosis/viscous_drift.h"
 
 namespace mb {
 namespace {
 
 constexpr const char* kName = "friction_drift";
-constexpr int kGrid = 41;
-constexpr double kTrim = 0.1;  // of the record's duration left out at each end of the step scan
-
-Eigen::VectorXd Column(const DiagnosisSignals& s, double start, double end) {
-  return s.velocity.cwiseProduct(((s.time.array() - start) / (end - start)).min(1.0).max(0.0).matrix());
-}
 
 void Propose(ProposalContext& c) {
-  const DiagnosisSignals& s = c.signals();
-  if (!(s.velocity.cwiseAbs().maxCoeff() > 0.0)) return;
-  const double start = s.time(0), end = s.time(c.size() - 1), duration = end - start;
-  if (!(duration > 0.0)) return;
-  const Eigen::MatrixXd base = c.BaseWithConstant();  // JointFitResidual keeps a reference
-  const JointFitResidual fit(base, c.residual());
-  const double drift_sse = fit(Column(s, start, end));
-  double step_sse = std::numeric_limits<double>::infinity(), step_time = start;
-  for (int i = 0; i < kGrid; ++i) {
-    const double t = start + duration * (kTrim + (1.0 - 2.0 * kTrim) * i / (kGrid - 1));
-    const double e = fit((s.time.array() >= t).select(s.velocity, 0.0));
-    if (e < step_sse) { step_sse = e; step_time = t; }
-  }
-  if (!(drift_sse < step_sse)) {
+  const ViscousDriftScan scan = ScanViscousDrift(c);
+  if (!std::isfinite(scan.ramp_sse)) return;
+  if (scan.WarmUpFitsBest()) return;  // friction_warm_up is proposed instead (effects/friction_warm_up.cc)
+  if (!(scan.ramp_sse < scan.step_sse)) {
     c.Note(fmt::format("friction_drift not proposed: a step of the viscous friction (best at {:.3g} s) fits the "
                        "residual at least as well as a drift over the record",
-                       step_time));
+                       scan.step_time));
     return;
   }
-  c.Propose(kName, {{"start_time", start}, {"end_time", end}});
+  c.Propose(kName, {{"start_time", scan.start}, {"end_time", scan.end}});
 }
 
 EffectType FrictionDrift() {
@@ -64,7 +50,7 @@ EffectType FrictionDrift() {
   t.regressors = [](const EffectInstance& e, const DiagnosisSignals& s) {
     const double start = RequiredParameter(e, "start_time"), end = RequiredParameter(e, "end_time");
     if (!(end > start)) throw std::invalid_argument("effect 'friction_drift': end_time must lie after start_time");
-    return SingleColumn(e.name, Column(s, start, end));
+    return SingleColumn(e.name, RampedVelocity(s.time, s.velocity, start, end));
   };
   t.propose = Propose;
   return t;
