@@ -84,19 +84,22 @@ StreamedFile::StreamedFile(const fs::path& path) : path_(path), target_(path) {
     }
   }
   const fs::file_status status = fs::status(target_, ec);
+  int probe = -1;
   if (fs::is_fifo(status)) {
     // Opening a FIFO for writing waits until a process opens it for reading: forever when none does (issue 41:
-    // draw -o FIFO hung). Non-blocking, the open fails at once (ENXIO) when no reader has it open.
-    const int probe = ::open(target_.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
+    // draw -o FIFO hung). Non-blocking, the open fails at once (ENXIO) when no reader has it open. The probe stays
+    // open until the stream is: closed before, it would hand the reader an end of file, and the stream's open would
+    // then wait for a reader that is gone.
+    probe = ::open(target_.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
     if (probe < 0) {
       throw std::runtime_error(fmt::format("{} is a FIFO (named pipe) that no process reads{}: writing to it would "
                                            "wait forever; start its reader first, or give a file name",
                                            path.string(), errno == ENXIO ? "" : fmt::format(" ({})", std::strerror(errno))));
     }
-    ::close(probe);
   }
   if (fs::is_fifo(status) || fs::is_character_file(status)) {
     out_.open(target_, std::ios::binary | std::ios::app);  // no truncation of a device; opens an existing path
+    if (probe >= 0) ::close(probe);
     if (!out_) {
       throw std::runtime_error(fmt::format("{}: cannot write (a pipe or device that refused it)", path.string()));
     }
