@@ -60,6 +60,11 @@ struct EffectTraits {
   /// "" = none.
   std::string refined_parameter;
   double refinement_range = 4.0;  ///< > 1: how far (a factor either way) the re-estimate may move the parameter
+  /// The largest value of the refined parameter that still means the effect on this record (its physical range; empty
+  /// = none): a Stribeck velocity beyond the record's top speed is a hump that never decays, a constant friction level
+  /// minus a v² term, no Stribeck effect (the joint refit walked one to 16 m/s on a 0.2 m/s record where a viscosity
+  /// followed the oil temperature, and the law it chose kept improve 1.45 × above the floor).
+  std::function<double(const DiagnosisSignals&)> refined_upper_bound;
   /// The name under which the effect's one coefficient is reported among its parameters (friction_drift: "change",
   /// the viscous coefficient's change over the record); "" = not reported there.
   std::string coefficient_parameter;

@@ -233,7 +233,11 @@ bool JointRefinement::RefineOne(std::size_t j) {
   const double before = sse(magnitude);
   // A log grid of ratio 1.6 (7 points over a factor 4 either way), then 12 golden-section steps (to 0.3 %).
   const int grid = std::max(5, static_cast<int>(std::ceil(2.0 * std::log(traits.refinement_range) / std::log(1.6))) + 1);
-  const double lo = magnitude / traits.refinement_range, hi = magnitude * traits.refinement_range;
+  const double bound = traits.refined_upper_bound ? traits.refined_upper_bound(corrected_) : 0.0;
+  const double hi = bound > 0.0 ? std::min(magnitude * traits.refinement_range, bound)
+                                : magnitude * traits.refinement_range;
+  const double lo = std::min(magnitude, hi) / traits.refinement_range;
+  if (!(hi > lo)) return false;
   const double found = own_only ? MinimiseOnLogGrid(lo, hi, grid, 12, trial_sse, true)
                                 : MinimiseOnLogGrid(lo, hi, grid, 12, sse);
   const double after = sse(found);

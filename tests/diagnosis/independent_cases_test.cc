@@ -154,7 +154,8 @@ INSTANTIATE_TEST_SUITE_P(OffTheLinearStage, IndependentImprove,
                                            // gain on an unread log column.
                                            "friction along the pitch", "force-constant ripple", "friction at one spot",
                                            "coupled axis (extra column)", "damping along the pitch",
-                                           "grease warm-up", "back-EMF voltage limit"),
+                                           "grease warm-up", "back-EMF voltage limit",
+                                           "viscosity follows oil temperature"),
                          [](const ::testing::TestParamInfo<std::string>& case_info) {
                            std::string name;
                            for (char c : case_info.param) if (std::isalnum(static_cast<unsigned char>(c))) name += c;

@@ -51,6 +51,7 @@ EffectType StribeckFriction() {
                   {"dead_band", "m/s", "v_db: the velocity over which the hump's sign is smoothed (tanh)"}};
   t.traits.refined_parameter = "stribeck_velocity";
   t.traits.refinement_range = 4.0;
+  t.traits.refined_upper_bound = [](const DiagnosisSignals& s) { return s.velocity.cwiseAbs().maxCoeff(); };
   t.regressors = [](const EffectInstance& e, const DiagnosisSignals& s) {
     const double vs = PositiveParameter(e, "stribeck_velocity");
     return SingleColumn(e.name, StribeckColumn(s.velocity, RequiredParameter(e, "dead_band"), vs));
