@@ -13,17 +13,23 @@
 #include <tbb/parallel_for.h>
 
 namespace mb::diagnosis_detail {
-namespace {
 
-// Huber weights of a residual: w = min(1, k·σ/|e|), σ = 1.4826·MAD (all 1 when k <= 0 or σ = 0).
-Eigen::VectorXd HuberWeights(const Eigen::VectorXd& e, double k) {
-  Eigen::VectorXd w = Eigen::VectorXd::Ones(e.size());
-  if (!(k > 0.0)) return w;
+double RobustScale(const Eigen::VectorXd& e) {
+  if (e.size() == 0) return 0.0;
   const std::vector<double> values(e.data(), e.data() + e.size());
   const double median = Percentile(values, 0.5);
   std::vector<double> deviation(values.size());
   for (std::size_t i = 0; i < values.size(); ++i) deviation[i] = std::abs(values[i] - median);
-  const double sigma = 1.4826 * Percentile(deviation, 0.5);
+  return 1.4826 * Percentile(deviation, 0.5);
+}
+
+namespace {
+
+// Huber weights of a residual: w = min(1, k·σ/|e|), σ = RobustScale(e) (all 1 when k <= 0 or σ = 0).
+Eigen::VectorXd HuberWeights(const Eigen::VectorXd& e, double k) {
+  Eigen::VectorXd w = Eigen::VectorXd::Ones(e.size());
+  if (!(k > 0.0)) return w;
+  const double sigma = RobustScale(e);
   if (!(sigma > 0.0)) return w;
   for (Eigen::Index i = 0; i < e.size(); ++i) {
     const double a = std::abs(e(i));

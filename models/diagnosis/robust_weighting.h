@@ -12,6 +12,10 @@ namespace mb::diagnosis_detail {
 // empty v.
 double Percentile(std::vector<double> v, double q);
 
+// The robust scale of e: σ = 1.4826·MAD, the median absolute deviation from the median (consistent with the standard
+// deviation for Gaussian noise; Huber, Robust Statistics, 1981). 0 for an empty e.
+double RobustScale(const Eigen::VectorXd& e);
+
 // Iteratively reweighted least squares of r on the columns x (N × q, q may be 0) with Huber weights (at most 10
 // iterations, until no weight moves by 1e-3): the weights, and in `residual` r minus the weighted fit. k <= 0: plain
 // least squares, all weights 1.

@@ -26,6 +26,7 @@
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
+#include "models/diagnosis/robust_weighting.h"
 
 namespace mb {
 namespace {
@@ -64,17 +65,6 @@ bool ExcessAboveNoise(const ProposalContext& c, double noise, double side, Beyon
   return *middle >= kExcessNoise * noise;
 }
 
-// The residual's robust noise level: 1.4826 × its median absolute deviation.
-double RobustNoise(const Eigen::VectorXd& r) {
-  std::vector<double> v(r.data(), r.data() + r.size());
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  const double median = *mid;
-  for (double& x : v) x = std::abs(x - median);
-  std::nth_element(v.begin(), mid, v.end());
-  return 1.4826 * *mid;
-}
-
 Limits ScanLimits(const ProposalContext& c) {
   const Eigen::VectorXd& u = c.signals().logged_command;
   const Eigen::MatrixXd base = c.BaseWithConstant();
@@ -101,7 +91,7 @@ Limits ScanLimits(const ProposalContext& c) {
   };
   const auto above = [&](double v) { return v > upper; };
   const auto below = [&](double v) { return v < lower; };
-  const double noise = RobustNoise(c.residual());
+  const double noise = diagnosis_detail::RobustScale(c.residual());
   Limits out;
   if (beyond(above) && ExcessAboveNoise(c, noise, 1.0, above)) out.upper = upper;
   if (beyond(below) && ExcessAboveNoise(c, noise, -1.0, below)) out.lower = lower;

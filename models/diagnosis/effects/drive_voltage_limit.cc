@@ -33,6 +33,7 @@
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
+#include "models/diagnosis/robust_weighting.h"
 
 namespace mb {
 namespace {
@@ -49,17 +50,6 @@ constexpr double kMinSlopeGain = 0.25;  // of what the best constant limit leave
 Eigen::VectorXd Excess(const Eigen::VectorXd& u, const Eigen::VectorXd& v, double slope, double lower, double upper) {
   const Eigen::VectorXd w = u + slope * v;
   return w - w.cwiseMax(lower).cwiseMin(upper);
-}
-
-// The residual's robust noise level: 1.4826 × its median absolute deviation.
-double RobustNoise(const Eigen::VectorXd& r) {
-  std::vector<double> v(r.data(), r.data() + r.size());
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  const double median = *mid;
-  for (double& x : v) x = std::abs(x - median);
-  std::nth_element(v.begin(), mid, v.end());
-  return 1.4826 * *mid;
 }
 
 // The |values| at the median and at the quantile that kMinShareBeyond of the samples pass.
@@ -173,7 +163,7 @@ Limits ScanLimits(const ProposalContext& c) {
   out.upper = MinimiseOnLogGrid(lo, hi, 21, 20, [&](double l) { return scan.Sse(out.slope, -symmetric, l); }, true);
   out.lower = -MinimiseOnLogGrid(lo, hi, 21, 20, [&](double l) { return scan.Sse(out.slope, -l, out.upper); }, true);
   if (!(scan.Sse(out.slope, out.lower, out.upper) < (1.0 - kMinExplained) * base_sse)) return out;
-  const double noise = RobustNoise(c.residual());
+  const double noise = diagnosis_detail::RobustScale(c.residual());
   if (scan.SidePasses(out.slope, out.upper, 1.0, noise)) out.kept_upper = out.upper;
   if (scan.SidePasses(out.slope, out.lower, -1.0, noise)) out.kept_lower = out.lower;
   if (!out.kept_upper && !out.kept_lower) {
