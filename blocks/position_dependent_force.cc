@@ -59,4 +59,19 @@ EffectBlockTemplate PositionDependentForceEffectBlock() {
 
 MB_REGISTER_EFFECT_BLOCK(position_dependent_force, PositionDependentForceEffectBlock())
 
+namespace {
+
+// Adds the grammar's friction_along_travel (models/diagnosis/effects/factor_products.cc: the direction of slip × a
+// cubic of the position over the travel): the cubic times tanh(v/v_s), a friction that changes along the rail.
+EffectBlockTemplate FrictionAlongTravelEffectBlock() {
+  EffectBlockTemplate block = PositionDependentForceEffectBlock();
+  block.element_name = "friction_along_travel";
+  block.multiplier = SlipOfVelocity();
+  return block;
+}
+
+}  // namespace
+
+MB_REGISTER_EFFECT_BLOCK(friction_along_travel, FrictionAlongTravelEffectBlock())
+
 }  // namespace mb

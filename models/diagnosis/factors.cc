@@ -169,4 +169,13 @@ BumpPlace ScanBump(const ProposalContext& c, const Eigen::VectorXd& m) {
   return best;
 }
 
+std::optional<ProposedPeriod> RippleASmoothFunctionWouldBlur(const ProposalContext& c) {
+  constexpr double kMinCycles = 16.0;      // in the travel: a ripple, not a smooth function
+  constexpr double kMinRippleShare = 0.02;  // of the residual's variance
+  for (const auto& p : c.position_periods()) {
+    if (p.period <= c.position_span() / kMinCycles && p.power >= kMinRippleShare) return p;
+  }
+  return std::nullopt;
+}
+
 }  // namespace mb

@@ -83,4 +83,11 @@ struct BumpPlace {
 /// `m` the multiplier's column (N). Throws nothing; explained 0 when the position does not move.
 BumpPlace ScanBump(const ProposalContext& context, const Eigen::VectorXd& m);
 
+/// A proposed position period of at least 16 cycles in the travel that holds at least 2 % of the residual's variance: a
+/// ripple that a smooth function of the position (position_dependent_force, friction_along_travel) would only blur, so
+/// the smooth one is not proposed while it is there (on EMPS the screw lead's 2.5 mm holds 8.3 %: the cubic took 18.6 %
+/// and a cubic × sign(v) 11 % before the ripple; once the ripple is in the model, improve's next round proposes them).
+/// nullopt when there is none.
+std::optional<ProposedPeriod> RippleASmoothFunctionWouldBlur(const ProposalContext& context);
+
 }  // namespace mb

@@ -238,14 +238,23 @@ bool HasNote(const DiagnosisResult& r, const std::string& text) {
 
 // A force that depends on the direction of travel and grows towards the ends of the travel (a loop against position,
 // not a constant Coulomb level): the hysteresis note; a white residual: none.
-TEST(Diagnosis, AResidualThatLoopsAgainstPositionGetsTheHysteresisNote) {
+// A residual that loops against position — forward minus back a force of the position — is the grammar's
+// friction_along_travel when it is smooth over the travel (issue 40: it was only a note); what the grammar leaves of a
+// loop gets the hysteresis note.
+TEST(Diagnosis, AResidualThatLoopsAgainstPositionIsNamedOrNoted) {
   Scenario sc(12000);
   const Eigen::ArrayXd xi = (sc.s.position.array() - 0.1) / 0.1;
-  sc.s.residual = (3.0 * xi.square()).matrix().cwiseProduct(sc.Sign()) + sc.Noise(0.4);
   sc.s.model_output = sc.nominal_force;
   sc.s.input = sc.nominal_force / 35.15;
-  const DiagnosisResult r = DiagnoseMissingEffects(sc.s, sc.Base("avs1"));
-  EXPECT_TRUE(HasNote(r, "hysteresis: the residual loops against position")) << Names(r);
+  sc.s.residual = (3.0 * xi.square()).matrix().cwiseProduct(sc.Sign()) + sc.Noise(0.4);
+  const DiagnosisResult smooth = DiagnoseMissingEffects(sc.s, sc.Base("avs1"));
+  ASSERT_FALSE(smooth.effects.empty());
+  EXPECT_EQ(smooth.effects.front().effect, "friction_along_travel") << Names(smooth);
+  EXPECT_GT(smooth.effects.front().score, 0.5) << Names(smooth);
+  EXPECT_FALSE(HasNote(smooth, "hysteresis")) << Names(smooth);
+  sc.s.residual = (3.0 * (xi * 6.0).sin()).matrix().cwiseProduct(sc.Sign()) + sc.Noise(0.4);
+  const DiagnosisResult wavy = DiagnoseMissingEffects(sc.s, sc.Base("avs1"));
+  EXPECT_TRUE(HasNote(wavy, "hysteresis: the residual loops against position")) << Names(wavy);
   sc.s.residual = sc.Noise(0.4);
   EXPECT_FALSE(HasNote(DiagnoseMissingEffects(sc.s, sc.Base("avs1")), "hysteresis"));
 }

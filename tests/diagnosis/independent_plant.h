@@ -56,6 +56,9 @@ enum class Hidden {
   /// The viscous friction follows the oil temperature θ, logged as oil_temperature_C (the diagram does not read it):
   /// −8 N·s/m per K·(θ − 30 °C)·v, θ swinging ±4 K with the machine's duty cycle (not a drift in time).
   kOilTemperature,
+  /// The rails converge toward the far end: the carriage's preload, and with it the friction, rises across the travel,
+  /// 5 N·(1 + tanh((x − 130 mm)/40 mm))/2·tanh(v/v_c) more (a friction smooth in position, neither periodic nor local).
+  kFrictionAlongTravel,
 };
 
 /// Whether a case's record is of a rotary axis (time_s, angle_rad, torque_Nm; Record::rotary).

@@ -14,18 +14,25 @@
 //   local_damping          v × bump(x)            viscous drag at one place (a wiper, a seal, thicker grease)
 //   column_damping         v × (c − c̄)            the viscous friction follows an unread log column c (the lubricant's
 //                                                 temperature) {column: its index in DiagnosisSignals::extra_columns}
+//   friction_along_travel  slip(v) × smooth(x)    friction that changes smoothly along the travel (a guide out of
+//                                                 straightness, preload or lubrication varying along the rail)
+//                                                 {center x₀, half_range h [m], slip_velocity v_s}: ξ^j,
+//                                                 ξ = (x − x₀)/h, j = 1..3 (position_dependent_force's basis; j = 0
+//                                                 is the base's level)
 // (No slip(v) × column: on the oil-temperature case it stood in for the friction law's error at rest, which varies
 // with the column over a stretch of the record, and was named before the viscous product that was the truth.)
-// (|v| × periodic(x) is the catalogue's velocity_dependent_ripple.) Proposal: a periodic product at the period of the
-// residual demodulated by its multiplier (ModulatedPeriod: a friction along the pitch reverses with the direction of
-// travel and cancels in the plain periodogram) and at every proposed position period; a local product at the place
-// ScanBump finds, when it removes at least 0.5 % of the residual's sum of squares; v_s by BestSlipVelocity (the
-// generator's friction along the pitch follows its tanh law: a sign with a 1.8 mm/s dead band left 1.4 × the noise
-// floor, the error at the approach to rest and the dwell). The forward selection's held-out
-// test on contiguous blocks decides; a column product is proposed for every unread column that is a new signal
-// (UnreadColumnDuplicate). Blocks: a position_periodic ripple, a lookup_table_1d of the position or a gain on an input
-// connector reading the column, times the regularised sign of v, the velocity or acceleration input, or the model's
-// force, through a product element summed into the force (tools/workflow/suggest.cc).
+// (|v| × periodic(x) is the catalogue's velocity_dependent_ripple.) Proposal: a smooth product over the record's travel
+// when the axis travels both ways and no strong ripple is there to blur (RippleASmoothFunctionWouldBlur); a periodic
+// product at the period of the residual demodulated by its multiplier (ModulatedPeriod: a friction along the pitch
+// reverses with the direction of travel and cancels in the plain periodogram) and at every proposed position period; a
+// local product at the place ScanBump finds, when it removes at least 0.5 % of the residual's sum of squares; v_s by
+// BestSlipVelocity (the generator's friction along the pitch follows its tanh law: a sign with a 1.8 mm/s dead band
+// left 1.4 × the noise floor, the error at the approach to rest and the dwell). The forward selection's held-out test
+// on contiguous blocks decides; a column product is proposed for every unread column that is a new signal
+// (UnreadColumnDuplicate). Blocks: a position_periodic ripple, a lookup_table_1d of the position, a
+// position_dependent_force (the cubic) or a gain on an input connector reading the column, times the regularised sign
+// of v, the velocity or acceleration input, or the model's force, through a product element summed into the force
+// (tools/workflow/suggest.cc).
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -44,7 +51,9 @@ namespace {
 constexpr double kMinBumpShare = 0.005;  // of the residual's sum of squares: a bump that removes less is noise
 constexpr double kMinDirectionShare = 0.05;  // of the samples moving each way, for a product with sign(v)
 
-enum class PositionFactor { kPeriodic, kLocal, kColumn };  // kColumn: an unread log column, not the position
+// kSmooth: a cubic of the position over the travel; kColumn: an unread log column, not the position.
+enum class PositionFactor { kPeriodic, kLocal, kSmooth, kColumn };
+constexpr int kSmoothDegree = 3;  // ξ, ξ², ξ³: position_dependent_force's default
 
 struct Product {
   const char* name;
@@ -81,6 +90,11 @@ const Product kProducts[] = {
      "viscous drag at one place of the travel (a wiper or a seal, a stretch of thicker grease, a bellows): v × a bump "
      "over [c − w, c + w]; add a 1-D lookup table of the position multiplied by the velocity",
      "v·cos²(π(x − c)/(2w)) for |x − c| < w"},
+    {"friction_along_travel", 90, Multiplier::kSlip, PositionFactor::kSmooth,
+     "friction that changes smoothly along the travel (a guide out of straightness or parallelism, the preload or the "
+     "lubrication varying along the rail, a cable carrier dragging more at one end): the direction of slip × a smooth "
+     "function of the position; add a position_dependent_force block (a cubic of the position) multiplied by sign(v)",
+     "tanh(v/v_s)·ξ^j, ξ = (x − x₀)/h, j = 1..3"},
     {"column_damping", 123, Multiplier::kVelocity, PositionFactor::kColumn,
      "the viscous friction follows a column of the log that the diagram does not read (the lubricant's temperature: "
      "its viscosity): v × the column; add an input connector reading it, a gain, multiplied by the velocity",
@@ -92,9 +106,25 @@ double SlipVelocity(const Product& p, const EffectInstance& e) {
   return p.multiplier == Multiplier::kSlip ? PositiveParameter(e, "slip_velocity") : 0.0;
 }
 
-// The product's columns for the multiplier column m (N × K·2 or N × 1).
+// m·ξ^j, ξ = (x − center)/half_range, j = 1..kSmoothDegree (N × kSmoothDegree).
+Eigen::MatrixXd SmoothColumns(const Eigen::VectorXd& m, const Eigen::VectorXd& position, double center,
+                              double half_range) {
+  Eigen::MatrixXd out(position.size(), kSmoothDegree);
+  const Eigen::ArrayXd xi = (position.array() - center) / half_range;
+  Eigen::ArrayXd power = m.array();
+  for (int j = 0; j < kSmoothDegree; ++j) {
+    power *= xi;
+    out.col(j) = power.matrix();
+  }
+  return out;
+}
+
+// The product's columns for the multiplier column m (N × K·2, N × kSmoothDegree or N × 1).
 Eigen::MatrixXd Columns(const Product& p, const std::map<std::string, double>& parameters, const Eigen::VectorXd& m,
                         const DiagnosisSignals& s) {
+  if (p.position == PositionFactor::kSmooth) {
+    return SmoothColumns(m, s.position, parameters.at("center"), parameters.at("half_range"));
+  }
   if (p.position == PositionFactor::kLocal) {
     return m.cwiseProduct(Bump(s.position, parameters.at("center"), parameters.at("half_width")));
   }
@@ -122,6 +152,12 @@ EffectRegressors Regressors(const Product& p, const EffectInstance& e, const Dia
     return PeriodicColumns(s.position, PositiveParameter(e, "period"), HarmonicsParameter(e), e.name, &m);
   }
   if (p.position == PositionFactor::kColumn) return SingleColumn(e.name, m.cwiseProduct(Centered(UnreadColumn(e, s))));
+  if (p.position == PositionFactor::kSmooth) {
+    EffectRegressors out;
+    out.columns = SmoothColumns(m, s.position, RequiredParameter(e, "center"), PositiveParameter(e, "half_range"));
+    for (int j = 1; j <= kSmoothDegree; ++j) out.column_names.push_back(e.name + ".p" + std::to_string(j));
+    return out;
+  }
   return SingleColumn(e.name,
                       m.cwiseProduct(Bump(s.position, RequiredParameter(e, "center"), PositiveParameter(e, "half_width"))));
 }
@@ -157,6 +193,12 @@ void Propose(const Product& p, ProposalContext& c) {
     }
     return;
   }
+  if (p.position == PositionFactor::kSmooth) {
+    const Eigen::VectorXd& x = s.position;
+    if (!(c.position_span() > 0.0) || RippleASmoothFunctionWouldBlur(c)) return;
+    ProposeWith(p, c, {{"center", 0.5 * (x.maxCoeff() + x.minCoeff())}, {"half_range", 0.5 * c.position_span()}});
+    return;
+  }
   if (p.position == PositionFactor::kLocal) {
     const BumpPlace place = ScanBump(c, m);
     if (!(place.explained >= kMinBumpShare)) return;
@@ -189,6 +231,9 @@ EffectType ProductEffect(const Product& p) {
   } else if (p.position == PositionFactor::kLocal) {
     t.parameters = {{"center", "m", "c: the middle of the stretch where it acts"},
                     {"half_width", "m", "w: it acts over [c − w, c + w]"}};
+  } else if (p.position == PositionFactor::kSmooth) {
+    t.parameters = {{"center", "m", "x₀: the middle of the record's travel"},
+                    {"half_range", "m", "h: half the record's travel"}};
   } else {
     t.parameters = {{"column", "", "the column's index among the log's unread columns (named in the description)"}};
   }

@@ -13,17 +13,17 @@
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
+#include "models/diagnosis/factors.h"
 
 namespace mb {
 namespace {
 
 constexpr const char* kName = "position_dependent_force";
 constexpr int kDefaultDegree = 3;
-constexpr double kMinCycles = 16.0;  // a position period of this many cycles in the travel is a ripple, not a smooth force
-// ... when it holds this share of the residual's variance: on EMPS the screw lead's 2.5 mm holds 8.3 % (4.3 % on the
-// pulses record); on an electronic Duffing oscillator in volts a 0.5 % peak of 20 cycles (the cubic stiffness seen
-// through the periodogram's window) kept the polynomial out while it was 97 % of the residual.
-constexpr double kMinRippleShare = 0.02;
+// A ripple keeps the polynomial out (RippleASmoothFunctionWouldBlur: 16 cycles, 2 % of the variance): on EMPS the screw
+// lead's 2.5 mm holds 8.3 % (4.3 % on the pulses record); on an electronic Duffing oscillator in volts a 0.5 % peak of
+// 20 cycles (the cubic stiffness seen through the periodogram's window) kept the polynomial out while it was 97 % of
+// the residual.
 
 constexpr double kMinSteps = 100.0;  // the travel in median sample-to-sample steps of the position, at least
 
@@ -76,21 +76,19 @@ EffectType PositionDependentForce() {
                   {"degree", "", "J, 3 when absent"}};
   t.regressors = Columns;
   t.propose = [](ProposalContext& c) {
-    // Only when the residual holds no position period of kMinCycles cycles or more in the travel: on EMPS (DATA_EMPS,
+    // Only when the residual holds no position period of 16 cycles or more in the travel: on EMPS (DATA_EMPS,
     // the rigid body) the polynomial takes 18.6 % of the held-out residual and the held-out ranking names it before the
     // screw lead's ripple (80 cycles). A "period" of a few cycles in the travel is what a smooth force of position looks
     // like to the periodogram (a hardening spring over 0.18 m: 18.7 mm, 9.6 cycles): it does not stop the polynomial.
     // The position must move over many of its own steps (in the record's unit: metres, radians or volts alike): a
     // record at rest spans a few steps of noise.
     if (!(c.position_span() > kMinSteps * MedianNonzeroStep(c.signals().position))) return;
-    for (const auto& p : c.position_periods()) {
-      if (p.period <= c.position_span() / kMinCycles && p.power >= kMinRippleShare) {
-        c.Note(fmt::format("position_dependent_force not proposed: the residual holds a position period of {:.3g} "
-                           "cycles in the travel ({:.4g}, {:.1f} % of its variance), a ripple the polynomial would "
-                           "only blur",
-                           c.position_span() / p.period, p.period, 100.0 * p.power));
-        return;
-      }
+    if (const auto p = RippleASmoothFunctionWouldBlur(c)) {
+      c.Note(fmt::format("position_dependent_force not proposed: the residual holds a position period of {:.3g} "
+                         "cycles in the travel ({:.4g}, {:.1f} % of its variance), a ripple the polynomial would "
+                         "only blur",
+                         c.position_span() / p->period, p->period, 100.0 * p->power));
+      return;
     }
     const Eigen::VectorXd& x = c.signals().position;
     c.Propose(kName, {{"center", 0.5 * (x.maxCoeff() + x.minCoeff())},
