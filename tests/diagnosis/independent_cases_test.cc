@@ -58,7 +58,7 @@ TEST(IndependentPlant, PointToPointMovesDwellAtRestAndStayInTheTravel) {
 }
 
 TEST(IndependentPlant, EachCaseNamesACatalogueEffectAndATolerance) {
-  ASSERT_EQ(Cases().size(), 32U);
+  ASSERT_EQ(Cases().size(), 33U);
   for (const auto& c : Cases()) {
     EXPECT_EQ(c.parameter.empty(), c.tolerance == 0.0) << c.name;
     // The idle column acts on nothing: like kNone, nothing may be named.
@@ -100,7 +100,7 @@ INSTANTIATE_TEST_SUITE_P(ComparePasses, IndependentCase,
                                            "force-constant ripple", "friction at one spot",
                                            "coupled axis (extra column)", "idle extra column",
                                            "damping along the pitch", "viscosity follows oil temperature",
-                                           "friction along the travel",
+                                           "friction along the travel", "damping at one stretch",
                                            // The grammar's warm-up of time and a limit that is a function of the
                                            // speed: the grease's thermal lag (T), the winding's back-EMF (k).
                                            "grease warm-up", "back-EMF voltage limit"),
@@ -156,7 +156,8 @@ INSTANTIATE_TEST_SUITE_P(OffTheLinearStage, IndependentImprove,
                                            "friction along the pitch", "force-constant ripple", "friction at one spot",
                                            "coupled axis (extra column)", "damping along the pitch",
                                            "grease warm-up", "back-EMF voltage limit",
-                                           "viscosity follows oil temperature", "friction along the travel"),
+                                           "viscosity follows oil temperature", "friction along the travel",
+                                           "damping at one stretch"),
                          [](const ::testing::TestParamInfo<std::string>& case_info) {
                            std::string name;
                            for (char c : case_info.param) if (std::isalnum(static_cast<unsigned char>(c))) name += c;

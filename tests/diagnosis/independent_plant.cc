@@ -35,6 +35,7 @@ constexpr double kRippleDepth = 0.03, kForceRipplePeriod = 0.012;             //
 constexpr double kSpotFriction = 6.0, kSpotStart = 0.12, kSpotEnd = 0.13;     // [N], [m], [m]
 constexpr double kCoupledMass = 4.0;                                          // [kg]
 constexpr double kPreloadFriction = 5.0, kPreloadMiddle = 0.13, kPreloadSpread = 0.04;  // [N], [m], [m]
+constexpr double kBellowsDamping = 80.0, kBellowsCentre = 0.055, kBellowsSpread = 0.01;  // [N·s/m], [m], [m]
 // A cold start: the grease's temperature rise [K], its thermal time constant [s], the viscosity's temperature
 // coefficient [1/K] (Reynolds' law μ = μ₀·exp(−β·Δθ)).
 constexpr double kGreaseRise = 9.0, kThermalTimeConstant = 3.5, kViscosityCoefficient = 0.03;
@@ -113,6 +114,10 @@ double StatelessHidden(Hidden h, double t, double x, double v) {
   }
   if (Has(h, Hidden::kShortPitchFriction)) f += kShortPitchAmplitude * std::sin(kTwoPi * x / kShortPitchPeriod + 1.1) * slip;
   if (Has(h, Hidden::kLocalFriction) && x >= kSpotStart && x <= kSpotEnd) f += kSpotFriction * slip;
+  if (Has(h, Hidden::kLocalDamping)) {
+    const double z = (x - kBellowsCentre) / kBellowsSpread;
+    f += kBellowsDamping * std::exp(-z * z) * v;
+  }
   if (Has(h, Hidden::kFrictionAlongTravel)) {
     f += kPreloadFriction * 0.5 * (1.0 + std::tanh((x - kPreloadMiddle) / kPreloadSpread)) * slip;
   }
@@ -351,6 +356,7 @@ std::vector<CaseSpec> Cases() {
                    kDampingRipplePeriod, 0.03));
   c.push_back(Case("viscosity follows oil temperature", Hidden::kOilTemperature, "column_damping", "", 0.0, 0.0));
   c.push_back(Case("friction along the travel", Hidden::kFrictionAlongTravel, "friction_along_travel", "", 0.0, 0.0));
+  c.push_back(Case("damping at one stretch", Hidden::kLocalDamping, "local_damping", "center", kBellowsCentre, 0.05));
   c.push_back(Case("grease warm-up", Hidden::kWarmUp, "friction_warm_up", "time_constant", kThermalTimeConstant,
                    0.3));
   c.push_back(Case("back-EMF voltage limit", Hidden::kBackEmf, "drive_voltage_limit", "speed_slope", kEmfSlope, 0.15));

@@ -59,6 +59,8 @@ enum class Hidden {
   /// The rails converge toward the far end: the carriage's preload, and with it the friction, rises across the travel,
   /// 5 N·(1 + tanh((x − 130 mm)/40 mm))/2·tanh(v/v_c) more (a friction smooth in position, neither periodic nor local).
   kFrictionAlongTravel,
+  /// A bellows squeezed near the near end drags viscously over one stretch: 80 N·s/m·exp(−((x − 55 mm)/10 mm)²)·v.
+  kLocalDamping,
 };
 
 /// Whether a case's record is of a rotary axis (time_s, angle_rad, torque_Nm; Record::rotary).

@@ -23,6 +23,7 @@
 
 #include <fmt/format.h>
 
+#include "models/diagnosis/command_limit.h"
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
@@ -32,9 +33,7 @@ namespace mb {
 namespace {
 
 constexpr const char* kName = "drive_saturation";
-constexpr double kMinShareBeyond = 0.005;  // of the samples beyond a limit: fewer are the noise's extremes
-constexpr double kMinExplained = 0.02;     // of the residual's sum of squares
-constexpr double kExcessNoise = 3.0;       // robust noise levels the log must exceed the acted force by, beyond a limit
+constexpr double kMinExplained = 0.02;  // of the residual's sum of squares
 
 // u − clamp(u, lower, upper): what the log holds beyond the limits.
 Eigen::VectorXd Excess(const Eigen::VectorXd& u, double lower, double upper) {
@@ -50,21 +49,6 @@ struct Limits {
   std::string refused;  ///< why a scanned limit failed the physical test, for the report's notes
 };
 
-// The physical test of a side: the median of the residual (what the log holds beyond the force that acted) over the
-// samples `beyond` its limit, signed by the side (+1 above L₊, −1 below L₋), at least kExcessNoise robust noise levels.
-template <typename Beyond>
-bool ExcessAboveNoise(const ProposalContext& c, double noise, double side, Beyond&& beyond) {
-  const Eigen::VectorXd& u = c.signals().logged_command;
-  std::vector<double> excess;
-  for (Eigen::Index i = 0; i < u.size(); ++i) {
-    if (beyond(u(i))) excess.push_back(side * c.residual()(i));
-  }
-  if (excess.empty()) return false;
-  const auto middle = excess.begin() + static_cast<std::ptrdiff_t>(excess.size() / 2);
-  std::nth_element(excess.begin(), middle, excess.end());
-  return *middle >= kExcessNoise * noise;
-}
-
 Limits ScanLimits(const ProposalContext& c) {
   const Eigen::VectorXd& u = c.signals().logged_command;
   const Eigen::MatrixXd base = c.BaseWithConstant();
@@ -74,11 +58,7 @@ Limits ScanLimits(const ProposalContext& c) {
     const Eigen::VectorXd r = c.residual() - Excess(u, lower, upper);
     return JointFitResidual(base, gram, r)(none);
   };
-  std::vector<double> magnitude(u.data(), u.data() + u.size());
-  for (double& m : magnitude) m = std::abs(m);
-  std::sort(magnitude.begin(), magnitude.end());
-  const auto n = magnitude.size();
-  const double lo = magnitude[n / 2], hi = magnitude[n - 1 - static_cast<std::size_t>(kMinShareBeyond * static_cast<double>(n))];
+  const auto [lo, hi] = LimitScanRange(u);
   if (!(hi > lo && lo > 0.0)) return {};
   // sse is thread-safe (its own vectors per call): the grids in parallel.
   const double symmetric = MinimiseOnLogGrid(lo, hi, 21, 20, [&](double l) { return sse(-l, l); }, true);
@@ -86,16 +66,11 @@ Limits ScanLimits(const ProposalContext& c) {
   const double lower = -MinimiseOnLogGrid(lo, hi, 21, 20, [&](double l) { return sse(-l, upper); }, true);
   const double sse_base = ResidualSumOfSquares(base, none, c.residual());
   if (!(sse(lower, upper) < (1.0 - kMinExplained) * sse_base)) return {};
-  const auto beyond = [&](auto&& passes) {
-    return static_cast<double>((u.array().unaryExpr(passes)).count()) >= kMinShareBeyond * static_cast<double>(n);
-  };
-  const auto above = [&](double v) { return v > upper; };
-  const auto below = [&](double v) { return v < lower; };
-  const double noise = diagnosis_detail::RobustScale(c.residual());
   Limits out;
-  if (beyond(above) && ExcessAboveNoise(c, noise, 1.0, above)) out.upper = upper;
-  if (beyond(below) && ExcessAboveNoise(c, noise, -1.0, below)) out.lower = lower;
+  if (LogExceedsActedForce(c.residual(), 1.0, [&](Eigen::Index i) { return u(i) > upper; })) out.upper = upper;
+  if (LogExceedsActedForce(c.residual(), -1.0, [&](Eigen::Index i) { return u(i) < lower; })) out.lower = lower;
   if (!out.upper && !out.lower) {
+    const double noise = diagnosis_detail::RobustScale(c.residual());
     out.refused = fmt::format("drive_saturation not proposed: beyond the best limits ({:.4g}, {:.4g}) the logged "
                               "command exceeds the force the motion shows acted by no more than the noise ({:.3g} "
                               "robust RMS): no saturation",

@@ -30,6 +30,7 @@
 
 #include <fmt/format.h>
 
+#include "models/diagnosis/command_limit.h"
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
@@ -39,9 +40,7 @@ namespace mb {
 namespace {
 
 constexpr const char* kName = "drive_voltage_limit";
-constexpr double kMinShareBeyond = 0.005;  // of the samples beyond a limit: fewer are the noise's extremes
 constexpr double kMinExplained = 0.02;     // of the residual's sum of squares
-constexpr double kExcessNoise = 3.0;       // robust noise levels the log must exceed the acted force by, beyond a limit
 constexpr double kSlopeLow = 0.02, kSlopeHigh = 1.0;  // k·max|v| as a fraction of the command's high quantile
 constexpr int kSlopeGrid = 15;
 constexpr double kMinSlopeGain = 0.25;  // of what the best constant limit leaves unexplained
@@ -50,15 +49,6 @@ constexpr double kMinSlopeGain = 0.25;  // of what the best constant limit leave
 Eigen::VectorXd Excess(const Eigen::VectorXd& u, const Eigen::VectorXd& v, double slope, double lower, double upper) {
   const Eigen::VectorXd w = u + slope * v;
   return w - w.cwiseMax(lower).cwiseMin(upper);
-}
-
-// The |values| at the median and at the quantile that kMinShareBeyond of the samples pass.
-std::pair<double, double> MagnitudeRange(const Eigen::VectorXd& values) {
-  std::vector<double> magnitude(values.data(), values.data() + values.size());
-  for (double& m : magnitude) m = std::abs(m);
-  std::sort(magnitude.begin(), magnitude.end());
-  const auto n = magnitude.size();
-  return {magnitude[n / 2], magnitude[n - 1 - static_cast<std::size_t>(kMinShareBeyond * static_cast<double>(n))]};
 }
 
 struct Limits {
@@ -105,7 +95,7 @@ class Scan {
   double BaseSse() const { return ResidualSumOfSquares(base_, none_, r_); }
   // The best symmetric limit for `slope` over [median |w|, the |w| that 0.5 % pass]; 0 when that range is empty.
   double SymmetricLimit(double slope) const {
-    const auto [lo, hi] = MagnitudeRange(u_ + slope * v_);
+    const auto [lo, hi] = LimitScanRange(u_ + slope * v_);
     if (!(hi > lo && lo > 0.0)) return 0.0;
     return MinimiseOnLogGrid(lo, hi, 21, 20, [&](double l) { return Sse(slope, -l, l); }, true);
   }
@@ -113,18 +103,12 @@ class Scan {
     const double l = SymmetricLimit(slope);
     return l > 0.0 ? Sse(slope, -l, l) : BaseSse();
   }
-  // Over every sample: at least 0.5 % beyond the side, and the physical test (the log exceeds the acted force by
-  // ≥ 3 robust noise levels there).
-  bool SidePasses(double slope, double limit, double side, double noise) const {
+  // Over every sample: the physical test of the side (LogExceedsActedForce).
+  bool SidePasses(double slope, double limit, double side) const {
     const DiagnosisSignals& s = c_.signals();
-    std::vector<double> excess;
-    for (Eigen::Index i = 0; i < c_.size(); ++i) {
-      if (side * (s.logged_command(i) + slope * s.velocity(i)) > side * limit) excess.push_back(side * c_.residual()(i));
-    }
-    if (static_cast<double>(excess.size()) < kMinShareBeyond * static_cast<double>(c_.size())) return false;
-    const auto middle = excess.begin() + static_cast<std::ptrdiff_t>(excess.size() / 2);
-    std::nth_element(excess.begin(), middle, excess.end());
-    return *middle >= kExcessNoise * noise;
+    return LogExceedsActedForce(c_.residual(), side, [&](Eigen::Index i) {
+      return side * (s.logged_command(i) + slope * s.velocity(i)) > side * limit;
+    });
   }
   const Eigen::VectorXd& u() const { return u_; }
   const Eigen::VectorXd& v() const { return v_; }
@@ -141,7 +125,7 @@ Limits ScanLimits(const ProposalContext& c) {
   const Scan scan(c);
   if (scan.size() < 2) return {};
   const double max_speed = scan.v().cwiseAbs().maxCoeff();
-  const auto [median_u, high_u] = MagnitudeRange(scan.u());
+  const auto [median_u, high_u] = LimitScanRange(scan.u());
   if (!(max_speed > 0.0 && high_u > median_u && median_u > 0.0)) return {};
   const double slope_lo = kSlopeLow * high_u / max_speed, slope_hi = kSlopeHigh * high_u / max_speed;
   Limits out;
@@ -159,14 +143,14 @@ Limits ScanLimits(const ProposalContext& c) {
     return out;
   }
   const double symmetric = scan.SymmetricLimit(out.slope);
-  const auto [lo, hi] = MagnitudeRange(scan.u() + out.slope * scan.v());
+  const auto [lo, hi] = LimitScanRange(scan.u() + out.slope * scan.v());
   out.upper = MinimiseOnLogGrid(lo, hi, 21, 20, [&](double l) { return scan.Sse(out.slope, -symmetric, l); }, true);
   out.lower = -MinimiseOnLogGrid(lo, hi, 21, 20, [&](double l) { return scan.Sse(out.slope, -l, out.upper); }, true);
   if (!(scan.Sse(out.slope, out.lower, out.upper) < (1.0 - kMinExplained) * base_sse)) return out;
-  const double noise = diagnosis_detail::RobustScale(c.residual());
-  if (scan.SidePasses(out.slope, out.upper, 1.0, noise)) out.kept_upper = out.upper;
-  if (scan.SidePasses(out.slope, out.lower, -1.0, noise)) out.kept_lower = out.lower;
+  if (scan.SidePasses(out.slope, out.upper, 1.0)) out.kept_upper = out.upper;
+  if (scan.SidePasses(out.slope, out.lower, -1.0)) out.kept_lower = out.lower;
   if (!out.kept_upper && !out.kept_lower) {
+    const double noise = diagnosis_detail::RobustScale(c.residual());
     out.refused = fmt::format("drive_voltage_limit not proposed: beyond the best limits ({:.4g}, {:.4g}) − {:.4g}·v the "
                               "logged command exceeds the force the motion shows acted by no more than the noise "
                               "({:.3g} robust RMS)",
