@@ -53,6 +53,11 @@ double OtherAxisAcceleration(double t) {
   return 2.0 * std::sin(kTwoPi * 0.7 * t) * std::sin(kTwoPi * 3.1 * t);
 }
 
+// Its velocity [m/s], from rest: 2·sin(2π·0.7t)·sin(2π·3.1t) = cos(2π·2.4t) − cos(2π·3.8t), integrated.
+double OtherAxisVelocity(double t) {
+  return std::sin(kTwoPi * 2.4 * t) / (kTwoPi * 2.4) - std::sin(kTwoPi * 3.8 * t) / (kTwoPi * 3.8);
+}
+
 // A hall temperature [°C] that drifts slowly and does not act on the axis.
 double HallTemperature(double t) { return 22.0 + 1.5 * std::sin(kTwoPi * t / 40.0) + 0.2 * std::sin(kTwoPi * t / 3.0); }
 
@@ -121,7 +126,9 @@ double StatelessHidden(Hidden h, double t, double x, double v) {
   if (Has(h, Hidden::kFrictionAlongTravel)) {
     f += kPreloadFriction * 0.5 * (1.0 + std::tanh((x - kPreloadMiddle) / kPreloadSpread)) * slip;
   }
-  if (Has(h, Hidden::kCoupledAxis)) f += kCoupledMass * OtherAxisAcceleration(t);
+  if (Has(h, Hidden::kCoupledAxis) || Has(h, Hidden::kCoupledAxisVelocity)) {
+    f += kCoupledMass * OtherAxisAcceleration(t);
+  }
   if (Has(h, Hidden::kDampingRipple)) f += kDampingRippleCoefficient * v * std::sin(kTwoPi * x / kDampingRipplePeriod + 0.3);
   if (Has(h, Hidden::kOilTemperature)) f += kViscosityPerKelvin * (OilTemperature(t) - kOilReference) * v;
   if (Has(h, Hidden::kGravity)) {  // the arm's torque as a force on the carriage: τ·dθ/dx
@@ -357,6 +364,8 @@ std::vector<CaseSpec> Cases() {
   c.push_back(Case("viscosity follows oil temperature", Hidden::kOilTemperature, "column_damping", "", 0.0, 0.0));
   c.push_back(Case("friction along the travel", Hidden::kFrictionAlongTravel, "friction_along_travel", "", 0.0, 0.0));
   c.push_back(Case("damping at one stretch", Hidden::kLocalDamping, "local_damping", "center", kBellowsCentre, 0.05));
+  c.push_back(Case("coupled axis (its velocity logged)", Hidden::kCoupledAxisVelocity, "logged_column_rate", "", 0.0,
+                   0.0));
   c.push_back(Case("grease warm-up", Hidden::kWarmUp, "friction_warm_up", "time_constant", kThermalTimeConstant,
                    0.3));
   c.push_back(Case("back-EMF voltage limit", Hidden::kBackEmf, "drive_voltage_limit", "speed_slope", kEmfSlope, 0.15));
@@ -423,6 +432,7 @@ Record Generate(Hidden hidden, const GeneratorSettings& settings) {
       r.true_force(k) = scale * logged;
       r.force(k) = scale * (logged + noise(rng));
       if (Has(hidden, Hidden::kCoupledAxis)) r.extra(k) = OtherAxisAcceleration(t);
+      if (Has(hidden, Hidden::kCoupledAxisVelocity)) r.extra(k) = OtherAxisVelocity(t);
       if (Has(hidden, Hidden::kIdleColumn)) r.extra(k) = HallTemperature(t);
       if (Has(hidden, Hidden::kOilTemperature)) r.extra(k) = OilTemperature(t);
     }
@@ -519,6 +529,7 @@ bool IsRotary(Hidden hidden) { return hidden == Hidden::kGravity; }
 
 std::string ExtraColumnName(Hidden hidden) {
   if (hidden == Hidden::kCoupledAxis) return "accel_y_m_s2";
+  if (hidden == Hidden::kCoupledAxisVelocity) return "vel_y_m_s";
   if (hidden == Hidden::kIdleColumn) return "temperature_C";
   if (hidden == Hidden::kOilTemperature) return "oil_temperature_C";
   return "";

@@ -61,6 +61,9 @@ enum class Hidden {
   kFrictionAlongTravel,
   /// A bellows squeezed near the near end drags viscously over one stretch: 80 N·s/m·exp(−((x − 55 mm)/10 mm)²)·v.
   kLocalDamping,
+  /// 4 kg × another axis's acceleration, as kCoupledAxis, but the log holds that axis's velocity (vel_y_m_s): the
+  /// residual follows the column's rate.
+  kCoupledAxisVelocity,
 };
 
 /// Whether a case's record is of a rotary axis (time_s, angle_rad, torque_Nm; Record::rotary).
@@ -99,7 +102,8 @@ struct Record {
   Eigen::VectorXd extra;       ///< its values
 };
 
-/// The name of the further column a case logs (kCoupledAxis, kIdleColumn), "" for the others.
+/// The name of the further column a case logs (kCoupledAxis, kCoupledAxisVelocity, kIdleColumn, kOilTemperature), ""
+/// for the others.
 std::string ExtraColumnName(Hidden hidden);
 
 struct GeneratorSettings {
