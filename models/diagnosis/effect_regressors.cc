@@ -78,4 +78,19 @@ EffectRegressors PeriodicColumns(const Eigen::VectorXd& z, double period, int ha
   return out;
 }
 
+EffectRegressors PowerColumns(const Eigen::VectorXd& z, double center, double half_range, int degree,
+                              const std::string& prefix, const Eigen::VectorXd* scale) {
+  EffectRegressors out;
+  out.columns.resize(z.size(), degree);
+  const Eigen::ArrayXd xi = (z.array() - center) / half_range;
+  Eigen::ArrayXd power = Eigen::ArrayXd::Ones(z.size());
+  if (scale) power = scale->array();
+  for (int j = 0; j < degree; ++j) {
+    power *= xi;
+    out.columns.col(j) = power.matrix();
+    out.column_names.push_back(fmt::format("{}.p{}", prefix, j + 1));
+  }
+  return out;
+}
+
 }  // namespace mb

@@ -35,4 +35,11 @@ EffectRegressors SingleColumn(const std::string& effect, Eigen::VectorXd column)
 EffectRegressors PeriodicColumns(const Eigen::VectorXd& z, double period, int harmonics, const std::string& prefix,
                                  const Eigen::VectorXd* scale = nullptr);
 
+/// Columns g·ξ^j, ξ = (z − center)/half_range, j = 1..degree (N × degree), named "<prefix>.p<j>"; g = `scale` (N)
+/// when given, else 1: a polynomial basis of a smooth function of z over its range, without the constant (the base's
+/// level): position_dependent_force, the grammar's smooth factor. Precondition half_range > 0 (the callers'
+/// PositiveParameter checks it).
+EffectRegressors PowerColumns(const Eigen::VectorXd& z, double center, double half_range, int degree,
+                              const std::string& prefix, const Eigen::VectorXd* scale = nullptr);
+
 }  // namespace mb

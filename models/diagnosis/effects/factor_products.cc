@@ -106,24 +106,12 @@ double SlipVelocity(const Product& p, const EffectInstance& e) {
   return p.multiplier == Multiplier::kSlip ? PositiveParameter(e, "slip_velocity") : 0.0;
 }
 
-// m·ξ^j, ξ = (x − center)/half_range, j = 1..kSmoothDegree (N × kSmoothDegree).
-Eigen::MatrixXd SmoothColumns(const Eigen::VectorXd& m, const Eigen::VectorXd& position, double center,
-                              double half_range) {
-  Eigen::MatrixXd out(position.size(), kSmoothDegree);
-  const Eigen::ArrayXd xi = (position.array() - center) / half_range;
-  Eigen::ArrayXd power = m.array();
-  for (int j = 0; j < kSmoothDegree; ++j) {
-    power *= xi;
-    out.col(j) = power.matrix();
-  }
-  return out;
-}
-
 // The product's columns for the multiplier column m (N × K·2, N × kSmoothDegree or N × 1).
 Eigen::MatrixXd Columns(const Product& p, const std::map<std::string, double>& parameters, const Eigen::VectorXd& m,
                         const DiagnosisSignals& s) {
   if (p.position == PositionFactor::kSmooth) {
-    return SmoothColumns(m, s.position, parameters.at("center"), parameters.at("half_range"));
+    return PowerColumns(s.position, parameters.at("center"), parameters.at("half_range"), kSmoothDegree, p.name, &m)
+        .columns;
   }
   if (p.position == PositionFactor::kLocal) {
     return m.cwiseProduct(Bump(s.position, parameters.at("center"), parameters.at("half_width")));
@@ -153,10 +141,8 @@ EffectRegressors Regressors(const Product& p, const EffectInstance& e, const Dia
   }
   if (p.position == PositionFactor::kColumn) return SingleColumn(e.name, m.cwiseProduct(Centered(UnreadColumn(e, s))));
   if (p.position == PositionFactor::kSmooth) {
-    EffectRegressors out;
-    out.columns = SmoothColumns(m, s.position, RequiredParameter(e, "center"), PositiveParameter(e, "half_range"));
-    for (int j = 1; j <= kSmoothDegree; ++j) out.column_names.push_back(e.name + ".p" + std::to_string(j));
-    return out;
+    return PowerColumns(s.position, RequiredParameter(e, "center"), PositiveParameter(e, "half_range"), kSmoothDegree,
+                        e.name, &m);
   }
   return SingleColumn(e.name,
                       m.cwiseProduct(Bump(s.position, RequiredParameter(e, "center"), PositiveParameter(e, "half_width"))));

@@ -8,8 +8,8 @@
 // drift; and not when a first-order warm-up that settles inside the record fits better (friction_warm_up is proposed
 // then; the shared scan: models/diagnosis/viscous_drift.h). Its significance is the forward selection's held-out test
 // on contiguous blocks. Block: ramped_gain "friction_drift" on the velocity input, its gain free
-// (blocks/ramped_gain.cc). Source: DIAGNOSIS.md, "Parameters
-// that change"; Armstrong-Hélouvry, Dupont, Canudas de Wit (1994), Automatica 30(7), §2.5 (temperature).
+// (blocks/ramped_gain.cc). Source: DIAGNOSIS.md, "Parameters that change"; Armstrong-Hélouvry, Dupont, Canudas de
+// Wit (1994), Automatica 30(7), §2.5 (temperature).
 #include <cmath>
 
 #include <fmt/format.h>

@@ -50,18 +50,8 @@ int Degree(const EffectInstance& e) {
 }
 
 EffectRegressors Columns(const EffectInstance& e, const DiagnosisSignals& s) {
-  const double center = RequiredParameter(e, "center"), half = PositiveParameter(e, "half_range");
-  const int degree = Degree(e);
-  EffectRegressors out;
-  out.columns.resize(s.size(), degree);
-  const Eigen::ArrayXd xi = (s.position.array() - center) / half;
-  Eigen::ArrayXd power = Eigen::ArrayXd::Ones(s.size());
-  for (int j = 0; j < degree; ++j) {
-    power *= xi;
-    out.columns.col(j) = power.matrix();
-    out.column_names.push_back(e.name + ".p" + std::to_string(j + 1));
-  }
-  return out;
+  return PowerColumns(s.position, RequiredParameter(e, "center"), PositiveParameter(e, "half_range"), Degree(e),
+                      e.name);
 }
 
 EffectType PositionDependentForce() {
