@@ -1,5 +1,6 @@
 #include "blocks/gain.h"
 
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -54,10 +55,22 @@ EffectBlockTemplate MassMismatchEffectBlock() {
   return GainEffectBlock("payload", MotionInput::kAcceleration);
 }
 
+// Adds the diagnosed effect quadratic_drag (models/diagnosis/effects/quadratic_drag.cc): the gain on the velocity times
+// its abs, c·v·|v|.
+EffectBlockTemplate QuadraticDragEffectBlock() {
+  EffectBlockTemplate block = GainEffectBlock("quadratic_drag", MotionInput::kVelocity);
+  block.multiplier = MotionMultiplier{"abs", MotionInput::kVelocity, [](const DiagnosedEffect&) {
+                                        return nlohmann::json::object();
+                                      }};
+  block.physical_range = {{"gain", {0.0, std::numeric_limits<double>::infinity()}}};  // a drag dissipates: c ≥ 0
+  return block;
+}
+
 }  // namespace
 
 MB_REGISTER_EFFECT_BLOCK(viscous_friction, ViscousFrictionEffectBlock())
 MB_REGISTER_EFFECT_BLOCK(mass_mismatch, MassMismatchEffectBlock())
+MB_REGISTER_EFFECT_BLOCK(quadratic_drag, QuadraticDragEffectBlock())
 
 namespace {
 

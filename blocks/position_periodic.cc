@@ -83,18 +83,17 @@ MB_REGISTER_EFFECT_BLOCK(force_constant_ripple, ForceConstantRippleEffectBlock()
 
 namespace {
 
-// The grammar's damping_ripple and inertia_ripple (effects/factor_products.cc: v or a × a ripple of the position): the
-// ripple times the measured velocity or acceleration.
-EffectBlockTemplate MotionRippleEffectBlock(const char* element_name, MotionInput input) {
+// The grammar's damping_ripple (effects/factor_products.cc: v × a ripple of the position): the ripple times the
+// measured velocity. (inertia_ripple, a mass along the pitch, is blocks/position_dependent_inertia.)
+EffectBlockTemplate DampingRippleEffectBlock() {
   EffectBlockTemplate block = PositionRippleBlock("position_periodic", 1);
-  block.element_name = element_name;
-  block.multiplier = MeasuredMotion(input);
+  block.element_name = "damping_ripple";
+  block.multiplier = MeasuredMotion(MotionInput::kVelocity);
   return block;
 }
 
 }  // namespace
 
-MB_REGISTER_EFFECT_BLOCK(damping_ripple, MotionRippleEffectBlock("damping_ripple", MotionInput::kVelocity))
-MB_REGISTER_EFFECT_BLOCK(inertia_ripple, MotionRippleEffectBlock("inertia_ripple", MotionInput::kAcceleration))
+MB_REGISTER_EFFECT_BLOCK(damping_ripple, DampingRippleEffectBlock())
 
 }  // namespace mb

@@ -40,6 +40,10 @@ struct EffectTraits {
   /// with a coefficient near 1, else the column is only a nonlinear function of ŷ that happens to correlate
   /// with the residual and the effect is dropped.
   bool regressor_is_error = false;
+  /// The effect's one coefficient has a physical sign: positive (a drag dissipates energy, c·v·|v| with c > 0). A fit
+  /// with c ≤ 0 is another curve of the speed standing in for the friction law's shape (−850 N·s²/m² beside a Stribeck
+  /// hump where a viscosity followed the oil temperature), and the effect is dropped with a note.
+  bool positive_coefficient = false;
   /// The regressor is built from the model output ŷ alone, which is in the output filter's band already: it is
   /// not low-passed with the motion's regressors (DiagnosisOptions::regressor_filter_hz).
   bool regressor_in_output_band = false;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -74,6 +75,19 @@ EffectRegressors PeriodicColumns(const Eigen::VectorXd& z, double period, int ha
   for (int k = 1; k <= harmonics; ++k) {
     out.column_names.push_back(fmt::format("{}.cos{}", prefix, k));
     out.column_names.push_back(fmt::format("{}.sin{}", prefix, k));
+  }
+  return out;
+}
+
+EffectRegressors InertiaColumns(const Eigen::VectorXd& z, const Eigen::VectorXd& v, const Eigen::VectorXd& a,
+                                double period, int harmonics, const std::string& prefix) {
+  EffectRegressors out = PeriodicColumns(z, period, harmonics, prefix, &a);
+  const Eigen::VectorXd half_v2 = 0.5 * v.cwiseAbs2();
+  const Eigen::MatrixXd kinetic = FourierDesignMatrix(z, period, harmonics, &half_v2);  // ½v²·cos, ½v²·sin
+  for (int k = 1; k <= harmonics; ++k) {
+    const double wavenumber = 2.0 * std::numbers::pi * k / period;  // d/dz of cos(kθ) is −(2πk/P)·sin(kθ)
+    out.columns.col(2 * (k - 1)) -= wavenumber * kinetic.col(2 * (k - 1) + 1);
+    out.columns.col(2 * (k - 1) + 1) += wavenumber * kinetic.col(2 * (k - 1));
   }
   return out;
 }

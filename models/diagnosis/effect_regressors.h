@@ -35,6 +35,14 @@ EffectRegressors SingleColumn(const std::string& effect, Eigen::VectorXd column)
 EffectRegressors PeriodicColumns(const Eigen::VectorXd& z, double period, int harmonics, const std::string& prefix,
                                  const Eigen::VectorXd* scale = nullptr);
 
+/// The columns of the generalised force of a mass that varies periodically with the position,
+/// M(z) = Σ_k α_k cos(kθ) + β_k sin(kθ), θ = 2πz/period: with the kinetic energy ½M(z)·v², Lagrange's equation
+/// d/dt(∂T/∂v) − ∂T/∂z gives M(z)·a + ½M′(z)·v² (Goldstein, Classical Mechanics, 3rd ed., §1.4). Per harmonic k
+/// (N × 2·harmonics, named as PeriodicColumns) the column of α_k is a·cos(kθ) − ½(2πk/period)·v²·sin(kθ), that of
+/// β_k a·sin(kθ) + ½(2πk/period)·v²·cos(kθ). z [m], v [m/s], a [m/s²] of equal length N; the coefficients in kg.
+EffectRegressors InertiaColumns(const Eigen::VectorXd& z, const Eigen::VectorXd& v, const Eigen::VectorXd& a,
+                                double period, int harmonics, const std::string& prefix);
+
 /// Columns g·ξ^j, ξ = (z − center)/half_range, j = 1..degree (N × degree), named "<prefix>.p<j>"; g = `scale` (N)
 /// when given, else 1: a polynomial basis of a smooth function of z over its range, without the constant (the base's
 /// level): position_dependent_force, the grammar's smooth factor. Precondition half_range > 0 (the callers'

@@ -22,20 +22,24 @@ namespace {
 
 // An effect whose regressor is the error itself (EffectTraits::regressor_is_error) must enter with a coefficient
 // near 1; far from it, the column is only a nonlinear function of ŷ that happens to correlate with the residual (on
-// EMPS: a 13 N "quantization step" with coefficient 0.2): true, and a note, when it is dropped for that.
+// EMPS: a 13 N "quantization step" with coefficient 0.2). An effect whose coefficient has a physical sign
+// (EffectTraits::positive_coefficient: a drag) must enter with it. True, and a note, when it is dropped for that.
 bool ImplausibleCoefficient(const Candidate& c, const RegressorMatrix& m, const BlockGrams& grams,
                             const std::vector<Eigen::Index>& trial, std::vector<std::string>* notes) {
-  if (!c.type->traits.regressor_is_error) return false;
+  const EffectTraits& traits = c.type->traits;
+  if (!traits.regressor_is_error && !traits.positive_coefficient) return false;
   double sse = 0.0;
   const Eigen::VectorXd theta = grams.Fit(trial, &sse);
   const double coefficient = theta(theta.size() - 1) / m.scale(trial.back());
-  if (coefficient >= 0.5 && coefficient <= 1.5) return false;
+  const bool plausible = traits.regressor_is_error ? coefficient >= 0.5 && coefficient <= 1.5 : coefficient > 0.0;
+  if (plausible) return false;
   std::string parameters;
   for (const auto& [key, value] : c.effect.parameters) {
     parameters += fmt::format("{}{} = {:.4g}", parameters.empty() ? "" : ", ", key, value);
   }
-  notes->push_back(fmt::format("{} ({}) dropped: it fits with coefficient {:.3g} where the effect itself would give 1",
-                               c.effect.name, parameters, coefficient));
+  notes->push_back(fmt::format("{}{}{}{} dropped: it fits with coefficient {:.3g} where the effect itself would give {}",
+                               c.effect.name, parameters.empty() ? "" : " (", parameters, parameters.empty() ? "" : ")",
+                               coefficient, traits.regressor_is_error ? "1" : "a positive one (it dissipates energy)"));
   return true;
 }
 

@@ -1,9 +1,10 @@
 #pragma once
 // The one Fourier-series helper: every harmonic evaluation of the project goes through this header.
 //   y(θ) = Σ_{h=1..H} a_h cos(hθ) + b_h sin(hθ)
-// Users: the Fourier effect blocks (blocks/position_periodic, velocity_dependent_ripple, time_periodic), the
-// cogging force (models/physics/cogging.cc), the diagnosis regressors (models/diagnosis/effect_regressors.cc)
-// and the weight-space GP's periodic and Hilbert features (models/gpr/basis.cc, with four lanes).
+// Users: the Fourier effect blocks (blocks/position_periodic, velocity_dependent_ripple, time_periodic,
+// position_dependent_inertia with the slope), the cogging force (models/physics/cogging.cc), the diagnosis regressors
+// (models/diagnosis/effect_regressors.cc) and the weight-space GP's periodic and Hilbert features (models/gpr/basis.cc,
+// with four lanes).
 // Header-only, no dependency beyond Eigen: blocks and every models/ library may include it.
 
 #include <cmath>
@@ -134,6 +135,14 @@ struct PositionFourierSeries {
   Eigen::VectorXd a, b;     ///< a_h, b_h, h = 1…H
   /// y(x) at position x [m]. Allocation-free.
   double operator()(double x) const noexcept { return FourierSeries(a, b, wavenumber * (x - offset)); }
+  /// dy/dx at position x [m] (the unit of y per m): (2π/P)·Σ_h h·(b_h cos(hθ) − a_h sin(hθ)). Allocation-free.
+  double Slope(double x) const noexcept {
+    const double theta = wavenumber * (x - offset);
+    double slope = 0.0;
+    ForEachHarmonic<1>(std::cos(theta), std::sin(theta), static_cast<int>(a.size()),
+                       [&](int h, double c, double s, int) { slope += h * (b(h - 1) * c - a(h - 1) * s); });
+    return wavenumber * slope;
+  }
 };
 
 /// The series of a block's parameters "period", "position_offset", "harmonics", "cos_coefficients" and

@@ -1,6 +1,7 @@
 // The blocks `compare --suggest` inserts for a diagnosed missing effect: transport_delay, time_periodic,
-// velocity_dependent_ripple, position_dependent_force, ramped_gain (linear and exponential), speed_dependent_saturation —
-// each against its header's equation.
+// velocity_dependent_ripple, position_dependent_inertia, position_dependent_force, ramped_gain (linear and
+// exponential), speed_dependent_saturation — each against its header's equation (position_dependent_inertia against
+// the energy balance).
 
 #include <algorithm>
 #include <cmath>
@@ -95,6 +96,39 @@ TEST(VelocityDependentRippleTest, AmplitudeScalesWithSpeedInBothDirections) {
     const double th = kTwoPi * (x - x0) / period;
     EXPECT_NEAR(y[i], std::abs(v) * (a * std::cos(th) + b * std::sin(th)), 1e-9) << "t = " << t;
   }
+}
+
+// position_dependent_inertia is the force of the kinetic energy T = ½M(x)·v²: the power it takes, y·v, is the rate at
+// which T changes, dT/dt (energy, not the header's formula: a wrong v² term — its sign, its ½, a harmonic's slope —
+// breaks the balance wherever the axis moves).
+TEST(PositionDependentInertiaTest, ItsPowerIsTheRateOfChangeOfTheKineticEnergy) {
+  const double period = 0.04, x0 = 3e-3;
+  const double a1 = 2.0, a2 = -0.5, b1 = 4.0, b2 = 1.0;  // [kg]
+  const json j = MakeDiagram(
+      {Element("x", "sine", {{"amplitude", 0.05}, {"frequency_hz", 1.0}, {"bias", 0.1}}),
+       Element("v", "sine", {{"amplitude", 0.05 * kTwoPi}, {"frequency_hz", 1.0}, {"phase", std::numbers::pi / 2}}),
+       Element("a", "sine",
+               {{"amplitude", 0.05 * kTwoPi * kTwoPi}, {"frequency_hz", 1.0}, {"phase", std::numbers::pi}}),
+       Element("m", "position_dependent_inertia",
+               {{"period", period}, {"harmonics", 2}, {"cos_coefficients", {a1, a2}}, {"sin_coefficients", {b1, b2}},
+                {"position_offset", x0}})},
+      {Connect("x.y", "m.x"), Connect("v.y", "m.v"), Connect("a.y", "m.a")}, {"m.y"}, 1.0, 1e-3);
+  const auto r = Simulator(Build(j)).Run();
+  const auto& y = r.log.Column("m.y");
+  const auto kinetic_energy = [&](double t) {
+    const double x = 0.1 + 0.05 * std::sin(kTwoPi * t), v = 0.05 * kTwoPi * std::cos(kTwoPi * t);
+    const double th = kTwoPi * (x - x0) / period;
+    const double mass = a1 * std::cos(th) + b1 * std::sin(th) + a2 * std::cos(2 * th) + b2 * std::sin(2 * th);
+    return 0.5 * mass * v * v;
+  };
+  double largest_power = 0.0;
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    const double t = r.log.time[i], v = 0.05 * kTwoPi * std::cos(kTwoPi * t), h = 1e-6;
+    const double rate = (kinetic_energy(t + h) - kinetic_energy(t - h)) / (2 * h);
+    EXPECT_NEAR(y[i] * v, rate, 1e-5 * (1.0 + std::abs(rate))) << "t = " << t;
+    largest_power = std::max(largest_power, std::abs(rate));
+  }
+  EXPECT_GT(largest_power, 1.0);  // [W]: the check had power to check
 }
 
 // f = Σ_j c_j ξ^j, ξ = (x − x₀)/h: a hardening spring k₁(x − x₀) + k₃(x − x₀)³ with c_1 = k₁h, c_3 = k₃h³.

@@ -58,7 +58,7 @@ TEST(IndependentPlant, PointToPointMovesDwellAtRestAndStayInTheTravel) {
 }
 
 TEST(IndependentPlant, EachCaseNamesACatalogueEffectAndATolerance) {
-  ASSERT_EQ(Cases().size(), 34U);
+  ASSERT_EQ(Cases().size(), 36U);
   for (const auto& c : Cases()) {
     EXPECT_EQ(c.parameter.empty(), c.tolerance == 0.0) << c.name;
     // The idle column acts on nothing: like kNone, nothing may be named.
@@ -101,7 +101,8 @@ INSTANTIATE_TEST_SUITE_P(ComparePasses, IndependentCase,
                                            "coupled axis (extra column)", "idle extra column",
                                            "damping along the pitch", "viscosity follows oil temperature",
                                            "friction along the travel", "damping at one stretch",
-                                           "coupled axis (its velocity logged)",
+                                           "coupled axis (its velocity logged)", "mass along the travel (a linkage)",
+                                           "dashpot orifice drag",
                                            // The grammar's warm-up of time and a limit that is a function of the
                                            // speed: the grease's thermal lag (T), the winding's back-EMF (k).
                                            "grease warm-up", "back-EMF voltage limit"),
@@ -158,7 +159,8 @@ INSTANTIATE_TEST_SUITE_P(OffTheLinearStage, IndependentImprove,
                                            "coupled axis (extra column)", "damping along the pitch",
                                            "grease warm-up", "back-EMF voltage limit",
                                            "viscosity follows oil temperature", "friction along the travel",
-                                           "damping at one stretch", "coupled axis (its velocity logged)"),
+                                           "damping at one stretch", "coupled axis (its velocity logged)",
+                                           "mass along the travel (a linkage)", "dashpot orifice drag"),
                          [](const ::testing::TestParamInfo<std::string>& case_info) {
                            std::string name;
                            for (char c : case_info.param) if (std::isalnum(static_cast<unsigned char>(c))) name += c;

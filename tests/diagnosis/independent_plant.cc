@@ -36,6 +36,9 @@ constexpr double kSpotFriction = 6.0, kSpotStart = 0.12, kSpotEnd = 0.13;     //
 constexpr double kCoupledMass = 4.0;                                          // [kg]
 constexpr double kPreloadFriction = 5.0, kPreloadMiddle = 0.13, kPreloadSpread = 0.04;  // [N], [m], [m]
 constexpr double kBellowsDamping = 80.0, kBellowsCentre = 0.055, kBellowsSpread = 0.01;  // [N·s/m], [m], [m]
+constexpr double kLinkageMass = 5.0, kLinkagePeriod = 0.04, kLinkagePhase = 0.7;  // [kg], [m], [rad]
+// The dashpot: oil density [kg/m³], the orifice's discharge coefficient, the piston's and the orifice's areas [m²].
+constexpr double kOilDensity = 860.0, kDischargeCoefficient = 0.6, kPistonArea = 1e-3, kOrificeArea = 5e-5;
 // A cold start: the grease's temperature rise [K], its thermal time constant [s], the viscosity's temperature
 // coefficient [1/K] (Reynolds' law μ = μ₀·exp(−β·Δθ)).
 constexpr double kGreaseRise = 9.0, kThermalTimeConstant = 3.5, kViscosityCoefficient = 0.03;
@@ -70,6 +73,12 @@ double GreaseWarming(double t) { return kGreaseRise * -std::expm1(-std::max(t, 0
 // The viscous coefficient of the warming grease [N·s/m]: the viscosity's exponential fall with temperature.
 double WarmViscous(double t) { return kViscous * std::exp(-kViscosityCoefficient * GreaseWarming(t)); }
 
+// The linkage's share of the moving mass [kg] and its slope along the travel [kg/m].
+double LinkageMass(double x) { return kLinkageMass * std::sin(kTwoPi * x / kLinkagePeriod + kLinkagePhase); }
+double LinkageMassSlope(double x) {
+  return kLinkageMass * kTwoPi / kLinkagePeriod * std::cos(kTwoPi * x / kLinkagePeriod + kLinkagePhase);
+}
+
 bool Has(Hidden h, Hidden what) {
   return h == what || (h == Hidden::kRippleAndDelay && (what == Hidden::kPositionRipple || what == Hidden::kDelay));
 }
@@ -96,6 +105,13 @@ constexpr double kViscosityPerKelvin = -8.0, kOilReference = 30.0;      // [N·s
 // The oil temperature [°C]: the machine's duty cycle heats and cools it around 30 °C (periods 7 s and 2.3 s).
 double OilTemperature(double t) {
   return kOilReference + 3.0 * std::sin(kTwoPi * t / 7.0) + 1.2 * std::sin(kTwoPi * t / 2.3 + 1.0);
+}
+
+// The dashpot's force [N] at carriage velocity v: the pressure drop across the orifice on the piston, against v.
+double OrificeDrag(double v) {
+  const double flow = kPistonArea * v;                               // [m³/s]
+  const double jet = flow / (kDischargeCoefficient * kOrificeArea);  // [m/s] through the orifice's vena contracta
+  return 0.5 * kOilDensity * jet * std::abs(jet) * kPistonArea;
 }
 
 // The hidden force of (x, v, t) resisting the motion (what the motor must add), without states.
@@ -131,6 +147,7 @@ double StatelessHidden(Hidden h, double t, double x, double v) {
   }
   if (Has(h, Hidden::kDampingRipple)) f += kDampingRippleCoefficient * v * std::sin(kTwoPi * x / kDampingRipplePeriod + 0.3);
   if (Has(h, Hidden::kOilTemperature)) f += kViscosityPerKelvin * (OilTemperature(t) - kOilReference) * v;
+  if (Has(h, Hidden::kOrificeDrag)) f += OrificeDrag(v);
   if (Has(h, Hidden::kGravity)) {  // the arm's torque as a force on the carriage: τ·dθ/dx
     f += kRadPerMetre * kGravityTorque * std::sin(kRadPerMetre * (x - 0.1) + kGravityPhase);
   }
@@ -252,7 +269,12 @@ std::array<double, 4> Derivative(Hidden h, double t, const std::array<double, 4>
     d[3] = fl / kLoadMass;
   }
   if (Has(h, Hidden::kBacklash)) resist += BacklashForce(s[0], Play(s[0], far), s[1]);
-  d[1] = (u - resist) / Mass(h, t);
+  double mass = Mass(h, t);
+  if (Has(h, Hidden::kInertiaRipple)) {  // d/dt(M(x)·v) − ½M′(x)·v² = F: M(x)·a = F − ½M′(x)·v²
+    mass += LinkageMass(s[0]);
+    resist += 0.5 * LinkageMassSlope(s[0]) * s[1] * s[1];
+  }
+  d[1] = (u - resist) / mass;
   return d;
 }
 
@@ -366,6 +388,11 @@ std::vector<CaseSpec> Cases() {
   c.push_back(Case("damping at one stretch", Hidden::kLocalDamping, "local_damping", "center", kBellowsCentre, 0.05));
   c.push_back(Case("coupled axis (its velocity logged)", Hidden::kCoupledAxisVelocity, "logged_column_rate", "", 0.0,
                    0.0));
+  c.push_back(Case("mass along the travel (a linkage)", Hidden::kInertiaRipple, "inertia_ripple", "period",
+                   kLinkagePeriod, 0.03));
+  c.push_back(Case("dashpot orifice drag", Hidden::kOrificeDrag, "quadratic_drag", "drag_coefficient",
+                   0.5 * kOilDensity * kPistonArea * std::pow(kPistonArea / (kDischargeCoefficient * kOrificeArea), 2),
+                   0.10));
   c.push_back(Case("grease warm-up", Hidden::kWarmUp, "friction_warm_up", "time_constant", kThermalTimeConstant,
                    0.3));
   c.push_back(Case("back-EMF voltage limit", Hidden::kBackEmf, "drive_voltage_limit", "speed_slope", kEmfSlope, 0.15));
@@ -467,6 +494,9 @@ Eigen::VectorXd CarriageForce(Hidden hidden, const Eigen::VectorXd& t, const Eig
   const Load load;
   for (Eigen::Index i = 0; i < n; ++i) {
     f(i) = Mass(hidden, t(i)) * a(i) + FrictionLaw(hidden, v(i)) + kOffset + StatelessHidden(hidden, t(i), x(i), v(i));
+    if (Has(hidden, Hidden::kInertiaRipple)) {
+      f(i) += LinkageMass(x(i)) * a(i) + 0.5 * LinkageMassSlope(x(i)) * v(i) * v(i);
+    }
     if (Has(hidden, Hidden::kBacklash)) {
       far = Play(x(i), far);
       f(i) += BacklashForce(x(i), far, v(i));

@@ -64,6 +64,14 @@ enum class Hidden {
   /// 4 kg × another axis's acceleration, as kCoupledAxis, but the log holds that axis's velocity (vel_y_m_s): the
   /// residual follows the column's rate.
   kCoupledAxisVelocity,
+  /// A linkage whose reflected mass varies along the travel: 5 kg·sin(2πx/40 mm + 0.7) on top of the carriage's
+  /// (4.5 cycles in the travel). The generator integrates Lagrange's equation of the kinetic energy ½M(x)v², so the
+  /// carriage also feels ½M′(x)v² at speed (up to 16 N at 0.2 m/s, more than the 7.5 N of M(x)·a at 1.5 m/s²).
+  kInertiaRipple,
+  /// An oil dashpot on the carriage whose oil leaves through a sharp orifice: the orifice equation (Δp = ½ρ(Q/(C_d·A_o))²,
+  /// Q = A_p·v) on a 1000 mm² piston through a 50 mm² orifice (ρ = 860 kg/m³, C_d = 0.6) gives 478 N·s²/m²·v·|v|,
+  /// 19 N at 0.2 m/s: a drag that grows with the square of the speed.
+  kOrificeDrag,
 };
 
 /// Whether a case's record is of a rotary axis (time_s, angle_rad, torque_Nm; Record::rotary).

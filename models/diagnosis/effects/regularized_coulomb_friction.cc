@@ -40,6 +40,9 @@ EffectType RegularizedCoulombFriction() {
   t.traits.replaces_coulomb_law = true;
   t.traits.refined_parameter = "regularization_velocity";
   t.traits.refinement_range = 64.0;
+  // Within the proposal's scan (up to a tenth of the top speed): the law near zero velocity. A tanh still rising at
+  // 40 % of the top speed is a curvature of the law at speed (a drag v·|v| took one to 0.086 m/s on a 0.2 m/s record).
+  t.traits.refined_upper_bound = [](const DiagnosisSignals& s) { return 0.1 * s.velocity.cwiseAbs().maxCoeff(); };
   t.regressors = [](const EffectInstance& e, const DiagnosisSignals& s) {
     return SingleColumn(e.name, Column(s.velocity, PositiveParameter(e, "regularization_velocity")));
   };

@@ -51,7 +51,10 @@ EffectType StribeckFriction() {
                   {"dead_band", "m/s", "v_db: the velocity over which the hump's sign is smoothed (tanh)"}};
   t.traits.refined_parameter = "stribeck_velocity";
   t.traits.refinement_range = 4.0;
-  t.traits.refined_upper_bound = [](const DiagnosisSignals& s) { return s.velocity.cwiseAbs().maxCoeff(); };
+  // Within the proposal's scan (up to 40 % of the top speed): a hump over the record's whole speed range is no
+  // friction at low speed but a curvature of the law at speed, which the refit walked to (0.18 m/s on a 0.2 m/s record
+  // whose drag grew as v·|v|, taking three quarters of it; 16 m/s where the viscosity followed the oil temperature).
+  t.traits.refined_upper_bound = [](const DiagnosisSignals& s) { return 0.4 * s.velocity.cwiseAbs().maxCoeff(); };
   t.regressors = [](const EffectInstance& e, const DiagnosisSignals& s) {
     const double vs = PositiveParameter(e, "stribeck_velocity");
     return SingleColumn(e.name, StribeckColumn(s.velocity, RequiredParameter(e, "dead_band"), vs));
