@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "models/diagnosis/effect_registry.h"
 #include "models/physics/fourier_series.h"
 
 namespace mb {
@@ -77,6 +78,15 @@ EffectRegressors PeriodicColumns(const Eigen::VectorXd& z, double period, int ha
     out.column_names.push_back(fmt::format("{}.sin{}", prefix, k));
   }
   return out;
+}
+
+void RefinePositionPeriod(EffectTraits* traits) {
+  constexpr double kMinCycles = 3.0;  // CatalogueOptions::min_position_cycles_with_harmonics' default
+  traits->refined_parameter = "period";
+  traits->refinement_range = 1.1;
+  traits->refined_upper_bound = [](const DiagnosisSignals& s) {
+    return s.position.size() > 0 ? (s.position.maxCoeff() - s.position.minCoeff()) / kMinCycles : 0.0;
+  };
 }
 
 EffectRegressors InertiaColumns(const Eigen::VectorXd& z, const Eigen::VectorXd& v, const Eigen::VectorXd& a,

@@ -10,6 +10,8 @@
 
 namespace mb {
 
+struct EffectTraits;  // models/diagnosis/effect_registry.h
+
 /// The parameter `key` of the effect. Throws std::invalid_argument "effect 'x': parameter 'key' is missing or not
 /// finite; set it (SI units)".
 double RequiredParameter(const EffectInstance& effect, const char* key);
@@ -34,6 +36,13 @@ EffectRegressors SingleColumn(const std::string& effect, Eigen::VectorXd column)
 /// "<prefix>.cos<k>", "<prefix>.sin<k>"; g = `scale` (N) when given, else 1.
 EffectRegressors PeriodicColumns(const Eigen::VectorXd& z, double period, int harmonics, const std::string& prefix,
                                  const Eigen::VectorXd* scale = nullptr);
+
+/// Sets `traits` to re-estimate a position period in the joint fit (EffectTraits::refined_parameter "period"): within
+/// ±10 % of the periodogram's peak, which is only as sharp as the travel has cycles (a 40 mm pitch with 4.5 cycles came
+/// out at 38.6 mm), and never beyond three cycles in the record's travel, the longest period the proposals name
+/// (CatalogueOptions::min_position_cycles_with_harmonics: fewer cannot be told from a smooth function of the position;
+/// a loop of 1.9 cycles was walked there by the refit's passes).
+void RefinePositionPeriod(EffectTraits* traits);
 
 /// The columns of the generalised force of a mass that varies periodically with the position,
 /// M(z) = Σ_k α_k cos(kθ) + β_k sin(kθ), θ = 2πz/period: with the kinetic energy ½M(z)·v², Lagrange's equation

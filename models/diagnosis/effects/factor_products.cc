@@ -222,10 +222,7 @@ EffectType ProductEffect(const Product& p) {
   if (p.position == PositionFactor::kPeriodic) {
     t.parameters = {{"period", "m", "P: the pitch"}, {"harmonics", "", "K, 1 when absent"}};
     t.traits.periodicity = Periodicity::kPosition;
-    // The periodogram's peak is as sharp as the travel has cycles: a mass along a 40 mm pitch, 4.5 cycles, came out at
-    // 38.6 mm with 4 harmonics making up the difference. The joint fit places it, within ±10 % of the peak.
-    t.traits.refined_parameter = "period";
-    t.traits.refinement_range = 1.1;
+    RefinePositionPeriod(&t.traits);  // the periodogram's peak placed by the joint fit
   } else if (p.position == PositionFactor::kLocal) {
     t.parameters = {{"center", "m", "c: the middle of the stretch where it acts"},
                     {"half_width", "m", "w: it acts over [c − w, c + w]"}};

@@ -22,8 +22,7 @@ EffectType PositionPeriodic() {
   t.parameters = {{"period", "m", "P: the pitch (pole pitch, screw lead, tooth pitch)"},
                   {"harmonics", "", "K, 1 when absent"}};
   t.traits.periodicity = Periodicity::kPosition;
-  t.traits.refined_parameter = "period";  // the periodogram's peak placed by the joint fit, within ±10 %
-  t.traits.refinement_range = 1.1;
+  RefinePositionPeriod(&t.traits);  // the periodogram's peak placed by the joint fit
   t.regressors = [](const EffectInstance& e, const DiagnosisSignals& s) {
     return PeriodicColumns(s.position, PositiveParameter(e, "period"), HarmonicsParameter(e), e.name);
   };

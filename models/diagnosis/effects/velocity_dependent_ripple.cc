@@ -19,8 +19,7 @@ EffectType VelocityDependentRipple() {
   t.regressor_formula = "|v|·cos(2πx/P), |v|·sin(2πx/P)";
   t.parameters = {{"period", "m", "P: the pitch"}};
   t.traits.periodicity = Periodicity::kPosition;
-  t.traits.refined_parameter = "period";  // the periodogram's peak placed by the joint fit, within ±10 %
-  t.traits.refinement_range = 1.1;
+  RefinePositionPeriod(&t.traits);  // the periodogram's peak placed by the joint fit
   t.regressors = [](const EffectInstance& e, const DiagnosisSignals& s) {
     const Eigen::VectorXd speed = s.velocity.cwiseAbs();
     return PeriodicColumns(s.position, PositiveParameter(e, "period"), 1, e.name, &speed);
