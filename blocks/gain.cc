@@ -99,5 +99,6 @@ EffectBlockTemplate ColumnProductEffectBlock(const char* element_name, MotionMul
 MB_REGISTER_EFFECT_BLOCK(logged_column, ColumnGainEffectBlock("coupling"))
 MB_REGISTER_EFFECT_BLOCK(column_damping,
                          ColumnProductEffectBlock("column_damping", MeasuredMotion(MotionInput::kVelocity)))
+MB_REGISTER_EFFECT_BLOCK(column_force_constant, ColumnProductEffectBlock("column_force_constant", ModelForce()))
 
 }  // namespace mb

@@ -130,4 +130,18 @@ EffectBlockTemplate LocalDampingEffectBlock() {
 
 MB_REGISTER_EFFECT_BLOCK(local_damping, LocalDampingEffectBlock())
 
+namespace {
+
+// local_force_constant: the table times the model's force (a force constant that changes over one stretch: a chipped
+// or demagnetised magnet).
+EffectBlockTemplate LocalForceConstantEffectBlock() {
+  EffectBlockTemplate block = LocalTableBlock("local_force_constant");
+  block.multiplier = ModelForce();
+  return block;
+}
+
+}  // namespace
+
+MB_REGISTER_EFFECT_BLOCK(local_force_constant, LocalForceConstantEffectBlock())
+
 }  // namespace mb

@@ -74,4 +74,19 @@ EffectBlockTemplate FrictionAlongTravelEffectBlock() {
 
 MB_REGISTER_EFFECT_BLOCK(friction_along_travel, FrictionAlongTravelEffectBlock())
 
+namespace {
+
+// Adds the grammar's force_constant_along_travel (ŷ × a cubic of the position over the travel): the cubic times the
+// model's force, a force constant that changes along the rail (the air gap varying).
+EffectBlockTemplate ForceConstantAlongTravelEffectBlock() {
+  EffectBlockTemplate block = PositionDependentForceEffectBlock();
+  block.element_name = "force_constant_along_travel";
+  block.multiplier = ModelForce();
+  return block;
+}
+
+}  // namespace
+
+MB_REGISTER_EFFECT_BLOCK(force_constant_along_travel, ForceConstantAlongTravelEffectBlock())
+
 }  // namespace mb

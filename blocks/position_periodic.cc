@@ -72,8 +72,7 @@ namespace {
 EffectBlockTemplate ForceConstantRippleEffectBlock() {
   EffectBlockTemplate block = PositionRippleBlock("position_periodic", 1);
   block.element_name = "force_constant_ripple";
-  block.multiplier = MotionMultiplier{};
-  block.multiplier->of_model_force = true;
+  block.multiplier = ModelForce();
   return block;
 }
 

@@ -78,4 +78,10 @@ MotionMultiplier SlipOfVelocity() {
 
 MotionMultiplier MeasuredMotion(MotionInput input) { return {"", input, nullptr}; }
 
+MotionMultiplier ModelForce() {
+  MotionMultiplier m;
+  m.of_model_force = true;
+  return m;
+}
+
 }  // namespace mb

@@ -44,4 +44,8 @@ MotionMultiplier SlipOfVelocity();
 /// The measured motion `input` itself as a multiplier (the velocity of a damping, the acceleration of an inertia).
 MotionMultiplier MeasuredMotion(MotionInput input);
 
+/// The model's own force as a multiplier (MotionMultiplier::of_model_force: a force constant that changes with the
+/// position or a logged temperature scales the force the model computes; equation-error mode only).
+MotionMultiplier ModelForce();
+
 }  // namespace mb

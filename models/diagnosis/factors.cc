@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include <boost/math/tools/minima.hpp>
 #include <fmt/format.h>
 
 #include "models/diagnosis/effect_regressors.h"
@@ -166,6 +167,30 @@ BumpPlace ScanBump(const ProposalContext& c, const Eigen::VectorXd& m) {
       }
     }
   }
+  if (!(best.half_width > 0.0)) return best;
+  // The grid's place refined coordinate-wise: the centre within ± w/2, the half-width within [w/√2, √2·w], the centre
+  // again.
+  const auto sse_at = [&](double center, double half_width) {
+    const Eigen::VectorXd column = m.cwiseProduct(Bump(s.position, center, half_width));
+    return column.squaredNorm() > 0.0 ? fit(column) : sse_base;
+  };
+  constexpr int kBits = 20;  // of the precision within the bracket: far below the encoder's step
+  const auto refine = [&](bool center) {
+    boost::uintmax_t iterations = 40;
+    const double c = best.center, w = best.half_width;
+    const auto [value, sse] =
+        center ? boost::math::tools::brent_find_minima([&](double x) { return sse_at(x, w); }, c - 0.5 * w,
+                                                       c + 0.5 * w, kBits, iterations)
+               : boost::math::tools::brent_find_minima([&](double h) { return sse_at(c, h); }, w / std::numbers::sqrt2,
+                                                       w * std::numbers::sqrt2, kBits, iterations);
+    if (sse < best_sse) {
+      best_sse = sse;
+      best = {center ? value : c, center ? w : value, 1.0 - sse / sse_base};
+    }
+  };
+  refine(true);
+  refine(false);
+  refine(true);
   return best;
 }
 

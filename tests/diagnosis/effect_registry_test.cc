@@ -246,7 +246,8 @@ TEST(EffectRegistry, EveryBlockFileTemplateFindsItsEffect) {
                              "mass_mismatch", "position_periodic", "velocity_dependent_ripple", "time_periodic",
                              "time_delay", "quantization", "resonance", "position_dependent_force",
                              "regularized_coulomb_friction", "backlash", "friction_drift", "friction_warm_up",
-                             "drive_saturation", "drive_voltage_limit", "quadratic_drag", "inertia_ripple"}) {
+                             "drive_saturation", "drive_voltage_limit", "quadratic_drag", "inertia_ripple",
+                             "local_force_constant", "force_constant_along_travel", "column_force_constant"}) {
     EXPECT_TRUE(LookupEffect(effect).block.has_value()) << effect;
   }
   EXPECT_FALSE(LookupEffect("presliding_friction").block.has_value());  // added by hand (the report says so)

@@ -58,7 +58,7 @@ TEST(IndependentPlant, PointToPointMovesDwellAtRestAndStayInTheTravel) {
 }
 
 TEST(IndependentPlant, EachCaseNamesACatalogueEffectAndATolerance) {
-  ASSERT_EQ(Cases().size(), 36U);
+  ASSERT_EQ(Cases().size(), 39U);
   for (const auto& c : Cases()) {
     EXPECT_EQ(c.parameter.empty(), c.tolerance == 0.0) << c.name;
     // The idle column acts on nothing: like kNone, nothing may be named.
@@ -103,6 +103,9 @@ INSTANTIATE_TEST_SUITE_P(ComparePasses, IndependentCase,
                                            "friction along the travel", "damping at one stretch",
                                            "coupled axis (its velocity logged)", "mass along the travel (a linkage)",
                                            "dashpot orifice drag",
+                                           // The force constant × a place, the travel, an unread column.
+                                           "weak magnet", "air gap along the track",
+                                           "magnet temperature (extra column)",
                                            // The grammar's warm-up of time and a limit that is a function of the
                                            // speed: the grease's thermal lag (T), the winding's back-EMF (k).
                                            "grease warm-up", "back-EMF voltage limit"),
@@ -160,7 +163,9 @@ INSTANTIATE_TEST_SUITE_P(OffTheLinearStage, IndependentImprove,
                                            "grease warm-up", "back-EMF voltage limit",
                                            "viscosity follows oil temperature", "friction along the travel",
                                            "damping at one stretch", "coupled axis (its velocity logged)",
-                                           "mass along the travel (a linkage)", "dashpot orifice drag"),
+                                           "mass along the travel (a linkage)", "dashpot orifice drag",
+                                           "weak magnet", "air gap along the track",
+                                           "magnet temperature (extra column)"),
                          [](const ::testing::TestParamInfo<std::string>& case_info) {
                            std::string name;
                            for (char c : case_info.param) if (std::isalnum(static_cast<unsigned char>(c))) name += c;

@@ -67,6 +67,43 @@ double HallTemperature(double t) { return 22.0 + 1.5 * std::sin(kTwoPi * t / 40.
 // The force constant's ripple: the drive applies u·(1 + δ(x)).
 double ForceConstantRipple(double x) { return kRippleDepth * std::sin(kTwoPi * x / kForceRipplePeriod + 1.0); }
 
+// The weak magnet: its width and centre [m], the share of its remanence lost, the coil's length [m].
+constexpr double kWeakMagnetWidth = 0.011, kWeakMagnetCentre = 0.092, kWeakness = 0.25, kCoilLength = 0.034;
+
+// The force constant's fraction lost at coil position x: the lost flux of the part of the weak magnet under the coil.
+double WeakMagnetLoss(double x) {
+  const double lo = std::max(x - 0.5 * kCoilLength, kWeakMagnetCentre - 0.5 * kWeakMagnetWidth);
+  const double hi = std::min(x + 0.5 * kCoilLength, kWeakMagnetCentre + 0.5 * kWeakMagnetWidth);
+  return kWeakness * std::max(hi - lo, 0.0) / kCoilLength;
+}
+
+// The tilted magnet track: the air gap [m] along the travel, the magnets' thickness [m] and recoil permeability.
+constexpr double kGapNear = 6e-4, kGapFar = 1.4e-3, kTrackStart = 0.01, kTrackEnd = 0.19;
+constexpr double kMagnetThickness = 4e-3, kRecoilPermeability = 1.05;
+
+// The force constant at x over the one at the travel's middle: the gap's flux density h_m/(h_m + μ_r·g(x)).
+double AirGapScale(double x) {
+  const auto gap = [](double p) { return kGapNear + (kGapFar - kGapNear) * (p - kTrackStart) / (kTrackEnd - kTrackStart); };
+  const auto flux = [](double g) { return kMagnetThickness / (kMagnetThickness + kRecoilPermeability * g); };
+  return flux(gap(x)) / flux(gap(0.5 * (kTrackStart + kTrackEnd)));
+}
+
+// The ferrite magnets' temperature [°C] and the remanence's temperature coefficient [1/K] about its 50 °C mean.
+constexpr double kMagnetMeanTemperature = 50.0, kRemanenceCoefficient = -0.002;
+double MagnetTemperature(double t) {
+  return kMagnetMeanTemperature + 12.0 * std::sin(kTwoPi * t / 11.0) + 4.0 * std::sin(kTwoPi * t / 3.1 + 0.5);
+}
+
+// What the drive makes of a force command at (t, x): the force constant's share of its nominal value.
+double ForceConstantScale(Hidden h, double t, double x) {
+  if (h == Hidden::kWeakMagnet) return 1.0 - WeakMagnetLoss(x);
+  if (h == Hidden::kAirGap) return AirGapScale(x);
+  if (h == Hidden::kMagnetTemperature) {
+    return 1.0 + kRemanenceCoefficient * (MagnetTemperature(t) - kMagnetMeanTemperature);
+  }
+  return 1.0;
+}
+
 // The grease's temperature above its cold start [K]: the coils' constant heat through a first-order thermal lag.
 double GreaseWarming(double t) { return kGreaseRise * -std::expm1(-std::max(t, 0.0) / kThermalTimeConstant); }
 
@@ -393,6 +430,10 @@ std::vector<CaseSpec> Cases() {
   c.push_back(Case("dashpot orifice drag", Hidden::kOrificeDrag, "quadratic_drag", "drag_coefficient",
                    0.5 * kOilDensity * kPistonArea * std::pow(kPistonArea / (kDischargeCoefficient * kOrificeArea), 2),
                    0.10));
+  c.push_back(Case("weak magnet", Hidden::kWeakMagnet, "local_force_constant", "center", kWeakMagnetCentre, 0.05));
+  c.push_back(Case("air gap along the track", Hidden::kAirGap, "force_constant_along_travel", "", 0.0, 0.0));
+  c.push_back(Case("magnet temperature (extra column)", Hidden::kMagnetTemperature, "column_force_constant", "", 0.0,
+                   0.0));
   c.push_back(Case("grease warm-up", Hidden::kWarmUp, "friction_warm_up", "time_constant", kThermalTimeConstant,
                    0.3));
   c.push_back(Case("back-EMF voltage limit", Hidden::kBackEmf, "drive_voltage_limit", "speed_slope", kEmfSlope, 0.15));
@@ -446,6 +487,7 @@ Record Generate(Hidden hidden, const GeneratorSettings& settings) {
     }
     if (Has(hidden, Hidden::kSaturation)) applied = std::clamp(u, kLowerLimit, kUpperLimit);
     if (Has(hidden, Hidden::kForceRipple)) applied *= 1.0 + ForceConstantRipple(st.x);
+    applied *= ForceConstantScale(hidden, t, st.x);
     double logged = u;
     if (Has(hidden, Hidden::kDelay)) {  // the amplifier reports the force it applied kDelay ago (ZOH)
       const auto it = std::upper_bound(command_time.begin(), command_time.end(), t - kDelay);
@@ -462,6 +504,7 @@ Record Generate(Hidden hidden, const GeneratorSettings& settings) {
       if (Has(hidden, Hidden::kCoupledAxisVelocity)) r.extra(k) = OtherAxisVelocity(t);
       if (Has(hidden, Hidden::kIdleColumn)) r.extra(k) = HallTemperature(t);
       if (Has(hidden, Hidden::kOilTemperature)) r.extra(k) = OilTemperature(t);
+      if (Has(hidden, Hidden::kMagnetTemperature)) r.extra(k) = MagnetTemperature(t);
     }
     Advance(hidden, t, next - t, applied, &st);
     t = next;
@@ -518,6 +561,7 @@ Eigen::VectorXd CarriageForce(Hidden hidden, const Eigen::VectorXd& t, const Eig
   if (Has(hidden, Hidden::kForceRipple)) {  // the log holds the command, the force that acted over 1 + δ(x)
     for (Eigen::Index i = 0; i < n; ++i) f(i) /= 1.0 + ForceConstantRipple(x(i));
   }
+  for (Eigen::Index i = 0; i < n; ++i) f(i) /= ForceConstantScale(hidden, t(i), x(i));  // 1 but for a force constant
   if (Has(hidden, Hidden::kMainsHum)) {
     for (Eigen::Index i = 0; i < n; ++i) f(i) += kHumAmplitude * std::sin(kTwoPi * kHumHz * t(i) + 0.2);
   }
@@ -562,6 +606,7 @@ std::string ExtraColumnName(Hidden hidden) {
   if (hidden == Hidden::kCoupledAxisVelocity) return "vel_y_m_s";
   if (hidden == Hidden::kIdleColumn) return "temperature_C";
   if (hidden == Hidden::kOilTemperature) return "oil_temperature_C";
+  if (hidden == Hidden::kMagnetTemperature) return "magnet_temperature_C";
   return "";
 }
 

@@ -72,6 +72,18 @@ enum class Hidden {
   /// Q = A_p·v) on a 1000 mm² piston through a 50 mm² orifice (ρ = 860 kg/m³, C_d = 0.6) gives 478 N·s²/m²·v·|v|,
   /// 19 N at 0.2 m/s: a drag that grows with the square of the speed.
   kOrificeDrag,
+  /// A weak magnet: one magnet of the track (11 mm wide, centred at x = 92 mm) has lost a quarter of its remanence
+  /// (chipped, or overheated once). The force constant is the flux under the 34 mm coil: it falls by up to
+  /// 0.25·11/34 = 8.1 % while the coil passes over that magnet (a trapezoid in x from 69.5 to 114.5 mm).
+  kWeakMagnet,
+  /// The magnet track is not parallel to the guide: the air gap opens from 0.6 mm at x = 10 mm to 1.4 mm at
+  /// x = 190 mm, and the force constant follows the gap's flux density B ∝ h_m/(h_m + μ_r·g) (4 mm magnets,
+  /// μ_r = 1.05): +9 % at the near end, −8 % at the far end of what the middle has.
+  kAirGap,
+  /// A ferrite-magnet motor whose magnets follow the coil's heat, logged as magnet_temperature_C (the diagram does not
+  /// read it): the remanence, and with it the force constant, falls by 0.2 % per K, θ = 50 + 12·sin(2πt/11 s) +
+  /// 4·sin(2πt/3.1 s + 0.5) °C.
+  kMagnetTemperature,
 };
 
 /// Whether a case's record is of a rotary axis (time_s, angle_rad, torque_Nm; Record::rotary).
@@ -110,8 +122,8 @@ struct Record {
   Eigen::VectorXd extra;       ///< its values
 };
 
-/// The name of the further column a case logs (kCoupledAxis, kCoupledAxisVelocity, kIdleColumn, kOilTemperature), ""
-/// for the others.
+/// The name of the further column a case logs (kCoupledAxis, kCoupledAxisVelocity, kIdleColumn, kOilTemperature,
+/// kMagnetTemperature), "" for the others.
 std::string ExtraColumnName(Hidden hidden);
 
 struct GeneratorSettings {

@@ -20,6 +20,11 @@
 //                                                 {center x₀, half_range h [m], slip_velocity v_s}: ξ^j,
 //                                                 ξ = (x − x₀)/h, j = 1..3 (position_dependent_force's basis; j = 0
 //                                                 is the base's level)
+//   local_force_constant   ŷ × bump(x)            the force constant changes over one stretch (a chipped or
+//                                                 demagnetised magnet) {center c, half_width w [m]}
+//   force_constant_along_travel  ŷ × smooth(x)    the force constant changes along the travel (the air gap varying
+//                                                 along the rail) {center x₀, half_range h [m]}
+//   column_force_constant  ŷ × (c − c̄)            the force constant follows an unread column (a magnet temperature)
 // (No slip(v) × column: on the oil-temperature case it stood in for the friction law's error at rest, which varies
 // with the column over a stretch of the record, and was named before the viscous product that was the truth.)
 // (|v| × periodic(x) is the catalogue's velocity_dependent_ripple.) Proposal: a smooth product over the record's travel
@@ -97,10 +102,26 @@ const Product kProducts[] = {
      "lubrication varying along the rail, a cable carrier dragging more at one end): the direction of slip × a smooth "
      "function of the position; add a position_dependent_force block (a cubic of the position) multiplied by sign(v)",
      "tanh(v/v_s)·ξ^j, ξ = (x − x₀)/h, j = 1..3"},
+    {"local_force_constant", 91, Multiplier::kModelForce, PositionFactor::kLocal,
+     "the force constant changes over one stretch of the travel (a chipped, cracked or demagnetised magnet, a gap in "
+     "the magnet track): the force that acted × a bump over [c − w, c + w]; add a 1-D lookup table of the position "
+     "multiplied by the model's force",
+     "ŷ·cos²(π(x − c)/(2w)) for |x − c| < w, ŷ the model's force"},
+    {"force_constant_along_travel", 92, Multiplier::kModelForce, PositionFactor::kSmooth,
+     "the force constant changes smoothly along the travel (the magnet track not parallel to the guide, so the air gap "
+     "and the flux vary along the rail; magnets of another grade or temperature at one end): the force that acted × a "
+     "smooth function of the position; add a position_dependent_force block (a cubic of the position) multiplied by "
+     "the model's force",
+     "ŷ·ξ^j, ξ = (x − x₀)/h, j = 1..3, ŷ the model's force"},
     {"column_damping", 123, Multiplier::kVelocity, PositionFactor::kColumn,
      "the viscous friction follows a column of the log that the diagram does not read (the lubricant's temperature: "
      "its viscosity): v × the column; add an input connector reading it, a gain, multiplied by the velocity",
      "v·(c − c̄), c a log column the diagram does not read"},
+    {"column_force_constant", 124, Multiplier::kModelForce, PositionFactor::kColumn,
+     "the force constant follows a column of the log that the diagram does not read (the magnets' or the coil's "
+     "temperature: a neodymium magnet's flux falls by about 0.1 % per K): the force that acted × the column; add an "
+     "input connector reading it, a gain, multiplied by the model's force",
+     "ŷ·(c − c̄), c a log column the diagram does not read, ŷ the model's force"},
 };
 
 // The multiplier's slip velocity: the effect's parameter when the multiplier is the direction of slip, else unused.
