@@ -153,7 +153,8 @@ BumpPlace ScanBump(const ProposalContext& c, const Eigen::VectorXd& m) {
   const double sse_base = fit(Eigen::MatrixXd(c.size(), 0));
   if (!(sse_base > 0.0)) return best;
   double best_sse = sse_base;
-  for (const double fraction : {1.0 / 40.0, 1.0 / 20.0, 1.0 / 10.0}) {
+  constexpr double kWidest = 1.0 / 10.0;  // of the travel: a wider stretch is not one place
+  for (const double fraction : {1.0 / 40.0, 1.0 / 20.0, kWidest}) {
     const double w = fraction * span;
     // The stretch lies inside the travel with room on both sides, so that the axis passes through it: at an end a
     // bump is confounded with the reversals there.
@@ -168,8 +169,9 @@ BumpPlace ScanBump(const ProposalContext& c, const Eigen::VectorXd& m) {
     }
   }
   if (!(best.half_width > 0.0)) return best;
-  // The grid's place refined coordinate-wise: the centre within ± w/2, the half-width within [w/√2, √2·w], the centre
-  // again.
+  // The grid's place refined coordinate-wise: the centre within ± w/2, the half-width within [w/√2, √2·w] (at most
+  // the widest of the grid: on EMPS a damping 35 mm either side of 45 mm, a seventh of the travel, came before the
+  // screw lead), the centre again.
   const auto sse_at = [&](double center, double half_width) {
     const Eigen::VectorXd column = m.cwiseProduct(Bump(s.position, center, half_width));
     return column.squaredNorm() > 0.0 ? fit(column) : sse_base;
@@ -182,7 +184,8 @@ BumpPlace ScanBump(const ProposalContext& c, const Eigen::VectorXd& m) {
         center ? boost::math::tools::brent_find_minima([&](double x) { return sse_at(x, w); }, c - 0.5 * w,
                                                        c + 0.5 * w, kBits, iterations)
                : boost::math::tools::brent_find_minima([&](double h) { return sse_at(c, h); }, w / std::numbers::sqrt2,
-                                                       w * std::numbers::sqrt2, kBits, iterations);
+                                                       std::min(w * std::numbers::sqrt2, kWidest * span), kBits,
+                                                       iterations);
     if (sse < best_sse) {
       best_sse = sse;
       best = {center ? value : c, center ? w : value, 1.0 - sse / sse_base};
