@@ -76,8 +76,9 @@ std::optional<ProposedPeriod> ModulatedPeriod(const ProposalContext& context, co
 /// A local factor's place: the centre and half-width minimising the joint fit of the residual on
 /// [base, 1, m·Bump(x; c, w)], over half-widths of 1/40, 1/20 and 1/10 of the travel and centres every w/2 from 2w inside
 /// either end of the travel (the axis passes through the stretch; at an end a bump is confounded with the reversals),
-/// then the centre refined within ± w/2 of the grid's best by Brent's method (Boost.Math; a grid of w/2 left a weak
-/// magnet's stretch 4.8 mm off its 92 mm centre).
+/// then refined by Brent's method (Boost.Math): the centre within ± w/2 of the grid's best, the half-width within
+/// [w/√2, √2·w] but at most a tenth of the travel, the centre again (a grid of w/2 left a weak magnet's stretch 4.8 mm
+/// off its 92 mm centre).
 struct BumpPlace {
   double center = 0.0, half_width = 0.0;  ///< [m]
   double explained = 0.0;                 ///< share of the residual's sum of squares the bump removes, 0..1

@@ -83,7 +83,9 @@ constexpr double kMagnetThickness = 4e-3, kRecoilPermeability = 1.05;
 
 // The force constant at x over the one at the travel's middle: the gap's flux density h_m/(h_m + μ_r·g(x)).
 double AirGapScale(double x) {
-  const auto gap = [](double p) { return kGapNear + (kGapFar - kGapNear) * (p - kTrackStart) / (kTrackEnd - kTrackStart); };
+  const auto gap = [](double p) {
+    return kGapNear + (kGapFar - kGapNear) * (p - kTrackStart) / (kTrackEnd - kTrackStart);
+  };
   const auto flux = [](double g) { return kMagnetThickness / (kMagnetThickness + kRecoilPermeability * g); };
   return flux(gap(x)) / flux(gap(0.5 * (kTrackStart + kTrackEnd)));
 }
