@@ -177,23 +177,29 @@ BumpPlace ScanBump(const ProposalContext& c, const Eigen::VectorXd& m) {
     return column.squaredNorm() > 0.0 ? fit(column) : sse_base;
   };
   constexpr int kBits = 20;  // of the precision within the bracket: far below the encoder's step
-  const auto refine = [&](bool center) {
+  const auto minimum = [](const auto& sse_of, double lo, double hi) {  // Brent's {argument, sse} over [lo, hi]
     boost::uintmax_t iterations = 40;
-    const double c = best.center, w = best.half_width;
-    const auto [value, sse] =
-        center ? boost::math::tools::brent_find_minima([&](double x) { return sse_at(x, w); }, c - 0.5 * w,
-                                                       c + 0.5 * w, kBits, iterations)
-               : boost::math::tools::brent_find_minima([&](double h) { return sse_at(c, h); }, w / std::numbers::sqrt2,
-                                                       std::min(w * std::numbers::sqrt2, kWidest * span), kBits,
-                                                       iterations);
-    if (sse < best_sse) {
-      best_sse = sse;
-      best = {center ? value : c, center ? w : value, 1.0 - sse / sse_base};
-    }
+    return boost::math::tools::brent_find_minima(sse_of, lo, hi, kBits, iterations);
   };
-  refine(true);
-  refine(false);
-  refine(true);
+  const auto keep_if_better = [&](double center, double half_width, double sse) {
+    if (!(sse < best_sse)) return;
+    best_sse = sse;
+    best = {center, half_width, 1.0 - sse / sse_base};
+  };
+  const auto refine_center = [&] {
+    const double x0 = best.center, w = best.half_width;
+    const auto [center, sse] = minimum([&](double x) { return sse_at(x, w); }, x0 - 0.5 * w, x0 + 0.5 * w);
+    keep_if_better(center, w, sse);
+  };
+  const auto refine_half_width = [&] {
+    const double x0 = best.center, w = best.half_width;
+    const auto [half_width, sse] = minimum([&](double h) { return sse_at(x0, h); }, w / std::numbers::sqrt2,
+                                           std::min(w * std::numbers::sqrt2, kWidest * span));
+    keep_if_better(x0, half_width, sse);
+  };
+  refine_center();
+  refine_half_width();
+  refine_center();
   return best;
 }
 
