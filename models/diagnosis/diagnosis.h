@@ -101,6 +101,8 @@ struct DiagnosisOptions {
 // One effect the ranking chose.
 struct DiagnosedEffect {
   std::string effect;                        // stable catalogue name
+  // The grammar's pair the effect is (EffectType::multiplier, ::modulator; factors.h): "" for an effect that is none.
+  std::string multiplier, modulator;
   double score = 0.0;                        // share of the remaining held-out residual energy explained, 0..1
   double cumulative_share = 0.0;             // share of the base's held-out residual energy explained so far
   std::map<std::string, double> parameters;  // SI; periodic effects also get "amplitude" (first harmonic)

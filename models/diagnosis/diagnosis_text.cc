@@ -7,6 +7,7 @@
 #include "models/diagnosis/diagnosis_text.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <map>
 #include <vector>
@@ -15,6 +16,7 @@
 
 #include "engine/units.h"
 #include "models/diagnosis/effect_registry.h"
+#include "models/diagnosis/factors.h"
 #include "models/diagnosis/parameter_text.h"
 #include "models/diagnosis/robust_weighting.h"
 
@@ -60,6 +62,8 @@ DiagnosedEffect DescribeEffect(const Candidate& c, double score, double cumulati
   const Eigen::Index n = signals.size();
   DiagnosedEffect d;
   d.effect = c.effect.name;
+  d.multiplier = c.type->multiplier;
+  d.modulator = c.type->modulator;
   d.score = score;
   d.cumulative_share = cumulative;
   d.parameters = c.effect.parameters;
@@ -105,6 +109,16 @@ DiagnosedEffect DescribeEffect(const Candidate& c, double score, double cumulati
     d.log_column = signals.extra_names[static_cast<std::size_t>(column->second)];
     d.description += fmt::format(" The residual follows the log column '{}' (coupling from another axis, or what that "
                                  "column measures acting on this one).", d.log_column);
+  }
+  // A pair of the grammar in its rows' words, with its figures (issue 45): "the Coulomb friction level follows
+  // 'normal_force_N': +0.031 per unit of it".
+  const MultiplierRow* multiplier = FindMultiplier(d.multiplier);
+  const ModulatorRow* modulator = FindModulator(d.modulator);
+  if (multiplier != nullptr && modulator != nullptr && modulator->words) {
+    std::string words = PairWords(*multiplier, *modulator, d.parameters,
+                                  d.coefficients.size() == 1 ? d.coefficients(0) : 0.0, d.log_column, position_unit);
+    words[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(words[0])));
+    d.description += " " + words + ".";
   }
   return d;
 }

@@ -1,5 +1,6 @@
 #include "models/diagnosis/effect_catalogue.h"
 
+#include <algorithm>
 #include <cmath>
 #include <exception>
 #include <stdexcept>
@@ -106,7 +107,9 @@ CandidateSearch ProposeCandidateEffects(const DiagnosisSignals& s, const Eigen::
   for (std::size_t i = 0; i < effects.size(); ++i) {
     if (errors[i]) std::rethrow_exception(errors[i]);
     out.candidates.insert(out.candidates.end(), sinks[i].candidates.begin(), sinks[i].candidates.end());
-    out.notes.insert(out.notes.end(), sinks[i].notes.begin(), sinks[i].notes.end());
+    for (std::string& note : sinks[i].notes) {  // a note several pairs of the grammar give once
+      if (std::find(out.notes.begin(), out.notes.end(), note) == out.notes.end()) out.notes.push_back(std::move(note));
+    }
   }
   return out;
 }

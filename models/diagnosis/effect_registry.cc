@@ -21,8 +21,25 @@ bool EffectRegistry::Add(EffectType type) {
     throw std::logic_error(fmt::format("effect '{}' registered without its regressors or proposal rule", name));
   }
   if (type.block) throw std::logic_error(fmt::format("effect '{}': register its block with its block", name));
-  const auto [it, added] = effects_.emplace(name, std::move(type));
-  if (!added) throw std::logic_error(fmt::format("effect '{}' registered twice", name));
+  if (type.multiplier.empty() != type.modulator.empty()) {
+    throw std::logic_error(fmt::format("effect '{}' names one factor of its pair, not both", name));
+  }
+  if (!type.multiplier.empty()) {
+    const std::pair<std::string, std::string> pair{type.multiplier, type.modulator};
+    if (const auto held = pairs_.find(pair); held != pairs_.end()) {
+      const EffectType& other = effects_.at(held->second);
+      if (other.generated == type.generated) {
+        throw std::logic_error(fmt::format("effects '{}' and '{}' are both the pair {} × {}", other.name, name,
+                                           pair.first, pair.second));
+      }
+      if (type.generated) return true;  // the hand-written effect holds the pair
+      if (other.block) unclaimed_blocks_.emplace(other.name, *other.block);
+      effects_.erase(held->second);
+    }
+    pairs_[pair] = name;
+  }
+  if (effects_.count(name) > 0) throw std::logic_error(fmt::format("effect '{}' registered twice", name));
+  const auto it = effects_.emplace(name, std::move(type)).first;
   if (const auto pending = unclaimed_blocks_.find(name); pending != unclaimed_blocks_.end()) {
     it->second.block = std::move(pending->second);
     unclaimed_blocks_.erase(pending);

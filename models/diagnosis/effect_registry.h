@@ -148,6 +148,15 @@ struct EffectType {
   std::string regressor_formula;   ///< the regressor columns as a formula, e.g. "cos(2πkx/P), sin(2πkx/P), k = 1..K"
   std::vector<EffectParameter> parameters;
   EffectTraits traits;
+  /// The grammar's factors the effect is the product of (models/diagnosis/factors.h, issue 45): the ids of a row of the
+  /// multipliers' table ("slip", "velocity", "model_force", …) and of the modulators' table ("position_periodic",
+  /// "column", "time_step", …); both empty for an effect that is no product (a delay, a resonance, a saturation, a
+  /// friction law). At most one effect holds a pair: a hand-written effect of the catalogue (its own proposal rule)
+  /// takes the place of the pair the grammar generates (EffectType::generated).
+  std::string multiplier, modulator;
+  /// Made by the grammar's cross product (effects/factor_products.cc), not written by hand: it yields its pair to a
+  /// hand-written effect registered with the same multiplier and modulator, before or after it.
+  bool generated = false;
   /// The regressor columns (N × k, names "<effect>" or "<effect>.<column>") on the signals. Throws
   /// std::invalid_argument naming a missing or invalid parameter or an absent optional signal.
   std::function<EffectRegressors(const EffectInstance&, const DiagnosisSignals&)> regressors;
@@ -164,8 +173,10 @@ class EffectRegistry {
   /// The process-wide registry that the effect files add themselves to during static initialisation.
   static EffectRegistry& Global();
 
-  /// Adds an effect. @throws std::logic_error if the name is taken or empty, or a function is missing.
-  /// Returns true (for static registration).
+  /// Adds an effect. @throws std::logic_error if the name is taken or empty, or a function is missing, or its
+  /// (multiplier, modulator) pair is held by another effect of the same kind (two hand-written, or two generated). A
+  /// generated effect whose pair a hand-written one holds is not added (or removed when the hand-written one comes
+  /// later, its block kept unclaimed under its name). Returns true (for static registration).
   bool Add(EffectType type);
   /// Attaches `block` as the block that adds effect `effect_name` to a diagram, whether the effect registers
   /// before or after. @throws std::logic_error if the effect has a block already, or `block` names no block type
@@ -186,6 +197,7 @@ class EffectRegistry {
  private:
   std::map<std::string, EffectType, std::less<>> effects_;
   std::map<std::string, EffectBlockTemplate, std::less<>> unclaimed_blocks_;  ///< effect not registered (yet)
+  std::map<std::pair<std::string, std::string>, std::string> pairs_;  ///< (multiplier, modulator) → the effect holding it
 };
 
 /// EffectRegistry::Global().Get(name).

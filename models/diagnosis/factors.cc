@@ -18,24 +18,6 @@
 
 namespace mb {
 
-Eigen::VectorXd MultiplierColumn(Multiplier multiplier, const DiagnosisSignals& s, double slip_velocity,
-                                 const std::string& effect) {
-  switch (multiplier) {
-    case Multiplier::kOne: return Eigen::VectorXd::Ones(s.size());
-    case Multiplier::kSlip:
-      if (!(slip_velocity > 0.0 && std::isfinite(slip_velocity))) {
-        throw std::invalid_argument(
-            fmt::format("effect '{}': slip_velocity must be > 0 m/s, got {}", effect, slip_velocity));
-      }
-      return (s.velocity.array() / slip_velocity).tanh().matrix();
-    case Multiplier::kSpeed: return s.velocity.cwiseAbs();
-    case Multiplier::kVelocity: return s.velocity;
-    case Multiplier::kAcceleration: return s.acceleration;
-    case Multiplier::kModelForce: return NeedModelOutput({effect, {}}, s);
-  }
-  throw std::logic_error("MultiplierColumn: unknown multiplier");
-}
-
 namespace {
 
 // The squared correlation of a and b (0 when either is constant).
@@ -103,10 +85,19 @@ Eigen::VectorXd Bump(const Eigen::VectorXd& position, double center, double half
   });
 }
 
-std::optional<ProposedPeriod> ModulatedPeriod(const ProposalContext& c, const Eigen::VectorXd& modulation) {
+int MotionHarmonic(const ProposalContext& c, double f) {
+  const double motion_hz = c.search().motion_frequency_hz;
+  if (!(motion_hz > 0.0)) return 0;
+  const double k = std::round(f / motion_hz);
+  return k >= 1.0 && k <= c.options().motion_harmonics && std::abs(f - k * motion_hz) <= 0.01 * f ? static_cast<int>(k)
+                                                                                                  : 0;
+}
+
+std::optional<Periodogram> DemodulatedPeriodogram(const ProposalContext& c, const Eigen::VectorXd& abscissa,
+                                                  const Eigen::VectorXd& modulation, PeriodogramOptions options) {
   const DiagnosisSignals& s = c.signals();
   const Eigen::Index n = c.size();
-  if (!(c.position_span() > 0.0) || modulation.size() != n) return std::nullopt;
+  if (modulation.size() != n || abscissa.size() != n) return std::nullopt;
   std::vector<double> magnitude;
   for (Eigen::Index i = 0; i < n; ++i) {
     if (std::abs(s.velocity(i)) > c.dead_band()) magnitude.push_back(std::abs(modulation(i)));
@@ -118,25 +109,30 @@ std::optional<ProposedPeriod> ModulatedPeriod(const ProposalContext& c, const Ei
   std::vector<double> x, d;
   for (Eigen::Index i = 0; i < n; ++i) {
     if (std::abs(s.velocity(i)) > c.dead_band() && std::abs(modulation(i)) >= floor) {
-      x.push_back(s.position(i));
+      x.push_back(abscissa(i));
       d.push_back(c.residual()(i) / modulation(i));
     }
   }
   if (x.size() < 256) return std::nullopt;
   const Eigen::Map<const Eigen::VectorXd> xs(x.data(), static_cast<Eigen::Index>(x.size()));
   const Eigen::Map<const Eigen::VectorXd> ds(d.data(), static_cast<Eigen::Index>(d.size()));
-  PeriodogramOptions options = c.options().position_periodogram;
-  options.max_period = (xs.maxCoeff() - xs.minCoeff()) / c.options().min_position_cycles_with_harmonics;
-  Periodogram pg;
   try {
-    pg = PositionPeriodogram(xs, ds, options);
+    return LombScarglePeriodogram(xs, ds, options);
   } catch (const std::invalid_argument&) {
     return std::nullopt;  // an empty period range (a stroke of a few steps), a constant residual: nothing to propose
   }
-  for (std::size_t i = 0; i < pg.peaks.size(); ++i) {
-    const PeriodogramPeak& p = pg.peaks[i];
+}
+
+std::optional<ProposedPeriod> ModulatedPeriod(const ProposalContext& c, const Eigen::VectorXd& modulation) {
+  if (!(c.position_span() > 0.0)) return std::nullopt;
+  PeriodogramOptions options = c.options().position_periodogram;
+  options.max_period = c.position_span() / c.options().min_position_cycles_with_harmonics;
+  const std::optional<Periodogram> pg = DemodulatedPeriodogram(c, c.signals().position, modulation, options);
+  if (!pg) return std::nullopt;
+  for (std::size_t i = 0; i < pg->peaks.size(); ++i) {
+    const PeriodogramPeak& p = pg->peaks[i];
     if (p.harmonic_of >= 0 || !p.significant) continue;
-    return ProposedPeriod{p.period, HarmonicCount(pg, i, c.options().max_harmonics), p.power};
+    return ProposedPeriod{p.period, HarmonicCount(*pg, i, c.options().max_harmonics), p.power};
   }
   return std::nullopt;
 }

@@ -1,41 +1,103 @@
 #pragma once
-// The factors of the diagnosis grammar (DIAGNOSIS.md, "Beyond the catalogue: effects as products of physical
-// factors"): a candidate effect is a product of a factor of the position — periodic (period P, K harmonics) or local (a
-// bump over a stretch of the travel) — with a factor of the motion or the force: 1, sign(v) (with the dead band), |v|,
-// the model's force ŷ (the force constant; built from the measured motion, never from the compared output). The
-// catalogue's effects are named special cases: velocity_dependent_ripple is |v| × periodic(x), friction_drift
-// v × ramp(t). effects/factor_products.cc registers the products; docs/diagnosis.md holds the table from factor pairs
-// to physics. What the factors share with the proposal rules — the period of a modulated ripple and the place of a
-// local one — is here.
+// The factors of the diagnosis grammar (DIAGNOSIS.md, "Beyond the catalogue" and "Generated, not listed"; issue 45): a
+// candidate effect is a product of a row of the multipliers' table — what the force is proportional to (1, the
+// direction of slip, v, |v|, v·|v|, a, the model's force ŷ, ŷ·|ŷ|, |ŷ|·slip) — and a row of the modulators' table —
+// what it varies with (1, periodic, local or smooth in the position, an unread log column or its rate, a ramp, a step,
+// a window or a warm-up in time). The tables are in factor_tables.cc, their cross product in
+// effects/factor_products.cc; what their shape scans share with the catalogue's proposal rules (the period of a
+// modulated ripple, the place of a local one, the slip velocity) is here.
 //
-// Units: SI (x [m], v [m/s], periods and widths [m]); a multiplier's unit is its signal's.
-
-#include <optional>
-#include <string>
+// Units: SI (x [m], v [m/s], t [s], periods and widths [m]); a multiplier's unit is its signal's.
 
 #include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
 
 #include <Eigen/Core>
 
 #include "models/diagnosis/effect_catalogue.h"
 #include "models/diagnosis/effect_proposal.h"
+#include "models/diagnosis/effect_registry.h"
 
 namespace mb {
 
-/// The factor of the motion or the force that multiplies a position factor.
-enum class Multiplier {
-  kOne,         ///< 1: a force of the position alone
-  kSlip,        ///< tanh(v/v_s), the direction of slip as a regularised Coulomb law has it: a friction
-  kSpeed,       ///< |v|: a damping
-  kVelocity,    ///< v: a damping (a viscous force)
-  kAcceleration,  ///< a: an inertia
-  kModelForce,  ///< ŷ, the model's force from the measured motion (equation-error mode): a force constant
+/// Shape parameters of a factor by name (SI), as EffectInstance::parameters holds them.
+using FactorParameters = std::map<std::string, double>;
+
+/// A row of the multipliers' table (issue 45): what the force is proportional to. Every row crosses every row of the
+/// modulators' table (effects/factor_products.cc); a new physical multiplier is one row here and nothing else.
+struct MultiplierRow {
+  const char* id;       ///< stable: "slip" (compare.json's "multiplier")
+  const char* noun;     ///< its part of a pair's name: "damping" (damping_ripple, damping_step, …)
+  const char* phrase;   ///< in the field's words: "the Coulomb friction level"
+  const char* formula;  ///< "tanh(v/v_s)"
+  const char* physics;  ///< what it usually is on a machine
+  const char* unit;     ///< the unit of what the modulator's coefficient multiplies: "" (a force), "m/s", "N"
+  bool slip = false;    ///< holds the direction of slip tanh(v/v_s): the pair has the parameter slip_velocity
+  bool model_force = false;      ///< holds ŷ, the model's force from the measured motion: equation-error mode only
+  bool odd_in_velocity = false;  ///< reverses with v: one way of travel, it is its even twin and is not proposed
+  bool lagrange = false;  ///< a mass: times a factor of the position it acts as M(x)·a + ½M′(x)·v² (Lagrange)
+  /// Its column (N) on the signals, given the direction of slip `slip` (N): tanh(v/v_s) in a regressor, sign(v) with
+  /// the dead band in a shape scan. Throws std::invalid_argument naming `effect` when ŷ is needed and absent.
+  std::function<Eigen::VectorXd(const DiagnosisSignals&, const Eigen::VectorXd& slip, const std::string& effect)> column;
 };
 
-/// The multiplier's column on the signals (N). kSlip needs `slip_velocity` v_s > 0 [m/s] (else std::invalid_argument);
-/// kModelForce needs DiagnosisSignals::model_output (else std::invalid_argument naming `effect`).
-Eigen::VectorXd MultiplierColumn(Multiplier multiplier, const DiagnosisSignals& signals, double slip_velocity,
-                                 const std::string& effect);
+/// A row of the modulators' table: what the force varies with. Its shape scan is shared by every multiplier (found
+/// on the residual demodulated by each); a new physical modulator is one row here and nothing else.
+struct ModulatorRow {
+  const char* id;           ///< stable: "position_periodic" (compare.json's "modulator")
+  const char* name_pattern; ///< a pair's name from the multiplier's noun: "{}_ripple", "local_{}", "{}"
+  const char* phrase;       ///< "rippling along the travel": composed after the multiplier's phrase
+  const char* formula;      ///< "cos/sin(2πkx/P), k = 1..K"
+  const char* physics;      ///< what it usually is
+  std::vector<EffectParameter> parameters;
+  bool of_position = false;  ///< a function of the position: with a mass, Lagrange's ½M′(x)·v² (shape_derivative)
+  Periodicity periodicity = Periodicity::kNone;
+  /// Refinement of its shape parameter in the joint fit (EffectTraits::refined_parameter …), or none.
+  std::function<void(EffectTraits*)> refine;
+  /// Its columns G (N × k) scaled by `scale` (N) when given, named "<name>" or "<name>.<suffix>". Throws
+  /// std::invalid_argument naming `name` when a parameter is missing or invalid.
+  std::function<EffectRegressors(const FactorParameters&, const DiagnosisSignals&, const std::string& name,
+                                 const Eigen::VectorXd* scale)>
+      shape;
+  /// dG/dx (N × k) scaled by `scale`, for a factor of the position (of_position), else empty.
+  std::function<Eigen::MatrixXd(const FactorParameters&, const DiagnosisSignals&, const Eigen::VectorXd& scale)>
+      shape_derivative;
+  /// The shape scan: the parameter sets worth proposing for the multiplier column `m` (N), each a candidate; notes
+  /// say why none is (ProposalContext::Note, naming `pair`).
+  std::function<std::vector<FactorParameters>(ProposalContext&, const Eigen::VectorXd& m, const std::string& pair)>
+      scan;
+  /// Its words after the multiplier's phrase, with the figures: "ripples along the travel with period 22.5 mm",
+  /// "follows 'oil_temperature_C': −8 per unit of it" — from the diagnosed parameters (SI; positions in
+  /// `position_unit`), the coefficient of a single column with the multiplier's unit (MultiplierRow::unit), and the
+  /// unread column's name ("" when none).
+  std::function<std::string(const FactorParameters&, double coefficient, const std::string& coefficient_unit,
+                            const std::string& column, const std::string& position_unit)>
+      words;
+};
+
+/// The two tables, in the order of the candidates they make.
+const std::vector<MultiplierRow>& Multipliers();
+const std::vector<ModulatorRow>& Modulators();
+/// A row by id; nullptr when there is none.
+const MultiplierRow* FindMultiplier(std::string_view id);
+const ModulatorRow* FindModulator(std::string_view id);
+
+/// A pair's name from its rows: the modulator's name pattern filled with the multiplier's noun ("damping_ripple").
+std::string PairName(const MultiplierRow& multiplier, const ModulatorRow& modulator);
+
+/// The pair's words for a report: "the Coulomb friction level follows 'normal_force_N': +0.031 per unit of it",
+/// "the viscous friction changes between 3.1 s and 7.9 s", … from the rows' phrases, the diagnosed parameters (SI,
+/// positions in `position_unit`), the coefficient of a single column, and the unread column's name (or "").
+std::string PairWords(const MultiplierRow& multiplier, const ModulatorRow& modulator, const FactorParameters& parameters,
+                      double single_coefficient, const std::string& column_name, const std::string& position_unit);
+
+/// The grammar in Markdown: the multipliers' table, the modulators' table and the cross product, each pair by the
+/// name of the registered effect that holds it (docs/diagnosis.md, "The grammar"; `motionblocks grammar`).
+std::string GrammarMarkdown();
 
 /// The slip velocity v_s of a friction factor tanh(v/v_s): of the log grid dead_band·2^−k, k = 0..5 (the context's dead
 /// band, 1 % of the top speed, down to 1/32 of it), the one whose `columns(tanh(v/v_s))` (N × k) leave the least of the
@@ -65,6 +127,17 @@ Eigen::VectorXd Centered(const Eigen::VectorXd& column);
 /// The bump of a local factor: cos²(π(x − c)/(2w)) for |x − c| < w, else 0 — one at the centre c, zero with zero slope
 /// at c ± w (a raised cosine of width 2w; N).
 Eigen::VectorXd Bump(const Eigen::VectorXd& position, double center, double half_width);
+
+/// The harmonic order k (1..CatalogueOptions::motion_harmonics) of the motion's own frequency
+/// (CandidateSearch::motion_frequency_hz) that `frequency_hz` [Hz] lies within 1 % of, else 0. A time period locked to
+/// the motion's repetition is every state-dependent effect's too: it is no vibration of time.
+int MotionHarmonic(const ProposalContext& context, double frequency_hz);
+
+/// The periodogram against `abscissa` (the position, or the time; N) of the residual demodulated by `modulation` (N),
+/// r/m, over the samples moving faster than the dead band whose |m| reaches its median there. nullopt when fewer than
+/// 256 samples are left or the periodogram cannot be made (an empty period range, a constant residual).
+std::optional<Periodogram> DemodulatedPeriodogram(const ProposalContext& context, const Eigen::VectorXd& abscissa,
+                                                  const Eigen::VectorXd& modulation, PeriodogramOptions options);
 
 /// The period of a position ripple that `modulation` multiplies (sign(v) for a friction along the pitch, ŷ for a
 /// force-constant ripple), from the periodogram of the demodulated residual r/m over the samples moving faster than

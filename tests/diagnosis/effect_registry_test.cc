@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <numbers>
 #include <set>
@@ -13,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "models/diagnosis/effect_proposal.h"
+#include "models/diagnosis/factors.h"
 #include "models/diagnosis/parameter_text.h"
 #include "models/diagnosis/signal_processing.h"
 #include "tests/error_message.h"
@@ -51,7 +54,7 @@ const std::map<std::string, double> kTypical{{"period", 0.0025},   {"harmonics",
                                              {"upper_limit", 50.0}, {"lower_limit", -60.0}, {"change_time", 2.0},
                                              {"start_time", 0.0}, {"end_time", 4.0}, {"half_width", 0.02},
                                              {"column", 0.0},      {"time_constant", 1.5},     {"speed_slope", 100.0},
-                                             {"no_load_speed", 0.5}};
+                                             {"no_load_speed", 0.5}, {"on_time", 1.0},     {"off_time", 3.0}};
 
 bool IsSnakeCase(const std::string& name) {
   return !name.empty() && std::islower(static_cast<unsigned char>(name.front())) &&
@@ -206,6 +209,91 @@ TEST(EffectRegistry, RefusesDuplicatesAndIncompleteEffects) {
     EXPECT_STREQ(e.what(), "effect 'spring' registered twice");
   }
   EXPECT_EQ(registry.Suggest("sprin"), std::vector<std::string>{"spring"});
+}
+
+// The grammar (issue 45): every multiplier crossed with every modulator is held by exactly one registered effect —
+// generated, or a hand-written effect of the catalogue in its place — and no registered pair is outside the tables.
+TEST(EffectRegistry, EveryPairOfTheTwoTablesIsHeldByExactlyOneEffect) {
+  std::map<std::pair<std::string, std::string>, std::vector<std::string>> held;
+  for (const EffectType* e : EffectRegistry::Global().Effects()) {
+    if (e->multiplier.empty()) continue;
+    EXPECT_NE(FindMultiplier(e->multiplier), nullptr) << e->name;
+    EXPECT_NE(FindModulator(e->modulator), nullptr) << e->name;
+    held[{e->multiplier, e->modulator}].push_back(e->name);
+  }
+  for (const MultiplierRow& m : Multipliers()) {
+    for (const ModulatorRow& mod : Modulators()) {
+      const auto it = held.find({m.id, mod.id});
+      ASSERT_NE(it, held.end()) << m.id << " × " << mod.id;
+      EXPECT_EQ(it->second.size(), 1u) << m.id << " × " << mod.id;
+    }
+  }
+  EXPECT_EQ(held.size(), Multipliers().size() * Modulators().size());
+  // The names the catalogue gave before the grammar stay, on their pairs.
+  EXPECT_EQ(LookupEffect("friction_ripple").multiplier, "slip");
+  EXPECT_EQ(LookupEffect("friction_ripple").modulator, "position_periodic");
+  EXPECT_EQ(LookupEffect("mass_change").modulator, "time_step");
+  EXPECT_TRUE(LookupEffect("inertia_window").generated);
+  EXPECT_FALSE(LookupEffect("mass_change").generated);
+}
+
+TEST(EffectRegistry, AHandWrittenEffectTakesTheGeneratedPairsPlaceInEitherOrder) {
+  EffectType generated = SpringWithoutProposal();
+  generated.propose = [](ProposalContext& c) { c.Propose("spring"); };
+  generated.multiplier = "one";
+  generated.modulator = "position_smooth";
+  generated.generated = true;
+  EffectType written = generated;
+  written.name = "cable_carrier";
+  written.generated = false;
+  {
+    EffectRegistry registry;
+    registry.Add(generated);
+    registry.Add(written);
+    EXPECT_EQ(registry.Find("spring"), nullptr);
+    EXPECT_NE(registry.Find("cable_carrier"), nullptr);
+  }
+  {
+    EffectRegistry registry;
+    registry.Add(written);
+    registry.Add(generated);
+    EXPECT_EQ(registry.Find("spring"), nullptr);
+    EXPECT_EQ(registry.Effects().size(), 1u);
+  }
+  EffectRegistry registry;
+  registry.Add(written);
+  written.name = "spring_2";
+  try {
+    registry.Add(written);
+    FAIL() << "no exception";
+  } catch (const std::logic_error& e) {
+    EXPECT_STREQ(e.what(), "effects 'cable_carrier' and 'spring_2' are both the pair one × position_smooth");
+  }
+}
+
+// A new pair reads in its rows' words, with its figures and the column by its name.
+TEST(EffectRegistry, APairIsWordedFromItsRows) {
+  const std::string words = PairWords(*FindMultiplier("slip"), *FindModulator("column"), {{"column", 0.0}}, 0.031,
+                                      "normal_force_N", "m");
+  EXPECT_EQ(words, "the Coulomb friction level follows 'normal_force_N': +0.031 per unit of it");
+  EXPECT_EQ(PairWords(*FindMultiplier("acceleration"), *FindModulator("time_window"),
+                      {{"on_time", 3.0}, {"off_time", 7.5}}, 12.0, "", "m"),
+            "the moving mass changes between 3 s and 7.5 s by +12/(m/s²)");
+  EXPECT_EQ(PairName(*FindMultiplier("model_force"), *FindModulator("time_warm_up")), "force_constant_warm_up");
+}
+
+// docs/diagnosis.md's tables of the grammar are GrammarMarkdown()'s text (`motionblocks grammar` prints it): a row
+// added to a table, or a pair taken by a hand-written effect, is in the docs or this fails.
+TEST(EffectRegistry, TheDocsHoldTheGrammarAsGenerated) {
+  std::ifstream file(std::string(MB_SOURCE_DIR) + "/docs/diagnosis.md");
+  ASSERT_TRUE(file) << "cannot read docs/diagnosis.md";
+  const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const std::string begin = "<!-- grammar:begin (motionblocks grammar) -->\n", end = "<!-- grammar:end -->";
+  const auto from = text.find(begin), to = text.find(end);
+  ASSERT_NE(from, std::string::npos) << begin;
+  ASSERT_NE(to, std::string::npos) << end;
+  EXPECT_EQ(text.substr(from + begin.size(), to - from - begin.size()), GrammarMarkdown())
+      << "regenerate the region with: build/release/tools/motionblocks grammar";
 }
 
 TEST(EffectRegistry, BlockTemplatesAttachToTheirEffectInEitherOrder) {

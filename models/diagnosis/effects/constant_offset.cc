@@ -13,6 +13,8 @@ EffectType ConstantOffset() {
   EffectType t;
   t.name = kName;
   t.catalogue_order = 10;
+  t.multiplier = "one";  // the grammar's pair it is (factors.h)
+  t.modulator = "constant";
   t.physics = "a constant bias (sensor offset, gravity on an incline, amplifier offset)";
   t.regressor_formula = "1";
   t.regressors = [](const EffectInstance& e, const DiagnosisSignals& s) {

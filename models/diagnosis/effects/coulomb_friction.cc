@@ -16,6 +16,8 @@ EffectType CoulombFriction() {
   EffectType t;
   t.name = kName;
   t.catalogue_order = 30;
+  t.multiplier = "slip";  // the grammar's pair it is (factors.h)
+  t.modulator = "constant";
   t.physics = "a constant force opposing motion; add or refit Coulomb friction (friction mode, not sign(v))";
   t.regressor_formula = "s_db(v) = sign(v), 0 inside the dead band |v| ≤ v_db";
   t.parameters = {{"dead_band", "m/s", "v_db: sign(v) is 0 below it (dead_band_fraction × max |v|)"}};

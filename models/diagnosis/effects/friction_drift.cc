@@ -41,6 +41,8 @@ EffectType FrictionDrift() {
   EffectType t;
   t.name = kName;
   t.catalogue_order = 62;
+  t.multiplier = "velocity";  // the grammar's pair it is (factors.h)
+  t.modulator = "time_ramp";
   t.physics = "the viscous friction drifts during the record (the lubricant warming up, wear): its change over the "
               "record; add a ramped_gain on the velocity (or let the machine warm up before logging)";
   t.regressor_formula = "v·(t − t_s)/(t_e − t_s)";

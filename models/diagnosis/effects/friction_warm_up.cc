@@ -39,6 +39,8 @@ EffectType FrictionWarmUp() {
   EffectType t;
   t.name = kName;
   t.catalogue_order = 63;
+  t.multiplier = "velocity";  // the grammar's pair it is (factors.h)
+  t.modulator = "time_warm_up";
   t.physics = "the viscous friction settles during the record as a first-order warm-up (the lubricant's temperature "
               "following the heat put into it, its viscosity falling): its time constant and its change once warm; "
               "add a ramped_gain with shape \"exponential\" on the velocity (or let the machine warm up before "

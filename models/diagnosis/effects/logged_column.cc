@@ -27,16 +27,17 @@ struct ColumnFactor {
   const char* name;
   int catalogue_order;
   bool rate;  // dc/dt, else c
+  const char* modulator;  // the grammar's pair it is: 1 × this modulator (factors.h)
   const char* physics;
   const char* formula;
 };
 
 const ColumnFactor kFactors[] = {
-    {"logged_column", 120, false,
+    {"logged_column", 120, false, "column",
      "the residual follows a column of the log that the diagram does not read (coupling from another axis, a "
      "temperature, a bus voltage): add an input connector reading it and a gain into the force",
      "c − c̄, a log column the diagram does not read less its mean"},
-    {"logged_column_rate", 121, true,
+    {"logged_column_rate", 121, true, "column_rate",
      "the residual follows the rate of a column of the log that the diagram does not read (a coupling through a lag, "
      "another axis's jerk or velocity): add an input connector reading it and a discrete derivative into the force",
      "dc/dt, c a log column the diagram does not read"},
@@ -61,6 +62,8 @@ EffectType ColumnEffect(const ColumnFactor& f) {
   EffectType t;
   t.name = f.name;
   t.catalogue_order = f.catalogue_order;
+  t.multiplier = "one";
+  t.modulator = f.modulator;
   t.physics = f.physics;
   t.regressor_formula = f.formula;
   t.parameters = {{"column", "", "the column's index among the log's unread columns (named in the description)"}};

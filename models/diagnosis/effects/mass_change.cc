@@ -68,6 +68,8 @@ EffectType MassChange() {
   EffectType t;
   t.name = kName;
   t.catalogue_order = 61;
+  t.multiplier = "acceleration";  // the grammar's pair it is (factors.h)
+  t.modulator = "time_step";
   t.physics = "the moving mass changes during the record (a payload picked up, a tool change): the mass steps at the "
               "change time; add a switched gain on the acceleration";
   t.regressor_formula = "a·H(t − t_c)";

@@ -13,6 +13,8 @@ EffectType MassMismatch() {
   EffectType t;
   t.name = kName;
   t.catalogue_order = 60;
+  t.multiplier = "acceleration";  // the grammar's pair it is (factors.h)
+  t.modulator = "constant";
   t.physics = "a force proportional to acceleration; refit the moving mass (payload)";
   t.regressor_formula = "a";
   t.regressors = [](const EffectInstance& e, const DiagnosisSignals& s) {

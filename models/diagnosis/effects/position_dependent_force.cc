@@ -58,6 +58,8 @@ EffectType PositionDependentForce() {
   EffectType t;
   t.name = kName;
   t.catalogue_order = 65;
+  t.multiplier = "one";  // the grammar's pair it is (factors.h)
+  t.modulator = "position_smooth";
   t.physics = "a smooth force of position (spring, cable carrier, magnet attraction, hardening suspension); add a "
               "position_dependent_force block (polynomial in x)";
   t.regressor_formula = "ξ^j, ξ = (x − x₀)/h, j = 1..J";

@@ -15,6 +15,8 @@ EffectType PositionPeriodic() {
   EffectType t;
   t.name = kName;
   t.catalogue_order = 70;
+  t.multiplier = "one";  // the grammar's pair it is (factors.h)
+  t.modulator = "position_periodic";
   t.physics =
       "a force periodic in position (cogging, screw-lead or gear ripple); add a cogging/ripple block with this "
       "period and its harmonics";

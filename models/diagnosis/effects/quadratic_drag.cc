@@ -16,6 +16,8 @@ EffectType QuadraticDrag() {
   EffectType t;
   t.name = kName;
   t.catalogue_order = 21;
+  t.multiplier = "velocity_speed";  // the grammar's pair it is (factors.h)
+  t.modulator = "constant";
   t.physics =
       "a drag that grows with the square of the speed (a fluid at high Reynolds number: air on a large carriage, a fan "
       "on the motor, oil pumped through a seal or a bearing gap): c·v·|v|; add a gain on the velocity multiplied by "

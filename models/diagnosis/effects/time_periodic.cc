@@ -2,13 +2,12 @@
 // k = 1..K {frequency_hz f [Hz], harmonics K}. Proposal: the strongest peak of the residual's time periodogram
 // that is not locked to the motion's own repetition (there, every state-dependent effect is time-periodic too).
 // Block: time_periodic "vibration", its frequency and Fourier coefficients free.
-#include <cmath>
-
 #include <fmt/format.h>
 
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
+#include "models/diagnosis/factors.h"
 
 namespace mb {
 namespace {
@@ -17,17 +16,15 @@ constexpr const char* kName = "time_periodic";
 
 void Propose(ProposalContext& c) {
   const CandidateSearch& search = c.search();
-  const double motion_hz = search.motion_frequency_hz;
   for (std::size_t i = 0; i < search.time_periodogram.peaks.size(); ++i) {
     const PeriodogramPeak& peak = search.time_periodogram.peaks[i];
     if (peak.harmonic_of >= 0) continue;
     const double f = 1.0 / peak.period;
-    const double k = motion_hz > 0.0 ? std::round(f / motion_hz) : 0.0;
-    if (k >= 1.0 && k <= c.options().motion_harmonics && std::abs(f - k * motion_hz) <= 0.01 * f) {
+    if (const int k = MotionHarmonic(c, f); k > 0) {
       c.Note(fmt::format(
           "the residual's time period {:.4g} s ({:.1f} % of its variance) repeats with the motion ({} × its "
           "frequency {:.4g} Hz): it depends on the motion state (x, v, a), not on time; not proposed as {}",
-          peak.period, 100.0 * peak.power, static_cast<int>(k), motion_hz, kName));
+          peak.period, 100.0 * peak.power, k, search.motion_frequency_hz, kName));
       continue;
     }
     c.Propose(kName, {{"frequency_hz", f},
@@ -40,6 +37,8 @@ EffectType TimePeriodic() {
   EffectType t;
   t.name = kName;
   t.catalogue_order = 90;
+  t.multiplier = "one";  // the grammar's pair it is (factors.h)
+  t.modulator = "time_periodic";
   t.physics = "a vibration periodic in time, independent of position (external vibration, ripple of a supply)";
   t.regressor_formula = "cos(2πkft), sin(2πkft), k = 1..K";
   t.parameters = {{"frequency_hz", "Hz", "f: the vibration's fundamental"}, {"harmonics", "", "K, 1 when absent"}};

@@ -15,6 +15,8 @@ EffectType VelocityDependentRipple() {
   EffectType t;
   t.name = kName;
   t.catalogue_order = 80;
+  t.multiplier = "speed";  // the grammar's pair it is (factors.h)
+  t.modulator = "position_periodic";
   t.physics = "a position-periodic ripple whose amplitude grows with speed; add a ripple term scaled by |v|";
   t.regressor_formula = "|v|·cos(2πx/P), |v|·sin(2πx/P)";
   t.parameters = {{"period", "m", "P: the pitch"}};

@@ -13,6 +13,8 @@ EffectType ViscousFriction() {
   EffectType t;
   t.name = kName;
   t.catalogue_order = 20;
+  t.multiplier = "velocity";  // the grammar's pair it is (factors.h)
+  t.modulator = "constant";
   t.physics = "a force proportional to velocity; add or refit viscous friction";
   t.regressor_formula = "v";
   t.regressors = [](const EffectInstance& e, const DiagnosisSignals& s) { return SingleColumn(e.name, s.velocity); };
