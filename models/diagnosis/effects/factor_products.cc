@@ -22,6 +22,7 @@
 #include <string_view>
 #include <vector>
 
+#include <Eigen/QR>
 #include <fmt/format.h>
 
 #include "models/diagnosis/effect_proposal.h"
@@ -36,6 +37,23 @@ constexpr double kMinDirectionShare = 0.05;  // of the samples moving each way, 
 // A multiplier whose column varies by less than this share of its mean square over the record is a constant there: its
 // pairs are the modulators' own (1 × the modulator), identical candidates (|v| × periodic(t) at one speed).
 constexpr double kConstantMultiplier = 1e-2;
+// A pair whose every column the base's columns reproduce to this share of its sum of squares is the base model itself
+// (ŷ × 1 scales every base parameter at once): not a candidate. Checked when it is proposed, before a friction-law
+// replacement changes the base's law and leaves ŷ carrying the old one back in.
+constexpr double kInTheBase = 0.999;
+
+// Whether the base's columns (with a constant) reproduce every one of `columns` to kInTheBase of its sum of squares.
+bool IsTheBase(const ProposalContext& c, const Eigen::MatrixXd& columns) {
+  const Eigen::MatrixXd base = c.BaseWithConstant();
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(base);
+  for (Eigen::Index j = 0; j < columns.cols(); ++j) {
+    const double total = columns.col(j).squaredNorm();
+    if (!(total > 0.0)) continue;
+    const Eigen::VectorXd left = columns.col(j) - base * qr.solve(columns.col(j));
+    if (left.squaredNorm() > (1.0 - kInTheBase) * total) return false;
+  }
+  return true;
+}
 
 // The names the catalogue gave its first products, and their place in it (EffectType::catalogue_order): kept.
 struct Alias {
@@ -107,6 +125,12 @@ void Propose(const Pair& p, ProposalContext& c) {
     if (p.multiplier->slip) {
       parameters["slip_velocity"] = BestSlipVelocity(
           c, [&](const Eigen::VectorXd& slip) { return Columns(p, parameters, s, slip).columns; });
+    }
+    const EffectRegressors columns = Columns(p, parameters, s, sign);
+    if (p.modulator->periodicity == Periodicity::kNone && IsTheBase(c, columns.columns)) {
+      c.Note(fmt::format("{} is the base model itself ({} × {}: the base's parameters reproduce it): not proposed",
+                         p.name, p.multiplier->formula, p.modulator->formula));
+      continue;
     }
     c.Propose(p.name, std::move(parameters));
   }
