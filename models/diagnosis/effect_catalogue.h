@@ -103,6 +103,11 @@ struct CatalogueOptions {
   // A residual time period within 1 % of k × the motion's own repetition frequency (k = 1..this) is
   // "motion-locked": any effect of x, v or a repeats there too, so it is not proposed as time_periodic.
   int motion_harmonics = 8;
+  /// Propose every pair of the grammar (models/diagnosis/factors.h); false: only the products the catalogue named
+  /// before the grammar (friction_ripple, local_damping, column_damping, …; effects/factor_products.cc kAliases). Off
+  /// by default until the shipped demo and its figures are measured again with every pair (MeasurementSettings::
+  /// every_pair turns it on for compare and improve; bench_grammar does).
+  bool every_pair = false;
   // The band the motion signals carry [Hz] (0 = up to Nyquist): with parallel filtering (DiagnosisOptions::
   // regressor_filter_hz, which sets it) nothing above the cut-off is a property of the motion — a resonance peak up
   // there is the controller's noise leaking through the filter's skirt, and is not proposed.

@@ -120,6 +120,7 @@ DrawResult RunDraw(const GrammarDraw& draw, const fs::path& directory, bool run_
   if (draw.rotary) settings.measurement.position_column = "angle_rad";
   // The controller's command is logged as it was sent and held by the drive until the next sample.
   settings.measurement.intersample = Intersample::kZeroOrderHold;
+  settings.measurement.every_pair = true;  // the whole grammar: what the draws test
   const MeasurementLog training =
       WriteAndRead(Simulate(draw, Run::kTraining), directory / "training.csv", diagram, settings.measurement);
   const auto t0 = std::chrono::steady_clock::now();

@@ -549,6 +549,7 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
   DiagnosisOptions options;
   if (equation_error) options.regressor_filter_hz = DerivativeCutoffHz(settings, log);  // parallel filtering
   options.position_unit = PositionUnitToken(settings.position_column);
+  options.catalogue.every_pair = settings.every_pair;
   out.diagnosis = DiagnoseMissingEffects(signals, base, options);
   out.notes.insert(out.notes.end(), out.diagnosis->notes.begin(), out.diagnosis->notes.end());
   return out;

@@ -101,6 +101,9 @@ struct MeasurementSettings {
   /// sample later, where the motion's central differences see them (HeldSignalAtSampleInstants). Simulation mode
   /// compares measured positions and ignores it.
   Intersample intersample = Intersample::kFirstOrderHold;
+  /// The diagnosis proposes every pair of its grammar, not only the products the catalogue named before it
+  /// (CatalogueOptions::every_pair).
+  bool every_pair = false;
 };
 
 /// The cut-off a log read with `settings` (ReadMeasurementFor) was filtered and differentiated with: what compare, fit

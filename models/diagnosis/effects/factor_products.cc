@@ -1,10 +1,11 @@
 // The products of the diagnosis grammar (issue 45; factors.h): every row of the multipliers' table (what the force is
 // proportional to: 1, slip, v, |v|, v·|v|, a, ŷ, ŷ·|ŷ|, |ŷ|·slip) crossed with every row of the modulators' table (what
 // it varies with: 1, periodic, local or smooth in the position, an unread log column or its rate, a ramp, a step, a
-// window or a warm-up in time) is a candidate effect. No pair is written here and none is left out here: a pair that a
-// hand-written effect of the catalogue holds (position_periodic is 1 × periodic(x), mass_change a × step(t), …) is
-// that effect (EffectRegistry::Add); a pair identical to the base model (ŷ × 1 when every base parameter is free) is
-// dropped by the forward selection's test against the base (DiagnosisOptions::redundant_with_base).
+// window, a warm-up or a vibration in time) is a candidate effect. No pair is written here and none is left out here: a
+// pair that a hand-written effect of the catalogue holds (position_periodic is 1 × periodic(x), mass_change
+// a × step(t), …) is that effect (EffectRegistry::Add); a pair that the base's columns reproduce (ŷ × 1) is the base
+// itself and a multiplier constant over the record (|v| at one speed) makes the modulator's own pair: neither is
+// proposed, each with a note.
 //
 // A pair's name comes from its rows (the modulator's pattern with the multiplier's noun: "damping_step",
 // "inertia_window", "column_coulomb"); the names the catalogue gave the first products stay as they were (kAliases),
@@ -81,6 +82,7 @@ struct Pair {
   const MultiplierRow* multiplier;
   const ModulatorRow* modulator;
   std::string name;
+  bool named_before = false;  ///< one of kAliases: proposed even without CatalogueOptions::every_pair
 };
 
 // The pair's columns on the signals with the direction of slip `slip` (N; unused unless the multiplier holds it).
@@ -104,7 +106,7 @@ bool TravelsBothWays(const ProposalContext& c) {
 
 void Propose(const Pair& p, ProposalContext& c) {
   const DiagnosisSignals& s = c.signals();
-  if (!(c.max_speed() > 0.0)) return;
+  if (!(c.max_speed() > 0.0) || !(p.named_before || c.options().every_pair)) return;
   // ŷ is the force only in equation-error mode (the logged command compared); in simulation mode it is the output.
   if (p.multiplier->model_force && (s.logged_command.size() != c.size() || s.model_output.size() != c.size())) return;
   if (p.multiplier->odd_in_velocity && !TravelsBothWays(c)) return;
@@ -171,6 +173,7 @@ bool RegisterProducts() {
       for (const Alias& a : kAliases) {
         if (m.id == std::string_view(a.multiplier) && mod.id == std::string_view(a.modulator)) {
           pair.name = a.name;
+          pair.named_before = true;
           pair_order = a.catalogue_order;
         }
       }
