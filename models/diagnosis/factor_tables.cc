@@ -267,7 +267,8 @@ Eigen::VectorXd WarmUp(const Eigen::VectorXd& t, double start, double time_const
 std::vector<FactorParameters> ScanWarmUp(ProposalContext& c, const Eigen::VectorXd& m, const std::string&) {
   constexpr int kGrid = 25;
   const DiagnosisSignals& s = c.signals();
-  const auto [t0, duration] = Span(s);
+  const auto [start, duration] = Span(s);
+  const double t0 = start;  // a plain copy: clang 14 does not capture a structured binding in a lambda
   if (!(duration > 0.0) || !(m.cwiseAbs().maxCoeff() > 0.0)) return {};
   const Eigen::MatrixXd base = c.BaseWithConstant();
   const JointFitResidual fit(base, c.residual());
@@ -350,7 +351,7 @@ std::vector<ModulatorRow> MakeModulators() {
   rows.push_back({"constant", "{}", "", "1", "", {}, false, Periodicity::kNone, nullptr,
                   [](const FactorParameters&, const DiagnosisSignals& s, const std::string& name,
                      const Eigen::VectorXd* scale) { return Scaled(name, Eigen::VectorXd::Ones(s.size()), scale); },
-                  nullptr, ScanNothing});
+                  nullptr, ScanNothing, {}});
   rows.back().words = [](const FactorParameters&, double k, const std::string& u, const std::string&, const std::string&) {
     return fmt::format("is missing: {:+.4g}{}", k, u);
   };
@@ -358,7 +359,7 @@ std::vector<ModulatorRow> MakeModulators() {
                   "a pitch of the machine: the magnets, the slots, a screw's lead, a gear's tooth",
                   {{"period", "m", "P: the pitch"}, {"harmonics", "", "K, 1 when absent"}}, true,
                   Periodicity::kPosition, RefinePositionPeriod, PeriodicShape, PeriodicDerivative,
-                  ScanPositionPeriod});
+                  ScanPositionPeriod, {}});
   rows.back().words = [](const FactorParameters& p, double, const std::string&, const std::string&, const std::string& unit) {
     return fmt::format("ripples along the travel with period {}", FormatParameterValue(Value(p, "period"), "m", unit));
   };
@@ -372,7 +373,7 @@ std::vector<ModulatorRow> MakeModulators() {
                     return Scaled(name, Bump(s.position, Need(p, "center", name), NeedPositive(p, "half_width", name)),
                                   scale);
                   },
-                  BumpDerivative, ScanPositionBump});
+                  BumpDerivative, ScanPositionBump, {}});
   rows.back().words = [](const FactorParameters& p, double, const std::string&, const std::string&, const std::string& unit) {
     return fmt::format("changes over the stretch {} ± {}", FormatParameterValue(Value(p, "center"), "m", unit),
                        FormatParameterValue(Value(p, "half_width"), "m", unit));
@@ -387,7 +388,7 @@ std::vector<ModulatorRow> MakeModulators() {
                     return PowerColumns(s.position, Need(p, "center", name), NeedPositive(p, "half_range", name),
                                         kSmoothDegree, name, scale);
                   },
-                  SmoothDerivative, ScanPositionSmooth});
+                  SmoothDerivative, ScanPositionSmooth, {}});
   rows.back().words = [](const FactorParameters& p, double, const std::string&, const std::string&, const std::string& unit) {
     return fmt::format("changes smoothly along the travel, over {} ± {}", FormatParameterValue(Value(p, "center"), "m", unit),
                        FormatParameterValue(Value(p, "half_range"), "m", unit));
@@ -398,7 +399,7 @@ std::vector<ModulatorRow> MakeModulators() {
                   false, Periodicity::kNone, nullptr,
                   [](const FactorParameters& p, const DiagnosisSignals& s, const std::string& name,
                      const Eigen::VectorXd* scale) { return Scaled(name, Centered(Column(p, s, name)), scale); },
-                  nullptr, ScanColumns});
+                  nullptr, ScanColumns, {}});
   rows.back().words = [](const FactorParameters&, double k, const std::string& u, const std::string& column, const std::string&) {
     return fmt::format("follows '{}': {:+.4g}{} per unit of it", column, k, u);
   };
@@ -410,7 +411,7 @@ std::vector<ModulatorRow> MakeModulators() {
                      const Eigen::VectorXd* scale) {
                     return Scaled(name, CentralDifference(s.time, Column(p, s, name)), scale);
                   },
-                  nullptr, ScanColumns});
+                  nullptr, ScanColumns, {}});
   rows.back().words = [](const FactorParameters&, double k, const std::string& u, const std::string& column, const std::string&) {
     return fmt::format("follows the rate of '{}': {:+.4g}{} per unit of it per second", column, k, u);
   };
@@ -424,7 +425,7 @@ std::vector<ModulatorRow> MakeModulators() {
                     if (!(end > start)) throw std::invalid_argument(fmt::format("effect '{}': end_time must lie after start_time", name));
                     return Scaled(name, ((s.time.array() - start) / (end - start)).cwiseMin(1.0).cwiseMax(0.0).matrix(), scale);
                   },
-                  nullptr, ScanRamp});
+                  nullptr, ScanRamp, {}});
   rows.back().words = [](const FactorParameters&, double k, const std::string& u, const std::string&, const std::string&) {
     return fmt::format("drifts over the record: {:+.4g}{} from its start to its end", k, u);
   };
@@ -435,7 +436,7 @@ std::vector<ModulatorRow> MakeModulators() {
                      const Eigen::VectorXd* scale) {
                     return Scaled(name, (s.time.array() >= Need(p, "change_time", name)).cast<double>().matrix(), scale);
                   },
-                  nullptr, ScanStep});
+                  nullptr, ScanStep, {}});
   rows.back().words = [](const FactorParameters& p, double k, const std::string& u, const std::string&, const std::string&) {
     return fmt::format("changes at {:.4g} s by {:+.4g}{}", Value(p, "change_time"), k, u);
   };
@@ -448,7 +449,7 @@ std::vector<ModulatorRow> MakeModulators() {
                     const double on = Need(p, "on_time", name), off = Need(p, "off_time", name);
                     return Scaled(name, (s.time.array() >= on && s.time.array() < off).cast<double>().matrix(), scale);
                   },
-                  nullptr, ScanWindow});
+                  nullptr, ScanWindow, {}});
   rows.back().words = [](const FactorParameters& p, double k, const std::string& u, const std::string&, const std::string&) {
     return fmt::format("changes between {:.4g} s and {:.4g} s by {:+.4g}{}", Value(p, "on_time"), Value(p, "off_time"),
                        k, u);
@@ -464,7 +465,7 @@ std::vector<ModulatorRow> MakeModulators() {
                     return Scaled(name, WarmUp(s.time, Need(p, "start_time", name), NeedPositive(p, "time_constant", name)),
                                   scale);
                   },
-                  nullptr, ScanWarmUp});
+                  nullptr, ScanWarmUp, {}});
   rows.back().words = [](const FactorParameters& p, double k, const std::string& u, const std::string&, const std::string&) {
     return fmt::format("settles with T = {:.3g} s by {:+.4g}{}", Value(p, "time_constant"), k, u);
   };
@@ -479,7 +480,7 @@ std::vector<ModulatorRow> MakeModulators() {
                                            harmonics == p.end() ? 1 : std::max(1, static_cast<int>(harmonics->second)),
                                            name, scale);
                   },
-                  nullptr, ScanTimePeriod});
+                  nullptr, ScanTimePeriod, {}});
   rows.back().words = [](const FactorParameters& p, double, const std::string&, const std::string&, const std::string&) {
     return fmt::format("vibrates in time at {:.4g} Hz", Value(p, "frequency_hz"));
   };
