@@ -81,6 +81,7 @@ README_RUNS = [
     ("closed_loop", "out/cl", "compare.json"),
     ("improve", "out/improve", "improve.json"),
     ("odrive", "out/odrive", "compare.json"),
+    ("brfd", "out/brfd", "compare.json"),
     ("stability", "out/stab", "stability.json"),
 ]
 
@@ -273,6 +274,20 @@ FIGURES = [
     Figure("closed-loop", "within {} µm RMS as written and {} µm after the refit",
            ("closed loop: position RMSE as written [µm]", lambda r: r["closed_loop"]["rmse_before"] * um),
            ("closed loop: position RMSE refit [µm]", lambda r: r["closed_loop"]["rmse_after"] * um)),
+    Figure("closed-loop", "the model's tracking error r − ŷ fits the measured one {} % → {} %",
+           ("closed loop: tracking-error fit as written [%]",
+            lambda r: r["closed_loop"]["outputs"][0]["tracking_fit_percent_before"]),
+           ("closed loop: tracking-error fit refit [%]",
+            lambda r: r["closed_loop"]["outputs"][0]["tracking_fit_percent_after"])),
+    # The friction damper's hysteresis (a real record).
+    Figure("brfd", "names `{w}` first ({} % of the held-out residual), the force settling {} mm after each reversal;",
+           ("brfd: the first effect", lambda r: r["brfd"]["diagnosis"][0]["effect"]),
+           ("brfd: its held-out share [%]", lambda r: 100.0 * r["brfd"]["diagnosis"][0]["score"]),
+           ("brfd: the stroke [mm]", lambda r: r["brfd"]["diagnosis"][0]["parameters"]["stroke"] * mm)),
+    Figure("brfd", "the held-out force error falls from {} N to {} N",
+           ("brfd: held-out RMSE, base refit [N]", lambda r: r["brfd"]["details"]["heldout_rmse_base"]),
+           ("brfd: held-out RMSE, with the effects [N]",
+            lambda r: r["brfd"]["details"]["heldout_rmse_after"])),
     # stability's verdict.
     Figure("stability", "ρ = {} < 1 at α = {} (small gain, DOB loop closed); the largest certified α: α < {}",
            ("stability: ρ", lambda r: r["stability"]["dob"]["rho"]),

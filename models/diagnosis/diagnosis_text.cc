@@ -29,8 +29,9 @@ std::string FormatPosition(double x, const std::string& unit) {
   return fmt::format("{:.4g} {}", x, unit);
 }
 
+// `log_column`: the name of the unread log column a "column" parameter indexes ("" when none): named, not numbered.
 std::string FormatParameters(const std::string& effect, const std::map<std::string, double>& p,
-                             const std::string& position_unit) {
+                             const std::string& position_unit, const std::string& log_column = "") {
   std::string out;
   for (const auto& [k, v] : p) {
     std::string item;
@@ -48,6 +49,7 @@ std::string FormatParameters(const std::string& effect, const std::map<std::stri
     else if (k == "frequency_hz") item = fmt::format("frequency {:.4g} Hz", v);
     else if (k == "harmonics") item = fmt::format("{} harmonic(s)", static_cast<int>(v));
     else if (k == "amplitude") item = fmt::format("amplitude {:.3g}", v);
+    else if (k == "column" && !log_column.empty()) item = fmt::format("column '{}'", log_column);
     else item = fmt::format("{} {}", k, FormatParameterValue(v, EffectParameterUnit(effect, k), position_unit));
     out += (out.empty() ? "" : ", ") + item;
   }
@@ -80,6 +82,9 @@ DiagnosedEffect DescribeEffect(const Candidate& c, double score, double cumulati
   if (!c.type->traits.coefficient_parameter.empty() && d.coefficients.size() == 1) {
     d.parameters[c.type->traits.coefficient_parameter] = d.coefficients(0);
   }
+  if (c.type->derived_parameters) {
+    for (const auto& [key, value] : c.type->derived_parameters(c.effect, d.coefficients)) d.parameters[key] = value;
+  }
   const Eigen::VectorXd contribution = c.reg.columns * d.coefficients;
   d.contribution_rms = std::sqrt(contribution.squaredNorm() / static_cast<double>(n));
   const Eigen::VectorXd magnitude = contribution.cwiseAbs();
@@ -95,18 +100,20 @@ DiagnosedEffect DescribeEffect(const Candidate& c, double score, double cumulati
   d.time_range[0] = Percentile(ts, 0.05); d.time_range[1] = Percentile(ts, 0.95);
   d.position_range[0] = Percentile(xs, 0.05); d.position_range[1] = Percentile(xs, 0.95);
   d.velocity_range[0] = Percentile(vs, 0.05); d.velocity_range[1] = Percentile(vs, 0.95);
+  // A factor of a log column (logged_column) names the column.
+  if (const auto column = d.parameters.find("column"); column != d.parameters.end() && column->second >= 0.0 &&
+                                                        column->second < static_cast<double>(signals.extra_names.size())) {
+    d.log_column = signals.extra_names[static_cast<std::size_t>(column->second)];
+  }
   d.description = fmt::format(
       "{}{}{}: explains {:.1f} % of the held-out residual energy left before it was added ({:.1f} % "
       "cumulative); RMS contribution {:.3g}; largest for t in [{:.3g}, {:.3g}] s, x in [{}, {}], "
       "v in [{:.3g}, {:.3g}] {}/s. {}",
       friction_law ? "the friction law near zero velocity is wrong: " : "", d.effect,
-      d.parameters.empty() ? "" : " (" + FormatParameters(d.effect, d.parameters, position_unit) + ")", 100.0 * d.score, 100.0 * d.cumulative_share, d.contribution_rms, d.time_range[0], d.time_range[1],
+      d.parameters.empty() ? "" : " (" + FormatParameters(d.effect, d.parameters, position_unit, d.log_column) + ")", 100.0 * d.score, 100.0 * d.cumulative_share, d.contribution_rms, d.time_range[0], d.time_range[1],
       FormatPosition(d.position_range[0], position_unit), FormatPosition(d.position_range[1], position_unit),
       d.velocity_range[0], d.velocity_range[1], position_unit, c.type->physics);
-  // A factor of a log column (logged_column) names the column.
-  if (const auto column = d.parameters.find("column"); column != d.parameters.end() && column->second >= 0.0 &&
-                                                        column->second < static_cast<double>(signals.extra_names.size())) {
-    d.log_column = signals.extra_names[static_cast<std::size_t>(column->second)];
+  if (!d.log_column.empty()) {
     d.description += fmt::format(" The residual follows the log column '{}' (coupling from another axis, or what that "
                                  "column measures acting on this one).", d.log_column);
   }
@@ -161,7 +168,7 @@ void Summarise(const DiagnosisOptions& options, const std::string& ambiguity_not
       continue;
     }
     law += fmt::format("{}{}{}", law.empty() ? "" : ", ", e.effect,
-                       e.parameters.empty() ? "" : " (" + FormatParameters(e.effect, e.parameters, options.position_unit) + ")");
+                       e.parameters.empty() ? "" : " (" + FormatParameters(e.effect, e.parameters, options.position_unit, e.log_column) + ")");
   }
   if (!law.empty()) {
     result->summary = fmt::format("The friction law near zero velocity is wrong: {} replaces the model's; the other "
@@ -174,7 +181,7 @@ void Summarise(const DiagnosisOptions& options, const std::string& ambiguity_not
     result->summary += fmt::format(
         "Missing: {}{} — explains {:.1f} % of the held-out residual energy. All chosen effects together "
         "explain {:.1f} %; RMSE {:.4g} → {:.4g} (in-sample, base refit {:.4g}), held-out RMSE {:.4g} → {:.4g}.",
-        top->effect, top->parameters.empty() ? "" : " (" + FormatParameters(top->effect, top->parameters, options.position_unit) + ")",
+        top->effect, top->parameters.empty() ? "" : " (" + FormatParameters(top->effect, top->parameters, options.position_unit, top->log_column) + ")",
         100.0 * top->score, 100.0 * result->explained_share, result->rmse_before, result->rmse_after,
         result->rmse_base_refit, result->heldout_rmse_base, result->heldout_rmse_after);
     if (result->position_time_indistinguishable) result->summary += " " + ambiguity_note;

@@ -160,6 +160,10 @@ struct EffectType {
   /// The regressor columns (N × k, names "<effect>" or "<effect>.<column>") on the signals. Throws
   /// std::invalid_argument naming a missing or invalid parameter or an absent optional signal.
   std::function<EffectRegressors(const EffectInstance&, const DiagnosisSignals&)> regressors;
+  /// Parameters read off the fitted coefficients (k, in column order), added to the diagnosed effect's: hysteresis's
+  /// stroke and break-away force from its elements' forces. Empty when the effect has none.
+  std::function<std::map<std::string, double>(const EffectInstance&, const Eigen::VectorXd& coefficients)>
+      derived_parameters;
   /// The proposal rule: estimates the effect's parameters from the residual (periodogram peaks, spectrum, a
   /// scan of the joint fit, …) and adds zero or more candidates to the context (ProposalContext::Propose).
   std::function<void(ProposalContext&)> propose;

@@ -24,6 +24,7 @@ constexpr double kLoadMass = 6.0, kLoadHz = 31.7, kLoadDamping = 0.02;
 constexpr double kSpringCentre = 0.1, kSpringLinear = 30.0, kSpringCubic = 3000.0;
 constexpr double kLoadFriction = 4.0, kPlayHalfWidth = 5e-4;
 constexpr double kSubStep = 1e-4;  // plant integration [s]
+constexpr double kBoucWenForce = 6.0, kBoucWenDisplacement = 3e-3;  // [N], z₀ [m]
 constexpr double kActuatorLag = 0.004;
 constexpr double kHumAmplitude = 1.5, kHumHz = 50.0;
 constexpr double kShortStrokePeriod = 0.025;  // 7.2 cycles in the 0.18 m travel
@@ -193,6 +194,17 @@ double StatelessHidden(Hidden h, double t, double x, double v) {
   return f;
 }
 
+// The Bouc–Wen element's z [m] after a displacement dx (kHysteresis): dz = dx − β|dx|z − γ·dx|z|, β = γ = 1/(2z₀),
+// in steps no longer than z₀/200 (explicit Euler along the displacement: the model is rate-independent).
+double BoucWen(double z, double dx) {
+  const int steps = std::max(1, static_cast<int>(std::ceil(std::abs(dx) / (kBoucWenDisplacement / 200.0))));
+  const double h = dx / steps, beta = 0.5 / kBoucWenDisplacement;
+  for (int i = 0; i < steps; ++i) z += h - beta * std::abs(h) * z - beta * h * std::abs(z);
+  return z;
+}
+
+double BoucWenForce(double z) { return kBoucWenForce * z / kBoucWenDisplacement; }
+
 // The play operator: the far side of a ±half-width play follows x once the play is taken up.
 double Play(double x, double previous) { return std::clamp(previous, x - kPlayHalfWidth, x + kPlayHalfWidth); }
 
@@ -294,12 +306,15 @@ class Winding {
 // The plant's state: carriage, resonant load, the play's far side.
 struct State {
   double x = 0.1, v = 0.0, xl = 0.1, vl = 0.0, far = 0.1;
+  double z = 0.0;  // kHysteresis: the Bouc–Wen element [m]
   Winding winding;  // kBackEmf
 };
 
 // ẋ of (x, v, xl, vl) under the force u at time t.
-std::array<double, 4> Derivative(Hidden h, double t, const std::array<double, 4>& s, double far, double u) {
+std::array<double, 4> Derivative(Hidden h, double t, const std::array<double, 4>& s, double far, double z,
+                                 double u) {
   double resist = FrictionLaw(h, s[1]) + kOffset + StatelessHidden(h, t, s[0], s[1]);
+  if (Has(h, Hidden::kHysteresis)) resist += BoucWenForce(z);
   std::array<double, 4> d{s[1], 0.0, 0.0, 0.0};
   if (Has(h, Hidden::kResonance)) {
     const double fl = Load{}.Force(s[0], s[1], s[2], s[3]);
@@ -329,12 +344,14 @@ void Advance(Hidden h, double t0, double dt, double u, State* st) {
     auto add = [](const std::array<double, 4>& a, const std::array<double, 4>& b, double f) {
       return std::array<double, 4>{a[0] + f * b[0], a[1] + f * b[1], a[2] + f * b[2], a[3] + f * b[3]};
     };
-    const auto k1 = Derivative(h, t, s, st->far, force);
-    const auto k2 = Derivative(h, t + hstep / 2, add(s, k1, hstep / 2), st->far, force);
-    const auto k3 = Derivative(h, t + hstep / 2, add(s, k2, hstep / 2), st->far, force);
-    const auto k4 = Derivative(h, t + hstep, add(s, k3, hstep), st->far, force);
+    const auto k1 = Derivative(h, t, s, st->far, st->z, force);
+    const auto k2 = Derivative(h, t + hstep / 2, add(s, k1, hstep / 2), st->far, st->z, force);
+    const auto k3 = Derivative(h, t + hstep / 2, add(s, k2, hstep / 2), st->far, st->z, force);
+    const auto k4 = Derivative(h, t + hstep, add(s, k3, hstep), st->far, st->z, force);
+    const double x_before = s[0];
     for (std::size_t j = 0; j < 4; ++j) s[j] += hstep / 6.0 * (k1[j] + 2 * k2[j] + 2 * k3[j] + k4[j]);
     st->far = Play(s[0], st->far);
+    if (Has(h, Hidden::kHysteresis)) st->z = BoucWen(st->z, s[0] - x_before);
   }
   st->x = s[0]; st->v = s[1]; st->xl = s[2]; st->vl = s[3];
 }
@@ -439,6 +456,9 @@ std::vector<CaseSpec> Cases() {
   c.push_back(Case("grease warm-up", Hidden::kWarmUp, "friction_warm_up", "time_constant", kThermalTimeConstant,
                    0.3));
   c.push_back(Case("back-EMF voltage limit", Hidden::kBackEmf, "drive_voltage_limit", "speed_slope", kEmfSlope, 0.15));
+  // Issue 47: a force with memory, set by the stroke since the last reversal (the Bouc–Wen element's 90 % stroke).
+  c.push_back(Case("hysteresis (a preloaded guide)", Hidden::kHysteresis, "hysteresis", "stroke",
+                   kBoucWenDisplacement * (1.0 + std::log(5.0)), 0.25));
   CaseSpec stamps = Case("noisy stamps", Hidden::kPositionRipple, "position_periodic", "period", 0.006, 0.03);
   stamps.stamp_noise = 0.2;
   c.push_back(stamps);
@@ -535,10 +555,14 @@ Eigen::VectorXd CarriageForce(Hidden hidden, const Eigen::VectorXd& t, const Eig
                               const Eigen::VectorXd& v, const Eigen::VectorXd& a, const Eigen::VectorXd* logged) {
   const Eigen::Index n = t.size();
   Eigen::VectorXd f(n);
-  double far = x(0), xl = x(0), vl = 0.0;
+  double far = x(0), xl = x(0), vl = 0.0, z = 0.0;
   const Load load;
   for (Eigen::Index i = 0; i < n; ++i) {
     f(i) = Mass(hidden, t(i)) * a(i) + FrictionLaw(hidden, v(i)) + kOffset + StatelessHidden(hidden, t(i), x(i), v(i));
+    if (Has(hidden, Hidden::kHysteresis)) {
+      if (i > 0) z = BoucWen(z, x(i) - x(i - 1));
+      f(i) += BoucWenForce(z);
+    }
     if (Has(hidden, Hidden::kInertiaRipple)) {
       f(i) += LinkageMass(x(i)) * a(i) + 0.5 * LinkageMassSlope(x(i)) * v(i) * v(i);
     }

@@ -84,6 +84,12 @@ enum class Hidden {
   /// read it): the remanence, and with it the force constant, falls by 0.2 % per K, θ = 50 + 12·sin(2πt/11 s) +
   /// 4·sin(2πt/3.1 s + 0.5) °C.
   kMagnetTemperature,
+  // Effects with memory (issue 47).
+  /// A preloaded guide's elastic–plastic contact as a Bouc–Wen element (Wen 1976; n = 1, β = γ = 1/(2·z₀), A = 1):
+  /// F = 6 N·z/z₀, dz = dx − β|dx|z − γ·dx|z|, z₀ = 3 mm. After a reversal the force changes linearly over the first
+  /// z₀ of stroke, then settles exponentially (length z₀) toward ∓6 N: 90 % of the 12 N swing after z₀(1 + ln 5) =
+  /// 7.83 mm, set by displacement, whatever the speed.
+  kHysteresis,
 };
 
 /// Whether a case's record is of a rotary axis (time_s, angle_rad, torque_Nm; Record::rotary).

@@ -43,7 +43,7 @@ spec.loader.exec_module(figures)
 FAKE = r'''#!{python}
 import json, os, struct, sys, zlib
 RUNS = {{"1_base": "demo1", "2_suggested": "demo2", "3_validate_base": "demo3", "4_validate_suggested": "demo4",
-        "reproduce": "reproduce", "closed_loop": "closed_loop", "improve": "improve", "odrive": "odrive",
+        "reproduce": "reproduce", "closed_loop": "closed_loop", "improve": "improve", "odrive": "odrive", "brfd": "brfd",
         "stability": "stability"}}
 FILES = {{"reproduce": "results.json", "improve": "improve.json", "stability": "stability.json"}}
 out = sys.argv[sys.argv.index("--out") + 1]

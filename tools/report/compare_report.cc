@@ -141,9 +141,15 @@ void WriteCompareReport(const CompareOutcome& outcome, const MeasurementLog& log
   for (std::size_t i = 0; i < compared.after.size(); ++i) {
     const ComparedOutput &before = compared.before[i], &after = compared.after[i];
     rows.push_back({after.connector, fmt::format("{:.5g}", before.rmse), fmt::format("{:.5g}", after.rmse),
-                    fmt::format("{:.2f}", before.fit_percent), fmt::format("{:.2f}", after.fit_percent), after.unit});
+                    fmt::format("{:.2f}", before.fit_percent), fmt::format("{:.2f}", after.fit_percent),
+                    after.tracking_input.empty() ? "—"
+                                                 : fmt::format("{:.2f} → {:.2f}", before.tracking_fit_percent,
+                                                               after.tracking_fit_percent),
+                    after.unit});
   }
-  report.Table({"output", "RMSE before fit", "RMSE after fit", "fit % before", "fit % after", "unit"}, rows);
+  report.Table({"output", "RMSE before fit", "RMSE after fit", "fit % before", "fit % after",
+                "tracking-error fit % (simulation mode)", "unit"},
+               rows);
   AddDiagramDrawing(&report, compared.fitted_diagram, fs::path(files.diagram).parent_path(), files.diagram, {},
                     files.out);
   if (compared.fit) {
@@ -184,14 +190,21 @@ void PrintReadsOutsideNote(const std::string& written, const json& outside, std:
                        written, fmt::join(outside.get<std::vector<std::string>>(), ", "));
 }
 
+// "; tracking-error fit 41.2 % → 63.0 % against 'reference'" in simulation mode (ComparedOutput::tracking_fit_percent).
+std::string TrackingFit(const ComparedOutput& before, const ComparedOutput& after) {
+  if (after.tracking_input.empty()) return "";
+  return fmt::format("; tracking-error fit {:.1f} % → {:.1f} % against '{}'", before.tracking_fit_percent,
+                     after.tracking_fit_percent, after.tracking_input);
+}
+
 }  // namespace
 
 void PrintCompareSummary(const CompareOutcome& outcome, const json& written, const CompareFiles& files,
                          std::ostream& out, std::ostream& notes) {
   const ComparedOutput& before = outcome.primary_before();
   const ComparedOutput& after = outcome.primary_after();
-  out << fmt::format("{}: RMSE {:.5g} → {:.5g} {} (fit {:.1f} % → {:.1f} %)\n", after.connector, before.rmse,
-                     after.rmse, after.unit, before.fit_percent, after.fit_percent);
+  out << fmt::format("{}: RMSE {:.5g} → {:.5g} {} (fit {:.1f} % → {:.1f} %{})\n", after.connector, before.rmse,
+                     after.rmse, after.unit, before.fit_percent, after.fit_percent, TrackingFit(before, after));
   if (const auto& diagnosis = outcome.compared.diagnosis) {
     out << diagnosis->summary << "\n";
     for (const DiagnosedEffect* e : EffectsInApplicationOrder(*diagnosis)) {  // the order --suggest applies them

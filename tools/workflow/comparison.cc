@@ -162,13 +162,56 @@ ModelComparison::ModelComparison(json diagram, fs::path base_directory, std::str
   }
 }
 
-std::vector<ComparedOutput> ModelComparison::Simulate() const {
-  const Diagram d = BuildDiagram(diagram_, base_, source_, SchemaCheck::kSkipRevalidation);
+namespace {
+
+// Linear interpolation of a simulated signal (st, sv) onto the measured time stamps t.
+Eigen::VectorXd OnMeasuredTimes(const std::vector<double>& st, const std::vector<double>& sv,
+                                const Eigen::VectorXd& t) {
+  Eigen::VectorXd out(t.size());
+  std::size_t j = 0;
+  for (Eigen::Index i = 0; i < t.size(); ++i) {
+    while (j + 2 < st.size() && st[j + 1] < t(i)) ++j;
+    const double w = st.size() < 2 ? 0.0 : std::clamp((t(i) - st[j]) / (st[j + 1] - st[j]), 0.0, 1.0);
+    out(i) = st.size() < 2 ? sv[0] : sv[j] + w * (sv[j + 1] - sv[j]);
+  }
+  return out;
+}
+
+}  // namespace
+
+SignalLog ModelComparison::Run(const Diagram& d) const {
   Simulator sim(d);
   for (const auto& [connector, column] : input_columns_) sim.SetInput(connector, SeriesOf(log_, column));
   sim.Initialize();
   sim.AdvanceTo(d.experiment().stop_time);
-  const SignalLog& log = sim.log();
+  return sim.log();
+}
+
+std::vector<std::pair<std::string, Eigen::VectorXd>> ModelComparison::SimulateBlockOutputs(
+    std::size_t max_signals) const {
+  json diagram = diagram_;
+  json logged = json::array();
+  {
+    const Diagram d = BuildDiagram(diagram_, base_, source_, SchemaCheck::kSkipRevalidation);
+    for (const auto& block : d.blocks()) {
+      for (const PortSpec& port : block->output_ports()) {
+        if (port.width == 1 && logged.size() < max_signals) logged.push_back(block->name() + "." + port.name);
+      }
+    }
+  }
+  diagram["log"] = logged;
+  const SignalLog log = Run(BuildDiagram(diagram, base_, source_, SchemaCheck::kSkipRevalidation));
+  std::vector<std::pair<std::string, Eigen::VectorXd>> out;
+  for (const auto& name : logged) {
+    const std::string signal = name.get<std::string>();
+    out.emplace_back(signal, OnMeasuredTimes(log.time, log.Column(signal), log_.time()));
+  }
+  return out;
+}
+
+std::vector<ComparedOutput> ModelComparison::Simulate() const {
+  const Diagram d = BuildDiagram(diagram_, base_, source_, SchemaCheck::kSkipRevalidation);
+  const SignalLog log = Run(d);
   std::vector<ComparedOutput> out;
   const auto& t = log_.time();
   for (const auto& o : d.outputs()) {
@@ -179,16 +222,7 @@ std::vector<ComparedOutput> ModelComparison::Simulate() const {
     c.column = it->second;
     c.unit = o.unit;
     c.measured = log_.column(it->second);
-    // Linear interpolation of the simulated output onto the measured time stamps.
-    const auto& st = log.time;
-    const auto& sv = log.Column(o.name);
-    c.model.resize(t.size());
-    std::size_t j = 0;
-    for (Eigen::Index i = 0; i < t.size(); ++i) {
-      while (j + 2 < st.size() && st[j + 1] < t(i)) ++j;
-      const double w = st.size() < 2 ? 0.0 : std::clamp((t(i) - st[j]) / (st[j + 1] - st[j]), 0.0, 1.0);
-      c.model(i) = st.size() < 2 ? sv[0] : sv[j] + w * (sv[j + 1] - sv[j]);
-    }
+    c.model = OnMeasuredTimes(log.time, log.Column(o.name), t);
     if (output_filter_hz_ > 0.0 && c.model.allFinite()) {
       // The cut-off the log's measured outputs were filtered with (the default follows the sample rate).
       const double dt = MedianTimeStep(t);
@@ -202,6 +236,16 @@ std::vector<ComparedOutput> ModelComparison::Simulate() const {
     }
     c.rmse = Rmse(c.measured, c.model);
     c.fit_percent = FitPercent(c.measured, c.model);
+    for (const auto& in : d.inputs()) {  // the reference of a closed loop: an input in the output's unit
+      const auto column = input_columns_.find(in.name);
+      if (column == input_columns_.end() || o.unit.empty() || in.unit != o.unit) continue;
+      const Eigen::VectorXd tracking = log_.column(column->second) - c.measured;
+      const double spread = (tracking.array() - tracking.mean()).matrix().norm();
+      if (!(spread > 0.0)) continue;
+      c.tracking_input = in.name;
+      c.tracking_fit_percent = 100.0 * (1.0 - (c.measured - c.model).norm() / spread);
+      break;
+    }
     out.push_back(std::move(c));
   }
   return out;
@@ -484,6 +528,30 @@ DiagramFit FitDiagram(const json& diagram, const fs::path& base_directory, const
   return out;
 }
 
+namespace {
+
+// The diagram's own signal that `column` matches (name, squared correlation of the centred records) when the match
+// reaches kReactionSquaredCorrelation, else none. Constant signals match nothing.
+std::optional<std::pair<std::string, double>> OwnSignalMatch(
+    const Eigen::VectorXd& column, const std::vector<std::pair<std::string, Eigen::VectorXd>>& own) {
+  const Eigen::VectorXd c = column.array() - column.mean();
+  const double cc = c.squaredNorm();
+  std::optional<std::pair<std::string, double>> best;
+  if (!(cc > 0.0)) return best;
+  for (const auto& [name, signal] : own) {
+    if (signal.size() != c.size() || !signal.allFinite()) continue;
+    const Eigen::VectorXd s = signal.array() - signal.mean();
+    const double ss = s.squaredNorm();
+    if (!(ss > 0.0)) continue;
+    const double cs = c.dot(s);
+    const double r2 = cs * cs / (cc * ss);
+    if (r2 >= kReactionSquaredCorrelation && (!best || r2 > best->second)) best = {name, r2};
+  }
+  return best;
+}
+
+}  // namespace
+
 DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base_directory, const std::string& source,
                                        const MeasurementLog& log, const MeasurementSettings& settings,
                                        const std::vector<std::string>& fit_names, bool diagnose) {
@@ -529,13 +597,30 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
                                    velocity_column, DerivedAccelerationColumn(settings.position_column)};
   for (const auto& [connector, column] : comparison.input_columns()) read.push_back(column);
   for (const ComparedOutput& o : out.after) read.push_back(o.column);
+  std::vector<std::string> unread;
   for (const std::string& name : log.names()) {
     if (std::find(read.begin(), read.end(), name) != read.end()) continue;
     // "element.port" columns are a simulation's own internal signals (a motionblocks run's log: the twin's
     // plant.disturbance is the hidden truth itself), not measurements of another physical quantity.
     if (name.find('.') != std::string::npos) continue;
+    unread.push_back(name);
+  }
+  // Simulation mode: a column the loop computes from the very error being explained (a controller's output, a
+  // current reference, a following error) is a reaction, not a cause; built into a candidate it would explain the
+  // error by itself (issue 46). It is the diagram's own signal under another name: left out, with a note.
+  std::vector<std::pair<std::string, Eigen::VectorXd>> own;
+  if (!equation_error && !unread.empty()) own = comparison.SimulateBlockOutputs();
+  for (const std::string& name : unread) {
+    const Eigen::VectorXd& column = log.column(name);
+    if (const auto match = OwnSignalMatch(column, own)) {
+      out.notes.push_back(fmt::format(
+          "log column '{}' is the diagram's own signal '{}' under another name (r² = {:.3f}): the closed loop "
+          "computes it from the error being explained, a reaction and not a cause, so no candidate is built from it",
+          name, match->first, match->second));
+      continue;
+    }
     signals.extra_names.push_back(name);
-    signals.extra_columns.push_back(log.column(name));
+    signals.extra_columns.push_back(column);
   }
   // The fitted parameters' sensitivities are the base regressors: the diagnosis refits them jointly with each
   // candidate (DIAGNOSIS.md step 1).
@@ -565,6 +650,11 @@ json ComparedOutputsJson(const std::vector<ComparedOutput>& before, const std::v
                        {"rmse_after", after[i].rmse},
                        {"fit_percent_before", before[i].fit_percent},
                        {"fit_percent_after", after[i].fit_percent}});
+    if (!after[i].tracking_input.empty()) {
+      outputs.back()["tracking_input"] = after[i].tracking_input;
+      outputs.back()["tracking_fit_percent_before"] = before[i].tracking_fit_percent;
+      outputs.back()["tracking_fit_percent_after"] = after[i].tracking_fit_percent;
+    }
   }
   return outputs;
 }

@@ -9,9 +9,11 @@
 // simulated position/force out).
 
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -58,11 +60,18 @@ struct ComparedOutput {
   Eigen::VectorXd model;
   double rmse = 0.0;
   double fit_percent = 0.0;
+  /// Simulation mode, an output with an input in its unit (the position and its reference): the model's tracking
+  /// error r − ŷ against the measured one r − y, 100 (1 − ‖y − ŷ‖ / ‖(r − y) − mean‖) [%] — what "fit" means for a
+  /// closed loop, whose position the reference dominates (its fit is 100.0 % for any model that tracks). NaN when no
+  /// input shares the output's unit; `tracking_input` names the input connector ("" then).
+  double tracking_fit_percent = std::numeric_limits<double>::quiet_NaN();
+  std::string tracking_input{};
   Eigen::VectorXd residual() const { return measured - model; }
 };
 
 /// Per compared output, before and after a refit (same order and length): [{"connector", "column", "unit",
-/// "rmse_before", "rmse_after", "fit_percent_before", "fit_percent_after"}] — the "outputs" of compare.json and
+/// "rmse_before", "rmse_after", "fit_percent_before", "fit_percent_after"}, and where defined "tracking_input",
+/// "tracking_fit_percent_before", "tracking_fit_percent_after"] — the "outputs" of compare.json and
 /// fit.json. RMSE in the output's unit, fit in % (FitPercent).
 nlohmann::json ComparedOutputsJson(const std::vector<ComparedOutput>& before, const std::vector<ComparedOutput>& after);
 
@@ -80,6 +89,11 @@ class ModelComparison {
   /// Same with the given free-parameter values written in first.
   std::vector<ComparedOutput> Simulate(const std::vector<FreeParameter>& params,
                                        const Eigen::Ref<const Eigen::VectorXd>& values) const;
+
+  /// Every scalar block output of the diagram ("block.port", at most `max_signals` of them, in block order) simulated
+  /// along the record and interpolated onto the measured time stamps (each N): the diagram's own signals, against
+  /// which a log column computed inside the loop is recognised (UnreadColumnReaction). Throws as Simulate.
+  std::vector<std::pair<std::string, Eigen::VectorXd>> SimulateBlockOutputs(std::size_t max_signals = 200) const;
 
   /// Equation-error parallel filtering (IDIM-LS): pass every simulated output through the same zero-phase
   /// low-pass as the measured outputs (ReadMeasurementWithDerivatives' `filter_columns`), so that both sides of
@@ -104,6 +118,8 @@ class ModelComparison {
   std::map<std::string, std::string> input_columns_;
   std::map<std::string, std::string> output_columns_;
   double output_filter_hz_ = 0.0;
+  /// Simulates `d` (built from diagram_ or a copy of it) along the record: its logged signals.
+  SignalLog Run(const Diagram& d) const;
   // Invariant: diagram_ passed the schema at construction and can since change only through SetParameterValues
   // (numbers for numbers), so each simulation (hundreds per refit) builds it with SchemaCheck::kSkipRevalidation.
 };
@@ -137,6 +153,12 @@ struct FitResult {
 inline constexpr double kMaxIdentifiableCondition = 1e6;
 /// A parameter whose whole value moves the output by less than this fraction of the output's norm has no effect.
 inline constexpr double kNoEffectRelative = 1e-9;
+/// In simulation mode a log column whose centred record matches one of the diagram's own signals
+/// (ModelComparison::SimulateBlockOutputs) with at least this squared correlation is that signal under another name —
+/// computed inside the loop, a reaction to the error — and is kept out of the diagnosis (CompareAndDiagnose notes it).
+/// A controller's logged output against its simulated twin: r² = 0.9 and more where the model is fair (EMPS: see
+/// docs/diagnosis.md); an exogenous column (a temperature, another axis) follows no signal of the loop this closely.
+inline constexpr double kReactionSquaredCorrelation = 0.8;
 
 /// Minimises Σ over compared outputs of ‖(measured − model)/scale‖², scale = each output's measured standard
 /// deviation, over the free parameters (Levenberg–Marquardt, forward-difference Jacobian whose p + 1 simulations run

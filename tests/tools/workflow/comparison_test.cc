@@ -6,6 +6,7 @@
 #include <fstream>
 #include <map>
 #include <numbers>
+#include <string>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -15,6 +16,7 @@
 #include "engine/simulator.h"
 #include "models/diagnosis/diagnosis.h"
 #include "tools/workflow/comparison.h"
+#include "tools/workflow/measurement.h"
 #include "tools/workflow/suggest.h"
 
 namespace mb {
@@ -372,6 +374,50 @@ TEST(ComparisonTest, FreeParameterErrorsNameTheProblem) {
               ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("has no numeric parameter 'stick_model'")));
   EXPECT_THAT([&] { ResolveFreeParameters(diagram, {"mass"}); },
               ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("write block.parameter")));
+}
+
+// Simulation mode on the real EMPS closed loop (issue 46, items 2 and 3): the log's input_V is the controller's
+// output, computed from the very error being explained — the diagram's own signal under another name — so no
+// candidate is built from it and a note says so; an exogenous column (here a made-up ambient temperature, a slow
+// drift with a daily-like wobble, independent of the loop) stays a candidate column. The position's fit is read
+// against the reference's tracking error, not the position itself.
+TEST(ComparisonTest, SimulationModeLeavesTheControllersOutputOutAndKeepsAnExogenousColumn) {
+  const fs::path dir = fs::temp_directory_path() / "mb_reaction_column";
+  fs::create_directories(dir);
+  {
+    std::ifstream in(kEmps / "data" / "DATA_EMPS.csv");
+    std::ofstream out(dir / "log.csv");
+    std::string line;
+    std::getline(in, line);
+    out << line << ",ambient_C\n";
+    for (int i = 0; std::getline(in, line); ++i) {
+      const double t = 0.001 * i;
+      out << line << "," << 21.0 + 0.05 * t + 0.3 * std::sin(0.7 * t) << "\n";
+    }
+  }
+  const auto diagram = ReadDiagramJson(kEmps / "closed_loop.json");
+  MeasurementSettings settings;
+  const MeasurementLog log = ReadMeasurementFor(diagram, (dir / "log.csv").string(), settings);
+  const DiagnosedComparison c = CompareAndDiagnose(diagram, kEmps, "closed_loop.json", log, settings,
+                                                   diagram["free"].get<std::vector<std::string>>(), true);
+  ASSERT_EQ(c.mode, ExperimentMode::kSimulation);
+  EXPECT_THAT(c.signals.extra_names, ::testing::ElementsAre("ambient_C"));
+  bool noted = false;
+  for (const auto& n : c.notes) noted = noted || (n.find("log column 'input_V' is the diagram's own signal") == 0);
+  EXPECT_TRUE(noted);
+  ASSERT_TRUE(c.diagnosis.has_value());
+  for (const auto& e : c.diagnosis->effects) EXPECT_NE(e.log_column, "input_V") << e.effect;
+
+  const ComparedOutput& position = c.after.front();
+  ASSERT_EQ(position.connector, "position");
+  EXPECT_EQ(position.tracking_input, "reference");
+  EXPECT_GT(position.fit_percent, 99.9);  // the reference dominates: says nothing
+  // Read against the tracking error r − y (mm at speed, where the position spans 0.25 m) the same residual weighs
+  // a hundred times more: measured 99.30 % → 99.52 % where the position's fit reads 99.995 % → 99.997 %.
+  EXPECT_LT(100.0 - position.fit_percent, 0.1 * (100.0 - position.tracking_fit_percent));
+  EXPECT_GT(position.tracking_fit_percent, c.before.front().tracking_fit_percent - 1e-9);  // the refit helps
+  EXPECT_TRUE(c.after.back().tracking_input.empty());  // the force has no input in newtons
+  fs::remove_all(dir);
 }
 
 }  // namespace
