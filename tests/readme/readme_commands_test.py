@@ -18,6 +18,9 @@ What is skipped, and why (each is said in the output):
   - the Python lines when no module folder is given (--python-path), i.e. a build without MB_PYTHON;
   - the slowest commands (SLOW below) unless MB_README_SLOW=1: `reproduce` takes ~10 s in a Release build and
     ~45 s under AddressSanitizer, where the rest of the README takes ~160 s on 2 cores.
+  - in a sanitizer build, the commands whose --out folder is one of scripts/readme_figures.py's README_RUNS: the
+    `readme_figures` test runs each of them as written and checks its figures, and under the sanitizers the two
+    tests running them twice cost ~5 min (improve alone 163 s); MB_README_SLOW=1 runs them here too.
 
 How: the repository's tracked files (git ls-files; their working-tree contents, so an edited README is what is
 tested) are copied into a temporary folder, which stands for the clone's root: the commands write their out/ there,
@@ -150,7 +153,16 @@ def split_line(text):
     return parts
 
 
-def skip_reason(command, python_path, sanitizers=False):
+def figure_run_folders(source):
+    """The --out folders of the README commands that scripts/readme_figures.py runs (its README_RUNS)."""
+    import importlib.util
+    spec = importlib.util.spec_from_file_location("readme_figures", os.path.join(source, "scripts", "readme_figures.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return {folder for _, folder, _ in module.README_RUNS}
+
+
+def skip_reason(command, python_path, sanitizers=False, figure_runs=frozenset()):
     words = command.text.split()
     program = next((w for w in words if "=" not in w), "")
     if program == "make":
@@ -170,6 +182,9 @@ def skip_reason(command, python_path, sanitizers=False):
         for needle, why in SLOW:
             if needle in words[1:3]:
                 return f"slow ({why}); {SLOW_ENV}=1 runs it"
+        if sanitizers and "--out" in words[:-1] and words[words.index("--out") + 1] in figure_runs:
+            return (f"run as written by the readme_figures test, which checks its figures; "
+                    f"{SLOW_ENV}=1 runs it here too")
     return ""
 
 
@@ -322,6 +337,7 @@ def main():
     if not commands:
         sys.exit("README.md: no commands found")
 
+    figure_runs = figure_run_folders(args.source)
     root = tempfile.mkdtemp(prefix="mb_readme_")
     started = time.monotonic()
     failures, ran, skipped = [], 0, 0
@@ -345,7 +361,7 @@ def main():
             if command.block != block:
                 stop_background(background)
                 block = command.block
-            reason = skip_reason(command, args.python_path, args.sanitizers)
+            reason = skip_reason(command, args.python_path, args.sanitizers, figure_runs)
             if reason:
                 skipped += 1
                 print(f"skip {command.where()}: {command.text}\n     ({reason})", flush=True)
