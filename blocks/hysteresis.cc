@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "models/diagnosis/effect_block.h"
+#include "models/diagnosis/effect_regressors.h"
 
 namespace mb {
 
@@ -98,10 +99,9 @@ EffectBlockTemplate HysteresisEffectBlock() {
                                               "cannot suggest a block",
                                               lo, hi, elements));
     }
-    const auto n = static_cast<int>(elements);
-    nlohmann::json displacements = nlohmann::json::array(), forces = nlohmann::json::array();
-    for (int i = 0; i < n; ++i) {
-      displacements.push_back(n == 1 ? lo : lo * std::pow(hi / lo, static_cast<double>(i) / (n - 1)));
+    const std::vector<double> displacements = LogSpaced(lo, hi, static_cast<int>(elements));  // as the regressors
+    nlohmann::json forces = nlohmann::json::array();
+    for (std::size_t i = 0; i < displacements.size(); ++i) {
       forces.push_back(BlockCoefficient(d, fmt::format("r{}", i + 1)));
     }
     return nlohmann::json{{"breakaway_displacements", displacements}, {"breakaway_forces", forces}};

@@ -62,6 +62,14 @@ Eigen::VectorXd PlayOperator(const Eigen::VectorXd& x, double half_width) {
   return y;
 }
 
+std::vector<double> LogSpaced(double lo, double hi, int n) {
+  std::vector<double> out(static_cast<std::size_t>(std::max(n, 1)), lo);
+  for (int i = 1; i < n; ++i) {
+    out[static_cast<std::size_t>(i)] = lo * std::pow(hi / lo, static_cast<double>(i) / (n - 1));
+  }
+  return out;
+}
+
 EffectRegressors SingleColumn(const std::string& effect, Eigen::VectorXd column) {
   EffectRegressors out;
   out.columns = std::move(column);

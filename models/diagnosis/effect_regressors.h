@@ -3,6 +3,7 @@
 // error messages, sign(v) with a dead band, Fourier columns.
 
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -28,6 +29,10 @@ Eigen::VectorXd SignDeadBand(const Eigen::VectorXd& velocity, double dead_band);
 /// The play (backlash) operator: y follows x only once |x − y| reaches half_width, y(0) = x(0) (Krasnosel'skii and
 /// Pokrovskii 1989; the far side of a gear or belt play).
 Eigen::VectorXd PlayOperator(const Eigen::VectorXd& x, double half_width);
+
+/// n values log-spaced from lo to hi, both included (lo alone when n = 1): the break-away displacements of the
+/// hysteresis term and of the block that adds it, which must agree. Requires 0 < lo <= hi and n >= 1.
+std::vector<double> LogSpaced(double lo, double hi, int n);
 
 /// One column named after the effect.
 EffectRegressors SingleColumn(const std::string& effect, Eigen::VectorXd column);

@@ -46,10 +46,7 @@ std::vector<double> Breakaways(const EffectInstance& e) {
     throw std::invalid_argument(fmt::format("effect '{}': max_breakaway {} must be at least min_breakaway {}", e.name,
                                             hi, lo));
   }
-  const int n = Elements(e);
-  std::vector<double> r(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) r[static_cast<std::size_t>(i)] = n == 1 ? lo : lo * std::pow(hi / lo, double(i) / (n - 1));
-  return r;
+  return LogSpaced(lo, hi, Elements(e));
 }
 
 EffectRegressors Columns(const EffectInstance& e, const DiagnosisSignals& s) {
