@@ -86,7 +86,7 @@ std::string CheckPositionTimeAmbiguity(const DiagnosisSignals& signals, const Ei
   if (other.name.empty()) return {};
   const double total = (residual.array() - residual.mean()).matrix().squaredNorm();
   const auto share = [&](const EffectInstance& e) {
-    return 1.0 - ResidualSumOfSquares(base, BuildEffectRegressors(e, signals).columns, residual) / total;
+    return 1.0 - JointFitResidual(base, residual, options.catalogue.loop.get())(BuildEffectRegressors(e, signals).columns) / total;
   };
   const double own = share({top->effect, top->parameters}), alternative = share(other);
   const bool in_time = LookupEffect(top->effect).traits.periodicity == Periodicity::kTime;

@@ -56,8 +56,9 @@ struct RegressorMatrix {
   std::vector<std::size_t> owner_;  // cols() − p: the candidate of column p + i
 };
 
-// Parallel filtering of a candidate's columns (DiagnosisOptions::regressor_filter_hz). Regressors built from the model
-// output alone are in the filtered band already. (quantization is built from it too, but its rounding puts energy above
+// Parallel filtering of a candidate's columns (DiagnosisOptions::regressor_filter_hz), or in simulation mode the
+// candidate's force through the closed loop (CatalogueOptions::loop). Regressors built from the model output alone
+// are in the filtered band, and in the output's space, already. (quantization is built from it too, but its rounding puts energy above
 // the cut-off that the measured, filtered output lost.)
 void FilterCandidateColumns(const EffectType& type, const DiagnosisSignals& signals, const DiagnosisOptions& options,
                             Eigen::MatrixXd* columns);

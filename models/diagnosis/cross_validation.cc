@@ -51,7 +51,7 @@ Eigen::VectorXd BlockGrams::HeldOutErrors(const std::vector<Eigen::Index>& idx, 
   for (Eigen::Index b = 0; b < folds_; ++b) {
     const Eigen::Index start = b * n / folds_, end = (b + 1) * n / folds_;
     const auto ub = static_cast<std::size_t>(b);
-    const Eigen::VectorXd theta = Solve(SubMatrix(total_gram_ - gram_[ub], idx), SubVector(total_xty_ - xty_[ub], idx));
+    const Eigen::VectorXd theta = SolveHeldOut(idx, ub);
     const auto sw = m.sw.segment(start, end - start);
     for (std::size_t j = 0; j < idx.size(); ++j) {
       e.segment(start, end - start) -=
@@ -68,9 +68,7 @@ double BlockGrams::HeldOutMse(const std::vector<Eigen::Index>& idx) const {
       sse += yty_[b];
       continue;
     }
-    const Eigen::MatrixXd g = SubMatrix(total_gram_ - gram_[b], idx);
-    const Eigen::VectorXd h = SubVector(total_xty_ - xty_[b], idx);
-    const Eigen::VectorXd theta = Solve(g, h);
+    const Eigen::VectorXd theta = SolveHeldOut(idx, b);
     sse += yty_[b] - 2.0 * theta.dot(SubVector(xty_[b], idx)) + theta.dot(SubMatrix(gram_[b], idx) * theta);
   }
   return sse / n_;
@@ -115,6 +113,14 @@ Eigen::VectorXd BlockGrams::SubVector(const Eigen::VectorXd& v, const std::vecto
   Eigen::VectorXd out(static_cast<Eigen::Index>(idx.size()));
   for (std::size_t i = 0; i < idx.size(); ++i) out(static_cast<Eigen::Index>(i)) = v(idx[i]);
   return out;
+}
+
+Eigen::VectorXd BlockGrams::SolveHeldOut(const std::vector<Eigen::Index>& idx, std::size_t b) const {
+  Eigen::MatrixXd g = SubMatrix(total_gram_ - gram_[b], idx);
+  for (std::size_t j = 0; j < idx.size(); ++j) {
+    g(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(j)) += kHeldOutRidge * total_gram_(idx[j], idx[j]);
+  }
+  return Solve(std::move(g), SubVector(total_xty_ - xty_[b], idx));
 }
 
 Eigen::VectorXd BlockGrams::Solve(Eigen::MatrixXd g, const Eigen::VectorXd& h) {

@@ -40,6 +40,13 @@ class BlockGrams {
   static Eigen::VectorXd SubVector(const Eigen::VectorXd& v, const std::vector<Eigen::Index>& idx);
   // Columns have unit RMS, so a ridge of 1e-9·(mean diagonal) only matters for collinear columns.
   static Eigen::VectorXd Solve(Eigen::MatrixXd g, const Eigen::VectorXd& h);
+  // The fit on every block but b: each column's ridge kHeldOutRidge × its energy over the whole record. A column that
+  // lives in block b alone (in simulation mode the loop's response to a constant force under integral action is a
+  // transient at the start) has almost no energy elsewhere; unpenalised, its coefficient fitted on the other blocks is
+  // noise over nearly nothing, and its held-out prediction in block b explodes. A column spread over the record loses
+  // kHeldOutRidge / (its share outside b) of its coefficient: 1.3e-4 for a fifth held out.
+  Eigen::VectorXd SolveHeldOut(const std::vector<Eigen::Index>& idx, std::size_t b) const;
+  static constexpr double kHeldOutRidge = 1e-4;
 
   std::vector<Eigen::MatrixXd> gram_;
   std::vector<Eigen::VectorXd> xty_;

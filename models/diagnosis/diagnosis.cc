@@ -275,6 +275,7 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
 
   DiagnosisResult result;
   result.position_unit = options.position_unit;
+  result.loop = options.catalogue.loop;
   result.base_names = base.names;
   result.rmse_before = std::sqrt(r.squaredNorm() / static_cast<double>(n));
 
@@ -326,11 +327,16 @@ Eigen::VectorXd PredictCorrection(const DiagnosisResult& result, const Diagnosis
   }
   Eigen::VectorXd out = Eigen::VectorXd::Zero(n);
   if (p > 0) out += base.columns * result.base_coefficients;
-  for (const auto& e : result.effects) {
-    const EffectRegressors reg = BuildEffectRegressors({e.effect, e.parameters}, signals);
-    out += reg.columns * e.coefficients;
-  }
+  for (const auto& e : result.effects) out += EffectContribution(result, e, signals);
   return out;
+}
+
+Eigen::VectorXd EffectContribution(const DiagnosisResult& result, const DiagnosedEffect& effect,
+                                   const DiagnosisSignals& signals) {
+  const EffectRegressors reg = BuildEffectRegressors({effect.effect, effect.parameters}, signals);
+  const Eigen::VectorXd force = reg.columns * effect.coefficients;
+  if (!result.loop || LookupEffect(effect.effect).traits.regressor_in_output_band) return force;
+  return result.loop->Apply(force);
 }
 
 BinnedResidual BinResidual(const Eigen::Ref<const Eigen::VectorXd>& abscissa,

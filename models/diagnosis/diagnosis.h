@@ -27,6 +27,7 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -133,6 +134,9 @@ struct DiagnosisResult {
   bool position_time_indistinguishable = false;
   std::string summary;                       // one paragraph for users
   std::string position_unit = "m";           // the position's unit (DiagnosisOptions::position_unit), for texts
+  // Simulation mode: the closed loop the effects' forces reach the output through (CatalogueOptions::loop); null in
+  // equation-error mode. EffectContribution and PredictCorrection apply it.
+  std::shared_ptr<const LoopResponse> loop;
   std::vector<std::string> notes;            // supporting evidence and caveats
 
   double rmse_before = 0.0;                  // RMSE of the residual as given
@@ -175,8 +179,14 @@ struct DiagnosisResult {
 DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const BaseRegressors& base,
                                        const DiagnosisOptions& options = {});
 
-// The correction the diagnosis fitted (base-parameter corrections + chosen effects), evaluated on other
-// signals (e.g. a validation record): subtract it from that record's residual to see the error fall.
+// One chosen effect's part of the compared output on `signals` [output unit]: its regressors times its coefficients,
+// in simulation mode through the closed loop (DiagnosisResult::loop; an effect of the measurement chain, EffectTraits::
+// regressor_in_output_band, acts on the output directly). Throws as BuildEffectRegressors and LoopResponse::Apply.
+Eigen::VectorXd EffectContribution(const DiagnosisResult& result, const DiagnosedEffect& effect,
+                                   const DiagnosisSignals& signals);
+
+// The correction the diagnosis fitted (base-parameter corrections + chosen effects, EffectContribution), evaluated on
+// other signals (e.g. a validation record): subtract it from that record's residual to see the error fall.
 // base must hold the same regressors (same order) built on the new signals.
 // Throws std::invalid_argument as BuildEffectRegressors, or on a size mismatch.
 Eigen::VectorXd PredictCorrection(const DiagnosisResult& result, const DiagnosisSignals& signals,

@@ -10,12 +10,14 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "models/diagnosis/loop_response.h"
 #include "models/diagnosis/periodogram.h"
 
 namespace mb {
@@ -115,6 +117,11 @@ struct CatalogueOptions {
   // One revolution in the position's unit on a rotary axis (2π for rad, 1 for rev, 360 for deg), 0 on a linear one:
   // the period of a force of the angle such as gravity on an unbalanced arm (DiagnosisOptions::position_unit sets it).
   double revolution = 0.0;
+  // Simulation mode (issue 46): the closed loop's response from a force at the plant's input to the compared output
+  // (loop_response.h). When set, every candidate built from the motion is a force passed through it before it is
+  // fitted (FilterCandidateColumns, JointFitResidual), so that its coefficient is a force; null in equation-error
+  // mode, where the residual is itself a force.
+  std::shared_ptr<const LoopResponse> loop;
 };
 
 // What the proposal found on the way (for reports): the periodograms searched.

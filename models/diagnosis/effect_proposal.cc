@@ -268,15 +268,20 @@ int HarmonicCount(const Periodogram& pg, std::size_t index, int max_harmonics) {
   return std::min(h, max_harmonics);
 }
 
-JointFitResidual::JointFitResidual(const Eigen::MatrixXd& base, const Eigen::VectorXd& r)
+JointFitResidual::JointFitResidual(const Eigen::MatrixXd& base, const Eigen::VectorXd& r, const LoopResponse* loop)
     : base_(base), r_(r), base_gram_(base.transpose() * base), base_moment_(base.transpose() * r),
-      r_squared_(r.squaredNorm()) {}
+      r_squared_(r.squaredNorm()), loop_(loop) {}
 
 JointFitResidual::JointFitResidual(const Eigen::MatrixXd& base, const Eigen::MatrixXd& base_gram,
-                                   const Eigen::VectorXd& r)
-    : base_(base), r_(r), base_gram_(base_gram), base_moment_(base.transpose() * r), r_squared_(r.squaredNorm()) {}
+                                   const Eigen::VectorXd& r, const LoopResponse* loop)
+    : base_(base), r_(r), base_gram_(base_gram), base_moment_(base.transpose() * r), r_squared_(r.squaredNorm()),
+      loop_(loop) {}
 
-double JointFitResidual::operator()(const Eigen::Ref<const Eigen::MatrixXd>& extra) const {
+double JointFitResidual::operator()(const Eigen::Ref<const Eigen::MatrixXd>& forces) const {
+  // Simulation mode: the candidate forces as the compared output sees them through the closed loop.
+  Eigen::MatrixXd through_loop;
+  if (loop_ != nullptr) through_loop = loop_->Apply(forces);
+  const Eigen::Ref<const Eigen::MatrixXd> extra = loop_ != nullptr ? Eigen::Ref<const Eigen::MatrixXd>(through_loop) : forces;
   const Eigen::Index p = base_.cols(), k = extra.cols();
   Eigen::MatrixXd gram(p + k, p + k);
   gram.topLeftCorner(p, p) = base_gram_;
@@ -355,7 +360,7 @@ double ScanJointFit(const ProposalContext& context, double lo, double hi, int gr
                     const std::function<Eigen::MatrixXd(double)>& columns) {
   if (!(lo > 0.0) || !(hi > lo) || grid < 3) return 0.0;
   const Eigen::MatrixXd base = context.BaseWithConstant();
-  const JointFitResidual joint_fit(base, context.residual());
+  const JointFitResidual joint_fit(base, context.residual(), context.loop());
   // The columns' callbacks are pure functions of the value: the grid in parallel.
   return MinimiseOnLogGrid(lo, hi, grid, 20, [&](double value) { return joint_fit(columns(value)); }, true);
 }

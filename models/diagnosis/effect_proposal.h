@@ -46,6 +46,9 @@ class ProposalContext {
   /// The base model's regressors (N × p, p may be 0).
   const Eigen::MatrixXd& base_columns() const { return base_columns_; }
   const CatalogueOptions& options() const { return options_; }
+  /// Simulation mode: the closed loop a candidate force reaches the output through (CatalogueOptions::loop); null in
+  /// equation-error mode. Pass it to JointFitResidual for every joint fit of candidate forces.
+  const LoopResponse* loop() const { return options_.loop.get(); }
   const CandidateSearch& search() const { return *search_; }
   Eigen::Index size() const { return signals_.size(); }
 
@@ -107,9 +110,12 @@ double ResidualSumOfSquares(const Eigen::MatrixXd& base, const Eigen::Ref<const 
 /// linear least squares (Björck, "Numerical Methods for Least Squares Problems", SIAM 1996, §2.1).
 class JointFitResidual {
  public:
-  JointFitResidual(const Eigen::MatrixXd& base, const Eigen::VectorXd& r);
+  /// `loop` (simulation mode, ProposalContext::loop; must outlive it): each `extra` is a force, passed through the
+  /// closed loop (LoopResponse::Apply) before the fit, whose base and r are then in the compared output's unit.
+  JointFitResidual(const Eigen::MatrixXd& base, const Eigen::VectorXd& r, const LoopResponse* loop = nullptr);
   /// The same with BᵀB given (p × p, formed as base.transpose() * base): for a scan whose r changes but not B.
-  JointFitResidual(const Eigen::MatrixXd& base, const Eigen::MatrixXd& base_gram, const Eigen::VectorXd& r);
+  JointFitResidual(const Eigen::MatrixXd& base, const Eigen::MatrixXd& base_gram, const Eigen::VectorXd& r,
+                   const LoopResponse* loop = nullptr);
   double operator()(const Eigen::Ref<const Eigen::MatrixXd>& extra) const;
 
  private:
@@ -118,6 +124,7 @@ class JointFitResidual {
   Eigen::MatrixXd base_gram_;      // BᵀB (p × p)
   Eigen::VectorXd base_moment_;    // Bᵀr (p)
   double r_squared_ = 0.0;         // rᵀr
+  const LoopResponse* loop_ = nullptr;
 };
 
 /// Does the model have a Coulomb law (sign(v)) to replace? One base column is sign(v) over the moving samples

@@ -215,7 +215,7 @@ std::vector<FactorParameters> ScanStep(ProposalContext& c, const Eigen::VectorXd
   const auto [t0, duration] = Span(s);
   if (!(duration > 0.0) || !(m.cwiseAbs().maxCoeff() > 0.0)) return {};
   const Eigen::MatrixXd base = c.BaseWithConstant();
-  const JointFitResidual fit(base, c.residual());
+  const JointFitResidual fit(base, c.residual(), c.loop());
   const auto sse = [&](double t) { return fit(StepColumn(s, m, t)); };
   const double lo = t0 + kTimeTrim * duration, step = (1.0 - 2.0 * kTimeTrim) * duration / (kBreakGrid - 1);
   int best = 0;
@@ -238,7 +238,7 @@ std::vector<FactorParameters> ScanWindow(ProposalContext& c, const Eigen::Vector
   const auto [t0, duration] = Span(s);
   if (!(duration > 0.0) || !(m.cwiseAbs().maxCoeff() > 0.0)) return {};
   const Eigen::MatrixXd base = c.BaseWithConstant();
-  const JointFitResidual fit(base, c.residual());
+  const JointFitResidual fit(base, c.residual(), c.loop());
   const double lo = t0 + 0.5 * kTimeTrim * duration, step = (1.0 - kTimeTrim) * duration / (kWindowGrid - 1);
   int best_on = 0, best_off = 0;
   double best_sse = std::numeric_limits<double>::infinity();
@@ -271,7 +271,7 @@ std::vector<FactorParameters> ScanWarmUp(ProposalContext& c, const Eigen::Vector
   const double t0 = start;  // a plain copy: clang 14 does not capture a structured binding in a lambda
   if (!(duration > 0.0) || !(m.cwiseAbs().maxCoeff() > 0.0)) return {};
   const Eigen::MatrixXd base = c.BaseWithConstant();
-  const JointFitResidual fit(base, c.residual());
+  const JointFitResidual fit(base, c.residual(), c.loop());
   const double lo = duration / 100.0, hi = duration;
   const double time_constant = MinimiseOnLogGrid(
       lo, hi, kGrid, 20, [&](double T) { return fit(m.cwiseProduct(WarmUp(s.time, t0, T))); }, true);

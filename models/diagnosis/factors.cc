@@ -63,7 +63,7 @@ double BestSlipVelocity(const ProposalContext& c,
                         const std::function<Eigen::MatrixXd(const Eigen::VectorXd& slip)>& columns) {
   constexpr int kOctaves = 5;
   const Eigen::MatrixXd base = c.BaseWithConstant();  // JointFitResidual keeps a reference
-  const JointFitResidual fit(base, c.residual());
+  const JointFitResidual fit(base, c.residual(), c.loop());
   double best = c.dead_band(), best_sse = std::numeric_limits<double>::infinity();
   for (int k = 0; k <= kOctaves; ++k) {
     const double v_s = c.dead_band() * std::ldexp(1.0, -k);
@@ -145,7 +145,7 @@ BumpPlace ScanBump(const ProposalContext& c, const Eigen::VectorXd& m) {
   const double x_min = s.position.minCoeff();
   const Eigen::MatrixXd base = c.BaseWithConstant();
   const Eigen::MatrixXd gram = base.transpose() * base;
-  const JointFitResidual fit(base, gram, c.residual());
+  const JointFitResidual fit(base, gram, c.residual(), c.loop());
   const double sse_base = fit(Eigen::MatrixXd(c.size(), 0));
   if (!(sse_base > 0.0)) return best;
   double best_sse = sse_base;

@@ -35,7 +35,7 @@ ViscousDriftScan ScanViscousDrift(const ProposalContext& c) {
   const double duration = scan.end - scan.start;
   if (!(duration > 0.0)) return scan;
   const Eigen::MatrixXd base = c.BaseWithConstant();  // JointFitResidual keeps a reference
-  const JointFitResidual fit(base, c.residual());
+  const JointFitResidual fit(base, c.residual(), c.loop());
   scan.ramp_sse = fit(RampedVelocity(s.time, s.velocity, scan.start, scan.end));
   for (int i = 0; i < kStepGrid; ++i) {
     const double t = scan.start + duration * (kStepTrim + (1.0 - 2.0 * kStepTrim) * i / (kStepGrid - 1));

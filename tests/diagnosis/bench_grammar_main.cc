@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -55,7 +56,12 @@ int main(int argc, char** argv) {
                                        : first + static_cast<unsigned>(i);
       const auto t0 = std::chrono::steady_clock::now();
       const g::GrammarDraw draw = g::Draw(seed);
-      g::DrawResult r = g::RunDraw(draw, std::filesystem::path(out) / fmt::format("seed_{}", seed), improve);
+      g::DrawResult r;
+      try {
+        r = g::RunDraw(draw, std::filesystem::path(out) / fmt::format("seed_{}", seed), improve);
+      } catch (const std::exception& e) {  // name the draw: its seed reruns it alone (--first-seed, --draws=1)
+        throw std::runtime_error(fmt::format("{}: {}", draw.Describe(), e.what()));
+      }
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       std::string verdict = noise_only ? (r.clean ? "clean" : "NAMED")
                                        : fmt::format("{}{}{}", r.named_right ? "named" : "NOT NAMED",

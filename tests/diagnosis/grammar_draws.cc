@@ -286,8 +286,12 @@ EffectTerms Effect(const GrammarDraw& d, const RunContext& c, double t, double x
   else if (m == "speed") factor = std::abs(v);
   else if (m == "velocity_speed") factor = v * std::abs(v);
   else if (m == "model_force") factor = u;
-  else if (m == "model_force_abs") factor = u * std::abs(u);
   else if (m == "load_slip") factor = std::abs(u) * slip;
+  else if (m == "model_force_abs") {
+    // The force constant's share that the force changes saturates too: within ±50 % (Calibrate keeps it within ±30 %
+    // on the twin's record; a loop that the effect drives harder must not run away on an unbounded u·|u|).
+    return {0.0, u * std::clamp(gain * std::abs(u) * mod, -0.5, 0.5)};
+  }
   else throw std::logic_error("grammar_draws: unknown multiplier " + m);
   return {0.0, gain * factor * mod};
 }

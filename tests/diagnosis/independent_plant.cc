@@ -487,6 +487,9 @@ Record Generate(Hidden hidden, const GeneratorSettings& settings) {
   r.time.resize(n); r.position.resize(n); r.force.resize(n); r.true_force.resize(n);
   r.extra_name = ExtraColumnName(hidden);
   if (!r.extra_name.empty()) r.extra.resize(n);
+  if (settings.log_reference) {
+    r.reference.resize(n); r.reference_velocity.resize(n); r.reference_acceleration.resize(n);
+  }
   std::vector<double> command_time, command;  // for the delayed log
   State st;
   Controller pid;
@@ -522,6 +525,7 @@ Record Generate(Hidden hidden, const GeneratorSettings& settings) {
       r.position(k) = IsRotary(hidden) ? kRadPerMetre * (x_measured - 0.1) : x_measured;
       r.true_force(k) = scale * logged;
       r.force(k) = scale * (logged + noise(rng));
+      if (settings.log_reference) ref.At(t, &r.reference(k), &r.reference_velocity(k), &r.reference_acceleration(k));
       if (Has(hidden, Hidden::kCoupledAxis)) r.extra(k) = OtherAxisAcceleration(t);
       if (Has(hidden, Hidden::kCoupledAxisVelocity)) r.extra(k) = OtherAxisVelocity(t);
       if (Has(hidden, Hidden::kIdleColumn)) r.extra(k) = HallTemperature(t);
@@ -537,12 +541,17 @@ Record Generate(Hidden hidden, const GeneratorSettings& settings) {
 void WriteCsv(const Record& record, const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (f == nullptr) throw std::runtime_error("WriteCsv: cannot write " + path);
-  const bool extra = !record.extra_name.empty();
-  std::fprintf(f, "%s%s%s\n", record.rotary ? "time_s,angle_rad,torque_Nm" : "time_s,position_m,force_N",
-               extra ? "," : "", record.extra_name.c_str());
+  const bool extra = !record.extra_name.empty(), reference = record.reference.size() == record.time.size();
+  std::fprintf(f, "%s%s%s%s\n", record.rotary ? "time_s,angle_rad,torque_Nm" : "time_s,position_m,force_N",
+               extra ? "," : "", record.extra_name.c_str(),
+               reference ? ",reference_m,reference_velocity_m_s,reference_acceleration_m_s2" : "");
   for (Eigen::Index i = 0; i < record.time.size(); ++i) {
     std::fprintf(f, "%.17g,%.17g,%.17g", record.time(i), record.position(i), record.force(i));
     if (extra) std::fprintf(f, ",%.17g", record.extra(i));
+    if (reference) {
+      std::fprintf(f, ",%.17g,%.17g,%.17g", record.reference(i), record.reference_velocity(i),
+                   record.reference_acceleration(i));
+    }
     std::fprintf(f, "\n");
   }
   if (std::fclose(f) != 0) throw std::runtime_error("WriteCsv: cannot write " + path);

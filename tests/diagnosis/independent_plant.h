@@ -126,6 +126,9 @@ struct Record {
   bool rotary = false;         ///< written as angle_rad and torque_Nm (IsRotary)
   std::string extra_name;      ///< a further logged column (ExtraColumnName), "" = none
   Eigen::VectorXd extra;       ///< its values
+  /// The controller's reference at the logged instants [m, m/s, m/s²] (GeneratorSettings::log_reference): what a
+  /// closed-loop diagram compared in simulation mode is driven by. Empty when not logged.
+  Eigen::VectorXd reference, reference_velocity, reference_acceleration;
 };
 
 /// The name of the further column a case logs (kCoupledAxis, kCoupledAxisVelocity, kIdleColumn, kOilTemperature,
@@ -144,12 +147,16 @@ struct GeneratorSettings {
   double encoder_step = 2e-7;         ///< [m]
   double force_noise = 0.5;           ///< [N], standard deviation of the logged force's noise
   unsigned seed = 1;                  ///< moves, jitter and noise
+  /// Log the reference too (Record::reference…; WriteCsv adds reference_m, reference_velocity_m_s and
+  /// reference_acceleration_m_s2): for simulation mode. Off: the equation-error cases' logs hold no such columns.
+  bool log_reference = false;
 };
 
 /// Simulates the closed loop with `hidden` and returns the log.
 Record Generate(Hidden hidden, const GeneratorSettings& settings);
 
-/// Writes time_s,position_m,force_N and the extra column when there is one (17 significant digits). @throws std::runtime_error if it cannot write.
+/// Writes time_s,position_m,force_N, the extra column when there is one and the reference when logged (17 significant
+/// digits). @throws std::runtime_error if it cannot write.
 void WriteCsv(const Record& record, const std::string& path);
 
 /// The truth's force as an equation-error model would give it, evaluated on (derived) motion signals:

@@ -202,7 +202,7 @@ Figure EffectEvidenceFigure(const DiagnosedComparison& compared, std::size_t k, 
   const DiagnosisSignals& s = compared.signals;
   const EffectType* type = EffectRegistry::Global().Find(e.effect);
   const EffectRegressors reg = BuildEffectRegressors({e.effect, e.parameters}, s);
-  const Eigen::VectorXd contribution = reg.columns * e.coefficients;
+  const Eigen::VectorXd contribution = EffectContribution(diagnosis, e, s);
   const Eigen::VectorXd partial = s.residual - PredictCorrection(diagnosis, s, compared.base) + contribution;
   std::vector<EvidenceAxis> axes = EvidenceAxes(s, e, unit, position_unit);
   if (auto axis = RegressorAxis(type, reg, unit)) axes.insert(axes.begin(), std::move(*axis));

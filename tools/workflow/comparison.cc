@@ -1,4 +1,5 @@
 #include "tools/workflow/comparison.h"
+#include "tools/workflow/loop_probe.h"
 
 #include <algorithm>
 #include <cmath>
@@ -185,6 +186,12 @@ SignalLog ModelComparison::Run(const Diagram& d) const {
   sim.Initialize();
   sim.AdvanceTo(d.experiment().stop_time);
   return sim.log();
+}
+
+std::map<std::string, std::string> ModelComparison::ColumnMap() const {
+  std::map<std::string, std::string> all = input_columns_;
+  all.insert(output_columns_.begin(), output_columns_.end());
+  return all;
 }
 
 std::vector<std::pair<std::string, Eigen::VectorXd>> ModelComparison::SimulateBlockOutputs(
@@ -609,7 +616,7 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
   // current reference, a following error) is a reaction, not a cause; built into a candidate it would explain the
   // error by itself (issue 46). It is the diagram's own signal under another name: left out, with a note.
   std::vector<std::pair<std::string, Eigen::VectorXd>> own;
-  if (!equation_error && !unread.empty()) own = comparison.SimulateBlockOutputs();
+  if (!equation_error) own = comparison.SimulateBlockOutputs();
   for (const std::string& name : unread) {
     const Eigen::VectorXd& column = log.column(name);
     if (const auto match = OwnSignalMatch(column, own)) {
@@ -635,6 +642,11 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
   if (equation_error) options.regressor_filter_hz = DerivativeCutoffHz(settings, log);  // parallel filtering
   options.position_unit = PositionUnitToken(settings.position_column);
   options.catalogue.every_pair = settings.every_pair;
+  if (!equation_error) {  // a candidate force reaches the compared output through the closed loop
+    LoopProbe probe = ProbeLoop(comparison, primary, own, signals.velocity);
+    options.catalogue.loop = std::move(probe.loop);
+    out.notes.push_back(std::move(probe.note));
+  }
   out.diagnosis = DiagnoseMissingEffects(signals, base, options);
   out.notes.insert(out.notes.end(), out.diagnosis->notes.begin(), out.diagnosis->notes.end());
   return out;

@@ -108,7 +108,12 @@ class ModelComparison {
   /// construction still holds. @throws as the free SetParameterValues.
   void SetParameterValues(const std::vector<FreeParameter>& params, const Eigen::Ref<const Eigen::VectorXd>& values);
   const std::map<std::string, std::string>& input_columns() const { return input_columns_; }
+  /// Every connector bound to a column (inputs and compared outputs): a column_map that binds a variant of the diagram
+  /// (the same connectors) to the log as this one is.
+  std::map<std::string, std::string> ColumnMap() const;
   const MeasurementLog& log() const { return log_; }
+  const std::filesystem::path& base_directory() const { return base_; }
+  const std::string& source() const { return source_; }
 
  private:
   nlohmann::json diagram_;

@@ -35,7 +35,7 @@ void Propose(ProposalContext& c) {
   if (!(s.acceleration.cwiseAbs().maxCoeff() > 0.0)) return;
   const double t0 = s.time(0), duration = s.time(c.size() - 1) - t0;
   const Eigen::MatrixXd base = c.BaseWithConstant();
-  const JointFitResidual fit(base, c.residual());
+  const JointFitResidual fit(base, c.residual(), c.loop());
   const auto sse = [&](double t) { return fit(Column(s, t)); };
   const double lo = t0 + kTrim * duration, step = (1.0 - 2.0 * kTrim) * duration / (kGrid - 1);
   int best = 0;

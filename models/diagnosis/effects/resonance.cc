@@ -125,7 +125,7 @@ void ProposeAt(ProposalContext& c, double f, double bin, bool scanned = false) {
     const Eigen::MatrixXd base = c.BaseWithConstant();
     const DiagnosisSignals& s = c.signals();
     const Eigen::VectorXd& r = c.residual();
-    const JointFitResidual joint_fit(base, r);  // the base's Gram and moment once, not per trial
+    const JointFitResidual joint_fit(base, r, c.loop());  // the base's Gram and moment once, not per trial
     auto sse_f = [&](double trial) { return joint_fit(ResonanceColumns(s, ts, trial, zeta)); };
     auto sse_log_zeta = [&](double log_zeta) { return joint_fit(ResonanceColumns(s, ts, f, std::exp(log_zeta))); };
     // (The scan refined f already: ζ alone, to 1 %, keeps the scan's cost within compare's budget.)

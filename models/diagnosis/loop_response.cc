@@ -1,0 +1,50 @@
+#include "models/diagnosis/loop_response.h"
+
+#include <algorithm>
+#include <complex>
+#include <stdexcept>
+#include <utility>
+
+#include <fmt/format.h>
+#include <unsupported/Eigen/FFT>
+
+namespace mb {
+
+LoopResponse::LoopResponse(Eigen::VectorXd impulse_response, Eigen::Index samples)
+    : h_(std::move(impulse_response)), samples_(samples) {
+  if (h_.size() == 0 || !h_.allFinite() || !(h_.cwiseAbs().maxCoeff() > 0.0) || samples_ < 1) {
+    throw std::invalid_argument(fmt::format(
+        "LoopResponse: needs a finite, non-zero impulse response (got {} values) and a record of at least one sample "
+        "(got {})",
+        h_.size(), samples_));
+  }
+  if (h_.size() > samples_) h_.conservativeResize(samples_);  // what lies beyond the record never reaches it
+  padded_ = 1;
+  while (padded_ < samples_ + h_.size() - 1) padded_ *= 2;
+  std::vector<double> padded(static_cast<std::size_t>(padded_), 0.0);
+  for (Eigen::Index k = 0; k < h_.size(); ++k) padded[static_cast<std::size_t>(k)] = h_(k);
+  Eigen::FFT<double> fft;
+  fft.fwd(h_spectrum_, padded);
+}
+
+Eigen::MatrixXd LoopResponse::Apply(const Eigen::Ref<const Eigen::MatrixXd>& columns) const {
+  if (columns.rows() != samples_) {
+    throw std::invalid_argument(
+        fmt::format("LoopResponse::Apply: columns of {} samples, the record has {}", columns.rows(), samples_));
+  }
+  Eigen::MatrixXd out(samples_, columns.cols());
+  Eigen::FFT<double> fft;
+  std::vector<double> padded(static_cast<std::size_t>(padded_));
+  std::vector<std::complex<double>> spectrum;
+  for (Eigen::Index j = 0; j < columns.cols(); ++j) {
+    std::fill(padded.begin(), padded.end(), 0.0);
+    for (Eigen::Index i = 0; i < samples_; ++i) padded[static_cast<std::size_t>(i)] = columns(i, j);
+    fft.fwd(spectrum, padded);
+    for (std::size_t k = 0; k < spectrum.size(); ++k) spectrum[k] *= h_spectrum_[k];
+    fft.inv(padded, spectrum);
+    for (Eigen::Index i = 0; i < samples_; ++i) out(i, j) = padded[static_cast<std::size_t>(i)];
+  }
+  return out;
+}
+
+}  // namespace mb

@@ -1,0 +1,45 @@
+#pragma once
+// Simulation mode's candidates through the closed loop (issue 46, item 1). In simulation mode the residual is an
+// output error (the measured position minus the closed-loop diagram's), while every candidate is a force at the
+// plant's input: a missing force reaches the output only through the loop, y = G·d with G = P/(1 + P·C) for a plant P
+// under a controller C. Each candidate column is therefore passed through the loop's impulse response from a force at
+// the plant's input to the compared output before it is fitted — the first Gauss–Newton step of the prediction-error
+// method's output-error model (Ljung, System Identification, 2nd ed., §4.2 and §7.3), with the loop linearised along
+// the record (the response measured on the diagram itself: tools/workflow/loop_probe.h). The fitted coefficients
+// are then in the force's own unit, and a force the loop rejects (above its bandwidth) is weighed as little as the
+// position shows it.
+
+#include <complex>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace mb {
+
+class LoopResponse {
+ public:
+  /// `impulse_response`: h[k], k = 0..L−1, the compared output's change at sample n + k per unit of load force at
+  /// sample n alone [output unit per force unit], at the record's sample period — a load: a force the drive must
+  /// supply beyond the model's, the sign a missing effect's force has in equation-error mode (measured force minus
+  /// the model's), so that coefficients keep their sign across the two modes; `samples`: the record's length N
+  /// (the columns filtered later). @throws std::invalid_argument when h is empty, not finite or all zero, or N < 1.
+  LoopResponse(Eigen::VectorXd impulse_response, Eigen::Index samples);
+
+  /// Each column of `columns` (N × k) filtered causally by h: out[n] = Σ_{k ≤ n} h[k]·in[n − k] (zero before the
+  /// record), by FFT (Eigen's kissfft) over a power-of-two length ≥ N + L − 1. @throws std::invalid_argument when
+  /// the columns do not have N rows.
+  Eigen::MatrixXd Apply(const Eigen::Ref<const Eigen::MatrixXd>& columns) const;
+
+  const Eigen::VectorXd& impulse_response() const { return h_; }
+  /// Σ h[k]: the loop's static gain from a constant load to the output [output unit per force unit] (−1/K for a PD
+  /// of stiffness K, 0 with integral action).
+  double static_gain() const { return h_.sum(); }
+
+ private:
+  Eigen::VectorXd h_;
+  Eigen::Index samples_ = 0;
+  Eigen::Index padded_ = 0;
+  std::vector<std::complex<double>> h_spectrum_;  // FFT of h zero-padded to padded_
+};
+
+}  // namespace mb

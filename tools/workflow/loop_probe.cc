@@ -1,0 +1,124 @@
+#include "tools/workflow/loop_probe.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "engine/block_roles.h"
+#include "engine/diagram_document.h"
+#include "models/diagnosis/signal_processing.h"
+
+namespace mb {
+namespace {
+
+constexpr double kProbeShare = 1e-4;        // δ as a share of the RMS force driving the plant
+constexpr double kMovingShare = 0.1;        // moving: |v| above this share of its maximum
+constexpr double kEnergyKept = 1.0 - 1e-6;  // of the impulse response's energy
+
+// The one plant element (a type with the loop role "plant"), or why there is none.
+std::optional<std::string> PlantElement(const DiagramDocument& d, std::string* why) {
+  std::vector<std::string> plants;
+  for (const std::string& type : BlockRoleRegistry::Global().TypesWithLoopRole("plant")) {
+    for (const std::string& element : d.ElementsOfType(type)) plants.push_back(element);
+  }
+  if (plants.size() == 1) return plants.front();
+  *why = plants.empty() ? "the diagram has no plant (no element of a type with the loop role \"plant\")"
+                        : fmt::format("the diagram has {} plants ({}); which one the effects act on is not known",
+                                      plants.size(), fmt::join(plants, ", "));
+  return std::nullopt;
+}
+
+// The plant's force input: its only driven input, else its port "f" or "u".
+std::optional<Endpoint> ForcePort(const DiagramDocument& d, const std::string& plant, std::string* why) {
+  std::vector<Endpoint> driven;
+  for (const Connection& c : d.Connections()) {
+    if (c.end.element == plant) driven.push_back(c.end);
+  }
+  if (driven.size() == 1) return driven.front();
+  for (const char* port : {"f", "u"}) {
+    for (const Endpoint& e : driven) {
+      if (e.port == port) return e;
+    }
+  }
+  *why = fmt::format("plant '{}' has {} driven inputs and none named f or u: which one is its force is not known",
+                     plant, driven.size());
+  return std::nullopt;
+}
+
+// [first, last) of the longest stretch where |v| ≥ share × max |v|.
+std::pair<Eigen::Index, Eigen::Index> LongestMovingStretch(const Eigen::VectorXd& velocity, double share) {
+  const double threshold = share * velocity.cwiseAbs().maxCoeff();
+  std::pair<Eigen::Index, Eigen::Index> best{0, 0};
+  Eigen::Index start = -1;
+  for (Eigen::Index i = 0; i <= velocity.size(); ++i) {
+    const bool moving = i < velocity.size() && std::abs(velocity(i)) >= threshold && threshold > 0.0;
+    if (moving && start < 0) start = i;
+    if (!moving && start >= 0) {
+      if (i - start > best.second - best.first) best = {start, i};
+      start = -1;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+LoopProbe ProbeLoop(const ModelComparison& comparison, const ComparedOutput& nominal,
+                    const std::vector<std::pair<std::string, Eigen::VectorXd>>& own, const Eigen::VectorXd& velocity) {
+  LoopProbe out;
+  const auto not_probed = [&](const std::string& why) {
+    out.note = "simulation mode: the candidate forces are fitted to the output error as they are, not through the "
+               "closed loop, because " + why;
+    return out;
+  };
+  DiagramDocument d(comparison.diagram_json(), comparison.base_directory(), comparison.source());
+  std::string why;
+  const std::optional<std::string> plant = PlantElement(d, &why);
+  if (!plant) return not_probed(why);
+  const std::optional<Endpoint> port = ForcePort(d, *plant, &why);
+  if (!port) return not_probed(why);
+  const std::optional<Endpoint> driver = d.DriverOf(*port);
+  double force_rms = 0.0;
+  for (const auto& [name, signal] : own) {
+    if (driver && name == driver->ToString()) force_rms = std::sqrt(signal.squaredNorm() / std::max<Eigen::Index>(1, signal.size()));
+  }
+  if (!(force_rms > 0.0)) return not_probed(fmt::format("the force into '{}' is not known or zero", port->ToString()));
+  const auto [first, last] = LongestMovingStretch(velocity, kMovingShare);
+  if (last - first < 2) return not_probed("the axis does not move");
+  const Eigen::VectorXd& t = comparison.log().time();
+  const double dt = MedianTimeStep(t);
+  const double delta = kProbeShare * force_rms;
+  const double at = t(first) - 0.5 * dt;
+  const std::string step = d.Add({"loop_probe", "step", {{"time", at}, {"initial", 0.0}, {"final", delta}},
+                                  std::nullopt, "a small force step probing the closed loop"});
+  d.SumInto(*port, d.OutputOf(step), "loop_probe_sum");
+  const ModelComparison probe(d.json(), comparison.base_directory(), comparison.source(), comparison.log(),
+                              comparison.ColumnMap());
+  const std::vector<ComparedOutput> probed = probe.Simulate();
+  // A load: the force the drive must supply beyond the model's (the sign of every effect's coefficient in
+  // equation-error mode, where the residual is the measured force minus the model's) acts against the step's push.
+  const Eigen::VectorXd s = -(probed.front().model - nominal.model) / delta;
+  const Eigen::Index n = s.size();
+  // While the axis moves the loop is the linear one (a Coulomb force is constant then); where it sticks again the
+  // force no longer moves it, and the response jumps at every later stop: the response is read over the stretch.
+  Eigen::VectorXd h(last - first);
+  for (Eigen::Index k = 0; k < h.size(); ++k) h(k) = s(first + k) - (first + k > 0 ? s(first + k - 1) : 0.0);
+  const double energy = h.squaredNorm();
+  if (!std::isfinite(energy) || !(energy > 0.0)) return not_probed("the output does not respond to a force at the plant");
+  double kept = 0.0;
+  Eigen::Index length = 0;
+  while (length < h.size() && kept < kEnergyKept * energy) kept += h(length) * h(length++);
+  out.loop = std::make_shared<const LoopResponse>(h.head(length).eval(), n);
+  out.note = fmt::format(
+      "simulation mode: every candidate force is fitted to the output error through the closed loop, measured on the "
+      "diagram (a force step of {:.3g} into '{}' at t = {:.4g} s, while the axis moves): a constant load moves the "
+      "output by {:.4g} {} per unit of force, the response lasts {:.4g} s; the coefficients are forces",
+      delta, port->ToString(), at, out.loop->static_gain(), nominal.unit, static_cast<double>(length) * dt);
+  return out;
+}
+
+}  // namespace mb

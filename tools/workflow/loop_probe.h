@@ -1,0 +1,36 @@
+#pragma once
+// Simulation mode's closed loop, measured on the diagram itself (issue 46, item 1): the response of the compared output
+// to a small force added at the plant's force input — the loop linearised along the record — from which the
+// diagnosis passes every candidate force through the loop (models/diagnosis/loop_response.h). The diagram is probed as
+// Simulink's `linmod` probes a model, by perturbation, but along the record's own trajectory and through its discrete
+// controller (which `linmod` would hold open): a step of δ into the plant's input while the axis moves, simulated, minus
+// the same simulation without it, over δ.
+
+#include <memory>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "models/diagnosis/loop_response.h"
+#include "tools/workflow/comparison.h"
+
+namespace mb {
+
+/// The probe's result: the loop (null when the diagram cannot be probed) and a sentence for the notes.
+struct LoopProbe {
+  std::shared_ptr<const LoopResponse> loop;
+  std::string note;  ///< how it was measured (the plant's port, δ, the static gain, how long the response lasts), or why not
+};
+
+/// Probes `comparison`'s diagram (simulation mode; its parameters as they are now), whose primary output `nominal`
+/// was just simulated. The plant is the one element of a type with the loop role "plant" (engine/block_roles.h); the
+/// force enters at its only driven input (else its port "f" or "u"). δ = 1e-4 × the RMS of the signal driving that
+/// port (`own`: ModelComparison::SimulateBlockOutputs), the step at the start of the longest stretch where |velocity|
+/// (N, measured) exceeds a tenth of its maximum; h[k] = s[k] − s[k − 1] of the response s to a load step (−1 × the
+/// response to the pushing δ, per unit: LoopResponse's sign) over that stretch (where
+/// the axis sticks again a force no longer moves it), kept up to where it holds all but 1e-6 of its energy. Returns a null loop with the reason when there is no single plant, no force port,
+/// no motion or no response. @throws what ModelComparison throws (the diagram fails to simulate).
+LoopProbe ProbeLoop(const ModelComparison& comparison, const ComparedOutput& nominal,
+                    const std::vector<std::pair<std::string, Eigen::VectorXd>>& own, const Eigen::VectorXd& velocity);
+
+}  // namespace mb
