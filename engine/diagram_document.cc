@@ -305,12 +305,21 @@ void DiagramDocument::Connect(const Endpoint& given_start, const Endpoint& end) 
   json_["connections"].push_back(ConnectionJson(start, end));
 }
 
-std::string DiagramDocument::SumInto(const Endpoint& end, const Endpoint& given_addend, const std::string& sum_name) {
+std::string DiagramDocument::SumInto(const Endpoint& end, const Endpoint& addend, const std::string& sum_name) {
+  const BlockType& sum = BlockRegistry::Global().SumOfTwo();
+  return JoinInto(end, addend, {sum_name, sum.type_name, *sum.sum_of_two, std::nullopt, ""});
+}
+
+std::string DiagramDocument::SubtractInto(const Endpoint& end, const Endpoint& subtrahend, const std::string& name) {
+  const BlockType& difference = BlockRegistry::Global().DifferenceOfTwo();
+  return JoinInto(end, subtrahend, {name, difference.type_name, *difference.difference_of_two, std::nullopt, ""});
+}
+
+std::string DiagramDocument::JoinInto(const Endpoint& end, const Endpoint& given_addend, const ElementSpec& join) {
   const std::size_t feed = FeedOf(end);
   const Endpoint addend = ResolveStart(given_addend);
   CheckEndpoint(addend, true);
-  const BlockType& sum = BlockRegistry::Global().SumOfTwo();
-  const std::string name = Add({sum_name, sum.type_name, *sum.sum_of_two, std::nullopt, ""});
+  const std::string name = Add(join);
   const auto inputs = Ports(name, true);
   const auto outputs = Ports(name, false);
   const Endpoint previous = Start(json_["connections"][feed]);

@@ -112,6 +112,9 @@ class DiagramDocument {
   /// its second, and drives `end` in place of the old driver. Returns the sum's name. @throws
   /// std::invalid_argument if nothing drives `end` (connect it instead) or as Connect for `addend`.
   std::string SumInto(const Endpoint& end, const Endpoint& addend, const std::string& sum_name);
+  /// The same with a two-input difference (the type declaring BlockType::difference_of_two): the old driver minus
+  /// `subtrahend` drives `end` (a load on a plant's force input). @throws as SumInto.
+  std::string SubtractInto(const Endpoint& end, const Endpoint& subtrahend, const std::string& name);
   /// Puts `element` (already added; exactly one input and one output port) between `end` and what drives it.
   /// @throws std::invalid_argument if nothing drives `end` or the element has not one input and one output.
   void InsertBefore(const Endpoint& end, const std::string& element);
@@ -207,6 +210,9 @@ class DiagramDocument {
   void AppendDescription(const std::string& text);
 
  private:
+  // SumInto and SubtractInto: `join` (two inputs, one output) takes the old driver of `end` on its first input and
+  // `addend` on its second, and drives `end`.
+  std::string JoinInto(const Endpoint& end, const Endpoint& addend, const ElementSpec& join);
   nlohmann::json* FindElement(const std::string& element);
   const nlohmann::json& Element(const std::string& element) const;
   /// The element's input or output port names (instantiating its block, or reading a subsystem's connectors).

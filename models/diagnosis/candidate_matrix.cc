@@ -99,6 +99,10 @@ RegressorMatrix BuildCandidateMatrix(const DiagnosisSignals& signals, const Eige
       return;
     }
     FilterCandidateColumns(type, signals, options, &c.reg.columns);
+    if (!c.reg.columns.allFinite()) {
+      built[i].note = fmt::format("{} skipped: its regressors are not finite on this record", e.name);
+      return;
+    }
     if (c.reg.columns.cwiseAbs().maxCoeff() == 0.0) return;  // nothing to fit (e.g. no positive motion)
     const double spanned = ShareSpannedByBase(c.reg.columns, base_cols, base_qr);
     if (spanned >= options.redundant_with_base) {

@@ -59,8 +59,12 @@ int main(int argc, char** argv) {
       g::DrawResult r;
       try {
         r = g::RunDraw(draw, std::filesystem::path(out) / fmt::format("seed_{}", seed), improve);
-      } catch (const std::exception& e) {  // name the draw: its seed reruns it alone (--first-seed, --draws=1)
-        throw std::runtime_error(fmt::format("{}: {}", draw.Describe(), e.what()));
+      } catch (const std::exception& e) {  // a draw the pipeline fails on is a miss, named with its seed, not the end
+        r = g::DrawResult{};
+        r.draw = draw;
+        r.named_pair = "failed";
+        r.details.push_back(fmt::format("failed: {}", e.what()));
+        std::cerr << fmt::format("{}: FAILED: {}\n", draw.Describe(), e.what());
       }
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       std::string verdict = noise_only ? (r.clean ? "clean" : "NAMED")

@@ -286,7 +286,9 @@ EffectTerms Effect(const GrammarDraw& d, const RunContext& c, double t, double x
   else if (m == "speed") factor = std::abs(v);
   else if (m == "velocity_speed") factor = v * std::abs(v);
   else if (m == "model_force") factor = u;
-  else if (m == "load_slip") factor = std::abs(u) * slip;
+  else if (m == "load_slip") {  // a friction share of the transmitted force: within ±50 % of it, as above
+    return {0.0, std::abs(u) * slip * std::clamp(gain * mod, -0.5, 0.5)};
+  }
   else if (m == "model_force_abs") {
     // The force constant's share that the force changes saturates too: within ±50 % (Calibrate keeps it within ±30 %
     // on the twin's record; a loop that the effect drives harder must not run away on an unbounded u·|u|).
@@ -544,7 +546,7 @@ double DrawSign(Rng& rng, const GrammarDraw& d) {
 
 // Sets the amplitude: the effect's RMS beyond the base on the training twin's motion = target_ratio × its floor, within
 // what keeps the machine physical (a mass along the record at least 60 % of the body's, a force constant within
-// ±30 %).
+// ±30 %; Effect bounds a friction of the transmitted force within 50 % of it).
 void Calibrate(GrammarDraw* d, double sign) {
   const Record twin = Simulate(*d, Run::kTraining, false);
   d->noise_floor = NoiseFloor(*d, twin);

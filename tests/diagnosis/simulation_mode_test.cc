@@ -19,12 +19,14 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "engine/diagram_document.h"
 #include "engine/diagram_loader.h"
 #include "models/diagnosis/effect_block.h"
 #include "models/diagnosis/loop_response.h"
 #include "tests/diagnosis/independent_plant.h"
 #include "tools/workflow/comparison.h"
 #include "tools/workflow/measurement.h"
+#include "tools/workflow/suggest.h"
 
 namespace mb {
 namespace {
@@ -36,23 +38,24 @@ const fs::path kData = fs::path(MB_SOURCE_DIR) / "tests" / "diagnosis" / "data";
 constexpr const char* kDiagram = "independent_closed_loop.json";
 
 struct SimulationCase {
+  MeasurementLog log;
   DiagnosedComparison compared;
   std::string notes;  // every note, one per line
 };
 
-SimulationCase CompareInSimulation(independent::Hidden hidden, const std::string& name) {
+SimulationCase CompareInSimulation(independent::Hidden hidden, const std::string& name, unsigned seed = 11) {
   independent::GeneratorSettings settings;
   settings.duration = 12.0;
   settings.log_reference = true;
-  settings.seed = 11;
+  settings.seed = seed;
   const fs::path directory = fs::temp_directory_path() / fmt::format("mb_simulation_mode_{}_{}", name, ::getpid());
   fs::create_directories(directory);
   const fs::path csv = directory / "record.csv";
   independent::WriteCsv(independent::Generate(hidden, settings), csv.string());
   const nlohmann::json diagram = ReadDiagramJson(kData / kDiagram);
   MeasurementSettings measurement;
-  const MeasurementLog log = ReadMeasurementFor(diagram, csv.string(), measurement);
-  SimulationCase out{CompareAndDiagnose(diagram, kData, kDiagram, log, measurement, diagram["free"]), {}};
+  SimulationCase out{ReadMeasurementFor(diagram, csv.string(), measurement), {}, {}};
+  out.compared = CompareAndDiagnose(diagram, kData, kDiagram, out.log, measurement, diagram["free"]);
   for (const std::string& note : out.compared.notes) out.notes += note + "\n";
   fs::remove_all(directory);
   return out;
@@ -79,6 +82,34 @@ TEST(SimulationMode, ThePositionRippleIsNamedWithItsPeriodAndItsForce) {
   // 1.5 N at the period (and 0.4 N at its half): the first harmonic's amplitude, a force.
   const double cos1 = BlockCoefficient(*first, "cos1"), sin1 = BlockCoefficient(*first, "sin1");
   EXPECT_NEAR(std::hypot(cos1, sin1), 1.5, 0.3) << c.compared.diagnosis->summary;
+}
+
+TEST(SimulationMode, TheSuggestedBlockActsOnThePlantAndBringsThePositionCloser) {
+  const SimulationCase c = CompareInSimulation(independent::Hidden::kPositionRipple, "ripple_block");
+  ASSERT_TRUE(c.compared.diagnosis);
+  const DiagnosedEffect* first = FirstNamed(*c.compared.diagnosis);
+  ASSERT_NE(first, nullptr);
+  ASSERT_EQ(first->effect, "position_periodic");
+  // The ripple block reads the plant's simulated position and loads the plant's force input; its coefficients are
+  // the diagnosis' forces, not refit: the amended loop's position comes closer to the measured one by itself.
+  const nlohmann::json amended = SuggestAmendedDiagram(c.compared.fitted_diagram, *first, "position");
+  const DiagramDocument document(amended);
+  bool reads_plant = false, loads_plant = false;
+  for (const Connection& k : document.Connections()) {
+    if (k.start.element == "plant" && k.start.port == "x" && !k.end.is_connector() &&
+        document.TypeOf(k.end.element) == "position_periodic") {
+      reads_plant = true;
+    }
+    if (k.end.element == "plant" && k.end.port == "f" && k.start.element.rfind("with_", 0) == 0) loads_plant = true;
+  }
+  EXPECT_TRUE(reads_plant) << amended.dump(1);
+  EXPECT_TRUE(loads_plant) << amended.dump(1);
+  const ModelComparison before(c.compared.fitted_diagram, kData, kDiagram, c.log, {});
+  const ModelComparison after(amended, kData, kDiagram, c.log, {});
+  const double rmse_before = before.Simulate().front().rmse, rmse_after = after.Simulate().front().rmse;
+  RecordProperty("position_rmse_before_m", fmt::format("{:.4g}", rmse_before));
+  RecordProperty("position_rmse_after_m", fmt::format("{:.4g}", rmse_after));
+  EXPECT_LT(rmse_after, 0.95 * rmse_before) << "position RMSE " << rmse_before << " m -> " << rmse_after << " m";
 }
 
 TEST(SimulationMode, NothingIsNamedWhenNothingIsMissing) {

@@ -139,6 +139,17 @@ TEST(DiagramDocumentTest, SumIntoAddsASignalToADrivenInput) {
                   HasSubstr("base.json: nothing drives input 'offset_nothing.u'; connect it instead")));
 }
 
+TEST(DiagramDocumentTest, SubtractIntoTakesASignalFromADrivenInput) {
+  DiagramDocument d = Document();
+  const std::string load = d.Add({"load", "constant", {{"value", 0.25}}, std::nullopt, ""});
+  const std::string difference = d.SubtractInto({"", "force"}, {load, ""}, "with_load");
+  EXPECT_EQ(difference, "with_load");
+  EXPECT_EQ(d.DriverOf({"", "force"})->element, "with_load");
+  EXPECT_DOUBLE_EQ(FinalForce(d), 2.75);
+  EXPECT_THAT([&] { d.SubtractInto({"load_nothing", "u"}, {load, ""}, "s"); },
+              ThrowsMessage<std::invalid_argument>(HasSubstr("base.json: nothing drives input 'load_nothing.u'; connect it instead")));
+}
+
 TEST(DiagramDocumentTest, InsertBeforePutsAnElementIntoASignalPath) {
   DiagramDocument d = Document();
   const std::string scale = d.Add({"scale", "gain", {{"gain", 10.0}}, std::nullopt, ""});

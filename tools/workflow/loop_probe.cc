@@ -19,36 +19,6 @@ constexpr double kProbeShare = 1e-4;        // δ as a share of the RMS force dr
 constexpr double kMovingShare = 0.1;        // moving: |v| above this share of its maximum
 constexpr double kEnergyKept = 1.0 - 1e-6;  // of the impulse response's energy
 
-// The one plant element (a type with the loop role "plant"), or why there is none.
-std::optional<std::string> PlantElement(const DiagramDocument& d, std::string* why) {
-  std::vector<std::string> plants;
-  for (const std::string& type : BlockRoleRegistry::Global().TypesWithLoopRole("plant")) {
-    for (const std::string& element : d.ElementsOfType(type)) plants.push_back(element);
-  }
-  if (plants.size() == 1) return plants.front();
-  *why = plants.empty() ? "the diagram has no plant (no element of a type with the loop role \"plant\")"
-                        : fmt::format("the diagram has {} plants ({}); which one the effects act on is not known",
-                                      plants.size(), fmt::join(plants, ", "));
-  return std::nullopt;
-}
-
-// The plant's force input: its only driven input, else its port "f" or "u".
-std::optional<Endpoint> ForcePort(const DiagramDocument& d, const std::string& plant, std::string* why) {
-  std::vector<Endpoint> driven;
-  for (const Connection& c : d.Connections()) {
-    if (c.end.element == plant) driven.push_back(c.end);
-  }
-  if (driven.size() == 1) return driven.front();
-  for (const char* port : {"f", "u"}) {
-    for (const Endpoint& e : driven) {
-      if (e.port == port) return e;
-    }
-  }
-  *why = fmt::format("plant '{}' has {} driven inputs and none named f or u: which one is its force is not known",
-                     plant, driven.size());
-  return std::nullopt;
-}
-
 // [first, last) of the longest stretch where |v| ≥ share × max |v|.
 std::pair<Eigen::Index, Eigen::Index> LongestMovingStretch(const Eigen::VectorXd& velocity, double share) {
   const double threshold = share * velocity.cwiseAbs().maxCoeff();
@@ -67,6 +37,36 @@ std::pair<Eigen::Index, Eigen::Index> LongestMovingStretch(const Eigen::VectorXd
 
 }  // namespace
 
+std::optional<std::string> PlantElement(const DiagramDocument& d, std::string* why) {
+  std::vector<std::string> plants;
+  for (const std::string& type : BlockRoleRegistry::Global().TypesWithLoopRole("plant")) {
+    for (const std::string& element : d.ElementsOfType(type)) plants.push_back(element);
+  }
+  if (plants.size() == 1) return plants.front();
+  *why = plants.empty() ? "the diagram has no plant (no element of a type with the loop role \"plant\")"
+                        : fmt::format("the diagram has {} plants ({}); which one the effects act on is not known",
+                                      plants.size(), fmt::join(plants, ", "));
+  return std::nullopt;
+}
+
+std::optional<Endpoint> PlantForcePort(const DiagramDocument& d, std::string* why) {
+  const std::optional<std::string> plant = PlantElement(d, why);
+  if (!plant) return std::nullopt;
+  std::vector<Endpoint> driven;
+  for (const Connection& c : d.Connections()) {
+    if (c.end.element == *plant) driven.push_back(c.end);
+  }
+  if (driven.size() == 1) return driven.front();
+  for (const char* port : {"f", "u"}) {
+    for (const Endpoint& e : driven) {
+      if (e.port == port) return e;
+    }
+  }
+  *why = fmt::format("plant '{}' has {} driven inputs and none named f or u: which one is its force is not known",
+                     *plant, driven.size());
+  return std::nullopt;
+}
+
 LoopProbe ProbeLoop(const ModelComparison& comparison, const ComparedOutput& nominal,
                     const std::vector<std::pair<std::string, Eigen::VectorXd>>& own, const Eigen::VectorXd& velocity) {
   LoopProbe out;
@@ -77,9 +77,7 @@ LoopProbe ProbeLoop(const ModelComparison& comparison, const ComparedOutput& nom
   };
   DiagramDocument d(comparison.diagram_json(), comparison.base_directory(), comparison.source());
   std::string why;
-  const std::optional<std::string> plant = PlantElement(d, &why);
-  if (!plant) return not_probed(why);
-  const std::optional<Endpoint> port = ForcePort(d, *plant, &why);
+  const std::optional<Endpoint> port = PlantForcePort(d, &why);
   if (!port) return not_probed(why);
   const std::optional<Endpoint> driver = d.DriverOf(*port);
   double force_rms = 0.0;

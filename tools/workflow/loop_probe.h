@@ -7,14 +7,23 @@
 // the same simulation without it, over δ.
 
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <Eigen/Core>
 
+#include "engine/diagram_document.h"
 #include "models/diagnosis/loop_response.h"
 #include "tools/workflow/comparison.h"
 
 namespace mb {
+
+/// The diagram's one plant: the element of a type with the loop role "plant" (engine/block_roles.h); none, with the
+/// reason in `why`, when there is none or more than one.
+std::optional<std::string> PlantElement(const DiagramDocument& d, std::string* why);
+/// Where a force acts on the plant (PlantElement): its only driven input, else its port "f" or "u"; none, with the
+/// reason in `why`.
+std::optional<Endpoint> PlantForcePort(const DiagramDocument& d, std::string* why);
 
 /// The probe's result: the loop (null when the diagram cannot be probed) and a sentence for the notes.
 struct LoopProbe {

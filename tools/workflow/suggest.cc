@@ -13,6 +13,7 @@
 #include "engine/diagram_document.h"
 #include "engine/units.h"
 #include "models/diagnosis/effect_registry.h"
+#include "tools/workflow/loop_probe.h"
 
 namespace mb {
 
@@ -68,6 +69,26 @@ std::string NeedInput(const DiagramDocument& diagram, MotionInput input, const s
       effect, quantity, example, quantity));
 }
 
+// Where an effect's block reads the motion: the input connector carrying it (equation-error mode: the measured
+// motion), or in simulation mode the plant's own output "x" or "v" (the simulated motion; tools/workflow/loop_probe.h's
+// PlantElement). A block of the acceleration in simulation mode would close an algebraic loop through the plant: throws,
+// saying what to do instead.
+Endpoint MotionSource(const DiagramDocument& diagram, MotionInput input, const std::string& effect) {
+  if (diagram.Mode() == ExperimentMode::kEquationError) return {"", NeedInput(diagram, input, effect)};
+  std::string why;
+  const std::optional<std::string> plant = PlantElement(diagram, &why);
+  if (!plant) throw std::invalid_argument(fmt::format("effect '{}' in simulation mode: {}", effect, why));
+  switch (input) {
+    case MotionInput::kPosition: return {*plant, "x"};
+    case MotionInput::kVelocity: return {*plant, "v"};
+    case MotionInput::kAcceleration: break;
+  }
+  throw std::invalid_argument(fmt::format(
+      "effect '{}' multiplies the acceleration: in simulation mode a block of the plant's acceleration would feed the "
+      "force that sets it (an algebraic loop); change the plant's mass instead (a mass of the position or of time)",
+      effect));
+}
+
 // Whether blocks of `type` are what effects insert between the model and its output (placement kInsertBeforeOutput:
 // the measurement chain — a logger's delay, a quantizer), as the registry's block templates say.
 bool IsMeasurementChainBlock(const std::string& type) {
@@ -84,6 +105,11 @@ bool IsMeasurementChainBlock(const std::string& type) {
 // input — a force found after a delay is logged through the same delay as the rest of the model's force (on the
 // independent delay log a Coulomb law summed after the delay block left 1.1 N against a 0.45 N floor).
 Endpoint ForceEnd(const DiagramDocument& d, const std::string& output) {
+  if (d.Mode() != ExperimentMode::kEquationError) {  // the output is the motion: the force acts on the plant
+    std::string why;
+    if (const std::optional<Endpoint> port = PlantForcePort(d, &why)) return *port;
+    throw std::invalid_argument(fmt::format("in simulation mode an effect's force acts on the plant, but {}", why));
+  }
   Endpoint end{"", output};
   for (std::size_t guard = 0; guard < d.ElementNames().size(); ++guard) {
     const auto driver = d.DriverOf(end);
@@ -103,7 +129,13 @@ Endpoint ForceEnd(const DiagramDocument& d, const std::string& output) {
 std::string AddToOutput(DiagramDocument* out, const ElementSpec& element, const std::string& output,
                         const std::string& port) {
   const std::string name = out->Add(element);
-  out->SumInto(ForceEnd(*out, output), {name, port}, "with_" + name);
+  if (out->Mode() == ExperimentMode::kEquationError) {
+    out->SumInto(ForceEnd(*out, output), {name, port}, "with_" + name);
+  } else {
+    // The effect's force is a load (what the drive must supply beyond the model's: its equation-error sign), and the
+    // plant's input is the force that drives it.
+    out->SubtractInto(ForceEnd(*out, output), {name, port}, "with_" + name);
+  }
   return name;
 }
 
@@ -212,15 +244,15 @@ std::string AddProductToOutput(DiagramDocument* out, const ElementSpec& element,
   }
   const std::string name = out->Add(element);
   if (!multiplier.of_model_force) {
-    const std::string input = NeedInput(*out, multiplier.input, effect.effect);
+    const Endpoint input = MotionSource(*out, multiplier.input, effect.effect);
     if (multiplier.block_type.empty()) {  // the measured motion itself (the velocity of a damping)
-      factor_output = {"", input};
-      factor_name = input;
+      factor_output = input;
+      factor_name = input.is_connector() ? input.port : input.element + "_" + input.port;
     } else {
       const std::string factor = out->Add({name + "_" + multiplier.block_type, multiplier.block_type,
                                            multiplier.parameters(effect), std::nullopt,
                                            fmt::format("the factor of the motion that multiplies '{}'", name)});
-      Wire(out, input, factor, "u");
+      out->Connect(input, {factor, "u"});
       factor_output = out->OutputOf(factor);
       factor_name = multiplier.block_type;
     }
@@ -266,8 +298,8 @@ json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, c
   }
   const EffectBlockTemplate& block = *type.block;
   DiagramDocument out(diagram);
-  std::vector<std::string> inputs;
-  for (const auto& [input, port] : block.inputs) inputs.push_back(NeedInput(out, input, effect.effect));
+  std::vector<Endpoint> inputs;
+  for (const auto& [input, port] : block.inputs) inputs.push_back(MotionSource(out, input, effect.effect));
   ElementSpec element{block.element_name, block.block_type, block.parameters(effect), std::nullopt, effect.description};
   if (block.discrete) element.sample_time = std::make_pair(DiagramStep(out, effect.effect, block.element_name), 0.0);
   std::string name;
@@ -280,7 +312,7 @@ json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, c
                  : AddToOutput(&out, element, output, block.output_port);
       break;
   }
-  for (std::size_t k = 0; k < inputs.size(); ++k) Wire(&out, inputs[k], name, block.inputs[k].second);
+  for (std::size_t k = 0; k < inputs.size(); ++k) out.Connect(inputs[k], {name, block.inputs[k].second});
   if (!block.log_column_port.empty()) {
     Wire(&out, ColumnInput(&out, effect.log_column, effect.effect), name, block.log_column_port);
   }
@@ -306,15 +338,15 @@ std::string GpBlockType() {
 json SuggestGprFallbackBlock(const json& diagram, const std::string& model_path, const std::string& output,
                              const std::filesystem::path& base_directory) {
   DiagramDocument out(diagram, base_directory);
-  const std::string position = NeedInput(out, MotionInput::kPosition, "nonparametric_fallback");
-  const std::string velocity = NeedInput(out, MotionInput::kVelocity, "nonparametric_fallback");
+  const Endpoint position = MotionSource(out, MotionInput::kPosition, "nonparametric_fallback");
+  const Endpoint velocity = MotionSource(out, MotionInput::kVelocity, "nonparametric_fallback");
   const std::string name = AddToOutput(
       &out,
       {"residual_gp", GpBlockType(), {{"model", model_path}}, std::nullopt,
        "TISO-GPR on (x, v) learned from what the catalogue's effects leave of the residual"},
       output, "mean");
-  Wire(&out, position, name, "x");
-  Wire(&out, velocity, name, "xdot");
+  out.Connect(position, {name, "x"});
+  out.Connect(velocity, {name, "xdot"});
   out.AppendDescription(
       fmt::format(" Amended by motionblocks compare --suggest: added '{}' (non-parametric fallback).", name));
   return out.json();
