@@ -1,9 +1,12 @@
 // bench_diagnosis [--out=DIR] [--compare-only] [--verbose] [--jitter=FRACTION] [CASE …]: the independent hidden-effect benchmark (issue 13, item 5;
 // tests/diagnosis/independent_bench.h). Prints the table of every case (or the named ones, e.g. "delay");
 // --verbose: each case's named effects with their scores and compare's notes on stderr. Exits 1 when a case misses.
+// --simulation: each case compared in simulation mode with the closed-loop diagram of the generator's loop
+// (RunCaseInSimulation; compare only).
 // `make bench-diagnosis` builds it in Release and runs it.
 #include <algorithm>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,12 +14,13 @@
 
 int main(int argc, char** argv) {
   std::string out = "out/bench-diagnosis";
-  bool improve = true, verbose = false;
+  bool improve = true, verbose = false, simulation = false;
   double jitter = 0.0;
   std::vector<std::string> only;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--compare-only") improve = false;
+    else if (a == "--simulation") simulation = true;
     else if (a == "--verbose") verbose = true;
     else if (a.rfind("--out=", 0) == 0) out = a.substr(6);
     else if (a.rfind("--jitter=", 0) == 0) jitter = std::stod(a.substr(9));
@@ -28,7 +32,16 @@ int main(int argc, char** argv) {
     std::string folder = spec.name;
     for (char& c : folder) if (c == ' ' || c == '(' || c == ')' || c == '+') c = '_';
     try {
-      results.push_back(mb::independent::RunCase(spec, out + "/" + folder, improve, jitter));
+      if (simulation) {
+        std::optional<mb::independent::CaseResult> r = mb::independent::RunCaseInSimulation(spec, out + "/" + folder);
+        if (!r) {
+          std::cerr << "not applicable in simulation mode: " << spec.name << "\n";
+          continue;
+        }
+        results.push_back(std::move(*r));
+      } else {
+        results.push_back(mb::independent::RunCase(spec, out + "/" + folder, improve, jitter));
+      }
     } catch (const std::exception& e) {
       std::cerr << spec.name << ": " << e.what() << "\n";
       return 1;

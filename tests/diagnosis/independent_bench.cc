@@ -151,6 +151,37 @@ CaseResult RunCase(const CaseSpec& spec, const fs::path& directory, bool run_imp
   return r;
 }
 
+std::optional<CaseResult> RunCaseInSimulation(const CaseSpec& given, const fs::path& directory) {
+  if (IsRotary(given.hidden)) return std::nullopt;
+  CaseSpec spec = given;
+  if (OnlyInTheLoggedForce(spec.hidden)) {
+    spec.effect.clear();
+    spec.parameter.clear();
+  }
+  if (spec.hidden == Hidden::kRippleAndDelay) spec.second_effect.clear();  // the delay is the logged force's
+  CaseResult r;
+  r.spec = spec;
+  fs::create_directories(directory);
+  const fs::path train = directory / "training.csv";
+  WriteCsv(Generate(spec.hidden, {.duration = 16.0,
+                                  .sample_period = spec.sample_period,
+                                  .stamp_noise = spec.stamp_noise,
+                                  .seed = 11,
+                                  .log_reference = true}),
+           train.string());
+  const fs::path folder = fs::path(MB_SOURCE_DIR) / "tests" / "diagnosis" / "data";
+  const char* file = "independent_closed_loop.json";
+  json diagram = ReadDiagramJson(folder / file);
+  if (spec.mass_known) diagram["free"] = {"friction.viscous", "friction.coulomb", "offset.value"};
+  MeasurementSettings settings;
+  const MeasurementLog log = ReadMeasurementFor(diagram, train.string(), settings);
+  const auto t0 = std::chrono::steady_clock::now();
+  const DiagnosedComparison compared = CompareAndDiagnose(diagram, folder, file, log, settings, diagram["free"]);
+  r.compare_seconds = Seconds(t0);
+  Judge(*compared.diagnosis, &r);
+  return r;
+}
+
 namespace {
 
 // "yes", or what failed; without improve, the naming and the parameter only.

@@ -636,6 +636,8 @@ Eigen::VectorXd CarriageForce(Hidden hidden, const Eigen::VectorXd& t, const Eig
 
 bool IsRotary(Hidden hidden) { return hidden == Hidden::kGravity; }
 
+bool OnlyInTheLoggedForce(Hidden hidden) { return hidden == Hidden::kDelay || hidden == Hidden::kMainsHum; }
+
 std::string ExtraColumnName(Hidden hidden) {
   if (hidden == Hidden::kCoupledAxis) return "accel_y_m_s2";
   if (hidden == Hidden::kCoupledAxisVelocity) return "vel_y_m_s";

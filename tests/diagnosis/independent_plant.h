@@ -94,6 +94,9 @@ enum class Hidden {
 
 /// Whether a case's record is of a rotary axis (time_s, angle_rad, torque_Nm; Record::rotary).
 bool IsRotary(Hidden hidden);
+/// Whether the hidden effect is in the logged force alone (the amplifier's report delayed, mains hum on the force
+/// measurement): the carriage does not feel it, and its position does not show it.
+bool OnlyInTheLoggedForce(Hidden hidden);
 /// The rotary axis' gear: θ = kRadPerMetre·(x − 0.1 m), torque = force / kRadPerMetre (virtual work).
 inline constexpr double kRadPerMetre = 20.0;
 
