@@ -14,8 +14,10 @@
 
 #include <fmt/format.h>
 
+#include "models/diagnosis/candidate_matrix.h"
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
+#include "models/diagnosis/factors.h"
 
 namespace mb::diagnosis_detail {
 namespace {
@@ -114,6 +116,77 @@ std::string CheckPositionTimeAmbiguity(const DiagnosisSignals& signals, const Ei
     if (IsPeriodic(e.effect)) e.description += " (position-periodic vs time-periodic: cannot tell at one speed)";
   }
   return note;
+}
+
+void CheckMultiplierAmbiguity(const DiagnosisSignals& signals, const Eigen::VectorXd& residual,
+                              const Eigen::MatrixXd& base, const DiagnosisOptions& options, DiagnosisResult* result) {
+  DiagnosedEffect* top = nullptr;
+  for (auto& e : result->effects) {
+    const bool law =
+        std::find(result->friction_law.begin(), result->friction_law.end(), e.effect) != result->friction_law.end();
+    if (!law) {
+      top = &e;
+      break;
+    }
+  }
+  if (top == nullptr || top->multiplier.empty() || top->modulator.empty()) return;
+  const double total = (residual.array() - residual.mean()).matrix().squaredNorm();
+  if (!(total > 0.0)) return;
+  const auto share = [&](const EffectInstance& e) {
+    try {
+      const EffectType& type = LookupEffect(e.name);
+      Eigen::MatrixXd columns = type.regressors(e, signals).columns;
+      FilterCandidateColumns(type, signals, options, &columns);
+      return 1.0 - JointFitResidual(base, residual)(columns) / total;
+    } catch (const std::invalid_argument&) {  // not on this record (ŷ in simulation mode, a missing parameter)
+      return -1.0;
+    }
+  };
+  const double own = share({top->effect, top->parameters});
+  if (!(own > 0.0)) return;
+  // Every other product of the same modulator, its shape as found; a friction's slip velocity as found, else the
+  // dead band's.
+  const double dead_band = options.catalogue.dead_band_fraction * signals.velocity.cwiseAbs().maxCoeff();
+  std::string best;
+  double best_share = -1.0;
+  for (const std::string& name : EffectNames()) {
+    const EffectType& type = LookupEffect(name);
+    if (name == top->effect || type.modulator != top->modulator || type.multiplier.empty() ||
+        type.multiplier == top->multiplier) {
+      continue;
+    }
+    EffectInstance alternative{name, top->parameters};
+    for (const auto& p : type.parameters) {
+      if (p.name == "slip_velocity" && !alternative.parameters.count("slip_velocity")) {
+        alternative.parameters["slip_velocity"] = std::max(dead_band, 1e-12);
+      }
+    }
+    const double s = share(alternative);
+    if (s > best_share) {
+      best_share = s;
+      best = name;
+    }
+  }
+  if (best.empty()) return;
+  const std::string evidence =
+      fmt::format("{} explains {:.1f} % of the base-refit residual, {} {:.1f} %", top->effect, 100.0 * own, best,
+                  100.0 * best_share);
+  if (best_share < (1.0 - options.position_time_margin) * own) {
+    result->notes.push_back(fmt::format("{} is told from the other products of its modulator: {}", top->effect, evidence));
+    return;
+  }
+  top->alike.push_back(best);
+  const auto formula = [](const std::string& multiplier) {
+    const MultiplierRow* row = FindMultiplier(multiplier);
+    return row != nullptr ? std::string(row->formula) : multiplier;
+  };
+  result->notes.push_back(fmt::format(
+      "cannot tell {} from {}: {} (within {:.0f} % of it): the multipliers {} and {} differ too little over this record; "
+      "a record where they differ (braking against the motion, at rest, the other direction, other speeds or forces) "
+      "would tell",
+      top->effect, best, evidence, 100.0 * options.position_time_margin, formula(top->multiplier),
+      formula(LookupEffect(best).multiplier)));
+  top->description += fmt::format(" (or {}: this record cannot tell them apart)", best);
 }
 
 void NoteHysteresis(const DiagnosisSignals& signals, const Eigen::VectorXd& residual, DiagnosisResult* result) {

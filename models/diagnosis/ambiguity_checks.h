@@ -21,6 +21,15 @@ std::string CheckPositionTimeAmbiguity(const DiagnosisSignals& signals, const Ei
                                        const Eigen::MatrixXd& base, const DiagnosisOptions& options,
                                        DiagnosisResult* result);
 
+// 6c. Can the top effect's multiplier be told from the others of its modulator? The first effect outside the friction-law
+// replacements, a product of the grammar, is refit alone (with the base) against every other product of the same
+// modulator with the same shape (its slip velocity, where it has one, as found or the dead band's); when the best of
+// them explains within options.position_time_margin (relative) as much, the record cannot tell the two multipliers
+// apart (ŷ and |ŷ|·tanh(v/v_s) where the drive never brakes): a note says so and why, the effect's description names
+// the other, and DiagnosedEffect::alike holds it. Otherwise a note says it was told apart. Source: issue 45, item 4.
+void CheckMultiplierAmbiguity(const DiagnosisSignals& signals, const Eigen::VectorXd& residual,
+                              const Eigen::MatrixXd& base, const DiagnosisOptions& options, DiagnosisResult* result);
+
 // 6b. Hysteresis: does the residual loop against position — the way out differing from the way back by more than
 // a constant (which is Coulomb friction)? Per position bin (20), the mean residual moving forward minus moving back;
 // a note when that difference varies over the travel well beyond its sampling error (ratio > 10: the samples are

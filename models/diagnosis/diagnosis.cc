@@ -35,6 +35,7 @@ using diagnosis_detail::AddFrictionLaw;
 using diagnosis_detail::BlockGrams;
 using diagnosis_detail::BuildCandidateMatrix;
 using diagnosis_detail::Candidate;
+using diagnosis_detail::CheckMultiplierAmbiguity;
 using diagnosis_detail::CheckPositionTimeAmbiguity;
 using diagnosis_detail::ChosenInstances;
 using diagnosis_detail::DescribeEffect;
@@ -305,6 +306,7 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
   // 6. Can position-periodic and time-periodic be told apart?
   const std::string ambiguity_note =
       CheckPositionTimeAmbiguity(signals, ranked.law_residual, ranked.law_columns, options, &result);
+  CheckMultiplierAmbiguity(signals, ranked.law_residual, ranked.law_columns, options, &result);
   NoteHysteresis(signals, r_after, &result);
   result.relevance = RankSignalRelevance(signals, r_after, options.folds);
   result.notes.push_back("what the residual left " + DescribeRelevance(result.relevance) +

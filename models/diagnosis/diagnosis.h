@@ -121,6 +121,9 @@ struct DiagnosedEffect {
   double contribution_rms = 0.0;
   double time_range[2] = {0.0, 0.0}, position_range[2] = {0.0, 0.0}, velocity_range[2] = {0.0, 0.0};
   std::string description;                   // in words, with the figures above
+  // Products of the same modulator that the record cannot tell from this one (they fit within the ambiguity margin:
+  // CheckMultiplierAmbiguity); empty when told apart or not checked.
+  std::vector<std::string> alike;
   // `parameters` as JSON for compare.json and improve.json: a count (a parameter without a unit in the effect
   // registry, whole-valued: the harmonics) as an integer, not 2.0.
   nlohmann::json ParametersJson() const;

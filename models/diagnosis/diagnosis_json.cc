@@ -89,6 +89,7 @@ nlohmann::json DiagnosisResult::ToJson() const {
       effs.back()["multiplier"] = e.multiplier;
       effs.back()["modulator"] = e.modulator;
     }
+    if (!e.alike.empty()) effs.back()["alike"] = e.alike;  // what the record cannot tell it from
   }
   j["effects"] = effs;
   j["whiteness_before"] = WhitenessJson(whiteness_before);

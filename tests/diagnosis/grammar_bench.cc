@@ -90,6 +90,10 @@ void Judge(const DiagnosisResult& diagnosis, DrawResult* r) {
   if (d.noise_only) return;
   const auto [multiplier, modulator] = FactorsOf(first->effect);
   r->named_right = multiplier == d.multiplier && modulator == d.modulator;
+  for (const std::string& alike : first->alike) {
+    const auto [m, mod] = FactorsOf(alike);
+    r->alike_right = r->alike_right || (!r->named_right && m == d.multiplier && mod == d.modulator);
+  }
   bool shape = true;
   if (!d.key_parameter.empty()) {
     const auto it = first->parameters.find(d.key_parameter);
@@ -214,6 +218,11 @@ std::string FormatReport(const std::vector<DrawResult>& draws, const std::vector
                      Rate(all.named, all.draws));
   out += fmt::format("| parameter right (named right and its key shape parameter, or column, within tolerance) | {} |\n",
                      Rate(all.parameter, all.draws));
+  int alike = 0;
+  for (const auto& r : draws) alike += r.alike_right ? 1 : 0;
+  out += fmt::format("| not named right, but the drawn pair is the one the diagnosis said it cannot tell from the one "
+                     "it named (not counted above) | {} |\n",
+                     Rate(alike, all.draws));
   out += fmt::format("| floor reached (improve's held-out RMSE within [0.7, 1.3] × the floor) | {} |\n\n",
                      all.improved == 0 ? std::string("not run") : Rate(all.floor, all.improved));
   int clean = 0;

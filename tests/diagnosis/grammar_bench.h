@@ -38,6 +38,9 @@ struct DrawResult {
   double parameter = 0.0;            ///< its key parameter (NaN when not named or absent)
   std::string log_column;            ///< its column (DiagnosedEffect::log_column)
   bool named_right = false, parameter_right = false, floor_reached = false;
+  /// Not named right, but the drawn pair is one the diagnosis said this record cannot tell from the one it named
+  /// (DiagnosedEffect::alike): an honest "one of these two", counted apart.
+  bool alike_right = false;
   bool clean = false;                ///< noise-only: nothing named with a share ≥ 0.02 outside the law replacements
   bool improve_run = false;
   double noise_floor = 0.0;          ///< the pipeline's floor on the validation twin (improve runs only)
