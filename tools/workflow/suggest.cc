@@ -228,12 +228,6 @@ std::string AddProductToOutput(DiagramDocument* out, const ElementSpec& element,
   Endpoint factor_output;
   std::string factor_name;
   if (multiplier.of_model_force) {
-    if (out->Mode() != ExperimentMode::kEquationError) {
-      throw std::invalid_argument(fmt::format(
-          "effect '{}' multiplies the model's force; in simulation mode the output is the motion: scale the force "
-          "into the plant by hand (a product of the force and a {} block of the position)",
-          effect.effect, element.type));
-    }
     const auto force = out->DriverOf(ForceEnd(*out, output));
     if (!force) {
       throw std::invalid_argument(fmt::format("effect '{}' multiplies the model's force, but nothing feeds output '{}'",
@@ -298,6 +292,12 @@ json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, c
   }
   const EffectBlockTemplate& block = *type.block;
   DiagramDocument out(diagram);
+  if (block.multiplier && block.multiplier->of_model_force && out.Mode() != ExperimentMode::kEquationError) {
+    throw std::invalid_argument(fmt::format(
+        "effect '{}' multiplies the model's force; in simulation mode the output is the motion: scale the force "
+        "into the plant by hand (a product of the force and a {} block of the position)",
+        effect.effect, block.block_type));
+  }
   std::vector<Endpoint> inputs;
   for (const auto& [input, port] : block.inputs) inputs.push_back(MotionSource(out, input, effect.effect));
   ElementSpec element{block.element_name, block.block_type, block.parameters(effect), std::nullopt, effect.description};
