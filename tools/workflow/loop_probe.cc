@@ -82,7 +82,9 @@ LoopProbe ProbeLoop(const ModelComparison& comparison, const ComparedOutput& nom
   const std::optional<Endpoint> driver = d.DriverOf(*port);
   double force_rms = 0.0;
   for (const auto& [name, signal] : own) {
-    if (driver && name == driver->ToString()) force_rms = std::sqrt(signal.squaredNorm() / std::max<Eigen::Index>(1, signal.size()));
+    if (driver && name == driver->ToString() && signal.size() > 0) {
+      force_rms = std::sqrt(signal.squaredNorm() / static_cast<double>(signal.size()));
+    }
   }
   if (!(force_rms > 0.0)) return not_probed(fmt::format("the force into '{}' is not known or zero", port->ToString()));
   const auto [first, last] = LongestMovingStretch(velocity, kMovingShare);
@@ -109,7 +111,7 @@ LoopProbe ProbeLoop(const ModelComparison& comparison, const ComparedOutput& nom
   if (!std::isfinite(energy) || !(energy > 0.0)) return not_probed("the output does not respond to a force at the plant");
   double kept = 0.0;
   Eigen::Index length = 0;
-  while (length < h.size() && kept < kEnergyKept * energy) kept += h(length) * h(length++);
+  for (; length < h.size() && kept < kEnergyKept * energy; ++length) kept += h(length) * h(length);
   out.loop = std::make_shared<const LoopResponse>(h.head(length).eval(), n);
   out.note = fmt::format(
       "simulation mode: every candidate force is fitted to the output error through the closed loop, measured on the "
