@@ -1,7 +1,7 @@
 # The two commands of the README. Both install what they need (Debian packages) and build from scratch.
 JOBS ?= $(shell nproc)
 
-.PHONY: deps build demo test bench bench-diagnosis bench-grammar clean
+.PHONY: deps build demo test bench bench-diagnosis bench-diagnosis-simulation bench-grammar clean
 
 deps:
 	./scripts/install-deps.sh
@@ -32,6 +32,13 @@ bench-diagnosis:
 	cmake --preset release
 	cmake --build --preset release -j $(JOBS) --target bench_diagnosis
 	build/release/tests/diagnosis/bench_diagnosis --out=out/bench-diagnosis
+
+## make bench-diagnosis-simulation: the same cases compared in simulation mode with the closed-loop diagram of the
+## generator's loop (tests/diagnosis/data/independent_closed_loop.json), compare only: docs/diagnosis.md ("Simulation mode").
+bench-diagnosis-simulation:
+	cmake --preset release
+	cmake --build --preset release -j $(JOBS) --target bench_diagnosis
+	build/release/tests/diagnosis/bench_diagnosis --simulation --compare-only --out=out/bench-diagnosis-simulation
 
 ## make bench-grammar: random draws from the diagnosis' grammar (tests/diagnosis/grammar_bench.h), Release: 300 draws and
 ## 50 noise-only ones diagnosed and improved; the confusion table of docs/diagnosis.md ("Random draws from the grammar").
