@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include <unistd.h>
@@ -25,6 +26,7 @@
 #include "models/diagnosis/loop_response.h"
 #include "tests/diagnosis/independent_plant.h"
 #include "tools/workflow/comparison.h"
+#include "tools/workflow/loop_probe.h"
 #include "tools/workflow/measurement.h"
 #include "tools/workflow/suggest.h"
 
@@ -130,6 +132,35 @@ TEST(SimulationMode, APayloadStepIsNamedAtItsTime) {
   EXPECT_NEAR(first->parameters.at("change_time"), 8.0, 0.5) << c.compared.diagnosis->summary;
   // 31 kg picked up: a load the drive must carry, with the sign equation-error mode gives it.
   EXPECT_NEAR(BlockCoefficient(*first, ""), 31.0, 6.0) << c.compared.diagnosis->summary;
+}
+
+TEST(SimulationMode, AnEffectOfTheAccelerationIsRefusedWithWhatToDo) {
+  // A block of the plant's acceleration would feed the force that sets it: an algebraic loop.
+  DiagnosedEffect payload;
+  payload.effect = "mass_change";
+  payload.parameters = {{"change_time", 8.0}};
+  payload.column_names = {"mass_change"};
+  payload.coefficients = Eigen::VectorXd::Constant(1, 31.0);
+  const nlohmann::json diagram = ReadDiagramJson(kData / kDiagram);
+  try {
+    SuggestAmendedDiagram(diagram, payload, "position");
+    FAIL() << "a block of the acceleration was added to a closed loop";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), HasSubstr("algebraic loop"));
+    EXPECT_THAT(e.what(), HasSubstr("change the plant's mass instead"));
+  }
+}
+
+TEST(SimulationMode, ADiagramWithoutAPlantSaysWhyItIsNotProbed) {
+  // The EMPS inverse model has no element of a type with the loop role "plant": nothing to probe.
+  const DiagramDocument inverse(ReadDiagramJson(fs::path(MB_SOURCE_DIR) / "diagrams" / "emps" / "rigid_body.json"));
+  std::string why;
+  EXPECT_FALSE(PlantForcePort(inverse, &why));
+  EXPECT_THAT(why, HasSubstr("no plant"));
+  const DiagramDocument loop(ReadDiagramJson(kData / kDiagram));
+  const std::optional<Endpoint> port = PlantForcePort(loop, &why);
+  ASSERT_TRUE(port);
+  EXPECT_EQ(port->ToString(), "plant.f");
 }
 
 TEST(LoopResponse, FiltersCausallyAsTheDirectSumDoes) {
