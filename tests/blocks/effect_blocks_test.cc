@@ -79,6 +79,26 @@ TEST(TimePeriodicTest, MatchesItsFourierSeries) {
               HasSubstr("cos_coefficients has 1 entries"));
 }
 
+// A vibration whose frequency drifts (drifting_vibration's block): φ = 2π(f t + ½ ḟ t²), its instantaneous frequency
+// f + ḟ t — 3 Hz at the start, 11 Hz after 2 s at 4 Hz/s.
+TEST(TimePeriodicTest, ADriftingFrequencyIntegratesItsPhase) {
+  const double f0 = 3.0, rate = 4.0;
+  const json j = MakeDiagram({Element("p", "time_periodic",
+                                      {{"frequency_hz", f0}, {"frequency_rate", rate}, {"cos_coefficients", {0.0}},
+                                       {"sin_coefficients", {2.0}}})},
+                             json::array(), {"p.y"}, 2.0, 1e-3);
+  const auto r = Simulator(Build(j)).Run();
+  const auto& y = r.log.Column("p.y");
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    const double t = r.log.time[i];
+    EXPECT_NEAR(y[i], 2.0 * std::sin(kTwoPi * (f0 * t + 0.5 * rate * t * t)), 1e-9) << "t = " << t;
+  }
+  // The zero crossings in the last 0.25 s come at the drifted frequency (≈ 2 × 10.5 Hz × 0.25 s), not at 3 Hz's rate.
+  int crossings = 0;
+  for (std::size_t i = 1; i < y.size(); ++i) crossings += r.log.time[i] > 1.75 && (y[i - 1] < 0.0) != (y[i] < 0.0);
+  EXPECT_NEAR(crossings, 2.0 * 10.5 * 0.25, 1.0);
+}
+
 // y = |v|·(a cos(2π(x − x₀)/P) + b sin(…)) along x = 0.01 sin(2πt): reversals at t = 0.25 s and 0.75 s.
 TEST(VelocityDependentRippleTest, AmplitudeScalesWithSpeedInBothDirections) {
   const double period = 4e-3, a = 3.0, b = -2.0, x0 = 1e-3;

@@ -23,6 +23,7 @@ constexpr double kVibrationAmplitude = 2.0, kVibrationHz = 9.0;
 constexpr double kLoadMass = 6.0, kLoadHz = 31.7, kLoadDamping = 0.02;
 constexpr double kSpringCentre = 0.1, kSpringLinear = 30.0, kSpringCubic = 3000.0;
 constexpr double kLoadFriction = 4.0, kPlayHalfWidth = 5e-4;
+constexpr double kDriftAmplitude = 2.0;  // [N], kDriftingVibration
 constexpr double kSubStep = 1e-4;  // plant integration [s]
 constexpr double kBoucWenForce = 6.0, kBoucWenDisplacement = 3e-3;  // [N], z₀ [m]
 constexpr double kActuatorLag = 0.004;
@@ -165,6 +166,9 @@ double StatelessHidden(Hidden h, double t, double x, double v) {
   if (Has(h, Hidden::kWarmUp)) f += (WarmViscous(t) - kViscous) * v;
   if (Has(h, Hidden::kShortStroke)) f += 15.0 * std::abs(v) * std::sin(kTwoPi * x / kShortStrokePeriod);
   if (Has(h, Hidden::kVibration)) f -= kVibrationAmplitude * std::sin(kTwoPi * kVibrationHz * t + 0.7);
+  if (Has(h, Hidden::kDriftingVibration)) {  // the phase is the integral of f(t) = f₀ + ḟ·t
+    f -= kDriftAmplitude * std::sin(kTwoPi * (kDriftStartHz * t + 0.5 * kDriftRate * t * t) + 0.4);
+  }
   if (Has(h, Hidden::kPositionForce)) {
     const double d = x - kSpringCentre;
     f += kSpringLinear * d + kSpringCubic * d * d * d;
@@ -459,6 +463,9 @@ std::vector<CaseSpec> Cases() {
   // Issue 47: a force with memory, set by the stroke since the last reversal (the Bouc–Wen element's 90 % stroke).
   c.push_back(Case("hysteresis (a preloaded guide)", Hidden::kHysteresis, "hysteresis", "stroke",
                    kBoucWenDisplacement * (1.0 + std::log(5.0)), 0.25));
+  // Issue 47: a vibration whose frequency drifts (its rate).
+  c.push_back(Case("drifting vibration", Hidden::kDriftingVibration, "drifting_vibration", "drift_rate", kDriftRate,
+                   0.1));
   CaseSpec stamps = Case("noisy stamps", Hidden::kPositionRipple, "position_periodic", "period", 0.006, 0.03);
   stamps.stamp_noise = 0.2;
   c.push_back(stamps);

@@ -90,7 +90,13 @@ enum class Hidden {
   /// z₀ of stroke, then settles exponentially (length z₀) toward ∓6 N: 90 % of the 12 N swing after z₀(1 + ln 5) =
   /// 7.83 mm, set by displacement, whatever the speed.
   kHysteresis,
+  /// A vibration whose frequency drifts: a fan on the frame speeding up, 2 N at 5 Hz + 0.5 Hz/s·t (5 → 13 Hz over the
+  /// record), its phase the integral of that frequency.
+  kDriftingVibration,
 };
+
+/// The drifting vibration's frequency at t = 0 [Hz] and its rate [Hz/s] (kDriftingVibration).
+inline constexpr double kDriftStartHz = 5.0, kDriftRate = 0.5;
 
 /// Whether a case's record is of a rotary axis (time_s, angle_rad, torque_Nm; Record::rotary).
 bool IsRotary(Hidden hidden);
