@@ -56,7 +56,8 @@ const std::map<std::string, double> kTypical{{"period", 0.0025},   {"harmonics",
                                              {"column", 0.0},      {"time_constant", 1.5},     {"speed_slope", 100.0},
                                              {"no_load_speed", 0.5}, {"on_time", 1.0},     {"off_time", 3.0},
                                              {"min_breakaway", 1e-3}, {"max_breakaway", 0.02}, {"elements", 5.0},
-                                             {"stroke", 0.01},     {"breakaway_force", 10.0},  {"initial_stiffness", 1e4}};
+                                             {"stroke", 0.01},     {"breakaway_force", 10.0},  {"initial_stiffness", 1e4},
+                                             {"drift_rate", 0.5}};
 
 bool IsSnakeCase(const std::string& name) {
   return !name.empty() && std::islower(static_cast<unsigned char>(name.front())) &&
