@@ -153,8 +153,9 @@ void Propose(ProposalContext& c) {
   const double half_range = std::max(2.0 * bin / duration, 4.0 * step);
   const Eigen::VectorXd& r = c.residual();
   double rate = line(1), f_mid = line(0), height = 0.0;
-  const int trials = static_cast<int>(std::ceil(2.0 * half_range / step));
-  for (int k = 0; k <= trials && trials < 400; ++k) {
+  constexpr int kMaxTrials = 400;  // at most, whatever the record's length (each trial is one FFT of 4N points)
+  const int trials = std::min(kMaxTrials, static_cast<int>(std::ceil(2.0 * half_range / step)));
+  for (int k = 0; k <= trials; ++k) {
     const double trial = line(1) - half_range + k * (2.0 * half_range / trials);
     const Dechirped d = Dechirp(r, t, t_mid, trial, line(0) - 2.0 * bin, line(0) + 2.0 * bin, ts);
     if (d.height > height) {
