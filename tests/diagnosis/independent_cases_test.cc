@@ -109,8 +109,9 @@ INSTANTIATE_TEST_SUITE_P(ComparePasses, IndependentCase,
                                            // The grammar's warm-up of time and a limit that is a function of the
                                            // speed: the grease's thermal lag (T), the winding's back-EMF (k).
                                            "grease warm-up", "back-EMF voltage limit",
-                                           // A force with memory (issue 47): hysteresis of a preloaded guide.
-                                           "hysteresis (a preloaded guide)"),
+                                           // A force with memory (issue 47): hysteresis of a preloaded guide,
+                                           // and a vibration whose frequency drifts (a fan speeding up).
+                                           "hysteresis (a preloaded guide)", "drifting vibration"),
                          [](const ::testing::TestParamInfo<std::string>& case_info) {
                            std::string name;
                            for (char c : case_info.param) if (std::isalnum(static_cast<unsigned char>(c))) name += c;
