@@ -326,6 +326,20 @@ bool BaseHasCoulombLaw(const ProposalContext& context) {
   return HasCoulombLaw(context.base_columns(), context.signals().velocity);
 }
 
+double GoldenSectionMinimum(const std::function<double(double)>& cost, double lo, double hi, double tolerance) {
+  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+  double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
+  double e1 = cost(x1), e2 = cost(x2);
+  for (int it = 0; it < 60 && hi - lo > tolerance * std::abs(lo + hi) * 0.5; ++it) {
+    if (e1 < e2) {
+      hi = x2; x2 = x1; e2 = e1; x1 = hi - g * (hi - lo); e1 = cost(x1);
+    } else {
+      lo = x1; x1 = x2; e1 = e2; x2 = lo + g * (hi - lo); e2 = cost(x2);
+    }
+  }
+  return 0.5 * (lo + hi);
+}
+
 double MinimiseOnLogGrid(double lo, double hi, int grid, int iterations, const std::function<double(double)>& sse,
                          bool parallel_grid) {
   const auto sse_log = [&](double log_value) { return sse(std::exp(log_value)); };

@@ -136,6 +136,12 @@ bool HasCoulombLaw(const Eigen::MatrixXd& base_columns, const Eigen::VectorXd& v
 /// The index of the base column that is the model's Coulomb law (as HasCoulombLaw judges it; the first such), or −1.
 Eigen::Index CoulombLawColumn(const Eigen::MatrixXd& base_columns, const Eigen::VectorXd& velocity);
 
+/// Golden-section search for the minimum of `cost` on [lo, hi] (lo < hi, cost assumed unimodal there) until the bracket
+/// is narrower than `tolerance` × |its midpoint| (at most 60 steps); returns the last bracket's midpoint, in the unit of
+/// lo and hi. Throws what cost throws. Source: Kiefer, "Sequential minimax search for a maximum", Proc. AMS 4, 1953;
+/// Press et al., "Numerical Recipes", 3rd ed., §10.2.
+double GoldenSectionMinimum(const std::function<double(double)>& cost, double lo, double hi, double tolerance);
+
 /// The minimum of sse(value) over [lo, hi] (0 < lo < hi): a log grid of `grid` points (>= 3), then a golden-section
 /// search in log between the best point's neighbours (`iterations` steps); the grid's best when the search ends higher.
 /// parallel_grid: the grid's points evaluated concurrently (TBB; sse must then be thread-safe), the same result.

@@ -20,6 +20,7 @@
 #include "models/diagnosis/parameter_text.h"
 #include "models/diagnosis/periodogram.h"
 #include "models/diagnosis/signal_processing.h"
+#include "models/diagnosis/time_chirp.h"
 
 namespace mb {
 namespace {
@@ -483,6 +484,24 @@ std::vector<ModulatorRow> MakeModulators() {
                   nullptr, ScanTimePeriod, {}});
   rows.back().words = [](const FactorParameters& p, double, const std::string&, const std::string&, const std::string&) {
     return fmt::format("vibrates in time at {:.4g} Hz", Value(p, "frequency_hz"));
+  };
+  rows.push_back({"time_chirp", "{}_drifting_vibration", "vibrating at a frequency drifting in time",
+                  "cos kφ, sin kφ, φ = 2π(f₀t + ½ḟt²), k = 1..K",
+                  "a vibration whose frequency drifts: a pump or a fan speeding up, a neighbouring machine changing speed",
+                  {{"frequency_hz", "Hz", "f₀: the vibration's frequency at t = 0"},
+                   {"drift_rate", "Hz/s", "ḟ: how fast its frequency changes"},
+                   {"harmonics", "", "K, 1 when absent"}},
+                  false, Periodicity::kTime, nullptr,
+                  [](const FactorParameters& p, const DiagnosisSignals& s, const std::string& name,
+                     const Eigen::VectorXd* scale) {
+                    const auto harmonics = p.find("harmonics");
+                    return PeriodicColumns(ChirpCycles(s.time, Need(p, "frequency_hz", name), Need(p, "drift_rate", name)),
+                                           1.0, harmonics == p.end() ? 1 : std::max(1, static_cast<int>(harmonics->second)),
+                                           name, scale);
+                  },
+                  nullptr, ScanTimeChirp, {}});
+  rows.back().words = [](const FactorParameters& p, double, const std::string&, const std::string&, const std::string&) {
+    return fmt::format("vibrates in time at {:.4g} Hz {:+.4g} Hz/s·t", Value(p, "frequency_hz"), Value(p, "drift_rate"));
   };
   return rows;
 }

@@ -58,23 +58,6 @@ Eigen::MatrixXd ResonanceColumns(const DiagnosisSignals& s, double ts, double f_
   return columns;
 }
 
-// Golden-section search for the minimum of `cost` on [lo, hi] (assumed unimodal there), to a relative width of
-// `tolerance`; returns the midpoint of the last bracket.
-template <class Cost>
-double GoldenSectionMinimum(const Cost& cost, double lo, double hi, double tolerance) {
-  const double g = 0.5 * (std::sqrt(5.0) - 1.0);
-  double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
-  double e1 = cost(x1), e2 = cost(x2);
-  for (int it = 0; it < 60 && hi - lo > tolerance * std::abs(lo + hi) * 0.5; ++it) {
-    if (e1 < e2) {
-      hi = x2; x2 = x1; e2 = e1; x1 = hi - g * (hi - lo); e1 = cost(x1);
-    } else {
-      lo = x1; x1 = x2; e1 = e2; x2 = lo + g * (hi - lo); e2 = cost(x2);
-    }
-  }
-  return 0.5 * (lo + hi);
-}
-
 // The most prominent local maximum of the spectrum: its density over the median density of the bins within
 // ±50 % of its frequency (at least ±10 bins; the 2 bins either side, its own main lobe, left out). Local, because
 // the residual is often low-passed (parallel filtering): against the whole spectrum's median, mostly stop band,
