@@ -27,6 +27,7 @@
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/forward_selection.h"
 #include "models/diagnosis/joint_refinement.h"
+#include "models/diagnosis/quantization_floor.h"
 #include "models/diagnosis/robust_weighting.h"
 
 namespace mb {
@@ -163,6 +164,7 @@ Ranking RankEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base
       result->whiteness_before = Whiteness(out.law_residual);
       result->noise_floor =
           EstimateNoiseFloor(out.law_residual, MedianTimeStep(signals.time), options.regressor_filter_hz);
+      AddQuantizationFloor(signals, options.regressor_filter_hz, &result->noise_floor);
     }
     if (signals.model_output.size() == n) corrected.model_output = signals.model_output + (r - out.law_residual);
     const CandidateSearch search = ProposeCandidateEffects(corrected, out.law_residual, law.columns, catalogue);
@@ -177,7 +179,9 @@ Ranking RankEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base
     out.m.Weigh(r, out.weights);
     out.grams.emplace(out.m, options.folds);
     out.chosen = StartSelection(*out.grams, p);
-    out.chosen.leak_mse = std::pow(options.leak_floor_ratio * result->noise_floor.rms, 2);
+    // The white part only: the quantization part is of the unweighted residual, and the held-out errors compared are
+    // of the Huber-weighted one, which clips the sparse spikes a count's toggling makes at low speed.
+    out.chosen.leak_mse = std::pow(options.leak_floor_ratio * result->noise_floor.white_rms, 2);
     for (std::size_t i = 0; i < law.effects.size(); ++i) {
       out.chosen.order.push_back(i);
       out.chosen.selected.insert(out.chosen.selected.end(), out.m.cands[i].idx.begin(), out.m.cands[i].idx.end());

@@ -93,7 +93,7 @@ struct DiagnosisOptions {
   // scores are then recomputed with the refined parameters (a note per parameter that moved). 0 = off.
   int refinement_sweeps = 2;
   // No effect may fit the noise (DIAGNOSIS.md, "The noise floor, and leaks"): a candidate whose held-out RMSE would
-  // fall below this fraction of the record's noise floor (EstimateNoiseFloor on the base-refit residual) fits the
+  // fall below this fraction of the record's white noise floor (NoiseFloor::white_rms) fits the
   // measurement's own noise — a regressor built from the compared output, a leak — and is refused with a note.
   // 0 = off.
   double leak_floor_ratio = 0.7;
@@ -148,7 +148,8 @@ struct DiagnosisResult {
   double heldout_rmse_base = 0.0;            // cross-validated, base regressors only
   double heldout_rmse_after = 0.0;           // cross-validated, base + chosen effects
   double explained_share = 0.0;              // 1 − heldout_mse_after/heldout_mse_base
-  // The record's noise floor (EstimateNoiseFloor of the base-refit residual): no model can do better than about this
+  // The record's noise floor (EstimateNoiseFloor of the base-refit residual, with AddQuantizationFloor's part in
+  // equation-error mode): no model can do better than about this
   // RMS [unit of the output]; 0 when the record is too short to tell.
   NoiseFloor noise_floor;
 

@@ -62,7 +62,11 @@ nlohmann::json DiagnosisResult::ToJson() const {
   j["explained_share"] = explained_share;
   j["relevance"] = nlohmann::json::array();
   for (const SignalRelevance& s : relevance) j["relevance"].push_back({{"signal", s.signal}, {"heldout_share", s.heldout_share}});
-  j["noise_floor"] = {{"rms", noise_floor.rms}, {"band_hz", {noise_floor.band_low_hz, noise_floor.band_high_hz}}};
+  j["noise_floor"] = {{"rms", noise_floor.rms},
+                      {"white_rms", noise_floor.white_rms},
+                      {"quantization_rms", noise_floor.quantization_rms},
+                      {"position_step", noise_floor.position_step},
+                      {"band_hz", {noise_floor.band_low_hz, noise_floor.band_high_hz}}};
   j["condition_number"] = std::isfinite(condition_number) ? nlohmann::json(condition_number) : nlohmann::json(nullptr);
   nlohmann::json base = nlohmann::json::array();
   for (std::size_t i = 0; i < base_names.size(); ++i) {

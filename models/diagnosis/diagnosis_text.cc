@@ -143,13 +143,20 @@ void Summarise(const DiagnosisOptions& options, const std::string& ambiguity_not
         "probability {:.2g} ({})",
         FormatPosition(pk.period, options.position_unit), 100.0 * pk.power, pk.false_alarm_probability, pk.significant ? "significant" : "not significant"));
   }
-  if (result->noise_floor.rms > 0.0) {
+  if (const NoiseFloor& floor = result->noise_floor; floor.rms > 0.0) {
+    const std::string quantization =
+        floor.quantization_rms > 0.0
+            ? fmt::format(" ({:.4g}), with what differentiating the position, logged in steps of {}, puts into the "
+                          "motion's band ({:.4g}: the model's mass and damping times the derived motion's quantization noise)",
+                          floor.white_rms, FormatPosition(floor.position_step, options.position_unit),
+                          floor.quantization_rms)
+            : std::string();
     result->notes.push_back(fmt::format(
         "noise floor: no model can do better than ≈ {:.4g} (RMS, the output's unit) on this record — the residual's "
-        "level at {:.4g}–{:.4g} Hz, above the motion's band, taken as white; held-out RMSE after the chosen effects "
+        "level at {:.4g}–{:.4g} Hz, above the motion's band, taken as white{}; held-out RMSE after the chosen effects "
         "{:.4g} ({:.2f} × the floor)",
-        result->noise_floor.rms, result->noise_floor.band_low_hz, result->noise_floor.band_high_hz,
-        result->heldout_rmse_after, result->heldout_rmse_after / result->noise_floor.rms));
+        floor.rms, floor.band_low_hz, floor.band_high_hz, quantization, result->heldout_rmse_after,
+        result->heldout_rmse_after / floor.rms));
   }
   if (result->robust_weight_share < 0.999) {
     result->notes.push_back(fmt::format(

@@ -137,7 +137,7 @@ bool AddBestEffect(const RegressorMatrix& m, const BlockGrams& grams, const Diag
     (*used)[pick] = true;
     if (mse[pick] < s->leak_mse) {
       notes->push_back(fmt::format(
-          "{} refused: its held-out error ({:.3g}) would fall below {:g} × the record's noise floor ({:.3g}); no model "
+          "{} refused: its held-out error ({:.3g}) would fall below {:g} × the record's white noise floor ({:.3g}); no model "
           "can do better than the noise, so the candidate fits the measurement's own noise (a regressor built from the "
           "compared output leaks it), not physics",
           m.cands[pick].effect.name, std::sqrt(mse[pick]), options.leak_floor_ratio,

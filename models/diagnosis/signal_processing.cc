@@ -383,7 +383,7 @@ NoiseFloor EstimateNoiseFloor(const Eigen::Ref<const Eigen::VectorXd>& residual,
   const auto quiet = level.begin() + static_cast<std::ptrdiff_t>(level.size() / 10);
   std::nth_element(level.begin(), quiet, level.end());
   const double bandwidth = filtered ? 3.0 * std::numbers::pi / (8.0 * std::sqrt(2.0)) * band_limit_hz : nyquist;
-  out.rms = std::sqrt(*quiet * bandwidth);
+  out.rms = out.white_rms = std::sqrt(*quiet * bandwidth);
   return out;
 }
 

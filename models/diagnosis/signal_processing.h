@@ -131,8 +131,13 @@ PowerSpectrum WelchPowerSpectrum(const Eigen::Ref<const Eigen::VectorXd>& signal
 // on white noise 0.56 × its RMS in a low-passed band (7 bins per segment) to 0.7–1 × in the upper half of an
 // unfiltered spectrum, so a step refused as fitting the noise
 // (below 0.7 × this floor) lies well below the real one.
+// The diagnosis adds the part that differentiating a quantized position puts into the band (quantization_floor.h):
+// rms = √(white_rms² + quantization_rms²).
 struct NoiseFloor {
   double rms = 0.0;                             // [unit of the residual]; 0 when the record is too short to tell
+  double white_rms = 0.0;                       // the spectral estimate above [unit of the residual]
+  double quantization_rms = 0.0;                // what the position's quantization adds [unit of the residual]
+  double position_step = 0.0;                   // the lattice step of the logged position [m or rad]; 0 = none seen
   double band_low_hz = 0.0, band_high_hz = 0.0;  // the band its level was read in
 };
 // 0 when the record is shorter than 1024 samples. Throws std::invalid_argument when sample_period <= 0 or band_limit_hz

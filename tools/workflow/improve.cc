@@ -289,7 +289,7 @@ std::string OutOfPhysicalRange(const FitResult& fit, const std::string& element,
 // held-out RMSE falls by min_relative_gain; a suggestion or refit that fails is a rejected step with the reason.
 ImproveStep TryEffect(const ImproveStep& current, const DiagnosedEffect& effect, int round,
                       const fs::path& base_directory, const std::string& source, const MeasurementLog& training,
-                      const MeasurementLog* validation, const ImproveSettings& settings, double noise_floor) {
+                      const MeasurementLog* validation, const ImproveSettings& settings, double leak_floor) {
   ImproveStep step;
   std::string element;
   try {
@@ -319,12 +319,12 @@ ImproveStep TryEffect(const ImproveStep& current, const DiagnosedEffect& effect,
     const std::string unphysical =
         step.training.fit ? OutOfPhysicalRange(*step.training.fit, step.element, *LookupEffect(effect.effect).block)
                           : std::string();
-    const double leak_limit = settings.leak_floor_ratio * noise_floor;
+    const double leak_limit = settings.leak_floor_ratio * leak_floor;
     const std::string leak =
         step.rmse_heldout < leak_limit
-            ? fmt::format("a leak: its held-out RMSE lies below {:g} × the record's noise floor ({:.4g} {}), which no "
-                          "model of the physics can reach; it fits the measurement's own noise",
-                          settings.leak_floor_ratio, noise_floor, step.unit())
+            ? fmt::format("a leak: its held-out RMSE lies below {:g} × the record's white noise floor ({:.4g} {}), "
+                          "which no model of the physics can reach; it fits the measurement's own noise",
+                          settings.leak_floor_ratio, leak_floor, step.unit())
             : std::string();
     step.accepted =
         gain >= settings.min_relative_gain && not_significant.empty() && unphysical.empty() && leak.empty();
@@ -388,7 +388,13 @@ ImproveResult ImproveModel(const DiagramDocument& document, const MeasurementLog
   step0.rmse_train_before = step0.training.before.front().rmse;
   step0.rmse_heldout_before = step0.rmse_heldout;
   step0.verdict = "the diagram as given, its free parameters refit";
-  if (step0.training.diagnosis) result.noise_floor = step0.training.diagnosis->noise_floor.rms;
+  // The floor reported is the whole (with the position's quantization); the leak guard compares with its white part,
+  // as the diagnosis does (DiagnoseMissingEffects).
+  double leak_floor = 0.0;
+  if (step0.training.diagnosis) {
+    result.noise_floor = step0.training.diagnosis->noise_floor.rms;
+    leak_floor = step0.training.diagnosis->noise_floor.white_rms;
+  }
   say(fmt::format("step 0: RMSE {:.4g} → {:.4g} {} after the refit; held out {:.4g} {}", step0.rmse_train_before,
                   step0.rmse_train, step0.unit(), step0.rmse_heldout, step0.unit()));
   finish(std::move(step0));
@@ -407,7 +413,7 @@ ImproveResult ImproveModel(const DiagramDocument& document, const MeasurementLog
       say(fmt::format("round {}: trying {} ({}; {:.1f} % of the held-out residual) — amend, refit jointly …", round,
                       effect->effect, DescribeParameters(effect->parameters), 100.0 * effect->score));
       ImproveStep step =
-          TryEffect(current, *effect, round, base_directory, source, training, validation, settings, result.noise_floor);
+          TryEffect(current, *effect, round, base_directory, source, training, validation, settings, leak_floor);
       say(fmt::format("round {}: {} {}; train RMSE {:.4g} → {:.4g} {}", round, effect->effect, step.verdict,
                       step.rmse_train_before, step.rmse_train, step.unit()));
       accepted_this_round = step.accepted;

@@ -53,8 +53,8 @@ struct ImproveSettings {
   /// ImproveToMeasurement: fit the TISO-GPR fallback when the loop stops with a residual that is not white
   /// (FitImproveFallback, fallback.h). ImproveModel, the loop alone, ignores it.
   bool fallback = true;
-  /// No step may fit the noise: a step whose held-out RMSE falls below this fraction of the record's noise floor (the
-  /// first diagnosis' DiagnosisResult::noise_floor) is refused as a leak. 0 = off.
+  /// No step may fit the noise: a step whose held-out RMSE falls below this fraction of the record's white noise floor
+  /// (the first diagnosis' DiagnosisResult::noise_floor.white_rms) is refused as a leak. 0 = off.
   double leak_floor_ratio = 0.7;
 };
 
