@@ -1,12 +1,10 @@
 // position_dependent_force: a smooth force of position — a spring, a cable carrier, a magnet's attraction, a
 // hardening suspension (Duffing's cubic stiffness k₁(x − x₀) + k₃(x − x₀)³). Regressors ξ, ξ², ξ³ with
 // ξ = (x − center)/half_range over the record's travel {center [m], half_range [m], degree (3)}. Proposed when the
-// position moves over more than 100 of its median steps and the residual holds no position period of 16 cycles or more
+// position moves over more than 100 of its lattice steps (QuantizationStep) and the residual holds no position period of 16 cycles or more
 // with 2 % of its variance. Block: position_dependent_force "position_force" on the position
 // input, its coefficients free.
-#include <algorithm>
 #include <cmath>
-#include <vector>
 
 #include <fmt/format.h>
 
@@ -14,6 +12,7 @@
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
 #include "models/diagnosis/factors.h"
+#include "models/diagnosis/quantization_floor.h"
 
 namespace mb {
 namespace {
@@ -25,19 +24,11 @@ constexpr int kDefaultDegree = 3;
 // 20 cycles (the cubic stiffness seen through the periodogram's window) kept the polynomial out while it was 97 % of
 // the residual.
 
-constexpr double kMinSteps = 100.0;  // the travel in median sample-to-sample steps of the position, at least
-
-// The median of |x(k+1) − x(k)| over the steps that move (the position's own scale: a step of the motion or of the
-// encoder); 0 when it never moves.
-double MedianNonzeroStep(const Eigen::VectorXd& x) {
-  std::vector<double> steps;
-  for (Eigen::Index k = 1; k < x.size(); ++k) {
-    if (const double d = std::abs(x(k) - x(k - 1)); d > 0.0) steps.push_back(d);
-  }
-  if (steps.empty()) return 0.0;
-  std::nth_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2), steps.end());
-  return steps[steps.size() / 2];
-}
+// The travel in steps of the position's lattice (an encoder's count, an ADC's least significant bit), at least: a
+// record at rest spans a few counts of noise. Scale-free and independent of the sample rate — the median
+// sample-to-sample step it replaced was a large part of the travel on a fast oscillation sampled at a few times its
+// frequency (an electronic Duffing oscillator), which was skipped without a note.
+constexpr double kMinSteps = 100.0;
 
 int Degree(const EffectInstance& e) {
   const auto it = e.parameters.find("degree");
@@ -72,9 +63,15 @@ EffectType PositionDependentForce() {
     // the rigid body) the polynomial takes 18.6 % of the held-out residual and the held-out ranking names it before the
     // screw lead's ripple (80 cycles). A "period" of a few cycles in the travel is what a smooth force of position looks
     // like to the periodogram (a hardening spring over 0.18 m: 18.7 mm, 9.6 cycles): it does not stop the polynomial.
-    // The position must move over many of its own steps (in the record's unit: metres, radians or volts alike): a
-    // record at rest spans a few steps of noise.
-    if (!(c.position_span() > kMinSteps * MedianNonzeroStep(c.signals().position))) return;
+    // The position must move over many of its own lattice steps (in the record's unit: metres, radians or volts
+    // alike): a record at rest spans a few counts of noise.
+    if (const double step = QuantizationStep(c.signals().position); !(c.position_span() > kMinSteps * step)) {
+      c.Note(fmt::format("position_dependent_force not proposed: the position spans {:.3g} of its steps ({:.3g}), "
+                         "fewer than {:g}: a record at rest, or one that moves too little to tell a force of the "
+                         "position",
+                         step > 0.0 ? c.position_span() / step : 0.0, step, kMinSteps));
+      return;
+    }
     if (const auto p = RippleASmoothFunctionWouldBlur(c)) {
       c.Note(fmt::format("position_dependent_force not proposed: the residual holds a position period of {:.3g} "
                          "cycles in the travel ({:.4g}, {:.1f} % of its variance), a ripple the polynomial would "
