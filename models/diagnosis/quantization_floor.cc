@@ -22,6 +22,27 @@ double QuantizationStep(const Eigen::Ref<const Eigen::VectorXd>& signal) {
   return step;
 }
 
+namespace {
+
+// The quantization noise of the motion derived from a smooth position put on the lattice of step q at `offsets`
+// offsets q·(k + ½)/offsets: visit(δv, δa) for each, the differences from the smooth position's own derivatives (both
+// by DeriveMotion at cutoff_hz).
+template <class Visit>
+void ForEachRequantization(const Eigen::VectorXd& time, const Eigen::VectorXd& smooth_position, double q,
+                           double cutoff_hz, int offsets, Visit visit) {
+  const MotionDerivatives smooth = DeriveMotion(time, smooth_position, cutoff_hz);
+  for (int k = 0; k < offsets; ++k) {
+    const double offset = q * (k + 0.5) / offsets;
+    const Eigen::VectorXd lattice = ((smooth_position.array() + offset) / q).floor() * q - offset;
+    const MotionDerivatives quantized = DeriveMotion(time, lattice, cutoff_hz);
+    visit(quantized.velocity - smooth.velocity, quantized.acceleration - smooth.acceleration);
+  }
+}
+
+double Rms(const Eigen::VectorXd& x) { return std::sqrt(x.squaredNorm() / static_cast<double>(x.size())); }
+
+}  // namespace
+
 QuantizationFloor EstimateQuantizationFloor(const DiagnosisSignals& signals, double cutoff_hz) {
   QuantizationFloor out;
   const Eigen::Index n = signals.size();
@@ -38,22 +59,40 @@ QuantizationFloor EstimateQuantizationFloor(const DiagnosisSignals& signals, dou
   const Eigen::VectorXd beta = x.colPivHouseholderQr().solve(signals.model_output);
   out.mass = beta(0);
   out.damping = beta(1);
-  // The smooth motion: the logged position low-passed, and its derivatives as the log's were taken.
+  // The smooth motion: the logged position low-passed, differentiated as the log's was.
   const Eigen::VectorXd position = DeriveMotion(signals.time, signals.position, cutoff_hz).position;
-  const MotionDerivatives smooth = DeriveMotion(signals.time, position, cutoff_hz);
-  const double q = out.step;
   constexpr int kOffsets = 4;
   double sum = 0.0;
-  for (int k = 0; k < kOffsets; ++k) {
-    const double offset = q * (k + 0.5) / kOffsets;
-    const Eigen::VectorXd lattice = ((position.array() + offset) / q).floor() * q - offset;
-    const MotionDerivatives quantized = DeriveMotion(signals.time, lattice, cutoff_hz);
-    const Eigen::VectorXd part = out.mass * (quantized.acceleration - smooth.acceleration) +
-                                 out.damping * (quantized.velocity - smooth.velocity);
-    sum += part.squaredNorm() / static_cast<double>(n);
-  }
+  ForEachRequantization(signals.time, position, out.step, cutoff_hz, kOffsets,
+                        [&](const Eigen::VectorXd& dv, const Eigen::VectorXd& da) {
+                          sum += (out.mass * da + out.damping * dv).squaredNorm() / static_cast<double>(n);
+                        });
   out.rms = std::sqrt(sum / kOffsets);
   return out;
+}
+
+double QuantizationShareOfAcceleration(const Eigen::VectorXd& time, const Eigen::VectorXd& position, double cutoff_hz) {
+  const double q = QuantizationStep(position);
+  if (!(q > 0.0) || position.size() < 8) return 0.0;
+  const MotionDerivatives logged = DeriveMotion(time, position, cutoff_hz);
+  const double signal = Rms(logged.acceleration);
+  if (!(signal > 0.0)) return 0.0;
+  constexpr int kOffsets = 2;
+  double sum = 0.0;
+  ForEachRequantization(time, logged.position, q, cutoff_hz, kOffsets,
+                        [&](const Eigen::VectorXd&, const Eigen::VectorXd& da) { sum += std::pow(Rms(da), 2); });
+  return std::sqrt(sum / kOffsets) / signal;
+}
+
+double QuantizationLimitedCutoff(const Eigen::VectorXd& time, const Eigen::VectorXd& position, double cutoff_hz,
+                                 double* share) {
+  double f = cutoff_hz;
+  for (int k = 0;; ++k) {
+    f = cutoff_hz * std::pow(2.0, -0.5 * k);
+    const double rho = QuantizationShareOfAcceleration(time, position, f);
+    if (share != nullptr) *share = rho;
+    if (rho <= kMaxQuantizationShare || k == kCutoffHalvings * 2) return f;
+  }
 }
 
 void AddQuantizationFloor(const DiagnosisSignals& signals, double cutoff_hz, NoiseFloor* floor) {

@@ -41,6 +41,27 @@ struct QuantizationFloor {
 // the white q/√12), when there is no model output, or when the position takes a single value. Throws as DeriveMotion.
 QuantizationFloor EstimateQuantizationFloor(const DiagnosisSignals& signals, double cutoff_hz);
 
+// The encoder's share of the derived acceleration at a cut-off: the RMS of what re-quantizing the low-passed position
+// (two lattice offsets) changes in its acceleration over the RMS of the acceleration derived from the logged position,
+// both by DeriveMotion at cutoff_hz. 0 when the position shows no lattice or does not accelerate. Scale-free (metres,
+// radians, volts alike). Throws as DeriveMotion.
+double QuantizationShareOfAcceleration(const Eigen::VectorXd& time, const Eigen::VectorXd& position, double cutoff_hz);
+
+// At most this share of the derived acceleration may be the encoder's quantization (QuantizationLimitedCutoff).
+inline constexpr double kMaxQuantizationShare = 0.1;
+// The cut-off is lowered at most this many times by a factor of 2 (in steps of √2).
+inline constexpr int kCutoffHalvings = 3;
+
+// The derivative cut-off a coarse encoder allows: the highest of cutoff_hz·2^(−k/2), k = 0 … 2·kCutoffHalvings, at
+// which the quantization's share of the derived acceleration (QuantizationShareOfAcceleration) is at most
+// kMaxQuantizationShare; the lowest when none is. The acceleration's quantization noise grows as f_c^2.5 while the
+// motion's own acceleration stops growing above its band: the cut-off comes down to where the motion still dominates
+// (IDIM-LS practice: the derivatives' low-pass sits above the motion's band and below the sensor's noise; Gautier,
+// Janot, Vandanjon 2013, IEEE TCST 21(2)).
+// share (optional) receives the share at the cut-off returned. Throws as DeriveMotion.
+double QuantizationLimitedCutoff(const Eigen::VectorXd& time, const Eigen::VectorXd& position, double cutoff_hz,
+                                 double* share = nullptr);
+
 // The record's floor with the quantization part in: fills floor->quantization_rms and ->position_step, and
 // floor->rms = √(white_rms² + quantization_rms²) (unchanged when there is no quantization part). Throws as above.
 void AddQuantizationFloor(const DiagnosisSignals& signals, double cutoff_hz, NoiseFloor* floor);

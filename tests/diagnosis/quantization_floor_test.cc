@@ -86,5 +86,25 @@ TEST(AddQuantizationFloor, AddsThePartsInQuadrature) {
   EXPECT_GT(floor.position_step, 0.0);
 }
 
+// The share falls as the cut-off comes down (the quantization's acceleration grows as f_c^2.5, the motion's does not
+// above its band), and the limited cut-off is the highest of the grid where it is at most a tenth.
+TEST(QuantizationLimitedCutoff, ComesDownToWhereTheMotionDominatesTheEncoder) {
+  const QuantizedRecord coarse = MakeRecord(2.0 * std::numbers::pi / 4096.0);  // 12 bits per revolution: coarse
+  const Eigen::VectorXd& t = coarse.signals.time;
+  const Eigen::VectorXd& x = coarse.signals.position;
+  const double at_100 = QuantizationShareOfAcceleration(t, x, 100.0), at_25 = QuantizationShareOfAcceleration(t, x, 25.0);
+  EXPECT_GT(at_100, kMaxQuantizationShare);
+  EXPECT_LT(at_25, at_100);
+  double share = 0.0;
+  const double cutoff = QuantizationLimitedCutoff(t, x, 100.0, &share);
+  EXPECT_LT(cutoff, 100.0);
+  EXPECT_LE(share, kMaxQuantizationShare);
+  EXPECT_GT(QuantizationShareOfAcceleration(t, x, cutoff * std::sqrt(2.0)), kMaxQuantizationShare)
+      << "the next cut-off up on the grid must fail, else it would have been chosen";
+
+  const QuantizedRecord fine = MakeRecord(2.0 * std::numbers::pi / std::pow(2.0, 24));
+  EXPECT_EQ(QuantizationLimitedCutoff(fine.signals.time, fine.signals.position, 100.0), 100.0);
+}
+
 }  // namespace
 }  // namespace mb

@@ -10,6 +10,7 @@
 
 #include "engine/diagram_document.h"
 #include "engine/units.h"
+#include "models/diagnosis/quantization_floor.h"
 #include "models/diagnosis/signal_processing.h"
 
 namespace mb {
@@ -60,8 +61,17 @@ double DerivativeCutoffHz(double cutoff_hz, double sample_period, const std::str
   return cutoff_hz;
 }
 
+double DerivativeCutoffHz(double cutoff_hz, const Eigen::VectorXd& time, const Eigen::VectorXd* position,
+                          const std::string& source, double* quantization_share) {
+  const double rate_limited = DerivativeCutoffHz(cutoff_hz, MedianTimeStep(time), source);
+  if (cutoff_hz != kAutomaticCutoffHz || position == nullptr) return rate_limited;
+  return QuantizationLimitedCutoff(time, *position, rate_limited, quantization_share);
+}
+
 double DerivativeCutoffHz(const MeasurementSettings& settings, const MeasurementLog& log) {
-  return DerivativeCutoffHz(settings.derivative_cutoff_hz, MedianTimeStep(log.time()), log.source());
+  const bool has_position = log.has_column(settings.position_column);
+  return DerivativeCutoffHz(settings.derivative_cutoff_hz, log.time(),
+                            has_position ? &log.column(settings.position_column) : nullptr, log.source());
 }
 
 double PositionToMetres(const std::string& position_column) {
@@ -74,10 +84,18 @@ MeasurementLog AddMeasurementDerivatives(const MeasurementLog& raw, const std::s
                                          double derivative_cutoff_hz, const std::vector<std::string>& filter_columns,
                                          const std::vector<std::string>& held_columns) {
   const double dt = MedianTimeStep(raw.time());
-  // Resolved when first needed: a log that is neither filtered nor differentiated needs no cut-off.
+  const double to_metres = PositionToMetres(position_column);
+  // Resolved when first needed: a log that is neither filtered nor differentiated needs no cut-off. The automatic one
+  // comes down for a coarse encoder (QuantizationLimitedCutoff), on the position as the log will hold it.
   std::optional<double> cutoff_hz;
+  double quantization_share = 0.0;
   const auto cutoff = [&] {
-    if (!cutoff_hz) cutoff_hz = DerivativeCutoffHz(derivative_cutoff_hz, dt, raw.source());
+    if (!cutoff_hz) {
+      std::optional<Eigen::VectorXd> position;
+      if (raw.has_column(position_column)) position = raw.column(position_column) * to_metres;
+      cutoff_hz = DerivativeCutoffHz(derivative_cutoff_hz, raw.time(), position ? &*position : nullptr, raw.source(),
+                                     &quantization_share);
+    }
     return *cutoff_hz;
   };
   const auto& segments = raw.segment_starts();
@@ -87,7 +105,6 @@ MeasurementLog AddMeasurementDerivatives(const MeasurementLog& raw, const std::s
   const auto listed = [](const std::vector<std::string>& list, const std::string& name) {
     return std::find(list.begin(), list.end(), name) != list.end();
   };
-  const double to_metres = PositionToMetres(position_column);
   for (const auto& name : names) {
     Eigen::VectorXd column = raw.column(name);
     if (name == position_column) column *= to_metres;
@@ -125,12 +142,21 @@ MeasurementLog AddMeasurementDerivatives(const MeasurementLog& raw, const std::s
     if (!log.has_column(velocity)) log.AddColumn(velocity, m.velocity);
     if (!log.has_column(acceleration)) log.AddColumn(acceleration, m.acceleration);
   }
-  if (cutoff_hz && *cutoff_hz != derivative_cutoff_hz) {
+  const double rate_limited = DerivativeCutoffHz(derivative_cutoff_hz, dt, raw.source());
+  if (cutoff_hz && *cutoff_hz < rate_limited) {
+    log.AddNote(fmt::format("{}: the position '{}' is logged in steps of {:.4g} (an encoder's count): differentiated "
+                            "with the low-pass at {:.4g} Hz its quantization would be more than {:g} % of the derived "
+                            "acceleration; the automatic cut-off came down to {:.4g} Hz, where it is {:.1f} % (choose "
+                            "another with --derivative-cutoff-hz)",
+                            raw.source(), position_column, QuantizationStep(log.column(position_column)), rate_limited,
+                            100.0 * kMaxQuantizationShare, *cutoff_hz, 100.0 * quantization_share));
+  }
+  if (cutoff_hz && rate_limited != derivative_cutoff_hz) {
     log.AddNote(fmt::format("{}: sampled at {:.4g} Hz (Nyquist {:.4g} Hz): the default derivative cut-off {:g} Hz "
                             "became {:g} × the sample rate, {:.4g} Hz, for the zero-phase low-pass before "
                             "differentiating and for the filtered columns (choose another with "
                             "--derivative-cutoff-hz)",
-                            raw.source(), 1.0 / dt, 0.5 / dt, kAutomaticCutoffHz, kAutomaticCutoffShare, *cutoff_hz));
+                            raw.source(), 1.0 / dt, 0.5 / dt, kAutomaticCutoffHz, kAutomaticCutoffShare, rate_limited));
   }
   return log;
 }

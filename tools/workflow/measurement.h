@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include <nlohmann/json.hpp>
 
 #include "engine/diagram.h"
@@ -52,6 +54,13 @@ inline constexpr double kAutomaticCutoffShare = 0.2;
 /// std::invalid_argument naming `source`, the Nyquist frequency and a cut-off to pass when a chosen cut-off is not
 /// in (0, Nyquist), or when sample_period <= 0.
 double DerivativeCutoffHz(double cutoff_hz, double sample_period, const std::string& source);
+
+/// The same for a log of these time stamps [s] and this position (nullptr: none): the automatic cut-off then also comes
+/// down for a coarse encoder, to where its quantization is at most a tenth of the derived acceleration
+/// (QuantizationLimitedCutoff, models/diagnosis/quantization_floor.h; quantization_share, optional, receives that
+/// share). A chosen cut-off is kept as chosen. @throws as above.
+double DerivativeCutoffHz(double cutoff_hz, const Eigen::VectorXd& time, const Eigen::VectorXd* position,
+                          const std::string& source, double* quantization_share = nullptr);
 
 /// Takes a measurement log in (IntakeMeasurementLog: time in seconds, repeated time stamps merged, jitter resampled or
 /// noisy stamps put on their fitted clock, gaps split into segments, each with a note on the log), converts the

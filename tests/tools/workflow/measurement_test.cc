@@ -154,6 +154,55 @@ TEST(AutomaticCutoff, A100HzLogIsReadWithACutoffBelowItsNyquistFrequency) {
   EXPECT_FALSE(AnyNoteHas(at_10, "derivative cut-off"));
 }
 
+// Issue 45, item 4: a coarse encoder. Its count differentiated twice with a 100 Hz low-pass is most of the derived
+// acceleration of a slow motion; the automatic cut-off comes down (with a note) to where it is at most a tenth, and the
+// diagnosis' parallel filter follows. A fine encoder keeps 100 Hz; a chosen cut-off is kept.
+TEST(AutomaticCutoff, ACoarseEncoderBringsItDownToWhereTheMotionDominates) {
+  const auto counted = [](double step) {
+    Motion m = Sampled(1e-3, 4000);
+    for (Eigen::Index i = 0; i < m.x.size(); ++i) m.x(i) = std::floor(0.01 * std::sin(kPi * m.t(i)) / step) * step;
+    return m;
+  };
+  const auto log_with_step = [&](double step, const std::string& name) {
+    const Motion m = counted(step);
+    return WriteCsv(name, "time_s,position_m,force_N", m.t, m.x, m.force);
+  };
+  const MeasurementSettings settings;
+  const MeasurementLog coarse =
+      ReadMeasurementFor(ReadDiagramJson(kDiagram), log_with_step(1e-5, "coarse.csv"), settings);
+  const double cutoff = DerivativeCutoffHz(settings, coarse);
+  EXPECT_LT(cutoff, 100.0);
+  EXPECT_GE(cutoff, 100.0 / 8.0 - 1e-9);
+  EXPECT_TRUE(AnyNoteHas(coarse, "coarse.csv: the position 'position_m' is logged in steps of 1e-05"));
+  EXPECT_TRUE(AnyNoteHas(coarse, fmt::format("the automatic cut-off came down to {:.4g} Hz", cutoff)));
+  // The derived acceleration is the motion's, not the encoder's: −0.01·π²·sin(πt), its error's RMS within a fifth of
+  // the motion's (the turning points, where the count stands still for 14 ms, are the worst).
+  const double amplitude = 0.01 * kPi * kPi;
+  double error = 0.0;
+  for (Eigen::Index i = 500; i < 3500; ++i) {
+    error += std::pow(coarse.column("acceleration_m_s2")(i) + amplitude * std::sin(kPi * coarse.time()(i)), 2);
+  }
+  EXPECT_LT(std::sqrt(error / 3000.0), 0.2 * amplitude / std::sqrt(2.0));
+  const Motion m = counted(1e-5);
+  const MeasurementLog unlimited = AddMeasurementDerivatives(  // a cut-off chosen: kept
+      IntakeMeasurementLog(MeasurementLog({"time_s", "position_m", "force_N"}, {m.t, m.x, m.force})), "position_m", 99.0);
+  double error_at_99 = 0.0;
+  for (Eigen::Index i = 500; i < 3500; ++i) {
+    error_at_99 += std::pow(unlimited.column("acceleration_m_s2")(i) + amplitude * std::sin(kPi * coarse.time()(i)), 2);
+  }
+  EXPECT_GT(error_at_99, 4.0 * error) << "at 99 Hz the encoder's count dominates the derived acceleration";
+
+  const MeasurementLog fine = ReadMeasurementFor(ReadDiagramJson(kDiagram), log_with_step(1e-9, "fine.csv"), settings);
+  EXPECT_EQ(DerivativeCutoffHz(settings, fine), 100.0);
+  EXPECT_FALSE(AnyNoteHas(fine, "came down"));
+
+  MeasurementSettings chosen;
+  chosen.derivative_cutoff_hz = 80.0;
+  const MeasurementLog kept = ReadMeasurementFor(ReadDiagramJson(kDiagram), log_with_step(1e-5, "kept.csv"), chosen);
+  EXPECT_EQ(DerivativeCutoffHz(chosen, kept), 80.0);
+  EXPECT_FALSE(AnyNoteHas(kept, "came down"));
+}
+
 // At 500 Hz and above the default stays 100 Hz: the 1 kHz results (EMPS) are bit-identical to a 100 Hz low-pass.
 TEST(AutomaticCutoff, At1kHzTheDefaultIs100HzBitForBit) {
   EXPECT_EQ(DerivativeCutoffHz(kAutomaticCutoffHz, 1e-3, "log"), 100.0);
