@@ -197,7 +197,9 @@ std::vector<std::string> SplitCommaLists(const std::vector<std::string>& items) 
 }
 
 MeasurementSettings MeasurementOptions::Settings() const {
-  return MeasurementSettings{ParseColumnMap(maps), position_column, derivative_cutoff_hz, ParseIntersample(intersample)};
+  MeasurementSettings settings{ParseColumnMap(maps), position_column, derivative_cutoff_hz, ParseIntersample(intersample)};
+  settings.every_pair = every_pair;
+  return settings;
 }
 
 void AddMeasurementOptions(CLI::App* command, MeasurementOptions* options, const std::string& measurement_help,
@@ -218,6 +220,9 @@ void AddMeasurementOptions(CLI::App* command, MeasurementOptions* options, const
                       "or current reference): compared half a sample later")
       ->check(CLI::IsMember({"foh", "zoh"}))
       ->capture_default_str();
+  command->add_flag("--every-pair", options->every_pair,
+                    "the diagnosis proposes every product of its grammar (multiplier × modulator, docs/diagnosis.md), "
+                    "not only the products the catalogue named before it");
 }
 
 }  // namespace mb

@@ -92,7 +92,7 @@ std::map<std::string, double> ParseInputValues(const std::vector<std::string>& i
 std::vector<std::string> SplitCommaLists(const std::vector<std::string>& items);
 
 /// How compare, fit and improve read a measurement (--measurement, --map, --set, --position-column,
-/// --derivative-cutoff-hz, --intersample).
+/// --derivative-cutoff-hz, --intersample, --every-pair).
 struct MeasurementOptions {
   std::string measurement;                    ///< the measurement log CSV (time_s first)
   std::vector<std::string> maps;              ///< --map connector=column
@@ -101,7 +101,9 @@ struct MeasurementOptions {
   std::string position_column = MeasurementSettings{}.position_column;
   double derivative_cutoff_hz = MeasurementSettings{}.derivative_cutoff_hz;
   std::string intersample = IntersampleName(MeasurementSettings{}.intersample);  ///< --intersample foh|zoh
-  /// The --map, --position-column, --derivative-cutoff-hz and --intersample values as the workflow takes them.
+  bool every_pair = MeasurementSettings{}.every_pair;  ///< --every-pair: the diagnosis' whole grammar
+  /// The --map, --position-column, --derivative-cutoff-hz, --intersample and --every-pair values as the workflow takes
+  /// them.
   /// @throws std::invalid_argument as ParseColumnMap.
   MeasurementSettings Settings() const;
 };
