@@ -117,6 +117,10 @@ EffectBlockTemplate LocalFrictionEffectBlock() {
 
 MB_REGISTER_EFFECT_BLOCK(local_friction, LocalFrictionEffectBlock())
 
+// The grammar's local_force (one × position_local): the table alone, a force at one place. It is also the block every
+// other multiplier × position_local pair without its own is made from (BlockFor, models/diagnosis/effect_block.h).
+MB_REGISTER_EFFECT_BLOCK(local_force, LocalTableBlock("local_force"))
+
 namespace {
 
 // local_damping: the table times the measured velocity (viscous drag at one place).

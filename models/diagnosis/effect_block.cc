@@ -84,4 +84,29 @@ MotionMultiplier ModelForce() {
   return m;
 }
 
+std::optional<MotionMultiplier> MultiplierFactor(const std::string& id) {
+  if (id == "slip") return SlipOfVelocity();
+  if (id == "velocity") return MeasuredMotion(MotionInput::kVelocity);
+  if (id == "acceleration") return MeasuredMotion(MotionInput::kAcceleration);
+  if (id == "speed") return MotionMultiplier{"abs", MotionInput::kVelocity, [](const DiagnosedEffect&) {
+                                               return json::object();
+                                             }};
+  if (id == "model_force") return ModelForce();
+  return std::nullopt;
+}
+
+std::optional<EffectBlockTemplate> BlockFor(const EffectType& type) {
+  if (type.block) return type.block;
+  if (type.multiplier.empty() || type.multiplier == "one") return std::nullopt;
+  if (type.multiplier == "acceleration" && type.modulator.starts_with("position_")) return std::nullopt;
+  std::optional<MotionMultiplier> factor = MultiplierFactor(type.multiplier);
+  const EffectType* alone = EffectRegistry::Global().FindPair("one", type.modulator);
+  if (!factor || alone == nullptr || !alone->block) return std::nullopt;
+  EffectBlockTemplate block = *alone->block;
+  if (block.placement != BlockPlacement::kAddToOutput || block.multiplier) return std::nullopt;
+  block.multiplier = std::move(factor);
+  block.element_name = type.name;
+  return block;
+}
+
 }  // namespace mb

@@ -74,6 +74,11 @@ const EffectType* EffectRegistry::Find(std::string_view name) const {
   return it == effects_.end() ? nullptr : &it->second;
 }
 
+const EffectType* EffectRegistry::FindPair(const std::string& multiplier, const std::string& modulator) const {
+  const auto it = pairs_.find({multiplier, modulator});
+  return it == pairs_.end() ? nullptr : Find(it->second);
+}
+
 const EffectType& EffectRegistry::Get(std::string_view name) const {
   if (const EffectType* type = Find(name)) return *type;
   std::string known, guess;

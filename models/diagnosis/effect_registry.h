@@ -191,6 +191,8 @@ class EffectRegistry {
   std::vector<std::string> UnclaimedBlockTemplates() const;
   /// nullptr if unknown.
   const EffectType* Find(std::string_view name) const;
+  /// The effect holding the grammar's pair multiplier × modulator (factors.h ids); nullptr if none.
+  const EffectType* FindPair(const std::string& multiplier, const std::string& modulator) const;
   /// The effect; @throws std::invalid_argument "unknown effect 'x'; did you mean 'y'? The catalogue has: …".
   const EffectType& Get(std::string_view name) const;
   /// Every effect in catalogue order (the order candidates are proposed in).

@@ -10,6 +10,7 @@
 
 #include "engine/diagram_document.h"
 #include "engine/numerical_error.h"
+#include "models/diagnosis/effect_block.h"
 #include "models/diagnosis/effect_registry.h"
 #include "tools/workflow/suggest.h"
 
@@ -82,7 +83,8 @@ json Amend(const ImproveStep& current, const DiagnosedEffect& effect, bool refin
     }
   }
   if (refine_periods && !element->empty()) {
-    for (const auto& parameter : LookupEffect(effect.effect).block->refinable) {
+    const std::optional<EffectBlockTemplate> block = BlockFor(LookupEffect(effect.effect));  // held: the loop reads it
+    for (const auto& parameter : block->refinable) {
       amended.AddFreeParameter(*element + "." + parameter);
     }
   }
@@ -218,7 +220,7 @@ void CheckImproveSettings(const ImproveSettings& settings) {
 void CheckValidationFree(const json& diagram, const ImproveSettings& settings) {
   std::set<std::string> addable;
   for (const EffectType* e : EffectRegistry::Global().Effects()) {
-    if (e->block) addable.insert(e->block->element_name);
+    if (const auto block = BlockFor(*e)) addable.insert(block->element_name);
   }
   for (const auto& name : settings.validation_free) {
     const std::string element = BlockOf(name);
@@ -312,13 +314,11 @@ ImproveStep TryEffect(const ImproveStep& current, const DiagnosedEffect& effect,
   step.rmse_heldout_before = current.rmse_heldout;
   if (step.verdict.empty()) {
     const double gain = 1.0 - step.rmse_heldout / current.rmse_heldout;
+    const EffectBlockTemplate block = *BlockFor(LookupEffect(effect.effect));  // the step was suggested: it has one
     const std::string not_significant =
-        step.training.fit ? NotSignificantReason(*step.training.fit, step.element,
-                                                 LookupEffect(effect.effect).block->refinable)
-                          : std::string();
+        step.training.fit ? NotSignificantReason(*step.training.fit, step.element, block.refinable) : std::string();
     const std::string unphysical =
-        step.training.fit ? OutOfPhysicalRange(*step.training.fit, step.element, *LookupEffect(effect.effect).block)
-                          : std::string();
+        step.training.fit ? OutOfPhysicalRange(*step.training.fit, step.element, block) : std::string();
     const double leak_limit = settings.leak_floor_ratio * leak_floor;
     const std::string leak =
         step.rmse_heldout < leak_limit

@@ -12,6 +12,7 @@
 #include "engine/block_roles.h"
 #include "engine/diagram_document.h"
 #include "engine/units.h"
+#include "models/diagnosis/effect_block.h"
 #include "models/diagnosis/effect_registry.h"
 #include "tools/workflow/loop_probe.h"
 
@@ -21,7 +22,7 @@ using nlohmann::json;
 
 bool HasEffectBlock(const std::string& effect) {
   const EffectType* type = EffectRegistry::Global().Find(effect);
-  return type && type->block;
+  return type && BlockFor(*type);
 }
 
 bool IsFrictionLawReplacement(const DiagnosisResult& diagnosis, const std::string& effect) {
@@ -285,12 +286,12 @@ void TakeOver(DiagramDocument* out, const std::string& replaced, const std::stri
 }  // namespace
 
 json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, const std::string& output) {
-  const EffectType& type = LookupEffect(effect.effect);
-  if (!type.block) {
+  const std::optional<EffectBlockTemplate> composed = BlockFor(LookupEffect(effect.effect));
+  if (!composed) {
     throw std::invalid_argument(
         fmt::format("no block for effect '{}' yet: add it by hand (docs/diagnosis.md)", effect.effect));
   }
-  const EffectBlockTemplate& block = *type.block;
+  const EffectBlockTemplate& block = *composed;
   DiagramDocument out(diagram);
   if (block.multiplier && block.multiplier->of_model_force && out.Mode() != ExperimentMode::kEquationError) {
     throw std::invalid_argument(fmt::format(

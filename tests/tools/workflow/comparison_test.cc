@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <numbers>
 #include <string>
 
@@ -133,6 +134,46 @@ TEST(SuggestTest, ASmoothCoulombLawTakesOverTheModelsCoulombLevel) {
   const DiagramDocument added(SuggestAmendedDiagram(diagram, law, "force"));
   EXPECT_EQ(added.Parameter("friction", "coulomb"), 20.0);
   EXPECT_THAT(added.FreeParameters(), ::testing::Contains("friction.coulomb"));
+}
+
+// A pair of the grammar without a block of its own (issue 45, item 5) is added as the block of one × its modulator times
+// its multiplier: a force over one stretch growing with |v| is the stretch's table times an abs block of the velocity,
+// multiplied in a product element. The amended diagram runs. A pair whose multiplier no single block makes (v·|v|)
+// or that is a mass of the position has no block, and says so.
+TEST(SuggestTest, AGeneratedPairIsTheBlockOfItsModulatorTimesItsMultiplier) {
+  const auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
+  DiagnosedEffect local;
+  local.effect = "local_speed_force";
+  local.parameters = {{"center", 0.1}, {"half_width", 0.02}};
+  local.column_names = {"local_speed_force"};
+  local.coefficients = Eigen::VectorXd::Constant(1, 40.0);
+  const DiagramDocument amended(SuggestAmendedDiagram(diagram, local, "force"));
+  ASSERT_TRUE(amended.Has("local_speed_force"));
+  EXPECT_TRUE(amended.Has("local_speed_force_abs"));
+  EXPECT_TRUE(amended.Has("local_speed_force_times_abs"));
+  EXPECT_THAT(amended.FreeParameters(), ::testing::Contains("local_speed_force.table"));
+  const auto log = std::make_shared<MeasurementLog>(
+      ReadMeasurementFor(diagram, (kEmps / "data" / "DATA_EMPS.csv").string(), MeasurementSettings{}));
+  ModelComparison base(diagram, kEmps, "rigid_body.json", *log, {});
+  ModelComparison with_effect(amended.json(), kEmps, "amended.json", *log, {});
+  const auto before = base.Simulate().front(), after = with_effect.Simulate().front();
+  // The table peaks at 40 N·s/m at 0.1 m: where the axis passes there, the model's force differs by 40·|v|.
+  const Eigen::VectorXd x = log->column("position_m"), v = log->column("velocity_m_s");
+  Eigen::Index k = 0;  // the fastest pass within 1 mm of the peak
+  (((x.array() - 0.1).abs() < 1e-3).cast<double>() * v.array().abs()).maxCoeff(&k);
+  ASSERT_GT(std::abs(v(k)), 0.01) << "the record passes 0.1 m at speed";
+  EXPECT_NEAR(after.model(k) - before.model(k), 40.0 * std::abs(v(k)), 0.05 * 40.0 * std::abs(v(k)));
+
+  for (const char* none : {"drag_ripple", "inertia_along_travel"}) {
+    DiagnosedEffect e;
+    e.effect = none;
+    try {
+      SuggestAmendedDiagram(diagram, e, "force");
+      ADD_FAILURE() << none << " was given a block";
+    } catch (const std::invalid_argument& error) {
+      EXPECT_THAT(error.what(), HasSubstr(std::string("no block for effect '") + none + "' yet"));
+    }
+  }
 }
 
 // A Stribeck hump whose diagnosed level is negative (EMPS: −3.7 N, its friction below the sign(v) law at low speed) is
