@@ -95,17 +95,51 @@ std::optional<MotionMultiplier> MultiplierFactor(const std::string& id) {
   return std::nullopt;
 }
 
+namespace {
+
+MotionInput InputOf(const std::string& multiplier) {
+  return multiplier == "acceleration" ? MotionInput::kAcceleration : MotionInput::kVelocity;
+}
+
+// The block a pair's modulator is made with: one × the modulator's, summed into the output alone; else a measured
+// motion's (velocity or acceleration × the modulator: a gain scheduled in time whose input "u" is that motion).
+// nullptr and `input_port` empty, or the template and its multiplying port.
+const EffectBlockTemplate* ModulatorBlock(const std::string& modulator, std::string* input_port) {
+  const EffectRegistry& registry = EffectRegistry::Global();
+  const auto usable = [](const EffectType* e) {
+    return e != nullptr && e->block && e->block->placement == BlockPlacement::kAddToOutput && !e->block->multiplier;
+  };
+  if (const EffectType* alone = registry.FindPair("one", modulator); usable(alone)) {
+    input_port->clear();
+    return &*alone->block;
+  }
+  for (const char* motion : {"velocity", "acceleration"}) {
+    const EffectType* e = registry.FindPair(motion, modulator);
+    if (!usable(e) || e->block->inputs.size() != 1 || e->block->inputs[0].first != InputOf(motion)) continue;
+    *input_port = e->block->inputs[0].second;
+    return &*e->block;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
 std::optional<EffectBlockTemplate> BlockFor(const EffectType& type) {
   if (type.block) return type.block;
   if (type.multiplier.empty() || type.multiplier == "one") return std::nullopt;
   if (type.multiplier == "acceleration" && type.modulator.starts_with("position_")) return std::nullopt;
   std::optional<MotionMultiplier> factor = MultiplierFactor(type.multiplier);
-  const EffectType* alone = EffectRegistry::Global().FindPair("one", type.modulator);
-  if (!factor || alone == nullptr || !alone->block) return std::nullopt;
-  EffectBlockTemplate block = *alone->block;
-  if (block.placement != BlockPlacement::kAddToOutput || block.multiplier) return std::nullopt;
-  block.multiplier = std::move(factor);
+  std::string port;
+  const EffectBlockTemplate* modulator = ModulatorBlock(type.modulator, &port);
+  if (!factor || modulator == nullptr) return std::nullopt;
+  EffectBlockTemplate block = *modulator;
   block.element_name = type.name;
+  block.physical_range.clear();  // a range of the modulator's own effect; the factor changes what the gain means
+  if (!port.empty()) {  // the factor is the block's input
+    block.inputs.clear();
+    block.multiplier_port = port;
+  }
+  block.multiplier = std::move(factor);
   return block;
 }
 

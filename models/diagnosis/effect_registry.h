@@ -133,6 +133,9 @@ struct EffectBlockTemplate {
   std::map<std::string, std::pair<double, double>> physical_range;
   /// The factor of the motion the block's output is multiplied by (kAddToOutput only); nullopt = none.
   std::optional<MotionMultiplier> multiplier;
+  /// With a multiplier: the block's port the factor is wired into (a gain scheduled in time, y = g(t)·u, multiplies
+  /// its input itself), instead of a product element of the block's output and the factor; empty = the product.
+  std::string multiplier_port;
   /// The block's port that reads the log column the effect names (DiagnosedEffect::log_column: a column the diagram
   /// did not read), through an input connector on that column, added when the diagram has none; empty = none.
   std::string log_column_port;

@@ -219,6 +219,35 @@ void Wire(DiagramDocument* out, const std::string& connector, const std::string&
   out->Connect({"", connector}, {element, port});
 }
 
+// The model's force feeding output connector `output` (the factor of_model_force multiplies by); throws naming the
+// effect when nothing feeds it.
+Endpoint ModelForceEnd(const DiagramDocument& out, const std::string& output, const DiagnosedEffect& effect) {
+  const auto force = out.DriverOf(ForceEnd(out, output));
+  if (!force) {
+    throw std::invalid_argument(fmt::format("effect '{}' multiplies the model's force, but nothing feeds output '{}'",
+                                            effect.effect, output));
+  }
+  return *force;
+}
+
+// The factor of the motion that multiplies element `name` (EffectBlockTemplate::multiplier): the input connector itself
+// (no block type), or a new element "<name>_<block type>" reading it. `factor_name` gets what the product's
+// description calls it. Not for of_model_force (ModelForceEnd, taken before the element is summed in).
+Endpoint MotionFactor(DiagramDocument* out, const MotionMultiplier& multiplier, const DiagnosedEffect& effect,
+                      const std::string& name, std::string* factor_name) {
+  const Endpoint input = MotionSource(*out, multiplier.input, effect.effect);
+  if (multiplier.block_type.empty()) {  // the measured motion itself (the velocity of a damping)
+    *factor_name = input.is_connector() ? input.port : input.element + "_" + input.port;
+    return input;
+  }
+  const std::string factor = out->Add({name + "_" + multiplier.block_type, multiplier.block_type,
+                                       multiplier.parameters(effect), std::nullopt,
+                                       fmt::format("the factor of the motion that multiplies '{}'", name)});
+  out->Connect(input, {factor, "u"});
+  *factor_name = multiplier.block_type;
+  return out->OutputOf(factor);
+}
+
 // Adds `element` times a factor (EffectBlockTemplate::multiplier) to the model's force feeding output connector
 // `output`: the factor's element reads its input connector — or the factor is that input connector itself (no block
 // type), or the model's force, the signal that fed the output before — and a product element
@@ -227,31 +256,10 @@ void Wire(DiagramDocument* out, const std::string& connector, const std::string&
 std::string AddProductToOutput(DiagramDocument* out, const ElementSpec& element, const MotionMultiplier& multiplier,
                                const DiagnosedEffect& effect, const std::string& output, const std::string& port) {
   Endpoint factor_output;
-  std::string factor_name;
-  if (multiplier.of_model_force) {
-    const auto force = out->DriverOf(ForceEnd(*out, output));
-    if (!force) {
-      throw std::invalid_argument(fmt::format("effect '{}' multiplies the model's force, but nothing feeds output '{}'",
-                                              effect.effect, output));
-    }
-    factor_output = *force;
-    factor_name = "force";
-  }
+  std::string factor_name = "force";
+  if (multiplier.of_model_force) factor_output = ModelForceEnd(*out, output, effect);
   const std::string name = out->Add(element);
-  if (!multiplier.of_model_force) {
-    const Endpoint input = MotionSource(*out, multiplier.input, effect.effect);
-    if (multiplier.block_type.empty()) {  // the measured motion itself (the velocity of a damping)
-      factor_output = input;
-      factor_name = input.is_connector() ? input.port : input.element + "_" + input.port;
-    } else {
-      const std::string factor = out->Add({name + "_" + multiplier.block_type, multiplier.block_type,
-                                           multiplier.parameters(effect), std::nullopt,
-                                           fmt::format("the factor of the motion that multiplies '{}'", name)});
-      out->Connect(input, {factor, "u"});
-      factor_output = out->OutputOf(factor);
-      factor_name = multiplier.block_type;
-    }
-  }
+  if (!multiplier.of_model_force) factor_output = MotionFactor(out, multiplier, effect, name, &factor_name);
   const std::string product = AddToOutput(
       out, {name + "_times_" + factor_name, "product", json::object(), std::nullopt,
             fmt::format("'{}' × {} ({})", name,
@@ -260,6 +268,19 @@ std::string AddProductToOutput(DiagramDocument* out, const ElementSpec& element,
       output, "y");
   out->Connect({name, port}, {product, "u1"});
   out->Connect(factor_output, {product, "u2"});
+  return name;
+}
+
+// Adds `element`, whose port `factor_port` multiplies its input itself (a gain scheduled in time), summed into the
+// output, its input the factor (EffectBlockTemplate::multiplier_port). Returns the element's name.
+std::string AddWithFactorInput(DiagramDocument* out, const ElementSpec& element, const MotionMultiplier& multiplier,
+                               const DiagnosedEffect& effect, const std::string& output, const std::string& port,
+                               const std::string& factor_port) {
+  std::optional<Endpoint> force;
+  if (multiplier.of_model_force) force = ModelForceEnd(*out, output, effect);
+  const std::string name = AddToOutput(out, element, output, port);
+  std::string factor_name;
+  out->Connect(force ? *force : MotionFactor(out, multiplier, effect, name, &factor_name), {name, factor_port});
   return name;
 }
 
@@ -308,9 +329,14 @@ json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, c
     case BlockPlacement::kInsertBeforeOutput: name = InsertBeforeOutput(&out, element, output); break;
     case BlockPlacement::kOnCommand: name = AddOnCommand(&out, element, output, effect.effect); break;
     case BlockPlacement::kAddToOutput:
-      name = block.multiplier
-                 ? AddProductToOutput(&out, element, *block.multiplier, effect, output, block.output_port)
-                 : AddToOutput(&out, element, output, block.output_port);
+      if (!block.multiplier) {
+        name = AddToOutput(&out, element, output, block.output_port);
+      } else if (block.multiplier_port.empty()) {
+        name = AddProductToOutput(&out, element, *block.multiplier, effect, output, block.output_port);
+      } else {
+        name = AddWithFactorInput(&out, element, *block.multiplier, effect, output, block.output_port,
+                                  block.multiplier_port);
+      }
       break;
   }
   for (std::size_t k = 0; k < inputs.size(); ++k) out.Connect(inputs[k], {name, block.inputs[k].second});

@@ -164,6 +164,27 @@ TEST(SuggestTest, AGeneratedPairIsTheBlockOfItsModulatorTimesItsMultiplier) {
   ASSERT_GT(std::abs(v(k)), 0.01) << "the record passes 0.1 m at speed";
   EXPECT_NEAR(after.model(k) - before.model(k), 40.0 * std::abs(v(k)), 0.05 * 40.0 * std::abs(v(k)));
 
+  // A gain scheduled in time multiplies its own input: a Coulomb level drifting over the record is the viscous
+  // drift's ramped gain with the direction of slip as its input, no product element.
+  DiagnosedEffect drift;
+  drift.effect = "coulomb_drift";
+  drift.parameters = {{"start_time", 2.0}, {"end_time", 6.0}, {"slip_velocity", 0.002}};
+  drift.column_names = {"coulomb_drift"};
+  drift.coefficients = Eigen::VectorXd::Constant(1, 5.0);
+  const DiagramDocument drifting(SuggestAmendedDiagram(diagram, drift, "force"));
+  ASSERT_TRUE(drifting.Has("coulomb_drift"));
+  EXPECT_TRUE(drifting.Has("coulomb_drift_sign"));
+  EXPECT_FALSE(drifting.Has("coulomb_drift_times_sign"));
+  ModelComparison with_drift(drifting.json(), kEmps, "drifting.json", *log, {});
+  const auto drifted = with_drift.Simulate().front();
+  const Eigen::VectorXd t = log->time();
+  Eigen::Index late = 0;  // after the ramp, moving fast: the full 5 N against the motion
+  ((t.array() > 7.0).cast<double>() * v.array().abs()).maxCoeff(&late);
+  EXPECT_NEAR(drifted.model(late) - before.model(late), 5.0 * std::tanh(v(late) / 0.002), 0.05);
+  Eigen::Index early = 0;
+  ((t.array() < 1.5).cast<double>() * v.array().abs()).maxCoeff(&early);
+  EXPECT_NEAR(drifted.model(early) - before.model(early), 0.0, 1e-9) << "before the ramp starts";
+
   for (const char* none : {"drag_ripple", "inertia_along_travel"}) {
     DiagnosedEffect e;
     e.effect = none;
