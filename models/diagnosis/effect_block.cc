@@ -1,6 +1,7 @@
 #include "models/diagnosis/effect_block.h"
 
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -92,6 +93,25 @@ std::optional<MotionMultiplier> MultiplierFactor(const std::string& id) {
                                                return json::object();
                                              }};
   if (id == "model_force") return ModelForce();
+  // The two-factor multipliers: v·|v|, ŷ·|ŷ|, |ŷ|·tanh(v/v_s).
+  MotionMultiplier abs_velocity{"abs", MotionInput::kVelocity, [](const DiagnosedEffect&) { return json::object(); }};
+  MotionMultiplier abs_force = ModelForce();
+  abs_force.block_type = "abs";
+  abs_force.parameters = [](const DiagnosedEffect&) { return json::object(); };
+  if (id == "velocity_speed") {
+    MotionMultiplier m = MeasuredMotion(MotionInput::kVelocity);
+    m.times = std::make_shared<const MotionMultiplier>(std::move(abs_velocity));
+    return m;
+  }
+  if (id == "model_force_abs") {
+    MotionMultiplier m = ModelForce();
+    m.times = std::make_shared<const MotionMultiplier>(std::move(abs_force));
+    return m;
+  }
+  if (id == "load_slip") {
+    abs_force.times = std::make_shared<const MotionMultiplier>(SlipOfVelocity());
+    return abs_force;
+  }
   return std::nullopt;
 }
 

@@ -9,6 +9,7 @@
 
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -99,7 +100,8 @@ enum class MotionInput { kPosition, kVelocity, kAcceleration };
 
 /// A factor that multiplies an effect block's output (the grammar's products, models/diagnosis/factors.h: sign(v) × a
 /// table of the position is a friction at one place): a block of `block_type` (ports "u" → "y") reading the input
-/// connector of `input`, or, with `of_model_force`, the model's own force; a product element multiplies it and the
+/// connector of `input` — or, with `of_model_force`, the model's own force (the block reading it when block_type is
+/// set: |ŷ|) —, times `times` when set; a product element multiplies it and the
 /// effect block's output, and the product is what is summed into the model's output (BlockPlacement::kAddToOutput).
 struct MotionMultiplier {
   std::string block_type;  ///< empty: the input connector itself (or, with of_model_force, the force) is the factor
@@ -109,6 +111,11 @@ struct MotionMultiplier {
   /// the effect is (ŷ × a ripple of the position: a force constant that ripples). Equation-error mode only: in
   /// simulation mode the output is the motion, not the force.
   bool of_model_force = false;
+  /// A second factor the first is multiplied by (the grammar's two-factor multipliers: v·|v|, ŷ·|ŷ|, |ŷ|·tanh(v/v_s)),
+  /// through a product element; nullptr = none.
+  std::shared_ptr<const MotionMultiplier> times;
+  /// Whether this factor or the one it is multiplied by is the model's force.
+  bool NeedsModelForce() const { return of_model_force || (times && times->NeedsModelForce()); }
 };
 
 /// The block that adds an effect to a diagram, as `compare --suggest` and `improve` insert it.

@@ -230,44 +230,59 @@ Endpoint ModelForceEnd(const DiagramDocument& out, const std::string& output, co
   return *force;
 }
 
-// The factor of the motion that multiplies element `name` (EffectBlockTemplate::multiplier): the input connector itself
-// (no block type), or a new element "<name>_<block type>" reading it. `factor_name` gets what the product's
-// description calls it. Not for of_model_force (ModelForceEnd, taken before the element is summed in).
-Endpoint MotionFactor(DiagramDocument* out, const MotionMultiplier& multiplier, const DiagnosedEffect& effect,
-                      const std::string& name, std::string* factor_name) {
-  const Endpoint input = MotionSource(*out, multiplier.input, effect.effect);
-  if (multiplier.block_type.empty()) {  // the measured motion itself (the velocity of a damping)
-    *factor_name = input.is_connector() ? input.port : input.element + "_" + input.port;
-    return input;
+// The factor that multiplies element `name` (EffectBlockTemplate::multiplier): its source — the input connector, or the
+// model's force `force` (taken before the element was summed in) — itself or through a new element "<name>_<block
+// type>" reading it, times its second factor through a product element "<name>_factor" when it has one. `factor_name`
+// gets what the product's description calls it.
+Endpoint Factor(DiagramDocument* out, const MotionMultiplier& multiplier, const DiagnosedEffect& effect,
+                const std::string& name, const std::optional<Endpoint>& force, std::string* factor_name) {
+  Endpoint source;
+  if (multiplier.of_model_force) {
+    source = *force;
+    *factor_name = "force";
+  } else {
+    source = MotionSource(*out, multiplier.input, effect.effect);
+    *factor_name = source.is_connector() ? source.port : source.element + "_" + source.port;
   }
-  const std::string factor = out->Add({name + "_" + multiplier.block_type, multiplier.block_type,
-                                       multiplier.parameters(effect), std::nullopt,
-                                       fmt::format("the factor of the motion that multiplies '{}'", name)});
-  out->Connect(input, {factor, "u"});
-  *factor_name = multiplier.block_type;
-  return out->OutputOf(factor);
+  Endpoint factor = source;
+  if (!multiplier.block_type.empty()) {
+    const std::string element = out->Add({name + "_" + multiplier.block_type, multiplier.block_type,
+                                          multiplier.parameters(effect), std::nullopt,
+                                          fmt::format("a factor of the motion that multiplies '{}'", name)});
+    out->Connect(source, {element, "u"});
+    *factor_name = multiplier.block_type;
+    factor = out->OutputOf(element);
+  }
+  if (!multiplier.times) return factor;
+  std::string second_name;
+  const Endpoint second = Factor(out, *multiplier.times, effect, name, force, &second_name);
+  const std::string product = out->Add({name + "_factor", "product", json::object(), std::nullopt,
+                                        fmt::format("the factor that multiplies '{}': {} × {}", name, *factor_name,
+                                                    second_name)});
+  out->Connect(factor, {product, "u1"});
+  out->Connect(second, {product, "u2"});
+  *factor_name += "_" + second_name;
+  return out->OutputOf(product);
 }
 
 // Adds `element` times a factor (EffectBlockTemplate::multiplier) to the model's force feeding output connector
-// `output`: the factor's element reads its input connector — or the factor is that input connector itself (no block
-// type), or the model's force, the signal that fed the output before — and a product element
-// "<element>_times_<factor>" multiplies the two and is summed in.
-// Returns the element's name.
+// `output`: a product element "<element>_times_<factor>" multiplies the element's output and the factor (Factor) and
+// is summed in. Returns the element's name.
 std::string AddProductToOutput(DiagramDocument* out, const ElementSpec& element, const MotionMultiplier& multiplier,
                                const DiagnosedEffect& effect, const std::string& output, const std::string& port) {
-  Endpoint factor_output;
-  std::string factor_name = "force";
-  if (multiplier.of_model_force) factor_output = ModelForceEnd(*out, output, effect);
+  std::optional<Endpoint> force;
+  if (multiplier.NeedsModelForce()) force = ModelForceEnd(*out, output, effect);
   const std::string name = out->Add(element);
-  if (!multiplier.of_model_force) factor_output = MotionFactor(out, multiplier, effect, name, &factor_name);
+  std::string factor_name;
+  const Endpoint factor = Factor(out, multiplier, effect, name, force, &factor_name);
   const std::string product = AddToOutput(
       out, {name + "_times_" + factor_name, "product", json::object(), std::nullopt,
             fmt::format("'{}' × {} ({})", name,
-                        multiplier.of_model_force ? std::string("the model's force") : "'" + factor_name + "'",
+                        factor_name == "force" ? std::string("the model's force") : "'" + factor_name + "'",
                         effect.effect)},
       output, "y");
   out->Connect({name, port}, {product, "u1"});
-  out->Connect(factor_output, {product, "u2"});
+  out->Connect(factor, {product, "u2"});
   return name;
 }
 
@@ -277,10 +292,10 @@ std::string AddWithFactorInput(DiagramDocument* out, const ElementSpec& element,
                                const DiagnosedEffect& effect, const std::string& output, const std::string& port,
                                const std::string& factor_port) {
   std::optional<Endpoint> force;
-  if (multiplier.of_model_force) force = ModelForceEnd(*out, output, effect);
+  if (multiplier.NeedsModelForce()) force = ModelForceEnd(*out, output, effect);
   const std::string name = AddToOutput(out, element, output, port);
   std::string factor_name;
-  out->Connect(force ? *force : MotionFactor(out, multiplier, effect, name, &factor_name), {name, factor_port});
+  out->Connect(Factor(out, multiplier, effect, name, force, &factor_name), {name, factor_port});
   return name;
 }
 
@@ -314,7 +329,7 @@ json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, c
   }
   const EffectBlockTemplate& block = *composed;
   DiagramDocument out(diagram);
-  if (block.multiplier && block.multiplier->of_model_force && out.Mode() != ExperimentMode::kEquationError) {
+  if (block.multiplier && block.multiplier->NeedsModelForce() && out.Mode() != ExperimentMode::kEquationError) {
     throw std::invalid_argument(fmt::format(
         "effect '{}' multiplies the model's force; in simulation mode the output is the motion: scale the force "
         "into the plant by hand (a product of the force and a {} block of the position)",

@@ -138,8 +138,8 @@ TEST(SuggestTest, ASmoothCoulombLawTakesOverTheModelsCoulombLevel) {
 
 // A pair of the grammar without a block of its own (issue 45, item 5) is added as the block of one × its modulator times
 // its multiplier: a force over one stretch growing with |v| is the stretch's table times an abs block of the velocity,
-// multiplied in a product element. The amended diagram runs. A pair whose multiplier no single block makes (v·|v|)
-// or that is a mass of the position has no block, and says so.
+// multiplied in a product element. The amended diagram runs. A pair whose modulator has no block yet (a window in time)
+// or that is a mass of the position has none, and says so.
 TEST(SuggestTest, AGeneratedPairIsTheBlockOfItsModulatorTimesItsMultiplier) {
   const auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
   DiagnosedEffect local;
@@ -185,7 +185,18 @@ TEST(SuggestTest, AGeneratedPairIsTheBlockOfItsModulatorTimesItsMultiplier) {
   ((t.array() < 1.5).cast<double>() * v.array().abs()).maxCoeff(&early);
   EXPECT_NEAR(drifted.model(early) - before.model(early), 0.0, 1e-9) << "before the ramp starts";
 
-  for (const char* none : {"drag_ripple", "inertia_along_travel"}) {
+  // A two-factor multiplier: a drag over one stretch is the table times v, times |v| (a product of the two factors).
+  DiagnosedEffect drag = local;
+  drag.effect = "local_drag";
+  drag.column_names = {"local_drag"};
+  const DiagramDocument dragging(SuggestAmendedDiagram(diagram, drag, "force"));
+  EXPECT_TRUE(dragging.Has("local_drag_abs"));
+  EXPECT_TRUE(dragging.Has("local_drag_factor"));
+  ModelComparison with_drag(dragging.json(), kEmps, "dragging.json", *log, {});
+  const auto dragged = with_drag.Simulate().front();
+  EXPECT_NEAR(dragged.model(k) - before.model(k), 40.0 * v(k) * std::abs(v(k)), 0.05 * 40.0 * v(k) * v(k));
+
+  for (const char* none : {"damping_window", "inertia_along_travel"}) {
     DiagnosedEffect e;
     e.effect = none;
     try {
