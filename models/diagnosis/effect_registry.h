@@ -113,7 +113,7 @@ struct MotionMultiplier {
   bool of_model_force = false;
   /// A second factor the first is multiplied by (the grammar's two-factor multipliers: v·|v|, ŷ·|ŷ|, |ŷ|·tanh(v/v_s)),
   /// through a product element; nullptr = none.
-  std::shared_ptr<const MotionMultiplier> times;
+  std::shared_ptr<const MotionMultiplier> times = nullptr;
   /// Whether this factor or the one it is multiplied by is the model's force.
   bool NeedsModelForce() const { return of_model_force || (times && times->NeedsModelForce()); }
 };
