@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "models/diagnosis/factors.h"
+
 namespace mb {
 
 using nlohmann::json;
@@ -85,34 +87,15 @@ MotionMultiplier ModelForce() {
   return m;
 }
 
-std::optional<MotionMultiplier> MultiplierFactor(const std::string& id) {
-  if (id == "slip") return SlipOfVelocity();
-  if (id == "velocity") return MeasuredMotion(MotionInput::kVelocity);
-  if (id == "acceleration") return MeasuredMotion(MotionInput::kAcceleration);
-  if (id == "speed") return MotionMultiplier{"abs", MotionInput::kVelocity, [](const DiagnosedEffect&) {
-                                               return json::object();
-                                             }};
-  if (id == "model_force") return ModelForce();
-  // The two-factor multipliers: v·|v|, ŷ·|ŷ|, |ŷ|·tanh(v/v_s).
-  MotionMultiplier abs_velocity{"abs", MotionInput::kVelocity, [](const DiagnosedEffect&) { return json::object(); }};
-  MotionMultiplier abs_force = ModelForce();
-  abs_force.block_type = "abs";
-  abs_force.parameters = [](const DiagnosedEffect&) { return json::object(); };
-  if (id == "velocity_speed") {
-    MotionMultiplier m = MeasuredMotion(MotionInput::kVelocity);
-    m.times = std::make_shared<const MotionMultiplier>(std::move(abs_velocity));
-    return m;
-  }
-  if (id == "model_force_abs") {
-    MotionMultiplier m = ModelForce();
-    m.times = std::make_shared<const MotionMultiplier>(std::move(abs_force));
-    return m;
-  }
-  if (id == "load_slip") {
-    abs_force.times = std::make_shared<const MotionMultiplier>(SlipOfVelocity());
-    return abs_force;
-  }
-  return std::nullopt;
+MotionMultiplier AbsOf(MotionMultiplier factor) {
+  factor.block_type = "abs";
+  factor.parameters = [](const DiagnosedEffect&) { return json::object(); };
+  return factor;
+}
+
+MotionMultiplier Times(MotionMultiplier first, MotionMultiplier second) {
+  first.times = std::make_shared<const MotionMultiplier>(std::move(second));
+  return first;
 }
 
 namespace {
@@ -148,10 +131,10 @@ std::optional<EffectBlockTemplate> BlockFor(const EffectType& type) {
   if (type.block) return type.block;
   if (type.multiplier.empty() || type.multiplier == "one") return std::nullopt;
   if (type.multiplier == "acceleration" && type.modulator.starts_with("position_")) return std::nullopt;
-  std::optional<MotionMultiplier> factor = MultiplierFactor(type.multiplier);
+  const MultiplierRow* row = FindMultiplier(type.multiplier);
   std::string port;
   const EffectBlockTemplate* modulator = ModulatorBlock(type.modulator, &port);
-  if (!factor || modulator == nullptr) return std::nullopt;
+  if (row == nullptr || !row->factor || modulator == nullptr) return std::nullopt;
   EffectBlockTemplate block = *modulator;
   block.element_name = type.name;
   block.physical_range.clear();  // a range of the modulator's own effect; the factor changes what the gain means
@@ -159,7 +142,7 @@ std::optional<EffectBlockTemplate> BlockFor(const EffectType& type) {
     block.inputs.clear();
     block.multiplier_port = port;
   }
-  block.multiplier = std::move(factor);
+  block.multiplier = row->factor;
   return block;
 }
 

@@ -15,17 +15,12 @@ namespace mb {
 
 /// The block that adds `type` to a diagram: its own (EffectBlockTemplate registered with MB_REGISTER_EFFECT_BLOCK), else,
 /// for a pair of the grammar (factors.h) that has none, the block of the pair one × its modulator with the multiplier
-/// as its factor (MultiplierFactor; issue 45, item 5): a ripple of the position times |v|, a stretch's table times
+/// row's factor (MultiplierRow::factor; issue 45, item 5): a ripple of the position times |v|, a stretch's table times
 /// tanh(v/v_s), a log column's gain times ŷ; for a time modulator, its gain scheduled in time with the factor as its
 /// input (EffectBlockTemplate::multiplier_port). nullopt when the modulator has no such block or the pair is a mass
 /// of the position (M(x)·a + ½M′(x)·v² is no product). Throws nothing.
 std::optional<EffectBlockTemplate> BlockFor(const EffectType& type);
 
-/// The grammar's multiplier `id` (factors.h) as the factor a block's output is multiplied by: slip → a sign block on
-/// the velocity (SlipOfVelocity), velocity and acceleration → the input connector itself, speed → an abs block on the
-/// velocity, model_force → the model's force; velocity_speed → v × abs(v), model_force_abs → ŷ × abs(ŷ), load_slip →
-/// abs(ŷ) × sign(v) (MotionMultiplier::times). nullopt for "one" and unknown ids.
-std::optional<MotionMultiplier> MultiplierFactor(const std::string& id);
 
 /// The joint fit's coefficient of column "<effect>.<suffix>", or of the single column "<effect>" when `suffix`
 /// is empty; 0 if absent.
@@ -62,5 +57,11 @@ MotionMultiplier MeasuredMotion(MotionInput input);
 /// The model's own force as a multiplier (MotionMultiplier::of_model_force: a force constant that changes with the
 /// position or a logged temperature scales the force the model computes; equation-error mode only).
 MotionMultiplier ModelForce();
+
+/// `factor` through an abs block (blocks/abs.h): |v|, |ŷ|.
+MotionMultiplier AbsOf(MotionMultiplier factor);
+
+/// `first` times `second` (MotionMultiplier::times, a product element): v·|v|, ŷ·|ŷ|, |ŷ|·tanh(v/v_s).
+MotionMultiplier Times(MotionMultiplier first, MotionMultiplier second);
 
 }  // namespace mb

@@ -15,6 +15,7 @@
 
 #include <fmt/format.h>
 
+#include "models/diagnosis/effect_block.h"
 #include "models/diagnosis/effect_regressors.h"
 #include "models/diagnosis/factors.h"
 #include "models/diagnosis/parameter_text.h"
@@ -77,32 +78,38 @@ std::vector<MultiplierRow> MakeMultipliers() {
                   "a friction: preload, magnetic attraction, a seal, the lubrication, the guide's straightness", "",
                   true, false, true, false,
                   [](const DiagnosisSignals&, const Eigen::VectorXd& slip, const std::string&) { return slip; }});
+  rows.back().factor = SlipOfVelocity();
   rows.push_back({"velocity", "damping", "the viscous friction", "v",
                   "a damping: the lubricant's viscosity, eddy currents, the back-EMF", "/(m/s)", false, false, true,
                   false,
                   [](const DiagnosisSignals& s, const Eigen::VectorXd&, const std::string&) { return s.velocity; }});
+  rows.back().factor = MeasuredMotion(MotionInput::kVelocity);
   rows.push_back({"speed", "speed_force", "a force growing with the speed", "|v|",
                   "a force of the speed in either direction (the magnetic drag of a passing slot, a fan's load)",
                   "/(m/s)", false, false, false, false,
                   [](const DiagnosisSignals& s, const Eigen::VectorXd&, const std::string&) {
                     return s.velocity.cwiseAbs().eval();
                   }});
+  rows.back().factor = AbsOf(MeasuredMotion(MotionInput::kVelocity));
   rows.push_back({"velocity_speed", "drag", "the quadratic drag", "v·|v|",
                   "a drag of a fluid at high Reynolds number (an orifice, air, a seal's pumping)", "/(m/s)²", false,
                   false, true, false,
                   [](const DiagnosisSignals& s, const Eigen::VectorXd&, const std::string&) {
                     return s.velocity.cwiseProduct(s.velocity.cwiseAbs()).eval();
                   }});
+  rows.back().factor = Times(MeasuredMotion(MotionInput::kVelocity), AbsOf(MeasuredMotion(MotionInput::kVelocity)));
   rows.push_back({"acceleration", "inertia", "the moving mass", "a (with a factor M(x) of the position: M(x)·a + ½M′(x)·v²)",
                   "a mass: a payload, a tool, a linkage or an arm whose reflected inertia changes", "/(m/s²)", false,
                   false, false, true,
                   [](const DiagnosisSignals& s, const Eigen::VectorXd&, const std::string&) { return s.acceleration; }});
+  rows.back().factor = MeasuredMotion(MotionInput::kAcceleration);
   rows.push_back({"model_force", "force_constant", "the force constant", "ŷ (the model's force from the measured motion)",
                   "the motor's force constant: the magnets' flux, the air gap, the coil's temperature", "", false,
                   true, false, false,
                   [](const DiagnosisSignals& s, const Eigen::VectorXd&, const std::string& effect) {
                     return ModelForce(s, effect);
                   }});
+  rows.back().factor = mb::ModelForce();
   rows.push_back({"model_force_abs", "force_constant_saturation", "the force constant at high force", "ŷ·|ŷ|",
                   "the iron saturating at high current: the force constant falls with the force", "/N", false, true,
                   false, false,
@@ -110,12 +117,14 @@ std::vector<MultiplierRow> MakeMultipliers() {
                     const Eigen::VectorXd& y = ModelForce(s, effect);
                     return y.cwiseProduct(y.cwiseAbs()).eval();
                   }});
+  rows.back().factor = Times(mb::ModelForce(), AbsOf(mb::ModelForce()));
   rows.push_back({"load_slip", "load_friction", "the friction growing with the transmitted force", "|ŷ|·tanh(v/v_s)",
                   "a load-dependent friction: a screw's or a gear's flanks, a preloaded guide under the drive's force",
                   "/N", true, true, true, false,
                   [](const DiagnosisSignals& s, const Eigen::VectorXd& slip, const std::string& effect) {
                     return ModelForce(s, effect).cwiseAbs().cwiseProduct(slip).eval();
                   }});
+  rows.back().factor = Times(AbsOf(mb::ModelForce()), SlipOfVelocity());
   return rows;
 }
 

@@ -43,6 +43,10 @@ struct MultiplierRow {
   /// Its column (N) on the signals, given the direction of slip `slip` (N): tanh(v/v_s) in a regressor, sign(v) with
   /// the dead band in a shape scan. Throws std::invalid_argument naming `effect` when ŷ is needed and absent.
   std::function<Eigen::VectorXd(const DiagnosisSignals&, const Eigen::VectorXd& slip, const std::string& effect)> column;
+  /// Its factor in a diagram: what a modulator's block is multiplied by when a pair has no block of its own (BlockFor,
+  /// effect_block.h): a sign block of the velocity, the velocity, an abs block of it, the model's force, or a product of
+  /// two. nullopt for "one".
+  std::optional<MotionMultiplier> factor;
 };
 
 /// A row of the modulators' table: what the force varies with. Its shape scan is shared by every multiplier (found

@@ -2,7 +2,8 @@
 // What differentiating a quantized position puts into an equation-error residual (issue 45, item 4; DIAGNOSIS.md,
 // "The noise floor, and leaks").
 //
-// An encoder reports the position on a lattice of step q. The quantization error is small in position (q/√12 RMS)
+// An encoder reports the position on a lattice of step q. The quantization error is small in position (q/√12 RMS when
+// the motion crosses many counts: Widrow & Kollár, Quantization Noise, 2008, ch. 4)
 // but the derivatives multiply it by (2πf)² up to the derivative's cut-off: inside the motion's band, in the
 // acceleration that the inverse model multiplies by the mass, it can exceed the force sensor's own noise (a
 // 2¹⁸-count rotary encoder at 1 kHz: ten times). The spectral floor (EstimateNoiseFloor) reads the residual in its

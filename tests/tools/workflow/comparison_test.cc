@@ -111,16 +111,24 @@ TEST_F(EmpsFixture, RigidBodyRefitFindsScrewLeadRippleAndAddingItLowersTheError)
   EXPECT_GT(rmse_base * rmse_base - rmse_effect * rmse_effect, 0.2);
 }
 
+// A diagnosed effect of one regressor column, named as the effect, with its parameters and fitted coefficient: what
+// SuggestAmendedDiagram reads.
+DiagnosedEffect OneColumnEffect(const std::string& effect, std::map<std::string, double> parameters,
+                                double coefficient) {
+  DiagnosedEffect e;
+  e.effect = effect;
+  e.parameters = std::move(parameters);
+  e.column_names = {effect};
+  e.coefficients = Eigen::VectorXd::Constant(1, coefficient);
+  return e;
+}
+
 // A smooth Coulomb law replaces the model's sign(v) law: the amended diagram carries one Coulomb level, the new
 // element's (the diagnosis' coefficient), and the base's is 0 and no longer refit — left free, the two levels trade
 // against each other in the refit (the independent backlash case stalled at 2.5 × the noise floor that way).
 TEST(SuggestTest, ASmoothCoulombLawTakesOverTheModelsCoulombLevel) {
   const auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
-  DiagnosedEffect law;
-  law.effect = "regularized_coulomb_friction";
-  law.parameters = {{"regularization_velocity", 4e-4}};
-  law.column_names = {"regularized_coulomb_friction"};
-  law.coefficients = Eigen::VectorXd::Constant(1, 22.0);
+  DiagnosedEffect law = OneColumnEffect("regularized_coulomb_friction", {{"regularization_velocity", 4e-4}}, 22.0);
   law.replaced_parameter = "friction.coulomb";
   const DiagramDocument amended(SuggestAmendedDiagram(diagram, law, "force"));
   EXPECT_EQ(amended.Parameter("friction", "coulomb"), 0.0);
@@ -142,11 +150,7 @@ TEST(SuggestTest, ASmoothCoulombLawTakesOverTheModelsCoulombLevel) {
 // or that is a mass of the position has none, and says so.
 TEST(SuggestTest, AGeneratedPairIsTheBlockOfItsModulatorTimesItsMultiplier) {
   const auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
-  DiagnosedEffect local;
-  local.effect = "local_speed_force";
-  local.parameters = {{"center", 0.1}, {"half_width", 0.02}};
-  local.column_names = {"local_speed_force"};
-  local.coefficients = Eigen::VectorXd::Constant(1, 40.0);
+  DiagnosedEffect local = OneColumnEffect("local_speed_force", {{"center", 0.1}, {"half_width", 0.02}}, 40.0);
   const DiagramDocument amended(SuggestAmendedDiagram(diagram, local, "force"));
   ASSERT_TRUE(amended.Has("local_speed_force"));
   EXPECT_TRUE(amended.Has("local_speed_force_abs"));
@@ -166,11 +170,8 @@ TEST(SuggestTest, AGeneratedPairIsTheBlockOfItsModulatorTimesItsMultiplier) {
 
   // A gain scheduled in time multiplies its own input: a Coulomb level drifting over the record is the viscous
   // drift's ramped gain with the direction of slip as its input, no product element.
-  DiagnosedEffect drift;
-  drift.effect = "coulomb_drift";
-  drift.parameters = {{"start_time", 2.0}, {"end_time", 6.0}, {"slip_velocity", 0.002}};
-  drift.column_names = {"coulomb_drift"};
-  drift.coefficients = Eigen::VectorXd::Constant(1, 5.0);
+  DiagnosedEffect drift =
+      OneColumnEffect("coulomb_drift", {{"start_time", 2.0}, {"end_time", 6.0}, {"slip_velocity", 0.002}}, 5.0);
   const DiagramDocument drifting(SuggestAmendedDiagram(diagram, drift, "force"));
   ASSERT_TRUE(drifting.Has("coulomb_drift"));
   EXPECT_TRUE(drifting.Has("coulomb_drift_sign"));
@@ -212,11 +213,8 @@ TEST(SuggestTest, AGeneratedPairIsTheBlockOfItsModulatorTimesItsMultiplier) {
 // no friction block's static level: refused with the reason, not clamped to 0.001 N into a block that refits to nothing.
 TEST(SuggestTest, ANegativeStribeckHumpIsRefusedNotClamped) {
   const auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
-  DiagnosedEffect hump;
-  hump.effect = "stribeck_friction";
-  hump.parameters = {{"stribeck_velocity", 0.028}, {"dead_band", 0.0013}};
-  hump.column_names = {"stribeck_friction"};
-  hump.coefficients = Eigen::VectorXd::Constant(1, -3.7);
+  DiagnosedEffect hump =
+      OneColumnEffect("stribeck_friction", {{"stribeck_velocity", 0.028}, {"dead_band", 0.0013}}, -3.7);
   try {
     SuggestAmendedDiagram(diagram, hump, "force");
     FAIL() << "a negative Stribeck hump was accepted";
@@ -233,11 +231,8 @@ TEST(SuggestTest, ANegativeStribeckHumpIsRefusedNotClamped) {
 // log holds beyond what acted to the model's force; simulation mode is refused with what to do.
 TEST(SuggestTest, ACommandPathEffectAddsWhatTheLogHoldsBeyondWhatActed) {
   auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
-  DiagnosedEffect saturation;
-  saturation.effect = "drive_saturation";
-  saturation.parameters = {{"upper_limit", 120.0}, {"lower_limit", -135.0}};
-  saturation.column_names = {"drive_saturation"};
-  saturation.coefficients = Eigen::VectorXd::Ones(1);
+  DiagnosedEffect saturation =
+      OneColumnEffect("drive_saturation", {{"upper_limit", 120.0}, {"lower_limit", -135.0}}, 1.0);
   const nlohmann::json amended = SuggestAmendedDiagram(diagram, saturation, "force");
   const DiagramDocument document(amended);
   bool reads_command = false;
@@ -324,12 +319,8 @@ TEST(SuggestTest, AMotionProductMultipliesTheMeasuredVelocity) {
   EXPECT_NEAR(ForceAt(amended, motion), ForceAt(diagram, motion) + 0.1 * (12.0 * std::cos(phase) + 5.0 * std::sin(phase)),
               1e-9);
 
-  DiagnosedEffect column;
-  column.effect = "column_damping";
-  column.parameters = {{"column", 0}};
+  DiagnosedEffect column = OneColumnEffect("column_damping", {{"column", 0}}, -3.0);
   column.log_column = "temperature_C";
-  column.column_names = {"column_damping"};
-  column.coefficients = Eigen::VectorXd::Constant(1, -3.0);
   const DiagramDocument with_column(SuggestAmendedDiagram(diagram, column, "force"));
   EXPECT_THAT(with_column.FreeParameters(), ::testing::Contains("column_damping.gain"));
   std::map<std::string, double> inputs = motion;
@@ -342,12 +333,8 @@ TEST(SuggestTest, AMotionProductMultipliesTheMeasuredVelocity) {
 // force; an effect that names no column is refused.
 TEST(SuggestTest, ALoggedColumnIsReadThroughANewInputConnector) {
   const auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
-  DiagnosedEffect coupling;
-  coupling.effect = "logged_column";
-  coupling.parameters = {{"column", 0}};
+  DiagnosedEffect coupling = OneColumnEffect("logged_column", {{"column", 0}}, 4.0);
   coupling.log_column = "accel y (m/s2)";
-  coupling.column_names = {"logged_column"};
-  coupling.coefficients = Eigen::VectorXd::Constant(1, 4.0);
   const nlohmann::json amended = SuggestAmendedDiagram(diagram, coupling, "force");
   const DiagramDocument document(amended);
   std::string reader;
