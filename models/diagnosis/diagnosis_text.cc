@@ -122,10 +122,19 @@ DiagnosedEffect DescribeEffect(const Candidate& c, double score, double cumulati
   const MultiplierRow* multiplier = FindMultiplier(d.multiplier);
   const ModulatorRow* modulator = FindModulator(d.modulator);
   if (multiplier != nullptr && modulator != nullptr && modulator->words) {
-    std::string words = PairWords(*multiplier, *modulator, d.parameters,
-                                  d.coefficients.size() == 1 ? d.coefficients(0) : 0.0, d.log_column, position_unit);
+    // The coefficient of the shape's one column (named as the effect), beside its level's (MultiplierRow::own_level).
+    double single = 0.0, level = 0.0;
+    bool has_level = false;
+    for (std::size_t k = 0; k < d.column_names.size(); ++k) {
+      const double value = d.coefficients(static_cast<Eigen::Index>(k));
+      if (d.column_names[k] == d.effect) single = value;
+      if (d.column_names[k] == d.effect + ".level") { level = value; has_level = true; }
+    }
+    std::string words = PairWords(*multiplier, *modulator, d.parameters, single, d.log_column, position_unit);
     words[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(words[0])));
-    d.description += " " + words + ".";
+    d.description += " " + words;
+    if (has_level) d.description += fmt::format(", from a constant part of {:+.4g}{}", level, multiplier->unit);
+    d.description += ".";
   }
   return d;
 }

@@ -87,6 +87,12 @@ MotionMultiplier ModelForce() {
   return m;
 }
 
+MotionMultiplier One() {
+  MotionMultiplier m;
+  m.one = true;
+  return m;
+}
+
 MotionMultiplier AbsOf(MotionMultiplier factor) {
   factor.block_type = "abs";
   factor.parameters = [](const DiagnosedEffect&) { return json::object(); };
@@ -129,12 +135,14 @@ const EffectBlockTemplate* ModulatorBlock(const std::string& modulator, std::str
 
 std::optional<EffectBlockTemplate> BlockFor(const EffectType& type) {
   if (type.block) return type.block;
-  if (type.multiplier.empty() || type.multiplier == "one") return std::nullopt;
+  if (type.multiplier.empty()) return std::nullopt;
   if (type.multiplier == "acceleration" && type.modulator.starts_with("position_")) return std::nullopt;
   const MultiplierRow* row = FindMultiplier(type.multiplier);
   std::string port;
   const EffectBlockTemplate* modulator = ModulatorBlock(type.modulator, &port);
   if (row == nullptr || !row->factor || modulator == nullptr) return std::nullopt;
+  // 1 × a modulator without a block of its own: only a gain scheduled in time, fed the constant 1.
+  if (row->factor->one && port.empty()) return std::nullopt;
   EffectBlockTemplate block = *modulator;
   block.element_name = type.name;
   block.physical_range.clear();  // a range of the modulator's own effect; the factor changes what the gain means

@@ -17,8 +17,8 @@ namespace mb {
 /// for a pair of the grammar (factors.h) that has none, the block of the pair one × its modulator with the multiplier
 /// row's factor (MultiplierRow::factor; issue 45, item 5): a ripple of the position times |v|, a stretch's table times
 /// tanh(v/v_s), a log column's gain times ŷ; for a time modulator, its gain scheduled in time with the factor as its
-/// input (EffectBlockTemplate::multiplier_port). nullopt when the modulator has no such block or the pair is a mass
-/// of the position (M(x)·a + ½M′(x)·v² is no product). Throws nothing.
+/// input (EffectBlockTemplate::multiplier_port; for 1 × a time shape the constant 1). nullopt when the modulator has no
+/// such block or the pair is a mass of the position (M(x)·a + ½M′(x)·v² is no product). Throws nothing.
 std::optional<EffectBlockTemplate> BlockFor(const EffectType& type);
 
 
@@ -57,6 +57,9 @@ MotionMultiplier MeasuredMotion(MotionInput input);
 /// The model's own force as a multiplier (MotionMultiplier::of_model_force: a force constant that changes with the
 /// position or a logged temperature scales the force the model computes; equation-error mode only).
 MotionMultiplier ModelForce();
+
+/// The factor 1 (MotionMultiplier::one): what a gain scheduled in time multiplies for a force of time alone.
+MotionMultiplier One();
 
 /// `factor` through an abs block (blocks/abs.h): |v|, |ŷ|.
 MotionMultiplier AbsOf(MotionMultiplier factor);

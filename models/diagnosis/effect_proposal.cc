@@ -128,7 +128,7 @@ struct ProposalContext::OutputDelayOnce {
 ProposalContext::ProposalContext(const DiagnosisSignals& signals, const Eigen::VectorXd& residual,
                                  const Eigen::MatrixXd& base_columns, const CatalogueOptions& options,
                                  CandidateSearch* search)
-    : signals_(signals), residual_(residual), base_columns_(base_columns), options_(options), search_(search),
+    : signals_(signals), residual_(residual), base_columns_(&base_columns), options_(options), search_(search),
       model_output_delay_(std::make_shared<OutputDelayOnce>()) {
   max_speed_ = signals.velocity.cwiseAbs().maxCoeff();
   dead_band_ = options.dead_band_fraction * max_speed_;
@@ -235,8 +235,8 @@ void ProposalContext::AddFewCyclePeriods(const Eigen::VectorXd& position, const 
 }
 
 Eigen::MatrixXd ProposalContext::BaseWithConstant() const {
-  Eigen::MatrixXd base(size(), base_columns_.cols() + 1);
-  base << base_columns_, Eigen::VectorXd::Ones(size());
+  Eigen::MatrixXd base(size(), base_columns_->cols() + 1);
+  base << *base_columns_, Eigen::VectorXd::Ones(size());
   return base;
 }
 
@@ -251,6 +251,12 @@ void ProposalContext::Note(std::string note) {
 ProposalContext ProposalContext::WithSink(ProposalSink* sink) const {
   ProposalContext copy = *this;
   copy.sink_ = sink;
+  return copy;
+}
+
+ProposalContext ProposalContext::WithBase(const Eigen::MatrixXd& base_columns) const {
+  ProposalContext copy = *this;
+  copy.base_columns_ = &base_columns;
   return copy;
 }
 

@@ -44,7 +44,7 @@ class ProposalContext {
   /// The residual after the base refit (N).
   const Eigen::VectorXd& residual() const { return residual_; }
   /// The base model's regressors (N × p, p may be 0).
-  const Eigen::MatrixXd& base_columns() const { return base_columns_; }
+  const Eigen::MatrixXd& base_columns() const { return *base_columns_; }
   const CatalogueOptions& options() const { return options_; }
   /// Simulation mode: the closed loop a candidate force reaches the output through (CatalogueOptions::loop); null in
   /// equation-error mode. Pass it to JointFitResidual for every joint fit of candidate forces.
@@ -72,6 +72,9 @@ class ProposalContext {
   /// A copy that adds its candidates and notes to `sink` (which must outlive it) instead of the search: one effect's
   /// rule run concurrently with the others'. The analyses and the model-output delay are shared.
   ProposalContext WithSink(ProposalSink* sink) const;
+  /// A copy whose base regressors are `base_columns` (N × p′; must outlive it), the residual and the analyses kept: a
+  /// shape scan that fits a pair's own columns beside the base's (a multiplier's level, MultiplierRow::own_level).
+  ProposalContext WithBase(const Eigen::MatrixXd& base_columns) const;
 
   /// Adds a candidate (catalogue name, SI parameters) to the search, or to the sink of a WithSink copy.
   void Propose(std::string effect, std::map<std::string, double> parameters = {});
@@ -81,7 +84,7 @@ class ProposalContext {
  private:
   const DiagnosisSignals& signals_;
   const Eigen::VectorXd& residual_;
-  const Eigen::MatrixXd& base_columns_;
+  const Eigen::MatrixXd* base_columns_;
   const CatalogueOptions& options_;
   CandidateSearch* search_;
   ProposalSink* sink_ = nullptr;

@@ -73,6 +73,11 @@ struct EffectTraits {
   /// The name under which the effect's one coefficient is reported among its parameters (friction_drift: "change",
   /// the viscous coefficient's change over the record); "" = not reported there.
   std::string coefficient_parameter;
+  /// The effect's columns hold those of its multiplier × 1 (a pair with its own level, MultiplierRow::own_level): the
+  /// forward selection chooses it over that smaller pair only where its held-out gain over it is significant
+  /// (Diebold–Mariano, as any gain), else the smaller pair — a drag constant over the record is no drag drifting by
+  /// nothing, though the ramp's column always fits a little of the noise.
+  bool nests_constant_pair = false;
 };
 
 /// One parameter of an effect instance (EffectInstance::parameters), SI units.
@@ -111,6 +116,9 @@ struct MotionMultiplier {
   /// the effect is (ŷ × a ripple of the position: a force constant that ripples). Equation-error mode only: in
   /// simulation mode the output is the motion, not the force.
   bool of_model_force = false;
+  /// The factor is 1: a constant block of value 1 (a force of the modulator alone, fed to a gain scheduled in time:
+  /// a force that steps, drifts or is there for a while).
+  bool one = false;
   /// A second factor the first is multiplied by (the grammar's two-factor multipliers: v·|v|, ŷ·|ŷ|, |ŷ|·tanh(v/v_s)),
   /// through a product element; nullptr = none.
   std::shared_ptr<const MotionMultiplier> times = nullptr;

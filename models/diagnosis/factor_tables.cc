@@ -74,6 +74,7 @@ std::vector<MultiplierRow> MakeMultipliers() {
                   [](const DiagnosisSignals& s, const Eigen::VectorXd&, const std::string&) {
                     return Eigen::VectorXd::Ones(s.size()).eval();
                   }});
+  rows.back().factor = One();
   rows.push_back({"slip", "coulomb", "the Coulomb friction level", "tanh(v/v_s)",
                   "a friction: preload, magnetic attraction, a seal, the lubrication, the guide's straightness", "",
                   true, false, true, false,
@@ -91,6 +92,7 @@ std::vector<MultiplierRow> MakeMultipliers() {
                     return s.velocity.cwiseAbs().eval();
                   }});
   rows.back().factor = AbsOf(MeasuredMotion(MotionInput::kVelocity));
+  rows.back().own_level = true;
   rows.push_back({"velocity_speed", "drag", "the quadratic drag", "v·|v|",
                   "a drag of a fluid at high Reynolds number (an orifice, air, a seal's pumping)", "/(m/s)²", false,
                   false, true, false,
@@ -98,6 +100,7 @@ std::vector<MultiplierRow> MakeMultipliers() {
                     return s.velocity.cwiseProduct(s.velocity.cwiseAbs()).eval();
                   }});
   rows.back().factor = Times(MeasuredMotion(MotionInput::kVelocity), AbsOf(MeasuredMotion(MotionInput::kVelocity)));
+  rows.back().own_level = true;
   rows.push_back({"acceleration", "inertia", "the moving mass", "a (with a factor M(x) of the position: M(x)·a + ½M′(x)·v²)",
                   "a mass: a payload, a tool, a linkage or an arm whose reflected inertia changes", "/(m/s²)", false,
                   false, false, true,
@@ -118,6 +121,7 @@ std::vector<MultiplierRow> MakeMultipliers() {
                     return y.cwiseProduct(y.cwiseAbs()).eval();
                   }});
   rows.back().factor = Times(mb::ModelForce(), AbsOf(mb::ModelForce()));
+  rows.back().own_level = true;
   rows.push_back({"load_slip", "load_friction", "the friction growing with the transmitted force", "|ŷ|·tanh(v/v_s)",
                   "a load-dependent friction: a screw's or a gear's flanks, a preloaded guide under the drive's force",
                   "/N", true, true, true, false,
@@ -125,16 +129,19 @@ std::vector<MultiplierRow> MakeMultipliers() {
                     return ModelForce(s, effect).cwiseAbs().cwiseProduct(slip).eval();
                   }});
   rows.back().factor = Times(AbsOf(mb::ModelForce()), SlipOfVelocity());
+  rows.back().own_level = true;
   return rows;
 }
 
 // ---- The modulators' shape scans ----
 
-std::vector<FactorParameters> ScanNothing(ProposalContext&, const Eigen::VectorXd&, const std::string&) {
+std::vector<FactorParameters> ScanNothing(ProposalContext&,
+                                          const Eigen::VectorXd&, const Eigen::VectorXd*, const std::string&) {
   return {FactorParameters{}};
 }
 
-std::vector<FactorParameters> ScanPositionPeriod(ProposalContext& c, const Eigen::VectorXd& m, const std::string&) {
+std::vector<FactorParameters> ScanPositionPeriod(ProposalContext& c,
+                                                 const Eigen::VectorXd& m, const Eigen::VectorXd*, const std::string&) {
   std::vector<ProposedPeriod> periods = c.position_periods();
   // The period of the residual demodulated by the multiplier first: a friction along the pitch reverses with the
   // direction of travel and cancels in the plain periodogram.
@@ -153,13 +160,15 @@ std::vector<FactorParameters> ScanPositionPeriod(ProposalContext& c, const Eigen
   return out;
 }
 
-std::vector<FactorParameters> ScanPositionBump(ProposalContext& c, const Eigen::VectorXd& m, const std::string&) {
-  const BumpPlace place = ScanBump(c, m);
+std::vector<FactorParameters> ScanPositionBump(ProposalContext& c, const Eigen::VectorXd& m,
+                                               const Eigen::VectorXd* kinetic, const std::string&) {
+  const BumpPlace place = ScanBump(c, m, kinetic);
   if (!(place.explained >= kMinBumpShare)) return {};
   return {{{"center", place.center}, {"half_width", place.half_width}}};
 }
 
-std::vector<FactorParameters> ScanPositionSmooth(ProposalContext& c, const Eigen::VectorXd&, const std::string&) {
+std::vector<FactorParameters> ScanPositionSmooth(ProposalContext& c,
+                                                 const Eigen::VectorXd&, const Eigen::VectorXd*, const std::string&) {
   const Eigen::VectorXd& x = c.signals().position;
   if (!(c.position_span() > 0.0)) return {};
   if (const auto ripple = RippleASmoothFunctionWouldBlur(c)) {
@@ -172,7 +181,8 @@ std::vector<FactorParameters> ScanPositionSmooth(ProposalContext& c, const Eigen
   return {{{"center", 0.5 * (x.maxCoeff() + x.minCoeff())}, {"half_range", 0.5 * c.position_span()}}};
 }
 
-std::vector<FactorParameters> ScanColumns(ProposalContext& c, const Eigen::VectorXd&, const std::string&) {
+std::vector<FactorParameters> ScanColumns(ProposalContext& c,
+                                          const Eigen::VectorXd&, const Eigen::VectorXd*, const std::string&) {
   const DiagnosisSignals& s = c.signals();
   std::vector<FactorParameters> out;
   for (std::size_t k = 0; k < s.extra_columns.size(); ++k) {
@@ -186,7 +196,8 @@ std::vector<FactorParameters> ScanColumns(ProposalContext& c, const Eigen::Vecto
 // The record's first instant and duration [s].
 std::pair<double, double> Span(const DiagnosisSignals& s) { return {s.time(0), s.time(s.size() - 1) - s.time(0)}; }
 
-std::vector<FactorParameters> ScanRamp(ProposalContext& c, const Eigen::VectorXd&, const std::string&) {
+std::vector<FactorParameters> ScanRamp(ProposalContext& c,
+                                       const Eigen::VectorXd&, const Eigen::VectorXd*, const std::string&) {
   const auto [t0, duration] = Span(c.signals());
   if (!(duration > 0.0)) return {};
   return {{{"start_time", t0}, {"end_time", t0 + duration}}};
@@ -220,7 +231,8 @@ Eigen::VectorXd WindowColumn(const DiagnosisSignals& s, const Eigen::VectorXd& m
 // A break at an unknown time: the joint fit of the residual on [base, 1, m·H(t − t_c)] over a grid of t_c in the
 // middle 80 % of the record, then golden section between the best point's neighbours (Andrews' sup-F scan, the Chow
 // test at an unknown time). None when the best break is at the scan's edge (no change inside the record).
-std::vector<FactorParameters> ScanStep(ProposalContext& c, const Eigen::VectorXd& m, const std::string&) {
+std::vector<FactorParameters> ScanStep(ProposalContext& c,
+                                       const Eigen::VectorXd& m, const Eigen::VectorXd*, const std::string&) {
   const DiagnosisSignals& s = c.signals();
   const auto [t0, duration] = Span(s);
   if (!(duration > 0.0) || !(m.cwiseAbs().maxCoeff() > 0.0)) return {};
@@ -243,7 +255,8 @@ std::vector<FactorParameters> ScanStep(ProposalContext& c, const Eigen::VectorXd
 // On between two times: the joint fit of the residual on [base, 1, m·1(t_on ≤ t < t_off)] over a grid of both edges
 // in the middle 90 % of the record, then each edge by golden section. None when the best window touches the scan's
 // ends (a step, or a ramp, fits that).
-std::vector<FactorParameters> ScanWindow(ProposalContext& c, const Eigen::VectorXd& m, const std::string&) {
+std::vector<FactorParameters> ScanWindow(ProposalContext& c,
+                                         const Eigen::VectorXd& m, const Eigen::VectorXd*, const std::string&) {
   const DiagnosisSignals& s = c.signals();
   const auto [t0, duration] = Span(s);
   if (!(duration > 0.0) || !(m.cwiseAbs().maxCoeff() > 0.0)) return {};
@@ -274,7 +287,8 @@ Eigen::VectorXd WarmUp(const Eigen::VectorXd& t, double start, double time_const
 
 // A first-order settling from the record's start: T on a log grid over [duration/100, duration] then golden section
 // (MinimiseOnLogGrid); none when T ends in the grid's first or last cell (a step at the start, or a ramp).
-std::vector<FactorParameters> ScanWarmUp(ProposalContext& c, const Eigen::VectorXd& m, const std::string&) {
+std::vector<FactorParameters> ScanWarmUp(ProposalContext& c,
+                                         const Eigen::VectorXd& m, const Eigen::VectorXd*, const std::string&) {
   constexpr int kGrid = 25;
   const DiagnosisSignals& s = c.signals();
   const auto [start, duration] = Span(s);
@@ -292,7 +306,8 @@ std::vector<FactorParameters> ScanWarmUp(ProposalContext& c, const Eigen::Vector
 
 // A vibration of time: the strongest peak of the residual's time periodogram — of the residual demodulated by the
 // multiplier when it is not 1 — that is not locked to the motion's repetition (MotionHarmonic).
-std::vector<FactorParameters> ScanTimePeriod(ProposalContext& c, const Eigen::VectorXd& m, const std::string&) {
+std::vector<FactorParameters> ScanTimePeriod(ProposalContext& c,
+                                             const Eigen::VectorXd& m, const Eigen::VectorXd*, const std::string&) {
   std::optional<Periodogram> demodulated;
   const Periodogram* pg = &c.search().time_periodogram;
   if ((m.array() != 1.0).any()) {
@@ -336,12 +351,7 @@ Eigen::MatrixXd PeriodicDerivative(const FactorParameters& p, const DiagnosisSig
 
 Eigen::MatrixXd BumpDerivative(const FactorParameters& p, const DiagnosisSignals& s, const Eigen::VectorXd& scale) {
   const double center = Need(p, "center", "position_local"), w = NeedPositive(p, "half_width", "position_local");
-  return s.position
-      .unaryExpr([&](double x) {
-        const double z = (x - center) / w;
-        return std::abs(z) < 1.0 ? -0.5 * std::numbers::pi / w * std::sin(std::numbers::pi * z) : 0.0;
-      })
-      .cwiseProduct(scale);
+  return BumpSlope(s.position, center, w).cwiseProduct(scale);
 }
 
 Eigen::MatrixXd SmoothDerivative(const FactorParameters& p, const DiagnosisSignals& s, const Eigen::VectorXd& scale) {
@@ -508,7 +518,11 @@ std::vector<ModulatorRow> MakeModulators() {
                                            1.0, harmonics == p.end() ? 1 : std::max(1, static_cast<int>(harmonics->second)),
                                            name, scale);
                   },
-                  nullptr, ScanTimeChirp, {}});
+                  nullptr,
+                  [](ProposalContext& c, const Eigen::VectorXd& m, const Eigen::VectorXd*, const std::string& pair) {
+                    return ScanTimeChirp(c, m, pair);
+                  },
+                  {}});
   rows.back().words = [](const FactorParameters& p, double, const std::string&, const std::string&, const std::string&) {
     return fmt::format("vibrates in time at {:.4g} Hz {:+.4g} Hz/s·t", Value(p, "frequency_hz"), Value(p, "drift_rate"));
   };

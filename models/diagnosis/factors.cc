@@ -85,6 +85,13 @@ Eigen::VectorXd Bump(const Eigen::VectorXd& position, double center, double half
   });
 }
 
+Eigen::VectorXd BumpSlope(const Eigen::VectorXd& position, double center, double half_width) {
+  return position.unaryExpr([&](double x) {
+    const double z = (x - center) / half_width;
+    return std::abs(z) < 1.0 ? -0.5 * std::numbers::pi / half_width * std::sin(std::numbers::pi * z) : 0.0;
+  });
+}
+
 int MotionHarmonic(const ProposalContext& c, double f) {
   const double motion_hz = c.search().motion_frequency_hz;
   if (!(motion_hz > 0.0)) return 0;
@@ -137,7 +144,7 @@ std::optional<ProposedPeriod> ModulatedPeriod(const ProposalContext& c, const Ei
   return std::nullopt;
 }
 
-BumpPlace ScanBump(const ProposalContext& c, const Eigen::VectorXd& m) {
+BumpPlace ScanBump(const ProposalContext& c, const Eigen::VectorXd& m, const Eigen::VectorXd* kinetic) {
   const DiagnosisSignals& s = c.signals();
   BumpPlace best;
   const double span = c.position_span();
@@ -149,13 +156,18 @@ BumpPlace ScanBump(const ProposalContext& c, const Eigen::VectorXd& m) {
   const double sse_base = fit(Eigen::MatrixXd(c.size(), 0));
   if (!(sse_base > 0.0)) return best;
   double best_sse = sse_base;
+  const auto bump_column = [&](double center, double half_width) {  // m·g(x), plus ½v²·g′(x) for a mass (Lagrange)
+    Eigen::VectorXd column = m.cwiseProduct(Bump(s.position, center, half_width));
+    if (kinetic != nullptr) column += kinetic->cwiseProduct(BumpSlope(s.position, center, half_width));
+    return column;
+  };
   constexpr double kWidest = 1.0 / 10.0;  // of the travel: a wider stretch is not one place
   for (const double fraction : {1.0 / 40.0, 1.0 / 20.0, kWidest}) {
     const double w = fraction * span;
     // The stretch lies inside the travel with room on both sides, so that the axis passes through it: at an end a
     // bump is confounded with the reversals there.
     for (double center = x_min + 2.0 * w; center <= x_min + span - 2.0 * w; center += 0.5 * w) {
-      const Eigen::VectorXd column = m.cwiseProduct(Bump(s.position, center, w));
+      const Eigen::VectorXd column = bump_column(center, w);
       if (!(column.squaredNorm() > 0.0)) continue;
       const double sse = fit(column);
       if (sse < best_sse) {
@@ -169,7 +181,7 @@ BumpPlace ScanBump(const ProposalContext& c, const Eigen::VectorXd& m) {
   // the widest of the grid: on EMPS a damping 35 mm either side of 45 mm, a seventh of the travel, came before the
   // screw lead), the centre again.
   const auto sse_at = [&](double center, double half_width) {
-    const Eigen::VectorXd column = m.cwiseProduct(Bump(s.position, center, half_width));
+    const Eigen::VectorXd column = bump_column(center, half_width);
     return column.squaredNorm() > 0.0 ? fit(column) : sse_base;
   };
   constexpr int kBits = 20;  // of the precision within the bracket: far below the encoder's step

@@ -45,8 +45,14 @@ struct MultiplierRow {
   std::function<Eigen::VectorXd(const DiagnosisSignals&, const Eigen::VectorXd& slip, const std::string& effect)> column;
   /// Its factor in a diagram: what a modulator's block is multiplied by when a pair has no block of its own (BlockFor,
   /// effect_block.h): a sign block of the velocity, the velocity, an abs block of it, the model's force, or a product of
-  /// two. nullopt for "one".
+  /// two; for "one" the constant 1 (fed to a gain scheduled in time).
   std::optional<MotionMultiplier> factor;
+  /// Its constant part is no parameter of the rigid-body base (offset, Coulomb level, viscous coefficient, mass, force
+  /// constant): a pair with a modulator that is not periodic carries it as a second column "<pair>.level", the
+  /// multiplier's own column — "a force of |v| drifting from a to b" is |v|·(a + b·ramp), and without the level a
+  /// ramp centred in the record is named a step (issue 45's confusion table). The base's multipliers need none: the
+  /// base's refit takes their constant part.
+  bool own_level = false;
 };
 
 /// A row of the modulators' table: what the force varies with. Its shape scan is shared by every multiplier (found
@@ -71,8 +77,10 @@ struct ModulatorRow {
   std::function<Eigen::MatrixXd(const FactorParameters&, const DiagnosisSignals&, const Eigen::VectorXd& scale)>
       shape_derivative;
   /// The shape scan: the parameter sets worth proposing for the multiplier column `m` (N), each a candidate; notes
-  /// say why none is (ProposalContext::Note, naming `pair`).
-  std::function<std::vector<FactorParameters>(ProposalContext&, const Eigen::VectorXd& m, const std::string& pair)>
+  /// say why none is (ProposalContext::Note, naming `pair`). `kinetic` (N): for a mass times a factor of the position,
+  /// ½v², which multiplies the shape's slope (Lagrange's ½M′(x)·v²), else null.
+  std::function<std::vector<FactorParameters>(ProposalContext&, const Eigen::VectorXd& m,
+                                              const Eigen::VectorXd* kinetic, const std::string& pair)>
       scan;
   /// Its words after the multiplier's phrase, with the figures: "ripples along the travel with period 22.5 mm",
   /// "follows 'oil_temperature_C': −8 per unit of it" — from the diagnosed parameters (SI; positions in
@@ -132,6 +140,9 @@ Eigen::VectorXd Centered(const Eigen::VectorXd& column);
 /// at c ± w (a raised cosine of width 2w; N).
 Eigen::VectorXd Bump(const Eigen::VectorXd& position, double center, double half_width);
 
+/// dBump/dx (N, per metre): −(π/(2w))·sin(π(x − c)/w) for |x − c| < w, else 0.
+Eigen::VectorXd BumpSlope(const Eigen::VectorXd& position, double center, double half_width);
+
 /// The harmonic order k (1..CatalogueOptions::motion_harmonics) of the motion's own frequency
 /// (CandidateSearch::motion_frequency_hz) that `frequency_hz` [Hz] lies within 1 % of, else 0. A time period locked to
 /// the motion's repetition is every state-dependent effect's too: it is no vibration of time.
@@ -160,8 +171,10 @@ struct BumpPlace {
   double center = 0.0, half_width = 0.0;  ///< [m]
   double explained = 0.0;                 ///< share of the residual's sum of squares the bump removes, 0..1
 };
-/// `m` the multiplier's column (N). Throws nothing; explained 0 when the position does not move.
-BumpPlace ScanBump(const ProposalContext& context, const Eigen::VectorXd& m);
+/// `m` the multiplier's column (N); `kinetic` (N) for a mass times the bump, ½v², which multiplies the bump's slope
+/// (Lagrange: M(x)·a + ½M′(x)·v²; on a pass through the stretch at constant speed that term is all there is), else
+/// null. Throws nothing; explained 0 when the position does not move.
+BumpPlace ScanBump(const ProposalContext& context, const Eigen::VectorXd& m, const Eigen::VectorXd* kinetic = nullptr);
 
 /// A proposed position period of at least 16 cycles in the travel that holds at least 2 % of the residual's variance: a
 /// ripple that a smooth function of the position (position_dependent_force, friction_along_travel) would only blur, so

@@ -80,6 +80,33 @@ std::vector<double> TrialErrors(const RegressorMatrix& m, const BlockGrams& gram
   return mse;
 }
 
+// The candidate that `pick` nests (EffectTraits::nests_constant_pair: its multiplier × 1), when it is among the
+// candidates, not used, worth choosing itself (its held-out gain over `mse_last` reaches min_gain), and `pick`'s gain
+// over it is not significant; else `pick`.
+std::size_t NestedUnlessSignificant(const RegressorMatrix& m, const BlockGrams& grams, const DiagnosisOptions& options,
+                                    const std::vector<Eigen::Index>& selected, const std::vector<bool>& used,
+                                    const std::vector<double>& mse, double mse_last, std::size_t pick,
+                                    std::vector<std::string>* notes) {
+  const EffectType& type = *m.cands[pick].type;
+  if (!type.traits.nests_constant_pair || !(options.significance_t > 0.0)) return pick;
+  const EffectType* nested = EffectRegistry::Global().FindPair(type.multiplier, "constant");
+  if (nested == nullptr) return pick;
+  for (std::size_t c = 0; c < m.cands.size(); ++c) {
+    if (used[c] || !std::isfinite(mse[c]) || m.cands[c].effect.name != nested->name) continue;
+    if (!(mse_last > 0.0) || 1.0 - mse[c] / mse_last < options.min_gain) return pick;
+    std::vector<Eigen::Index> smaller = selected, larger = selected;
+    smaller.insert(smaller.end(), m.cands[c].idx.begin(), m.cands[c].idx.end());
+    larger.insert(larger.end(), m.cands[pick].idx.begin(), m.cands[pick].idx.end());
+    const double t = GainSignificance(m, grams, smaller, larger, options.significance_batches);
+    if (t >= options.significance_t) return pick;
+    notes->push_back(fmt::format("{} not chosen over {}, whose columns it holds: its held-out gain over it is not "
+                                 "significant (Diebold–Mariano t = {:.2f} < {:.2f})",
+                                 m.cands[pick].effect.name, nested->name, t, options.significance_t));
+    return c;
+  }
+  return pick;
+}
+
 }  // namespace
 
 Selection StartSelection(const BlockGrams& grams, Eigen::Index p) {
@@ -129,7 +156,8 @@ bool AddBestEffect(const RegressorMatrix& m, const BlockGrams& grams, const Diag
       if (!(*used)[c]) best_mse = std::min(best_mse, mse[c]);
     }
     if (!std::isfinite(best_mse)) return false;
-    const std::size_t pick = PickByBic(m, grams, s->selected, mse, *used, best_mse);
+    const std::size_t pick = NestedUnlessSignificant(m, grams, options, s->selected, *used, mse, s->mse_last,
+                                                     PickByBic(m, grams, s->selected, mse, *used, best_mse), notes);
     const double gain = s->mse_last > 0.0 ? 1.0 - mse[pick] / s->mse_last : 0.0;
     if (!(gain >= options.min_gain) || gain <= 0.0) return false;
     std::vector<Eigen::Index> trial = s->selected;

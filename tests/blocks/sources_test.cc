@@ -78,6 +78,24 @@ TEST(SwitchedGainTest, ZeroBeforeTheTimeThenGainTimesTheInput) {
   }
 }
 
+// With an off_time it is a window: gain·u from time until off_time, 0 before and after (a payload carried and set
+// down), each switch a located event (CVODE stops at both); an off_time not after the time is refused.
+TEST(SwitchedGainTest, AnOffTimeMakesAWindow) {
+  const json j = MakeDiagram({Element("u", "constant", {{"value", 3.0}}),
+                              Element("g", "switched_gain", {{"gain", 31.0}, {"time", 0.25}, {"off_time", 0.65}})},
+                             {Connect("u.y", "g.u")}, {"g.y"}, 1.0, 0.05);
+  const auto r = Simulator(Build(j)).Run();
+  const auto& y = r.log.Column("g.y");
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    const double t = r.log.time[i];
+    EXPECT_EQ(y[i], t >= 0.25 - 1e-12 && t < 0.65 - 1e-12 ? 93.0 : 0.0) << "t = " << t;
+  }
+  const json backwards = MakeDiagram({Element("u", "constant", {{"value", 3.0}}),
+                                      Element("g", "switched_gain", {{"gain", 1.0}, {"time", 0.5}, {"off_time", 0.5}})},
+                                     {Connect("u.y", "g.u")}, {"g.y"}, 1.0, 0.05);
+  EXPECT_THAT(BuildError(backwards), HasSubstr("off_time 0.5 s must lie after time 0.5 s"));
+}
+
 TEST(SineTest, MatchesClosedForm) {
   const double A = 1.5, f = 2.0, phi = 0.3, b = -0.25;
   const json j = MakeDiagram(

@@ -1,8 +1,11 @@
-// bench_grammar [--draws=300] [--noise=50] [--first-seed=1] [--compare-only] [--out=DIR] [--verbose]: the grammar-draw
-// benchmark (issue 45, item 6; tests/diagnosis/grammar_bench.h). Runs the draws of seeds first-seed … first-seed +
-// draws − 1 and the noise-only draws kNoiseOnlySeedBase + 1 … + noise, prints each draw's progress on stderr and the
-// report (Markdown) on stdout; writes results.csv and confusion.csv to DIR (out/bench-grammar). --verbose: each draw's
-// named effects with their scores and compare's notes on stderr. `make bench-grammar` builds it in Release and runs it.
+// bench_grammar [--draws=300] [--noise=50] [--first-seed=1] [--seeds=S1,S2,…] [--compare-only] [--out=DIR] [--verbose]:
+// the grammar-draw benchmark (issue 45, item 6; tests/diagnosis/grammar_bench.h). Runs the draws of seeds first-seed …
+// first-seed + draws − 1 (or those of --seeds, to rerun one cluster of the confusion table) and the noise-only draws
+// kNoiseOnlySeedBase + 1 … + noise, prints each draw's progress on stderr and the report (Markdown) on stdout; writes
+// results.csv and confusion.csv to DIR (out/bench-grammar). --verbose: each draw's named effects with their scores and
+// compare's notes on stderr. `make bench-grammar` builds it in Release and runs it.
+#include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <exception>
 #include <filesystem>
@@ -18,6 +21,24 @@
 
 namespace {
 
+// "3,17,42" → {3, 17, 42}; throws std::invalid_argument naming the bad item.
+std::vector<unsigned> ParseSeeds(const std::string& list) {
+  std::vector<unsigned> seeds;
+  std::size_t begin = 0;
+  while (begin <= list.size()) {
+    const std::size_t end = std::min(list.find(',', begin), list.size());
+    const std::string item = list.substr(begin, end - begin);
+    unsigned seed = 0;
+    const auto [ptr, ec] = std::from_chars(item.data(), item.data() + item.size(), seed);
+    if (ec != std::errc() || ptr != item.data() + item.size() || item.empty()) {
+      throw std::invalid_argument("--seeds: '" + item + "' is not a seed (a list of whole numbers: --seeds=3,17,42)");
+    }
+    seeds.push_back(seed);
+    begin = end + 1;
+  }
+  return seeds;
+}
+
 void Write(const std::filesystem::path& path, const std::string& text) {
   std::ofstream file(path);
   file << text;
@@ -31,6 +52,7 @@ int main(int argc, char** argv) {
   std::string out = "out/bench-grammar";
   int draws = 300, noise = 50;
   unsigned first = 1;
+  std::vector<unsigned> seeds;
   bool improve = true, verbose = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -40,10 +62,18 @@ int main(int argc, char** argv) {
     else if (a.rfind("--draws=", 0) == 0) draws = std::stoi(a.substr(8));
     else if (a.rfind("--noise=", 0) == 0) noise = std::stoi(a.substr(8));
     else if (a.rfind("--first-seed=", 0) == 0) first = static_cast<unsigned>(std::stoul(a.substr(13)));
-    else {
+    else if (a.rfind("--seeds=", 0) == 0) {
+      try {
+        seeds = ParseSeeds(a.substr(8));
+      } catch (const std::invalid_argument& e) {
+        std::cerr << "bench_grammar: " << e.what() << "\n";
+        return 2;
+      }
+      draws = static_cast<int>(seeds.size());
+    } else {
       std::cerr << "bench_grammar: unknown argument '" << a
-                << "'; usage: bench_grammar [--draws=300] [--noise=50] [--first-seed=1] [--compare-only] [--out=DIR] "
-                   "[--verbose]\n";
+                << "'; usage: bench_grammar [--draws=300] [--noise=50] [--first-seed=1] [--seeds=S1,S2,…] "
+                   "[--compare-only] [--out=DIR] [--verbose]\n";
       return 2;
     }
   }
@@ -53,7 +83,8 @@ int main(int argc, char** argv) {
     for (int i = 0; i < total; ++i) {
       const bool noise_only = i >= draws;
       const unsigned seed = noise_only ? g::kNoiseOnlySeedBase + static_cast<unsigned>(i - draws + 1)
-                                       : first + static_cast<unsigned>(i);
+                                       : seeds.empty() ? first + static_cast<unsigned>(i)
+                                                       : seeds[static_cast<std::size_t>(i)];
       const auto t0 = std::chrono::steady_clock::now();
       const g::GrammarDraw draw = g::Draw(seed);
       g::DrawResult r;

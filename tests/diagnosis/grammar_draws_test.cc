@@ -53,5 +53,20 @@ TEST(GrammarDraws, AQuickSubsetIsNamedAndTheNoiseOnlyDrawNamesNothing) {
   std::filesystem::remove_all(folder);
 }
 
+// A multiplier that is no parameter of the base carries its constant part in each of its pairs (MultiplierRow::
+// own_level), and the pair is chosen over that constant alone only where its modulation is significant. Seed 26 hides a
+// friction of the transmitted force drifting from −a to +a over the record: without the level the ramp from 0 to 1
+// cannot fit it and the pair was named as the force constant's drift. Seed 2 hides a quadratic drag constant over the
+// record: with the level, a drag drifting by next to nothing fits the noise a little better and was named first.
+TEST(GrammarDraws, APairCarriesItsMultipliersConstantPartAndMustEarnItsModulation) {
+  const std::filesystem::path folder = std::filesystem::temp_directory_path() / "mb_grammar_level_test";
+  for (unsigned seed : {26u, 2u}) {
+    const GrammarDraw draw = Draw(seed);
+    const DrawResult r = RunDraw(draw, folder / std::to_string(seed), false);
+    EXPECT_TRUE(r.named_right) << draw.Describe() << " -> " << r.named_pair;
+  }
+  std::filesystem::remove_all(folder);
+}
+
 }  // namespace
 }  // namespace mb::grammar

@@ -236,6 +236,12 @@ Endpoint ModelForceEnd(const DiagramDocument& out, const std::string& output, co
 // gets what the product's description calls it.
 Endpoint Factor(DiagramDocument* out, const MotionMultiplier& multiplier, const DiagnosedEffect& effect,
                 const std::string& name, const std::optional<Endpoint>& force, std::string* factor_name) {
+  if (multiplier.one) {
+    const std::string one = out->Add({name + "_one", "constant", {{"value", 1.0}}, std::nullopt,
+                                      fmt::format("the factor 1 that '{}' schedules in time", name)});
+    *factor_name = "one";
+    return out->OutputOf(one);
+  }
   Endpoint source;
   if (multiplier.of_model_force) {
     source = *force;
@@ -319,6 +325,26 @@ void TakeOver(DiagramDocument* out, const std::string& replaced, const std::stri
   out->AppendNote(fmt::format(" '{}' takes over {} (now 0, no longer refit).", by, replaced));
 }
 
+// The level a pair carries as a column of its own (EffectTraits::nests_constant_pair, MultiplierRow::own_level): its
+// multiplier × 1, a pair with a block of its own, with the level's coefficient; nullopt when the effect has none (a
+// pair without a level, or a diagnosis made before the pairs carried it).
+std::optional<DiagnosedEffect> LevelOf(const DiagnosedEffect& effect) {
+  const EffectType& type = LookupEffect(effect.effect);
+  if (!type.traits.nests_constant_pair) return std::nullopt;
+  const EffectType* constant = EffectRegistry::Global().FindPair(type.multiplier, "constant");
+  const auto column = std::find(effect.column_names.begin(), effect.column_names.end(), effect.effect + ".level");
+  if (constant == nullptr || column == effect.column_names.end()) return std::nullopt;  // a diagnosis made before
+  DiagnosedEffect level = effect;
+  level.effect = constant->name;
+  level.modulator = "constant";
+  level.column_names = {constant->name};
+  level.coefficients = Eigen::VectorXd::Constant(1, BlockCoefficient(effect, "level"));
+  level.coefficient_std.resize(0);
+  level.replaced_parameter.clear();
+  level.description = fmt::format("the level of {}: {} × 1", effect.effect, type.multiplier);
+  return level;
+}
+
 }  // namespace
 
 json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, const std::string& output) {
@@ -361,6 +387,9 @@ json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, c
   for (const auto& f : block.free) out.AddFreeParameter(name + "." + f);
   if (!effect.replaced_parameter.empty()) TakeOver(&out, effect.replaced_parameter, name);
   out.AppendNote(fmt::format(" Amended by motionblocks compare --suggest: added '{}' ({}).", name, effect.effect));
+  if (const std::optional<DiagnosedEffect> level = LevelOf(effect)) {
+    return SuggestAmendedDiagram(out.json(), *level, output);
+  }
   return out.json();
 }
 

@@ -30,6 +30,7 @@
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
 #include "models/diagnosis/factors.h"
+#include "models/diagnosis/loop_response.h"
 
 namespace mb {
 namespace {
@@ -43,15 +44,21 @@ constexpr double kConstantMultiplier = 1e-2;
 // replacement changes the base's law and leaves ŷ carrying the old one back in.
 constexpr double kInTheBase = 0.999;
 
-// Whether the base's columns (with a constant) reproduce every one of `columns` to kInTheBase of its sum of squares.
-bool IsTheBase(const ProposalContext& c, const Eigen::MatrixXd& columns) {
+// A multiplier's column that the base reproduces to this share is the base's (DiagnosisOptions::redundant_with_base):
+// its pairs carry no level of their own (MultiplierRow::own_level) — a column that is the base's but for its last
+// percent fits whatever that percent holds (|ŷ|·sign(v) is 99.8 % a Coulomb level where friction dominates ŷ, and its
+// rest is ŷ's own ripple: a vibration of the Coulomb level was named a load friction drifting).
+constexpr double kLevelInTheBase = 0.98;
+
+// Whether the base's columns (with a constant) reproduce every one of `columns` to `share` of its sum of squares.
+bool IsTheBase(const ProposalContext& c, const Eigen::MatrixXd& columns, double share = kInTheBase) {
   const Eigen::MatrixXd base = c.BaseWithConstant();
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(base);
   for (Eigen::Index j = 0; j < columns.cols(); ++j) {
     const double total = columns.col(j).squaredNorm();
     if (!(total > 0.0)) continue;
     const Eigen::VectorXd left = columns.col(j) - base * qr.solve(columns.col(j));
-    if (left.squaredNorm() > (1.0 - kInTheBase) * total) return false;
+    if (left.squaredNorm() > (1.0 - share) * total) return false;
   }
   return true;
 }
@@ -85,6 +92,19 @@ struct Pair {
   bool named_before = false;  ///< one of kAliases: proposed even without CatalogueOptions::every_pair
 };
 
+// Whether the pair may carry its multiplier's constant part as a column of its own (MultiplierRow::own_level): for a
+// modulator with a mean, not for a periodic one (zero mean over its cycles) nor for the constant (it is the level).
+// Each proposal says whether it does (its parameter "own_level": not where the base reproduces the multiplier).
+bool HasOwnLevel(const Pair& p) {
+  return p.multiplier->own_level && p.modulator->periodicity == Periodicity::kNone &&
+         p.modulator->id != std::string_view("constant");
+}
+
+bool CarriesLevel(const Pair& p, const FactorParameters& parameters) {
+  const auto it = parameters.find("own_level");
+  return HasOwnLevel(p) && it != parameters.end() && it->second == 1.0;
+}
+
 // The pair's columns on the signals with the direction of slip `slip` (N; unused unless the multiplier holds it).
 EffectRegressors Columns(const Pair& p, const FactorParameters& parameters, const DiagnosisSignals& s,
                          const Eigen::VectorXd& slip) {
@@ -94,7 +114,13 @@ EffectRegressors Columns(const Pair& p, const FactorParameters& parameters, cons
     return r;
   }
   const Eigen::VectorXd m = p.multiplier->column(s, slip, p.name);
-  return p.modulator->shape(parameters, s, p.name, &m);
+  EffectRegressors r = p.modulator->shape(parameters, s, p.name, &m);
+  if (CarriesLevel(p, parameters)) {
+    r.columns.conservativeResize(Eigen::NoChange, r.columns.cols() + 1);
+    r.columns.rightCols(1) = m;
+    r.column_names.push_back(p.name + ".level");
+  }
+  return r;
 }
 
 bool TravelsBothWays(const ProposalContext& c) {
@@ -123,7 +149,20 @@ void Propose(const Pair& p, ProposalContext& c) {
       return;
     }
   }
-  for (FactorParameters parameters : p.modulator->scan(c, m, p.name)) {
+  // A pair with its own level is scanned beside it: the break, the bump or the warm-up is found on what the level
+  // (the multiplier's constant part, at the loop's output in simulation mode) leaves.
+  const bool level = HasOwnLevel(p) && !IsTheBase(c, m, kLevelInTheBase);
+  Eigen::MatrixXd with_level;
+  if (level) {
+    with_level.resize(c.size(), c.base_columns().cols() + 1);
+    with_level << c.base_columns(), c.loop() != nullptr ? c.loop()->Apply(m).col(0).eval() : m;
+  }
+  ProposalContext scan_context = level ? c.WithBase(with_level) : c;
+  Eigen::VectorXd kinetic;  // a mass times a factor of the position: ½v² times the factor's slope (Lagrange)
+  if (p.multiplier->lagrange && p.modulator->of_position) kinetic = 0.5 * s.velocity.array().square().matrix();
+  for (FactorParameters parameters :
+       p.modulator->scan(scan_context, m, kinetic.size() > 0 ? &kinetic : nullptr, p.name)) {
+    if (HasOwnLevel(p)) parameters["own_level"] = level ? 1.0 : 0.0;
     if (p.multiplier->slip) {
       parameters["slip_velocity"] = BestSlipVelocity(
           c, [&](const Eigen::VectorXd& slip) { return Columns(p, parameters, s, slip).columns; });
@@ -152,7 +191,13 @@ EffectType PairEffect(const Pair& p, int catalogue_order) {
   t.regressor_formula = fmt::format("{} × {}", m.formula, mod.formula);
   t.parameters = mod.parameters;
   if (m.slip) t.parameters.push_back({"slip_velocity", "m/s", "v_s: the direction of slip is tanh(v/v_s)"});
+  if (HasOwnLevel(p)) {
+    t.parameters.push_back({"own_level", "",
+                            "1 when the pair carries its multiplier's constant part as a column of its own (the "
+                            "base has none), 0 when the base's refit takes it"});
+  }
   t.traits.periodicity = mod.periodicity;
+  t.traits.nests_constant_pair = HasOwnLevel(p);
   if (mod.refine) mod.refine(&t.traits);
   t.regressors = [p](const EffectInstance& e, const DiagnosisSignals& s) {
     const Eigen::VectorXd slip = p.multiplier->slip

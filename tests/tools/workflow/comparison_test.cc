@@ -16,6 +16,8 @@
 #include "engine/diagram_loader.h"
 #include "engine/simulator.h"
 #include "models/diagnosis/diagnosis.h"
+#include "models/diagnosis/effect_block.h"
+#include "models/diagnosis/effect_registry.h"
 #include "tools/workflow/comparison.h"
 #include "tools/workflow/measurement.h"
 #include "tools/workflow/suggest.h"
@@ -146,8 +148,8 @@ TEST(SuggestTest, ASmoothCoulombLawTakesOverTheModelsCoulombLevel) {
 
 // A pair of the grammar without a block of its own (issue 45, item 5) is added as the block of one × its modulator times
 // its multiplier: a force over one stretch growing with |v| is the stretch's table times an abs block of the velocity,
-// multiplied in a product element. The amended diagram runs. A pair whose modulator has no block yet (a window in time)
-// or that is a mass of the position has none, and says so.
+// multiplied in a product element. The amended diagram runs. A pair that is a mass over a stretch or along the travel
+// has none yet, and says so.
 TEST(SuggestTest, AGeneratedPairIsTheBlockOfItsModulatorTimesItsMultiplier) {
   const auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
   DiagnosedEffect local = OneColumnEffect("local_speed_force", {{"center", 0.1}, {"half_width", 0.02}}, 40.0);
@@ -197,7 +199,22 @@ TEST(SuggestTest, AGeneratedPairIsTheBlockOfItsModulatorTimesItsMultiplier) {
   const auto dragged = with_drag.Simulate().front();
   EXPECT_NEAR(dragged.model(k) - before.model(k), 40.0 * v(k) * std::abs(v(k)), 0.05 * 40.0 * v(k) * v(k));
 
-  for (const char* none : {"damping_window", "inertia_along_travel"}) {
+  // A window in time is the payload's switched gain with an off time; a force of time alone (1 × a time shape) feeds
+  // the gain scheduled in time the constant 1.
+  DiagnosedEffect window = OneColumnEffect("force_window", {{"on_time", 2.0}, {"off_time", 5.0}}, 7.0);
+  const DiagramDocument windowed(SuggestAmendedDiagram(diagram, window, "force"));
+  ASSERT_TRUE(windowed.Has("force_window"));
+  EXPECT_TRUE(windowed.Has("force_window_one"));
+  ModelComparison with_window(windowed.json(), kEmps, "windowed.json", *log, {});
+  const auto in_window = with_window.Simulate().front();
+  for (Eigen::Index i = 0; i < t.size(); ++i) {
+    const bool on = t(i) >= 2.0 + 1e-6 && t(i) < 5.0 - 1e-6, off = t(i) < 2.0 - 1e-6 || t(i) >= 5.0 + 1e-6;
+    if (on) EXPECT_NEAR(in_window.model(i) - before.model(i), 7.0, 1e-9) << "t = " << t(i);
+    if (off) EXPECT_NEAR(in_window.model(i) - before.model(i), 0.0, 1e-9) << "t = " << t(i);
+  }
+  EXPECT_TRUE(BlockFor(LookupEffect("damping_window")).has_value()) << "every multiplier × a window";
+
+  for (const char* none : {"local_inertia", "inertia_along_travel"}) {
     DiagnosedEffect e;
     e.effect = none;
     try {
@@ -207,6 +224,36 @@ TEST(SuggestTest, AGeneratedPairIsTheBlockOfItsModulatorTimesItsMultiplier) {
       EXPECT_THAT(error.what(), HasSubstr(std::string("no block for effect '") + none + "' yet"));
     }
   }
+}
+
+// A pair whose multiplier is no parameter of the base carries its constant part as a column of its own (a force of |v|
+// over one stretch on top of one everywhere: MultiplierRow::own_level); the amended diagram adds it as that
+// multiplier's own pair, |v| × 1 — the constant block times the same abs block — its value free. The diagram runs.
+TEST(SuggestTest, APairsOwnLevelIsAddedAsItsMultiplierTimesOne) {
+  const auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
+  DiagnosedEffect local = OneColumnEffect("local_speed_force", {{"center", 0.1}, {"half_width", 0.02}}, 40.0);
+  local.column_names.push_back("local_speed_force.level");
+  local.coefficients = Eigen::Vector2d(40.0, 3.0);
+  const DiagramDocument amended(SuggestAmendedDiagram(diagram, local, "force"));
+  ASSERT_TRUE(amended.Has("local_speed_force"));
+  ASSERT_TRUE(amended.Has("speed_force"));
+  EXPECT_TRUE(amended.Has("speed_force_abs"));
+  EXPECT_EQ(amended.Parameter("speed_force", "value"), 3.0);
+  EXPECT_THAT(amended.FreeParameters(), ::testing::Contains("speed_force.value"));
+  const auto log = std::make_shared<MeasurementLog>(
+      ReadMeasurementFor(diagram, (kEmps / "data" / "DATA_EMPS.csv").string(), MeasurementSettings{}));
+  ModelComparison base(diagram, kEmps, "rigid_body.json", *log, {});
+  ModelComparison with_effect(amended.json(), kEmps, "amended.json", *log, {});
+  const auto before = base.Simulate().front(), after = with_effect.Simulate().front();
+  const Eigen::VectorXd x = log->column("position_m"), v = log->column("velocity_m_s");
+  Eigen::Index at_peak = 0, away = 0;  // the fastest passes within 1 mm of the stretch's centre and outside it
+  (((x.array() - 0.1).abs() < 1e-3).cast<double>() * v.array().abs()).maxCoeff(&at_peak);
+  (((x.array() - 0.1).abs() > 0.03).cast<double>() * v.array().abs()).maxCoeff(&away);
+  ASSERT_GT(std::abs(v(at_peak)), 0.01);
+  ASSERT_GT(std::abs(v(away)), 0.01);
+  const double at_peak_speed = std::abs(v(at_peak));
+  EXPECT_NEAR(after.model(at_peak) - before.model(at_peak), 43.0 * at_peak_speed, 0.05 * 43.0 * at_peak_speed);
+  EXPECT_NEAR(after.model(away) - before.model(away), 3.0 * std::abs(v(away)), 0.05 * 3.0 * std::abs(v(away)));
 }
 
 // A Stribeck hump whose diagnosed level is negative (EMPS: −3.7 N, its friction below the sign(v) law at low speed) is
