@@ -13,6 +13,8 @@
 #include <cmath>
 #include <limits>
 
+#include <boost/math/distributions/normal.hpp>
+
 #include <fmt/format.h>
 
 #include "models/diagnosis/effect_registry.h"
@@ -107,6 +109,15 @@ std::size_t NestedUnlessSignificant(const RegressorMatrix& m, const BlockGrams& 
   return pick;
 }
 
+// The one-sided t a gain must reach among `candidates` tried at once: the normal quantile of 1 − p/candidates, p the
+// one-sided tail of `t_single` (Bonferroni; DiagnosisOptions::significance_t). `t_single` for one candidate or none.
+double FamilyWiseT(double t_single, std::size_t candidates) {
+  if (candidates <= 1) return t_single;
+  const boost::math::normal normal;
+  const double p = boost::math::cdf(boost::math::complement(normal, t_single));
+  return boost::math::quantile(boost::math::complement(normal, p / static_cast<double>(candidates)));
+}
+
 }  // namespace
 
 Selection StartSelection(const BlockGrams& grams, Eigen::Index p) {
@@ -174,11 +185,13 @@ bool AddBestEffect(const RegressorMatrix& m, const BlockGrams& grams, const Diag
     }
     if (options.significance_t > 0.0 && gain < options.significance_exempt_gain) {
       const double t = GainSignificance(m, grams, s->selected, trial, options.significance_batches);
-      if (t < options.significance_t) {
+      const std::size_t family = std::max(s->family, m.cands.size());
+      const double needed = FamilyWiseT(options.significance_t, family);
+      if (t < needed) {
         notes->push_back(fmt::format(
             "{} not chosen: its held-out gain ({:.1f} %) is not significant against the residual's autocorrelation "
-            "(Diebold–Mariano t = {:.2f} < {:.2f} over {} batches)",
-            m.cands[pick].effect.name, 100.0 * gain, t, options.significance_t, options.significance_batches));
+            "(Diebold–Mariano t = {:.2f} < {:.2f} over {} batches, for {} candidates)",
+            m.cands[pick].effect.name, 100.0 * gain, t, needed, options.significance_batches, family));
         s->set_aside.push_back(pick);
         continue;
       }

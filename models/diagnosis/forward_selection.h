@@ -25,6 +25,10 @@ struct Selection {
   // Held-out MSE below which a candidate fits the noise (DiagnosisOptions::leak_floor_ratio × the noise floor, squared);
   // 0 = no check.
   double leak_mse = 0.0;
+  // How many candidates the search this selection belongs to tried (0 = its own matrix's): the family-wise
+  // significance counts them (DiagnosisOptions::significance_t) — a candidate tried again alone after its parameter was
+  // re-estimated is still one of the search's ~100, not a family of one.
+  std::size_t family = 0;
 };
 
 // A selection holding the base's p columns.

@@ -281,6 +281,7 @@ std::vector<EffectInstance> ChosenInstances(const Ranking& ranking) {
 
 void InstallRefined(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols, const DiagnosisOptions& options,
                     std::size_t laws, const Eigen::VectorXd& weights, RegressorMatrix m, Selection s, Ranking* out) {
+  s.family = std::max({s.family, out->chosen.family, out->m.cands.size()});  // the search's, not the refit's few
   out->law_columns = base_cols;
   for (std::size_t i = 0; i < laws; ++i) {
     const Eigen::Index k = out->law_columns.cols(), kc = static_cast<Eigen::Index>(m.cands[i].idx.size());
@@ -352,6 +353,7 @@ void RetrySetAside(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_
     const BlockGrams grams(m, options.folds);
     Selection s = SelectInOrder(m, grams, base_cols.cols(), m.cands.size() - 1);
     s.leak_mse = out->chosen.leak_mse;
+    s.family = std::max(out->chosen.family, out->m.cands.size());
     std::vector<bool> used(m.cands.size(), true);
     used.back() = false;
     const bool chosen = AddBestEffect(m, grams, options, &used, &s, &trial_notes);
@@ -361,6 +363,14 @@ void RetrySetAside(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_
                                           m.cands.back().effect.parameters.at(parameter));
     if (!chosen) {
       notes->push_back(refit + ": not chosen" + (trial_notes.empty() ? "" : " (" + trial_notes.back() + ")"));
+      continue;
+    }
+    // Its gain is over the others refit jointly with it; it must beat the ranking as it stands too, else the gain came
+    // from moving the others' parameters (a law's v_c walked off to make room), not from the candidate.
+    if (!(s.mse_last <= (1.0 - options.min_gain) * out->chosen.mse_last)) {
+      notes->push_back(fmt::format("{}: not chosen (held-out MSE {:.4g} against {:.4g} for the effects chosen without "
+                                   "it: its gain came from re-estimating the others)",
+                                   refit, s.mse_last, out->chosen.mse_last));
       continue;
     }
     notes->push_back(fmt::format("{}: chosen, held-out gain {:.1f} %", refit, 100.0 * s.scores.back()));

@@ -147,6 +147,10 @@ DrawResult RunDraw(const GrammarDraw& draw, const fs::path& directory, bool run_
   r.heldout_before = improved.first().rmse_heldout;
   r.heldout_after = improved.last_accepted().rmse_heldout;
   r.floor_reached = r.heldout_after >= 0.7 * r.noise_floor && r.heldout_after <= 1.3 * r.noise_floor;
+  for (const ImproveStep& step : improved.steps) {
+    if (step.round > 0) r.details.push_back(fmt::format("improve round {}: {}: {}", step.round, step.effect, step.verdict));
+  }
+  r.details.push_back("improve stopped: " + improved.stop_reason);
   return r;
 }
 

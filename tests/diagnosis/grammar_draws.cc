@@ -85,7 +85,7 @@ class ColumnSignal {
   }
 
   bool present() const { return column_ != nullptr; }
-  double mean() const { return mean_; }
+  double reference() const { return column_->Reference(); }
   double half_range() const { return half_range_; }
 
   double Value(double t) const {
@@ -246,7 +246,7 @@ std::pair<double, double> Modulator(const GrammarDraw& d, const RunContext& c, d
     if (s.smooth_kind == 1) return {z * z, 2.0 * z / s.smooth_scale};
     return {std::exp(z), std::exp(z) / s.smooth_scale};
   }
-  if (m == "column") return {c.active.Value(t) - c.active.mean(), 0.0};
+  if (m == "column") return {c.active.Value(t) - c.active.reference(), 0.0};
   if (m == "column_rate") return {c.active.Rate(t), 0.0};
   if (m == "time_ramp") return {2.0 * t / d.duration - 1.0, 0.0};
   if (m == "time_step") return {t >= s.change_time ? 1.0 : 0.0, 0.0};
@@ -260,7 +260,7 @@ std::pair<double, double> Modulator(const GrammarDraw& d, const RunContext& c, d
 double ThirdFactor(const GrammarDraw& d, const RunContext& c, double t) {
   if (d.third_factor == "time") return 1.0 + d.third_depth * (2.0 * t / d.duration - 1.0);
   if (d.third_factor == "column") {
-    return 1.0 + d.third_depth * (c.third.Value(t) - c.third.mean()) / std::max(c.third.half_range(), 1e-12);
+    return 1.0 + d.third_depth * (c.third.Value(t) - c.third.reference()) / std::max(c.third.half_range(), 1e-12);
   }
   return 1.0;
 }

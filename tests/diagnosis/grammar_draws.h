@@ -75,6 +75,13 @@ struct Column {
   // voltage's ripple [V] about offset).
   std::vector<double> amplitude, frequency, phase;
   double offset = 0.0;
+  /// The column's nominal value, what a factor of it is measured from: the middle of a temperature's range, the bus
+  /// voltage's offset, the other axis at rest (0). Fixed for the machine: a mass or a friction that follows a
+  /// temperature does not know a record's mean (each record's own mean made the effect differ between the training and
+  /// the validation record by more than physics would).
+  double Reference() const {
+    return kind == Kind::kTemperature ? ambient + 0.5 * rise : kind == Kind::kBusVoltage ? offset : 0.0;
+  }
 };
 
 /// The modulator's shape (only the fields of the drawn modulator are set).

@@ -304,18 +304,18 @@ struct ResidualFunctor {
     return 0;
   }
 
-  // The forward-difference Jacobian of Eigen::NumericalDiff (the same steps h = √ε·|x_j|, or √ε at 0, hence the
-  // same numbers), with its p + 1 runs in parallel: each is an independent simulation of its own copy of the
-  // diagram. Returns the evaluations made, which Levenberg–Marquardt counts against maxfev.
+  // The forward-difference Jacobian with steps h = √ε·max(|x_j|, 1) (SI units; as OutputJacobian's), its p + 1 runs in
+  // parallel: each is an independent simulation of its own copy of the diagram. Not Eigen::NumericalDiff's √ε·|x_j|:
+  // a parameter the fit drives towards 0 (a Coulomb level of 2e-8 N beside a Stribeck law) got a step of 3e-16, whose
+  // output change is below the output's rounding, and the garbage column stalled Levenberg–Marquardt at its evaluation
+  // limit far from the optimum (a quadratic drag's refit ended 11 × above the noise floor). Returns the evaluations
+  // made, which Levenberg–Marquardt counts against maxfev.
   int df(const Eigen::VectorXd& x, Eigen::MatrixXd& jac) const {
     const Eigen::Index p = x.size();
     const double eps = std::sqrt(std::numeric_limits<double>::epsilon());
     std::vector<Eigen::VectorXd> f(static_cast<std::size_t>(p + 1), Eigen::VectorXd(values()));
     Eigen::VectorXd h(p);
-    for (Eigen::Index j = 0; j < p; ++j) {
-      const double step = eps * std::abs(x(j));
-      h(j) = step == 0.0 ? eps : step;
-    }
+    for (Eigen::Index j = 0; j < p; ++j) h(j) = eps * std::max(std::abs(x(j)), 1.0);
     tbb::parallel_for(Eigen::Index{0}, p + 1, [&](Eigen::Index j) {
       Eigen::VectorXd trial = x;
       if (j < p) trial(j) += h(j);
