@@ -51,6 +51,7 @@ using diagnosis_detail::RetrySetAside;
 using diagnosis_detail::RobustWeights;
 using diagnosis_detail::SelectEffects;
 using diagnosis_detail::Selection;
+using diagnosis_detail::SearchedCount;
 using diagnosis_detail::SetAsideForRetry;
 using diagnosis_detail::StartSelection;
 using diagnosis_detail::Summarise;
@@ -199,7 +200,7 @@ Ranking RankEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base
               std::find(out.chosen.order.begin(), out.chosen.order.end(), c) != out.chosen.order.end();
   }
   SelectEffects(out.m, *out.grams, used, options, &out.chosen, &result->notes);
-  out.chosen.family = out.m.cands.size();  // the retries and refits below keep the search's family-wise significance
+  out.chosen.family = SearchedCount(out.m);  // the retries and refits below keep the search's family-wise significance
   const std::vector<EffectInstance> retry = SetAsideForRetry(out);
   KeepChosenOnly(&out);
   RefineChosenEffects(signals, base_cols, options, law.effects.size(), &out, &result->notes);

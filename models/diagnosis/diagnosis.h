@@ -81,9 +81,10 @@ struct DiagnosisOptions {
   // autocorrelation — a Diebold–Mariano test (Diebold & Mariano 1995) on the per-sample held-out loss differences,
   // the variance of their mean from significance_batches contiguous batch means (the effective sample size is then
   // about the number of batches, whatever the residual's correlation time below N/batches). One-sided t at least
-  // this (2.33: p ≈ 0.01) — for one candidate; among m candidates tried in a round, the t whose one-sided normal tail
-  // is p/m (Bonferroni: the family-wise chance that noise passes stays p; 3.72 for 100 candidates), so a grammar of
-  // ~100 pairs, each with its shape scanned on the record, does not find one that fits the noise by luck. 0 = off.
+  // this (2.33: p ≈ 0.01) for an effect of the catalogue or a pair named before; for a pair the grammar's search
+  // proposes (EffectType::searched), among m such candidates, the t whose one-sided normal tail is p/m (Bonferroni:
+  // the family-wise chance that noise passes stays p; 3.72 for 100), so that a search over ~100 pairs, each with its
+  // shape scanned on the record, does not find one that fits the noise by luck. 0 = off.
   double significance_t = 2.33;
   Eigen::Index significance_batches = 40;
   // A gain of at least this share of the held-out residual energy needs no test: noise fitted by a column does not

@@ -175,6 +175,10 @@ struct EffectType {
   /// Made by the grammar's cross product (effects/factor_products.cc), not written by hand: it yields its pair to a
   /// hand-written effect registered with the same multiplier and modulator, before or after it.
   bool generated = false;
+  /// A pair of the grammar that no one named before (proposed only with CatalogueOptions::every_pair): one hypothesis
+  /// of a search over ~100, whose significance is family-wise over the searched candidates of the record
+  /// (DiagnosisOptions::significance_t), where the catalogue's effects and the named pairs are hypotheses of their own.
+  bool searched = false;
   /// The regressor columns (N × k, names "<effect>" or "<effect>.<column>") on the signals. Throws
   /// std::invalid_argument naming a missing or invalid parameter or an absent optional signal.
   std::function<EffectRegressors(const EffectInstance&, const DiagnosisSignals&)> regressors;

@@ -120,6 +120,11 @@ double FamilyWiseT(double t_single, std::size_t candidates) {
 
 }  // namespace
 
+std::size_t SearchedCount(const RegressorMatrix& m) {
+  return static_cast<std::size_t>(
+      std::count_if(m.cands.begin(), m.cands.end(), [](const Candidate& c) { return c.type->searched; }));
+}
+
 Selection StartSelection(const BlockGrams& grams, Eigen::Index p) {
   Selection s;
   for (Eigen::Index j = 0; j < p; ++j) s.selected.push_back(j);
@@ -185,13 +190,15 @@ bool AddBestEffect(const RegressorMatrix& m, const BlockGrams& grams, const Diag
     }
     if (options.significance_t > 0.0 && gain < options.significance_exempt_gain) {
       const double t = GainSignificance(m, grams, s->selected, trial, options.significance_batches);
-      const std::size_t family = std::max(s->family, m.cands.size());
+      const bool searched = m.cands[pick].type->searched;
+      const std::size_t family = searched ? std::max(s->family, SearchedCount(m)) : 1;
       const double needed = FamilyWiseT(options.significance_t, family);
       if (t < needed) {
         notes->push_back(fmt::format(
             "{} not chosen: its held-out gain ({:.1f} %) is not significant against the residual's autocorrelation "
-            "(Diebold–Mariano t = {:.2f} < {:.2f} over {} batches, for {} candidates)",
-            m.cands[pick].effect.name, 100.0 * gain, t, needed, options.significance_batches, family));
+            "(Diebold–Mariano t = {:.2f} < {:.2f} over {} batches{})",
+            m.cands[pick].effect.name, 100.0 * gain, t, needed, options.significance_batches,
+            searched ? fmt::format(", one of {} pairs searched", family) : ""));
         s->set_aside.push_back(pick);
         continue;
       }

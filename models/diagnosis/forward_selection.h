@@ -25,11 +25,15 @@ struct Selection {
   // Held-out MSE below which a candidate fits the noise (DiagnosisOptions::leak_floor_ratio × the noise floor, squared);
   // 0 = no check.
   double leak_mse = 0.0;
-  // How many candidates the search this selection belongs to tried (0 = its own matrix's): the family-wise
-  // significance counts them (DiagnosisOptions::significance_t) — a candidate tried again alone after its parameter was
-  // re-estimated is still one of the search's ~100, not a family of one.
+  // How many searched candidates (EffectType::searched) the search this selection belongs to tried (0 = its own
+  // matrix's): the family-wise significance counts them (DiagnosisOptions::significance_t) — a candidate tried again
+  // alone after its parameter was re-estimated is still one of the search's ~100, not a family of one.
   std::size_t family = 0;
 };
+
+// The candidates of `m` that the grammar's search proposed (EffectType::searched): the family of the family-wise
+// significance (Selection::family).
+std::size_t SearchedCount(const RegressorMatrix& m);
 
 // A selection holding the base's p columns.
 Selection StartSelection(const BlockGrams& grams, Eigen::Index p);

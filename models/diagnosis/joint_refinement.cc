@@ -281,7 +281,7 @@ std::vector<EffectInstance> ChosenInstances(const Ranking& ranking) {
 
 void InstallRefined(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols, const DiagnosisOptions& options,
                     std::size_t laws, const Eigen::VectorXd& weights, RegressorMatrix m, Selection s, Ranking* out) {
-  s.family = std::max({s.family, out->chosen.family, out->m.cands.size()});  // the search's, not the refit's few
+  s.family = std::max({s.family, out->chosen.family, SearchedCount(out->m)});  // the search's, not the refit's few
   out->law_columns = base_cols;
   for (std::size_t i = 0; i < laws; ++i) {
     const Eigen::Index k = out->law_columns.cols(), kc = static_cast<Eigen::Index>(m.cands[i].idx.size());
@@ -353,7 +353,7 @@ void RetrySetAside(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_
     const BlockGrams grams(m, options.folds);
     Selection s = SelectInOrder(m, grams, base_cols.cols(), m.cands.size() - 1);
     s.leak_mse = out->chosen.leak_mse;
-    s.family = std::max(out->chosen.family, out->m.cands.size());
+    s.family = std::max(out->chosen.family, SearchedCount(out->m));
     std::vector<bool> used(m.cands.size(), true);
     used.back() = false;
     const bool chosen = AddBestEffect(m, grams, options, &used, &s, &trial_notes);

@@ -39,6 +39,9 @@ struct FreeParameter {
   int index = -1;
   std::string name;
   std::string unit;
+  /// The bounds the block declares (ParamSpec::min/max; ±inf without): the fit keeps its trial values within them.
+  double lower = -std::numeric_limits<double>::infinity();
+  double upper = std::numeric_limits<double>::infinity();
 };
 
 /// Expands "block.param" names (a vector parameter gives one FreeParameter per entry) against the diagram JSON.

@@ -186,6 +186,7 @@ EffectType PairEffect(const Pair& p, int catalogue_order) {
   t.multiplier = m.id;
   t.modulator = mod.id;
   t.generated = true;
+  t.searched = !p.named_before;
   t.physics = *mod.phrase == '\0' ? fmt::format("{} ({})", m.phrase, m.physics)
                                   : fmt::format("{} {} ({}; {})", m.phrase, mod.phrase, m.physics, mod.physics);
   t.regressor_formula = fmt::format("{} × {}", m.formula, mod.formula);
