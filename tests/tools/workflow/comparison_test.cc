@@ -113,6 +113,16 @@ TEST_F(EmpsFixture, RigidBodyRefitFindsScrewLeadRippleAndAddingItLowersTheError)
   EXPECT_GT(rmse_base * rmse_base - rmse_effect * rmse_effect, 0.2);
 }
 
+// The diagram's force on the EMPS record (equation-error: from the measured motion), read for `diagram` once (`log`).
+ComparedOutput ForceOnEmps(const nlohmann::json& diagram, const MeasurementLog& log) {
+  return ModelComparison(diagram, kEmps, "diagram.json", log, {}).Simulate().front();
+}
+
+std::shared_ptr<MeasurementLog> EmpsLog(const nlohmann::json& diagram) {
+  return std::make_shared<MeasurementLog>(
+      ReadMeasurementFor(diagram, (kEmps / "data" / "DATA_EMPS.csv").string(), MeasurementSettings{}));
+}
+
 // A diagnosed effect of one regressor column, named as the effect, with its parameters and fitted coefficient: what
 // SuggestAmendedDiagram reads.
 DiagnosedEffect OneColumnEffect(const std::string& effect, std::map<std::string, double> parameters,
@@ -158,11 +168,8 @@ TEST(SuggestTest, AGeneratedPairIsTheBlockOfItsModulatorTimesItsMultiplier) {
   EXPECT_TRUE(amended.Has("local_speed_force_abs"));
   EXPECT_TRUE(amended.Has("local_speed_force_times_abs"));
   EXPECT_THAT(amended.FreeParameters(), ::testing::Contains("local_speed_force.table"));
-  const auto log = std::make_shared<MeasurementLog>(
-      ReadMeasurementFor(diagram, (kEmps / "data" / "DATA_EMPS.csv").string(), MeasurementSettings{}));
-  ModelComparison base(diagram, kEmps, "rigid_body.json", *log, {});
-  ModelComparison with_effect(amended.json(), kEmps, "amended.json", *log, {});
-  const auto before = base.Simulate().front(), after = with_effect.Simulate().front();
+  const auto log = EmpsLog(diagram);
+  const auto before = ForceOnEmps(diagram, *log), after = ForceOnEmps(amended.json(), *log);
   // The table peaks at 40 N·s/m at 0.1 m: where the axis passes there, the model's force differs by 40·|v|.
   const Eigen::VectorXd x = log->column("position_m"), v = log->column("velocity_m_s");
   Eigen::Index k = 0;  // the fastest pass within 1 mm of the peak
@@ -178,8 +185,7 @@ TEST(SuggestTest, AGeneratedPairIsTheBlockOfItsModulatorTimesItsMultiplier) {
   ASSERT_TRUE(drifting.Has("coulomb_drift"));
   EXPECT_TRUE(drifting.Has("coulomb_drift_sign"));
   EXPECT_FALSE(drifting.Has("coulomb_drift_times_sign"));
-  ModelComparison with_drift(drifting.json(), kEmps, "drifting.json", *log, {});
-  const auto drifted = with_drift.Simulate().front();
+  const auto drifted = ForceOnEmps(drifting.json(), *log);
   const Eigen::VectorXd t = log->time();
   Eigen::Index late = 0;  // after the ramp, moving fast: the full 5 N against the motion
   ((t.array() > 7.0).cast<double>() * v.array().abs()).maxCoeff(&late);
@@ -195,8 +201,7 @@ TEST(SuggestTest, AGeneratedPairIsTheBlockOfItsModulatorTimesItsMultiplier) {
   const DiagramDocument dragging(SuggestAmendedDiagram(diagram, drag, "force"));
   EXPECT_TRUE(dragging.Has("local_drag_abs"));
   EXPECT_TRUE(dragging.Has("local_drag_factor"));
-  ModelComparison with_drag(dragging.json(), kEmps, "dragging.json", *log, {});
-  const auto dragged = with_drag.Simulate().front();
+  const auto dragged = ForceOnEmps(dragging.json(), *log);
   EXPECT_NEAR(dragged.model(k) - before.model(k), 40.0 * v(k) * std::abs(v(k)), 0.05 * 40.0 * v(k) * v(k));
 
   // A window in time is the payload's switched gain with an off time; a force of time alone (1 × a time shape) feeds
@@ -205,8 +210,7 @@ TEST(SuggestTest, AGeneratedPairIsTheBlockOfItsModulatorTimesItsMultiplier) {
   const DiagramDocument windowed(SuggestAmendedDiagram(diagram, window, "force"));
   ASSERT_TRUE(windowed.Has("force_window"));
   EXPECT_TRUE(windowed.Has("force_window_one"));
-  ModelComparison with_window(windowed.json(), kEmps, "windowed.json", *log, {});
-  const auto in_window = with_window.Simulate().front();
+  const auto in_window = ForceOnEmps(windowed.json(), *log);
   for (Eigen::Index i = 0; i < t.size(); ++i) {
     const bool on = t(i) >= 2.0 + 1e-6 && t(i) < 5.0 - 1e-6, off = t(i) < 2.0 - 1e-6 || t(i) >= 5.0 + 1e-6;
     if (on) EXPECT_NEAR(in_window.model(i) - before.model(i), 7.0, 1e-9) << "t = " << t(i);
@@ -240,11 +244,8 @@ TEST(SuggestTest, APairsOwnLevelIsAddedAsItsMultiplierTimesOne) {
   EXPECT_TRUE(amended.Has("speed_force_abs"));
   EXPECT_EQ(amended.Parameter("speed_force", "value"), 3.0);
   EXPECT_THAT(amended.FreeParameters(), ::testing::Contains("speed_force.value"));
-  const auto log = std::make_shared<MeasurementLog>(
-      ReadMeasurementFor(diagram, (kEmps / "data" / "DATA_EMPS.csv").string(), MeasurementSettings{}));
-  ModelComparison base(diagram, kEmps, "rigid_body.json", *log, {});
-  ModelComparison with_effect(amended.json(), kEmps, "amended.json", *log, {});
-  const auto before = base.Simulate().front(), after = with_effect.Simulate().front();
+  const auto log = EmpsLog(diagram);
+  const auto before = ForceOnEmps(diagram, *log), after = ForceOnEmps(amended.json(), *log);
   const Eigen::VectorXd x = log->column("position_m"), v = log->column("velocity_m_s");
   Eigen::Index at_peak = 0, away = 0;  // the fastest passes within 1 mm of the stretch's centre and outside it
   (((x.array() - 0.1).abs() < 1e-3).cast<double>() * v.array().abs()).maxCoeff(&at_peak);
