@@ -2,9 +2,10 @@
 // with the base's and the effects chosen before, leave the lowest contiguous-block held-out error (near-ties within
 // 0.1 % to the lower BIC); its score is 1 − MSE(S ∪ {c})/MSE(S). A candidate is chosen only when its gain reaches
 // DiagnosisOptions::min_gain and is significant against the residual's autocorrelation (Diebold–Mariano on the
-// held-out loss differences, batch-mean variance), and an effect whose regressor is the error itself only with a
-// coefficient near 1. The friction-law replacements are searched first, in rounds of their own. Sources: DIAGNOSIS.md,
-// "Naming the missing effect", steps 3–4, and "When the base model is wrong elsewhere" (significance); Brunton,
+// held-out loss differences, batch-mean variance; family-wise, Bonferroni, for the pairs the grammar searched), an
+// effect whose regressor is the error itself only with a coefficient near 1, and a pair that holds its multiplier × 1
+// only when it beats that pair significantly. The friction-law replacements are searched first, in rounds of their
+// own. Sources: DIAGNOSIS.md, "Naming the missing effect", steps 3–4, and "When the base model is wrong elsewhere" (significance); Brunton,
 // Proctor & Kutz 2016 (SINDy: sparse selection from a candidate library); Schwarz 1978 (BIC); Diebold & Mariano,
 // "Comparing predictive accuracy" (1995).
 #include "models/diagnosis/forward_selection.h"

@@ -12,7 +12,8 @@
 // so that diagrams and reports made before keep their meaning. Its words, its parameters, its regressors and its
 // proposal come from the rows too:
 //   regressors  the multiplier's column times the modulator's shape; a mass times a factor of the position acts as
-//               M(x)·a + ½M′(x)·v² (Lagrange: the ½M′(x)·v² is the kinetic energy the mass's change takes or gives).
+//               M(x)·a + ½M′(x)·v² (Lagrange: the ½M′(x)·v² is the kinetic energy the mass's change takes or gives);
+//               a multiplier the base has no parameter for also carries its own level (MultiplierRow::own_level).
 //   proposal    the modulator's shape scan on the residual demodulated by the multiplier (a period, a bump, a break
 //               time is found on what that multiplier leaves), for a multiplier of the direction of slip with sign(v)
 //               outside the dead band, then its slip velocity v_s by BestSlipVelocity. A multiplier that reverses with
