@@ -5,9 +5,9 @@
 // held-out loss differences, batch-mean variance; family-wise, Bonferroni, for the pairs the grammar searched), an
 // effect whose regressor is the error itself only with a coefficient near 1, and a pair that holds its multiplier × 1
 // only when it beats that pair significantly. The friction-law replacements are searched first, in rounds of their
-// own. Sources: DIAGNOSIS.md, "Naming the missing effect", steps 3–4, and "When the base model is wrong elsewhere" (significance); Brunton,
-// Proctor & Kutz 2016 (SINDy: sparse selection from a candidate library); Schwarz 1978 (BIC); Diebold & Mariano,
-// "Comparing predictive accuracy" (1995).
+// own. Sources: DIAGNOSIS.md, "Naming the missing effect", steps 3–4, and "When the base model is wrong elsewhere"
+// (significance); Brunton, Proctor & Kutz 2016 (SINDy: sparse selection from a candidate library); Schwarz 1978 (BIC);
+// Diebold & Mariano, "Comparing predictive accuracy" (1995); Bonferroni's correction for many tests (Dunn 1961).
 #include "models/diagnosis/forward_selection.h"
 
 #include <algorithm>
