@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <random>
 #include <string>
 #include <thread>
@@ -158,7 +159,11 @@ TEST_F(SweepBoundsTest, AResumedSweepRunsAgainAnOkRowWhoseMetricIsNotFinite) {
   WriteLines(out / "runs.csv", lines);
 
   std::vector<std::size_t> run_again;
-  options.on_result = [&](std::size_t i, const SimulationResult&) { run_again.push_back(i); };
+  std::mutex run_again_mutex;  // on_result is called on the workers' threads (SweepOptions::on_result)
+  options.on_result = [&](std::size_t i, const SimulationResult&) {
+    const std::lock_guard<std::mutex> lock(run_again_mutex);
+    run_again.push_back(i);
+  };
   const SweepOutcome again = RunSweep(diagram_, spec, out, options);
   EXPECT_EQ(again.resumed, 1);
   EXPECT_EQ(again.ran, 3);

@@ -3,6 +3,7 @@
 
 #include "tools/batch/sweep.h"
 
+#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -222,12 +223,12 @@ TEST_F(SweepRunTest, ResumesOnlyMissingAndFailedRuns) {
     auto cells = SplitCsvLine(lines[3]);
     rewrite << "0002,failed," << cells[2] << ",,,0.0,boom\n";
   }
-  int called = 0;
+  std::atomic<int> called = 0;  // on_result is called on the workers' threads (SweepOptions::on_result)
   options.on_result = [&](std::size_t, const SimulationResult&) { ++called; };
   again = RunSweep(diagram_, spec, out, options);
   EXPECT_EQ(again.ran, 2);
   EXPECT_EQ(again.resumed, 1);
-  EXPECT_EQ(called, 2);
+  EXPECT_EQ(called.load(), 2);
   EXPECT_DOUBLE_EQ(again.rows[1].metrics.at("y_final"), 4.0);
   EXPECT_EQ(Lines(out / "runs.csv").size(), 4u);  // rewritten: one row per run
 
