@@ -19,6 +19,7 @@
 
 #include "engine/units.h"
 #include "models/diagnosis/ambiguity_checks.h"
+#include "models/diagnosis/amplitude_selection.h"
 #include "models/diagnosis/backward_elimination.h"
 #include "models/diagnosis/candidate_matrix.h"
 #include "models/diagnosis/cross_validation.h"
@@ -42,6 +43,7 @@ using diagnosis_detail::ChosenInstances;
 using diagnosis_detail::DescribeEffect;
 using diagnosis_detail::KeepChosenOnly;
 using diagnosis_detail::LawSearch;
+using diagnosis_detail::ModulateChosenEffects;
 using diagnosis_detail::NoteHysteresis;
 using diagnosis_detail::PruneChosenEffects;
 using diagnosis_detail::Ranking;
@@ -206,6 +208,7 @@ Ranking RankEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base
   RefineChosenEffects(signals, base_cols, options, law.effects.size(), &out, &result->notes);
   RetrySetAside(signals, base_cols, options, law.effects.size(), retry, &out, &result->notes);
   const std::size_t laws = PruneChosenEffects(signals, base_cols, options, law.effects.size(), &out, &result->notes);
+  ModulateChosenEffects(signals, base_cols, options, laws, &out, &result->notes);
   const std::vector<EffectInstance> chosen = ChosenInstances(out);
   for (std::size_t i = 0; i < laws; ++i) result->friction_law.push_back(chosen[i].name);
   return out;

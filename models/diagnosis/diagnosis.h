@@ -119,6 +119,9 @@ struct DiagnosedEffect {
   // The log column the effect reads, for a factor of a column the diagram does not read (logged_column: its name in
   // DiagnosisSignals::extra_names); "" for every other effect.
   std::string log_column;
+  // The log column the effect's amplitude follows (a third factor of a column, amplitude_factor.h: its name in
+  // DiagnosisSignals::extra_names); "" when it has none or follows time.
+  std::string amplitude_column;
   // Where the effect's fitted contribution is largest: 5–95 % ranges of t, x, v over the 10 % of samples
   // where |contribution| is largest, and its RMS.
   double contribution_rms = 0.0;

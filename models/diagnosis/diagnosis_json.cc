@@ -89,6 +89,7 @@ nlohmann::json DiagnosisResult::ToJson() const {
                     {"velocity_range", {e.velocity_range[0], e.velocity_range[1]}}, {"description", e.description}});
     if (!e.replaced_parameter.empty()) effs.back()["replaces"] = e.replaced_parameter;
     if (!e.log_column.empty()) effs.back()["log_column"] = e.log_column;
+    if (!e.amplitude_column.empty()) effs.back()["amplitude_column"] = e.amplitude_column;
     if (!e.multiplier.empty()) {  // the grammar's pair, beside the effect's name (issue 45)
       effs.back()["multiplier"] = e.multiplier;
       effs.back()["modulator"] = e.modulator;

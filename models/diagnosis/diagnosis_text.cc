@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 
 #include "engine/units.h"
+#include "models/diagnosis/amplitude_factor.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/factors.h"
 #include "models/diagnosis/parameter_text.h"
@@ -34,6 +35,7 @@ std::string FormatParameters(const std::string& effect, const std::map<std::stri
                              const std::string& position_unit, const std::string& log_column = "") {
   std::string out;
   for (const auto& [k, v] : p) {
+    if (k.starts_with("amplitude_")) continue;  // a third factor: in its own words (AmplitudeWords)
     std::string item;
     if (k == "period") {
       item = "period " + FormatPosition(v, position_unit);
@@ -85,6 +87,14 @@ DiagnosedEffect DescribeEffect(const Candidate& c, double score, double cumulati
   if (c.type->derived_parameters) {
     for (const auto& [key, value] : c.type->derived_parameters(c.effect, d.coefficients)) d.parameters[key] = value;
   }
+  // A third factor (amplitude_factor.h): the amplitude's change per unit of its source, and the column's name.
+  if (const auto with = d.parameters.find(kAmplitudeWith); with != d.parameters.end()) {
+    d.parameters[kAmplitudeSlope] = AmplitudeChange(c.reg.columns, d.coefficients, AmplitudeWeights(d.parameters)) /
+                                   d.parameters.at(kAmplitudeScale);
+    if (with->second >= 0.0 && with->second < static_cast<double>(signals.extra_names.size())) {
+      d.amplitude_column = signals.extra_names[static_cast<std::size_t>(with->second)];
+    }
+  }
   const Eigen::VectorXd contribution = c.reg.columns * d.coefficients;
   d.contribution_rms = std::sqrt(contribution.squaredNorm() / static_cast<double>(n));
   const Eigen::VectorXd magnitude = contribution.cwiseAbs();
@@ -135,6 +145,9 @@ DiagnosedEffect DescribeEffect(const Candidate& c, double score, double cumulati
     d.description += " " + words;
     if (has_level) d.description += fmt::format(", from a constant part of {:+.4g}{}", level, multiplier->unit);
     d.description += ".";
+  }
+  if (const std::string words = AmplitudeWords(d.parameters, d.amplitude_column); !words.empty()) {
+    d.description += " " + words + ".";
   }
   return d;
 }

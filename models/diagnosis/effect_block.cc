@@ -93,6 +93,13 @@ MotionMultiplier One() {
   return m;
 }
 
+MotionMultiplier AmplitudeSourceFactor(bool time) {
+  MotionMultiplier m;
+  m.clock = time;
+  m.amplitude_column = !time;
+  return m;
+}
+
 MotionMultiplier AbsOf(MotionMultiplier factor) {
   factor.block_type = "abs";
   factor.parameters = [](const DiagnosedEffect&) { return json::object(); };

@@ -61,6 +61,10 @@ MotionMultiplier ModelForce();
 /// The factor 1 (MotionMultiplier::one): what a gain scheduled in time multiplies for a force of time alone.
 MotionMultiplier One();
 
+/// The source of a third factor (models/diagnosis/amplitude_factor.h) as a multiplier: the time from a clock block when
+/// `time`, else the log column the effect's amplitude follows (MotionMultiplier::clock, ::amplitude_column).
+MotionMultiplier AmplitudeSourceFactor(bool time);
+
 /// `factor` through an abs block (blocks/abs.h): |v|, |ŷ|.
 MotionMultiplier AbsOf(MotionMultiplier factor);
 

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "engine/closest_names.h"
+#include "models/diagnosis/amplitude_factor.h"
 
 namespace mb {
 
@@ -21,6 +22,10 @@ bool EffectRegistry::Add(EffectType type) {
     throw std::logic_error(fmt::format("effect '{}' registered without its regressors or proposal rule", name));
   }
   if (type.block) throw std::logic_error(fmt::format("effect '{}': register its block with its block", name));
+  // Every effect's columns may carry a third factor (amplitude_factor.h): a new row of the grammar gets it too.
+  type.regressors = [own = std::move(type.regressors)](const EffectInstance& e, const DiagnosisSignals& s) {
+    return WithAmplitudeFactor(own(e, s), e, s);
+  };
   if (type.multiplier.empty() != type.modulator.empty()) {
     throw std::logic_error(fmt::format("effect '{}' names one factor of its pair, not both", name));
   }

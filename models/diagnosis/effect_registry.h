@@ -119,6 +119,12 @@ struct MotionMultiplier {
   /// The factor is 1: a constant block of value 1 (a force of the modulator alone, fed to a gain scheduled in time:
   /// a force that steps, drifts or is there for a while).
   bool one = false;
+  /// The factor is the time, from a clock block (blocks/clock.h): the part of a pair whose amplitude drifts in time (a
+  /// third factor, models/diagnosis/amplitude_factor.h).
+  bool clock = false;
+  /// The factor is the log column the effect's amplitude follows (DiagnosedEffect::amplitude_column, a third factor),
+  /// read through its input connector (added when the diagram has none).
+  bool amplitude_column = false;
   /// A second factor the first is multiplied by (the grammar's two-factor multipliers: v·|v|, ŷ·|ŷ|, |ŷ|·tanh(v/v_s)),
   /// through a product element; nullptr = none.
   std::shared_ptr<const MotionMultiplier> times = nullptr;

@@ -110,16 +110,14 @@ std::size_t NestedUnlessSignificant(const RegressorMatrix& m, const BlockGrams& 
   return pick;
 }
 
-// The one-sided t a gain must reach among `candidates` tried at once: the normal quantile of 1 − p/candidates, p the
-// one-sided tail of `t_single` (Bonferroni; DiagnosisOptions::significance_t). `t_single` for one candidate or none.
+}  // namespace
+
 double FamilyWiseT(double t_single, std::size_t candidates) {
   if (candidates <= 1) return t_single;
   const boost::math::normal normal;
   const double p = boost::math::cdf(boost::math::complement(normal, t_single));
   return boost::math::quantile(boost::math::complement(normal, p / static_cast<double>(candidates)));
 }
-
-}  // namespace
 
 std::size_t SearchedCount(const RegressorMatrix& m) {
   return static_cast<std::size_t>(

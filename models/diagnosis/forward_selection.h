@@ -35,6 +35,10 @@ struct Selection {
 // significance (Selection::family).
 std::size_t SearchedCount(const RegressorMatrix& m);
 
+// The one-sided t a gain must reach among `candidates` tried at once: the normal quantile of 1 − p/candidates, p the
+// one-sided tail of `t_single` (Bonferroni; DiagnosisOptions::significance_t). `t_single` for one candidate or none.
+double FamilyWiseT(double t_single, std::size_t candidates);
+
 // A selection holding the base's p columns.
 Selection StartSelection(const BlockGrams& grams, Eigen::Index p);
 

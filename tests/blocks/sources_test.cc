@@ -96,6 +96,16 @@ TEST(SwitchedGainTest, AnOffTimeMakesAWindow) {
   EXPECT_THAT(BuildError(backwards), HasSubstr("off_time 0.5 s must lie after time 0.5 s"));
 }
 
+// clock: y = t (Simulink's Clock); through an integrator, t²/2.
+TEST(ClockTest, OutputsTheSimulationTime) {
+  const json j = MakeDiagram({Element("c", "clock"), Element("x", "integrator")}, {Connect("c.y", "x.u")},
+                             {"c.y", "x.y"}, 1.0, 0.1);
+  const auto r = Simulator(Build(j)).Run();
+  const auto& y = r.log.Column("c.y");
+  for (std::size_t i = 0; i < y.size(); ++i) EXPECT_DOUBLE_EQ(y[i], r.log.time[i]);
+  EXPECT_NEAR(r.log.Column("x.y").back(), 0.5, 1e-6);
+}
+
 TEST(SineTest, MatchesClosedForm) {
   const double A = 1.5, f = 2.0, phi = 0.3, b = -0.25;
   const json j = MakeDiagram(

@@ -99,8 +99,9 @@ int main(int argc, char** argv) {
       }
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       std::string verdict = noise_only ? (r.clean ? "clean" : "NAMED")
-                                       : fmt::format("{}{}{}", r.named_right ? "named" : "NOT NAMED",
+                                       : fmt::format("{}{}{}{}", r.named_right ? "named" : "NOT NAMED",
                                                      r.parameter_right ? ", parameter" : "",
+                                                     r.third_found.empty() ? "" : ", amplitude with " + r.third_found,
                                                      r.improve_run ? (r.floor_reached ? ", floor" : ", NOT FLOOR") : "");
       std::cerr << fmt::format("[{}/{}] {} -> {} ({}; {}; {:.1f} s)\n", i + 1, total, draw.Describe(), r.named_pair,
                                r.named_first.empty() ? "nothing" : r.named_first, verdict, seconds);

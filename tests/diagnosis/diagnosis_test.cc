@@ -13,6 +13,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "models/diagnosis/amplitude_factor.h"
 #include "models/diagnosis/measurement_log.h"
 
 namespace mb {
@@ -274,6 +275,48 @@ TEST(Diagnosis, CorrectionTransfersToANewRecordAndJsonHasTheFields) {
   EXPECT_TRUE(j.at("missing_effect_found").get<bool>());
   EXPECT_EQ(j.at("base_parameters").size(), 4u);
   EXPECT_TRUE(j.at("effects").at(0).at("parameters").contains("period"));
+}
+
+// A third factor (amplitude_factor.h): a cogging whose amplitude grows 30 % from the middle of the record to its end
+// is named as the ripple with its amplitude following time, 3 %/s; its columns are the ripple's and the ripple's force
+// times z̃ = (t − t₀)/h, and a diagram's two parts (the ripple where t = 0, its part proportional to t) add up to it.
+TEST(Diagnosis, ARippleWhoseAmplitudeDriftsCarriesAThirdFactorOfTime) {
+  Scenario sc(20000);
+  const Eigen::VectorXd phase = kTwoPi * sc.s.position / 0.0225;
+  const Eigen::VectorXd ripple = 3.0 * phase.array().cos() - 1.0 * phase.array().sin();
+  const Eigen::VectorXd z = (sc.s.time.array() - 10.0) / 10.0;  // the record runs 0..20 s
+  sc.s.residual = ripple.cwiseProduct((1.0 + 0.3 * z.array()).matrix()) + sc.Noise(0.2);
+  const DiagnosisResult r = DiagnoseMissingEffects(sc.s, sc.Base("avs1"), DiagnosisOptions{});
+  ASSERT_FALSE(r.effects.empty()) << Names(r);
+  const DiagnosedEffect& e = r.effects.front();
+  EXPECT_EQ(e.effect, "position_periodic") << Names(r);
+  ASSERT_TRUE(e.parameters.count("amplitude_with")) << e.description;
+  EXPECT_EQ(e.parameters.at("amplitude_with"), -1.0);
+  EXPECT_NEAR(e.parameters.at("amplitude_slope"), 0.03, 0.0045) << e.description;
+  EXPECT_THAT(e.description, HasSubstr("Its amplitude changes with time: +"));
+
+  // The columns, and the two parts a diagram adds.
+  const EffectRegressors reg = BuildEffectRegressors({e.effect, e.parameters}, sc.s);
+  ASSERT_EQ(reg.columns.cols(), e.coefficients.size());
+  EXPECT_EQ(reg.column_names.back(), "position_periodic:amplitude");
+  const Eigen::Index k = reg.columns.cols() - 1;
+  const Eigen::VectorXd w = AmplitudeWeights(e.parameters);
+  const Eigen::VectorXd zz = (sc.s.time.array() - e.parameters.at("amplitude_origin")) / e.parameters.at("amplitude_scale");
+  EXPECT_LT((reg.columns.col(k) - (reg.columns.leftCols(k) * w).cwiseProduct(zz)).cwiseAbs().maxCoeff(), 1e-12);
+  const AmplitudeParts parts = SplitAmplitudeFactor(e);
+  ASSERT_TRUE(parts.part.has_value());
+  EXPECT_EQ(parts.main.column_names.size(), static_cast<std::size_t>(k));
+  EXPECT_FALSE(parts.main.parameters.count("amplitude_with"));
+  const Eigen::VectorXd whole = reg.columns * e.coefficients;
+  const Eigen::VectorXd added = reg.columns.leftCols(k) * parts.main.coefficients +
+                                (reg.columns.leftCols(k) * parts.part->coefficients).cwiseProduct(sc.s.time);
+  EXPECT_LT((whole - added).cwiseAbs().maxCoeff(), 1e-9 * whole.cwiseAbs().maxCoeff());
+
+  // Without the drift, no third factor.
+  sc.s.residual = ripple + sc.Noise(0.2);
+  const DiagnosisResult steady = DiagnoseMissingEffects(sc.s, sc.Base("avs1"), DiagnosisOptions{});
+  ASSERT_FALSE(steady.effects.empty());
+  EXPECT_FALSE(steady.effects.front().parameters.count("amplitude_with")) << steady.effects.front().description;
 }
 
 TEST(Diagnosis, BinnedResidualShowsTheFrictionShape) {

@@ -87,6 +87,10 @@ void Judge(const DiagnosisResult& diagnosis, DrawResult* r) {
   r->named_score = first->score;
   r->named_pair = PairName(first->effect);
   r->log_column = first->log_column;
+  if (const auto with = first->parameters.find("amplitude_with"); with != first->parameters.end()) {
+    r->third_found = with->second < 0.0 ? std::string("time") : first->amplitude_column;
+    r->third_slope = first->parameters.at("amplitude_slope");
+  }
   if (d.noise_only) return;
   const auto [multiplier, modulator] = FactorsOf(first->effect);
   r->named_right = multiplier == d.multiplier && modulator == d.modulator;
@@ -229,6 +233,23 @@ std::string FormatReport(const std::vector<DrawResult>& draws, const std::vector
                      Rate(alike, all.draws));
   out += fmt::format("| floor reached (improve's held-out RMSE within [0.7, 1.3] × the floor) | {} |\n\n",
                      all.improved == 0 ? std::string("not run") : Rate(all.floor, all.improved));
+  // The third factor (the amplitude following time or a further column): found with its source on the draws named
+  // right that carry one; found on the draws named right that carry none.
+  int carry = 0, found = 0, spare = 0, invented = 0;
+  for (const auto& r : draws) {
+    if (!r.named_right) continue;
+    const std::string truth = r.draw.third_factor == "column" ? r.draw.third_column.name : r.draw.third_factor;
+    if (!truth.empty()) {
+      ++carry;
+      found += r.third_found == truth ? 1 : 0;
+    } else {
+      ++spare;
+      invented += r.third_found.empty() ? 0 : 1;
+    }
+  }
+  out += fmt::format("Third factor, on the draws named right: found with its source on {} that carry one; a third "
+                     "factor named on {} that carry none.\n\n",
+                     Rate(found, carry), Rate(invented, spare));
   int clean = 0;
   std::map<std::string, int> noise_named;
   for (const auto& r : noise_only) {

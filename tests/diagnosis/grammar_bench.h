@@ -37,6 +37,9 @@ struct DrawResult {
   std::string named_pair;            ///< its multiplier×modulator, its name when not a product, "nothing"
   double parameter = 0.0;            ///< its key parameter (NaN when not named or absent)
   std::string log_column;            ///< its column (DiagnosedEffect::log_column)
+  /// The third factor it carries (models/diagnosis/amplitude_factor.h): "time", its column's name, or "" for none.
+  std::string third_found;
+  double third_slope = 0.0;          ///< its amplitude's relative change per unit of its source (amplitude_slope)
   bool named_right = false, parameter_right = false, floor_reached = false;
   /// Not named right, but the drawn pair is one the diagnosis said this record cannot tell from the one it named
   /// (DiagnosedEffect::alike): an honest "one of these two", counted apart.

@@ -68,5 +68,29 @@ TEST(GrammarDraws, APairCarriesItsMultipliersConstantPartAndMustEarnItsModulatio
   std::filesystem::remove_all(folder);
 }
 
+// A third factor (models/diagnosis/amplitude_factor.h): the pair's amplitude follows time or a further logged column.
+// Seed 15 hides a drag vibrating at 9.5 Hz whose amplitude grows as 1 + β·(2t/T − 1): its relative slope is 2β/T per
+// second. Seed 80 hides a viscous friction along the travel whose amplitude follows the winding temperature. Each is
+// named as the pair with its amplitude following the right source, the slope with the drawn sign (and, in time, within
+// 25 %).
+TEST(GrammarDraws, AnAmplitudeThatFollowsTimeOrAColumnIsTheThirdFactor) {
+  const std::filesystem::path folder = std::filesystem::temp_directory_path() / "mb_grammar_third_test";
+  const GrammarDraw in_time = Draw(15);
+  ASSERT_EQ(in_time.third_factor, "time");
+  const DrawResult r = RunDraw(in_time, folder / "15", false);
+  EXPECT_TRUE(r.named_right) << in_time.Describe() << " -> " << r.named_pair;
+  EXPECT_EQ(r.third_found, "time");
+  const double truth = 2.0 * in_time.third_depth / in_time.duration;
+  EXPECT_NEAR(r.third_slope, truth, 0.25 * std::abs(truth));
+
+  const GrammarDraw following = Draw(80);
+  ASSERT_EQ(following.third_factor, "column");
+  const DrawResult c = RunDraw(following, folder / "80", false);
+  EXPECT_TRUE(c.named_right) << following.Describe() << " -> " << c.named_pair;
+  EXPECT_EQ(c.third_found, following.third_column.name);
+  EXPECT_GT(c.third_slope * following.third_depth, 0.0) << "the amplitude changes the drawn way";
+  std::filesystem::remove_all(folder);
+}
+
 }  // namespace
 }  // namespace mb::grammar

@@ -3,15 +3,18 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <tuple>
+#include <utility>
 
 #include <fmt/format.h>
 
 #include "engine/block_roles.h"
 #include "engine/diagram_document.h"
 #include "engine/units.h"
+#include "models/diagnosis/amplitude_factor.h"
 #include "models/diagnosis/effect_block.h"
 #include "models/diagnosis/effect_registry.h"
 #include "tools/workflow/loop_probe.h"
@@ -243,7 +246,15 @@ Endpoint Factor(DiagramDocument* out, const MotionMultiplier& multiplier, const 
     return out->OutputOf(one);
   }
   Endpoint source;
-  if (multiplier.of_model_force) {
+  if (multiplier.clock) {
+    const std::string clock = out->Add({name + "_clock", "clock", json::object(), std::nullopt,
+                                        fmt::format("the time that the amplitude of '{}' drifts with", name)});
+    *factor_name = "time";
+    source = out->OutputOf(clock);
+  } else if (multiplier.amplitude_column) {
+    source = {"", ColumnInput(out, effect.amplitude_column, effect.effect)};
+    *factor_name = source.port;
+  } else if (multiplier.of_model_force) {
     source = *force;
     *factor_name = "force";
   } else {
@@ -345,50 +356,76 @@ std::optional<DiagnosedEffect> LevelOf(const DiagnosedEffect& effect) {
   return level;
 }
 
-}  // namespace
+// `factor` times `extra` at the end of its chain of factors (MotionMultiplier::times): v·|v| times the time is
+// v × (|v| × t).
+MotionMultiplier TimesAtEnd(MotionMultiplier factor, MotionMultiplier extra) {
+  if (!factor.times) return Times(std::move(factor), std::move(extra));
+  factor.times = std::make_shared<const MotionMultiplier>(TimesAtEnd(*factor.times, std::move(extra)));
+  return factor;
+}
 
-json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, const std::string& output) {
+// Adds `effect`'s block to `out` (its template, or the grammar's composed one: BlockFor), and its level (LevelOf); with
+// `extra`, the block's output is multiplied by it too (the part of a pair proportional to its third factor's source).
+void AddEffectBlock(DiagramDocument* out, const DiagnosedEffect& effect, const std::string& output,
+                    const std::optional<MotionMultiplier>& extra) {
   const std::optional<EffectBlockTemplate> composed = BlockFor(LookupEffect(effect.effect));
   if (!composed) {
     throw std::invalid_argument(
         fmt::format("no block for effect '{}' yet: add it by hand (docs/diagnosis.md)", effect.effect));
   }
   const EffectBlockTemplate& block = *composed;
-  DiagramDocument out(diagram);
-  if (block.multiplier && block.multiplier->NeedsModelForce() && out.Mode() != ExperimentMode::kEquationError) {
+  if (block.multiplier && block.multiplier->NeedsModelForce() && out->Mode() != ExperimentMode::kEquationError) {
     throw std::invalid_argument(fmt::format(
         "effect '{}' multiplies the model's force; in simulation mode the output is the motion: scale the force "
         "into the plant by hand (a product of the force and a {} block of the position)",
         effect.effect, block.block_type));
   }
+  if (extra && block.placement != BlockPlacement::kAddToOutput) {
+    throw std::invalid_argument(fmt::format("effect '{}': its amplitude's third factor has no block where its block "
+                                            "is not summed into the output; add it by hand",
+                                            effect.effect));
+  }
+  std::optional<MotionMultiplier> multiplier = block.multiplier;
+  if (extra) multiplier = multiplier ? TimesAtEnd(*multiplier, *extra) : *extra;
   std::vector<Endpoint> inputs;
-  for (const auto& [input, port] : block.inputs) inputs.push_back(MotionSource(out, input, effect.effect));
+  for (const auto& [input, port] : block.inputs) inputs.push_back(MotionSource(*out, input, effect.effect));
   ElementSpec element{block.element_name, block.block_type, block.parameters(effect), std::nullopt, effect.description};
-  if (block.discrete) element.sample_time = std::make_pair(DiagramStep(out, effect.effect, block.element_name), 0.0);
+  if (block.discrete) element.sample_time = std::make_pair(DiagramStep(*out, effect.effect, block.element_name), 0.0);
   std::string name;
   switch (block.placement) {
-    case BlockPlacement::kInsertBeforeOutput: name = InsertBeforeOutput(&out, element, output); break;
-    case BlockPlacement::kOnCommand: name = AddOnCommand(&out, element, output, effect.effect); break;
+    case BlockPlacement::kInsertBeforeOutput: name = InsertBeforeOutput(out, element, output); break;
+    case BlockPlacement::kOnCommand: name = AddOnCommand(out, element, output, effect.effect); break;
     case BlockPlacement::kAddToOutput:
-      if (!block.multiplier) {
-        name = AddToOutput(&out, element, output, block.output_port);
+      if (!multiplier) {
+        name = AddToOutput(out, element, output, block.output_port);
       } else if (block.multiplier_port.empty()) {
-        name = AddProductToOutput(&out, element, *block.multiplier, effect, output, block.output_port);
+        name = AddProductToOutput(out, element, *multiplier, effect, output, block.output_port);
       } else {
-        name = AddWithFactorInput(&out, element, *block.multiplier, effect, output, block.output_port,
+        name = AddWithFactorInput(out, element, *multiplier, effect, output, block.output_port,
                                   block.multiplier_port);
       }
       break;
   }
-  for (std::size_t k = 0; k < inputs.size(); ++k) out.Connect(inputs[k], {name, block.inputs[k].second});
+  for (std::size_t k = 0; k < inputs.size(); ++k) out->Connect(inputs[k], {name, block.inputs[k].second});
   if (!block.log_column_port.empty()) {
-    Wire(&out, ColumnInput(&out, effect.log_column, effect.effect), name, block.log_column_port);
+    Wire(out, ColumnInput(out, effect.log_column, effect.effect), name, block.log_column_port);
   }
-  for (const auto& f : block.free) out.AddFreeParameter(name + "." + f);
-  if (!effect.replaced_parameter.empty()) TakeOver(&out, effect.replaced_parameter, name);
-  out.AppendNote(fmt::format(" Amended by motionblocks compare --suggest: added '{}' ({}).", name, effect.effect));
-  if (const std::optional<DiagnosedEffect> level = LevelOf(effect)) {
-    return SuggestAmendedDiagram(out.json(), *level, output);
+  for (const auto& f : block.free) out->AddFreeParameter(name + "." + f);
+  if (!effect.replaced_parameter.empty()) TakeOver(out, effect.replaced_parameter, name);
+  out->AppendNote(fmt::format(" Amended by motionblocks compare --suggest: added '{}' ({}).", name,
+                              extra ? effect.description : effect.effect));
+  if (const std::optional<DiagnosedEffect> level = LevelOf(effect)) AddEffectBlock(out, *level, output, extra);
+}
+
+}  // namespace
+
+json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, const std::string& output) {
+  DiagramDocument out(diagram);
+  // A third factor (models/diagnosis/amplitude_factor.h): the pair where its source is 0, and its part times the source.
+  const AmplitudeParts parts = SplitAmplitudeFactor(effect);
+  AddEffectBlock(&out, parts.main, output, std::nullopt);
+  if (parts.part) {
+    AddEffectBlock(&out, *parts.part, output, AmplitudeSourceFactor(effect.parameters.at(kAmplitudeWith) < 0.0));
   }
   return out.json();
 }

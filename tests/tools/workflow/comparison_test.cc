@@ -257,6 +257,46 @@ TEST(SuggestTest, APairsOwnLevelIsAddedAsItsMultiplierTimesOne) {
   EXPECT_NEAR(after.model(away) - before.model(away), 3.0 * std::abs(v(away)), 0.05 * 3.0 * std::abs(v(away)));
 }
 
+// A pair whose amplitude drifts in time (a third factor, models/diagnosis/amplitude_factor.h) is added as the pair where
+// its source is 0 and, beside it, the same blocks with the modulated part's coefficients times a clock: c·(1 + γ·z̃)·|v|
+// over the stretch, z̃ = (t − t₀)/h. Its amplitude following a log column reads that column through an input connector.
+TEST(SuggestTest, AThirdFactorOfTimeIsThePairPlusItsPartTimesAClock) {
+  const auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
+  const auto log = EmpsLog(diagram);
+  const Eigen::VectorXd t = log->time(), x = log->column("position_m"), v = log->column("velocity_m_s");
+  const double origin = 0.5 * (t(0) + t(t.size() - 1)), scale = 0.5 * (t(t.size() - 1) - t(0));
+  DiagnosedEffect local = OneColumnEffect(
+      "local_speed_force",
+      {{"center", 0.1}, {"half_width", 0.02}, {"amplitude_with", -1.0}, {"amplitude_origin", origin},
+       {"amplitude_scale", scale}, {"amplitude_weight.0", 40.0}},
+      40.0);
+  local.column_names = {"local_speed_force", "local_speed_force:amplitude"};
+  local.coefficients = Eigen::Vector2d(40.0, 0.2);  // 40 N·s/m in the middle of the record, ±20 % (±8) at its ends
+  const DiagramDocument amended(SuggestAmendedDiagram(diagram, local, "force"));
+  ASSERT_TRUE(amended.Has("local_speed_force"));
+  ASSERT_TRUE(amended.Has("local_speed_force_2"));
+  EXPECT_TRUE(amended.Has("local_speed_force_2_clock"));
+  EXPECT_THAT(amended.FreeParameters(), ::testing::Contains("local_speed_force_2.table"));
+  const auto before = ForceOnEmps(diagram, *log), after = ForceOnEmps(amended.json(), *log);
+  for (const bool late : {false, true}) {  // the fastest pass within 1 mm of the peak in each half of the record
+    Eigen::Index k = 0;
+    (((x.array() - 0.1).abs() < 1e-3).cast<double>() * v.array().abs() *
+     ((t.array() > origin) == late).cast<double>()).maxCoeff(&k);
+    ASSERT_GT(std::abs(v(k)), 0.01);
+    const double expected = (40.0 + 8.0 * (t(k) - origin) / scale) * std::abs(v(k));
+    EXPECT_NEAR(after.model(k) - before.model(k), expected, 0.05 * std::abs(expected)) << "t = " << t(k);
+  }
+
+  DiagnosedEffect following = local;
+  following.parameters["amplitude_with"] = 0.0;
+  following.amplitude_column = "input_V";
+  const DiagramDocument column(SuggestAmendedDiagram(diagram, following, "force"));
+  EXPECT_FALSE(column.Has("local_speed_force_2_clock"));
+  bool reads_column = false;
+  for (const auto& c : column.Connectors("input")) reads_column |= c.measurement == "input_V";
+  EXPECT_TRUE(reads_column);
+}
+
 // A Stribeck hump whose diagnosed level is negative (EMPS: −3.7 N, its friction below the sign(v) law at low speed) is
 // no friction block's static level: refused with the reason, not clamped to 0.001 N into a block that refits to nothing.
 TEST(SuggestTest, ANegativeStribeckHumpIsRefusedNotClamped) {

@@ -1,0 +1,128 @@
+// A third factor by modulation (DiagnoseMissingEffects, step 3e; amplitude_selection.h). A pair's amplitude that
+// drifts with time or follows a temperature is a parameter that varies: the pair's columns times the scheduling
+// variable join the fit (Ljung, System Identification, 2nd ed., §5.2), and the held-out blocks decide as for any term.
+// Source: issue 45, item 3; docs/diagnosis.md, "A third factor".
+#include "models/diagnosis/amplitude_selection.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "models/diagnosis/amplitude_factor.h"
+#include "models/diagnosis/candidate_matrix.h"
+#include "models/diagnosis/cross_validation.h"
+#include "models/diagnosis/effect_registry.h"
+#include "models/diagnosis/factors.h"
+#include "models/diagnosis/forward_selection.h"
+
+namespace mb::diagnosis_detail {
+namespace {
+
+// The sources a chosen pair's amplitude may follow: −1 (time), then each unread column k that varies and is a new
+// signal; not the pair's own modulator's source.
+std::vector<double> SourcesFor(const EffectType& type, const EffectInstance& effect, const DiagnosisSignals& signals) {
+  std::vector<double> out;
+  out.push_back(-1.0);
+  const auto own = effect.parameters.find("column");
+  for (std::size_t k = 0; k < signals.extra_columns.size(); ++k) {
+    if (own != effect.parameters.end() && own->second == static_cast<double>(k)) continue;
+    const Eigen::VectorXd& c = signals.extra_columns[k];
+    if (!(c.maxCoeff() > c.minCoeff()) || UnreadColumnDuplicate(signals, k)) continue;
+    out.push_back(static_cast<double>(k));
+  }
+  return out;
+}
+
+// The fitted coefficients of chosen effect i's columns in the ranking's joint fit (in the columns' own units): the
+// weights of its force.
+Eigen::VectorXd FittedCoefficients(const Ranking& ranking, std::size_t i) {
+  double sse = 0.0;
+  const Eigen::VectorXd theta = ranking.grams->Fit(ranking.chosen.selected, &sse);
+  const std::vector<Eigen::Index>& idx = ranking.m.cands[ranking.chosen.order[i]].idx;
+  Eigen::VectorXd out(static_cast<Eigen::Index>(idx.size()));
+  for (std::size_t j = 0; j < idx.size(); ++j) {
+    const auto at = std::find(ranking.chosen.selected.begin(), ranking.chosen.selected.end(), idx[j]);
+    out(static_cast<Eigen::Index>(j)) = theta(at - ranking.chosen.selected.begin()) / ranking.m.scale(idx[j]);
+  }
+  return out;
+}
+
+std::string SourceName(double with, const DiagnosisSignals& signals) {
+  return with < 0.0 ? std::string("time") : "'" + signals.extra_names[static_cast<std::size_t>(with)] + "'";
+}
+
+// One source tried: the ranking rebuilt with effect i modulated, and its evidence.
+struct Trial {
+  double with = 0.0;
+  std::optional<RegressorMatrix> m;
+  Selection s;
+  double mse = std::numeric_limits<double>::infinity();
+  double t = 0.0;
+};
+
+}  // namespace
+
+void ModulateChosenEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols,
+                           const DiagnosisOptions& options, std::size_t laws, Ranking* out,
+                           std::vector<std::string>* notes) {
+  const Eigen::Index p = base_cols.cols();
+  for (std::size_t i = laws; i < out->chosen.order.size(); ++i) {
+    const std::vector<EffectInstance> chosen = ChosenInstances(*out);
+    const EffectInstance& effect = chosen[i];
+    const EffectType& type = LookupEffect(effect.name);
+    if (type.multiplier.empty() || effect.parameters.count(kAmplitudeWith) > 0) continue;
+    const std::vector<double> sources = SourcesFor(type, effect, signals);
+    const Eigen::VectorXd weights = FittedCoefficients(*out, i);
+    Trial best;
+    for (const double with : sources) {
+      const std::optional<EffectInstance> modulated = WithAmplitudeSource(effect, with, weights, signals);
+      if (!modulated) continue;
+      std::vector<EffectInstance> trial = chosen;
+      trial[i] = *modulated;
+      const JointRefinement refinement(signals, base_cols, out->weights, options, trial, laws);  // ŷ as the laws leave it
+      std::vector<std::string> trial_notes;
+      RegressorMatrix m = BuildCandidateMatrix(refinement.corrected(), base_cols, trial, options, &trial_notes);
+      if (m.cands.size() != trial.size()) continue;
+      m.Weigh(signals.residual, out->weights);
+      const BlockGrams grams(m, options.folds);
+      Selection s = SelectInOrder(m, grams, p, m.cands.size());
+      if (!(s.mse_last < best.mse)) continue;
+      // The same ranking without the modulated column (effect i's last): the gain is the factor's alone.
+      const Eigen::Index modulated_column = m.cands[i].idx.back();
+      std::vector<Eigen::Index> without;
+      for (const Eigen::Index j : s.selected) {
+        if (j != modulated_column) without.push_back(j);
+      }
+      best.t = GainSignificance(m, grams, without, s.selected, options.significance_batches);
+      best.with = with;
+      best.mse = s.mse_last;
+      best.s = std::move(s);
+      best.m = std::move(m);
+    }
+    if (!best.m) continue;
+    const double gain = out->chosen.mse_last > 0.0 ? 1.0 - best.mse / out->chosen.mse_last : 0.0;
+    const double needed = FamilyWiseT(options.significance_t, sources.size());
+    const std::string tried = fmt::format("{}'s amplitude following {} (held-out gain {:.1f} %, Diebold–Mariano t = "
+                                          "{:.2f} against {:.2f} over {} source(s))",
+                                          effect.name, SourceName(best.with, signals), 100.0 * gain, best.t, needed,
+                                          sources.size());
+    if (!(gain >= options.min_gain) || (options.significance_t > 0.0 && best.t < needed)) {
+      if (gain > 0.0) notes->push_back(tried + ": not kept");
+      continue;
+    }
+    if (best.mse < out->chosen.leak_mse) {
+      notes->push_back(tried + ": refused, its held-out error would fall below the record's noise floor");
+      continue;
+    }
+    notes->push_back(tried + ": kept");
+    best.s.leak_mse = out->chosen.leak_mse;
+    const Eigen::VectorXd huber = out->weights;
+    InstallRefined(signals, base_cols, options, laws, huber, std::move(*best.m), std::move(best.s), out);
+  }
+}
+
+}  // namespace mb::diagnosis_detail

@@ -1,0 +1,28 @@
+#pragma once
+// 3e. A third factor by modulation (amplitude_selection.cc; issue 45, item 3): after the effects are chosen, each
+// chosen product of the grammar is tried with its amplitude following time or each unread log column that is a new
+// signal (amplitude_factor.h), and the best is kept on held-out evidence.
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "models/diagnosis/diagnosis.h"
+#include "models/diagnosis/joint_refinement.h"
+
+namespace mb::diagnosis_detail {
+
+// For each chosen effect after the `laws` friction-law replacements that is a product of the grammar
+// (EffectType::multiplier; not a delay, a mode, a saturation or a law), the ranking's held-out error with its columns
+// joined by their product with z̃, for z the time (unless the pair's modulator is of time) and each unread column that
+// varies and is a new signal (unless the pair follows that column already). The best source is kept when the held-out
+// gain over the ranking as it stands reaches options.min_gain, stays above the leak floor, and is significant
+// (Diebold–Mariano, GainSignificance) at the family-wise t over the sources tried (FamilyWiseT); the ranking is then
+// rebuilt with it (InstallRefined). A note says what was kept, or the best that was not and why.
+void ModulateChosenEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols,
+                           const DiagnosisOptions& options, std::size_t laws, Ranking* out,
+                           std::vector<std::string>* notes);
+
+}  // namespace mb::diagnosis_detail
