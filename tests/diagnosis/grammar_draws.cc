@@ -546,7 +546,8 @@ double DrawSign(Rng& rng, const GrammarDraw& d) {
 
 // Sets the amplitude: the effect's RMS beyond the base on the training twin's motion = target_ratio × its floor, within
 // what keeps the machine physical (a mass along the record at least 60 % of the body's, a force constant within
-// ±30 %; Effect bounds a friction of the transmitted force within 50 % of it).
+// ±30 %, a Coulomb level or viscous coefficient at least 10 % of the plant's own; Effect bounds a friction of the
+// transmitted force within 50 % of it).
 void Calibrate(GrammarDraw* d, double sign) {
   const Record twin = Simulate(*d, Run::kTraining, false);
   d->noise_floor = NoiseFloor(*d, twin);
@@ -558,14 +559,23 @@ void Calibrate(GrammarDraw* d, double sign) {
   if (!(rms > 0.0)) throw std::logic_error("grammar_draws: the effect of " + d->Describe() + " vanishes on the record");
   double amplitude = d->target_ratio * d->noise_floor / rms;
   const RunContext c = MakeContext(*d, Run::kTraining);
-  double peak = 0.0;  // of the unit effect's mass or force-constant share
+  double peak = 0.0;    // of the unit effect's mass or force-constant share
+  double lowest = 0.0;  // of the signed unit modulator: where a friction of the plant's own law is lowered most
   for (Eigen::Index i = 0; i < twin.time.size(); ++i) {
     const double mod = Modulator(*d, c, twin.time(i), twin.true_position(i)).first * ThirdFactor(*d, c, twin.time(i));
     if (d->multiplier == "acceleration" || d->multiplier == "model_force") peak = std::max(peak, std::abs(mod));
     if (d->multiplier == "model_force_abs") peak = std::max(peak, std::abs(mod * twin.command(i)));
+    lowest = std::min(lowest, sign * mod);
   }
   if (d->multiplier == "acceleration") amplitude = std::min(amplitude, 0.4 * d->plant.mass / peak);
   if (d->multiplier == "model_force" || d->multiplier == "model_force_abs") amplitude = std::min(amplitude, 0.3 / peak);
+  // A Coulomb level or a viscous coefficient that changes keeps at least 10 % of the plant's own: a friction that turns
+  // negative (pushing along the motion) is no machine, and the model's friction block, bounded at 0, cannot follow it
+  // (seed 16: a Coulomb drift from −A to +A about a smaller level left improve 3.5 × above the floor).
+  if (lowest < 0.0 && (d->multiplier == "slip" || d->multiplier == "velocity")) {
+    const double own = d->multiplier == "slip" ? d->plant.coulomb : d->plant.viscous;
+    amplitude = std::min(amplitude, 0.9 * own / -lowest);
+  }
   d->amplitude = sign * amplitude;
   d->target_ratio = amplitude * rms / d->noise_floor;
 }
