@@ -46,7 +46,9 @@ struct DrawResult {
   bool alike_right = false;
   bool clean = false;                ///< noise-only: nothing named with a share ≥ 0.02 outside the law replacements
   bool improve_run = false;
-  double noise_floor = 0.0;          ///< the pipeline's floor on the validation twin (improve runs only)
+  /// The draw's own floor (improve runs only): improve run on the draw simulated without the effect, its held-out RMSE
+  /// on that twin's validation record.
+  double noise_floor = 0.0;
   double heldout_before = 0.0, heldout_after = 0.0;
   double compare_seconds = 0.0, improve_seconds = 0.0;
 };
