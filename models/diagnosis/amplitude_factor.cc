@@ -103,7 +103,8 @@ AmplitudeParts SplitAmplitudeFactor(const DiagnosedEffect& effect) {
   AmplitudeParts out{effect, std::nullopt};
   const auto with = effect.parameters.find(kAmplitudeWith);
   if (with == effect.parameters.end()) return out;
-  const double origin = effect.parameters.at(kAmplitudeOrigin), scale = effect.parameters.at(kAmplitudeScale);
+  const EffectInstance instance{effect.effect, effect.parameters};
+  const double origin = Required(instance, kAmplitudeOrigin), scale = Required(instance, kAmplitudeScale);
   const Eigen::VectorXd weights = AmplitudeWeights(effect.parameters);
   const Eigen::Index k = weights.size();
   const auto modulated = std::find(effect.column_names.begin(), effect.column_names.end(),
@@ -122,9 +123,10 @@ AmplitudeParts SplitAmplitudeFactor(const DiagnosedEffect& effect) {
     e->column_names.pop_back();
     e->coefficient_std.resize(0);
   }
-  // G·c + γ·G·w·(z − z₀)/h = G·(c − γ·w·z₀/h) + (G·γ·w/h)·z
-  out.main.coefficients = effect.coefficients.head(k) - (gamma * origin / scale) * weights;
+  // G·c + γ·G·w·(z − z₀)/h: the pair as it is at z₀, and its part (G·γ·w/h) times z − z₀.
+  out.main.coefficients = effect.coefficients.head(k);
   part.coefficients = (gamma / scale) * weights;
+  part.parameters[kAmplitudeOrigin] = origin;
   part.description = with->second < 0.0 ? fmt::format("the part of {} that grows with time", effect.effect)
                                         : fmt::format("the part of {} that follows '{}'", effect.effect,
                                                       effect.amplitude_column);

@@ -67,10 +67,11 @@ double AmplitudeChange(const Eigen::MatrixXd& columns, const Eigen::VectorXd& co
 std::string AmplitudeWords(const std::map<std::string, double>& parameters, const std::string& column);
 
 /// A diagnosed effect with a third factor as the two parts a diagram adds (tools/workflow/suggest.cc): `main`, the pair
-/// as it is where z = 0 (its columns G with coefficients c − γ·w·z₀/h), and `part`, its share proportional to z (the
-/// same columns' names, coefficients γ·w/h), which the diagram multiplies by z (a clock, or the column's input
-/// connector); neither carries the factor's parameters. `part` is nullopt when the effect has no third factor (and
-/// `main` is the effect).
+/// as it is where z = z₀ (its columns G with coefficients c), and `part`, its share proportional to z − z₀ (the same
+/// columns' names, coefficients γ·w/h, and the parameter kAmplitudeOrigin z₀), which the diagram multiplies by z − z₀
+/// (a clock, or the column's input connector, less a constant z₀). Neither carries the factor's other parameters.
+/// `part` is nullopt when the effect has no third factor (and `main` is the effect). Throws std::invalid_argument when
+/// the factor's column or coefficients are missing.
 struct AmplitudeParts {
   DiagnosedEffect main;
   std::optional<DiagnosedEffect> part;

@@ -23,8 +23,8 @@ namespace mb::diagnosis_detail {
 namespace {
 
 // The sources a chosen pair's amplitude may follow: −1 (time), then each unread column k that varies and is a new
-// signal; not the pair's own modulator's source.
-std::vector<double> SourcesFor(const EffectType& type, const EffectInstance& effect, const DiagnosisSignals& signals) {
+// signal, but the column the pair follows already.
+std::vector<double> SourcesFor(const EffectInstance& effect, const DiagnosisSignals& signals) {
   std::vector<double> out;
   out.push_back(-1.0);
   const auto own = effect.parameters.find("column");
@@ -64,18 +64,72 @@ struct Trial {
   double t = 0.0;
 };
 
+// The ranking rebuilt on `trial` (the chosen effects, one of them changed): its matrix, Grams and selection in order;
+// nullopt when an effect's columns cannot be built on this record.
+struct Rebuilt {
+  RegressorMatrix m;
+  Selection s;
+};
+std::optional<Rebuilt> Rebuild(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols,
+                               const DiagnosisOptions& options, std::size_t laws, const Ranking& ranking,
+                               const std::vector<EffectInstance>& trial) {
+  const JointRefinement refinement(signals, base_cols, ranking.weights, options, trial, laws);  // ŷ as the laws leave it
+  std::vector<std::string> trial_notes;
+  RegressorMatrix m = BuildCandidateMatrix(refinement.corrected(), base_cols, trial, options, &trial_notes);
+  if (m.cands.size() != trial.size()) return std::nullopt;
+  m.Weigh(signals.residual, ranking.weights);
+  const BlockGrams grams(m, options.folds);
+  Selection s = SelectInOrder(m, grams, base_cols.cols(), m.cands.size());
+  return Rebuilt{std::move(m), std::move(s)};
+}
+
+// X × 1 and X × a column, both chosen, are one pair: X whose amplitude follows the column (their columns span the same
+// space). Merged, the description says so and improve adds them as one effect: alone, neither lowers the held-out
+// error where the column's level differs between records (a quadratic drag following a further column: each refused).
+void MergeColumnPartners(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols,
+                         const DiagnosisOptions& options, std::size_t laws, Ranking* out,
+                         std::vector<std::string>* notes) {
+  for (std::size_t i = laws; i < out->chosen.order.size(); ++i) {
+    const std::vector<EffectInstance> chosen = ChosenInstances(*out);
+    const EffectType& type = LookupEffect(chosen[i].name);
+    if (type.multiplier.empty() || type.modulator != "constant" || chosen[i].parameters.count(kAmplitudeWith) > 0) {
+      continue;
+    }
+    for (std::size_t j = laws; j < chosen.size(); ++j) {
+      const EffectType& partner = LookupEffect(chosen[j].name);
+      if (j == i || partner.multiplier != type.multiplier || partner.modulator != "column") continue;
+      const std::optional<EffectInstance> modulated =
+          WithAmplitudeSource(chosen[i], chosen[j].parameters.at("column"), FittedCoefficients(*out, i), signals);
+      if (!modulated) continue;
+      std::vector<EffectInstance> trial = chosen;
+      trial[i] = *modulated;
+      trial.erase(trial.begin() + static_cast<std::ptrdiff_t>(j));
+      std::optional<Rebuilt> rebuilt = Rebuild(signals, base_cols, options, laws, *out, trial);
+      if (!rebuilt) continue;
+      notes->push_back(fmt::format("{} and {} are one effect: {} whose amplitude follows {}", chosen[i].name,
+                                   chosen[j].name, chosen[i].name,
+                                   SourceName(chosen[j].parameters.at("column"), signals)));
+      rebuilt->s.leak_mse = out->chosen.leak_mse;
+      const Eigen::VectorXd huber = out->weights;
+      InstallRefined(signals, base_cols, options, laws, huber, std::move(rebuilt->m), std::move(rebuilt->s), out);
+      if (j < i) --i;
+      break;
+    }
+  }
+}
+
 }  // namespace
 
 void ModulateChosenEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols,
                            const DiagnosisOptions& options, std::size_t laws, Ranking* out,
                            std::vector<std::string>* notes) {
-  const Eigen::Index p = base_cols.cols();
+  MergeColumnPartners(signals, base_cols, options, laws, out, notes);
   for (std::size_t i = laws; i < out->chosen.order.size(); ++i) {
     const std::vector<EffectInstance> chosen = ChosenInstances(*out);
     const EffectInstance& effect = chosen[i];
     const EffectType& type = LookupEffect(effect.name);
     if (type.multiplier.empty() || effect.parameters.count(kAmplitudeWith) > 0) continue;
-    const std::vector<double> sources = SourcesFor(type, effect, signals);
+    const std::vector<double> sources = SourcesFor(effect, signals);
     const Eigen::VectorXd weights = FittedCoefficients(*out, i);
     Trial best;
     for (const double with : sources) {
@@ -83,14 +137,11 @@ void ModulateChosenEffects(const DiagnosisSignals& signals, const Eigen::MatrixX
       if (!modulated) continue;
       std::vector<EffectInstance> trial = chosen;
       trial[i] = *modulated;
-      const JointRefinement refinement(signals, base_cols, out->weights, options, trial, laws);  // ŷ as the laws leave it
-      std::vector<std::string> trial_notes;
-      RegressorMatrix m = BuildCandidateMatrix(refinement.corrected(), base_cols, trial, options, &trial_notes);
-      if (m.cands.size() != trial.size()) continue;
-      m.Weigh(signals.residual, out->weights);
+      std::optional<Rebuilt> rebuilt = Rebuild(signals, base_cols, options, laws, *out, trial);
+      if (!rebuilt || !(rebuilt->s.mse_last < best.mse)) continue;
+      RegressorMatrix& m = rebuilt->m;
+      Selection& s = rebuilt->s;
       const BlockGrams grams(m, options.folds);
-      Selection s = SelectInOrder(m, grams, p, m.cands.size());
-      if (!(s.mse_last < best.mse)) continue;
       // The same ranking without the modulated column (effect i's last): the gain is the factor's alone.
       const Eigen::Index modulated_column = m.cands[i].idx.back();
       std::vector<Eigen::Index> without;

@@ -16,11 +16,13 @@ namespace mb::diagnosis_detail {
 
 // For each chosen effect after the `laws` friction-law replacements that is a product of the grammar
 // (EffectType::multiplier; not a delay, a mode, a saturation or a law), the ranking's held-out error with its columns
-// joined by their product with z̃, for z the time (unless the pair's modulator is of time) and each unread column that
-// varies and is a new signal (unless the pair follows that column already). The best source is kept when the held-out
+// joined by its force times z̃ (amplitude_factor.h), for z the time and each unread column that varies and is a new
+// signal (but the column the pair follows already). The best source is kept when the held-out
 // gain over the ranking as it stands reaches options.min_gain, stays above the leak floor, and is significant
 // (Diebold–Mariano, GainSignificance) at the family-wise t over the sources tried (FamilyWiseT); the ranking is then
-// rebuilt with it (InstallRefined). A note says what was kept, or the best that was not and why.
+// rebuilt with it (InstallRefined). A note says what was kept, or the best that was not and why. First, a chosen pair
+// X × 1 and a chosen X × a column are merged into X whose amplitude follows that column (the same span; improve then
+// adds them as one effect).
 void ModulateChosenEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols,
                            const DiagnosisOptions& options, std::size_t laws, Ranking* out,
                            std::vector<std::string>* notes);

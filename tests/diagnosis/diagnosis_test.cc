@@ -279,7 +279,7 @@ TEST(Diagnosis, CorrectionTransfersToANewRecordAndJsonHasTheFields) {
 
 // A third factor (amplitude_factor.h): a cogging whose amplitude grows 30 % from the middle of the record to its end
 // is named as the ripple with its amplitude following time, 3 %/s; its columns are the ripple's and the ripple's force
-// times z̃ = (t − t₀)/h, and a diagram's two parts (the ripple where t = 0, its part proportional to t) add up to it.
+// times z̃ = (t − t₀)/h, and a diagram's two parts (the ripple at t₀, its part proportional to t − t₀) add up to it.
 TEST(Diagnosis, ARippleWhoseAmplitudeDriftsCarriesAThirdFactorOfTime) {
   Scenario sc(20000);
   const Eigen::VectorXd phase = kTwoPi * sc.s.position / 0.0225;
@@ -309,7 +309,8 @@ TEST(Diagnosis, ARippleWhoseAmplitudeDriftsCarriesAThirdFactorOfTime) {
   EXPECT_FALSE(parts.main.parameters.count("amplitude_with"));
   const Eigen::VectorXd whole = reg.columns * e.coefficients;
   const Eigen::VectorXd added = reg.columns.leftCols(k) * parts.main.coefficients +
-                                (reg.columns.leftCols(k) * parts.part->coefficients).cwiseProduct(sc.s.time);
+                                (reg.columns.leftCols(k) * parts.part->coefficients)
+                                    .cwiseProduct((sc.s.time.array() - e.parameters.at("amplitude_origin")).matrix());
   EXPECT_LT((whole - added).cwiseAbs().maxCoeff(), 1e-9 * whole.cwiseAbs().maxCoeff());
 
   // Without the drift, no third factor.

@@ -246,14 +246,22 @@ Endpoint Factor(DiagramDocument* out, const MotionMultiplier& multiplier, const 
     return out->OutputOf(one);
   }
   Endpoint source;
-  if (multiplier.clock) {
-    const std::string clock = out->Add({name + "_clock", "clock", json::object(), std::nullopt,
-                                        fmt::format("the time that the amplitude of '{}' drifts with", name)});
-    *factor_name = "time";
-    source = out->OutputOf(clock);
-  } else if (multiplier.amplitude_column) {
-    source = {"", ColumnInput(out, effect.amplitude_column, effect.effect)};
-    *factor_name = source.port;
+  if (multiplier.clock || multiplier.amplitude_column) {  // a third factor's source less its origin z₀
+    if (multiplier.clock) {
+      source = out->OutputOf(out->Add({name + "_clock", "clock", json::object(), std::nullopt,
+                                       fmt::format("the time that the amplitude of '{}' drifts with", name)}));
+      *factor_name = "time";
+    } else {
+      source = {"", ColumnInput(out, effect.amplitude_column, effect.effect)};
+      *factor_name = source.port;
+    }
+    const auto origin = effect.parameters.find(kAmplitudeOrigin);
+    if (origin == effect.parameters.end()) {
+      throw std::invalid_argument(fmt::format("effect '{}': its third factor has no origin", effect.effect));
+    }
+    const std::string z0 = out->Add({name + "_origin", "constant", {{"value", origin->second}}, std::nullopt,
+                                     fmt::format("where the amplitude of '{}' is as diagnosed", name)});
+    source = out->OutputOf(out->AddDifference(source, out->OutputOf(z0), name + "_" + *factor_name + "_from_origin"));
   } else if (multiplier.of_model_force) {
     source = *force;
     *factor_name = "force";
