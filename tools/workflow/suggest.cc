@@ -429,7 +429,7 @@ void AddEffectBlock(DiagramDocument* out, const DiagnosedEffect& effect, const s
 
 json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, const std::string& output) {
   DiagramDocument out(diagram);
-  // A third factor (models/diagnosis/amplitude_factor.h): the pair where its source is 0, and its part times the source.
+  // A third factor (models/diagnosis/amplitude_factor.h): the pair as diagnosed at z₀, and its part times z − z₀.
   const AmplitudeParts parts = SplitAmplitudeFactor(effect);
   AddEffectBlock(&out, parts.main, output, std::nullopt);
   if (parts.part) {

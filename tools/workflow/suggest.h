@@ -38,8 +38,9 @@ bool IsFrictionLawReplacement(const DiagnosisResult& diagnosis, const std::strin
 /// element; one that acts on the model's output (a delay, a quantizer) is inserted between that signal and the
 /// connector. An effect that takes over a base parameter (DiagnosedEffect::replaced_parameter, e.g. the smooth
 /// Coulomb law taking over "friction.coulomb") sets that parameter to 0 and removes it from "free", with a note; a
-/// diagram without that element (edited since the diagnosis) keeps its parameters. docs/diagnosis.md lists each
-/// effect's block.
+/// diagram without that element (edited since the diagnosis) keeps its parameters. An effect with a third factor
+/// (models/diagnosis/amplitude_factor.h) is added as the pair as diagnosed at z₀ and, beside it, its part times z − z₀
+/// (a clock block, or the column's input connector, less a constant). docs/diagnosis.md lists each effect's block.
 /// @throws std::invalid_argument if the effect is unknown or has no block, its template refuses the diagnosed
 /// parameters (a key parameter missing or out of range, a negative delay), or the diagram lacks the needed input
 /// connector, sample period or a connection into `output` (the message says what to add).
