@@ -68,6 +68,7 @@ struct Trial {
 // nullopt when an effect's columns cannot be built on this record.
 struct Rebuilt {
   RegressorMatrix m;
+  BlockGrams grams;
   Selection s;
 };
 std::optional<Rebuilt> Rebuild(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols,
@@ -78,9 +79,9 @@ std::optional<Rebuilt> Rebuild(const DiagnosisSignals& signals, const Eigen::Mat
   RegressorMatrix m = BuildCandidateMatrix(refinement.corrected(), base_cols, trial, options, &trial_notes);
   if (m.cands.size() != trial.size()) return std::nullopt;
   m.Weigh(signals.residual, ranking.weights);
-  const BlockGrams grams(m, options.folds);
+  BlockGrams grams(m, options.folds);
   Selection s = SelectInOrder(m, grams, base_cols.cols(), m.cands.size());
-  return Rebuilt{std::move(m), std::move(s)};
+  return Rebuilt{std::move(m), std::move(grams), std::move(s)};
 }
 
 // X × 1 and X × a column, both chosen, are one pair: X whose amplitude follows the column (their columns span the same
@@ -141,14 +142,13 @@ void ModulateChosenEffects(const DiagnosisSignals& signals, const Eigen::MatrixX
       if (!rebuilt || !(rebuilt->s.mse_last < best.mse)) continue;
       RegressorMatrix& m = rebuilt->m;
       Selection& s = rebuilt->s;
-      const BlockGrams grams(m, options.folds);
       // The same ranking without the modulated column (effect i's last): the gain is the factor's alone.
       const Eigen::Index modulated_column = m.cands[i].idx.back();
       std::vector<Eigen::Index> without;
       for (const Eigen::Index j : s.selected) {
         if (j != modulated_column) without.push_back(j);
       }
-      best.t = GainSignificance(m, grams, without, s.selected, options.significance_batches);
+      best.t = GainSignificance(m, rebuilt->grams, without, s.selected, options.significance_batches);
       best.with = with;
       best.mse = s.mse_last;
       best.s = std::move(s);

@@ -320,6 +320,39 @@ TEST(Diagnosis, ARippleWhoseAmplitudeDriftsCarriesAThirdFactorOfTime) {
   EXPECT_FALSE(steady.effects.front().parameters.count("amplitude_with")) << steady.effects.front().description;
 }
 
+// A third factor's parameters that cannot make its column are refused with the reason, not guessed.
+TEST(Diagnosis, AThirdFactorWithoutItsParametersIsRefusedWithTheReason) {
+  Scenario sc(2000);
+  sc.s.residual = sc.Noise(0.1);
+  const std::map<std::string, double> ripple{{"period", 0.0225}, {"harmonics", 1}};
+  const auto message = [&](std::map<std::string, double> extra) {
+    std::map<std::string, double> p = ripple;
+    p.insert(extra.begin(), extra.end());
+    try {
+      BuildEffectRegressors({"position_periodic", p}, sc.s);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const std::map<std::string, double> whole{{"amplitude_with", -1.0}, {"amplitude_origin", 1.0},
+                                            {"amplitude_scale", 1.0}, {"amplitude_weight.0", 1.0},
+                                            {"amplitude_weight.1", 0.0}};
+  EXPECT_EQ(message(whole), "accepted");
+  std::map<std::string, double> no_scale = whole;
+  no_scale.erase("amplitude_scale");
+  EXPECT_THAT(message(no_scale), HasSubstr("no finite 'amplitude_scale'"));
+  std::map<std::string, double> zero_scale = whole;
+  zero_scale["amplitude_scale"] = 0.0;
+  EXPECT_THAT(message(zero_scale), HasSubstr("scale 0 must be > 0"));
+  std::map<std::string, double> one_weight = whole;
+  one_weight.erase("amplitude_weight.1");
+  EXPECT_THAT(message(one_weight), HasSubstr("1 weights for 2 columns"));
+  std::map<std::string, double> no_column = whole;
+  no_column["amplitude_with"] = 3.0;
+  EXPECT_THAT(message(no_column), HasSubstr("names no unread log column"));
+}
+
 TEST(Diagnosis, BinnedResidualShowsTheFrictionShape) {
   Scenario sc(6000);
   const Eigen::VectorXd r = 20.0 * sc.Sign();
