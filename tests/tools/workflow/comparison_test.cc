@@ -514,6 +514,45 @@ TEST(ComparisonTest, FitRecoversParametersOfSyntheticLinearModel) {
   fs::remove(log_path);
 }
 
+// A parameter whose best value lies beyond the bound its block declares (a Coulomb level ≥ 0, where the force holds
+// −3 N·sign(v)) is fitted to its bound, and the others still to their values: Levenberg–Marquardt's trial points are
+// projected into the bounds (FitParameters). Before, every trial that crossed the bound was a refused diagram, and the
+// fit stopped where it started.
+TEST(ComparisonTest, AParameterBeyondItsBoundIsFittedToItAndTheOthersStillFit) {
+  const fs::path log_path = fs::temp_directory_path() / "mb_compare_bounded.csv";
+  {
+    std::ofstream out(log_path);
+    out << "time_s,position_m,force_N\n";
+    for (int i = 0; i < 3000; ++i) {
+      const double t = i * 0.001;
+      out << t << "," << 0.05 * std::sin(2.0 * t) + 0.01 * std::sin(7.0 * t) << ",0\n";
+    }
+  }
+  auto log = ReadMeasurementWithDerivatives(log_path.string(), "position_m", 30.0);
+  const auto v = log.column(kDerivedVelocityColumn);
+  const auto a = log.column(kDerivedAccelerationColumn);
+  Eigen::VectorXd force(v.size());
+  for (Eigen::Index i = 0; i < v.size(); ++i) force(i) = 50.0 * a(i) + 120.0 * v(i) - 3.0 * (v(i) > 0 ? 1 : -1) + 1.5;
+  std::vector<std::string> names = log.names();
+  std::vector<Eigen::VectorXd> cols;
+  for (const auto& n : names) cols.push_back(n == "force_N" ? force : log.column(n));
+  const MeasurementLog synthetic(names, cols, "synthetic");
+  DiagramDocument start(ReadDiagramJson(kEmps / "rigid_body.json"));
+  start.SetParameter("friction", "coulomb", 0.0);  // at its bound, as a previous refit left it
+  const nlohmann::json diagram = start.json();
+  ModelComparison c(diagram, kEmps, "rigid_body.json", synthetic, {});
+  const auto params = ResolveFreeParameters(diagram, diagram["free"].get<std::vector<std::string>>());
+  ASSERT_EQ(params[2].name, "friction.coulomb");
+  EXPECT_EQ(params[2].lower, 0.0) << "the friction block declares a Coulomb level ≥ 0";
+  const FitResult fit = FitParameters(c, params);
+  EXPECT_GE(fit.estimate(2), 0.0);
+  EXPECT_LT(fit.estimate(2), 0.05);
+  // With the level at 0 the −3 N·sign(v) is left to the others: the mass and the viscous coefficient still near theirs.
+  EXPECT_NEAR(fit.estimate(0), 50.0, 5.0);
+  EXPECT_NEAR(fit.estimate(1), 120.0, 40.0);
+  fs::remove(log_path);
+}
+
 TEST(ComparisonTest, FreeParameterErrorsNameTheProblem) {
   const auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
   EXPECT_THAT([&] { ResolveFreeParameters(diagram, {"nope.gain"}); },
