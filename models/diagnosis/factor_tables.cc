@@ -232,7 +232,7 @@ Eigen::VectorXd WindowColumn(const DiagnosisSignals& s, const Eigen::VectorXd& m
 // middle 80 % of the record, then golden section between the best point's neighbours (Andrews' sup-F scan, the Chow
 // test at an unknown time). None when the best break is at the scan's edge (no change inside the record).
 std::vector<FactorParameters> ScanStep(ProposalContext& c,
-                                       const Eigen::VectorXd& m, const Eigen::VectorXd*, const std::string&) {
+                                       const Eigen::VectorXd& m, const Eigen::VectorXd*, const std::string& pair) {
   const DiagnosisSignals& s = c.signals();
   const auto [t0, duration] = Span(s);
   if (!(duration > 0.0) || !(m.cwiseAbs().maxCoeff() > 0.0)) return {};
@@ -246,7 +246,12 @@ std::vector<FactorParameters> ScanStep(ProposalContext& c,
     const double e = sse(lo + i * step);
     if (e < best_sse) { best_sse = e; best = i; }
   }
-  if (best == 0 || best == kBreakGrid - 1) return {};
+  if (best == 0 || best == kBreakGrid - 1) {
+    c.Note(fmt::format("{} not proposed: its best change time ({:.4g} s) is at the scan's {} ({:.4g}–{:.4g} s): no "
+                       "change inside the record", pair, lo + best * step, best == 0 ? "start" : "end", lo,
+                       lo + (kBreakGrid - 1) * step));
+    return {};
+  }
   const double at = Golden(sse, lo + (best - 1) * step, lo + (best + 1) * step, 0.1 * c.sample_period(),
                            lo + best * step, best_sse).first;
   return {{{"change_time", at}}};
@@ -256,7 +261,7 @@ std::vector<FactorParameters> ScanStep(ProposalContext& c,
 // in the middle 90 % of the record, then each edge by golden section. None when the best window touches the scan's
 // ends (a step, or a ramp, fits that).
 std::vector<FactorParameters> ScanWindow(ProposalContext& c,
-                                         const Eigen::VectorXd& m, const Eigen::VectorXd*, const std::string&) {
+                                         const Eigen::VectorXd& m, const Eigen::VectorXd*, const std::string& pair) {
   const DiagnosisSignals& s = c.signals();
   const auto [t0, duration] = Span(s);
   if (!(duration > 0.0) || !(m.cwiseAbs().maxCoeff() > 0.0)) return {};
@@ -271,7 +276,11 @@ std::vector<FactorParameters> ScanWindow(ProposalContext& c,
       if (e < best_sse) { best_sse = e; best_on = i; best_off = j; }
     }
   }
-  if (best_on == 0 || best_off == kWindowGrid - 1) return {};
+  if (best_on == 0 || best_off == kWindowGrid - 1) {
+    c.Note(fmt::format("{} not proposed: its best window ({:.4g}–{:.4g} s) touches the scan's {} (a step or a ramp "
+                       "fits that)", pair, lo + best_on * step, lo + best_off * step, best_on == 0 ? "start" : "end"));
+    return {};
+  }
   double on = lo + best_on * step, off = lo + best_off * step;
   const double resolution = 0.1 * c.sample_period();
   std::tie(on, best_sse) = Golden([&](double t) { return fit(WindowColumn(s, m, t, off)); }, on - step, on + step,
@@ -288,7 +297,7 @@ Eigen::VectorXd WarmUp(const Eigen::VectorXd& t, double start, double time_const
 // A first-order settling from the record's start: T on a log grid over [duration/100, duration] then golden section
 // (MinimiseOnLogGrid); none when T ends in the grid's first or last cell (a step at the start, or a ramp).
 std::vector<FactorParameters> ScanWarmUp(ProposalContext& c,
-                                         const Eigen::VectorXd& m, const Eigen::VectorXd*, const std::string&) {
+                                         const Eigen::VectorXd& m, const Eigen::VectorXd*, const std::string& pair) {
   constexpr int kGrid = 25;
   const DiagnosisSignals& s = c.signals();
   const auto [start, duration] = Span(s);
@@ -300,7 +309,12 @@ std::vector<FactorParameters> ScanWarmUp(ProposalContext& c,
   const double time_constant = MinimiseOnLogGrid(
       lo, hi, kGrid, 20, [&](double T) { return fit(m.cwiseProduct(WarmUp(s.time, t0, T))); }, true);
   const double cell = std::pow(hi / lo, 1.0 / (kGrid - 1));
-  if (!(time_constant > lo * cell && time_constant < hi / cell)) return {};
+  if (!(time_constant > lo * cell && time_constant < hi / cell)) {
+    c.Note(fmt::format("{} not proposed: its best settling time ({:.3g} s) is at the scan's {} end ({:.3g}–{:.3g} s): {}",
+                       pair, time_constant, time_constant <= lo * cell ? "short" : "long", lo, hi,
+                       time_constant <= lo * cell ? "a step at the record's start" : "a drift over the record"));
+    return {};
+  }
   return {{{"start_time", t0}, {"time_constant", time_constant}}};
 }
 

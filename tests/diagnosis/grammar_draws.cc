@@ -19,6 +19,9 @@ namespace {
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kSubStep = 2.5e-5;        // the plant's RK4 step at most [s]
 constexpr int kMaxSamples = 25'000;        // a record's samples at most (compare in about a second, Release)
+constexpr int kNoiseRefinements = 4;      // Calibrate: the sensing made finer at most this many times
+constexpr double kRatioTolerance = 0.95;   //   until the effect reaches this share of its drawn ratio,
+constexpr double kFinestSensing = 0.01;    //   its force noise and encoder step at least this share of the drawn ones
 constexpr double kEdgeShare = 0.02;        // NoiseFloor leaves this share of the record out at either end
 
 using Rng = std::mt19937_64;
@@ -544,18 +547,23 @@ double DrawSign(Rng& rng, const GrammarDraw& d) {
   return Chance(rng, 0.5) ? 1.0 : -1.0;
 }
 
-// Sets the amplitude: the effect's RMS beyond the base on the training twin's motion = target_ratio × its floor, within
-// what keeps the machine physical (a mass along the record at least 60 % of the body's, a force constant within
-// ±30 %, a Coulomb level or viscous coefficient at least 10 % of the plant's own; Effect bounds a friction of the
-// transmitted force within 50 % of it).
-void Calibrate(GrammarDraw* d, double sign) {
+// The largest amplitude the machine's physical limits allow for target_ratio × the floor: a mass along the record at
+// least 60 % of the body's, a force constant within ±30 %, a Coulomb level or viscous coefficient at least 10 % of the
+// plant's own (Effect bounds a friction of the transmitted force within 50 % of it). Sets noise_floor; returns the
+// amplitude's magnitude and the ratio it reaches.
+std::pair<double, double> LimitedAmplitude(GrammarDraw* d, double sign) {
   const Record twin = Simulate(*d, Run::kTraining, false);
   d->noise_floor = NoiseFloor(*d, twin);
-  GrammarDraw unit = *d;
-  unit.amplitude = 1.0;
-  const Eigen::VectorXd force =
-      EffectForce(unit, Run::kTraining, twin.time, twin.true_position, twin.velocity, twin.acceleration, twin.command);
-  const double rms = RmsBeyondBase(*d, twin, force);
+  const auto rms_at = [&](double amplitude) {
+    GrammarDraw at = *d;
+    at.amplitude = amplitude;
+    return RmsBeyondBase(*d, twin, EffectForce(at, Run::kTraining, twin.time, twin.true_position, twin.velocity,
+                                                twin.acceleration, twin.command));
+  };
+  // Per unit of amplitude, measured where Effect's ±50 % bounds do not bind (a force constant's share A·|u| at most
+  // 0.1 %): at A = 1 they bind on any force beyond 0.5 N, and u·|u| bounded is u·0.5, the base's own column.
+  const double small = 1e-3 / std::max(1.0, twin.command.cwiseAbs().maxCoeff());
+  const double rms = rms_at(small) / small;
   if (!(rms > 0.0)) throw std::logic_error("grammar_draws: the effect of " + d->Describe() + " vanishes on the record");
   double amplitude = d->target_ratio * d->noise_floor / rms;
   const RunContext c = MakeContext(*d, Run::kTraining);
@@ -576,8 +584,32 @@ void Calibrate(GrammarDraw* d, double sign) {
     const double own = d->multiplier == "slip" ? d->plant.coulomb : d->plant.viscous;
     amplitude = std::min(amplitude, 0.9 * own / -lowest);
   }
-  d->amplitude = sign * amplitude;
-  d->target_ratio = amplitude * rms / d->noise_floor;
+  return {amplitude, rms_at(sign * amplitude) / d->noise_floor};  // with Effect's bounds, as the record has it
+}
+
+// Sets the amplitude: the effect's RMS beyond the base on the training twin's motion = target_ratio × its floor. Where
+// the machine's physical limits (LimitedAmplitude) hold it lower, the machine's sensing is drawn finer instead — its
+// force noise and encoder step scaled down together, up to kNoiseRefinements times — so that the effect stands at the
+// drawn ratio over a lower floor: a force constant saturating by 30 % at most is shown by a quieter record, not by a
+// stronger saturation. The sensing is made at most 100 × finer, and no finer once the floor stops falling with it; the
+// ratio reached, which may then stay below the drawn one, is kept in target_ratio.
+void Calibrate(GrammarDraw* d, double sign) {
+  const double wanted = d->target_ratio;
+  std::pair<double, double> limited = LimitedAmplitude(d, sign);  // amplitude, ratio
+  for (int i = 0; i < kNoiseRefinements && limited.second < kRatioTolerance * wanted; ++i) {
+    const double finer = std::max(limited.second / wanted, kFinestSensing / d->noise_scale);
+    if (!(finer < 1.0)) break;
+    d->force_noise *= finer;
+    d->encoder_step *= finer;
+    d->noise_scale *= finer;
+    const double before = limited.second;
+    limited = LimitedAmplitude(d, sign);
+    // The floor no longer falls with the sensors' noise: what is left of it is the record's own (the controller's held
+    // command between samples, the derived motion's lag), which no sensor lowers.
+    if (!(limited.second > 1.1 * before)) break;
+  }
+  d->amplitude = sign * limited.first;
+  d->target_ratio = limited.second;
 }
 
 }  // namespace
@@ -757,7 +789,12 @@ std::string GrammarDraw::Describe() const {
                 key_parameter.empty() ? "—" : key_parameter.c_str(), key_value, target_ratio,
                 rotary ? "rotary" : "linear", sample_rate, duration,
                 trajectory == Trajectory::kSweep ? "sweep" : "point to point", integral_action ? "PID" : "PD");
-  return text + numbers;
+  text += numbers;
+  if (noise_scale < 1.0) {
+    std::snprintf(numbers, sizeof numbers, ", sensing ×%.2g", noise_scale);
+    text += numbers;
+  }
+  return text;
 }
 
 }  // namespace mb::grammar

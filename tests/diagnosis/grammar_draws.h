@@ -22,7 +22,9 @@
 //    vibration whose frequency is kept away from the motion's harmonics;
 //  - the term's amplitude: its RMS along the record, less what the base model's columns (a, v, tanh(v/v_c), 1) take,
 //    4–30 × the draw's noise floor (log-uniform; NoiseFloor below), with a sign that dissipates when the modulator is
-//    one-signed and the multiplier a friction;
+//    one-signed and the multiplier a friction. The machine's physical limits cap it (a mass at least 60 % of the
+//    body's, a force constant within ±30 %, a friction at least 10 % of the plant's own); where they hold it below the
+//    drawn ratio, the force noise and encoder step are scaled down until the capped effect reaches it (noise_scale);
 //  - a quarter of the draws a third factor: the amplitude follows time linearly, or a further logged column, by
 //    ±20–50 %; a third of the draws an idle column that does not act;
 //  - a linear (m, N, kg) or a rotary (rad, N·m, kg·m²) axis, its mass, friction and offset; a sample rate of
@@ -127,6 +129,7 @@ struct GrammarDraw {
   double amplitude = 0.0;            ///< the effect's coefficient A [force per unit of multiplier × modulator]
   double target_ratio = 0.0;         ///< drawn: the effect's RMS (less the base's share) over NoiseFloor
   double noise_floor = 0.0;          ///< NoiseFloor of the training record's effect-free twin [N or N·m]
+  double noise_scale = 1.0;          ///< Calibrate's scale of the drawn force noise and encoder step (1: as drawn)
 
   bool rotary = false;
   Plant plant;

@@ -1,5 +1,6 @@
 // The grammar-draw generator (tests/diagnosis/grammar_draws.h): its own checks, and a quick subset of draws through
 // compare (the full benchmark, 300 draws with improve: bench_grammar, `make bench-grammar`).
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -33,6 +34,28 @@ TEST(GrammarDraws, ADrawIsItsSeedsAlone) {
   EXPECT_EQ(twin.effect_force.cwiseAbs().maxCoeff(), 0.0);
   EXPECT_TRUE(r.force.allFinite());
   EXPECT_TRUE(Draw(kNoiseOnlySeedBase + 1).noise_only);
+}
+
+// A draw's effect stands 4–30 × its floor, within the machine's physical limits. Seed 95 hides a force constant that
+// saturates (A·u·|u|): it was drawn at 0.0 × its floor, measured at A = 1 where Effect's ±50 % bound made it u·0.5 (the
+// base's own column) and then capped at a 30 % change; the ratio is now measured where the bound does not bind, and the
+// record is made quieter where the cap holds the effect below the drawn ratio.
+TEST(GrammarDraws, AnEffectStandsAtItsDrawnRatioWithinThePhysicalLimits) {
+  const GrammarDraw d = Draw(95);
+  ASSERT_EQ(d.pair(), "model_force_abs×constant");
+  EXPECT_GE(d.target_ratio, 0.95 * 4.0);
+  EXPECT_LE(d.target_ratio, 30.0);
+  EXPECT_LT(d.noise_scale, 1.0) << "the 30 % cap binds on this machine";
+  EXPECT_GE(d.noise_scale, 0.01);
+  const Record twin = Simulate(d, Run::kTraining, false);
+  const Eigen::VectorXd effect =
+      EffectForce(d, Run::kTraining, twin.time, twin.true_position, twin.velocity, twin.acceleration, twin.command);
+  double share = 0.0;  // the force constant's change, |A·|u|·mod|, at its largest
+  for (Eigen::Index i = 0; i < twin.command.size(); ++i) {
+    if (std::abs(twin.command(i)) > 0.0) share = std::max(share, std::abs(effect(i) / twin.command(i)));
+  }
+  EXPECT_GT(share, 0.05);
+  EXPECT_LE(share, 0.3 + 1e-9) << "a force constant within ±30 % on the training twin's motion";
 }
 
 // The first eight seeds and one noise-only draw through compare, as a user runs it. The benchmark names three quarters
