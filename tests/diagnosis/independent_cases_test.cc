@@ -58,7 +58,7 @@ TEST(IndependentPlant, PointToPointMovesDwellAtRestAndStayInTheTravel) {
 }
 
 TEST(IndependentPlant, EachCaseNamesACatalogueEffectAndATolerance) {
-  ASSERT_EQ(Cases().size(), 41U);
+  ASSERT_EQ(Cases().size(), 43U);
   for (const auto& c : Cases()) {
     EXPECT_EQ(c.parameter.empty(), c.tolerance == 0.0) << c.name;
     // The idle column acts on nothing: like kNone, nothing may be named.
@@ -111,7 +111,9 @@ INSTANTIATE_TEST_SUITE_P(ComparePasses, IndependentCase,
                                            "grease warm-up", "back-EMF voltage limit",
                                            // A force with memory (issue 47): hysteresis of a preloaded guide,
                                            // and a vibration whose frequency drifts (a fan speeding up).
-                                           "hysteresis (a preloaded guide)", "drifting vibration"),
+                                           "hysteresis (a preloaded guide)", "drifting vibration",
+                                           // The same two on the rotary axis (rad, N·m).
+                                           "rotary hysteresis", "rotary drifting vibration"),
                          [](const ::testing::TestParamInfo<std::string>& case_info) {
                            std::string name;
                            for (char c : case_info.param) if (std::isalnum(static_cast<unsigned char>(c))) name += c;
@@ -138,7 +140,7 @@ TEST(IndependentValues, PayloadStepAndDriftReportTheChange) {
 // 1.3 ×, the benchmark's criterion). A quick subset, one of each kind of block improve adds (a transport delay on the
 // command path, a switched gain, a ripple × the direction of slip, an input connector on a log column, a warm-up of
 // time, the force constant × a smooth table of the position): under ASan an improve takes ~25 s, and the whole list
-// (all 40 cases with improve, in Release) is `make bench-diagnosis`, which exits 1 on a miss.
+// (all 43 cases with improve, in Release) is `make bench-diagnosis`, which exits 1 on a miss.
 class IndependentImprove : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(IndependentImprove, ReachesTheNoiseFloor) {

@@ -121,7 +121,9 @@ double LinkageMassSlope(double x) {
 }
 
 bool Has(Hidden h, Hidden what) {
-  return h == what || (h == Hidden::kRippleAndDelay && (what == Hidden::kPositionRipple || what == Hidden::kDelay));
+  return h == what || (h == Hidden::kRippleAndDelay && (what == Hidden::kPositionRipple || what == Hidden::kDelay)) ||
+         (h == Hidden::kRotaryHysteresis && what == Hidden::kHysteresis) ||
+         (h == Hidden::kRotaryDriftingVibration && what == Hidden::kDriftingVibration);
 }
 
 constexpr double kPayloadStep = 31.0, kPayloadStepTime = 8.0;
@@ -466,6 +468,11 @@ std::vector<CaseSpec> Cases() {
   // Issue 47: a vibration whose frequency drifts (its rate).
   c.push_back(Case("drifting vibration", Hidden::kDriftingVibration, "drifting_vibration", "drift_rate", kDriftRate,
                    0.1));
+  // The same two on the rotary axis (rad, N·m): the stroke in radians, the drift in Hz/s.
+  c.push_back(Case("rotary hysteresis", Hidden::kRotaryHysteresis, "hysteresis", "stroke",
+                   kRadPerMetre * kBoucWenDisplacement * (1.0 + std::log(5.0)), 0.25));
+  c.push_back(Case("rotary drifting vibration", Hidden::kRotaryDriftingVibration, "drifting_vibration", "drift_rate",
+                   kDriftRate, 0.1));
   CaseSpec stamps = Case("noisy stamps", Hidden::kPositionRipple, "position_periodic", "period", 0.006, 0.03);
   stamps.stamp_noise = 0.2;
   c.push_back(stamps);
@@ -641,7 +648,9 @@ Eigen::VectorXd CarriageForce(Hidden hidden, const Eigen::VectorXd& t, const Eig
 
 }  // namespace
 
-bool IsRotary(Hidden hidden) { return hidden == Hidden::kGravity; }
+bool IsRotary(Hidden hidden) {
+  return hidden == Hidden::kGravity || hidden == Hidden::kRotaryHysteresis || hidden == Hidden::kRotaryDriftingVibration;
+}
 
 bool OnlyInTheLoggedForce(Hidden hidden) { return hidden == Hidden::kDelay || hidden == Hidden::kMainsHum; }
 

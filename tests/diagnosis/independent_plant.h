@@ -93,6 +93,10 @@ enum class Hidden {
   /// A vibration whose frequency drifts: a fan on the frame speeding up, 2 N at 5 Hz + 0.5 Hz/s·t (5 → 13 Hz over the
   /// record), its phase the integral of that frequency.
   kDriftingVibration,
+  /// kHysteresis on the rotary axis (rad, N·m; kRadPerMetre): the guide's 90 % stroke 0.157 rad, its swing 0.6 N·m.
+  kRotaryHysteresis,
+  /// kDriftingVibration on the rotary axis: 0.1 N·m at 5 Hz + 0.5 Hz/s·t.
+  kRotaryDriftingVibration,
 };
 
 /// The drifting vibration's frequency at t = 0 [Hz] and its rate [Hz/s] (kDriftingVibration).
