@@ -1,7 +1,9 @@
-// bench_grammar [--draws=300] [--noise=50] [--first-seed=1] [--seeds=S1,S2,…] [--compare-only] [--out=DIR] [--verbose]:
+// bench_grammar [--draws=300] [--noise=50] [--memory=0] [--first-seed=1] [--seeds=S1,S2,…] [--compare-only] [--out=DIR]
+// [--verbose]:
 // the grammar-draw benchmark (issue 45, item 6; tests/diagnosis/grammar_bench.h). Runs the draws of seeds first-seed …
 // first-seed + draws − 1 (or those of --seeds, to rerun one cluster of the confusion table) and the noise-only draws
-// kNoiseOnlySeedBase + 1 … + noise, prints each draw's progress on stderr and the report (Markdown) on stdout; writes
+// kNoiseOnlySeedBase + 1 … + noise, then the draws with memory kMemorySeedBase + 1 … + memory (hysteresis, a drifting
+// vibration: issue 47, reported apart and written to memory.csv), prints each draw's progress on stderr and the report (Markdown) on stdout; writes
 // results.csv and confusion.csv to DIR (out/bench-grammar). --verbose: each draw's named effects with their scores and
 // compare's notes on stderr. `make bench-grammar` builds it in Release and runs it.
 #include <algorithm>
@@ -50,7 +52,7 @@ void Write(const std::filesystem::path& path, const std::string& text) {
 int main(int argc, char** argv) {
   namespace g = mb::grammar;
   std::string out = "out/bench-grammar";
-  int draws = 300, noise = 50;
+  int draws = 300, noise = 50, memory = 0;
   unsigned first = 1;
   std::vector<unsigned> seeds;
   bool improve = true, verbose = false;
@@ -61,6 +63,7 @@ int main(int argc, char** argv) {
     else if (a.rfind("--out=", 0) == 0) out = a.substr(6);
     else if (a.rfind("--draws=", 0) == 0) draws = std::stoi(a.substr(8));
     else if (a.rfind("--noise=", 0) == 0) noise = std::stoi(a.substr(8));
+    else if (a.rfind("--memory=", 0) == 0) memory = std::stoi(a.substr(9));
     else if (a.rfind("--first-seed=", 0) == 0) first = static_cast<unsigned>(std::stoul(a.substr(13)));
     else if (a.rfind("--seeds=", 0) == 0) {
       try {
@@ -73,18 +76,19 @@ int main(int argc, char** argv) {
     } else {
       std::cerr << "bench_grammar: unknown argument '" << a
                 << "'; usage: bench_grammar [--draws=300] [--noise=50] [--first-seed=1] [--seeds=S1,S2,…] "
-                   "[--compare-only] [--out=DIR] [--verbose]\n";
+                   "[--memory=0] [--compare-only] [--out=DIR] [--verbose]\n";
       return 2;
     }
   }
   try {
-    std::vector<g::DrawResult> results, noise_results;
-    const int total = draws + noise;
+    std::vector<g::DrawResult> results, noise_results, memory_results;
+    const int total = draws + noise + memory;
     for (int i = 0; i < total; ++i) {
-      const bool noise_only = i >= draws;
-      const unsigned seed = noise_only ? g::kNoiseOnlySeedBase + static_cast<unsigned>(i - draws + 1)
-                                       : seeds.empty() ? first + static_cast<unsigned>(i)
-                                                       : seeds[static_cast<std::size_t>(i)];
+      const bool noise_only = i >= draws && i < draws + noise, with_memory = i >= draws + noise;
+      const unsigned seed = with_memory  ? g::kMemorySeedBase + static_cast<unsigned>(i - draws - noise + 1)
+                            : noise_only ? g::kNoiseOnlySeedBase + static_cast<unsigned>(i - draws + 1)
+                            : seeds.empty() ? first + static_cast<unsigned>(i)
+                                            : seeds[static_cast<std::size_t>(i)];
       const auto t0 = std::chrono::steady_clock::now();
       const g::GrammarDraw draw = g::Draw(seed);
       g::DrawResult r;
@@ -112,13 +116,17 @@ int main(int argc, char** argv) {
                                    r.noise_floor);
         }
       }
-      (noise_only ? noise_results : results).push_back(std::move(r));
+      (with_memory ? memory_results : noise_only ? noise_results : results).push_back(std::move(r));
     }
     std::filesystem::create_directories(out);
     Write(std::filesystem::path(out) / "results.csv", g::ResultsCsv(results));
     Write(std::filesystem::path(out) / "noise_only.csv", g::ResultsCsv(noise_results));
     Write(std::filesystem::path(out) / "confusion.csv", g::ConfusionCsv(results));
-    std::cout << g::FormatReport(results, noise_results);
+    if (!results.empty() || !noise_results.empty()) std::cout << g::FormatReport(results, noise_results);
+    if (!memory_results.empty()) {
+      Write(std::filesystem::path(out) / "memory.csv", g::ResultsCsv(memory_results));
+      std::cout << "\n" << g::FormatReport(memory_results, {}, "Draws with memory (hysteresis, a drifting vibration)");
+    }
   } catch (const std::exception& e) {
     std::cerr << "bench_grammar: " << e.what() << "\n";
     return 1;

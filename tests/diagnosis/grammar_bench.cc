@@ -80,7 +80,7 @@ void Judge(const DiagnosisResult& diagnosis, DrawResult* r) {
   }
   if (d.noise_only) return;
   const auto [multiplier, modulator] = FactorsOf(first->effect);
-  r->named_right = multiplier == d.multiplier && modulator == d.modulator;
+  r->named_right = d.effect.empty() ? multiplier == d.multiplier && modulator == d.modulator : first->effect == d.effect;
   for (const std::string& alike : first->alike) {
     const auto [m, mod] = FactorsOf(alike);
     r->alike_right = r->alike_right || (!r->named_right && m == d.multiplier && mod == d.modulator);
@@ -194,7 +194,8 @@ std::string TallyTable(const std::string& heading, const std::map<std::string, T
 
 }  // namespace
 
-std::string FormatReport(const std::vector<DrawResult>& draws, const std::vector<DrawResult>& noise_only) {
+std::string FormatReport(const std::vector<DrawResult>& draws, const std::vector<DrawResult>& noise_only,
+                         const std::string& title) {
   Tally all;
   std::map<std::string, Tally> by_pair, by_multiplier, by_modulator;
   double compare_total = 0.0, compare_max = 0.0, improve_total = 0.0;
@@ -207,7 +208,7 @@ std::string FormatReport(const std::vector<DrawResult>& draws, const std::vector
     compare_max = std::max(compare_max, r.compare_seconds);
     improve_total += r.improve_seconds;
   }
-  std::string out = "## Grammar draws\n\n";
+  std::string out = "## " + title + "\n\n";
   if (!draws.empty()) {
     out += fmt::format("Seeds {}–{}; compare {:.2f} s per draw on average (longest {:.2f} s){}.\n\n",
                        draws.front().draw.seed, draws.back().draw.seed, compare_total / static_cast<double>(draws.size()),

@@ -6,7 +6,8 @@
 //
 // The judging:
 //  - named right: the first effect outside the friction-law replacements (EffectTraits::friction_law_replacement) has
-//    the draw's multiplier and modulator (EffectType::multiplier, ::modulator; FactorsOf);
+//    the draw's multiplier and modulator (EffectType::multiplier, ::modulator; FactorsOf), or, for a draw that is no
+//    product (hysteresis: GrammarDraw::effect), is that effect;
 //  - parameter right: named right, and its key shape parameter within the draw's tolerance (GrammarDraw::key_*; a
 //    window's off time too); a column modulator's column is the draw's active one (DiagnosedEffect::log_column);
 //  - floor reached: improve's held-out RMSE within [0.7, 1.3] × the draw's floor: the base truth's force on the
@@ -58,7 +59,9 @@ DrawResult RunDraw(const GrammarDraw& draw, const std::filesystem::path& directo
 
 /// The report (Markdown): pass rates, by multiplier and by modulator, the confusion table (rows: the drawn pair;
 /// what was named first, with counts), the noise-only result and the times.
-std::string FormatReport(const std::vector<DrawResult>& draws, const std::vector<DrawResult>& noise_only);
+/// `title`: the report's heading.
+std::string FormatReport(const std::vector<DrawResult>& draws, const std::vector<DrawResult>& noise_only,
+                         const std::string& title = "Grammar draws");
 
 /// The full confusion matrix as CSV (rows: drawn pairs; columns: what was named first; counts).
 std::string ConfusionCsv(const std::vector<DrawResult>& draws);

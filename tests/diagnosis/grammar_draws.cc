@@ -226,7 +226,8 @@ RunContext MakeContext(const GrammarDraw& d, Run run) {
 }
 
 // The modulator's value at (t, x) and its derivative in x (for a mass along the position's ½M′(x)·v²).
-std::pair<double, double> Modulator(const GrammarDraw& d, const RunContext& c, double t, double x) {
+// `memory`: the hysteresis element's state z ∈ [−1, 1] (Simulate and EffectForce carry it along the motion).
+std::pair<double, double> Modulator(const GrammarDraw& d, const RunContext& c, double t, double x, double memory = 0.0) {
   const Shape& s = d.shape;
   const std::string& m = d.modulator;
   if (m == "constant") return {1.0, 0.0};
@@ -256,6 +257,10 @@ std::pair<double, double> Modulator(const GrammarDraw& d, const RunContext& c, d
   if (m == "time_window") return {t >= s.on_time && t < s.off_time ? 1.0 : 0.0, 0.0};
   if (m == "time_warm_up") return {-std::expm1(-t / s.time_constant), 0.0};
   if (m == "time_periodic") return {std::sin(kTwoPi * s.frequency_hz * t + s.phase), 0.0};
+  if (m == "time_chirp") {
+    return {std::sin(kTwoPi * (s.frequency_hz * t + 0.5 * s.drift_rate * t * t) + s.phase), 0.0};
+  }
+  if (m == "hysteresis") return {memory, 0.0};
   throw std::logic_error("grammar_draws: unknown modulator " + m);
 }
 
@@ -273,9 +278,10 @@ struct EffectTerms {
   double mass = 0.0, force = 0.0;
 };
 
-EffectTerms Effect(const GrammarDraw& d, const RunContext& c, double t, double x, double v, double u) {
+EffectTerms Effect(const GrammarDraw& d, const RunContext& c, double t, double x, double v, double u,
+                   double memory = 0.0) {
   if (d.noise_only || d.amplitude == 0.0) return {};
-  const auto [mod, slope] = Modulator(d, c, t, x);
+  const auto [mod, slope] = Modulator(d, c, t, x, memory);
   const double gain = d.amplitude * ThirdFactor(d, c, t);
   const std::string& m = d.multiplier;
   const double slip = d.shape.slip_velocity > 0.0 ? std::tanh(v / d.shape.slip_velocity) : 0.0;
@@ -339,11 +345,19 @@ class Controller {
 };
 
 // The body's acceleration at (t, x, v) under the held command u.
+// The Dahl element's state after a displacement dx, exact for a displacement of one direction: z moves toward sign(dx)
+// by the share 1 − exp(−|dx|/λ), λ = stroke/ln 10.
+double DahlStep(const GrammarDraw& d, double z, double dx) {
+  if (d.modulator != "hysteresis" || dx == 0.0) return z;
+  const double target = dx > 0.0 ? 1.0 : -1.0;
+  return target - (target - z) * std::exp(-std::abs(dx) * std::log(10.0) / d.shape.stroke);
+}
+
 double Acceleration(const GrammarDraw& d, const RunContext& c, bool with_effect, double t, double x, double v,
-                    double u) {
+                    double u, double memory = 0.0) {
   const Plant& p = d.plant;
   const double base = p.viscous * v + p.coulomb * std::tanh(v / p.coulomb_velocity) + p.offset;
-  const EffectTerms e = with_effect ? Effect(d, c, t, x, v, u) : EffectTerms{};
+  const EffectTerms e = with_effect ? Effect(d, c, t, x, v, u, memory) : EffectTerms{};
   return (u - base - e.force) / (p.mass + e.mass);
 }
 
@@ -536,6 +550,39 @@ void DrawShape(Rng& rng, GrammarDraw* d) {
   if (IsColumn(m)) d->active_column = DrawActiveColumn(rng);
 }
 
+// An effect with memory: half the draws hysteresis over a stroke of 1–6 % of the travel (log-uniform), half a
+// multiplier (uniform) × a vibration whose frequency drifts by a factor 1.5–3 over the record, up or down, within the
+// band time_periodic draws from (away from the motion's harmonics).
+void DrawMemoryEffect(Rng& rng, GrammarDraw* d) {
+  Shape& s = d->shape;
+  s.slip_velocity = std::max(d->plant.coulomb_velocity, LogUniform(rng, 0.001, 0.01) * d->top_speed);
+  if (Chance(rng, 0.5)) {
+    d->multiplier = "one";
+    d->modulator = "hysteresis";
+    d->effect = "hysteresis";
+    s.stroke = LogUniform(rng, 0.01, 0.06) * d->travel();
+    d->key_parameter = "stroke";
+    d->key_value = s.stroke;
+    d->key_tolerance = 0.25 * s.stroke;
+    return;
+  }
+  d->multiplier = kMultipliers[static_cast<std::size_t>(Index(rng, kMultipliers.size()))];
+  d->modulator = "time_chirp";
+  const double low = d->trajectory == Trajectory::kSweep ? std::max(2.0, 9.6 * (d->sweep_frequency + d->sweep_deviation))
+                                                         : 2.0;
+  const double high = std::min(40.0, 0.1 * d->sample_rate);
+  const double bottom = std::min(low, high / 1.5);
+  const double ratio = std::min(Uniform(rng, 1.5, 3.0), high / bottom);
+  const double f_low = LogUniform(rng, bottom, high / ratio), f_high = f_low * ratio;
+  const bool up = Chance(rng, 0.5);
+  s.frequency_hz = up ? f_low : f_high;
+  s.drift_rate = ((up ? f_high : f_low) - s.frequency_hz) / d->duration;
+  s.phase = Uniform(rng, 0.0, kTwoPi);
+  d->key_parameter = "drift_rate";
+  d->key_value = s.drift_rate;
+  d->key_tolerance = 0.1 * std::abs(s.drift_rate);
+}
+
 // The sign of the effect: a friction of a one-signed modulator dissipates (positive), else either.
 double DrawSign(Rng& rng, const GrammarDraw& d) {
   const bool dissipative = d.multiplier == "slip" || d.multiplier == "velocity" || d.multiplier == "velocity_speed" ||
@@ -544,6 +591,7 @@ double DrawSign(Rng& rng, const GrammarDraw& d) {
                           d.modulator == "time_window" || d.modulator == "time_warm_up" ||
                           (d.modulator == "position_smooth" && d.shape.smooth_kind != 0);
   if (dissipative && one_signed) return 1.0;
+  if (d.modulator == "hysteresis") return 1.0;  // a Dahl element resists the motion
   return Chance(rng, 0.5) ? 1.0 : -1.0;
 }
 
@@ -626,10 +674,14 @@ bool IsDrawnPair(const std::string& multiplier, const std::string& modulator) {
 GrammarDraw Draw(unsigned seed) {
   GrammarDraw d;
   d.seed = seed;
-  d.noise_only = seed >= kNoiseOnlySeedBase;
+  d.noise_only = seed >= kNoiseOnlySeedBase && seed < kMemorySeedBase;
+  d.memory = seed >= kMemorySeedBase;
   Rng rng(seed);
   DrawMachine(rng, &d);
-  if (!d.noise_only) {
+  if (d.memory) {
+    DrawMemoryEffect(rng, &d);
+    d.target_ratio = LogUniform(rng, 4.0, 30.0);
+  } else if (!d.noise_only) {
     std::vector<std::pair<std::string, std::string>> pairs;
     for (const auto& mu : kMultipliers) {
       for (const auto& mo : kModulators) {
@@ -685,6 +737,7 @@ Record Simulate(const GrammarDraw& d, Run run, bool with_effect) {
   const bool effect = with_effect && !d.noise_only;
   const std::array<double, 3> start = reference.At(0.0);
   double x = start[0], v = start[1];
+  double z = 0.0;  // the hysteresis element's state (DahlStep)
   const auto quantise = [&](double q) { return std::floor(q / d.encoder_step) * d.encoder_step; };
   Controller controller(d);
   controller.Start(quantise(x), v);
@@ -700,8 +753,8 @@ Record Simulate(const GrammarDraw& d, Run run, bool with_effect) {
     r.true_position(k) = x;
     r.velocity(k) = v;
     r.reference(k) = ref[0];
-    const EffectTerms e = effect ? Effect(d, context, t, x, v, u) : EffectTerms{};
-    r.acceleration(k) = Acceleration(d, context, effect, t, x, v, u);
+    const EffectTerms e = effect ? Effect(d, context, t, x, v, u, z) : EffectTerms{};
+    r.acceleration(k) = Acceleration(d, context, effect, t, x, v, u, z);
     r.effect_force(k) = e.mass * r.acceleration(k) + e.force;
     std::size_t j = 0;
     for (const auto& [column, signal] : logged) {
@@ -710,13 +763,15 @@ Record Simulate(const GrammarDraw& d, Run run, bool with_effect) {
     for (int i = 0; i < sub; ++i) {  // RK4 on the sub-step, the command held
       const double s = t + i * h;
       const auto f = [&](double tt, double xx, double vv) {
-        return std::array<double, 2>{vv, Acceleration(d, context, effect, tt, xx, vv, u)};
+        return std::array<double, 2>{vv, Acceleration(d, context, effect, tt, xx, vv, u, z)};
       };
       const auto k1 = f(s, x, v);
       const auto k2 = f(s + 0.5 * h, x + 0.5 * h * k1[0], v + 0.5 * h * k1[1]);
       const auto k3 = f(s + 0.5 * h, x + 0.5 * h * k2[0], v + 0.5 * h * k2[1]);
       const auto k4 = f(s + h, x + h * k3[0], v + h * k3[1]);
-      x += h / 6.0 * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0]);
+      const double step = h / 6.0 * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0]);
+      x += step;
+      z = DahlStep(d, z, step);  // held over the sub-step, as the command is
       v += h / 6.0 * (k1[1] + 2.0 * k2[1] + 2.0 * k3[1] + k4[1]);
     }
   }
@@ -728,8 +783,10 @@ Eigen::VectorXd EffectForce(const GrammarDraw& d, Run run, const Eigen::VectorXd
                             const Eigen::VectorXd& command) {
   const RunContext c = MakeContext(d, run);
   Eigen::VectorXd f(time.size());
+  double z = 0.0;  // the hysteresis element's state along the positions (DahlStep)
   for (Eigen::Index i = 0; i < time.size(); ++i) {
-    const EffectTerms e = Effect(d, c, time(i), position(i), velocity(i), command(i));
+    if (i > 0) z = DahlStep(d, z, position(i) - position(i - 1));
+    const EffectTerms e = Effect(d, c, time(i), position(i), velocity(i), command(i), z);
     f(i) = e.mass * acceleration(i) + e.force;
   }
   return f;

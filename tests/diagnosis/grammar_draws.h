@@ -47,6 +47,9 @@ namespace mb::grammar {
 
 /// Seeds from here on are noise-only draws (no effect).
 inline constexpr unsigned kNoiseOnlySeedBase = 1'000'000;
+/// Seeds from here draw an effect with memory (issue 47, item 5): hysteresis over a drawn stroke (1–6 % of the travel)
+/// or a vibration whose frequency drifts (by a factor 1.5–3 over the record, up or down), with their own physics.
+inline constexpr unsigned kMemorySeedBase = 2'000'000;
 
 /// The multiplier ids (what the effect's force is proportional to) and the modulator ids (what it varies with), as
 /// the diagnosis names its factors (models/diagnosis/effect_registry.h, EffectType::multiplier and ::modulator).
@@ -99,8 +102,12 @@ struct Shape {
   double smooth_middle = 0.0, smooth_scale = 0.0;
   // time_step: change_time; time_window: on_time..off_time; time_warm_up: time_constant from t = 0 [s]
   double change_time = 0.0, on_time = 0.0, off_time = 0.0, time_constant = 0.0;
-  // time_periodic: sin(2πft + φ)
-  double frequency_hz = 0.0;
+  // time_periodic: sin(2πft + φ); time_chirp: sin(2π(f₀t + ½ḟt²) + φ), f₀ = frequency_hz, ḟ = drift_rate [Hz/s]
+  double frequency_hz = 0.0, drift_rate = 0.0;
+  // hysteresis: a Dahl element, z' = (1 − z·sign(ẋ))/λ per unit of stroke, λ = stroke/ln 10: after a reversal the
+  // force makes 90 % of its swing over `stroke` [m or rad], whatever the speed (Dahl 1968; not the diagnosis' stop
+  // operators)
+  double stroke = 0.0;
   // slip and load_slip multipliers: tanh(v/slip_velocity)
   double slip_velocity = 0.0;
 };
@@ -110,6 +117,10 @@ struct GrammarDraw {
   unsigned seed = 0;
   bool noise_only = false;
   std::string multiplier, modulator;  ///< ids (MultiplierIds, ModulatorIds); "" for a noise-only draw
+  /// A draw with memory (seeds from kMemorySeedBase): hysteresis ("one" × "hysteresis", judged by the effect's name
+  /// `effect`) or a vibration of drifting frequency (a multiplier × "time_chirp", a pair of the grammar).
+  bool memory = false;
+  std::string effect;
   Shape shape;
   /// The key shape parameter as the diagnosis reports it ("period", "center", "change_time", "on_time",
   /// "time_constant", "frequency_hz"; "" when the modulator has none: constant, position_smooth, time_ramp, column,
@@ -147,7 +158,9 @@ struct GrammarDraw {
   double force_noise = 0.0;                    ///< standard deviation of the logged force's noise [N or N·m]
 
   double travel() const { return travel_high - travel_low; }
-  std::string pair() const { return noise_only ? "nothing" : multiplier + "×" + modulator; }
+  std::string pair() const {
+    return noise_only ? "nothing" : !effect.empty() ? effect : multiplier + "×" + modulator;
+  }
   /// One line: seed, pair, key parameter, ratio, axis, rate, trajectory.
   std::string Describe() const;
 };
