@@ -7,7 +7,7 @@
 //
 // Regressors s_i = (x − p_{r_i}(x))/r_i ∈ [−1, 1], p_r the play operator of half-width r (the stop operator over r),
 // r_i on a log grid from min_breakaway to max_breakaway, i = 1..elements; coefficient i is F_i [N]. {min_breakaway
-// [m] (0.5 % of the travel), max_breakaway [m] (10 % of the travel), elements (5)}. Read off the coefficients: the
+// [m] (0.5 % of the travel), max_breakaway [m] (10 % of the travel), elements (9)}. Read off the coefficients: the
 // stroke after a reversal over which the force makes 90 % of its swing [m], the break-away force Σ F_i⁺ [N] (half the
 // swing) and the initial stiffness Σ F_i⁺/r_i [N/m] (F⁺: the positive part — a Maxwell-slip element cannot push back).
 // Proposed when the axis reverses at least twice. Block: hysteresis (blocks/hysteresis.cc), the same elements.
@@ -27,7 +27,7 @@ namespace {
 constexpr const char* kName = "hysteresis";
 constexpr double kMinShare = 5e-3;   // of the travel: the smallest break-away displacement
 constexpr double kMaxShare = 0.1;    // of the travel: the largest
-constexpr int kElements = 5;         // a factor 2.1 between neighbours
+constexpr int kElements = 9;         // a factor 1.45 between neighbours
 constexpr double kSwingShare = 0.9;  // the stroke reported: where the force has made this much of its swing
 
 int Elements(const EffectInstance& e) {
@@ -125,7 +125,7 @@ EffectType Hysteresis() {
   t.regressor_formula = "(x − p_r(x))/r, p_r the play operator of half-width r, r on a log grid (Prandtl–Ishlinskii)";
   t.parameters = {{"min_breakaway", "m", "r₁: the smallest element's break-away displacement"},
                   {"max_breakaway", "m", "r_n: the largest element's break-away displacement"},
-                  {"elements", "", "n: the elasto-slide elements, log-spaced (5 when absent)"},
+                  {"elements", "", "n: the elasto-slide elements, log-spaced (9 when absent)"},
                   {"stroke", "m", "read off the fit: the stroke after a reversal over which the force makes 90 % of its "
                                   "swing"},
                   {"breakaway_force", "N", "read off the fit: Σ F_i⁺, half the force's swing"},
