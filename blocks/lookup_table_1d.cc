@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -11,11 +12,8 @@
 
 namespace mb {
 
-LookupTable1d::LookupTable1d(const BlockConfig& config)
-    : Block(config.name),
-      breakpoints_(config.parameters.Vector("breakpoints")),
-      table_(config.parameters.Vector("table")) {
-  const std::string& extrapolation = config.parameters.String("extrapolation");
+LinearTable::LinearTable(Eigen::VectorXd breakpoints, Eigen::VectorXd table, const std::string& extrapolation)
+    : breakpoints_(std::move(breakpoints)), table_(std::move(table)) {
   if (extrapolation != "clip" && extrapolation != "linear") {
     throw std::invalid_argument(fmt::format("extrapolation \"{}\": write \"clip\" (the end values hold beyond the "
                                             "breakpoints, Simulink's default) or \"linear\"",
@@ -36,22 +34,40 @@ LookupTable1d::LookupTable1d(const BlockConfig& config)
                                               i, breakpoints_(i), i > 0 ? i - 1 : 0, breakpoints_(i > 0 ? i - 1 : 0)));
     }
   }
-  DeclareInputPort("u");
-  DeclareOutputPort("y");
 }
 
-double LookupTable1d::Interpolate(double u) const noexcept {
+// The segment [b_k, b_{k+1}] holding u (the first or last one beyond the ends).
+Eigen::Index LinearTable::Segment(double u) const noexcept {
+  const Eigen::Index n = breakpoints_.size();
+  const double* begin = breakpoints_.data();
+  const auto upper = std::upper_bound(begin, begin + n, u);
+  return std::clamp<Eigen::Index>(static_cast<Eigen::Index>(upper - begin) - 1, 0, n - 2);
+}
+
+double LinearTable::Interpolate(double u) const noexcept {
   const Eigen::Index n = breakpoints_.size();
   if (clip_) {
     if (u <= breakpoints_(0)) return table_(0);
     if (u >= breakpoints_(n - 1)) return table_(n - 1);
   }
-  // The segment [b_k, b_{k+1}] holding u (the first or last one beyond the ends when extrapolating).
-  const double* begin = breakpoints_.data();
-  const auto upper = std::upper_bound(begin, begin + n, u);
-  const Eigen::Index k = std::clamp<Eigen::Index>(static_cast<Eigen::Index>(upper - begin) - 1, 0, n - 2);
+  const Eigen::Index k = Segment(u);
   const double q = (u - breakpoints_(k)) / (breakpoints_(k + 1) - breakpoints_(k));
   return table_(k) + q * (table_(k + 1) - table_(k));
+}
+
+double LinearTable::Slope(double u) const noexcept {
+  const Eigen::Index n = breakpoints_.size();
+  if (clip_ && (u < breakpoints_(0) || u >= breakpoints_(n - 1))) return 0.0;
+  const Eigen::Index k = Segment(u);
+  return (table_(k + 1) - table_(k)) / (breakpoints_(k + 1) - breakpoints_(k));
+}
+
+LookupTable1d::LookupTable1d(const BlockConfig& config)
+    : Block(config.name),
+      table_(config.parameters.Vector("breakpoints"), config.parameters.Vector("table"),
+             config.parameters.String("extrapolation")) {
+  DeclareInputPort("u");
+  DeclareOutputPort("y");
 }
 
 void LookupTable1d::CalcOutput(const BlockContext& c) const { c.y(0) = Interpolate(c.u(0)); }
@@ -84,21 +100,7 @@ EffectBlockTemplate LocalTableBlock(const char* element_name) {
   block.element_name = element_name;
   block.inputs = {{MotionInput::kPosition, "u"}};
   block.parameters = [](const DiagnosedEffect& d) {
-    const double center = BlockParameter(d, "center"), half_width = BlockParameter(d, "half_width");
-    if (!(half_width > 0.0)) {
-      throw std::invalid_argument(fmt::format("{} with half_width {}: must be > 0 to suggest a table", d.effect,
-                                              half_width));
-    }
-    const double coefficient = BlockCoefficient(d, "");
-    nlohmann::json breakpoints = nlohmann::json::array(), table = nlohmann::json::array();
-    const int last = static_cast<int>(2.0 * kSpan * kBreakpointsPerHalfWidth);
-    for (int i = 0; i <= last; ++i) {
-      const double z = -kSpan + 2.0 * kSpan * i / last;  // (x − c)/w
-      const double c = std::abs(z) < 1.0 ? std::cos(0.5 * std::numbers::pi * z) : 0.0;
-      breakpoints.push_back(center + half_width * z);
-      table.push_back(coefficient * c * c);
-    }
-    return nlohmann::json{{"breakpoints", breakpoints}, {"table", table}};
+    return LocalBumpTable(d, kBreakpointsPerHalfWidth, kSpan);
   };
   block.free = {"table"};
   return block;

@@ -13,6 +13,23 @@
 
 namespace mb {
 
+/// The table of lookup_table_1d (and inertia_table_1d): linear interpolation over strictly increasing breakpoints,
+/// clipped at the ends or extrapolated linearly.
+/// @throws std::invalid_argument (constructor) as LookupTable1d below.
+class LinearTable {
+ public:
+  LinearTable(Eigen::VectorXd breakpoints, Eigen::VectorXd table, const std::string& extrapolation);
+  /// The value at u; noexcept, no allocation.
+  double Interpolate(double u) const noexcept;
+  /// dy/du at u: the slope of the segment holding u (the right one at a breakpoint; 0 beyond the ends when clipped).
+  double Slope(double u) const noexcept;
+
+ private:
+  Eigen::Index Segment(double u) const noexcept;
+  Eigen::VectorXd breakpoints_, table_;
+  bool clip_ = true;
+};
+
 /// y = interpolation of (breakpoints, table) at u. Ports: in "u" (the breakpoints' unit, e.g. m), out "y" (the
 /// table's unit). Parameters: breakpoints b_1 < … < b_n (n ≥ 2), table y_1 … y_n, extrapolation "clip" (default) or
 /// "linear". Source: MathWorks, Simulink "1-D Lookup Table" block reference.
@@ -23,11 +40,10 @@ class LookupTable1d final : public Block {
   explicit LookupTable1d(const BlockConfig& config);
   void CalcOutput(const BlockContext& context) const override;
   /// The interpolated value at u (what CalcOutput writes); noexcept, no allocation.
-  double Interpolate(double u) const noexcept;
+  double Interpolate(double u) const noexcept { return table_.Interpolate(u); }
 
  private:
-  Eigen::VectorXd breakpoints_, table_;
-  bool clip_ = true;
+  LinearTable table_;
 };
 
 }  // namespace mb

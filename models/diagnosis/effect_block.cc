@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <memory>
+#include <numbers>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -45,6 +46,44 @@ json FourierBlockParameters(const DiagnosedEffect& effect, int harmonics) {
 }
 
 json WithUnit(double value, const std::string& unit) { return {{"value", value}, {"unit", unit}}; }
+
+json LocalBumpTable(const DiagnosedEffect& d, int per_half_width, double span) {
+  const double center = BlockParameter(d, "center"), half_width = BlockParameter(d, "half_width");
+  if (!(half_width > 0.0)) {
+    throw std::invalid_argument(fmt::format("{} with half_width {}: must be > 0 to suggest a table", d.effect,
+                                            half_width));
+  }
+  const double coefficient = BlockCoefficient(d, "");
+  json breakpoints = json::array(), table = json::array();
+  const int last = static_cast<int>(2.0 * span * per_half_width);
+  for (int i = 0; i <= last; ++i) {
+    const double z = -span + 2.0 * span * i / last;  // (x − c)/w
+    const double c = std::abs(z) < 1.0 ? std::cos(0.5 * std::numbers::pi * z) : 0.0;
+    breakpoints.push_back(center + half_width * z);
+    table.push_back(coefficient * c * c);
+  }
+  return {{"breakpoints", breakpoints}, {"table", table}};
+}
+
+json SmoothCubicTable(const DiagnosedEffect& d, int breakpoints) {
+  const double center = BlockParameter(d, "center"), half_range = BlockParameter(d, "half_range");
+  if (!(half_range > 0.0) || breakpoints < 2) {
+    throw std::invalid_argument(fmt::format("{} with half_range {}: must be > 0 to suggest a table", d.effect,
+                                            half_range));
+  }
+  json at = json::array(), table = json::array();
+  for (int i = 0; i < breakpoints; ++i) {
+    const double xi = -1.0 + 2.0 * i / (breakpoints - 1);
+    double value = 0.0, power = 1.0;
+    for (Eigen::Index j = 0; j < std::min<Eigen::Index>(d.coefficients.size(), 3); ++j) {
+      power *= xi;
+      value += d.coefficients(j) * power;
+    }
+    at.push_back(center + half_range * xi);
+    table.push_back(value);
+  }
+  return {{"breakpoints", at}, {"table", table}};
+}
 
 EffectBlockTemplate PositionRippleBlock(const std::string& block_type, int default_harmonics,
                                         const std::vector<std::pair<MotionInput, std::string>>& extra_inputs) {

@@ -18,7 +18,8 @@ namespace mb {
 /// row's factor (MultiplierRow::factor; issue 45, item 5): a ripple of the position times |v|, a stretch's table times
 /// tanh(v/v_s), a log column's gain times ŷ; for a time modulator, its gain scheduled in time with the factor as its
 /// input (EffectBlockTemplate::multiplier_port; for 1 × a time shape the constant 1). nullopt when the modulator has no
-/// such block or the pair is a mass of the position (M(x)·a + ½M′(x)·v² is no product). Throws nothing.
+/// such block or the pair is a mass of the position (M(x)·a + ½M′(x)·v² is no product: those register blocks of their
+/// own, blocks/position_dependent_inertia.h and blocks/inertia_table_1d.h). Throws nothing.
 std::optional<EffectBlockTemplate> BlockFor(const EffectType& type);
 
 
@@ -46,6 +47,16 @@ nlohmann::json WithUnit(double value, const std::string& unit);
 /// diagnosed ones else `default_harmonics`; the period refinable, the position_offset (encoder zero) record-specific.
 EffectBlockTemplate PositionRippleBlock(const std::string& block_type, int default_harmonics,
                                         const std::vector<std::pair<MotionInput, std::string>>& extra_inputs = {});
+
+/// A local effect's bump (effects/factor_products.cc: c·cos²(π(x − x₀)/(2w)) over |x − x₀| < w) as a table of the
+/// position: {"breakpoints", "table"} over [x₀ − span·w, x₀ + span·w], `per_half_width` breakpoints per half-width w,
+/// the joint fit's coefficient c scaling it (blocks/lookup_table_1d.h). std::invalid_argument when w ≤ 0 or absent.
+nlohmann::json LocalBumpTable(const DiagnosedEffect& effect, int per_half_width, double span);
+
+/// A smooth effect's cubic (Σ_j c_j·ξ^j, ξ = (x − x₀)/h, j = 1..3: the position_smooth modulator) as a table of the
+/// position: {"breakpoints", "table"} at `breakpoints` points over [x₀ − h, x₀ + h], c_j the joint fit's coefficients.
+/// std::invalid_argument when h ≤ 0 or absent.
+nlohmann::json SmoothCubicTable(const DiagnosedEffect& effect, int breakpoints);
 
 /// The direction of slip of a friction as a multiplier: a sign block (blocks/sign.h) on the velocity input, regularised
 /// tanh(v/v_s) with the diagnosed "slip_velocity" v_s (std::invalid_argument when it is absent or not > 0).

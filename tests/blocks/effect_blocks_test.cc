@@ -151,6 +151,44 @@ TEST(PositionDependentInertiaTest, ItsPowerIsTheRateOfChangeOfTheKineticEnergy) 
   EXPECT_GT(largest_power, 1.0);  // [W]: the check had power to check
 }
 
+// inertia_table_1d, the same balance with M(x) a table: two segments of different slope and the clipped ends (M′ = 0
+// beyond the breakpoints), the samples within 1e-5 m of a breakpoint left out (the slope jumps there).
+TEST(InertiaTable1dTest, ItsPowerIsTheRateOfChangeOfTheKineticEnergy) {
+  const std::vector<double> at = {0.07, 0.1, 0.13}, mass = {0.0, 3.0, 1.0};  // [m], [kg]
+  const json j = MakeDiagram(
+      {Element("x", "sine", {{"amplitude", 0.05}, {"frequency_hz", 1.0}, {"bias", 0.1}}),
+       Element("v", "sine", {{"amplitude", 0.05 * kTwoPi}, {"frequency_hz", 1.0}, {"phase", std::numbers::pi / 2}}),
+       Element("a", "sine",
+               {{"amplitude", 0.05 * kTwoPi * kTwoPi}, {"frequency_hz", 1.0}, {"phase", std::numbers::pi}}),
+       Element("m", "inertia_table_1d", {{"breakpoints", at}, {"table", mass}})},
+      {Connect("x.y", "m.x"), Connect("v.y", "m.v"), Connect("a.y", "m.a")}, {"m.y"}, 1.0, 1e-3);
+  const auto r = Simulator(Build(j)).Run();
+  const auto& y = r.log.Column("m.y");
+  const auto m_of = [&](double x) {
+    if (x <= at.front()) return mass.front();
+    if (x >= at.back()) return mass.back();
+    const std::size_t k = x < at[1] ? 0 : 1;
+    return mass[k] + (x - at[k]) / (at[k + 1] - at[k]) * (mass[k + 1] - mass[k]);
+  };
+  const auto position = [](double t) { return 0.1 + 0.05 * std::sin(kTwoPi * t); };
+  const auto kinetic_energy = [&](double t) {
+    const double v = 0.05 * kTwoPi * std::cos(kTwoPi * t);
+    return 0.5 * m_of(position(t)) * v * v;
+  };
+  double largest_power = 0.0;
+  int checked = 0;
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    const double t = r.log.time[i], v = 0.05 * kTwoPi * std::cos(kTwoPi * t), h = 1e-7;
+    if (std::any_of(at.begin(), at.end(), [&](double b) { return std::abs(position(t) - b) < 1e-5; })) continue;
+    const double rate = (kinetic_energy(t + h) - kinetic_energy(t - h)) / (2 * h);
+    EXPECT_NEAR(y[i] * v, rate, 1e-5 * (1.0 + std::abs(rate))) << "t = " << t;
+    largest_power = std::max(largest_power, std::abs(rate));
+    ++checked;
+  }
+  EXPECT_GT(checked, 900);
+  EXPECT_GT(largest_power, 0.5);  // [W]: the check had power to check
+}
+
 // f = Σ_j c_j ξ^j, ξ = (x − x₀)/h: a hardening spring k₁(x − x₀) + k₃(x − x₀)³ with c_1 = k₁h, c_3 = k₃h³.
 TEST(PositionDependentForceTest, HardeningSpringAsPolynomialInTheNormalisedPosition) {
   const double x0 = 0.1, h = 0.09, k1 = 30.0, k3 = 3000.0;

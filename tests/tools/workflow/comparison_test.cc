@@ -158,8 +158,7 @@ TEST(SuggestTest, ASmoothCoulombLawTakesOverTheModelsCoulombLevel) {
 
 // A pair of the grammar without a block of its own (issue 45, item 5) is added as the block of one × its modulator times
 // its multiplier: a force over one stretch growing with |v| is the stretch's table times an abs block of the velocity,
-// multiplied in a product element. The amended diagram runs. A pair that is a mass over a stretch or along the travel
-// has none yet, and says so.
+// multiplied in a product element. The amended diagram runs.
 TEST(SuggestTest, AGeneratedPairIsTheBlockOfItsModulatorTimesItsMultiplier) {
   const auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
   DiagnosedEffect local = OneColumnEffect("local_speed_force", {{"center", 0.1}, {"half_width", 0.02}}, 40.0);
@@ -218,16 +217,6 @@ TEST(SuggestTest, AGeneratedPairIsTheBlockOfItsModulatorTimesItsMultiplier) {
   }
   EXPECT_TRUE(BlockFor(LookupEffect("damping_window")).has_value()) << "every multiplier × a window";
 
-  for (const char* none : {"local_inertia", "inertia_along_travel"}) {
-    DiagnosedEffect e;
-    e.effect = none;
-    try {
-      SuggestAmendedDiagram(diagram, e, "force");
-      ADD_FAILURE() << none << " was given a block";
-    } catch (const std::invalid_argument& error) {
-      EXPECT_THAT(error.what(), HasSubstr(std::string("no block for effect '") + none + "' yet"));
-    }
-  }
 }
 
 // A pair whose multiplier is no parameter of the base carries its constant part as a column of its own (a force of |v|
@@ -390,6 +379,36 @@ TEST(SuggestTest, AForceConstantRippleScalesTheModelsForce) {
   } catch (const std::invalid_argument& e) {
     EXPECT_THAT(e.what(), HasSubstr("in simulation mode the output is the motion"));
   }
+}
+
+// A mass over a stretch or along the travel (acceleration × position_local / position_smooth) is no product: its force
+// is M(x)·a + ½M′(x)·v² (Lagrange), added as an inertia_table_1d on the measured position, velocity and acceleration —
+// the diagnosed bump as a table whose size is refit, the diagnosed cubic sampled over the travel and refit.
+TEST(SuggestTest, AMassOverAStretchOrAlongTheTravelIsAnInertiaTable) {
+  const auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
+  const double c = 0.1, w = 0.02, mass = 3.0;  // [m], [m], [kg]
+  const DiagnosedEffect local = OneColumnEffect("local_inertia", {{"center", c}, {"half_width", w}}, mass);
+  const DiagramDocument stretch(SuggestAmendedDiagram(diagram, local, "force"));
+  ASSERT_TRUE(stretch.Has("local_inertia"));
+  EXPECT_THAT(stretch.FreeParameters(), ::testing::Contains("local_inertia.gain"));
+  const double z = 0.5 + 1.0 / 24.0, x = c + w * z, v = 0.1, a = 2.0;  // between two breakpoints, on the flank
+  const std::map<std::string, double> motion = {{"position_m", x}, {"velocity_m_s", v}, {"acceleration_m_s2", a}};
+  const double pi = std::numbers::pi;
+  const double m = mass * std::pow(std::cos(0.5 * pi * z), 2), slope = -mass * pi / (2.0 * w) * std::sin(pi * z);
+  const double expected = m * a + 0.5 * slope * v * v;
+  EXPECT_NEAR(ForceAt(stretch.json(), motion) - ForceAt(diagram, motion), expected, 0.02 * std::abs(expected));
+
+  DiagnosedEffect travel;
+  travel.effect = "inertia_along_travel";
+  travel.parameters = {{"center", 0.1}, {"half_range", 0.09}};
+  travel.column_names = {"inertia_along_travel.1", "inertia_along_travel.2", "inertia_along_travel.3"};
+  travel.coefficients = Eigen::Vector3d(2.0, 0.0, 0.0);  // M = 2 kg·ξ, ξ = (x − 0.1)/0.09
+  const DiagramDocument along(SuggestAmendedDiagram(diagram, travel, "force"));
+  ASSERT_TRUE(along.Has("inertia_along_travel"));
+  EXPECT_THAT(along.FreeParameters(), ::testing::Contains("inertia_along_travel.table"));
+  const std::map<std::string, double> at = {{"position_m", 0.13}, {"velocity_m_s", v}, {"acceleration_m_s2", a}};
+  const double xi = (0.13 - 0.1) / 0.09;
+  EXPECT_NEAR(ForceAt(along.json(), at) - ForceAt(diagram, at), 2.0 * xi * a + 0.5 * (2.0 / 0.09) * v * v, 1e-9);
 }
 
 // A product with the measured motion itself (damping_ripple: v × a ripple of the position; column_damping: v × an
