@@ -103,7 +103,7 @@ TEST(GrammarDraws, HysteresisAndADriftingVibrationAreNamedWithTheirParameters) {
 }
 
 // The first eight seeds and one noise-only draw through compare, as a user runs it. The benchmark names three quarters
-// of the draws right (docs/diagnosis.md, "Random draws from the grammar"; six of these eight); this fails when the
+// of the draws right (docs/diagnosis.md, "Random draws from the grammar"; seven of these eight); this fails when the
 // quick subset falls below five of eight, or when the noise-only draw names anything with a share of 2 % or more.
 TEST(GrammarDraws, AQuickSubsetIsNamedAndTheNoiseOnlyDrawNamesNothing) {
   const std::filesystem::path folder = std::filesystem::temp_directory_path() / "mb_grammar_draws_test";
