@@ -36,4 +36,16 @@ void CheckMultiplierAmbiguity(const DiagnosisSignals& signals, const Eigen::Vect
 // autocorrelated) and by more than 10 % of the residual's RMS.
 void NoteHysteresis(const DiagnosisSignals& signals, const Eigen::VectorXd& residual, DiagnosisResult* result);
 
+// 6e. A delay against hysteresis, by speed (issue 47): a delay d makes a transition over a stroke v·d that grows with
+// the speed; a hysteresis makes it over a stroke set by displacement, whatever the speed. When the first effect outside
+// the friction-law replacements is a time_delay of more than kLongDelaySamples sample periods, or hysteresis, the other
+// hypothesis (hysteresis on its default elements; the delay that fits best on a log grid) is refit with the base on the
+// moving samples split at their median speed, and each one's share of the base-refit residual on the slow and on the
+// fast half is reported. When the other one explains at least as much on both halves (within
+// options.position_time_margin), the record cannot tell them apart: the other is added to the effect's `alike` and its
+// description says so. Notes say which evidence decided. Throws nothing.
+void CheckDelayAgainstHysteresis(const DiagnosisSignals& signals, const Eigen::VectorXd& residual,
+                                 const Eigen::MatrixXd& base, const DiagnosisOptions& options,
+                                 DiagnosisResult* result);
+
 }  // namespace mb::diagnosis_detail

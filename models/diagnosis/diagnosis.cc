@@ -37,6 +37,7 @@ using diagnosis_detail::AddFrictionLaw;
 using diagnosis_detail::BlockGrams;
 using diagnosis_detail::BuildCandidateMatrix;
 using diagnosis_detail::Candidate;
+using diagnosis_detail::CheckDelayAgainstHysteresis;
 using diagnosis_detail::CheckMultiplierAmbiguity;
 using diagnosis_detail::CheckPositionTimeAmbiguity;
 using diagnosis_detail::ChosenInstances;
@@ -316,6 +317,7 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
   const std::string ambiguity_note =
       CheckPositionTimeAmbiguity(signals, ranked.law_residual, ranked.law_columns, options, &result);
   CheckMultiplierAmbiguity(signals, ranked.law_residual, ranked.law_columns, options, &result);
+  CheckDelayAgainstHysteresis(signals, ranked.law_residual, ranked.law_columns, options, &result);
   NoteHysteresis(signals, r_after, &result);
   result.relevance = RankSignalRelevance(signals, r_after, options.folds);
   result.notes.push_back("what the residual left " + DescribeRelevance(result.relevance) +
