@@ -70,6 +70,16 @@ EffectInstance Counterpart(const DiagnosedEffect& e, double mean_speed) {
   return {in_time->name, {{"frequency_hz", mean_speed / e.parameters.at("period")}, {"harmonics", harmonics}}};
 }
 
+// The first effect named outside the friction-law replacements, or nullptr.
+DiagnosedEffect* FirstOutsideTheLaws(DiagnosisResult* result) {
+  for (auto& e : result->effects) {
+    if (std::find(result->friction_law.begin(), result->friction_law.end(), e.effect) == result->friction_law.end()) {
+      return &e;
+    }
+  }
+  return nullptr;
+}
+
 }  // namespace
 
 std::string CheckPositionTimeAmbiguity(const DiagnosisSignals& signals, const Eigen::VectorXd& residual,
@@ -120,15 +130,7 @@ std::string CheckPositionTimeAmbiguity(const DiagnosisSignals& signals, const Ei
 
 void CheckMultiplierAmbiguity(const DiagnosisSignals& signals, const Eigen::VectorXd& residual,
                               const Eigen::MatrixXd& base, const DiagnosisOptions& options, DiagnosisResult* result) {
-  DiagnosedEffect* top = nullptr;
-  for (auto& e : result->effects) {
-    const bool law =
-        std::find(result->friction_law.begin(), result->friction_law.end(), e.effect) != result->friction_law.end();
-    if (!law) {
-      top = &e;
-      break;
-    }
-  }
+  DiagnosedEffect* top = FirstOutsideTheLaws(result);
   if (top == nullptr || top->multiplier.empty() || top->modulator.empty()) return;
   const double total = (residual.array() - residual.mean()).matrix().squaredNorm();
   if (!(total > 0.0)) return;
@@ -195,15 +197,7 @@ void CheckDelayAgainstHysteresis(const DiagnosisSignals& signals, const Eigen::V
   constexpr double kLongDelaySamples = 3.0;    // a delay of fewer sample periods is the sampling's, not a transition
   constexpr double kMinBreakawayShare = 5e-3;  // hysteresis' default elements (effects/hysteresis.cc), of the travel
   constexpr double kMaxBreakawayShare = 0.1;
-  DiagnosedEffect* top = nullptr;
-  for (auto& e : result->effects) {
-    const bool law =
-        std::find(result->friction_law.begin(), result->friction_law.end(), e.effect) != result->friction_law.end();
-    if (!law) {
-      top = &e;
-      break;
-    }
-  }
+  DiagnosedEffect* top = FirstOutsideTheLaws(result);
   if (top == nullptr || (top->effect != "time_delay" && top->effect != "hysteresis")) return;
   const Eigen::Index n = signals.size();
   if (n < 64) return;
