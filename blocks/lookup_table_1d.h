@@ -13,8 +13,9 @@
 
 namespace mb {
 
-/// The table of lookup_table_1d (and inertia_table_1d): linear interpolation over strictly increasing breakpoints,
-/// clipped at the ends or extrapolated linearly.
+/// The table of lookup_table_1d (and inertia_table_1d): linear interpolation over strictly increasing breakpoints b
+/// (n ≥ 2, any unit) of the values y (n, the output's unit), clipped at the ends or extrapolated linearly
+/// (`extrapolation` "clip" or "linear"). Source: MathWorks, Simulink "1-D Lookup Table" block reference.
 /// @throws std::invalid_argument (constructor) as LookupTable1d below.
 class LinearTable {
  public:

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 #include <fmt/format.h>
@@ -17,7 +18,9 @@
 #include "models/diagnosis/candidate_matrix.h"
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
+#include "models/diagnosis/effect_regressors.h"
 #include "models/diagnosis/factors.h"
+#include "models/diagnosis/signal_processing.h"
 
 namespace mb::diagnosis_detail {
 namespace {
@@ -194,22 +197,17 @@ void CheckMultiplierAmbiguity(const DiagnosisSignals& signals, const Eigen::Vect
 void CheckDelayAgainstHysteresis(const DiagnosisSignals& signals, const Eigen::VectorXd& residual,
                                  const Eigen::MatrixXd& base, const DiagnosisOptions& options,
                                  DiagnosisResult* result) {
-  constexpr double kLongDelaySamples = 3.0;    // a delay of fewer sample periods is the sampling's, not a transition
-  constexpr double kMinBreakawayShare = 5e-3;  // hysteresis' default elements (effects/hysteresis.cc), of the travel
-  constexpr double kMaxBreakawayShare = 0.1;
+  constexpr double kLongDelaySamples = 3.0;  // a delay of fewer sample periods is the sampling's, not a transition
   DiagnosedEffect* top = FirstOutsideTheLaws(result);
   if (top == nullptr || (top->effect != "time_delay" && top->effect != "hysteresis")) return;
   const Eigen::Index n = signals.size();
   if (n < 64) return;
-  std::vector<double> steps(static_cast<std::size_t>(n - 1));
-  for (Eigen::Index i = 1; i < n; ++i) steps[static_cast<std::size_t>(i - 1)] = signals.time(i) - signals.time(i - 1);
-  std::nth_element(steps.begin(), steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2), steps.end());
-  const double sample_period = steps[steps.size() / 2];
+  const double sample_period = MedianTimeStep(signals.time);
   const bool delay_first = top->effect == "time_delay";
   if (delay_first && !(top->parameters.count("delay") && top->parameters.at("delay") > kLongDelaySamples * sample_period)) {
     return;
   }
-  // The moving samples, split at their median speed.
+  // The moving samples, and their halves below and above the median speed: the base and the residual on each.
   const Eigen::VectorXd speed = signals.velocity.cwiseAbs();
   const double dead_band = options.catalogue.dead_band_fraction * speed.maxCoeff();
   std::vector<Eigen::Index> moving;
@@ -221,52 +219,66 @@ void CheckDelayAgainstHysteresis(const DiagnosisSignals& signals, const Eigen::V
   for (Eigen::Index i : moving) speeds.push_back(speed(i));
   std::nth_element(speeds.begin(), speeds.begin() + static_cast<std::ptrdiff_t>(speeds.size() / 2), speeds.end());
   const double median = speeds[speeds.size() / 2];
-  std::vector<Eigen::Index> slow, fast;
-  for (Eigen::Index i : moving) (speed(i) <= median ? slow : fast).push_back(i);
-  // An effect's share of the base-refit residual on a half (its columns refit with the base there); −1 when it cannot
-  // be built on this record.
-  const auto share = [&](const EffectInstance& e, const std::vector<Eigen::Index>& rows) {
+  struct Samples {
+    std::vector<Eigen::Index> rows;
+    Eigen::MatrixXd base;
+    Eigen::VectorXd residual;
+    double total = 0.0;  // the residual's centred sum of squares there
+  };
+  Samples all, slow, fast;
+  all.rows = moving;
+  for (Eigen::Index i : moving) (speed(i) <= median ? slow : fast).rows.push_back(i);
+  for (Samples* h : {&all, &slow, &fast}) {
+    h->base = base(h->rows, Eigen::placeholders::all);
+    h->residual = residual(h->rows);
+    h->total = (h->residual.array() - h->residual.mean()).matrix().squaredNorm();
+    if (!(h->total > 0.0)) return;
+  }
+  // An effect's columns on this record, or nothing when it cannot be built here; its share of the base-refit residual
+  // on a set of samples (its columns refit with the base there).
+  const auto columns_of = [&](const EffectInstance& e) -> std::optional<Eigen::MatrixXd> {
     try {
-      const Eigen::MatrixXd columns = BuildEffectRegressors(e, signals).columns;
-      const Eigen::MatrixXd b = base(rows, Eigen::placeholders::all), c = columns(rows, Eigen::placeholders::all);
-      const Eigen::VectorXd r = residual(rows);
-      const double total = (r.array() - r.mean()).matrix().squaredNorm();
-      if (!(total > 0.0)) return -1.0;
-      return 1.0 - JointFitResidual(b, r)(c) / total;
+      return BuildEffectRegressors(e, signals).columns;
     } catch (const std::invalid_argument&) {
-      return -1.0;
+      return std::nullopt;
     }
   };
+  const auto share = [](const Eigen::MatrixXd& columns, const Samples& h) {
+    return 1.0 - JointFitResidual(h.base, h.residual)(columns(h.rows, Eigen::placeholders::all)) / h.total;
+  };
   const double travel = signals.position.maxCoeff() - signals.position.minCoeff();
-  const EffectInstance own{top->effect, top->parameters};
-  EffectInstance other;
+  const std::optional<Eigen::MatrixXd> own = columns_of({top->effect, top->parameters});
+  std::optional<Eigen::MatrixXd> other;
+  double delay = 0.0;  // the other's, when it is a delay
   if (delay_first) {
-    other = {"hysteresis", {{"min_breakaway", kMinBreakawayShare * travel}, {"max_breakaway", kMaxBreakawayShare * travel}}};
-  } else {  // the delay that fits best over the whole moving record, from 2 sample periods to a tenth of the record
+    other = columns_of({"hysteresis", {{"min_breakaway", kHysteresisMinBreakawayShare * travel},
+                                       {"max_breakaway", kHysteresisMaxBreakawayShare * travel}}});
+  } else {  // the delay that fits best over the moving samples, from 2 sample periods to a tenth of the record
     double best = -1.0;
     const double longest = 0.1 * (signals.time(n - 1) - signals.time(0));
     for (double d = 2.0 * sample_period; d <= longest; d *= 1.5) {
-      const double s = share({"time_delay", {{"delay", d}}}, moving);
-      if (s > best) {
+      std::optional<Eigen::MatrixXd> columns = columns_of({"time_delay", {{"delay", d}}});
+      if (!columns) return;  // no model output on this record
+      if (const double s = share(*columns, all); s > best) {
         best = s;
-        other = {"time_delay", {{"delay", d}}};
+        delay = d;
+        other = std::move(columns);
       }
     }
-    if (other.name.empty()) return;
   }
-  const double own_slow = share(own, slow), own_fast = share(own, fast);
-  const double other_slow = share(other, slow), other_fast = share(other, fast);
-  if (own_slow < 0.0 || own_fast < 0.0 || other_slow < 0.0 || other_fast < 0.0) return;
+  if (!own || !other) return;
+  const double own_slow = share(*own, slow), own_fast = share(*own, fast);
+  const double other_slow = share(*other, slow), other_fast = share(*other, fast);
+  const std::string other_name = delay_first ? "hysteresis" : "time_delay";
   const std::string evidence = fmt::format(
       "on the moving samples below and above their median speed {:.4g} {}/s, {} explains {:.1f} % and {:.1f} % of the "
       "base-refit residual, {} {:.1f} % and {:.1f} %",
       median, options.position_unit, top->effect, 100.0 * own_slow, 100.0 * own_fast,
-      other.name == "time_delay" ? fmt::format("a delay of {:.3g} s", other.parameters.at("delay")) : other.name,
-      100.0 * other_slow, 100.0 * other_fast);
+      delay_first ? other_name : fmt::format("a delay of {:.3g} s", delay), 100.0 * other_slow, 100.0 * other_fast);
   const double margin = 1.0 - options.position_time_margin;
   if (other_slow >= margin * own_slow && other_fast >= margin * own_fast) {
-    top->alike.push_back(other.name);
-    top->description += fmt::format(" (or {}: this record cannot tell a delay from hysteresis)", other.name);
+    top->alike.push_back(other_name);
+    top->description += fmt::format(" (or {}: this record cannot tell a delay from hysteresis)", other_name);
     result->notes.push_back(fmt::format(
         "cannot tell a delay from hysteresis: {}; a delay's transition takes a stroke that grows with the speed, "
         "hysteresis' does not — a record at other speeds (another frequency, another amplitude) would tell",

@@ -67,10 +67,11 @@ json LocalBumpTable(const DiagnosedEffect& d, int per_half_width, double span) {
 
 json SmoothCubicTable(const DiagnosedEffect& d, int breakpoints) {
   const double center = BlockParameter(d, "center"), half_range = BlockParameter(d, "half_range");
-  if (!(half_range > 0.0) || breakpoints < 2) {
+  if (!(half_range > 0.0)) {
     throw std::invalid_argument(fmt::format("{} with half_range {}: must be > 0 to suggest a table", d.effect,
                                             half_range));
   }
+  if (breakpoints < 2) throw std::invalid_argument(fmt::format("{}: a table needs at least 2 breakpoints", d.effect));
   json at = json::array(), table = json::array();
   for (int i = 0; i < breakpoints; ++i) {
     const double xi = -1.0 + 2.0 * i / (breakpoints - 1);

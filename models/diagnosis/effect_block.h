@@ -55,7 +55,7 @@ nlohmann::json LocalBumpTable(const DiagnosedEffect& effect, int per_half_width,
 
 /// A smooth effect's cubic (Σ_j c_j·ξ^j, ξ = (x − x₀)/h, j = 1..3: the position_smooth modulator) as a table of the
 /// position: {"breakpoints", "table"} at `breakpoints` points over [x₀ − h, x₀ + h], c_j the joint fit's coefficients.
-/// std::invalid_argument when h ≤ 0 or absent.
+/// std::invalid_argument when h ≤ 0 or absent, or `breakpoints` < 2.
 nlohmann::json SmoothCubicTable(const DiagnosedEffect& effect, int breakpoints);
 
 /// The direction of slip of a friction as a multiplier: a sign block (blocks/sign.h) on the velocity input, regularised

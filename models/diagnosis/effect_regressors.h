@@ -30,6 +30,11 @@ Eigen::VectorXd SignDeadBand(const Eigen::VectorXd& velocity, double dead_band);
 /// Pokrovskii 1989; the far side of a gear or belt play).
 Eigen::VectorXd PlayOperator(const Eigen::VectorXd& x, double half_width);
 
+/// The hysteresis term's break-away displacements as proposed, as shares of the record's position span: the smallest
+/// 0.5 %, the largest 10 % (effects/hysteresis.cc; the delay-against-hysteresis check, ambiguity_checks.h, refits the
+/// same elements).
+inline constexpr double kHysteresisMinBreakawayShare = 5e-3, kHysteresisMaxBreakawayShare = 0.1;
+
 /// n values log-spaced from lo to hi, both included (lo alone when n = 1): the break-away displacements of the
 /// hysteresis term and of the block that adds it, which must agree. Requires 0 < lo <= hi and n >= 1.
 std::vector<double> LogSpaced(double lo, double hi, int n);

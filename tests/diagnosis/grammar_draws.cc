@@ -344,7 +344,6 @@ class Controller {
   double x_prev_ = 0.0, v_est_ = 0.0, integral_ = 0.0;
 };
 
-// The body's acceleration at (t, x, v) under the held command u.
 // The Dahl element's state after a displacement dx, exact for a displacement of one direction: z moves toward sign(dx)
 // by the share 1 − exp(−|dx|/λ), λ = stroke/ln 10.
 double DahlStep(const GrammarDraw& d, double z, double dx) {
@@ -353,6 +352,7 @@ double DahlStep(const GrammarDraw& d, double z, double dx) {
   return target - (target - z) * std::exp(-std::abs(dx) * std::log(10.0) / d.shape.stroke);
 }
 
+// The body's acceleration at (t, x, v) under the held command u, the hysteresis element at `memory`.
 double Acceleration(const GrammarDraw& d, const RunContext& c, bool with_effect, double t, double x, double v,
                     double u, double memory = 0.0) {
   const Plant& p = d.plant;
@@ -488,6 +488,15 @@ void DrawMachine(Rng& rng, GrammarDraw* d) {
 }
 
 // The modulator's shape and its key parameter's truth and tolerance.
+// The band a vibration of time is drawn from [Hz], away from the motion: a sweep's harmonics k·f for k ≤ 8 over its
+// whole range lie below 8·(f̄ + Δf); above 1.2 × that, or, point to point, from 2 Hz; at most 40 Hz and a tenth of the
+// sample rate.
+std::pair<double, double> VibrationBand(const GrammarDraw& d) {
+  const double low =
+      d.trajectory == Trajectory::kSweep ? std::max(2.0, 9.6 * (d.sweep_frequency + d.sweep_deviation)) : 2.0;
+  return {low, std::min(40.0, 0.1 * d.sample_rate)};
+}
+
 void DrawShape(Rng& rng, GrammarDraw* d) {
   Shape& s = d->shape;
   const double travel = d->travel(), duration = d->duration;
@@ -536,11 +545,7 @@ void DrawShape(Rng& rng, GrammarDraw* d) {
     d->key_value = s.time_constant;
     d->key_tolerance = 0.2 * s.time_constant;
   } else if (m == "time_periodic") {
-    // Away from the motion: a sweep's harmonics k·f for k ≤ 8 over its whole range lie below 8·(f̄ + Δf); above
-    // 1.2 × that, or, point to point, from 2 Hz; at most 40 Hz and a tenth of the sample rate.
-    const double low = d->trajectory == Trajectory::kSweep ? std::max(2.0, 9.6 * (d->sweep_frequency + d->sweep_deviation))
-                                                           : 2.0;
-    const double high = std::min(40.0, 0.1 * d->sample_rate);
+    const auto [low, high] = VibrationBand(*d);
     s.frequency_hz = LogUniform(rng, std::min(low, 0.8 * high), high);
     s.phase = Uniform(rng, 0.0, kTwoPi);
     d->key_parameter = "frequency_hz";
@@ -568,9 +573,7 @@ void DrawMemoryEffect(Rng& rng, GrammarDraw* d) {
   }
   d->multiplier = kMultipliers[static_cast<std::size_t>(Index(rng, kMultipliers.size()))];
   d->modulator = "time_chirp";
-  const double low = d->trajectory == Trajectory::kSweep ? std::max(2.0, 9.6 * (d->sweep_frequency + d->sweep_deviation))
-                                                         : 2.0;
-  const double high = std::min(40.0, 0.1 * d->sample_rate);
+  const auto [low, high] = VibrationBand(*d);
   const double bottom = std::min(low, high / 1.5);
   const double ratio = std::min(Uniform(rng, 1.5, 3.0), high / bottom);
   const double f_low = LogUniform(rng, bottom, high / ratio), f_high = f_low * ratio;

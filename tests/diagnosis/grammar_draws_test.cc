@@ -62,8 +62,8 @@ TEST(GrammarDraws, AnEffectStandsAtItsDrawnRatioWithinThePhysicalLimits) {
 // reversal, whatever the speed — checked on a synthetic stroke, slow and fast — and a vibration's frequency drifts.
 TEST(GrammarDraws, AHysteresisDrawMakesNinetyPercentOfItsSwingOverItsStroke) {
   unsigned seed = kMemorySeedBase + 1;
-  while (Draw(seed).effect != "hysteresis") ++seed;
-  const GrammarDraw d = Draw(seed);
+  GrammarDraw d = Draw(seed);
+  while (d.effect != "hysteresis") d = Draw(++seed);
   ASSERT_TRUE(d.memory);
   EXPECT_EQ(d.pair(), "hysteresis");
   EXPECT_EQ(d.key_parameter, "stroke");
@@ -82,8 +82,8 @@ TEST(GrammarDraws, AHysteresisDrawMakesNinetyPercentOfItsSwingOverItsStroke) {
     EXPECT_NEAR(swing, 0.9, 0.01) << "at " << speed;
   }
   unsigned chirp = kMemorySeedBase + 1;
-  while (Draw(chirp).modulator != "time_chirp") ++chirp;
-  const GrammarDraw v = Draw(chirp);
+  GrammarDraw v = Draw(chirp);
+  while (v.modulator != "time_chirp") v = Draw(++chirp);
   EXPECT_EQ(v.key_parameter, "drift_rate");
   const double ratio = 1.0 + v.shape.drift_rate * v.duration / v.shape.frequency_hz;
   EXPECT_GE(std::max(ratio, 1.0 / ratio), 1.5 - 1e-9) << "f₀ " << v.shape.frequency_hz << " Hz";

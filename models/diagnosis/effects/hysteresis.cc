@@ -25,8 +25,6 @@ namespace mb {
 namespace {
 
 constexpr const char* kName = "hysteresis";
-constexpr double kMinShare = 5e-3;   // of the travel: the smallest break-away displacement
-constexpr double kMaxShare = 0.1;    // of the travel: the largest
 constexpr int kElements = 9;         // a factor 1.45 between neighbours
 constexpr double kSwingShare = 0.9;  // the stroke reported: where the force has made this much of its swing
 
@@ -110,8 +108,8 @@ void Propose(ProposalContext& c) {
     return;
   }
   // In the position's own unit (m, rad, V): on EMPS's 0.25 m, 1.25 mm … 25 mm.
-  c.Propose(kName, {{"min_breakaway", kMinShare * c.position_span()},
-                    {"max_breakaway", kMaxShare * c.position_span()},
+  c.Propose(kName, {{"min_breakaway", kHysteresisMinBreakawayShare * c.position_span()},
+                    {"max_breakaway", kHysteresisMaxBreakawayShare * c.position_span()},
                     {"elements", static_cast<double>(kElements)}});
 }
 
