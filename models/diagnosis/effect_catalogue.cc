@@ -47,6 +47,7 @@ void DiagnosisSignals::Validate() const {
   CheckLength(model_output, n, "model_output", true);
   CheckLength(input, n, "input", true);
   CheckLength(logged_command, n, "logged_command", true);
+  CheckLength(drive_force, n, "drive_force", true);
   if (extra_names.size() != extra_columns.size()) {
     throw std::invalid_argument(fmt::format("DiagnosisSignals: {} extra column names for {} extra columns",
                                             extra_names.size(), extra_columns.size()));

@@ -33,6 +33,10 @@ struct DiagnosisSignals {
   Eigen::VectorXd input;         // u (optional; excitation of a resonance, input–residual correlation)
   Eigen::VectorXd logged_command;  // equation-error mode: the measured output, the command the drive was given
                                    // (optional; needed by drive_saturation)
+  // The model's drive force, which the force constant multiplies (the grammar's multiplier ŷ, factors.h). Simulation
+  // mode: the force the simulated controller gives the plant, since the compared output is then the position.
+  // Optional: absent, ŷ is model_output (equation-error mode, where the compared output is the force).
+  Eigen::VectorXd drive_force;
   // The log's columns that the diagram does not read (another axis, a temperature, a bus voltage, a second sensor),
   // each of length N, with their names in extra_names (optional: both empty). The logged_column factor reads them by
   // index, so a record carried to another (PredictCorrection) must list the same columns in the same order.

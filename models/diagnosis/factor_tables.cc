@@ -61,7 +61,7 @@ double Value(const FactorParameters& p, const char* key) {
 }
 
 const Eigen::VectorXd& ModelForce(const DiagnosisSignals& s, const std::string& effect) {
-  return NeedModelOutput({effect, {}}, s);
+  return s.drive_force.size() > 0 ? s.drive_force : NeedModelOutput({effect, {}}, s);
 }
 
 // ---- The multipliers ----

@@ -37,7 +37,9 @@ struct MultiplierRow {
   const char* physics;  ///< what it usually is on a machine
   const char* unit;     ///< the unit of what the modulator's coefficient multiplies: "" (a force), "m/s", "N"
   bool slip = false;    ///< holds the direction of slip tanh(v/v_s): the pair has the parameter slip_velocity
-  bool model_force = false;      ///< holds ŷ, the model's force from the measured motion: equation-error mode only
+  /// Holds ŷ, the model's drive force: from the measured motion in equation-error mode, the simulated controller's in
+  /// simulation mode (DiagnosisSignals::drive_force; not proposed when the comparison found none).
+  bool model_force = false;
   bool odd_in_velocity = false;  ///< reverses with v: one way of travel, it is its even twin and is not proposed
   bool lagrange = false;  ///< a mass: times a factor of the position it acts as M(x)·a + ½M′(x)·v² (Lagrange)
   /// Its column (N) on the signals, given the direction of slip `slip` (N): tanh(v/v_s) in a regressor, sign(v) with

@@ -134,6 +134,19 @@ TEST(SimulationMode, APayloadStepIsNamedAtItsTime) {
   EXPECT_NEAR(BlockCoefficient(*first, ""), 31.0, 6.0) << c.compared.diagnosis->summary;
 }
 
+TEST(SimulationMode, AForceConstantRippleIsNamedWithItsPeriod) {
+  // The drive's force constant ripples with a 12 mm period. It multiplies the drive's force, which in simulation mode
+  // is the simulated controller's: the diagram's signal that the logged command force_N is.
+  const SimulationCase c = CompareInSimulation(independent::Hidden::kForceRipple, "force_ripple");
+  ASSERT_TRUE(c.compared.diagnosis);
+  EXPECT_THAT(c.notes, HasSubstr("the model's drive force ŷ, which a force constant multiplies, is 'controller_output.y'"
+                                 ", the diagram's signal that the logged command 'force_N' is"));
+  const DiagnosedEffect* first = FirstNamed(*c.compared.diagnosis);
+  ASSERT_NE(first, nullptr) << c.compared.diagnosis->summary;
+  EXPECT_EQ(first->effect, "force_constant_ripple") << c.compared.diagnosis->summary;
+  EXPECT_NEAR(first->parameters.at("period"), 0.012, 0.03 * 0.012) << c.compared.diagnosis->summary;
+}
+
 TEST(SimulationMode, AnEffectOfTheAccelerationIsRefusedWithWhatToDo) {
   // A block of the plant's acceleration would feed the force that sets it: an algebraic loop.
   DiagnosedEffect payload;

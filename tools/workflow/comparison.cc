@@ -636,9 +636,11 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
   // error by itself (issue 46). It is the diagram's own signal under another name: left out, with a note.
   std::vector<std::pair<std::string, Eigen::VectorXd>> own;
   if (!equation_error) own = comparison.SimulateBlockOutputs();
+  std::vector<std::pair<std::string, std::string>> reactions;  // log column → the diagram's signal it is
   for (const std::string& name : unread) {
     const Eigen::VectorXd& column = log.column(name);
     if (const auto match = OwnSignalMatch(column, own)) {
+      reactions.emplace_back(name, match->first);
       out.notes.push_back(fmt::format(
           "log column '{}' is the diagram's own signal '{}' under another name (r² = {:.3f}): the closed loop "
           "computes it from the error being explained, a reaction and not a cause, so no candidate is built from it",
@@ -665,6 +667,10 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
     LoopProbe probe = ProbeLoop(comparison, primary, own, signals.velocity);
     options.catalogue.loop = std::move(probe.loop);
     out.notes.push_back(std::move(probe.note));
+    const DiagramDocument document(comparison.diagram_json(), comparison.base_directory(), comparison.source());
+    DriveForce drive = ModelDriveForce(document, out.after, own, reactions);
+    signals.drive_force = std::move(drive.force);
+    out.notes.push_back(std::move(drive.note));
   }
   out.diagnosis = DiagnoseMissingEffects(signals, base, options);
   out.notes.insert(out.notes.end(), out.diagnosis->notes.begin(), out.diagnosis->notes.end());

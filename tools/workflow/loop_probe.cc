@@ -10,6 +10,8 @@
 
 #include "engine/block_roles.h"
 #include "engine/diagram_document.h"
+#include "engine/units.h"
+#include "models/diagnosis/measurement_log.h"
 #include "models/diagnosis/signal_processing.h"
 
 namespace mb {
@@ -118,6 +120,54 @@ LoopProbe ProbeLoop(const ModelComparison& comparison, const ComparedOutput& nom
       "diagram (a force step of {:.3g} into '{}' at t = {:.4g} s, while the axis moves): a constant load moves the "
       "output by {:.4g} {} per unit of force, the response lasts {:.4g} s; the coefficients are forces",
       delta, port->ToString(), at, out.loop->static_gain(), nominal.unit, static_cast<double>(length) * dt);
+  return out;
+}
+
+DriveForce ModelDriveForce(const DiagramDocument& d, const std::vector<ComparedOutput>& outputs,
+                           const std::vector<std::pair<std::string, Eigen::VectorXd>>& own,
+                           const std::vector<std::pair<std::string, std::string>>& reactions) {
+  DriveForce out;
+  const auto own_signal = [&](const std::string& name) -> const Eigen::VectorXd* {
+    for (const auto& [signal_name, signal] : own) {
+      if (signal_name == name && signal.size() > 0) return &signal;
+    }
+    return nullptr;
+  };
+  for (std::size_t o = 1; o < outputs.size(); ++o) {
+    if (QuantityOfUnit(outputs[o].unit) != MotionQuantity::kForce) continue;
+    out.force = outputs[o].model;
+    out.note = fmt::format("simulation mode: the model's drive force ŷ, which a force constant multiplies, is the "
+                           "compared output '{}' [{}]",
+                           outputs[o].connector, outputs[o].unit);
+    return out;
+  }
+  for (const auto& [column, name] : reactions) {
+    if (QuantityOfUnit(ColumnUnit(column)) != MotionQuantity::kForce) continue;
+    if (const Eigen::VectorXd* signal = own_signal(name)) {
+      out.force = *signal;
+      out.note = fmt::format("simulation mode: the model's drive force ŷ, which a force constant multiplies, is '{}', "
+                             "the diagram's signal that the logged command '{}' is",
+                             name, column);
+      return out;
+    }
+  }
+  std::string why;
+  const std::optional<Endpoint> port = PlantForcePort(d, &why);
+  const std::optional<Endpoint> driver = port ? d.DriverOf(*port) : std::nullopt;
+  if (driver) {
+    if (const Eigen::VectorXd* signal = own_signal(driver->ToString())) {
+      out.force = *signal;
+      out.note = fmt::format(
+          "simulation mode: the model's drive force ŷ, which a force constant multiplies, is taken as '{}', the net "
+          "force into '{}', which lacks what the plant's own blocks take from the drive's force; compare the drive's "
+          "force as an output in N (or log the command in a column in N) for the force itself",
+          driver->ToString(), port->ToString());
+      return out;
+    }
+  }
+  out.note = fmt::format("simulation mode: the force constant's effects are not proposed, since the model's drive force "
+                         "is not known ({}); compare the drive's force as an output in N",
+                         port ? fmt::format("nothing drives '{}'", port->ToString()) : why);
   return out;
 }
 

@@ -42,4 +42,23 @@ struct LoopProbe {
 LoopProbe ProbeLoop(const ModelComparison& comparison, const ComparedOutput& nominal,
                     const std::vector<std::pair<std::string, Eigen::VectorXd>>& own, const Eigen::VectorXd& velocity);
 
+/// The model's drive force in simulation mode — what a force constant multiplies (DiagnosisSignals::drive_force) —
+/// and a sentence for the notes saying where it was read; an empty force, with the reason, when the diagram shows none.
+struct DriveForce {
+  Eigen::VectorXd force;  ///< N samples, in the unit of the signal it was read from (N, N·m or A)
+  std::string note;
+};
+
+/// Reads the drive force from the simulated diagram, the first of:
+///  1. a compared output after the primary whose unit is a force (N, N·m, or A for a drive's current): the force the
+///     user compares is the drive's (EMPS: `force` ← gtau.y);
+///  2. the diagram's own signal (`own`, ModelComparison::SimulateBlockOutputs) that a logged column in a force unit is
+///     (`reactions`: log column → the own signal it matched): the drive's command the log holds, under its name in
+///     the diagram;
+///  3. the signal driving the plant's force input (PlantForcePort): the net force, which lacks what the plant's own
+///     blocks (friction, an offset) take from the drive's force — the note says so.
+DriveForce ModelDriveForce(const DiagramDocument& d, const std::vector<ComparedOutput>& outputs,
+                           const std::vector<std::pair<std::string, Eigen::VectorXd>>& own,
+                           const std::vector<std::pair<std::string, std::string>>& reactions);
+
 }  // namespace mb

@@ -134,8 +134,11 @@ bool TravelsBothWays(const ProposalContext& c) {
 void Propose(const Pair& p, ProposalContext& c) {
   const DiagnosisSignals& s = c.signals();
   if (!(c.max_speed() > 0.0) || !(p.named_before || c.options().every_pair)) return;
-  // ŷ is the force only in equation-error mode (the logged command compared); in simulation mode it is the output.
-  if (p.multiplier->model_force && (s.logged_command.size() != c.size() || s.model_output.size() != c.size())) return;
+  // ŷ is the model output only in equation-error mode (the logged command compared); in simulation mode the output is
+  // the position, and ŷ is the simulated drive force when the comparison found one.
+  const bool drive_force = s.drive_force.size() == c.size() ||
+                           (s.logged_command.size() == c.size() && s.model_output.size() == c.size());
+  if (p.multiplier->model_force && !drive_force) return;
   if (p.multiplier->odd_in_velocity && !TravelsBothWays(c)) return;
   // The shape is found with sign(v) outside the dead band as the direction of slip; the slip velocity after.
   const Eigen::VectorXd sign = SignDeadBand(s.velocity, c.dead_band());
