@@ -145,6 +145,31 @@ TEST(SimulationMode, AForceConstantRippleIsNamedWithItsPeriod) {
   ASSERT_NE(first, nullptr) << c.compared.diagnosis->summary;
   EXPECT_EQ(first->effect, "force_constant_ripple") << c.compared.diagnosis->summary;
   EXPECT_NEAR(first->parameters.at("period"), 0.012, 0.03 * 0.012) << c.compared.diagnosis->summary;
+  // Its block multiplies the drive's force, controller_output.y, and loads the plant: the position comes closer.
+  ASSERT_TRUE(c.compared.drive_force_source);
+  const nlohmann::json amended =
+      SuggestAmendedDiagram(c.compared.fitted_diagram, *first, "position", c.compared.drive_force_source);
+  const DiagramDocument document(amended);
+  bool reads_drive_force = false;
+  for (const Connection& k : document.Connections()) {
+    if (k.start.ToString() == "controller_output.y" && document.TypeOf(k.end.element) == "product") {
+      reads_drive_force = true;
+    }
+  }
+  EXPECT_TRUE(reads_drive_force) << amended.dump(1);
+  const ModelComparison before(c.compared.fitted_diagram, kData, kDiagram, c.log, {});
+  const ModelComparison after(amended, kData, kDiagram, c.log, {});
+  const double rmse_before = before.Simulate().front().rmse, rmse_after = after.Simulate().front().rmse;
+  RecordProperty("position_rmse_before_m", fmt::format("{:.4g}", rmse_before));
+  RecordProperty("position_rmse_after_m", fmt::format("{:.4g}", rmse_after));
+  EXPECT_LT(rmse_after, 0.95 * rmse_before) << "position RMSE " << rmse_before << " m -> " << rmse_after << " m";
+  // Without the drive's force the block is refused, with what to do.
+  try {
+    SuggestAmendedDiagram(c.compared.fitted_diagram, *first, "position");
+    FAIL() << "a force constant's block was added without the drive's force";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), HasSubstr("compare the drive's force as an output"));
+  }
 }
 
 TEST(SimulationMode, AnEffectOfTheAccelerationIsRefusedWithWhatToDo) {

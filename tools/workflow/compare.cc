@@ -39,7 +39,7 @@ CompareSuggestion SuggestFromComparison(const json& input_diagram, const Diagnos
       if (!HasEffectBlock(e.effect)) {
         throw std::invalid_argument("no block for it yet: add it by hand (docs/diagnosis.md lists the catalogue)");
       }
-      amended = SuggestAmendedDiagram(amended, e, output);
+      amended = SuggestAmendedDiagram(amended, e, output, compared.drive_force_source);
     } catch (const std::invalid_argument& error) {  // e.g. a negative delay: say why, go on with the next effect
       Say(progress, fmt::format("not suggesting {}: {}", e.effect, error.what()));
       suggestion.skipped.push_back({{"effect", e.effect}, {"why_not", error.what()}});

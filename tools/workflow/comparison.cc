@@ -670,6 +670,7 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
     const DiagramDocument document(comparison.diagram_json(), comparison.base_directory(), comparison.source());
     DriveForce drive = ModelDriveForce(document, out.after, own, reactions);
     signals.drive_force = std::move(drive.force);
+    out.drive_force_source = drive.source;
     out.notes.push_back(std::move(drive.note));
   }
   out.diagnosis = DiagnoseMissingEffects(signals, base, options);

@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/diagram.h"
+#include "engine/diagram_document.h"
 #include "engine/experiment_mode.h"
 #include "engine/simulator.h"
 #include "models/diagnosis/diagnosis.h"
@@ -214,6 +215,9 @@ struct DiagnosedComparison {
   /// The log's intake notes (MeasurementLog::notes), then the diagnosis's (candidates skipped, evidence, caveats).
   std::vector<std::string> notes;
   DiagnosisSignals signals;                ///< what the diagnosis was given (residual = the primary's after the refit)
+  /// Simulation mode: the diagram's signal holding the model's drive force (ModelDriveForce, loop_probe.h), which the
+  /// blocks of the force constant's effects multiply (SuggestAmendedDiagram); none in equation-error mode.
+  std::optional<Endpoint> drive_force_source;
   BaseRegressors base;                     ///< the fitted parameters' sensitivities (N × p; p = 0 if nothing fit)
 };
 

@@ -73,7 +73,8 @@ ImproveStep Evaluate(const json& diagram, const fs::path& base_directory, const 
 // delay block's sample time may need), then given back the input's own defaultExperiment; the element's name.
 json Amend(const ImproveStep& current, const DiagnosedEffect& effect, bool refine_periods, std::string* element) {
   DiagramDocument amended(
-      SuggestAmendedDiagram(current.training.compared_diagram, effect, current.training.after.front().connector));
+      SuggestAmendedDiagram(current.training.compared_diagram, effect, current.training.after.front().connector,
+                            current.training.drive_force_source));
   amended.CopyExperimentFrom(DiagramDocument(current.training.fitted_diagram));
   const auto before = FreeList(current.training.fitted_diagram);
   for (const auto& name : amended.FreeParameters()) {

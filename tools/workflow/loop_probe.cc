@@ -135,7 +135,10 @@ DriveForce ModelDriveForce(const DiagramDocument& d, const std::vector<ComparedO
   };
   for (std::size_t o = 1; o < outputs.size(); ++o) {
     if (QuantityOfUnit(outputs[o].unit) != MotionQuantity::kForce) continue;
+    const std::optional<Endpoint> driver = d.DriverOf({"", outputs[o].connector});
+    if (!driver || driver->is_connector()) continue;
     out.force = outputs[o].model;
+    out.source = driver;
     out.note = fmt::format("simulation mode: the model's drive force ŷ, which a force constant multiplies, is the "
                            "compared output '{}' [{}]",
                            outputs[o].connector, outputs[o].unit);
@@ -143,8 +146,11 @@ DriveForce ModelDriveForce(const DiagramDocument& d, const std::vector<ComparedO
   }
   for (const auto& [column, name] : reactions) {
     if (QuantityOfUnit(ColumnUnit(column)) != MotionQuantity::kForce) continue;
+    const std::size_t dot = name.rfind('.');
+    if (dot == std::string::npos) continue;
     if (const Eigen::VectorXd* signal = own_signal(name)) {
       out.force = *signal;
+      out.source = Endpoint{name.substr(0, dot), name.substr(dot + 1)};
       out.note = fmt::format("simulation mode: the model's drive force ŷ, which a force constant multiplies, is '{}', "
                              "the diagram's signal that the logged command '{}' is",
                              name, column);
@@ -157,6 +163,7 @@ DriveForce ModelDriveForce(const DiagramDocument& d, const std::vector<ComparedO
   if (driver) {
     if (const Eigen::VectorXd* signal = own_signal(driver->ToString())) {
       out.force = *signal;
+      out.source = driver;
       out.note = fmt::format(
           "simulation mode: the model's drive force ŷ, which a force constant multiplies, is taken as '{}', the net "
           "force into '{}', which lacks what the plant's own blocks take from the drive's force; compare the drive's "

@@ -46,6 +46,7 @@ LoopProbe ProbeLoop(const ModelComparison& comparison, const ComparedOutput& nom
 /// and a sentence for the notes saying where it was read; an empty force, with the reason, when the diagram shows none.
 struct DriveForce {
   Eigen::VectorXd force;  ///< N samples, in the unit of the signal it was read from (N, N·m or A)
+  std::optional<Endpoint> source;  ///< the diagram's signal it is (an element's output), for the blocks improve adds
   std::string note;
 };
 

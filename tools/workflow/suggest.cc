@@ -222,9 +222,18 @@ void Wire(DiagramDocument* out, const std::string& connector, const std::string&
   out->Connect({"", connector}, {element, port});
 }
 
-// The model's force feeding output connector `output` (the factor of_model_force multiplies by); throws naming the
-// effect when nothing feeds it.
-Endpoint ModelForceEnd(const DiagramDocument& out, const std::string& output, const DiagnosedEffect& effect) {
+// The model's force (the factor of_model_force multiplies by): in equation-error mode the force feeding output connector
+// `output`, in simulation mode the drive's force `drive_force` (DiagnosedComparison::drive_force_source); throws naming
+// the effect when there is none.
+Endpoint ModelForceEnd(const DiagramDocument& out, const std::string& output, const DiagnosedEffect& effect,
+                       const std::optional<Endpoint>& drive_force) {
+  if (out.Mode() != ExperimentMode::kEquationError) {
+    if (drive_force && out.Has(drive_force->element)) return *drive_force;
+    throw std::invalid_argument(fmt::format(
+        "effect '{}' multiplies the model's drive force, which this closed loop does not show: compare the drive's "
+        "force as an output in N (an output connector fed by the controller's force), or log its command in N",
+        effect.effect));
+  }
   const auto force = out.DriverOf(ForceEnd(out, output));
   if (!force) {
     throw std::invalid_argument(fmt::format("effect '{}' multiplies the model's force, but nothing feeds output '{}'",
@@ -294,9 +303,8 @@ Endpoint Factor(DiagramDocument* out, const MotionMultiplier& multiplier, const 
 // `output`: a product element "<element>_times_<factor>" multiplies the element's output and the factor (Factor) and
 // is summed in. Returns the element's name.
 std::string AddProductToOutput(DiagramDocument* out, const ElementSpec& element, const MotionMultiplier& multiplier,
-                               const DiagnosedEffect& effect, const std::string& output, const std::string& port) {
-  std::optional<Endpoint> force;
-  if (multiplier.NeedsModelForce()) force = ModelForceEnd(*out, output, effect);
+                               const DiagnosedEffect& effect, const std::string& output, const std::string& port,
+                               const std::optional<Endpoint>& force) {
   const std::string name = out->Add(element);
   std::string factor_name;
   const Endpoint factor = Factor(out, multiplier, effect, name, force, &factor_name);
@@ -315,9 +323,7 @@ std::string AddProductToOutput(DiagramDocument* out, const ElementSpec& element,
 // output, its input the factor (EffectBlockTemplate::multiplier_port). Returns the element's name.
 std::string AddWithFactorInput(DiagramDocument* out, const ElementSpec& element, const MotionMultiplier& multiplier,
                                const DiagnosedEffect& effect, const std::string& output, const std::string& port,
-                               const std::string& factor_port) {
-  std::optional<Endpoint> force;
-  if (multiplier.NeedsModelForce()) force = ModelForceEnd(*out, output, effect);
+                               const std::string& factor_port, const std::optional<Endpoint>& force) {
   const std::string name = AddToOutput(out, element, output, port);
   std::string factor_name;
   out->Connect(Factor(out, multiplier, effect, name, force, &factor_name), {name, factor_port});
@@ -375,19 +381,13 @@ MotionMultiplier TimesAtEnd(MotionMultiplier factor, MotionMultiplier extra) {
 // Adds `effect`'s block to `out` (its template, or the grammar's composed one: BlockFor), and its level (LevelOf); with
 // `extra`, the block's output is multiplied by it too (the part of a pair proportional to its third factor's source).
 void AddEffectBlock(DiagramDocument* out, const DiagnosedEffect& effect, const std::string& output,
-                    const std::optional<MotionMultiplier>& extra) {
+                    const std::optional<MotionMultiplier>& extra, const std::optional<Endpoint>& drive_force) {
   const std::optional<EffectBlockTemplate> composed = BlockFor(LookupEffect(effect.effect));
   if (!composed) {
     throw std::invalid_argument(
         fmt::format("no block for effect '{}' yet: add it by hand (docs/diagnosis.md)", effect.effect));
   }
   const EffectBlockTemplate& block = *composed;
-  if (block.multiplier && block.multiplier->NeedsModelForce() && out->Mode() != ExperimentMode::kEquationError) {
-    throw std::invalid_argument(fmt::format(
-        "effect '{}' multiplies the model's force; in simulation mode the output is the motion: scale the force "
-        "into the plant by hand (a product of the force and a {} block of the position)",
-        effect.effect, block.block_type));
-  }
   if (extra && block.placement != BlockPlacement::kAddToOutput) {
     throw std::invalid_argument(fmt::format("effect '{}': its amplitude's third factor has no block where its block "
                                             "is not summed into the output; add it by hand",
@@ -395,6 +395,8 @@ void AddEffectBlock(DiagramDocument* out, const DiagnosedEffect& effect, const s
   }
   std::optional<MotionMultiplier> multiplier = block.multiplier;
   if (extra) multiplier = multiplier ? TimesAtEnd(*multiplier, *extra) : *extra;
+  std::optional<Endpoint> force;  // taken before the element is summed in
+  if (multiplier && multiplier->NeedsModelForce()) force = ModelForceEnd(*out, output, effect, drive_force);
   std::vector<Endpoint> inputs;
   for (const auto& [input, port] : block.inputs) inputs.push_back(MotionSource(*out, input, effect.effect));
   ElementSpec element{block.element_name, block.block_type, block.parameters(effect), std::nullopt, effect.description};
@@ -407,10 +409,10 @@ void AddEffectBlock(DiagramDocument* out, const DiagnosedEffect& effect, const s
       if (!multiplier) {
         name = AddToOutput(out, element, output, block.output_port);
       } else if (block.multiplier_port.empty()) {
-        name = AddProductToOutput(out, element, *multiplier, effect, output, block.output_port);
+        name = AddProductToOutput(out, element, *multiplier, effect, output, block.output_port, force);
       } else {
         name = AddWithFactorInput(out, element, *multiplier, effect, output, block.output_port,
-                                  block.multiplier_port);
+                                  block.multiplier_port, force);
       }
       break;
   }
@@ -422,18 +424,22 @@ void AddEffectBlock(DiagramDocument* out, const DiagnosedEffect& effect, const s
   if (!effect.replaced_parameter.empty()) TakeOver(out, effect.replaced_parameter, name);
   out->AppendNote(fmt::format(" Amended by motionblocks compare --suggest: added '{}' ({}).", name,
                               extra ? effect.description : effect.effect));
-  if (const std::optional<DiagnosedEffect> level = LevelOf(effect)) AddEffectBlock(out, *level, output, extra);
+  if (const std::optional<DiagnosedEffect> level = LevelOf(effect)) {
+    AddEffectBlock(out, *level, output, extra, drive_force);
+  }
 }
 
 }  // namespace
 
-json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, const std::string& output) {
+json SuggestAmendedDiagram(const json& diagram, const DiagnosedEffect& effect, const std::string& output,
+                           const std::optional<Endpoint>& drive_force) {
   DiagramDocument out(diagram);
   // A third factor (models/diagnosis/amplitude_factor.h): the pair as diagnosed at z₀, and its part times z − z₀.
   const AmplitudeParts parts = SplitAmplitudeFactor(effect);
-  AddEffectBlock(&out, parts.main, output, std::nullopt);
+  AddEffectBlock(&out, parts.main, output, std::nullopt, drive_force);
   if (parts.part) {
-    AddEffectBlock(&out, *parts.part, output, AmplitudeSourceFactor(effect.parameters.at(kAmplitudeWith) < 0.0));
+    AddEffectBlock(&out, *parts.part, output, AmplitudeSourceFactor(effect.parameters.at(kAmplitudeWith) < 0.0),
+                   drive_force);
   }
   return out.json();
 }

@@ -4,11 +4,13 @@
 // them jointly with the base model (DIAGNOSIS.md step 1).
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "engine/diagram_document.h"
 #include "models/diagnosis/diagnosis.h"
 
 namespace mb {
@@ -44,8 +46,11 @@ bool IsFrictionLawReplacement(const DiagnosisResult& diagnosis, const std::strin
 /// @throws std::invalid_argument if the effect is unknown or has no block, its template refuses the diagnosed
 /// parameters (a key parameter missing or out of range, a negative delay), or the diagram lacks the needed input
 /// connector, sample period or a connection into `output` (the message says what to add).
+/// In simulation mode an effect of the force constant multiplies the model's drive force: `drive_force` is the
+/// diagram's signal that holds it (DiagnosedComparison::drive_force_source); without it such an effect is refused there.
 nlohmann::json SuggestAmendedDiagram(const nlohmann::json& diagram, const DiagnosedEffect& effect,
-                                     const std::string& output);
+                                     const std::string& output,
+                                     const std::optional<Endpoint>& drive_force = std::nullopt);
 
 /// The non-parametric fallback as a block: the diagram with a `gpr` element "residual_gp" (blocks/gpr.h) that loads
 /// `model_path` (a TISO-GPR fitted to the residual, models/gpr/residual_gpr.h; pass an absolute path or one relative

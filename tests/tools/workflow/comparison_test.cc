@@ -355,7 +355,7 @@ double ForceAt(const nlohmann::json& diagram, const std::map<std::string, double
 
 // A force constant that ripples (the grammar's ŷ × periodic(x)): the amended diagram multiplies the model's own force
 // by the ripple of the position and sums it in, so the force becomes ŷ·(1 + a cos(2πx/P) + b sin(2πx/P)); simulation
-// mode, whose output is the motion, is refused with what to do.
+// mode, whose output is the motion, is refused with what to do when the drive's force is not known.
 TEST(SuggestTest, AForceConstantRippleScalesTheModelsForce) {
   auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
   DiagnosedEffect ripple;
@@ -377,7 +377,7 @@ TEST(SuggestTest, AForceConstantRippleScalesTheModelsForce) {
     SuggestAmendedDiagram(diagram, ripple, "force");
     FAIL() << "a ripple of the model's force in simulation mode was accepted";
   } catch (const std::invalid_argument& e) {
-    EXPECT_THAT(e.what(), HasSubstr("in simulation mode the output is the motion"));
+    EXPECT_THAT(e.what(), HasSubstr("compare the drive's force as an output"));
   }
 }
 
