@@ -26,6 +26,15 @@ struct SignalRef {
   bool is_external() const { return block < 0; }
 };
 
+/// How an input connector reads its series between samples (the connector's "interpolation").
+enum class InputInterpolation {
+  kLinear,  ///< linear, held outside the series (Simulink's From Workspace with "Interpolate data")
+  /// Cubic Hermite with centred-difference slopes (Catmull–Rom on a uniform grid; Keys 1981, cubic convolution): for a
+  /// smooth signal logged slower than the diagram runs (a reference at 100 Hz into a 1 kHz controller), whose linear
+  /// interpolation errs by up to h²·|ẍ|/8 between samples; linear in the first and last intervals.
+  kCubic,
+};
+
 /// A diagram-level input connector (SSP `connectors` with kind "input"): fed from a measurement or a file by
 /// `compare`, `fit` and `run --input`. `measurement` is the default column name in a measurement log.
 struct ExternalInput {
@@ -35,6 +44,7 @@ struct ExternalInput {
   MotionQuantity quantity = MotionQuantity::kOther;  ///< declared "quantity" (units.h QuantityNamed); kOther: none
   bool optional = false;      ///< an optional input absent from the log reads `default_value`
   double default_value = 0.0;
+  InputInterpolation interpolation = InputInterpolation::kLinear;  ///< between the series' samples
 };
 
 /// A diagram-level output connector: a named signal that `compare` checks against column `measurement`.

@@ -188,6 +188,12 @@ class DiagramBuilder {
       in.quantity = DeclaredQuantity(c, ptr);
       in.optional = c.value("optional", false);
       in.default_value = NumberOr(c, "default", 0.0, ptr, &problems_);
+      if (const std::string how = c.value("interpolation", "linear"); how == "cubic") {
+        in.interpolation = InputInterpolation::kCubic;
+      } else if (how != "linear") {
+        Problem(fmt::format("{}/interpolation: '{}' is not an interpolation; use \"linear\" or \"cubic\"", ptr,
+                            Excerpt(how)));
+      }
       d_.inputs_.push_back(in);
     }
   }

@@ -187,7 +187,12 @@ json Sections(const BlockRegistry& registry) {
                                                         "what a signal in a unit of no motion quantity (V, none) "
                                                         "stands for; blocks take it on ports of that quantity")},
                                  {"optional", Described({{"type", "boolean"}}, "input only: may be absent")},
-                                 {"default", Described(number, "input only: value when absent")}});
+                                 {"default", Described(number, "input only: value when absent")},
+                                 {"interpolation",
+                                  Described({{"enum", {"linear", "cubic"}}},
+                                            "input only: between the log's samples, linear (default) or cubic "
+                                            "Hermite (Catmull-Rom), for a smooth signal logged slower than the "
+                                            "diagram runs")}});
   connector["required"] = {"name", "kind"};
   json metric = StrictObject({{"name", string},
                               {"type", {{"enum", Names(kMetricTypeNames)}}},

@@ -129,7 +129,17 @@ void Simulator::UpdateInputs(double t) {
       while (ts[i + 1] < t) ++i;
       w = (t - ts[i]) / (ts[i + 1] - ts[i]);
     }
-    slot = vs[i] + w * (vs[i + 1] - vs[i]);
+    if (diagram_.inputs()[k].interpolation == InputInterpolation::kCubic && i > 0 && i + 2 < ts.size()) {
+      // Cubic Hermite on [t_i, t_i+1] with the centred differences as slopes (scaled by the interval).
+      const double h = ts[i + 1] - ts[i];
+      const double m0 = (vs[i + 1] - vs[i - 1]) / (ts[i + 1] - ts[i - 1]) * h;
+      const double m1 = (vs[i + 2] - vs[i]) / (ts[i + 2] - ts[i]) * h;
+      const double w2 = w * w, w3 = w2 * w;
+      slot = (2.0 * w3 - 3.0 * w2 + 1.0) * vs[i] + (w3 - 2.0 * w2 + w) * m0 + (3.0 * w2 - 2.0 * w3) * vs[i + 1] +
+             (w3 - w2) * m1;
+    } else {
+      slot = vs[i] + w * (vs[i + 1] - vs[i]);
+    }
   }
 }
 

@@ -2,7 +2,9 @@
 // tests/diagnosis/independent_bench.h). Prints the table of every case (or the named ones, e.g. "delay");
 // --verbose: each case's named effects with their scores and compare's notes on stderr. Exits 1 when a case misses.
 // --simulation: each case compared in simulation mode with the closed-loop diagram of the generator's loop
-// (RunCaseInSimulation; compare only).
+// (RunCaseInSimulation; compare only). --clean-seeds=N (with --simulation): the clean records ("nothing missing" at
+// 1 kHz, 100 Hz and 2 kHz) with the generator's seeds 1..N instead, each a case of its own that passes when nothing is
+// named.
 // `make bench-diagnosis` builds it in Release and runs it.
 #include <algorithm>
 #include <iostream>
@@ -16,6 +18,7 @@ int main(int argc, char** argv) {
   std::string out = "out/bench-diagnosis";
   bool improve = true, verbose = false, simulation = false;
   double jitter = 0.0;
+  unsigned clean_seeds = 0;
   std::vector<std::string> only;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -24,10 +27,30 @@ int main(int argc, char** argv) {
     else if (a == "--verbose") verbose = true;
     else if (a.rfind("--out=", 0) == 0) out = a.substr(6);
     else if (a.rfind("--jitter=", 0) == 0) jitter = std::stod(a.substr(9));
+    else if (a.rfind("--clean-seeds=", 0) == 0) clean_seeds = static_cast<unsigned>(std::stoul(a.substr(14)));
     else only.push_back(a);
   }
   std::vector<mb::independent::CaseResult> results;
-  for (const auto& spec : mb::independent::Cases()) {
+  if (clean_seeds > 0) {
+    if (!simulation) {
+      std::cerr << "bench_diagnosis: --clean-seeds needs --simulation\n";
+      return 2;
+    }
+    for (const auto& spec : mb::independent::Cases()) {
+      if (spec.hidden != mb::independent::Hidden::kNone) continue;
+      for (unsigned seed = 1; seed <= clean_seeds; ++seed) {
+        const std::string folder = out + "/clean_seed_" + std::to_string(seed);
+        std::optional<mb::independent::CaseResult> r = mb::independent::RunCaseInSimulation(spec, folder, seed);
+        r->spec.name += ", seed " + std::to_string(seed);
+        results.push_back(std::move(*r));
+        std::cerr << "done: " << results.back().spec.name << "\n";
+        if (verbose) {
+          for (const auto& line : results.back().details) std::cerr << "  " << line << "\n";
+        }
+      }
+    }
+  }
+  for (const auto& spec : clean_seeds > 0 ? std::vector<mb::independent::CaseSpec>{} : mb::independent::Cases()) {
     if (!only.empty() && std::find(only.begin(), only.end(), spec.name) == only.end()) continue;
     std::string folder = spec.name;
     for (char& c : folder) if (c == ' ' || c == '(' || c == ')' || c == '+') c = '_';

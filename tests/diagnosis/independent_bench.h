@@ -66,7 +66,9 @@ CaseResult RunCase(const CaseSpec& spec, const std::filesystem::path& directory,
 /// friction and offset refit); compare only. What is expected is what equation-error mode expects, less what the
 /// position cannot show: a case whose hidden effect is in the logged force alone (OnlyInTheLoggedForce) expects
 /// nothing, the second effect of "ripple + delay" is the delay's. None for a rotary case (the diagram is linear).
-std::optional<CaseResult> RunCaseInSimulation(const CaseSpec& spec, const std::filesystem::path& directory);
+/// `seed`: the generator's (its noise, jitter and quantisation phase).
+std::optional<CaseResult> RunCaseInSimulation(const CaseSpec& spec, const std::filesystem::path& directory,
+                                              unsigned seed = 11);
 
 /// The table (Markdown) of the results.
 std::string FormatTable(const std::vector<CaseResult>& results);
