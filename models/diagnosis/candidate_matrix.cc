@@ -60,11 +60,11 @@ void RegressorMatrix::IndexColumns() {
 
 void FilterCandidateColumns(const EffectType& type, const DiagnosisSignals& signals, const DiagnosisOptions& options,
                             Eigen::MatrixXd* columns) {
-  if (type.traits.regressor_in_output_band) return;
   if (const LoopResponse* loop = options.catalogue.loop.get()) {  // simulation mode: the force through the loop
-    *columns = loop->Apply(*columns);
+    if (ThroughTheLoop(type.traits)) *columns = loop->Apply(*columns);
     return;
   }
+  if (type.traits.regressor_in_output_band) return;
   if (!(options.regressor_filter_hz > 0.0)) return;
   const double ts = MedianTimeStep(signals.time);
   // The columns are filtered independently: in parallel (a refinement's serial golden section waits on them).

@@ -348,7 +348,7 @@ Eigen::VectorXd EffectContribution(const DiagnosisResult& result, const Diagnose
                                    const DiagnosisSignals& signals) {
   const EffectRegressors reg = BuildEffectRegressors({effect.effect, effect.parameters}, signals);
   const Eigen::VectorXd force = reg.columns * effect.coefficients;
-  if (!result.loop || LookupEffect(effect.effect).traits.regressor_in_output_band) return force;
+  if (!result.loop || !ThroughTheLoop(LookupEffect(effect.effect).traits)) return force;
   return result.loop->Apply(force);
 }
 

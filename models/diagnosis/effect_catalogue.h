@@ -37,6 +37,9 @@ struct DiagnosisSignals {
   // mode: the force the simulated controller gives the plant, since the compared output is then the position.
   // Optional: absent, ŷ is model_output (equation-error mode, where the compared output is the force).
   Eigen::VectorXd drive_force;
+  // Simulation mode: the drive force's response to a load at the plant (the controller's reaction, per unit of load;
+  // loop_response.h), through which a command-path effect's load is iterated (CommandPathLoad); optional.
+  std::shared_ptr<const LoopResponse> drive_force_response;
   // The log's columns that the diagram does not read (another axis, a temperature, a bus voltage, a second sensor),
   // each of length N, with their names in extra_names (optional: both empty). The logged_column factor reads them by
   // index, so a record carried to another (PredictCorrection) must list the same columns in the same order.

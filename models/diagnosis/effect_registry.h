@@ -48,6 +48,11 @@ struct EffectTraits {
   /// The regressor is built from the model output ŷ alone, which is in the output filter's band already: it is
   /// not low-passed with the motion's regressors (DiagnosisOptions::regressor_filter_hz).
   bool regressor_in_output_band = false;
+  /// The effect acts on the command path, between the controller's command and the force that acts (an actuator lag,
+  /// the drive's saturation or voltage limit). Its regressor is built from the command (CommandOf): in equation-error
+  /// mode the logged one, or ŷ, in the output's band; in simulation mode the model's drive force
+  /// (DiagnosisSignals::drive_force), and the force it gives reaches the output through the closed loop (ThroughTheLoop).
+  bool command_path = false;
   /// A friction-law replacement: the effect replaces the model's friction law near zero velocity (regularised
   /// Coulomb, pre-sliding, Stribeck) rather than adding a force the model lacks. The diagnosis tries these first,
   /// reports them as "the friction law near zero velocity is wrong", and searches for the other effects in what they
@@ -79,6 +84,12 @@ struct EffectTraits {
   /// nothing, though the ramp's column always fits a little of the noise.
   bool nests_constant_pair = false;
 };
+
+/// Simulation mode: does the effect's force reach the compared output through the closed loop? Every force does; an
+/// effect of the measurement chain (regressor_in_output_band: a sensor delay, quantisation) acts on the output itself.
+inline bool ThroughTheLoop(const EffectTraits& traits) {
+  return !traits.regressor_in_output_band || traits.command_path;
+}
 
 /// One parameter of an effect instance (EffectInstance::parameters), SI units.
 struct EffectParameter {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 
@@ -38,6 +39,63 @@ int HarmonicsParameter(const EffectInstance& e) {
         "effect '{}': parameter 'harmonics' = {} must be an integer in 1..50", e.name, h));
   }
   return static_cast<int>(h);
+}
+
+const Eigen::VectorXd& CommandOf(const EffectInstance& e, const DiagnosisSignals& s,
+                                 const Eigen::VectorXd& equation_error) {
+  if (s.drive_force.size() == s.size()) return s.drive_force;
+  if (equation_error.size() != s.size()) {
+    throw std::invalid_argument(fmt::format(
+        "effect '{}' needs the command: the logged command (equation-error mode) or the model's drive force "
+        "(simulation mode), which is absent",
+        e.name));
+  }
+  return equation_error;
+}
+
+Eigen::VectorXd CommandPathLoad(const EffectInstance& e, const DiagnosisSignals& s,
+                                const std::function<Eigen::VectorXd(const Eigen::VectorXd& command)>& lost) {
+  const Eigen::VectorXd& u0 = CommandOf(e, s, s.drive_force);
+  Eigen::VectorXd load = lost(u0);
+  if (!s.drive_force_response) return load;
+  // Anderson acceleration of depth kDepth (Walker & Ni, SIAM J. Numer. Anal. 49, 2011): the next iterate mixes the last
+  // ones so that their residuals f = G(L) − L cancel best in least squares; a plain fixed-point step contracted by only
+  // ~0.75 per step on a 4 ms lag under a 15 Hz loop.
+  constexpr int kDepth = 3;
+  const auto g = [&](const Eigen::VectorXd& l) { return lost(u0 + s.drive_force_response->Apply(l).col(0)); };
+  std::vector<Eigen::VectorXd> iterates, residuals;  // the last kDepth + 1 of each
+  double best = std::numeric_limits<double>::infinity();
+  Eigen::VectorXd best_load = load;
+  for (int k = 0; k < kCommandPathIterations; ++k) {
+    const Eigen::VectorXd mapped = g(load);
+    const Eigen::VectorXd f = mapped - load;
+    const double size = f.norm();
+    if (!std::isfinite(size)) break;
+    if (size < best) {
+      best = size;
+      best_load = mapped;
+    }
+    if (size <= 1e-4 * mapped.norm()) break;
+    iterates.push_back(mapped);
+    residuals.push_back(f);
+    if (static_cast<int>(iterates.size()) > kDepth + 1) {
+      iterates.erase(iterates.begin());
+      residuals.erase(residuals.begin());
+    }
+    const auto m = static_cast<Eigen::Index>(residuals.size()) - 1;
+    if (m == 0) {
+      load = mapped;
+      continue;
+    }
+    Eigen::MatrixXd df(f.size(), m), dg(f.size(), m);
+    for (Eigen::Index j = 0; j < m; ++j) {
+      df.col(j) = residuals[static_cast<std::size_t>(j + 1)] - residuals[static_cast<std::size_t>(j)];
+      dg.col(j) = iterates[static_cast<std::size_t>(j + 1)] - iterates[static_cast<std::size_t>(j)];
+    }
+    const Eigen::VectorXd gamma = df.colPivHouseholderQr().solve(f);
+    load = mapped - dg * gamma;
+  }
+  return best_load;
 }
 
 const Eigen::VectorXd& NeedModelOutput(const EffectInstance& e, const DiagnosisSignals& s) {

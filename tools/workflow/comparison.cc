@@ -664,12 +664,13 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
   options.position_unit = PositionUnitToken(settings.position_column);
   options.catalogue.every_pair = settings.every_pair;
   if (!equation_error) {  // a candidate force reaches the compared output through the closed loop
-    LoopProbe probe = ProbeLoop(comparison, primary, own, signals.velocity);
-    options.catalogue.loop = std::move(probe.loop);
-    out.notes.push_back(std::move(probe.note));
     const DiagramDocument document(comparison.diagram_json(), comparison.base_directory(), comparison.source());
     DriveForce drive = ModelDriveForce(document, out.after, own, reactions);
+    LoopProbe probe = ProbeLoop(comparison, primary, own, signals.velocity, drive.source);
+    options.catalogue.loop = std::move(probe.loop);
+    out.notes.push_back(std::move(probe.note));
     signals.drive_force = std::move(drive.force);
+    signals.drive_force_response = std::move(probe.drive_force);
     out.drive_force_source = drive.source;
     out.notes.push_back(std::move(drive.note));
   }

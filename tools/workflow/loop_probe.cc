@@ -70,7 +70,8 @@ std::optional<Endpoint> PlantForcePort(const DiagramDocument& d, std::string* wh
 }
 
 LoopProbe ProbeLoop(const ModelComparison& comparison, const ComparedOutput& nominal,
-                    const std::vector<std::pair<std::string, Eigen::VectorXd>>& own, const Eigen::VectorXd& velocity) {
+                    const std::vector<std::pair<std::string, Eigen::VectorXd>>& own, const Eigen::VectorXd& velocity,
+                    const std::optional<Endpoint>& drive_force) {
   LoopProbe out;
   const auto not_probed = [&](const std::string& why) {
     out.note = "simulation mode: the candidate forces are fitted to the output error as they are, not through the "
@@ -107,14 +108,34 @@ LoopProbe ProbeLoop(const ModelComparison& comparison, const ComparedOutput& nom
   const Eigen::Index n = s.size();
   // While the axis moves the loop is the linear one (a Coulomb force is constant then); where it sticks again the
   // force no longer moves it, and the response jumps at every later stop: the response is read over the stretch.
-  Eigen::VectorXd h(last - first);
-  for (Eigen::Index k = 0; k < h.size(); ++k) h(k) = s(first + k) - (first + k > 0 ? s(first + k - 1) : 0.0);
-  const double energy = h.squaredNorm();
-  if (!std::isfinite(energy) || !(energy > 0.0)) return not_probed("the output does not respond to a force at the plant");
-  double kept = 0.0;
-  Eigen::Index length = 0;
-  for (; length < h.size() && kept < kEnergyKept * energy; ++length) kept += h(length) * h(length);
-  out.loop = std::make_shared<const LoopResponse>(h.head(length).eval(), n);
+  const auto impulse_response = [&](const Eigen::VectorXd& step_response) -> std::shared_ptr<const LoopResponse> {
+    Eigen::VectorXd h(last - first);
+    for (Eigen::Index k = 0; k < h.size(); ++k) {
+      h(k) = step_response(first + k) - (first + k > 0 ? step_response(first + k - 1) : 0.0);
+    }
+    const double energy = h.squaredNorm();
+    if (!std::isfinite(energy) || !(energy > 0.0)) return nullptr;
+    double kept = 0.0;
+    Eigen::Index length = 0;
+    for (; length < h.size() && kept < kEnergyKept * energy; ++length) kept += h(length) * h(length);
+    return std::make_shared<const LoopResponse>(h.head(length).eval(), n);
+  };
+  out.loop = impulse_response(s);
+  if (!out.loop) return not_probed("the output does not respond to a force at the plant");
+  const Eigen::Index length = out.loop->impulse_response().size();
+  if (drive_force) {  // the controller's reaction to the same load, read on the probe's own signals
+    const std::string name = drive_force->ToString();
+    const auto find = [&](const std::vector<std::pair<std::string, Eigen::VectorXd>>& signals) -> const Eigen::VectorXd* {
+      for (const auto& [signal_name, signal] : signals) {
+        if (signal_name == name && signal.size() == n) return &signal;
+      }
+      return nullptr;
+    };
+    const std::vector<std::pair<std::string, Eigen::VectorXd>> probed_signals = probe.SimulateBlockOutputs();
+    const Eigen::VectorXd* with = find(probed_signals);
+    const Eigen::VectorXd* without = find(own);
+    if (with != nullptr && without != nullptr) out.drive_force = impulse_response(-(*with - *without) / delta);
+  }
   out.note = fmt::format(
       "simulation mode: every candidate force is fitted to the output error through the closed loop, measured on the "
       "diagram (a force step of {:.3g} into '{}' at t = {:.4g} s, while the axis moves): a constant load moves the "

@@ -28,6 +28,8 @@ std::optional<Endpoint> PlantForcePort(const DiagramDocument& d, std::string* wh
 /// The probe's result: the loop (null when the diagram cannot be probed) and a sentence for the notes.
 struct LoopProbe {
   std::shared_ptr<const LoopResponse> loop;
+  /// The drive force's response to the same load (the controller's reaction; null without a drive force or response).
+  std::shared_ptr<const LoopResponse> drive_force;
   std::string note;  ///< how it was measured (the plant's port, δ, the static gain, how long the response lasts), or why not
 };
 
@@ -38,9 +40,12 @@ struct LoopProbe {
 /// (N, measured) exceeds a tenth of its maximum; h[k] = s[k] − s[k − 1] of the response s to a load step (−1 × the
 /// response to the pushing δ, per unit: LoopResponse's sign) over that stretch (where
 /// the axis sticks again a force no longer moves it), kept up to where it holds all but 1e-6 of its energy. Returns a null loop with the reason when there is no single plant, no force port,
-/// no motion or no response. @throws what ModelComparison throws (the diagram fails to simulate).
+/// no motion or no response. With `drive_force` (ModelDriveForce's source, one of `own`'s signals), the same probe
+/// also gives that signal's response to the load (LoopProbe::drive_force). @throws what ModelComparison throws (the
+/// diagram fails to simulate).
 LoopProbe ProbeLoop(const ModelComparison& comparison, const ComparedOutput& nominal,
-                    const std::vector<std::pair<std::string, Eigen::VectorXd>>& own, const Eigen::VectorXd& velocity);
+                    const std::vector<std::pair<std::string, Eigen::VectorXd>>& own, const Eigen::VectorXd& velocity,
+                    const std::optional<Endpoint>& drive_force = std::nullopt);
 
 /// The model's drive force in simulation mode — what a force constant multiplies (DiagnosisSignals::drive_force) —
 /// and a sentence for the notes saying where it was read; an empty force, with the reason, when the diagram shows none.
