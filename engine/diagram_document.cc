@@ -363,6 +363,29 @@ void DiagramDocument::InsertBefore(const Endpoint& end, const std::string& eleme
   json_["connections"][feed]["startConnector"] = outputs.front();
 }
 
+void DiagramDocument::InsertAfter(const Endpoint& start, const std::string& element) {
+  const auto inputs = Ports(element, true);
+  const auto outputs = Ports(element, false);
+  if (inputs.size() != 1 || outputs.size() != 1) {
+    throw std::invalid_argument(fmt::format("{}: element '{}' ({}) has {} inputs and {} outputs; only an element with "
+                                            "one of each can be inserted into a signal path",
+                                            source_, element, TypeOf(element), inputs.size(), outputs.size()));
+  }
+  std::size_t moved = 0;
+  for (auto& c : json_["connections"]) {
+    if (Start(c) != start || End(c).is_connector() || End(c).element == element) continue;
+    c["startElement"] = element;
+    c["startConnector"] = outputs.front();
+    ++moved;
+  }
+  if (moved == 0) {
+    throw std::invalid_argument(
+        fmt::format("{}: '{}' drives no element's input; nothing to insert '{}' before", source_, start.ToString(),
+                    element));
+  }
+  json_["connections"].push_back(ConnectionJson(start, {element, inputs.front()}));
+}
+
 std::vector<DocumentConnector> DiagramDocument::Connectors(const std::string& kind) const {
   std::vector<DocumentConnector> out;
   for (const auto& c : json_.value("connectors", Json::array())) {

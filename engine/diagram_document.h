@@ -118,6 +118,11 @@ class DiagramDocument {
   /// Puts `element` (already added; exactly one input and one output port) between `end` and what drives it.
   /// @throws std::invalid_argument if nothing drives `end` or the element has not one input and one output.
   void InsertBefore(const Endpoint& end, const std::string& element);
+  /// Puts `element` (already added; one input and one output port) after the element output `start`: every element
+  /// input that `start` drove reads the element's output instead, and `start` drives the element; output connectors
+  /// keep reading `start`. @throws std::invalid_argument if `start` drives no element input or the element has not
+  /// one input and one output.
+  void InsertAfter(const Endpoint& start, const std::string& element);
   /// Adds a two-input difference (the type declaring BlockType::difference_of_two, named UniqueName(name)) of
   /// `minuend` − `subtrahend` (element outputs or input connectors). Returns its name; OutputOf gives its output.
   /// @throws std::invalid_argument as Connect.

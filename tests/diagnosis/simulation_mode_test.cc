@@ -185,6 +185,27 @@ TEST(SimulationMode, AnActuatorLagIsNamedAlongTheCommandTheLoopGivesWithIt) {
   EXPECT_EQ(first->effect, "actuator_lag") << c.compared.diagnosis->summary;
   EXPECT_NEAR(first->parameters.at("lag"), 0.004, 0.2 * 0.004) << c.compared.diagnosis->summary;
   EXPECT_NEAR(BlockCoefficient(*first, ""), 1.0, 0.2) << c.compared.diagnosis->summary;
+  // Its block, a transport delay, goes after the drive's force: every block that read it reads the delayed force, and
+  // the simulated position comes closer to the measured one.
+  ASSERT_TRUE(c.compared.drive_force_source);
+  const nlohmann::json amended =
+      SuggestAmendedDiagram(c.compared.fitted_diagram, *first, "position", c.compared.drive_force_source);
+  const DiagramDocument document(amended);
+  const std::string drive_force = c.compared.drive_force_source->ToString();
+  int reads_drive_force = 0;
+  for (const Connection& k : document.Connections()) {
+    if (k.start.ToString() == drive_force && !k.end.is_connector()) {
+      ++reads_drive_force;
+      EXPECT_EQ(document.TypeOf(k.end.element), "transport_delay") << amended.dump(1);
+    }
+  }
+  EXPECT_EQ(reads_drive_force, 1) << amended.dump(1);
+  const ModelComparison before(c.compared.fitted_diagram, kData, kDiagram, c.log, {});
+  const ModelComparison after(amended, kData, kDiagram, c.log, {});
+  const double rmse_before = before.Simulate().front().rmse, rmse_after = after.Simulate().front().rmse;
+  RecordProperty("position_rmse_before_m", fmt::format("{:.4g}", rmse_before));
+  RecordProperty("position_rmse_after_m", fmt::format("{:.4g}", rmse_after));
+  EXPECT_LT(rmse_after, 0.8 * rmse_before) << "position RMSE " << rmse_before << " m -> " << rmse_after << " m";
 }
 
 TEST(SimulationMode, AnEffectOfTheAccelerationIsRefusedWithWhatToDo) {

@@ -163,6 +163,19 @@ TEST(DiagramDocumentTest, InsertBeforePutsAnElementIntoASignalPath) {
                   "element 'add' (sum) has 2 inputs and 1 outputs; only an element with one of each can be inserted")));
 }
 
+TEST(DiagramDocumentTest, InsertAfterPutsAnElementAfterASignalForEveryBlockThatReadIt) {
+  DiagramDocument d = Document();
+  const std::string scale = d.Add({"scale", "gain", {{"gain", 10.0}}, std::nullopt, ""});
+  d.InsertAfter({"k", "y"}, scale);
+  EXPECT_EQ(d.DriverOf({"body", "f"}), (Endpoint{"scale", "y"}));  // the block reads it through the element
+  EXPECT_EQ(d.DriverOf({"", "force"}), (Endpoint{"k", "y"}));      // the output connector keeps the signal
+  EXPECT_EQ(d.DriverOf({"scale", "u"}), (Endpoint{"k", "y"}));
+  EXPECT_DOUBLE_EQ(FinalForce(d), 3.0);
+  const std::string other = d.Add({"other", "gain", {{"gain", 1.0}}, std::nullopt, ""});
+  EXPECT_THAT([&] { d.InsertAfter({"source", "x"}, other); },
+              ThrowsMessage<std::invalid_argument>(HasSubstr("'source.x' drives no element's input")));
+}
+
 TEST(DiagramDocumentTest, ParametersAreCheckedAgainstTheBlockType) {
   DiagramDocument d = Document();
   EXPECT_EQ(d.Parameter("k", "gain"), json(2.0));      // unit wrapper stripped

@@ -200,15 +200,23 @@ std::string ColumnInput(DiagramDocument* out, const std::string& column, const s
   return connector.name;
 }
 
-// Puts `element` (ports u → y) on the command path (BlockPlacement::kOnCommand): fed by the logged command, and what the
-// log holds beyond what the element passes on, u − y, summed into the model's force (ForceEnd).
+// Puts `element` (ports u → y) on the command path (BlockPlacement::kOnCommand). Equation-error mode: fed by the logged
+// command, and what the log holds beyond what the element passes on, u − y, summed into the model's force (ForceEnd).
+// Simulation mode: after the drive's force `drive_force` (DiagnosedComparison::drive_force_source), so that every block
+// it fed reads what the element passes on (DiagramDocument::InsertAfter; a compared output keeps the command).
 std::string AddOnCommand(DiagramDocument* out, const ElementSpec& element, const std::string& output,
-                         const std::string& effect) {
+                         const std::string& effect, const std::optional<Endpoint>& drive_force) {
   if (out->Mode() != ExperimentMode::kEquationError) {
-    throw std::invalid_argument(fmt::format(
-        "effect '{}' acts on the command path; in simulation mode put a {} block between the command's input "
-        "connector and the plant by hand (docs/diagnosis.md, \"Adding an effect\")",
-        effect, element.type));
+    if (!drive_force || !out->Has(drive_force->element)) {
+      throw std::invalid_argument(fmt::format(
+          "effect '{}' acts on the command path, but this closed loop does not show the drive's force: compare the "
+          "drive's force as an output in N (an output connector fed by the controller's force), or log its command "
+          "in N, or put a {} block between the controller and the plant by hand",
+          effect, element.type));
+    }
+    const std::string name = out->Add(element);
+    out->InsertAfter(*drive_force, name);
+    return name;
   }
   const std::string command = CommandInput(out, output);
   const std::string name = out->Add(element);
@@ -404,7 +412,7 @@ void AddEffectBlock(DiagramDocument* out, const DiagnosedEffect& effect, const s
   std::string name;
   switch (block.placement) {
     case BlockPlacement::kInsertBeforeOutput: name = InsertBeforeOutput(out, element, output); break;
-    case BlockPlacement::kOnCommand: name = AddOnCommand(out, element, output, effect.effect); break;
+    case BlockPlacement::kOnCommand: name = AddOnCommand(out, element, output, effect.effect, drive_force); break;
     case BlockPlacement::kAddToOutput:
       if (!multiplier) {
         name = AddToOutput(out, element, output, block.output_port);
