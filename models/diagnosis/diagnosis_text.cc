@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "engine/units.h"
 #include "models/diagnosis/amplitude_factor.h"
@@ -20,6 +21,7 @@
 #include "models/diagnosis/factors.h"
 #include "models/diagnosis/parameter_text.h"
 #include "models/diagnosis/robust_weighting.h"
+#include "models/diagnosis/signal_processing.h"
 
 namespace mb::diagnosis_detail {
 namespace {
@@ -227,6 +229,32 @@ void Summarise(const DiagnosisOptions& options, const std::string& ambiguity_not
         100.0 * options.min_gain, wb.white ? "white" : "not white", significant_peak ? " and has a significant position-periodic peak" : "",
         result->rmse_base_refit);
   }
+}
+
+void NoteWhatThePositionShows(const Eigen::VectorXd& residual, double sample_period, const std::string& unit,
+                              DiagnosisResult* result) {
+  constexpr double kStandsOut = 10.0;  // the peak over the residual's own level in the record's periodogram
+  if (!result->loop || residual.size() < 64 || !(sample_period > 0.0)) return;
+  const PowerSpectrum psd = WelchPowerSpectrum(residual, sample_period, std::min<Eigen::Index>(1024, residual.size()));
+  const double record = static_cast<double>(residual.size()) * sample_period, bin = psd.frequency_hz(1);
+  std::vector<std::string> levels;
+  for (double decade = 1.0; decade < 0.25 / sample_period; decade *= 10.0) {
+    for (const double f : {decade, 2.0 * decade, 5.0 * decade}) {
+      if (!(f < 0.25 / sample_period) || f < 2.0 * bin) continue;
+      const auto k = static_cast<Eigen::Index>(std::lround(f / bin));
+      const double gain = result->loop->GainAt(f, sample_period);
+      if (!(gain > 0.0) || k >= psd.density.size()) continue;
+      const double smallest = std::sqrt(2.0 * kStandsOut * psd.density(k) / record) / gain;
+      levels.push_back(fmt::format("{:.3g} {} at {:g} Hz", smallest, unit, f));
+    }
+  }
+  if (levels.empty()) return;
+  result->notes.push_back(fmt::format(
+      "what the position can show (simulation mode): a periodic force of amplitude A at f moves it by A·|H(f)|, the "
+      "closed loop's gain; against the residual's own level there, the smallest force whose peak stands {:g} × above "
+      "it in this record's periodogram is {}; a force the equation-error view names below these, the position cannot "
+      "show",
+      kStandsOut, fmt::join(levels, ", ")));
 }
 
 }  // namespace mb::diagnosis_detail

@@ -20,4 +20,12 @@ DiagnosedEffect DescribeEffect(const Candidate& c, double score, double cumulati
 // 7. Evidence (whiteness, the strongest position-periodogram peak) and the summary for users.
 void Summarise(const DiagnosisOptions& options, const std::string& ambiguity_note, DiagnosisResult* result);
 
+// Simulation mode (result->loop set): what the position can show. A periodic force of amplitude A at f moves the output
+// by A·|H(f)| (LoopResponse::GainAt); against the residual's own level near f (`residual`, N samples at
+// `sample_period`: Welch's density S(f)), its peak in the record's periodogram stands 10 × above that level when
+// A ≥ √(20·S(f)/T)/|H(f)|, T the record's length. A note gives that smallest force at frequencies 1, 2, 5, 10, … Hz
+// below half the Nyquist frequency: a force the equation-error view names below it is one the position cannot show.
+void NoteWhatThePositionShows(const Eigen::VectorXd& residual, double sample_period, const std::string& unit,
+                              DiagnosisResult* result);
+
 }  // namespace mb::diagnosis_detail

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <complex>
+#include <numbers>
 #include <stdexcept>
 #include <utility>
 
@@ -45,6 +46,13 @@ Eigen::MatrixXd LoopResponse::Apply(const Eigen::Ref<const Eigen::MatrixXd>& col
     for (Eigen::Index i = 0; i < samples_; ++i) out(i, j) = padded[static_cast<std::size_t>(i)];
   }
   return out;
+}
+
+double LoopResponse::GainAt(double frequency_hz, double sample_period) const {
+  const double w = 2.0 * std::numbers::pi * frequency_hz * sample_period;
+  std::complex<double> gain = 0.0;
+  for (Eigen::Index k = 0; k < h_.size(); ++k) gain += h_(k) * std::polar(1.0, -w * static_cast<double>(k));
+  return std::abs(gain);
 }
 
 }  // namespace mb

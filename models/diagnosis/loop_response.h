@@ -31,6 +31,9 @@ class LoopResponse {
   Eigen::MatrixXd Apply(const Eigen::Ref<const Eigen::MatrixXd>& columns) const;
 
   const Eigen::VectorXd& impulse_response() const { return h_; }
+  /// |H(f)|: the loop's gain from a sinusoidal load at `frequency_hz` to the output, the DTFT of h at the record's
+  /// `sample_period` [s] (output unit per force unit). Throws nothing.
+  double GainAt(double frequency_hz, double sample_period) const;
   /// Σ h[k]: the loop's static gain from a constant load to the output [output unit per force unit] (−1/K for a PD
   /// of stiffness K, 0 with integral action).
   double static_gain() const { return h_.sum(); }

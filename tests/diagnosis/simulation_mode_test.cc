@@ -10,6 +10,7 @@
 // becomes a candidate.
 
 #include <cmath>
+#include <numbers>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -255,6 +256,21 @@ TEST(LoopResponse, FiltersCausallyAsTheDirectSumDoes) {
   EXPECT_DOUBLE_EQ(loop.static_gain(), 0.6875);
   EXPECT_THROW(loop.Apply(Eigen::MatrixXd::Zero(8, 1)), std::invalid_argument);
   EXPECT_THROW(LoopResponse(Eigen::VectorXd::Zero(3), 9), std::invalid_argument);
+}
+
+TEST(LoopResponse, ItsGainIsTheMagnitudeOfItsFourierTransform) {
+  // h = [½, ½]: a two-sample average, |H(f)| = |cos(π f Ts)|; 0 at the Nyquist frequency.
+  const LoopResponse average(Eigen::Vector2d(0.5, 0.5), 16);
+  const double ts = 1e-3;
+  for (const double f : {0.0, 100.0, 250.0, 400.0, 500.0}) {
+    EXPECT_NEAR(average.GainAt(f, ts), std::abs(std::cos(std::numbers::pi * f * ts)), 1e-12) << f << " Hz";
+  }
+}
+
+TEST(SimulationMode, ItSaysHowLargeAForceThePositionCanShow) {
+  const SimulationCase c = CompareInSimulation(independent::Hidden::kNone, "shows");
+  EXPECT_THAT(c.notes, HasSubstr("what the position can show (simulation mode)"));
+  EXPECT_THAT(c.notes, ::testing::ContainsRegex("is [0-9.e+-]+ N at 2 Hz, [0-9.e+-]+ N at 5 Hz"));
 }
 
 }  // namespace
