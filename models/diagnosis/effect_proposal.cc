@@ -20,6 +20,8 @@
 namespace mb {
 namespace {
 
+constexpr double kForceRegularisation = 1e-3;  // Wiener's λ over max |H|² for the spectra in simulation mode
+
 // The strongest independent peaks of the position periodogram, each at its true period: a weaker peak at k·P
 // (a sub-harmonic) means the period is k·P; periods beyond the search range are left out.
 std::vector<ProposedPeriod> PositionPeriods(const Periodogram& pg, const CatalogueOptions& options) {
@@ -140,8 +142,11 @@ ProposalContext::ProposalContext(const DiagnosisSignals& signals, const Eigen::V
     Note(fmt::format("{} skipped on this record: {}", what, NoteText(e.what())));
   };
   // The three periodograms are independent: computed in parallel, then used (and their failures noted) in order.
+  // Simulation mode: the spectra are read on the force the residual is (LoopResponse::ForceOf), since every candidate
+  // is a force and the loop shapes the position's spectrum (a force's peak above the loop's bandwidth is lost in it).
+  const Eigen::VectorXd spectral = options.loop ? options.loop->ForceOf(residual, kForceRegularisation) : residual;
   const std::pair<Eigen::VectorXd, Eigen::VectorXd> moving =
-      position_span_ > 0.0 ? MovingSamples(signals, residual, dead_band_) : std::pair<Eigen::VectorXd, Eigen::VectorXd>();
+      position_span_ > 0.0 ? MovingSamples(signals, spectral, dead_band_) : std::pair<Eigen::VectorXd, Eigen::VectorXd>();
   const Eigen::VectorXd& position = moving.first;
   const Eigen::VectorXd& moving_residual = moving.second;
   std::exception_ptr position_error, time_error, motion_error;
@@ -166,7 +171,7 @@ ProposalContext::ProposalContext(const DiagnosisSignals& signals, const Eigen::V
       },
       [&] {
         guarded(&time_error,
-                [&] { search->time_periodogram = TimePeriodogram(signals.time, residual, options.time_periodogram); });
+                [&] { search->time_periodogram = TimePeriodogram(signals.time, spectral, options.time_periodogram); });
       },
       [&] {
         if (!(position_span_ > 0.0)) return;

@@ -48,6 +48,28 @@ Eigen::MatrixXd LoopResponse::Apply(const Eigen::Ref<const Eigen::MatrixXd>& col
   return out;
 }
 
+Eigen::VectorXd LoopResponse::ForceOf(const Eigen::Ref<const Eigen::VectorXd>& output, double regularisation) const {
+  if (output.size() != samples_) {
+    throw std::invalid_argument(
+        fmt::format("LoopResponse::ForceOf: an output of {} samples, the record has {}", output.size(), samples_));
+  }
+  double peak = 0.0;
+  for (const auto& h : h_spectrum_) peak = std::max(peak, std::norm(h));
+  const double lambda = regularisation * peak;
+  Eigen::FFT<double> fft;
+  std::vector<double> padded(static_cast<std::size_t>(padded_), 0.0);
+  for (Eigen::Index i = 0; i < samples_; ++i) padded[static_cast<std::size_t>(i)] = output(i);
+  std::vector<std::complex<double>> spectrum;
+  fft.fwd(spectrum, padded);
+  for (std::size_t k = 0; k < spectrum.size(); ++k) {
+    spectrum[k] *= std::conj(h_spectrum_[k]) / (std::norm(h_spectrum_[k]) + lambda);
+  }
+  fft.inv(padded, spectrum);
+  Eigen::VectorXd out(samples_);
+  for (Eigen::Index i = 0; i < samples_; ++i) out(i) = padded[static_cast<std::size_t>(i)];
+  return out;
+}
+
 double LoopResponse::GainAt(double frequency_hz, double sample_period) const {
   const double w = 2.0 * std::numbers::pi * frequency_hz * sample_period;
   std::complex<double> gain = 0.0;

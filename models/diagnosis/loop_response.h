@@ -34,6 +34,11 @@ class LoopResponse {
   /// |H(f)|: the loop's gain from a sinusoidal load at `frequency_hz` to the output, the DTFT of h at the record's
   /// `sample_period` [s] (output unit per force unit). Throws nothing.
   double GainAt(double frequency_hz, double sample_period) const;
+  /// The force an output record is: `output` (N) deconvolved by h with Wiener's regularisation, F = R·H*/(|H|² + λ),
+  /// λ = `regularisation` × max |H|² (Wiener 1949; Hansen, "Deblurring Images", 2006, ch. 5): where the loop passes
+  /// little, the force is damped rather than the noise blown up. For the spectra the proposals read in simulation
+  /// mode; fits stay on the output. @throws std::invalid_argument when output does not have N samples.
+  Eigen::VectorXd ForceOf(const Eigen::Ref<const Eigen::VectorXd>& output, double regularisation) const;
   /// Σ h[k]: the loop's static gain from a constant load to the output [output unit per force unit] (−1/K for a PD
   /// of stiffness K, 0 with integral action).
   double static_gain() const { return h_.sum(); }
