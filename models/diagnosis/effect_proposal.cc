@@ -143,7 +143,9 @@ ProposalContext::ProposalContext(const DiagnosisSignals& signals, const Eigen::V
   };
   // The three periodograms are independent: computed in parallel, then used (and their failures noted) in order.
   // Simulation mode: the spectra are read on the force the residual is (LoopResponse::ForceOf), since every candidate
-  // is a force and the loop shapes the position's spectrum (a force's peak above the loop's bandwidth is lost in it).
+  // is a force and the loop shapes the position's spectrum (a force's peak above the loop's bandwidth is lost in it);
+  // the position periods the output's own periodogram holds are proposed too (a slow force the loop lets through
+  // stands out there).
   const Eigen::VectorXd spectral = options.loop ? options.loop->ForceOf(residual, kForceRegularisation) : residual;
   const std::pair<Eigen::VectorXd, Eigen::VectorXd> moving =
       position_span_ > 0.0 ? MovingSamples(signals, spectral, dead_band_) : std::pair<Eigen::VectorXd, Eigen::VectorXd>();
@@ -183,7 +185,8 @@ ProposalContext::ProposalContext(const DiagnosisSignals& signals, const Eigen::V
     try {
       if (position_error) std::rethrow_exception(position_error);
       position_periods_ = PositionPeriods(search->position_periodogram, options);
-      AddFewCyclePeriods(position, moving_residual);
+      if (options.loop) AddOutputPeriods(signals, residual);
+      AddFewCyclePeriods(position, moving_residual, search->position_periodogram);
     } catch (const std::invalid_argument& e) {
       skipped("the position periodogram (position-periodic candidates)", e);
     }
@@ -203,9 +206,23 @@ ProposalContext::ProposalContext(const DiagnosisSignals& signals, const Eigen::V
   }
 }
 
-void ProposalContext::AddFewCyclePeriods(const Eigen::VectorXd& position, const Eigen::VectorXd& residual) {
+void ProposalContext::AddOutputPeriods(const DiagnosisSignals& signals, const Eigen::VectorXd& residual) {
+  const auto [position, moving_residual] = MovingSamples(signals, residual, dead_band_);
+  PeriodogramOptions po = options_.position_periodogram;
+  if (po.max_period <= 0.0) po.max_period = position_span_ / options_.min_position_cycles;
+  const Periodogram output = PositionPeriodogram(position, moving_residual, po);
+  for (const ProposedPeriod& period : PositionPeriods(output, options_)) {
+    const bool known = std::any_of(position_periods_.begin(), position_periods_.end(), [&](const ProposedPeriod& p) {
+      return std::abs(p.period - period.period) <= 0.01 * period.period;
+    });
+    if (!known) position_periods_.push_back(period);
+  }
+  AddFewCyclePeriods(position, moving_residual, output);
+}
+
+void ProposalContext::AddFewCyclePeriods(const Eigen::VectorXd& position, const Eigen::VectorXd& residual,
+                                         const Periodogram& main) {
   if (options_.position_periodogram.max_period > 0.0) return;  // the user chose the band
-  const Periodogram& main = search_->position_periodogram;
   for (auto [period, power] : FewCyclePeriods(position, residual, main, position_span_, options_)) {
     if (period.harmonics == 0) {  // a short stroke's period on its own: only if it beats a smooth force of position
       const Eigen::MatrixXd base = BaseWithConstant();

@@ -89,7 +89,11 @@ class ProposalContext {
   CandidateSearch* search_;
   ProposalSink* sink_ = nullptr;
   // Adds the periods of too few cycles for the main search that their harmonics confirm (CatalogueOptions).
-  void AddFewCyclePeriods(const Eigen::VectorXd& position, const Eigen::VectorXd& residual);
+  // `main`: the periodogram whose peaks confirm their harmonics.
+  void AddFewCyclePeriods(const Eigen::VectorXd& position, const Eigen::VectorXd& residual, const Periodogram& main);
+  // Simulation mode: adds the periods of the output residual's own position periodogram that the force's lacks, the
+  // few-cycle ones too.
+  void AddOutputPeriods(const DiagnosisSignals& signals, const Eigen::VectorXd& residual);
   double max_speed_ = 0.0, dead_band_ = 0.0, position_span_ = 0.0, sample_period_ = 0.0;
   std::vector<ProposedPeriod> position_periods_;
   struct OutputDelayOnce;  // the delay and its once-flag (effect_proposal.cc)

@@ -239,10 +239,8 @@ void CheckValidationFree(const json& diagram, const ImproveSettings& settings) {
 }
 
 // The ranked effects of `current`'s diagnosis that a round tries, in compare's order (EffectsInApplicationOrder:
-// the friction-law replacements first), those with a block, at most max_trials_per_round; or none with `result`'s
-// stop and reason set.
-std::vector<const DiagnosedEffect*> RoundCandidates(const ImproveStep& current, const ImproveSettings& settings,
-                                                    ImproveResult* result) {
+// the friction-law replacements first), those with a block; or none with `result`'s stop and reason set.
+std::vector<const DiagnosedEffect*> RoundCandidates(const ImproveStep& current, ImproveResult* result) {
   const DiagnosisResult* diagnosis = current.training.diagnosis ? &*current.training.diagnosis : nullptr;
   if (!diagnosis) {
     result->stop = ImproveStop::kNoMissingEffect;
@@ -264,10 +262,7 @@ std::vector<const DiagnosedEffect*> RoundCandidates(const ImproveStep& current, 
         fmt::format("the ranked effects have no block to add (first: {})", diagnosis->effects.front().effect);
     return {};
   }
-  if (static_cast<int>(candidates.size()) > settings.max_trials_per_round) {
-    candidates.resize(static_cast<std::size_t>(settings.max_trials_per_round));
-  }
-  return candidates;
+  return candidates;  // the round stops after max_trials_per_round of them were added and tried
 }
 
 // The added element's refit parameters that left their physical range (EffectBlockTemplate::physical_range), in
@@ -295,8 +290,10 @@ ImproveStep TryEffect(const ImproveStep& current, const DiagnosedEffect& effect,
                       const MeasurementLog* validation, const ImproveSettings& settings, double leak_floor) {
   ImproveStep step;
   std::string element;
+  bool block_added = false;
   try {
     const json amended = Amend(current, effect, settings.refine_periods, &element);
+    block_added = true;
     step = Evaluate(amended, base_directory, source, training, validation, settings);
   } catch (const std::exception& e) {
     step = ImproveStep{};
@@ -307,6 +304,7 @@ ImproveStep TryEffect(const ImproveStep& current, const DiagnosedEffect& effect,
     step.accepted = false;
     step.verdict = fmt::format("could not be added: {}", e.what());
   }
+  step.block_added = block_added;
   step.round = round;
   step.effect = effect.effect;
   step.diagnosed = effect;
@@ -407,10 +405,12 @@ ImproveResult ImproveModel(const DiagramDocument& document, const MeasurementLog
       break;
     }
     const ImproveStep current = result.last_accepted();  // a copy: result.steps grows below
-    const std::vector<const DiagnosedEffect*> candidates = RoundCandidates(current, settings, &result);
+    const std::vector<const DiagnosedEffect*> candidates = RoundCandidates(current, &result);
     if (candidates.empty()) break;
     bool accepted_this_round = false;
+    int tried = 0;
     for (const DiagnosedEffect* effect : candidates) {
+      if (tried >= settings.max_trials_per_round) break;
       say(fmt::format("round {}: trying {} ({}; {:.1f} % of the held-out residual) — amend, refit jointly …", round,
                       effect->effect, DescribeParameters(effect->parameters), 100.0 * effect->score));
       ImproveStep step =
@@ -418,6 +418,7 @@ ImproveResult ImproveModel(const DiagramDocument& document, const MeasurementLog
       say(fmt::format("round {}: {} {}; train RMSE {:.4g} → {:.4g} {}", round, effect->effect, step.verdict,
                       step.rmse_train_before, step.rmse_train, step.unit()));
       accepted_this_round = step.accepted;
+      if (step.block_added) ++tried;
       finish(std::move(step));
       if (accepted_this_round) break;
     }
@@ -425,7 +426,7 @@ ImproveResult ImproveModel(const DiagramDocument& document, const MeasurementLog
       result.stop = ImproveStop::kNoHeldOutGain;
       result.stop_reason = fmt::format(
           "none of the {} effect(s) tried in round {} lowered the held-out RMSE by {:.2f} % or more with a "
-          "significant coefficient", candidates.size(), round, 100.0 * settings.min_relative_gain);
+          "significant coefficient", tried, round, 100.0 * settings.min_relative_gain);
       break;
     }
     ++accepted;

@@ -42,7 +42,7 @@ namespace mb {
 struct ImproveSettings {
   MeasurementSettings measurement;  ///< columns, position column, derivative cut-off (as compare)
   int max_effects = 3;              ///< accepted effects at most (rounds), >= 0
-  int max_trials_per_round = 3;     ///< ranked effects (with a block) tried per round before giving up, >= 1
+  int max_trials_per_round = 3;     ///< ranked effects whose block was added, tried per round before giving up, >= 1
   double min_relative_gain = 0.002;  ///< accept an effect when held-out RMSE falls by at least this share, [0, 1)
   /// Free the refinable parameters of an added element (EffectBlockTemplate::refinable: the period of a
   /// position-periodic ripple) in the joint refit (as suggest frees a vibration's frequency): the periodogram's
@@ -89,6 +89,9 @@ struct ImproveStep {
   std::optional<DiagnosedEffect> diagnosed;  ///< the effect as the previous step's diagnosis ranked it
   std::string element;                 ///< name of the element the suggestion added
   std::string verdict;                 ///< why accepted or rejected, in words
+  /// false: the effect's block could not be added to the diagram (the verdict says why: no block, a refusal); such a
+  /// step is not one of a round's trials (ImproveSettings::max_trials_per_round).
+  bool block_added = true;
   DiagnosedComparison training;        ///< joint refit and diagnosis on the measurement
   std::optional<HeldOutScore> validation;
   double rmse_train_before = 0.0;      ///< primary output, the last accepted step's after its refit
