@@ -305,7 +305,7 @@ TEST(SuggestTest, ANegativeStribeckHumpIsRefusedNotClamped) {
 
 // An effect on the command path (a drive's current limit): in equation-error mode the amended diagram reads the logged
 // command through a new input connector on the output's column, passes it through the saturation, and adds what the
-// log holds beyond what acted to the model's force; simulation mode is refused with what to do.
+// log holds beyond what acted to the model's force; simulation mode without the drive's force is refused with what to do.
 TEST(SuggestTest, ACommandPathEffectAddsWhatTheLogHoldsBeyondWhatActed) {
   auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
   DiagnosedEffect saturation =
@@ -332,9 +332,9 @@ TEST(SuggestTest, ACommandPathEffectAddsWhatTheLogHoldsBeyondWhatActed) {
   diagram["experiment"]["mode"] = "simulation";
   try {
     SuggestAmendedDiagram(diagram, saturation, "force");
-    FAIL() << "a command-path effect in simulation mode was accepted";
+    FAIL() << "a command-path effect in simulation mode was accepted without the drive's force";
   } catch (const std::invalid_argument& e) {
-    EXPECT_THAT(e.what(), HasSubstr("in simulation mode put a saturation block between the command's input"));
+    EXPECT_THAT(e.what(), HasSubstr("this closed loop does not show the drive's force"));
   }
 }
 
