@@ -305,7 +305,8 @@ TEST(SuggestTest, ANegativeStribeckHumpIsRefusedNotClamped) {
 
 // An effect on the command path (a drive's current limit): in equation-error mode the amended diagram reads the logged
 // command through a new input connector on the output's column, passes it through the saturation, and adds what the
-// log holds beyond what acted to the model's force; simulation mode without the drive's force is refused with what to do.
+// log holds beyond what acted to the model's force; simulation mode without the drive's force is refused with what to
+// do.
 TEST(SuggestTest, ACommandPathEffectAddsWhatTheLogHoldsBeyondWhatActed) {
   auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
   DiagnosedEffect saturation =
