@@ -324,7 +324,8 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
                          " (held-out share a smooth function of each signal alone explains)");
 
   // 7. Evidence and summary.
-  diagnosis_detail::NoteWhatThePositionShows(r_after, MedianTimeStep(signals.time), options.position_unit == "m" ? "N" : "N·m", &result);
+  diagnosis_detail::NoteWhatThePositionShows(r_after, MedianTimeStep(signals.time),
+                                             options.position_unit == "m" ? "N" : "N·m", &result);
   Summarise(options, ambiguity_note, &result);
   return result;
 }

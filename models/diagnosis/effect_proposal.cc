@@ -147,8 +147,9 @@ ProposalContext::ProposalContext(const DiagnosisSignals& signals, const Eigen::V
   // the position periods the output's own periodogram holds are proposed too (a slow force the loop lets through
   // stands out there).
   const Eigen::VectorXd spectral = options.loop ? options.loop->ForceOf(residual, kForceRegularisation) : residual;
-  const std::pair<Eigen::VectorXd, Eigen::VectorXd> moving =
-      position_span_ > 0.0 ? MovingSamples(signals, spectral, dead_band_) : std::pair<Eigen::VectorXd, Eigen::VectorXd>();
+  const std::pair<Eigen::VectorXd, Eigen::VectorXd> moving = position_span_ > 0.0
+                                                                  ? MovingSamples(signals, spectral, dead_band_)
+                                                                  : std::pair<Eigen::VectorXd, Eigen::VectorXd>();
   const Eigen::VectorXd& position = moving.first;
   const Eigen::VectorXd& moving_residual = moving.second;
   std::exception_ptr position_error, time_error, motion_error;

@@ -51,7 +51,8 @@ struct EffectTraits {
   /// The effect acts on the command path, between the controller's command and the force that acts (an actuator lag,
   /// the drive's saturation or voltage limit). Its regressor is built from the command (CommandOf): in equation-error
   /// mode the logged one, or ŷ, in the output's band; in simulation mode the model's drive force
-  /// (DiagnosisSignals::drive_force), and the force it gives reaches the output through the closed loop (ThroughTheLoop).
+  /// (DiagnosisSignals::drive_force), and the force it gives reaches the output through the closed loop
+  /// (ThroughTheLoop).
   bool command_path = false;
   /// A friction-law replacement: the effect replaces the model's friction law near zero velocity (regularised
   /// Coulomb, pre-sliding, Stribeck) rather than adding a force the model lacks. The diagnosis tries these first,

@@ -24,15 +24,16 @@ int HarmonicsParameter(const EffectInstance& effect);
 /// The model output ŷ; throws std::invalid_argument when DiagnosisSignals::model_output is absent.
 const Eigen::VectorXd& NeedModelOutput(const EffectInstance& effect, const DiagnosisSignals& signals);
 // The command a command-path effect (EffectTraits::command_path) acts on: the model's drive force in simulation mode
-// (DiagnosisSignals::drive_force), else `equation_error` (the logged command, or ŷ). Throws std::invalid_argument naming
-// the effect when it is absent.
+// (DiagnosisSignals::drive_force), else `equation_error` (the logged command, or ŷ). Throws std::invalid_argument
+// naming the effect when it is absent.
 const Eigen::VectorXd& CommandOf(const EffectInstance& effect, const DiagnosisSignals& signals,
                                  const Eigen::VectorXd& equation_error);
 // Simulation mode: the load a command-path effect puts on the plant, `lost`(u) = u − g(u) for the drive's g (a lag, a
 // clamp), along the command the loop gives with it: the controller reacts to the load, u = u₀ + h_u ∗ L with u₀ the
-// model's drive force and h_u its response to a load (DiagnosisSignals::drive_force_response), so L = lost(u₀ + h_u ∗ L)
-// is solved from L = lost(u₀) by Anderson-accelerated fixed-point iteration (the closed loop's Born series; at most
-// kCommandPathIterations, the iterate with the smallest residual kept). Without h_u: lost(u₀). Throws as CommandOf.
+// model's drive force and h_u its response to a load (DiagnosisSignals::drive_force_response), so
+// L = lost(u₀ + h_u ∗ L), solved from L = lost(u₀) by Anderson-accelerated fixed-point iteration (the closed loop's
+// Born series; at most kCommandPathIterations, the iterate with the smallest residual kept). Without h_u: lost(u₀).
+// Throws as CommandOf.
 inline constexpr int kCommandPathIterations = 12;
 Eigen::VectorXd CommandPathLoad(const EffectInstance& effect, const DiagnosisSignals& signals,
                                 const std::function<Eigen::VectorXd(const Eigen::VectorXd& command)>& lost);

@@ -125,13 +125,14 @@ LoopProbe ProbeLoop(const ModelComparison& comparison, const ComparedOutput& nom
   const Eigen::Index length = out.loop->impulse_response().size();
   if (drive_force) {  // the controller's reaction to the same load, read on the probe's own signals
     const std::string name = drive_force->ToString();
-    const auto find = [&](const std::vector<std::pair<std::string, Eigen::VectorXd>>& signals) -> const Eigen::VectorXd* {
+    using Signals = std::vector<std::pair<std::string, Eigen::VectorXd>>;
+    const auto find = [&](const Signals& signals) -> const Eigen::VectorXd* {
       for (const auto& [signal_name, signal] : signals) {
         if (signal_name == name && signal.size() == n) return &signal;
       }
       return nullptr;
     };
-    const std::vector<std::pair<std::string, Eigen::VectorXd>> probed_signals = probe.SimulateBlockOutputs();
+    const Signals probed_signals = probe.SimulateBlockOutputs();
     const Eigen::VectorXd* with = find(probed_signals);
     const Eigen::VectorXd* without = find(own);
     if (with != nullptr && without != nullptr) out.drive_force = impulse_response(-(*with - *without) / delta);
@@ -193,8 +194,8 @@ DriveForce ModelDriveForce(const DiagramDocument& d, const std::vector<ComparedO
       return out;
     }
   }
-  out.note = fmt::format("simulation mode: the force constant's effects are not proposed, since the model's drive force "
-                         "is not known ({}); compare the drive's force as an output in N",
+  out.note = fmt::format("simulation mode: the force constant's effects are not proposed, since the model's drive "
+                         "force is not known ({}); compare the drive's force as an output in N",
                          port ? fmt::format("nothing drives '{}'", port->ToString()) : why);
   return out;
 }

@@ -230,9 +230,9 @@ void Wire(DiagramDocument* out, const std::string& connector, const std::string&
   out->Connect({"", connector}, {element, port});
 }
 
-// The model's force (the factor of_model_force multiplies by): in equation-error mode the force feeding output connector
-// `output`, in simulation mode the drive's force `drive_force` (DiagnosedComparison::drive_force_source); throws naming
-// the effect when there is none.
+// The model's force (the factor of_model_force multiplies by): in equation-error mode the force feeding output
+// connector `output`, in simulation mode the drive's force `drive_force` (DiagnosedComparison::drive_force_source);
+// throws naming the effect when there is none.
 Endpoint ModelForceEnd(const DiagramDocument& out, const std::string& output, const DiagnosedEffect& effect,
                        const std::optional<Endpoint>& drive_force) {
   if (out.Mode() != ExperimentMode::kEquationError) {

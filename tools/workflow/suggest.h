@@ -46,8 +46,9 @@ bool IsFrictionLawReplacement(const DiagnosisResult& diagnosis, const std::strin
 /// @throws std::invalid_argument if the effect is unknown or has no block, its template refuses the diagnosed
 /// parameters (a key parameter missing or out of range, a negative delay), or the diagram lacks the needed input
 /// connector, sample period or a connection into `output` (the message says what to add).
-/// In simulation mode an effect of the force constant multiplies the model's drive force: `drive_force` is the
-/// diagram's signal that holds it (DiagnosedComparison::drive_force_source); without it such an effect is refused there.
+/// In simulation mode an effect of the force constant multiplies the model's drive force, and a command-path block
+/// goes after it: `drive_force` is the diagram's signal that holds it (DiagnosedComparison::drive_force_source);
+/// without it such an effect is refused there.
 nlohmann::json SuggestAmendedDiagram(const nlohmann::json& diagram, const DiagnosedEffect& effect,
                                      const std::string& output,
                                      const std::optional<Endpoint>& drive_force = std::nullopt);

@@ -6,10 +6,11 @@
 // that lags, is time_delay's (a sensor delay). Block: transport_delay on the command path (BlockPlacement::kOnCommand,
 // blocks/transport_delay.cc). Source: DIAGNOSIS.md, "Delay sign"; for a small delay the residual ≈ −delay·dŷ/dt (Ljung,
 // System Identification, 2nd ed., §16.6, residual analysis).
-// Simulation mode (EffectTraits::command_path): the plant receives the model's drive force u (DiagnosisSignals::
-// drive_force) d late, so the force it lacks — a load — is u(t) − u(t − d) (along the command the loop gives with the lag:
-// CommandPathLoad), which reaches the position through the closed loop; d is the minimum of the base's refit of the residual less that load through the loop (its coefficient held at
-// 1) over [1, kMaxLagSamples] sample periods (a log grid and a golden-section search), proposed inside that range.
+// Simulation mode (EffectTraits::command_path): the plant receives the model's drive force u
+// (DiagnosisSignals::drive_force) d late, so the force it lacks — a load — is u(t) − u(t − d), along the command the
+// loop gives with the lag (CommandPathLoad); it reaches the position through the closed loop. d minimises the base's
+// refit of the residual less that load through the loop (its coefficient held at 1) over [1, kMaxLagSamples] sample
+// periods (a log grid and a golden-section search), and is proposed inside that range.
 #include <fmt/format.h>
 
 #include "models/diagnosis/effect_proposal.h"
@@ -35,15 +36,16 @@ void ProposeInSimulation(ProposalContext& c) {
   // The coefficient held at its physical 1: free, a shorter lag with a larger coefficient fits as well (u(t) − u(t − d)
   // ≈ d·du/dt for a small d).
   const auto sse = [&](double d) {
-    const Eigen::VectorXd load = CommandPathLoad({kName, {}}, s, [&](const Eigen::VectorXd& u) { return LateForce(s.time, u, d); });
+    const Eigen::VectorXd load =
+        CommandPathLoad({kName, {}}, s, [&](const Eigen::VectorXd& u) { return LateForce(s.time, u, d); });
     const Eigen::VectorXd r = c.residual() - c.loop()->Apply(load).col(0);
     return JointFitResidual(base, gram, r)(none);
   };
   const double lo = c.sample_period(), hi = kMaxLagSamples * c.sample_period();
   const double lag = MinimiseOnLogGrid(lo, hi, 25, 20, sse, true);
   if (!(lag > 1.05 * lo && lag < 0.95 * hi)) {
-    c.Note(fmt::format("actuator_lag not proposed: the joint fit through the loop is best at a lag of {:.3g} ms, at the "
-                       "edge of the range scanned ({:.3g}–{:.3g} ms)",
+    c.Note(fmt::format("actuator_lag not proposed: the joint fit through the loop is best at a lag of {:.3g} ms, at "
+                       "the edge of the range scanned ({:.3g}–{:.3g} ms)",
                        lag * 1e3, lo * 1e3, hi * 1e3));
     return;
   }
@@ -66,7 +68,8 @@ EffectType ActuatorLag() {
   t.regressors = [](const EffectInstance& e, const DiagnosisSignals& s) {
     if (s.drive_force.size() == s.size()) {
       const double d = PositiveParameter(e, "lag");
-      return SingleColumn(e.name, CommandPathLoad(e, s, [&](const Eigen::VectorXd& u) { return LateForce(s.time, u, d); }));
+      return SingleColumn(e.name,
+                          CommandPathLoad(e, s, [&](const Eigen::VectorXd& u) { return LateForce(s.time, u, d); }));
     }
     const Eigen::VectorXd& y = NeedModelOutput(e, s);
     return SingleColumn(e.name, ShiftedInTime(s.time, y, -PositiveParameter(e, "lag")) - y);
