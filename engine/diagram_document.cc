@@ -348,8 +348,7 @@ Endpoint DiagramDocument::OutputOf(const std::string& element) const {
   return {element, outputs.front()};
 }
 
-void DiagramDocument::InsertBefore(const Endpoint& end, const std::string& element) {
-  const std::size_t feed = FeedOf(end);
+std::pair<std::string, std::string> DiagramDocument::PathPorts(const std::string& element) const {
   const auto inputs = Ports(element, true);
   const auto outputs = Ports(element, false);
   if (inputs.size() != 1 || outputs.size() != 1) {
@@ -357,25 +356,25 @@ void DiagramDocument::InsertBefore(const Endpoint& end, const std::string& eleme
                                             "one of each can be inserted into a signal path",
                                             source_, element, TypeOf(element), inputs.size(), outputs.size()));
   }
+  return {inputs.front(), outputs.front()};
+}
+
+void DiagramDocument::InsertBefore(const Endpoint& end, const std::string& element) {
+  const std::size_t feed = FeedOf(end);
+  const auto [input, output] = PathPorts(element);
   const Endpoint previous = Start(json_["connections"][feed]);
-  json_["connections"].push_back(ConnectionJson(previous, {element, inputs.front()}));
+  json_["connections"].push_back(ConnectionJson(previous, {element, input}));
   json_["connections"][feed]["startElement"] = element;
-  json_["connections"][feed]["startConnector"] = outputs.front();
+  json_["connections"][feed]["startConnector"] = output;
 }
 
 void DiagramDocument::InsertAfter(const Endpoint& start, const std::string& element) {
-  const auto inputs = Ports(element, true);
-  const auto outputs = Ports(element, false);
-  if (inputs.size() != 1 || outputs.size() != 1) {
-    throw std::invalid_argument(fmt::format("{}: element '{}' ({}) has {} inputs and {} outputs; only an element with "
-                                            "one of each can be inserted into a signal path",
-                                            source_, element, TypeOf(element), inputs.size(), outputs.size()));
-  }
+  const auto [input, output] = PathPorts(element);
   std::size_t moved = 0;
   for (auto& c : json_["connections"]) {
     if (Start(c) != start || End(c).is_connector() || End(c).element == element) continue;
     c["startElement"] = element;
-    c["startConnector"] = outputs.front();
+    c["startConnector"] = output;
     ++moved;
   }
   if (moved == 0) {
@@ -383,7 +382,7 @@ void DiagramDocument::InsertAfter(const Endpoint& start, const std::string& elem
         fmt::format("{}: '{}' drives no element's input; nothing to insert '{}' before", source_, start.ToString(),
                     element));
   }
-  json_["connections"].push_back(ConnectionJson(start, {element, inputs.front()}));
+  json_["connections"].push_back(ConnectionJson(start, {element, input}));
 }
 
 std::vector<DocumentConnector> DiagramDocument::Connectors(const std::string& kind) const {

@@ -222,6 +222,9 @@ class DiagramDocument {
   const nlohmann::json& Element(const std::string& element) const;
   /// The element's input or output port names (instantiating its block, or reading a subsystem's connectors).
   std::vector<std::string> Ports(const std::string& element, bool inputs) const;
+  /// The one input and the one output port of an element inserted into a signal path (InsertBefore, InsertAfter).
+  /// @throws std::invalid_argument naming the element when it has not exactly one of each.
+  std::pair<std::string, std::string> PathPorts(const std::string& element) const;
   /// The element's block built through its registered type's factory (its parameters validated, defaults filled
   /// in, its sampleTime read). @throws std::invalid_argument for an unregistered type; whatever the factory throws.
   std::unique_ptr<Block> Instantiate(const std::string& element) const;

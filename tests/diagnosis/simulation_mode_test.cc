@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include <unistd.h>
 
@@ -64,6 +65,17 @@ SimulationCase CompareInSimulation(independent::Hidden hidden, const std::string
   return out;
 }
 
+// The simulated position's RMSE against the measured one, with the fitted diagram and with `amended`, recorded as the
+// test's properties position_rmse_before_m and position_rmse_after_m [m].
+std::pair<double, double> PositionRmse(const SimulationCase& c, const nlohmann::json& amended) {
+  const ModelComparison before(c.compared.fitted_diagram, kData, kDiagram, c.log, {});
+  const ModelComparison after(amended, kData, kDiagram, c.log, {});
+  const double rmse_before = before.Simulate().front().rmse, rmse_after = after.Simulate().front().rmse;
+  ::testing::Test::RecordProperty("position_rmse_before_m", fmt::format("{:.4g}", rmse_before));
+  ::testing::Test::RecordProperty("position_rmse_after_m", fmt::format("{:.4g}", rmse_after));
+  return {rmse_before, rmse_after};
+}
+
 const DiagnosedEffect* FirstNamed(const DiagnosisResult& d) {
   for (const DiagnosedEffect& e : d.effects) {
     if (std::find(d.friction_law.begin(), d.friction_law.end(), e.effect) == d.friction_law.end()) return &e;
@@ -107,11 +119,7 @@ TEST(SimulationMode, TheSuggestedBlockActsOnThePlantAndBringsThePositionCloser) 
   }
   EXPECT_TRUE(reads_plant) << amended.dump(1);
   EXPECT_TRUE(loads_plant) << amended.dump(1);
-  const ModelComparison before(c.compared.fitted_diagram, kData, kDiagram, c.log, {});
-  const ModelComparison after(amended, kData, kDiagram, c.log, {});
-  const double rmse_before = before.Simulate().front().rmse, rmse_after = after.Simulate().front().rmse;
-  RecordProperty("position_rmse_before_m", fmt::format("{:.4g}", rmse_before));
-  RecordProperty("position_rmse_after_m", fmt::format("{:.4g}", rmse_after));
+  const auto [rmse_before, rmse_after] = PositionRmse(c, amended);
   EXPECT_LT(rmse_after, 0.95 * rmse_before) << "position RMSE " << rmse_before << " m -> " << rmse_after << " m";
 }
 
@@ -160,11 +168,7 @@ TEST(SimulationMode, AForceConstantRippleIsNamedWithItsPeriod) {
     }
   }
   EXPECT_TRUE(reads_drive_force) << amended.dump(1);
-  const ModelComparison before(c.compared.fitted_diagram, kData, kDiagram, c.log, {});
-  const ModelComparison after(amended, kData, kDiagram, c.log, {});
-  const double rmse_before = before.Simulate().front().rmse, rmse_after = after.Simulate().front().rmse;
-  RecordProperty("position_rmse_before_m", fmt::format("{:.4g}", rmse_before));
-  RecordProperty("position_rmse_after_m", fmt::format("{:.4g}", rmse_after));
+  const auto [rmse_before, rmse_after] = PositionRmse(c, amended);
   EXPECT_LT(rmse_after, 0.95 * rmse_before) << "position RMSE " << rmse_before << " m -> " << rmse_after << " m";
   // Without the drive's force the block is refused, with what to do.
   try {
@@ -201,11 +205,7 @@ TEST(SimulationMode, AnActuatorLagIsNamedAlongTheCommandTheLoopGivesWithIt) {
     }
   }
   EXPECT_EQ(reads_drive_force, 1) << amended.dump(1);
-  const ModelComparison before(c.compared.fitted_diagram, kData, kDiagram, c.log, {});
-  const ModelComparison after(amended, kData, kDiagram, c.log, {});
-  const double rmse_before = before.Simulate().front().rmse, rmse_after = after.Simulate().front().rmse;
-  RecordProperty("position_rmse_before_m", fmt::format("{:.4g}", rmse_before));
-  RecordProperty("position_rmse_after_m", fmt::format("{:.4g}", rmse_after));
+  const auto [rmse_before, rmse_after] = PositionRmse(c, amended);
   EXPECT_LT(rmse_after, 0.9 * rmse_before) << "position RMSE " << rmse_before << " m -> " << rmse_after << " m";
 }
 
