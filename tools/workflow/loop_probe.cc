@@ -179,24 +179,11 @@ DriveForce ModelDriveForce(const DiagramDocument& d, const std::vector<ComparedO
       return out;
     }
   }
-  std::string why;
-  const std::optional<Endpoint> port = PlantForcePort(d, &why);
-  const std::optional<Endpoint> driver = port ? d.DriverOf(*port) : std::nullopt;
-  if (driver) {
-    if (const Eigen::VectorXd* signal = own_signal(driver->ToString())) {
-      out.force = *signal;
-      out.source = driver;
-      out.note = fmt::format(
-          "simulation mode: the model's drive force ŷ, which a force constant multiplies, is taken as '{}', the net "
-          "force into '{}', which lacks what the plant's own blocks take from the drive's force; compare the drive's "
-          "force as an output in N (or log the command in a column in N) for the force itself",
-          driver->ToString(), port->ToString());
-      return out;
-    }
-  }
-  out.note = fmt::format("simulation mode: the force constant's effects are not proposed, since the model's drive "
-                         "force is not known ({}); compare the drive's force as an output in N",
-                         port ? fmt::format("nothing drives '{}'", port->ToString()) : why);
+  // Not the net force into the plant: for a rigid body it is M·a, and a force constant's product of it would be the
+  // inertia's product of the same factor under another name.
+  out.note = "simulation mode: the force constant's and the command path's effects are not proposed, since the model's "
+             "drive force is not known: compare the drive's force as an output in N (an output connector fed by the "
+             "controller's force), or log its command in a column in N";
   return out;
 }
 

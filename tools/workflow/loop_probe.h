@@ -61,8 +61,8 @@ struct DriveForce {
 ///  2. the diagram's own signal (`own`, ModelComparison::SimulateBlockOutputs) that a logged column in a force unit is
 ///     (`reactions`: log column → the own signal it matched): the drive's command the log holds, under its name in
 ///     the diagram;
-///  3. the signal driving the plant's force input (PlantForcePort): the net force, which lacks what the plant's own
-///     blocks (friction, an offset) take from the drive's force — the note says so.
+/// else none, with a note saying what to add (the net force into the plant is not taken: for a rigid body it is M·a,
+/// and the force constant's products of it would be the inertia's).
 DriveForce ModelDriveForce(const DiagramDocument& d, const std::vector<ComparedOutput>& outputs,
                            const std::vector<std::pair<std::string, Eigen::VectorXd>>& own,
                            const std::vector<std::pair<std::string, std::string>>& reactions);
