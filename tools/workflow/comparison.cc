@@ -669,10 +669,12 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
     LoopProbe probe = ProbeLoop(comparison, primary, own, signals.velocity, drive.source);
     options.catalogue.loop = std::move(probe.loop);
     out.notes.push_back(std::move(probe.note));
-    signals.drive_force = std::move(drive.force);
-    signals.drive_force_response = std::move(probe.drive_force);
-    out.drive_force_source = drive.source;
-    out.notes.push_back(std::move(drive.note));
+    if (options.catalogue.loop) {  // the drive force's effects reach the output through the loop, or not at all
+      signals.drive_force = std::move(drive.force);
+      signals.drive_force_response = std::move(probe.drive_force);
+      out.drive_force_source = drive.source;
+      out.notes.push_back(std::move(drive.note));
+    }
   }
   out.diagnosis = DiagnoseMissingEffects(signals, base, options);
   out.notes.insert(out.notes.end(), out.diagnosis->notes.begin(), out.diagnosis->notes.end());
