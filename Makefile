@@ -34,11 +34,16 @@ bench-diagnosis:
 	build/release/tests/diagnosis/bench_diagnosis --out=out/bench-diagnosis
 
 ## make bench-diagnosis-simulation: the same cases compared in simulation mode with the closed-loop diagram of the
-## generator's loop (tests/diagnosis/data/independent_closed_loop.json), compare only: docs/diagnosis.md ("Simulation mode").
+## generator's loop (tests/diagnosis/data/independent_closed_loop.json), compare only, then the clean records at 1 kHz,
+## 100 Hz and 2 kHz with 20 seeds each: docs/diagnosis.md ("Simulation mode"). Fails when either misses.
 bench-diagnosis-simulation:
 	cmake --preset release
 	cmake --build --preset release -j $(JOBS) --target bench_diagnosis
-	build/release/tests/diagnosis/bench_diagnosis --simulation --compare-only --out=out/bench-diagnosis-simulation
+	build/release/tests/diagnosis/bench_diagnosis --simulation --compare-only --out=out/bench-diagnosis-simulation; \
+	  cases=$$?; \
+	  build/release/tests/diagnosis/bench_diagnosis --simulation --compare-only --clean-seeds=20 \
+	    --out=out/bench-diagnosis-simulation-clean; \
+	  clean=$$?; exit $$((cases | clean))
 
 ## make bench-grammar: random draws from the diagnosis' grammar (tests/diagnosis/grammar_bench.h), Release: 300 draws,
 ## 50 noise-only ones and 60 with memory (hysteresis, a drifting vibration) diagnosed and improved; the confusion table
