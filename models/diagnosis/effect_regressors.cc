@@ -55,7 +55,12 @@ const Eigen::VectorXd& CommandOf(const EffectInstance& e, const DiagnosisSignals
 
 Eigen::VectorXd CommandPathLoad(const EffectInstance& e, const DiagnosisSignals& s,
                                 const std::function<Eigen::VectorXd(const Eigen::VectorXd& command)>& lost) {
-  const Eigen::VectorXd& u0 = CommandOf(e, s, s.drive_force);
+  if (s.drive_force.size() != s.size()) {
+    throw std::invalid_argument(fmt::format(
+        "effect '{}' in simulation mode needs the model's drive force (DiagnosisSignals::drive_force), which is absent",
+        e.name));
+  }
+  const Eigen::VectorXd& u0 = s.drive_force;
   Eigen::VectorXd load = lost(u0);
   if (!s.drive_force_response) return load;
   // Anderson acceleration of depth kDepth (Walker & Ni, SIAM J. Numer. Anal. 49, 2011): the next iterate mixes the last

@@ -33,7 +33,7 @@ const Eigen::VectorXd& CommandOf(const EffectInstance& effect, const DiagnosisSi
 // model's drive force and h_u its response to a load (DiagnosisSignals::drive_force_response), so
 // L = lost(u₀ + h_u ∗ L), solved from L = lost(u₀) by Anderson-accelerated fixed-point iteration (the closed loop's
 // Born series; at most kCommandPathIterations, the iterate with the smallest residual kept). Without h_u: lost(u₀).
-// Throws as CommandOf.
+// Throws std::invalid_argument naming the effect when the drive force is absent.
 inline constexpr int kCommandPathIterations = 12;
 Eigen::VectorXd CommandPathLoad(const EffectInstance& effect, const DiagnosisSignals& signals,
                                 const std::function<Eigen::VectorXd(const Eigen::VectorXd& command)>& lost);

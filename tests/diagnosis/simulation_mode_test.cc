@@ -267,6 +267,19 @@ TEST(LoopResponse, ItsGainIsTheMagnitudeOfItsFourierTransform) {
   }
 }
 
+TEST(LoopResponse, TheForceOfAnOutputIsRecoveredWhereTheLoopPassesIt) {
+  // h = [1, ½]: |H| between ½ and 3/2, well conditioned; the Wiener deconvolution with a small λ returns the force.
+  const Eigen::Index n = 256;
+  const LoopResponse loop(Eigen::Vector2d(1.0, 0.5), n);
+  Eigen::VectorXd force(n);
+  for (Eigen::Index i = 0; i < n; ++i) force(i) = std::sin(0.07 * static_cast<double>(i)) + (i % 17 == 0 ? 1.0 : 0.0);
+  const Eigen::VectorXd output = loop.Apply(force).col(0);
+  EXPECT_LT((loop.ForceOf(output, 1e-9) - force).cwiseAbs().maxCoeff(), 1e-6);
+  // A large λ damps the force it returns rather than blowing up anything.
+  EXPECT_LT(loop.ForceOf(output, 10.0).norm(), 0.5 * force.norm());
+  EXPECT_THROW(loop.ForceOf(Eigen::VectorXd::Zero(n - 1), 1e-3), std::invalid_argument);
+}
+
 TEST(SimulationMode, ItSaysHowLargeAForceThePositionCanShow) {
   const SimulationCase c = CompareInSimulation(independent::Hidden::kNone, "shows");
   EXPECT_THAT(c.notes, HasSubstr("what the position can show (simulation mode)"));

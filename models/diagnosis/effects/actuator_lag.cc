@@ -75,8 +75,8 @@ EffectType ActuatorLag() {
     return SingleColumn(e.name, ShiftedInTime(s.time, y, -PositiveParameter(e, "lag")) - y);
   };
   t.propose = [](ProposalContext& c) {
-    if (c.signals().drive_force.size() == c.size() && c.loop() != nullptr) {
-      ProposeInSimulation(c);
+    if (c.loop() != nullptr) {  // simulation mode: a lag of the drive's force, or nothing (ŷ is the position there)
+      if (c.signals().drive_force.size() == c.size()) ProposeInSimulation(c);
       return;
     }
     const double delay = c.model_output_delay();
