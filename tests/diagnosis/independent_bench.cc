@@ -175,6 +175,14 @@ std::optional<CaseResult> RunCaseInSimulation(const CaseSpec& given, const fs::p
   const fs::path folder = fs::path(MB_SOURCE_DIR) / "tests" / "diagnosis" / "data";
   const char* file = "independent_closed_loop.json";
   json diagram = ReadDiagramJson(folder / file);
+  // The user models the controller at the rate it runs: the diagram's 1 kHz, or the log's own above it.
+  const double control_period = ControlPeriod(spec.sample_period);
+  for (json& element : diagram["elements"]) {
+    if (element.contains("sampleTime")) element["sampleTime"][0] = control_period;
+    if (element["type"] == "velocity_estimator") {
+      element["parameters"]["cutoff_hz"] = VelocityEstimateCutoffHz(control_period);
+    }
+  }
   if (spec.mass_known) diagram["free"] = {"friction.viscous", "friction.coulomb", "offset.value"};
   MeasurementSettings settings;
   const MeasurementLog log = ReadMeasurementFor(diagram, train.string(), settings);

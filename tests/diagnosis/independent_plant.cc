@@ -27,6 +27,7 @@ constexpr double kDriftAmplitude = 2.0;  // [N], kDriftingVibration
 constexpr double kSubStep = 1e-4;  // plant integration [s]
 constexpr double kBoucWenForce = 6.0, kBoucWenDisplacement = 3e-3;  // [N], z₀ [m]
 constexpr double kActuatorLag = 0.004;
+constexpr double kVelocityEstimateHz = 200.0;  // the controller's velocity estimate's first-order low-pass [Hz]
 constexpr double kHumAmplitude = 1.5, kHumHz = 50.0;
 constexpr double kShortStrokePeriod = 0.025;  // 7.2 cycles in the 0.18 m travel
 constexpr double kUpperLimit = 120.0, kLowerLimit = -135.0;
@@ -371,7 +372,7 @@ class Controller {
     ref.At(t, &xr, &vr, &ar);
     const double dt = started_ ? t - t_prev_ : 1e-3;
     const double raw_v = started_ ? (x_measured - x_prev_) / dt : 0.0;
-    const double alpha = dt / (dt + 1.0 / (kTwoPi * 200.0));
+    const double alpha = dt / (dt + 1.0 / (kTwoPi * kVelocityEstimateHz));
     v_est_ += alpha * (raw_v - v_est_);
     started_ = true;
     t_prev_ = t;
@@ -486,6 +487,16 @@ std::vector<CaseSpec> Cases() {
   return c;
 }
 
+double ControlPeriod(double sample_period) {
+  const int per_sample = std::max(1, static_cast<int>(std::lround(sample_period / 1e-3)));
+  return sample_period / per_sample;
+}
+
+double VelocityEstimateCutoffHz(double control_period) {
+  const double alpha = control_period / (control_period + 1.0 / (kTwoPi * kVelocityEstimateHz));
+  return -std::log(1.0 - alpha) / (kTwoPi * control_period);
+}
+
 Record Generate(Hidden hidden, const GeneratorSettings& settings) {
   std::mt19937 rng(settings.seed);
   const Reference ref = MakeReference(settings.duration + 0.1, &rng);
@@ -493,8 +504,8 @@ Record Generate(Hidden hidden, const GeneratorSettings& settings) {
   std::uniform_real_distribution<double> stamp_noise(-settings.stamp_noise, settings.stamp_noise);
   std::normal_distribution<double> noise(0.0, settings.force_noise);
   // The controller's steps per logged sample: 1 up to 1 kHz, else every k-th 1 ms step is logged.
-  const int per_sample = std::max(1, static_cast<int>(std::lround(settings.sample_period / 1e-3)));
-  const double control_period = settings.sample_period / per_sample;
+  const double control_period = ControlPeriod(settings.sample_period);
+  const int per_sample = static_cast<int>(std::lround(settings.sample_period / control_period));
   const auto n = static_cast<Eigen::Index>(settings.duration / settings.sample_period);
   Record r;
   r.rotary = IsRotary(hidden);

@@ -165,6 +165,15 @@ struct GeneratorSettings {
   bool log_reference = false;
 };
 
+/// The controller's period [s] for a log of `sample_period` [s]: the log's own up to 1 kHz, else 1 ms, of which every
+/// k-th step is logged (Generate).
+double ControlPeriod(double sample_period);
+
+/// The cut-off [Hz] of the controller's velocity estimate at its period `control_period` [s], as a velocity_estimator
+/// block gives it: the generator's first-order low-pass v̂ ← v̂ + α·(Δx/T − v̂), α = T/(T + 1/(2π·200 Hz)), has its pole
+/// at 1 − α = exp(−2π·f·T) (0.443, f = 129.5 Hz, at 1 kHz).
+double VelocityEstimateCutoffHz(double control_period);
+
 /// Simulates the closed loop with `hidden` and returns the log.
 Record Generate(Hidden hidden, const GeneratorSettings& settings);
 
