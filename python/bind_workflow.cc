@@ -327,6 +327,9 @@ void BindOutcomeParts(py::module_& m) {
       .def_readonly("score", &DiagnosedEffect::score, "Share of the remaining held-out residual energy explained, 0..1.")
       .def_readonly("cumulative_share", &DiagnosedEffect::cumulative_share,
                     "Share of the base's held-out residual energy explained so far, 0..1.")
+      .def_readonly("base_share", &DiagnosedEffect::base_share,
+                    "Share of the base's held-out residual energy this effect removed where it was added, 0..1: what "
+                    "the ranking sorts by.")
       .def_readonly("parameters", &DiagnosedEffect::parameters, "dict of the effect's parameters, SI (period [m], …).")
       .def_readonly("description", &DiagnosedEffect::description, "In words, with the figures.")
       .def("__repr__", [](const DiagnosedEffect& e) {

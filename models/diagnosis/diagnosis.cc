@@ -261,6 +261,7 @@ void DescribeChosenEffects(const Ranking& ranked, const JointFit& fit, const Dia
     result->effects.push_back(DescribeEffect(c, chosen.scores[i], chosen.cumulative[i], fit.coef.segment(offset, kc),
                                              fit.coef_std.segment(offset, kc), signals, position_unit,
                                              i < result->friction_law.size()));
+    result->effects.back().base_share = chosen.cumulative[i] - (i > 0 ? chosen.cumulative[i - 1] : 0.0);
     if (c.type->traits.replaces_coulomb_law && coulomb_column >= 0) {
       result->effects.back().replaced_parameter = base_names[static_cast<std::size_t>(coulomb_column)];
     }
@@ -302,14 +303,15 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
   const Eigen::VectorXd r_after = r - fit.fitted;
   DescribeChosenEffects(ranked, fit, signals, base_cols, base.names, options.position_unit, &result);
 
-  // What is missing first (by score), then the friction-law replacements (by score): a replacement changes the
-  // model's law rather than adding an effect (the summary names it; `--suggest` takes the first effect).
+  // What is missing first, then the friction-law replacements, each by the share of the base's held-out residual it
+  // removed (DiagnosedEffect::base_share, not the score: of what was left): a replacement changes the model's law
+  // rather than adding an effect (the summary names it; `--suggest` takes the first effect).
   const auto is_law = [&](const DiagnosedEffect& e) {
     return std::find(result.friction_law.begin(), result.friction_law.end(), e.effect) != result.friction_law.end();
   };
   std::stable_sort(result.effects.begin(), result.effects.end(), [&](const DiagnosedEffect& a, const DiagnosedEffect& b) {
     if (is_law(a) != is_law(b)) return !is_law(a);
-    return a.score > b.score;
+    return a.base_share > b.base_share;
   });
   result.missing_effect_found = !result.effects.empty();
 

@@ -109,6 +109,10 @@ struct DiagnosedEffect {
   std::string multiplier, modulator;
   double score = 0.0;                        // share of the remaining held-out residual energy explained, 0..1
   double cumulative_share = 0.0;             // share of the base's held-out residual energy explained so far
+  // Share of the base's held-out residual energy that this effect removed where it was added: its cumulative_share
+  // less the one chosen before it's, i.e. its score times what the effects before it left. The ranking's order: a
+  // score is of what was left, and an effect chosen second can have a higher score on a far smaller remainder.
+  double base_share = 0.0;
   std::map<std::string, double> parameters;  // SI; periodic effects also get "amplitude" (first harmonic)
   std::vector<std::string> column_names;
   Eigen::VectorXd coefficients;              // from the final joint fit, unit of residual per unit of column
@@ -136,8 +140,8 @@ struct DiagnosedEffect {
 };
 
 struct DiagnosisResult {
-  // The missing effects by score, highest first, then the friction-law replacements (the summary's order; the order
-  // they are applied in: EffectsInApplicationOrder, tools/workflow/suggest.h).
+  // The missing effects by base_share, highest first, then the friction-law replacements (the summary's order; the
+  // order they are applied in: EffectsInApplicationOrder, tools/workflow/suggest.h).
   std::vector<DiagnosedEffect> effects;
   bool missing_effect_found = false;
   bool position_time_indistinguishable = false;
