@@ -488,6 +488,7 @@ std::vector<ModulatorRow> MakeModulators() {
     return fmt::format("changes between {:.4g} s and {:.4g} s by {:+.4g}{}", Value(p, "on_time"), Value(p, "off_time"),
                        k, u);
   };
+  rows.back().nests = {"time_step"};  // opened before the motion starts, or closed after it ends
   rows.push_back({"time_warm_up", "{}_warm_up", "settling as the machine warms", "1 − exp(−(t − t_s)/T)",
                   "a temperature following the heat put in through a thermal time constant",
                   {{"start_time", "s", "t_s: the record's first instant"},

@@ -1,10 +1,11 @@
 // Forward selection (DiagnoseMissingEffects, steps 3–3b): each round adds the candidate whose columns, fitted jointly
-// with the base's and the effects chosen before, leave the lowest contiguous-block held-out error (near-ties within
+// with the base's and the effects chosen before, leave the lowest block held-out error (near-ties within
 // 0.1 % to the lower BIC); its score is 1 − MSE(S ∪ {c})/MSE(S). A candidate is chosen only when its gain reaches
 // DiagnosisOptions::min_gain and is significant against the residual's autocorrelation (Diebold–Mariano on the
 // held-out loss differences, batch-mean variance; family-wise, Bonferroni, for the pairs the grammar searched), an
-// effect whose regressor is the error itself only with a coefficient near 1, and a pair that holds its multiplier × 1
-// only when it beats that pair significantly. The friction-law replacements are searched first, in rounds of their
+// effect whose regressor is the error itself only with a coefficient near 1, and a pair that holds its multiplier × 1,
+// or the same multiplier's pair of a modulator whose shape is a limit of its own (a step in a window), only when it
+// beats that pair significantly. The friction-law replacements are searched first, in rounds of their
 // own. Sources: DIAGNOSIS.md, "Naming the missing effect", steps 3–4, and "When the base model is wrong elsewhere"
 // (significance); Brunton, Proctor & Kutz 2016 (SINDy: sparse selection from a candidate library); Schwarz 1978 (BIC);
 // Diebold & Mariano, "Comparing predictive accuracy" (1995); Bonferroni's correction for many tests (Dunn 1961).
@@ -83,7 +84,8 @@ std::vector<double> TrialErrors(const RegressorMatrix& m, const BlockGrams& gram
   return mse;
 }
 
-// The candidate that `pick` nests (EffectTraits::nests_constant_pair: its multiplier × 1), when it is among the
+// The candidate that `pick` nests (EffectTraits::nests_constant_pair: its multiplier × 1; ::nested_modulators: its
+// multiplier × a modulator whose shape is a limit of its own) with the lowest held-out error, when it is among the
 // candidates, not used, worth choosing itself (its held-out gain over `mse_last` reaches min_gain), and `pick`'s gain
 // over it is not significant; else `pick`.
 std::size_t NestedUnlessSignificant(const RegressorMatrix& m, const BlockGrams& grams, const DiagnosisOptions& options,
@@ -91,23 +93,29 @@ std::size_t NestedUnlessSignificant(const RegressorMatrix& m, const BlockGrams& 
                                     const std::vector<double>& mse, double mse_last, std::size_t pick,
                                     std::vector<std::string>* notes) {
   const EffectType& type = *m.cands[pick].type;
-  if (!type.traits.nests_constant_pair || !(options.significance_t > 0.0)) return pick;
-  const EffectType* nested = EffectRegistry::Global().FindPair(type.multiplier, "constant");
-  if (nested == nullptr) return pick;
-  for (std::size_t c = 0; c < m.cands.size(); ++c) {
-    if (used[c] || !std::isfinite(mse[c]) || m.cands[c].effect.name != nested->name) continue;
-    if (!(mse_last > 0.0) || 1.0 - mse[c] / mse_last < options.min_gain) return pick;
-    std::vector<Eigen::Index> smaller = selected, larger = selected;
-    smaller.insert(smaller.end(), m.cands[c].idx.begin(), m.cands[c].idx.end());
-    larger.insert(larger.end(), m.cands[pick].idx.begin(), m.cands[pick].idx.end());
-    const double t = GainSignificance(m, grams, smaller, larger, options.significance_batches);
-    if (t >= options.significance_t) return pick;
-    notes->push_back(fmt::format("{} not chosen over {}, whose columns it holds: its held-out gain over it is not "
-                                 "significant (Diebold–Mariano t = {:.2f} < {:.2f})",
-                                 m.cands[pick].effect.name, nested->name, t, options.significance_t));
-    return c;
+  if (!(options.significance_t > 0.0) || type.multiplier.empty()) return pick;
+  std::vector<std::string> modulators = type.traits.nested_modulators;
+  if (type.traits.nests_constant_pair) modulators.emplace_back("constant");
+  std::vector<std::string> nested;
+  for (const std::string& modulator : modulators) {
+    if (const EffectType* pair = EffectRegistry::Global().FindPair(type.multiplier, modulator)) nested.push_back(pair->name);
   }
-  return pick;
+  std::size_t best = m.cands.size();
+  for (std::size_t c = 0; c < m.cands.size(); ++c) {
+    if (used[c] || !std::isfinite(mse[c]) || c == pick) continue;
+    if (std::find(nested.begin(), nested.end(), m.cands[c].effect.name) == nested.end()) continue;
+    if (best == m.cands.size() || mse[c] < mse[best]) best = c;
+  }
+  if (best == m.cands.size() || !(mse_last > 0.0) || 1.0 - mse[best] / mse_last < options.min_gain) return pick;
+  std::vector<Eigen::Index> smaller = selected, larger = selected;
+  smaller.insert(smaller.end(), m.cands[best].idx.begin(), m.cands[best].idx.end());
+  larger.insert(larger.end(), m.cands[pick].idx.begin(), m.cands[pick].idx.end());
+  const double t = GainSignificance(m, grams, smaller, larger, options.significance_batches);
+  if (t >= options.significance_t) return pick;
+  notes->push_back(fmt::format("{} not chosen over {}, whose shape it holds: its held-out gain over it is not "
+                               "significant (Diebold–Mariano t = {:.2f} < {:.2f})",
+                               m.cands[pick].effect.name, m.cands[best].effect.name, t, options.significance_t));
+  return best;
 }
 
 }  // namespace
@@ -171,8 +179,13 @@ bool AddBestEffect(const RegressorMatrix& m, const BlockGrams& grams, const Diag
       if (!(*used)[c]) best_mse = std::min(best_mse, mse[c]);
     }
     if (!std::isfinite(best_mse)) return false;
-    const std::size_t pick = NestedUnlessSignificant(m, grams, options, s->selected, *used, mse, s->mse_last,
-                                                     PickByBic(m, grams, s->selected, mse, *used, best_mse), notes);
+    // Down the nesting while the larger pair does not beat the smaller one significantly (a window, then the step it
+    // holds, then the multiplier × 1).
+    std::size_t pick = PickByBic(m, grams, s->selected, mse, *used, best_mse);
+    for (std::size_t larger = m.cands.size(); pick != larger;) {
+      larger = pick;
+      pick = NestedUnlessSignificant(m, grams, options, s->selected, *used, mse, s->mse_last, larger, notes);
+    }
     const double gain = s->mse_last > 0.0 ? 1.0 - mse[pick] / s->mse_last : 0.0;
     if (!(gain >= options.min_gain) || gain <= 0.0) return false;
     std::vector<Eigen::Index> trial = s->selected;

@@ -203,6 +203,7 @@ EffectType PairEffect(const Pair& p, int catalogue_order) {
   }
   t.traits.periodicity = mod.periodicity;
   t.traits.nests_constant_pair = HasOwnLevel(p);
+  t.traits.nested_modulators = mod.nests;
   if (mod.refine) mod.refine(&t.traits);
   t.regressors = [p](const EffectInstance& e, const DiagnosisSignals& s) {
     const Eigen::VectorXd slip = p.multiplier->slip
