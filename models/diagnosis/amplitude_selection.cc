@@ -79,7 +79,7 @@ std::optional<Rebuilt> Rebuild(const DiagnosisSignals& signals, const Eigen::Mat
   RegressorMatrix m = BuildCandidateMatrix(refinement.corrected(), base_cols, trial, options, &trial_notes);
   if (m.cands.size() != trial.size()) return std::nullopt;
   m.Weigh(signals.residual, ranking.weights);
-  BlockGrams grams(m, options);
+  BlockGrams grams(m, options.folds);
   Selection s = SelectInOrder(m, grams, base_cols.cols(), m.cands.size());
   return Rebuilt{std::move(m), std::move(grams), std::move(s)};
 }

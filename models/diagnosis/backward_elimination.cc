@@ -80,7 +80,7 @@ std::size_t PruneChosenEffects(const DiagnosisSignals& signals, const Eigen::Mat
   RegressorMatrix refined = BuildCandidateMatrix(refinement.corrected(), base_cols, refinement.effects(), options, &build_notes);
   if (refined.cands.size() != kept.size()) return laws;
   refined.Weigh(signals.residual, refinement.weights());
-  const BlockGrams grams(refined, options);
+  const BlockGrams grams(refined, options.folds);
   Selection s = SelectInOrder(refined, grams, base_cols.cols(), refined.cands.size());
   InstallRefined(signals, base_cols, options, left, refinement.weights(), std::move(refined), std::move(s), out);
   notes->insert(notes->end(), dropped.begin(), dropped.end());

@@ -1,13 +1,8 @@
-// Block cross-validation (DiagnoseMissingEffects, steps 3–4): the record split into k folds, each of up to
-// DiagnosisOptions::fold_segments contiguous time segments spread over the record (segment s in fold s mod k); for a set S of
-// regressor columns the held-out error Σ_folds ‖r_b − X_b(S)·θ_{−b}‖²/N, θ_{−b} fitted by least squares on the other
-// folds, computed from per-fold Gram matrices (ridge 1e-9 for collinear columns). Contiguous segments rather than
-// random samples: the residual is autocorrelated, and a random split would let a column fit the noise of a held-out
-// sample's neighbours. Segments spread over the record rather than one block per fold: an effect of time (a step, a
-// window, a warm-up) or of a stretch of travel the record visits once is then fitted on both sides of every held-out
-// segment, not extrapolated from the rest of the record (a drag that steps in the last fifth had no sample after its
-// step to be fitted on, and its held-out gain was nothing; Arlot & Celisse, "A survey of cross-validation procedures
-// for model selection", Statistics Surveys 4 (2010), §8.1, blocked and h-block schemes for dependent data). Source: DIAGNOSIS.md, "Naming the missing effect", step 3; the
+// Contiguous-block cross-validation (DiagnoseMissingEffects, steps 3–4): the record split into k contiguous time
+// blocks; for a set S of regressor columns the held-out error Σ_blocks ‖r_b − X_b(S)·θ_{−b}‖²/N, θ_{−b} fitted by
+// least squares on the other blocks, computed from per-block Gram matrices (ridge 1e-9 for collinear columns).
+// Contiguous blocks rather than random folds: the residual is autocorrelated, and a random split would let a column
+// fit the noise of a held-out sample's neighbours. Source: DIAGNOSIS.md, "Naming the missing effect", step 3; the
 // algorithm in diagnosis.h, step 3.
 #include "models/diagnosis/cross_validation.h"
 
@@ -19,34 +14,25 @@
 
 namespace mb::diagnosis_detail {
 
-std::vector<BlockGrams::Segment> BlockGrams::Segments(Eigen::Index n, Eigen::Index folds, Eigen::Index per_fold) {
-  per_fold = std::max<Eigen::Index>(1, std::min(per_fold, n / (folds * kMinSegmentRows)));
-  const Eigen::Index count = folds * per_fold;
-  std::vector<Segment> segments;
-  for (Eigen::Index s = 0; s < count; ++s) segments.push_back({s * n / count, (s + 1) * n / count, s % folds});
-  return segments;
-}
-
-BlockGrams::BlockGrams(const RegressorMatrix& m, const DiagnosisOptions& options) {
-  const Eigen::Index folds = options.folds;
+BlockGrams::BlockGrams(const RegressorMatrix& m, Eigen::Index folds) {
   constexpr Eigen::Index kChunk = 1024;  // rows per chunk: 1024 × q doubles stay in the cache
   const Eigen::Index n = m.rows(), q = m.cols();
-  gram_.assign(static_cast<std::size_t>(folds), Eigen::MatrixXd::Zero(q, q));
-  xty_.assign(static_cast<std::size_t>(folds), Eigen::VectorXd::Zero(q));
-  yty_.assign(static_cast<std::size_t>(folds), 0.0);
-  segments_ = Segments(n, folds, options.catalogue.loop != nullptr ? 1 : options.fold_segments);
   Eigen::MatrixXd chunk;
-  for (const Segment& segment : segments_) {
-    const auto b = static_cast<std::size_t>(segment.fold);
-    for (Eigen::Index lo = segment.start; lo < segment.end; lo += kChunk) {
-      const Eigen::Index count = std::min(kChunk, segment.end - lo);
+  for (Eigen::Index b = 0; b < folds; ++b) {
+    const Eigen::Index start = b * n / folds, end = (b + 1) * n / folds;
+    Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(q, q);
+    Eigen::VectorXd xty = Eigen::VectorXd::Zero(q);
+    for (Eigen::Index lo = start; lo < end; lo += kChunk) {
+      const Eigen::Index count = std::min(kChunk, end - lo);
       m.WeightedRows(lo, count, &chunk);
-      gram_[b].selfadjointView<Eigen::Lower>().rankUpdate(chunk.transpose());
-      xty_[b].noalias() += chunk.transpose() * m.wr.segment(lo, count);
+      gram.selfadjointView<Eigen::Lower>().rankUpdate(chunk.transpose());
+      xty.noalias() += chunk.transpose() * m.wr.segment(lo, count);
     }
-    yty_[b] += m.wr.segment(segment.start, segment.end - segment.start).squaredNorm();
+    gram.triangularView<Eigen::StrictlyUpper>() = gram.transpose();
+    gram_.push_back(std::move(gram));
+    xty_.push_back(std::move(xty));
+    yty_.push_back(m.wr.segment(start, end - start).squaredNorm());
   }
-  for (Eigen::MatrixXd& gram : gram_) gram.triangularView<Eigen::StrictlyUpper>() = gram.transpose();
   total_gram_ = Eigen::MatrixXd::Zero(q, q);
   total_xty_ = Eigen::VectorXd::Zero(q);
   for (std::size_t b = 0; b < gram_.size(); ++b) {
@@ -61,15 +47,15 @@ BlockGrams::BlockGrams(const RegressorMatrix& m, const DiagnosisOptions& options
 Eigen::VectorXd BlockGrams::HeldOutErrors(const std::vector<Eigen::Index>& idx, const RegressorMatrix& m) const {
   Eigen::VectorXd e = m.wr;
   if (idx.empty()) return e;
-  std::vector<Eigen::VectorXd> theta;
-  for (Eigen::Index b = 0; b < folds_; ++b) theta.push_back(SolveHeldOut(idx, static_cast<std::size_t>(b)));
-  for (const Segment& segment : segments_) {
-    const Eigen::Index length = segment.end - segment.start;
-    const Eigen::VectorXd& t = theta[static_cast<std::size_t>(segment.fold)];
-    const auto sw = m.sw.segment(segment.start, length);
+  const Eigen::Index n = m.rows();
+  for (Eigen::Index b = 0; b < folds_; ++b) {
+    const Eigen::Index start = b * n / folds_, end = (b + 1) * n / folds_;
+    const auto ub = static_cast<std::size_t>(b);
+    const Eigen::VectorXd theta = SolveHeldOut(idx, ub);
+    const auto sw = m.sw.segment(start, end - start);
     for (std::size_t j = 0; j < idx.size(); ++j) {
-      e.segment(segment.start, length) -=
-          t(static_cast<Eigen::Index>(j)) * sw.cwiseProduct(m.Col(idx[j]).segment(segment.start, length));
+      e.segment(start, end - start) -=
+          theta(static_cast<Eigen::Index>(j)) * sw.cwiseProduct(m.Col(idx[j]).segment(start, end - start));
     }
   }
   return e;
@@ -112,7 +98,6 @@ BlockGrams BlockGrams::Restrict(const std::vector<Eigen::Index>& idx) const {
   out.total_yty_ = total_yty_;
   out.n_ = n_;
   out.folds_ = folds_;
-  out.segments_ = segments_;
   return out;
 }
 

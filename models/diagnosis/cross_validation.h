@@ -1,7 +1,6 @@
 #pragma once
-// Block cross-validation of the diagnosis' least-squares fits (cross_validation.cc): per-fold Gram matrices, so that
-// the held-out error of any subset of the regressor columns costs O(p³) (DIAGNOSIS.md, step 3). Each fold is a few
-// contiguous time segments spread over the record.
+// Contiguous-block cross-validation of the diagnosis' least-squares fits (cross_validation.cc): per-block Gram
+// matrices, so that the held-out error of any subset of the regressor columns costs O(p³) (DIAGNOSIS.md, step 3).
 
 #include <vector>
 
@@ -15,10 +14,9 @@ namespace mb::diagnosis_detail {
 class BlockGrams {
  public:
   // The weighted regressor matrix of `m` (its columns scaled to unit RMS, times √w: N × m.cols()) and the weighted
-  // residual m.wr (N) split into options.folds folds of Segments (options.fold_segments each, one in simulation mode);
-  // each fold's Gram is accumulated over row chunks (RegressorMatrix::WeightedRows), so no N × q matrix is formed. m
-  // must have been weighed (RegressorMatrix::Weigh).
-  BlockGrams(const RegressorMatrix& m, const DiagnosisOptions& options);
+  // residual m.wr (N) split into `folds` contiguous blocks; each block's Gram is accumulated over row chunks
+  // (RegressorMatrix::WeightedRows), so no N × q matrix is formed. m must have been weighed (RegressorMatrix::Weigh).
+  BlockGrams(const RegressorMatrix& m, Eigen::Index folds);
 
   // The held-out residuals √w⊙r_b − √w⊙X_b(idx)·θ_{−b} of every block (N), for the rows of `m` (the one the Grams
   // were built from).
@@ -32,16 +30,6 @@ class BlockGrams {
 
   // The Grams of the columns `idx` alone, column k of the result being idx[k]: the same entries, exactly.
   BlockGrams Restrict(const std::vector<Eigen::Index>& idx) const;
-
-  // A contiguous run of rows [start, end) held out in fold `fold`.
-  struct Segment {
-    Eigen::Index start = 0, end = 0, fold = 0;
-  };
-  // The segments of N rows in `folds` folds: folds × k equal runs in time order, run s in fold s mod folds, with
-  // k = `per_fold`, or fewer so that a run keeps at least kMinSegmentRows rows (one run per fold on a short record:
-  // contiguous blocks).
-  static std::vector<Segment> Segments(Eigen::Index n, Eigen::Index folds, Eigen::Index per_fold);
-  static constexpr Eigen::Index kMinSegmentRows = 64;
 
   Eigen::MatrixXd TotalGram(const std::vector<Eigen::Index>& idx) const { return SubMatrix(total_gram_, idx); }
   double n() const { return n_; }
@@ -68,7 +56,6 @@ class BlockGrams {
   double total_yty_ = 0.0;
   double n_ = 0.0;
   Eigen::Index folds_ = 0;
-  std::vector<Segment> segments_;
 };
 
 }  // namespace mb::diagnosis_detail

@@ -84,10 +84,6 @@ void CheckDiagnosisInput(const DiagnosisSignals& signals, const BaseRegressors& 
     throw std::invalid_argument(fmt::format(
         "DiagnoseMissingEffects: folds = {} must lie in 2..{} (N/16)", options.folds, n / 16));
   }
-  if (options.fold_segments < 1) {
-    throw std::invalid_argument(
-        fmt::format("DiagnoseMissingEffects: fold_segments = {} must be at least 1", options.fold_segments));
-  }
   if (options.regressor_filter_hz > 0.0 && !(options.regressor_filter_hz < 0.5 / MedianTimeStep(signals.time))) {
     throw std::invalid_argument(fmt::format("DiagnoseMissingEffects: regressor_filter_hz = {} must be below the "
                                             "Nyquist frequency", options.regressor_filter_hz));
@@ -185,7 +181,7 @@ Ranking RankEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base
     matrix_notes.clear();
     out.m = BuildCandidateMatrix(corrected, base_cols, list, options, &matrix_notes);
     out.m.Weigh(r, out.weights);
-    out.grams.emplace(out.m, options);
+    out.grams.emplace(out.m, options.folds);
     out.chosen = StartSelection(*out.grams, p);
     // The white part only: the quantization part is of the unweighted residual, and the held-out errors compared are
     // of the Huber-weighted one, which clips the sparse spikes a count's toggling makes at low speed.
@@ -237,7 +233,7 @@ JointFit FitFinally(const DiagnosisSignals& signals, Eigen::Index p, const Diagn
     Eigen::VectorXd rest;
     weights = RobustWeights(selected, r, options.huber_k, &rest);
     ranked->m.Weigh(r, weights);
-    ranked->grams.emplace(ranked->m, options);
+    ranked->grams.emplace(ranked->m, options.folds);
   }
   const JointFit fit = FitJointly(m, *ranked->grams, chosen.selected);
   result->condition_number = fit.condition_number;

@@ -49,13 +49,7 @@ struct BaseRegressors {
 };
 
 struct DiagnosisOptions {
-  Eigen::Index folds = 5;          // cross-validation folds, >= 2
-  // Contiguous segments per fold, spread over the record (BlockGrams::Segments): an effect of time or of a stretch the
-  // record visits once is fitted on both sides of a held-out segment, not extrapolated. In simulation mode
-  // (catalogue.loop) one per fold, contiguous blocks: a force's response through the loop outlasts a short segment,
-  // and interleaved segments named a smooth force of the position for a weak magnet's stretch (bench_diagnosis
-  // --simulation: 29 of 40 against 33).
-  Eigen::Index fold_segments = 8;
+  Eigen::Index folds = 5;          // contiguous cross-validation blocks, >= 2
   double min_gain = 0.01;          // stop when the best held-out gain is below this share
   Eigen::Index max_effects = 6;    // rounds of forward selection at most
   CatalogueOptions catalogue{};
@@ -195,8 +189,7 @@ struct DiagnosisResult {
 
 // Runs the ranking. signals.residual = measured − model; base as described above.
 // Throws std::invalid_argument as DiagnosisSignals::Validate, when base.columns has the wrong number of
-// rows or names, or when options are out of range (folds < 2 or > N/16, fold_segments < 1, min_gain not in [0, 1),
-// redundant_with_base not in (0, 1]).
+// rows or names, or when options are out of range (folds < 2 or > N/16, min_gain not in [0, 1), redundant_with_base not in (0, 1]).
 DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const BaseRegressors& base,
                                        const DiagnosisOptions& options = {});
 

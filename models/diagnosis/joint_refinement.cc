@@ -294,7 +294,7 @@ void InstallRefined(const DiagnosisSignals& signals, const Eigen::MatrixXd& base
   RobustWeights(out->law_columns, signals.residual, options.huber_k, &out->law_residual);
   out->weights = weights;
   out->m = std::move(m);
-  out->grams.emplace(out->m, options);
+  out->grams.emplace(out->m, options.folds);
   const double leak_mse = out->chosen.leak_mse;
   out->chosen = std::move(s);
   out->chosen.leak_mse = leak_mse;
@@ -321,7 +321,7 @@ void RefineChosenEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd&
   RegressorMatrix m = BuildCandidateMatrix(refinement.corrected(), base_cols, refinement.effects(), options, &build_notes);
   if (m.cands.size() != chosen.size()) return;  // a refined effect the base spans now: keep the ranking's
   m.Weigh(signals.residual, refinement.weights());
-  const BlockGrams grams(m, options);
+  const BlockGrams grams(m, options.folds);
   Selection s = SelectInOrder(m, grams, base_cols.cols(), m.cands.size());
   InstallRefined(signals, base_cols, options, laws, refinement.weights(), std::move(m), std::move(s), out);
   notes->insert(notes->end(), moved.begin(), moved.end());
@@ -355,7 +355,7 @@ void RetrySetAside(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_
     RegressorMatrix m = BuildCandidateMatrix(refinement.corrected(), base_cols, refinement.effects(), options, &trial_notes);
     if (m.cands.size() != trial.size()) continue;
     m.Weigh(signals.residual, refinement.weights());
-    const BlockGrams grams(m, options);
+    const BlockGrams grams(m, options.folds);
     Selection s = SelectInOrder(m, grams, base_cols.cols(), m.cands.size() - 1);
     s.leak_mse = out->chosen.leak_mse;
     s.family = std::max(out->chosen.family, SearchedCount(out->m));
