@@ -85,8 +85,8 @@ struct EffectTraits {
   /// nothing, though the ramp's column always fits a little of the noise.
   bool nests_constant_pair = false;
   /// The modulators of the grammar whose pairs with the same multiplier this pair holds as a limit of its shape
-  /// (ModulatorRow::nests: a window holds a step, a warm-up a ramp): chosen over such a pair, as over its multiplier × 1,
-  /// only where its held-out gain over it is significant.
+  /// (ModulatorRow::nests: a window holds a step): chosen over such a pair, as over its multiplier × 1, only where its
+  /// held-out gain over it is significant.
   std::vector<std::string> nested_modulators;
 };
 

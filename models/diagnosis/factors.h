@@ -91,9 +91,9 @@ struct ModulatorRow {
   std::function<std::string(const FactorParameters&, double coefficient, const std::string& coefficient_unit,
                             const std::string& column, const std::string& position_unit)>
       words;
-  /// The modulators whose shapes are limits of this one's (a window that opens before the motion starts is a step; a
-  /// warm-up slower than the record is a ramp): a pair of this row is chosen over the same multiplier's pair of one of
-  /// them only where its held-out gain over it is significant (EffectTraits::nested_modulators).
+  /// The modulators whose shapes are limits of this one's (a window that opens before the motion starts is a step): a
+  /// pair of this row is chosen over the same multiplier's pair of one of them only where its held-out gain over it is
+  /// significant (EffectTraits::nested_modulators).
   std::vector<std::string> nests;
 };
 

@@ -8,6 +8,7 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <numbers>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -55,6 +56,22 @@ TEST(IndependentPlant, PointToPointMovesDwellAtRestAndStayInTheTravel) {
   EXPECT_LT(share, 0.7);
   EXPECT_GT(r.position.minCoeff(), 0.0);
   EXPECT_LT(r.position.maxCoeff(), 0.2);
+}
+
+// The controller runs at the log's rate up to 1 kHz, at 1 kHz below it; the closed-loop diagram that models it takes its
+// period and its velocity estimate's cut-off from these (RunCaseInSimulation): the fixture's 129.53 Hz at 1 kHz.
+TEST(IndependentPlant, TheControllersRateAndItsVelocityEstimateFollowTheLog) {
+  EXPECT_DOUBLE_EQ(ControlPeriod(1e-3), 1e-3);
+  EXPECT_DOUBLE_EQ(ControlPeriod(5e-4), 5e-4);
+  EXPECT_DOUBLE_EQ(ControlPeriod(1e-2), 1e-3);
+  EXPECT_NEAR(VelocityEstimateCutoffHz(1e-3), 129.53, 0.01);
+  // The pole exp(−2π·f·T) is the generator's 1 − α at either rate.
+  for (double period : {5e-4, 1e-3}) {
+    const double alpha = period / (period + 1.0 / (2.0 * std::numbers::pi * 200.0));
+    EXPECT_NEAR(std::exp(-2.0 * std::numbers::pi * VelocityEstimateCutoffHz(period) * period), 1.0 - alpha, 1e-12);
+  }
+  const Record r = Generate(Hidden::kNone, {.duration = 1.0, .sample_period = 5e-4, .jitter = 0.0, .seed = 2});
+  EXPECT_EQ(r.time.size(), 2000);  // every 2 kHz step logged: the controller ran at the log's rate
 }
 
 TEST(IndependentPlant, EachCaseNamesACatalogueEffectAndATolerance) {
