@@ -92,6 +92,9 @@ EffectBlockTemplate FrictionWarmUpEffectBlock() {
                           {"time_constant", WithUnit(time_constant, "s")}};
   };
   block.free = {"gain"};
+  // The diagnosis found T with its first-order regressor; the diagram's own shape (a force constant's share of the
+  // drive's force, ŷ·r/(1 − r)) may settle it elsewhere, and T enters smoothly: refit with the gain.
+  block.refinable = {"time_constant"};
   return block;
 }
 

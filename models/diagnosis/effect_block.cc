@@ -146,6 +146,12 @@ MotionMultiplier AbsOf(MotionMultiplier factor) {
   return factor;
 }
 
+MotionMultiplier SignOf(MotionMultiplier factor) {
+  factor.block_type = "sign";
+  factor.parameters = [](const DiagnosedEffect&) { return json::object(); };
+  return factor;
+}
+
 MotionMultiplier Times(MotionMultiplier first, MotionMultiplier second) {
   first.times = std::make_shared<const MotionMultiplier>(std::move(second));
   return first;

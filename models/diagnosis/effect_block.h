@@ -79,6 +79,11 @@ MotionMultiplier AmplitudeSourceFactor(bool time);
 /// `factor` through an abs block (blocks/abs.h): |v|, |ŷ|.
 MotionMultiplier AbsOf(MotionMultiplier factor);
 
+/// `factor` through a sign block (blocks/sign.h, Simulink's Sign: no dead band): sign(ŷ), so that |ŷ| = ŷ·sign(ŷ) keeps
+/// the model's force as the first factor (a friction that grows with the transmitted force, a share of the drive's
+/// force: tools/workflow/suggest.cc).
+MotionMultiplier SignOf(MotionMultiplier factor);
+
 /// `first` times `second` (MotionMultiplier::times, a product element): v·|v|, ŷ·|ŷ|, |ŷ|·tanh(v/v_s).
 MotionMultiplier Times(MotionMultiplier first, MotionMultiplier second);
 

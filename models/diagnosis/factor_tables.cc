@@ -128,7 +128,8 @@ std::vector<MultiplierRow> MakeMultipliers() {
                   [](const DiagnosisSignals& s, const Eigen::VectorXd& slip, const std::string& effect) {
                     return ModelForce(s, effect).cwiseAbs().cwiseProduct(slip).eval();
                   }});
-  rows.back().factor = Times(AbsOf(mb::ModelForce()), SlipOfVelocity());
+  // |ŷ|·tanh(v/v_s) as ŷ × sign(ŷ)·tanh(v/v_s): a share of the drive's force, as the force constant's.
+  rows.back().factor = Times(mb::ModelForce(), Times(SignOf(mb::ModelForce()), SlipOfVelocity()));
   rows.back().own_level = true;
   return rows;
 }

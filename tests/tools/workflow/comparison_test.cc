@@ -354,10 +354,12 @@ double ForceAt(const nlohmann::json& diagram, const std::map<std::string, double
   return sim.log().Column("force").back();
 }
 
-// A force constant that ripples (the grammar's ŷ × periodic(x)): the amended diagram multiplies the model's own force
-// by the ripple of the position and sums it in, so the force becomes ŷ·(1 + a cos(2πx/P) + b sin(2πx/P)); simulation
-// mode, whose output is the motion, is refused with what to do when the drive's force is not known.
-TEST(SuggestTest, AForceConstantRippleScalesTheModelsForce) {
+// A force constant that ripples (the grammar's ŷ × periodic(x)) is a share r = a cos(2πx/P) + b sin(2πx/P) of the
+// drive's force: the drive's force u moves the body by u·(1 − r) = ŷ, so the amended diagram's force is ŷ/(1 − r), the
+// diagnosis' ŷ·(1 + r) to first order. A friction growing with the transmitted force (|ŷ|·tanh(v/v_s), the pair
+// load_friction) is one too, its share sign(ŷ)·k·tanh(v/v_s). Simulation mode, whose output is the motion, is refused
+// with what to do when the drive's force is not known.
+TEST(SuggestTest, AForceConstantRippleIsAShareOfTheDriveForce) {
   auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
   DiagnosedEffect ripple;
   ripple.effect = "force_constant_ripple";
@@ -371,7 +373,19 @@ TEST(SuggestTest, AForceConstantRippleScalesTheModelsForce) {
   const double base = ForceAt(diagram, motion), with_ripple = ForceAt(amended, motion);
   ASSERT_GT(std::abs(base), 1.0);
   const double phase = 2.0 * std::numbers::pi * 0.005 / 0.012;
-  EXPECT_NEAR(with_ripple, base * (1.0 + 0.02 * std::cos(phase) - 0.03 * std::sin(phase)), 1e-9 * std::abs(base));
+  const double share = 0.02 * std::cos(phase) - 0.03 * std::sin(phase);
+  EXPECT_NEAR(with_ripple, base / (1.0 - share), 1e-9 * std::abs(base));
+  EXPECT_GT(std::abs(with_ripple - base * (1.0 + share)), 1e-5 * std::abs(base));  // not the first order alone
+
+  const double k = 0.2, slip_velocity = 0.05;  // a friction of 20 % of the transmitted force at full slip
+  const DiagnosedEffect load = OneColumnEffect("load_friction", {{"slip_velocity", slip_velocity}}, k);
+  for (const double v : {0.1, -0.1}) {
+    const std::map<std::string, double> moving = {{"position_m", 0.005}, {"velocity_m_s", v},
+                                                  {"acceleration_m_s2", 2.0}};
+    const double y = ForceAt(diagram, moving), r = (y > 0.0 ? k : -k) * std::tanh(v / slip_velocity);
+    EXPECT_NEAR(ForceAt(SuggestAmendedDiagram(diagram, load, "force"), moving), y / (1.0 - r), 1e-9 * std::abs(y))
+        << "v = " << v;
+  }
 
   diagram["experiment"]["mode"] = "simulation";
   try {
