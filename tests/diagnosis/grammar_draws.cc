@@ -53,12 +53,12 @@ bool IsColumn(const std::string& modulator) { return modulator == "column" || mo
 // ---------------------------------------------------------------------------------------------------------------
 // Log columns of the draw's own: values and rates at any instant of a record.
 
-// A column as one record sees it: the temperature's duty pattern is drawn per record; mean and half-range over the
-// record's samples (the column modulator is centred; the third factor's is scaled to ±1).
+// A column as one record sees it: the temperature's duty pattern is drawn per record; the column's nominal value and
+// half-range (Column::Reference, Column::HalfRange) are the machine's, the same on every record.
 class ColumnSignal {
  public:
   ColumnSignal() = default;
-  ColumnSignal(const Column* column, double duration, double sample_rate, Rng rng) : column_(column) {
+  ColumnSignal(const Column* column, double duration, Rng rng) : column_(column) {
     if (column_ == nullptr || column_->name.empty()) {
       column_ = nullptr;
       return;
@@ -78,18 +78,11 @@ class ColumnSignal {
         high = !high;
       }
     }
-    const auto n = std::min<Eigen::Index>(kMaxSamples, static_cast<Eigen::Index>(std::lround(duration * sample_rate)));
-    double sum = 0.0;
-    for (Eigen::Index k = 0; k < n; ++k) sum += Value(static_cast<double>(k) / sample_rate);
-    mean_ = sum / static_cast<double>(n);
-    for (Eigen::Index k = 0; k < n; ++k) {
-      half_range_ = std::max(half_range_, std::abs(Value(static_cast<double>(k) / sample_rate) - mean_));
-    }
   }
 
   bool present() const { return column_ != nullptr; }
   double reference() const { return column_->Reference(); }
-  double half_range() const { return half_range_; }
+  double half_range() const { return column_->HalfRange(); }
 
   double Value(double t) const {
     if (column_->kind == Column::Kind::kTemperature) {
@@ -133,7 +126,6 @@ class ColumnSignal {
 
   const Column* column_ = nullptr;
   std::vector<double> start_, duty_, theta_;
-  double mean_ = 0.0, half_range_ = 0.0;
 };
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -220,8 +212,8 @@ struct RunContext {
 
 RunContext MakeContext(const GrammarDraw& d, Run run) {
   RunContext c;
-  c.active = ColumnSignal(&d.active_column, d.duration, d.sample_rate, StreamRng(d.seed, run, Stream::kActiveColumn));
-  c.third = ColumnSignal(&d.third_column, d.duration, d.sample_rate, StreamRng(d.seed, run, Stream::kThirdColumn));
+  c.active = ColumnSignal(&d.active_column, d.duration, StreamRng(d.seed, run, Stream::kActiveColumn));
+  c.third = ColumnSignal(&d.third_column, d.duration, StreamRng(d.seed, run, Stream::kThirdColumn));
   return c;
 }
 
@@ -719,7 +711,7 @@ Record Simulate(const GrammarDraw& d, Run run, bool with_effect) {
   const double h = dt / sub;
   const Reference reference(d, StreamRng(d.seed, run, Stream::kTrajectory));
   const RunContext context = MakeContext(d, run);
-  const ColumnSignal idle(&d.idle_column, d.duration, d.sample_rate, StreamRng(d.seed, run, Stream::kIdleColumn));
+  const ColumnSignal idle(&d.idle_column, d.duration, StreamRng(d.seed, run, Stream::kIdleColumn));
   Rng noise_rng = StreamRng(d.seed, run, Stream::kNoise);
   std::normal_distribution<double> noise(0.0, d.force_noise);
 
