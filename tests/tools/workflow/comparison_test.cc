@@ -376,6 +376,13 @@ TEST(SuggestTest, AForceConstantRippleIsAShareOfTheDriveForce) {
   const double share = 0.02 * std::cos(phase) - 0.03 * std::sin(phase);
   EXPECT_NEAR(with_ripple, base / (1.0 - share), 1e-9 * std::abs(base));
   EXPECT_GT(std::abs(with_ripple - base * (1.0 + share)), 1e-5 * std::abs(base));  // not the first order alone
+  // A share beyond ±90 % is no motor's force constant: limited there, away from 1 − r = 0.
+  DiagnosedEffect far = ripple;
+  far.coefficients = Eigen::Vector2d(0.95, 0.0);
+  const std::map<std::string, double> at_zero = {{"position_m", 0.0}, {"velocity_m_s", 0.1}, {"acceleration_m_s2", 2.0}};
+  const double base_at_zero = ForceAt(diagram, at_zero);
+  EXPECT_NEAR(ForceAt(SuggestAmendedDiagram(diagram, far, "force"), at_zero), base_at_zero / (1.0 - 0.9),
+              1e-9 * std::abs(base_at_zero));
 
   const double k = 0.2, slip_velocity = 0.05;  // a friction of 20 % of the transmitted force at full slip
   const DiagnosedEffect load = OneColumnEffect("load_friction", {{"slip_velocity", slip_velocity}}, k);
