@@ -137,12 +137,12 @@ TEST(GrammarDraws, APairCarriesItsMultipliersConstantPartAndMustEarnItsModulatio
 
 // The ranking's order is what each effect removed of the base's residual (DiagnosedEffect::base_share), not its score:
 // on seed 258 a viscous step removes 95 % of it, and a Coulomb warm-up chosen after it 98.7 % of the 5 % left; the step
-// is named first. Seed 151 hides a saturating force constant that is the same over the record, with a third factor: a
-// window of it was named; the window holds a step and the step its multiplier × 1 (ModulatorRow::nests), and the
-// larger is chosen only where it beats the smaller significantly: the constant is named.
+// is named first. Seed 296 hides a saturating force constant that is the same over the record: a window of it fits
+// best; the window holds a step and the step its multiplier × 1 (ModulatorRow::nests), and the larger is chosen only
+// where it beats the smaller significantly (here t = 0.62 and 0.63): the constant is named.
 TEST(GrammarDraws, TheFirstNamedRemovedMostOfTheBaseResidualAndAWindowMustBeatTheShapesItHolds) {
   const std::filesystem::path folder = std::filesystem::temp_directory_path() / "mb_grammar_order_test";
-  for (unsigned seed : {258u, 151u}) {
+  for (unsigned seed : {258u, 296u}) {
     const GrammarDraw draw = Draw(seed);
     const DrawResult r = RunDraw(draw, folder / std::to_string(seed), false);
     EXPECT_TRUE(r.named_right) << draw.Describe() << " -> " << r.named_pair;
