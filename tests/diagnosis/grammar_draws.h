@@ -90,9 +90,9 @@ struct Column {
     return kind == Kind::kTemperature ? ambient + 0.5 * rise : kind == Kind::kBusVoltage ? offset : 0.0;
   }
   /// How far the column strays from Reference at most, what a third factor of it is scaled by: half a temperature's
-  /// rise, the sines' summed amplitudes (of the derivative logged). Fixed for the machine, as Reference is: scaled by each record's own range, a
-  /// drag following a winding temperature was 5 % steeper on the validation record than on the training one (seed 4),
-  /// and no model of the machine could reach the floor on both.
+  /// rise, the sines' summed amplitudes (of the derivative logged). Fixed for the machine, as Reference is: scaled by
+  /// each record's own range, a drag following a winding temperature was 5 % steeper on the validation record than on
+  /// the training one (seed 4), and no model of the machine could reach the floor on both.
   double HalfRange() const {
     if (kind == Kind::kTemperature) return 0.5 * rise;
     const int order = kind == Kind::kOtherAxisVelocity ? 1 : kind == Kind::kOtherAxisAcceleration ? 2 : 0;

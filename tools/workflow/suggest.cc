@@ -327,9 +327,10 @@ std::string AddProductToOutput(DiagramDocument* out, const ElementSpec& element,
   return name;
 }
 
-// Whether `multiplier` scales the drive's force in this diagram: its first factor is the model's force ŷ itself (a force
-// constant k(z)·ŷ, its saturation k(z)·ŷ·|ŷ|) and the diagram is compared in equation-error mode, where the output is
-// the drive's force that the log holds rather than the force that moves the body.
+// Whether `multiplier` scales the drive's force in this diagram: its first factor is the model's force ŷ itself (a
+// force constant k(z)·ŷ, its saturation k(z)·ŷ·|ŷ|, a friction growing with the transmitted force
+// ŷ·sign(ŷ)·tanh(v/v_s)) and the diagram is compared in equation-error mode, where the output is the drive's force that
+// the log holds rather than the force that moves the body.
 bool ScalesTheDriveForce(const DiagramDocument& out, const MotionMultiplier& multiplier) {
   return out.Mode() == ExperimentMode::kEquationError && multiplier.of_model_force && multiplier.block_type.empty();
 }

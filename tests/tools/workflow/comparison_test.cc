@@ -379,7 +379,8 @@ TEST(SuggestTest, AForceConstantRippleIsAShareOfTheDriveForce) {
   // A share beyond ±90 % is no motor's force constant: limited there, away from 1 − r = 0.
   DiagnosedEffect far = ripple;
   far.coefficients = Eigen::Vector2d(0.95, 0.0);
-  const std::map<std::string, double> at_zero = {{"position_m", 0.0}, {"velocity_m_s", 0.1}, {"acceleration_m_s2", 2.0}};
+  const std::map<std::string, double> at_zero = {{"position_m", 0.0}, {"velocity_m_s", 0.1},
+                                                 {"acceleration_m_s2", 2.0}};
   const double base_at_zero = ForceAt(diagram, at_zero);
   EXPECT_NEAR(ForceAt(SuggestAmendedDiagram(diagram, far, "force"), at_zero), base_at_zero / (1.0 - 0.9),
               1e-9 * std::abs(base_at_zero));
