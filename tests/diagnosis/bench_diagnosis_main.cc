@@ -2,7 +2,8 @@
 // tests/diagnosis/independent_bench.h). Prints the table of every case (or the named ones, e.g. "delay");
 // --verbose: each case's named effects with their scores and compare's notes on stderr. Exits 1 when a case misses.
 // --simulation: each case compared in simulation mode with the closed-loop diagram of the generator's loop
-// (RunCaseInSimulation; compare only). --clean-seeds=N (with --simulation): the clean records ("nothing missing" at
+// (RunCaseInSimulation; without --compare-only, improve amends the closed loop and is scored on the simulated
+// position against the floor of the same records without the effect). --clean-seeds=N (with --simulation): the clean records ("nothing missing" at
 // 1 kHz, 100 Hz and 2 kHz) with the generator's seeds 1..N instead, each a case of its own that passes when nothing is
 // named.
 // `make bench-diagnosis` builds it in Release and runs it.
@@ -56,7 +57,8 @@ int main(int argc, char** argv) {
     for (char& c : folder) if (c == ' ' || c == '(' || c == ')' || c == '+') c = '_';
     try {
       if (simulation) {
-        std::optional<mb::independent::CaseResult> r = mb::independent::RunCaseInSimulation(spec, out + "/" + folder);
+        std::optional<mb::independent::CaseResult> r =
+            mb::independent::RunCaseInSimulation(spec, out + "/" + folder, 11, improve);
         if (!r) {
           std::cerr << "not applicable in simulation mode: " << spec.name << "\n";
           continue;

@@ -154,7 +154,8 @@ CaseResult RunCase(const CaseSpec& spec, const fs::path& directory, bool run_imp
   return r;
 }
 
-std::optional<CaseResult> RunCaseInSimulation(const CaseSpec& given, const fs::path& directory, unsigned seed) {
+std::optional<CaseResult> RunCaseInSimulation(const CaseSpec& given, const fs::path& directory, unsigned seed,
+                                              bool run_improve) {
   if (IsRotary(given.hidden)) return std::nullopt;
   CaseSpec spec = given;
   if (OnlyInTheLoggedForce(spec.hidden)) {
@@ -165,13 +166,17 @@ std::optional<CaseResult> RunCaseInSimulation(const CaseSpec& given, const fs::p
   CaseResult r;
   r.spec = spec;
   fs::create_directories(directory);
-  const fs::path train = directory / "training.csv";
-  WriteCsv(Generate(spec.hidden, {.duration = 16.0,
-                                  .sample_period = spec.sample_period,
-                                  .stamp_noise = spec.stamp_noise,
-                                  .seed = seed,
-                                  .log_reference = true}),
-           train.string());
+  const auto write = [&](Hidden hidden, unsigned record_seed, const std::string& name) {
+    const fs::path path = directory / name;
+    WriteCsv(Generate(hidden, {.duration = 16.0,
+                               .sample_period = spec.sample_period,
+                               .stamp_noise = spec.stamp_noise,
+                               .seed = record_seed,
+                               .log_reference = true}),
+             path.string());
+    return path;
+  };
+  const fs::path train = write(spec.hidden, seed, "training.csv");
   const fs::path folder = fs::path(MB_SOURCE_DIR) / "tests" / "diagnosis" / "data";
   const char* file = "independent_closed_loop.json";
   json diagram = ReadDiagramJson(folder / file);
@@ -190,6 +195,24 @@ std::optional<CaseResult> RunCaseInSimulation(const CaseSpec& given, const fs::p
   const DiagnosedComparison compared = CompareAndDiagnose(diagram, folder, file, log, settings, diagram["free"]);
   r.compare_seconds = Seconds(t0);
   Judge(*compared.diagnosis, &r);
+  if (!run_improve) return r;
+  r.improve_run = true;
+  constexpr unsigned kValidationSeed = 1000;
+  const auto read = [&](const fs::path& path) { return ReadMeasurementFor(diagram, path.string(), settings); };
+  const MeasurementLog validation = read(write(spec.hidden, seed + kValidationSeed, "validation.csv"));
+  ImproveSettings improve;
+  improve.measurement = settings;
+  const MeasurementLog training_twin = read(write(Hidden::kNone, seed, "training_twin.csv"));
+  const MeasurementLog validation_twin = read(write(Hidden::kNone, seed + kValidationSeed, "validation_twin.csv"));
+  r.noise_floor = ImproveModel(DiagramDocument(diagram, folder, file), training_twin, &validation_twin, improve)
+                      .last_accepted()
+                      .rmse_heldout;
+  const auto t1 = std::chrono::steady_clock::now();
+  const ImproveResult improved = ImproveModel(DiagramDocument(diagram, folder, file), log, &validation, improve);
+  r.improve_seconds = Seconds(t1);
+  r.heldout_before = improved.first().rmse_heldout;
+  r.heldout_after = improved.last_accepted().rmse_heldout;
+  r.floor_reached = r.heldout_after <= 1.3 * r.noise_floor && r.heldout_after >= 0.7 * r.noise_floor;
   return r;
 }
 
@@ -210,7 +233,8 @@ std::string Verdict(const CaseResult& r) {
 std::string FormatTable(const std::vector<CaseResult>& results) {
   std::string out =
       "| case | named (ranking; (law) = friction-law replacement) | first outside the law | key parameter found "
-      "(truth) | held-out RMSE before → after improve (noise floor) [N] | compare / improve [s] | pass |\n"
+      "(truth) | held-out RMSE before → after improve (noise floor) [N; m in simulation mode] | compare / improve [s] | "
+      "pass |\n"
       "|---|---|---|---|---|---|---|\n";
   for (const auto& r : results) {
     std::string named;
@@ -220,7 +244,7 @@ std::string FormatTable(const std::vector<CaseResult>& results) {
       parameter = fmt::format("{} {:.4g} ({:.4g})", r.spec.parameter, r.parameter, r.spec.truth);
     }
     const std::string heldout =
-        r.improve_run ? fmt::format("{:.3f} → {:.3f} ({:.3f})", r.heldout_before, r.heldout_after, r.noise_floor)
+        r.improve_run ? fmt::format("{:.4g} → {:.4g} ({:.4g})", r.heldout_before, r.heldout_after, r.noise_floor)
                       : fmt::format("not run ({:.3f})", r.noise_floor);
     const std::string seconds = r.improve_run ? fmt::format("{:.2f} / {:.1f}", r.compare_seconds, r.improve_seconds)
                                               : fmt::format("{:.2f} / —", r.compare_seconds);
