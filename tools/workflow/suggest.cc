@@ -13,6 +13,7 @@
 
 #include "engine/block_roles.h"
 #include "engine/diagram_document.h"
+#include "engine/registry.h"
 #include "engine/units.h"
 #include "models/diagnosis/amplitude_factor.h"
 #include "models/diagnosis/effect_block.h"
@@ -444,10 +445,48 @@ MotionMultiplier TimesAtEnd(MotionMultiplier factor, MotionMultiplier extra) {
   return factor;
 }
 
+// A mass over the whole record found in simulation mode (acceleration × 1: a payload, a wrong moving mass) is the
+// plant's own: a block would read the acceleration that the plant computes from the force the block feeds (an algebraic
+// loop). The plant's parameter in kg (kg·m² on a rotary axis) takes the diagnosed mass on top and is
+// refit with the diagram's free parameters. False when the effect is not such a mass or the diagram is compared in
+// equation-error mode; throws naming what is missing when the plant has no such parameter.
+bool PlantMassTakesIt(DiagramDocument* out, const DiagnosedEffect& effect) {
+  const EffectType& type = LookupEffect(effect.effect);
+  if (out->Mode() == ExperimentMode::kEquationError || type.multiplier != "acceleration" ||
+      type.modulator != "constant") {
+    return false;
+  }
+  std::string why;
+  const std::optional<std::string> plant = PlantElement(*out, &why);
+  if (!plant) throw std::invalid_argument(fmt::format("effect '{}' in simulation mode: {}", effect.effect, why));
+  const BlockType* block = BlockRegistry::Global().Find(out->TypeOf(*plant));
+  std::string mass;  // in kg; on a rotary axis the diagram reads it in kg·m² (DiagramDocument::ParameterSpec)
+  if (block != nullptr) {
+    for (const ParamSpec& p : block->parameters) {
+      if (p.unit == "kg") mass = p.name;
+    }
+  }
+  if (mass.empty()) {
+    throw std::invalid_argument(fmt::format(
+        "effect '{}' is a mass, which in simulation mode is the plant's own, but plant '{}' ({}) has no parameter in "
+        "kg: change its mass by hand",
+        effect.effect, *plant, out->TypeOf(*plant)));
+  }
+  const double now = out->Parameter(*plant, mass).get<double>();
+  out->SetParameter(*plant, mass, now + BlockCoefficient(effect, ""));
+  out->AddFreeParameter(*plant + "." + mass);
+  out->AppendNote(fmt::format(" Amended by motionblocks compare --suggest: {} ({}) is the plant's mass: {}.{} {:.6g} → "
+                              "{:.6g}, refit.",
+                              effect.effect, effect.description.empty() ? "a mass" : "the mass found", *plant, mass,
+                              now, now + BlockCoefficient(effect, "")));
+  return true;
+}
+
 // Adds `effect`'s block to `out` (its template, or the grammar's composed one: BlockFor), and its level (LevelOf); with
 // `extra`, the block's output is multiplied by it too (the part of a pair proportional to its third factor's source).
 void AddEffectBlock(DiagramDocument* out, const DiagnosedEffect& effect, const std::string& output,
                     const std::optional<MotionMultiplier>& extra, const std::optional<Endpoint>& drive_force) {
+  if (!extra && PlantMassTakesIt(out, effect)) return;
   const std::optional<EffectBlockTemplate> composed = BlockFor(LookupEffect(effect.effect));
   if (!composed) {
     throw std::invalid_argument(

@@ -404,6 +404,19 @@ TEST(SuggestTest, AForceConstantRippleIsAShareOfTheDriveForce) {
   }
 }
 
+// In simulation mode a mass over the whole record (mass_mismatch, acceleration × 1) is the plant's own mass: a block of
+// the acceleration would close an algebraic loop through the plant. The closed loop's plant takes the diagnosed 31 kg
+// on top of its 95 kg and its mass is refit, also where the user had fixed it; no element is added.
+TEST(SuggestTest, AMassInSimulationModeIsThePlantsOwn) {
+  auto diagram = ReadDiagramJson(kEmps / "closed_loop.json");
+  diagram["free"] = {"friction.viscous", "friction.coulomb", "offset.value"};  // the mass fixed by the user
+  const std::size_t elements = diagram["elements"].size();
+  const DiagramDocument amended(SuggestAmendedDiagram(diagram, OneColumnEffect("mass_mismatch", {}, 31.0), "position"));
+  EXPECT_EQ(amended.json()["elements"].size(), elements);
+  EXPECT_DOUBLE_EQ(amended.Parameter("plant", "mass").get<double>(), 95.0 + 31.0);
+  EXPECT_THAT(amended.FreeParameters(), ::testing::Contains("plant.mass"));
+}
+
 // A mass over a stretch or along the travel (acceleration × position_local / position_smooth) is no product: its force
 // is M(x)·a + ½M′(x)·v² (Lagrange), added as an inertia_table_1d on the measured position, velocity and acceleration —
 // the diagnosed bump as a table whose size is refit, the diagnosed cubic sampled over the travel and refit.
