@@ -472,13 +472,12 @@ bool PlantMassTakesIt(DiagramDocument* out, const DiagnosedEffect& effect) {
         "kg: change its mass by hand",
         effect.effect, *plant, out->TypeOf(*plant)));
   }
-  const double now = out->Parameter(*plant, mass).get<double>();
-  out->SetParameter(*plant, mass, now + BlockCoefficient(effect, ""));
+  const double before = out->Parameter(*plant, mass).get<double>(), after = before + BlockCoefficient(effect, "");
+  out->SetParameter(*plant, mass, after);
   out->AddFreeParameter(*plant + "." + mass);
-  out->AppendNote(fmt::format(" Amended by motionblocks compare --suggest: {} ({}) is the plant's mass: {}.{} {:.6g} → "
-                              "{:.6g}, refit.",
-                              effect.effect, effect.description.empty() ? "a mass" : "the mass found", *plant, mass,
-                              now, now + BlockCoefficient(effect, "")));
+  out->AppendNote(fmt::format(" Amended by motionblocks compare --suggest: {} is the plant's mass, {}.{} {:.6g} → {:.6g} "
+                              "kg, refit.",
+                              effect.effect, *plant, mass, before, after));
   return true;
 }
 
