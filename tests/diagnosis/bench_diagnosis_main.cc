@@ -3,9 +3,9 @@
 // --verbose: each case's named effects with their scores and compare's notes on stderr. Exits 1 when a case misses.
 // --simulation: each case compared in simulation mode with the closed-loop diagram of the generator's loop
 // (RunCaseInSimulation; without --compare-only, improve amends the closed loop and is scored on the simulated
-// position against the floor of the same records without the effect). --clean-seeds=N (with --simulation): the clean records ("nothing missing" at
-// 1 kHz, 100 Hz and 2 kHz) with the generator's seeds 1..N instead, each a case of its own that passes when nothing is
-// named.
+// position against the floor of the same records without the effect). --clean-seeds=N (with --simulation): the clean
+// records ("nothing missing" at 1 kHz, 100 Hz and 2 kHz) with the generator's seeds 1..N instead, each a case of its
+// own that passes when nothing is named.
 // `make bench-diagnosis` builds it in Release and runs it.
 #include <algorithm>
 #include <iostream>

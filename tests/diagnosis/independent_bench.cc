@@ -233,8 +233,8 @@ std::string Verdict(const CaseResult& r) {
 std::string FormatTable(const std::vector<CaseResult>& results) {
   std::string out =
       "| case | named (ranking; (law) = friction-law replacement) | first outside the law | key parameter found "
-      "(truth) | held-out RMSE before → after improve (noise floor) [N; m in simulation mode] | compare / improve [s] | "
-      "pass |\n"
+      "(truth) | held-out RMSE before → after improve (noise floor) [N; m in simulation mode] | compare / improve "
+      "[s] | pass |\n"
       "|---|---|---|---|---|---|---|\n";
   for (const auto& r : results) {
     std::string named;

@@ -447,7 +447,7 @@ MotionMultiplier TimesAtEnd(MotionMultiplier factor, MotionMultiplier extra) {
 
 // A mass over the whole record found in simulation mode (acceleration × 1: a payload, a wrong moving mass) is the
 // plant's own: a block would read the acceleration that the plant computes from the force the block feeds (an algebraic
-// loop). The plant's parameter in kg (kg·m² on a rotary axis) takes the diagnosed mass on top and is
+// loop). The plant's first parameter in kg (kg·m² on a rotary axis) takes the diagnosed mass on top and is
 // refit with the diagram's free parameters. False when the effect is not such a mass or the diagram is compared in
 // equation-error mode; throws naming what is missing when the plant has no such parameter.
 bool PlantMassTakesIt(DiagramDocument* out, const DiagnosedEffect& effect) {
@@ -460,11 +460,13 @@ bool PlantMassTakesIt(DiagramDocument* out, const DiagnosedEffect& effect) {
   const std::optional<std::string> plant = PlantElement(*out, &why);
   if (!plant) throw std::invalid_argument(fmt::format("effect '{}' in simulation mode: {}", effect.effect, why));
   const BlockType* block = BlockRegistry::Global().Find(out->TypeOf(*plant));
-  std::string mass;  // in kg; on a rotary axis the diagram reads it in kg·m² (DiagramDocument::ParameterSpec)
+  // Its first parameter in kg, the moving mass (linear_motor's payload_mass comes after it); on a rotary axis the
+  // diagram reads it in kg·m² (DiagramDocument::ParameterSpec).
+  std::string mass;
   if (block != nullptr) {
-    for (const ParamSpec& p : block->parameters) {
-      if (p.unit == "kg") mass = p.name;
-    }
+    const auto kg = std::find_if(block->parameters.begin(), block->parameters.end(),
+                                 [](const ParamSpec& p) { return p.unit == "kg"; });
+    if (kg != block->parameters.end()) mass = kg->name;
   }
   if (mass.empty()) {
     throw std::invalid_argument(fmt::format(
@@ -475,8 +477,8 @@ bool PlantMassTakesIt(DiagramDocument* out, const DiagnosedEffect& effect) {
   const double before = out->Parameter(*plant, mass).get<double>(), after = before + BlockCoefficient(effect, "");
   out->SetParameter(*plant, mass, after);
   out->AddFreeParameter(*plant + "." + mass);
-  out->AppendNote(fmt::format(" Amended by motionblocks compare --suggest: {} is the plant's mass, {}.{} {:.6g} → {:.6g} "
-                              "kg, refit.",
+  out->AppendNote(fmt::format(" Amended by motionblocks compare --suggest: {} is the plant's mass, {}.{} {:.6g} → "
+                              "{:.6g} kg, refit.",
                               effect.effect, *plant, mass, before, after));
   return true;
 }

@@ -415,6 +415,22 @@ TEST(SuggestTest, AMassInSimulationModeIsThePlantsOwn) {
   EXPECT_EQ(amended.json()["elements"].size(), elements);
   EXPECT_DOUBLE_EQ(amended.Parameter("plant", "mass").get<double>(), 95.0 + 31.0);
   EXPECT_THAT(amended.FreeParameters(), ::testing::Contains("plant.mass"));
+
+  // Which plant's mass is not known with two plants: refused, naming them.
+  nlohmann::json two = diagram;
+  for (const auto& element : diagram["elements"]) {
+    if (element["name"] == "plant") {
+      nlohmann::json second = element;
+      second["name"] = "plant_2";
+      two["elements"].push_back(second);
+    }
+  }
+  try {
+    SuggestAmendedDiagram(two, OneColumnEffect("mass_mismatch", {}, 31.0), "position");
+    FAIL() << "a mass was given to one of two plants";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), HasSubstr("2 plants (plant, plant_2)"));
+  }
 }
 
 // A mass over a stretch or along the travel (acceleration × position_local / position_smooth) is no product: its force
