@@ -45,6 +45,8 @@ struct EffectTraits {
   /// with c ≤ 0 is another curve of the speed standing in for the friction law's shape (−850 N·s²/m² beside a Stribeck
   /// hump where a viscosity followed the oil temperature), and the effect is dropped with a note.
   bool positive_coefficient = false;
+  /// Why the coefficient is positive, for the note that drops the effect ("it dissipates energy", "it is a mass").
+  std::string positive_because = "it dissipates energy";
   /// The regressor is built from the model output ŷ alone, which is in the output filter's band already: it is
   /// not low-passed with the motion's regressors (DiagnosisOptions::regressor_filter_hz).
   bool regressor_in_output_band = false;

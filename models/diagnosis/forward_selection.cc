@@ -43,7 +43,7 @@ bool ImplausibleCoefficient(const Candidate& c, const RegressorMatrix& m, const 
   }
   notes->push_back(fmt::format("{}{}{}{} dropped: it fits with coefficient {:.3g} where the effect itself would give {}",
                                c.effect.name, parameters.empty() ? "" : " (", parameters, parameters.empty() ? "" : ")",
-                               coefficient, traits.regressor_is_error ? "1" : "a positive one (it dissipates energy)"));
+                               coefficient, traits.regressor_is_error ? "1" : "a positive one (" + traits.positive_because + ")"));
   return true;
 }
 

@@ -57,7 +57,7 @@ const std::map<std::string, double> kTypical{{"period", 0.0025},   {"harmonics",
                                              {"no_load_speed", 0.5}, {"on_time", 1.0},     {"off_time", 3.0},
                                              {"min_breakaway", 1e-3}, {"max_breakaway", 0.02}, {"elements", 5.0},
                                              {"stroke", 0.01},     {"breakaway_force", 10.0},  {"initial_stiffness", 1e4},
-                                             {"drift_rate", 0.5}};
+                                             {"drift_rate", 0.5},  {"load_damping", 1.0},      {"load_mass", 10.0}};
 
 bool IsSnakeCase(const std::string& name) {
   return !name.empty() && std::islower(static_cast<unsigned char>(name.front())) &&

@@ -73,7 +73,7 @@ TEST(IndependentPlant, TheControllersRateAndItsVelocityEstimateFollowTheLog) {
 }
 
 TEST(IndependentPlant, EachCaseNamesACatalogueEffectAndATolerance) {
-  ASSERT_EQ(Cases().size(), 43U);
+  ASSERT_EQ(Cases().size(), 45U);
   for (const auto& c : Cases()) {
     EXPECT_EQ(c.parameter.empty(), c.tolerance == 0.0) << c.name;
     // The idle column acts on nothing: like kNone, nothing may be named.
@@ -128,7 +128,9 @@ INSTANTIATE_TEST_SUITE_P(ComparePasses, IndependentCase,
                                            // and a vibration whose frequency drifts (a fan speeding up).
                                            "hysteresis (a preloaded guide)", "drifting vibration",
                                            // The same two on the rotary axis (rad, N·m).
-                                           "rotary hysteresis", "rotary drifting vibration"),
+                                           "rotary hysteresis", "rotary drifting vibration",
+                                           // A load behind a play (issue 47), linear and rotary: the play's width.
+                                           "load behind a play", "rotary load behind a play"),
                          [](const ::testing::TestParamInfo<std::string>& case_info) {
                            std::string name;
                            for (char c : case_info.param) if (std::isalnum(static_cast<unsigned char>(c))) name += c;

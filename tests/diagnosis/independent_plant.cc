@@ -24,6 +24,7 @@ constexpr double kLoadMass = 6.0, kLoadHz = 31.7, kLoadDamping = 0.02;
 constexpr double kSpringCentre = 0.1, kSpringLinear = 30.0, kSpringCubic = 3000.0;
 constexpr double kLoadFriction = 4.0, kPlayHalfWidth = 5e-4;
 constexpr double kDriftAmplitude = 2.0;  // [N], kDriftingVibration
+constexpr double kGearLoadMass = 25.0, kGearHz = 18.0, kGearDamping = 0.15, kGearBearing = 15.0;  // kLoadBehindPlay
 constexpr double kSubStep = 1e-4;  // plant integration [s]
 constexpr double kBoucWenForce = 6.0, kBoucWenDisplacement = 3e-3;  // [N], z₀ [m]
 constexpr double kActuatorLag = 0.004;
@@ -124,7 +125,8 @@ double LinkageMassSlope(double x) {
 bool Has(Hidden h, Hidden what) {
   return h == what || (h == Hidden::kRippleAndDelay && (what == Hidden::kPositionRipple || what == Hidden::kDelay)) ||
          (h == Hidden::kRotaryHysteresis && what == Hidden::kHysteresis) ||
-         (h == Hidden::kRotaryDriftingVibration && what == Hidden::kDriftingVibration);
+         (h == Hidden::kRotaryDriftingVibration && what == Hidden::kDriftingVibration) ||
+         (h == Hidden::kRotaryLoadBehindPlay && what == Hidden::kLoadBehindPlay);
 }
 
 constexpr double kPayloadStep = 31.0, kPayloadStepTime = 8.0;
@@ -228,6 +230,15 @@ struct Load {
   double Force(double x, double v, double xl, double vl) const { return k * (x - xl) + c * (v - vl); }
 };
 
+// The gearbox shaft's force on the load (kLoadBehindPlay) [N]: nothing while the twist x − x_L is inside the play, a
+// spring on the twist beyond it and a damper on the twist rate while in contact.
+double GearShaftForce(double x, double v, double xl, double vl) {
+  const double twist = x - xl, w = kTwoPi * kGearHz;
+  if (std::abs(twist) <= kGearHalfGap) return 0.0;
+  const double k = kGearLoadMass * w * w, c = 2.0 * kGearDamping * kGearLoadMass * w;
+  return k * (twist - std::copysign(kGearHalfGap, twist)) + c * (v - vl);
+}
+
 // A jerk-limited point-to-point reference on the fine grid kSubStep, with dwell between moves.
 struct Reference {
   std::vector<double> x, v, a;
@@ -328,6 +339,12 @@ std::array<double, 4> Derivative(Hidden h, double t, const std::array<double, 4>
     resist += fl;
     d[2] = s[3];
     d[3] = fl / kLoadMass;
+  }
+  if (Has(h, Hidden::kLoadBehindPlay)) {
+    const double fl = GearShaftForce(s[0], s[1], s[2], s[3]);
+    resist += fl;
+    d[2] = s[3];
+    d[3] = (fl - kGearBearing * s[3]) / kGearLoadMass;
   }
   if (Has(h, Hidden::kBacklash)) resist += BacklashForce(s[0], Play(s[0], far), s[1]);
   double mass = Mass(h, t);
@@ -474,6 +491,11 @@ std::vector<CaseSpec> Cases() {
                    kRadPerMetre * kBoucWenDisplacement * (1.0 + std::log(5.0)), 0.25));
   c.push_back(Case("rotary drifting vibration", Hidden::kRotaryDriftingVibration, "drifting_vibration", "drift_rate",
                    kDriftRate, 0.1));
+  // Issue 47: a load behind a play, linear and rotary (the play's full width at the motor).
+  c.push_back(Case("load behind a play", Hidden::kLoadBehindPlay, "backlash_load", "backlash", 2.0 * kGearHalfGap,
+                   0.25));
+  c.push_back(Case("rotary load behind a play", Hidden::kRotaryLoadBehindPlay, "backlash_load", "backlash",
+                   2.0 * kGearHalfGap * kRadPerMetre, 0.25));
   CaseSpec stamps = Case("noisy stamps", Hidden::kPositionRipple, "position_periodic", "period", 0.006, 0.03);
   stamps.stamp_noise = 0.2;
   c.push_back(stamps);
@@ -604,6 +626,19 @@ Eigen::VectorXd CarriageForce(Hidden hidden, const Eigen::VectorXd& t, const Eig
       far = Play(x(i), far);
       f(i) += BacklashForce(x(i), far, v(i));
     }
+    if (Has(hidden, Hidden::kLoadBehindPlay)) {
+      f(i) += GearShaftForce(x(i), v(i), xl, vl);
+      if (i + 1 < n) {  // semi-implicit Euler on sub-steps, the carriage interpolated
+        const int steps = 20;
+        const double h = (t(i + 1) - t(i)) / steps;
+        for (int s = 0; s < steps; ++s) {
+          const double q = static_cast<double>(s) / steps;
+          const double xs = x(i) + q * (x(i + 1) - x(i)), vs = v(i) + q * (v(i + 1) - v(i));
+          vl += h * (GearShaftForce(xs, vs, xl, vl) - kGearBearing * vl) / kGearLoadMass;
+          xl += h * vl;
+        }
+      }
+    }
     if (Has(hidden, Hidden::kResonance)) {
       f(i) += load.Force(x(i), v(i), xl, vl);
       if (i + 1 < n) {  // semi-implicit Euler on sub-steps, the carriage interpolated
@@ -660,7 +695,8 @@ Eigen::VectorXd CarriageForce(Hidden hidden, const Eigen::VectorXd& t, const Eig
 }  // namespace
 
 bool IsRotary(Hidden hidden) {
-  return hidden == Hidden::kGravity || hidden == Hidden::kRotaryHysteresis || hidden == Hidden::kRotaryDriftingVibration;
+  return hidden == Hidden::kGravity || hidden == Hidden::kRotaryHysteresis ||
+         hidden == Hidden::kRotaryDriftingVibration || hidden == Hidden::kRotaryLoadBehindPlay;
 }
 
 bool OnlyInTheLoggedForce(Hidden hidden) { return hidden == Hidden::kDelay || hidden == Hidden::kMainsHum; }

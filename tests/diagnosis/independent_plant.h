@@ -97,7 +97,18 @@ enum class Hidden {
   kRotaryHysteresis,
   /// kDriftingVibration on the rotary axis: 0.1 N·m at 5 Hz + 0.5 Hz/s·t.
   kRotaryDriftingVibration,
+  /// A load behind a play (a gearbox or a coupling between the motor and its load, the motor's position logged):
+  /// 25 kg joined through a ±0.6 mm play by a shaft that rings at 18 Hz (ζ = 0.15) when engaged, the load's bearing
+  /// dragging 15 N·s/m. While the play is open the motor moves its own mass; then the load engages with an impact
+  /// and rings.
+  kLoadBehindPlay,
+  /// kLoadBehindPlay on the rotary axis: 0.0625 kg·m² at the motor behind a play of 24 mrad in all.
+  kRotaryLoadBehindPlay,
 };
+
+/// The play's half width between the motor and the load behind it, at the carriage [m] (kLoadBehindPlay; on the
+/// rotary axis the full gap is 2·kGearHalfGap·kRadPerMetre rad).
+inline constexpr double kGearHalfGap = 6e-4;
 
 /// The drifting vibration's frequency at t = 0 [Hz] and its rate [Hz/s] (kDriftingVibration).
 inline constexpr double kDriftStartHz = 5.0, kDriftRate = 0.5;

@@ -1,0 +1,239 @@
+// backlash_load: a load behind a play (gear backlash between a motor and its load, the motor's position logged): while
+// the play is open the motor carries its own inertia only, then the load engages with an impact and rings at the
+// shaft's mode. The drive-train benchmark's two-mass model with a dead zone (models/physics/play_coupling.h), its load
+// simulated from the logged motor motion: x_L(0) = x(0), ẍ_L = PlayLoadAcceleration(x − x_L, v − v_L, g/2, ω, ζ) −
+// β·v_L, stepped from sample to sample by AdvancePlayLoad.
+// Regressor: the shaft's force per unit load mass, its coefficient the load mass m_L [kg, kg·m² on a rotary axis]
+// {backlash g [m], frequency_hz f [Hz], damping_ratio ζ, load_damping β [1/s]}.
+// Proposal (the joint fit's output error over the four shape parameters; Propose says why in three stages): a grid of
+// g and f with a heavily damped shaft, local searches from its best points, then a lattice of f, ζ and β around
+// that and local searches again. The fit's surface is ragged (each impact's time and strength follow from the whole
+// history of the load in its play), so the shape is searched on the first kScanSamples samples, its coefficient
+// fitted on the whole record by the selection. A best gap at either end of the grid is not a play (the smallest: the
+// plain mode, which resonance models; the widest: a force along the travel). Block: backlash_load on the position and
+// velocity, the same scheme.
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <numeric>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlopt.hpp>
+#include <tbb/parallel_for.h>
+
+#include "models/diagnosis/effect_proposal.h"
+#include "models/diagnosis/effect_registry.h"
+#include "models/diagnosis/effect_regressors.h"
+#include "models/diagnosis/signal_processing.h"
+#include "models/physics/play_coupling.h"
+
+namespace mb {
+namespace {
+
+constexpr const char* kName = "backlash_load";
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+// The gap's grid, as backlash's (effects/backlash.cc): below 0.25 % of the travel a play is crossed within a few
+// samples of each reversal and the term is the plain mode.
+constexpr double kGapLow = 0.0025, kGapHigh = 0.05;
+constexpr int kGapGrid = 10, kFrequencyGrid = 16;
+constexpr double kGridDampingRatio = 0.3;    // ζ during the grid (see Propose)
+constexpr double kDefaultLoadDamping = 1.0;  // β [1/s] during the grid: a load coasting a second after a move
+constexpr double kDampingLow = 0.005, kDampingHigh = 0.7;           // ζ's bounds in the local searches
+constexpr double kLoadDampingLow = 0.01, kLoadDampingHigh = 100.0;  // β's [1/s]
+constexpr int kStarts = 3, kLocalEvaluations = 120;  // local searches from a stage's best points, each's budget
+// The share of the residual's sum of squares the grid's best must explain for the local searches to run: below it no
+// load is there (the searches are most of the proposal's cost, and a record without the load is the usual one).
+constexpr double kMinGridShare = 0.05;
+// The shape is searched on the record's first samples (its coefficient is fitted on the whole record): each trial
+// simulates the load through them, and the search runs ~1000 trials.
+constexpr Eigen::Index kScanSamples = 20000;
+
+// ẍ_L at the first n samples [m/s²]: the load behind the play simulated from the logged motor motion, starting with
+// the motor's (AdvancePlayLoad; the backlash_load block steps the same way).
+Eigen::VectorXd LoadAcceleration(const DiagnosisSignals& s, Eigen::Index n, double gap, double f_hz, double zeta,
+                                 double beta) {
+  const Eigen::VectorXd& x = s.position;
+  const Eigen::VectorXd& v = s.velocity;
+  const double w = kTwoPi * f_hz, half = 0.5 * gap;
+  Eigen::VectorXd out(n);
+  if (n == 0) return out;
+  PlayLoad load{x(0), v(0)};
+  out(0) = 0.0;
+  for (Eigen::Index i = 1; i < n; ++i) {
+    out(i) = AdvancePlayLoad(x(i - 1), v(i - 1), x(i), v(i), s.time(i) - s.time(i - 1), half, w, zeta, beta,
+                             &load);
+  }
+  return out;
+}
+
+// The shape of the load behind the play: everything but its mass.
+struct Shape {
+  double gap, frequency_hz, damping_ratio, load_damping;  // [m], [Hz], [-], [1/s]
+};
+
+// The joint fit's SSE of a shape, a pure function of it (the grid and the local searches run it concurrently).
+using ShapeCost = std::function<double(const Shape&)>;
+using Trial = std::pair<Shape, double>;  // a shape and its cost
+
+std::vector<double> LogOf(const Shape& s) {
+  return {std::log(s.gap), std::log(s.frequency_hz), std::log(s.damping_ratio), std::log(s.load_damping)};
+}
+
+Shape ShapeOfLog(const double* y) { return {std::exp(y[0]), std::exp(y[1]), std::exp(y[2]), std::exp(y[3])}; }
+
+// A local search of the four shape parameters together, in log, from `start` within [lo, hi] (Subplex,
+// derivative-free: the fit moves in steps as an impact crosses a sample; Rowan 1990, NLopt's LN_SBPLX). The fit's
+// valleys run along diagonals (a wider play met by a stiffer shaft engages at about the same time), where one
+// parameter at a time crawls.
+Trial LocalSearch(const ShapeCost& cost, const Shape& start, const Shape& lo, const Shape& hi) {
+  nlopt::opt opt(nlopt::LN_SBPLX, 4);
+  const std::vector<double> lower = LogOf(lo), upper = LogOf(hi);
+  opt.set_lower_bounds(lower);
+  opt.set_upper_bounds(upper);
+  opt.set_initial_step(std::vector<double>{0.15, 0.08, 0.3, 0.5});
+  opt.set_xtol_abs(1e-4);
+  opt.set_maxeval(kLocalEvaluations);
+  opt.set_min_objective(
+      [](unsigned, const double* y, double*, void* data) { return (*static_cast<const ShapeCost*>(data))(ShapeOfLog(y)); },
+      const_cast<ShapeCost*>(&cost));
+  std::vector<double> y = LogOf(start);
+  for (std::size_t k = 0; k < y.size(); ++k) y[k] = std::clamp(y[k], lower[k], upper[k]);
+  double best = 0.0;
+  try {
+    opt.optimize(y, best);
+  } catch (const nlopt::roundoff_limited&) {  // y holds the best point reached
+  }
+  return {ShapeOfLog(y.data()), cost(ShapeOfLog(y.data()))};
+}
+
+// Each trial's cost, concurrently.
+std::vector<Trial> Evaluate(const std::vector<Shape>& trials, const ShapeCost& cost) {
+  std::vector<Trial> out(trials.size());
+  tbb::parallel_for(std::size_t{0}, trials.size(), [&](std::size_t k) { out[k] = {trials[k], cost(trials[k])}; });
+  return out;
+}
+
+// Local searches from the kStarts best trials, concurrently; the best point found.
+Trial SearchFrom(std::vector<Trial> trials, const ShapeCost& cost, const Shape& lo, const Shape& hi) {
+  const std::size_t starts = std::min<std::size_t>(kStarts, trials.size());
+  std::partial_sort(trials.begin(), trials.begin() + static_cast<std::ptrdiff_t>(starts), trials.end(),
+                    [](const Trial& a, const Trial& b) { return a.second < b.second; });
+  std::vector<Trial> found(starts);
+  tbb::parallel_for(std::size_t{0}, starts, [&](std::size_t k) { found[k] = LocalSearch(cost, trials[k].first, lo, hi); });
+  return *std::min_element(found.begin(), found.end(), [](const Trial& a, const Trial& b) { return a.second < b.second; });
+}
+
+// Whether the shape's gap is one of its own (true), or at an end of the grid [g_lo, g_hi]: the smallest is the plain
+// two-mass mode (resonance) or the friction law at reversals, the widest a force along the travel; noted (false).
+bool IsAPlay(ProposalContext& c, const Shape& shape, double g_lo, double g_hi) {
+  if (shape.gap < 1.05 * g_lo) {
+    c.Note(fmt::format("{} not proposed: the joint fit's best play is the smallest tried ({:.3g}, {} % of the travel) "
+                       "with the load ringing at {:.4g} Hz: a load without play (resonance), not one behind a play",
+                       kName, shape.gap, 100.0 * kGapLow, shape.frequency_hz));
+    return false;
+  }
+  if (shape.gap > 0.95 * g_hi) {
+    c.Note(fmt::format("{} not proposed: the joint fit's best play is the widest tried ({:.3g}, {} % of the travel): "
+                       "a force that changes along the travel rather than a load engaging after each reversal",
+                       kName, shape.gap, 100.0 * kGapHigh));
+    return false;
+  }
+  return true;
+}
+
+void Propose(ProposalContext& c) {
+  if (!(c.max_speed() > 0.0) || !(c.position_span() > 0.0)) return;
+  const DiagnosisSignals& s = c.signals();
+  const double ts = c.sample_period();
+  const double bin = 1.0 / (static_cast<double>(std::min(c.options().welch_segment, c.size())) * ts);
+  const double f_lo = 4.0 * bin;
+  const double f_hi = c.options().band_limit_hz > 0.0 ? 0.5 * c.options().band_limit_hz : 0.125 / ts;
+  const double g_lo = kGapLow * c.position_span(), g_hi = kGapHigh * c.position_span();
+  if (!(f_lo < f_hi)) return;
+  // In simulation mode the loop's response is of the whole record: the scan runs on all of it.
+  const Eigen::Index n = c.loop() != nullptr ? c.size() : std::min<Eigen::Index>(c.size(), kScanSamples);
+  const Eigen::MatrixXd base = c.BaseWithConstant().topRows(n);
+  const Eigen::VectorXd residual = c.residual().head(n);
+  const JointFitResidual joint_fit(base, residual, c.loop());
+  const ShapeCost cost = [&](const Shape& k) {
+    return joint_fit(Eigen::MatrixXd(LoadAcceleration(s, n, k.gap, k.frequency_hz, k.damping_ratio, k.load_damping)));
+  };
+  const Shape lo{0.5 * g_lo, f_lo, kDampingLow, kLoadDampingLow}, hi{g_hi, f_hi, kDampingHigh, kLoadDampingHigh};
+  // 1. The grid of g and f with a heavily damped shaft, and local searches from its best points. A lightly damped
+  //    ring puts each trial in or out of phase with the record's and the fit's surface is ragged; damped, it has a
+  //    valley along the diagonal of g and f, and the gap comes out within a few per cent of the play.
+  std::vector<Shape> grid;
+  for (double gap : LogSpaced(g_lo, g_hi, kGapGrid)) {
+    for (double f : LogSpaced(f_lo, f_hi, kFrequencyGrid)) grid.push_back({gap, f, kGridDampingRatio, kDefaultLoadDamping});
+  }
+  const std::vector<Trial> on_grid = Evaluate(grid, cost);
+  const Trial grid_best =
+      *std::min_element(on_grid.begin(), on_grid.end(), [](const Trial& a, const Trial& b) { return a.second < b.second; });
+  const double residual_sse = residual.squaredNorm();
+  if (!(grid_best.second < (1.0 - kMinGridShare) * residual_sse)) {
+    c.Note(fmt::format("{} not proposed: a load behind a play explains {:.1f} % of the residual (under {:.0f} %) on "
+                       "the grid of its play and mode", kName, 100.0 * (1.0 - grid_best.second / residual_sse),
+                       100.0 * kMinGridShare));
+    return;
+  }
+  if (!IsAPlay(c, grid_best.first, g_lo, g_hi)) return;
+  const Trial coarse = SearchFrom(on_grid, cost, lo, hi);
+  // 2. The ring: a lattice of f (±20 % in 2.5 % steps), ζ and β around that fit, its gap kept, then local searches.
+  //    A lightly damped ring's fit is a narrow valley: 2 % off in f triples its error on the independent gearbox.
+  std::vector<Shape> lattice;
+  for (double qf = 0.85; qf < 1.24; qf *= 1.025) {
+    for (double zeta : {0.06, 0.1, 0.15, 0.22}) {
+      for (double qb : {0.5, 1.0, 2.0}) {
+        lattice.push_back({coarse.first.gap, std::clamp(coarse.first.frequency_hz * qf, f_lo, f_hi), zeta,
+                           std::clamp(coarse.first.load_damping * qb, kLoadDampingLow, kLoadDampingHigh)});
+      }
+    }
+  }
+  const Trial ring = SearchFrom(Evaluate(lattice, cost), cost, lo, hi);
+  const Shape best = ring.second < coarse.second ? ring.first : coarse.first;
+  if (!IsAPlay(c, best, g_lo, g_hi)) return;
+  c.Propose(kName, {{"backlash", best.gap},
+                    {"frequency_hz", best.frequency_hz},
+                    {"damping_ratio", best.damping_ratio},
+                    {"load_damping", best.load_damping}});
+}
+
+EffectType BacklashLoad() {
+  EffectType t;
+  t.name = kName;
+  t.catalogue_order = 101;
+  t.physics = "a load behind a play (gear backlash between the motor and its load): after each reversal the motor "
+              "moves its own inertia across the gap, then the load engages with an impact and rings at the shaft's "
+              "mode; add a backlash_load block on the position and velocity";
+  t.regressor_formula = "ẍ_L of the load behind the play, simulated from the measured x, v";
+  t.parameters = {{"backlash", "m", "g: the play's full width between motor and load"},
+                  {"frequency_hz", "Hz", "f: the engaged shaft's mode, √(k/m_L)/2π"},
+                  {"damping_ratio", "", "ζ: the engaged shaft's damping ratio"},
+                  {"load_damping", "1/s", "β = b_L/m_L: the load's own viscous friction per unit mass"},
+                  {"load_mass", "kg", "m_L: the load's mass (its inertia on a rotary axis), the fitted coefficient"}};
+  t.traits.coefficient_parameter = "load_mass";
+  t.traits.positive_coefficient = true;
+  t.traits.positive_because = "it is the load's mass";
+  t.regressors = [](const EffectInstance& e, const DiagnosisSignals& s) {
+    const double f = PositiveParameter(e, "frequency_hz");
+    const double gap = RequiredParameter(e, "backlash");
+    if (!(gap >= 0.0)) {
+      throw std::invalid_argument(fmt::format("effect '{}': backlash = {} must be >= 0", e.name, gap));
+    }
+    EffectRegressors out;
+    out.columns = LoadAcceleration(s, s.size(), gap, f, PositiveParameter(e, "damping_ratio"),
+                                   RequiredParameter(e, "load_damping"));
+    out.column_names = {e.name + ".load_mass"};
+    return out;
+  };
+  t.propose = Propose;
+  return t;
+}
+
+}  // namespace
+}  // namespace mb
+
+MB_REGISTER_EFFECT(backlash_load, mb::BacklashLoad())

@@ -1,0 +1,86 @@
+#pragma once
+// A load behind a play: the drive-train benchmark's two-mass model with backlash (Nordin & Gutman, "Controlling
+// mechanical systems with backlash — a survey", Automatica 38, 2002, §2: the dead-zone model). The motor and the load
+// are joined by a shaft of stiffness k and damping c through a play of full width g; while the play is open the shaft
+// carries nothing and the motor moves its own inertia only, once it is taken up the load follows with a ring at
+// ω = √(k/m_L):
+//   δ = x_motor − x_load,  dz(δ) = sign(δ)·max(|δ| − g/2, 0),
+//   ẍ_load = ω²·dz(δ) + 2ζω·δ̇·[|δ| > g/2] − β·ẋ_load,   the force on the motor f = m_L·(ẍ_load + β·ẋ_load),
+// β = b_L/m_L the load's own viscous friction (its bearings) per unit mass: what settles the load inside the play
+// while the motor dwells, and so where it meets the next impact.
+// The load is simulated from the motor's motion sampled at its instants (AdvancePlayLoad): the same scheme in the
+// backlash_load block (blocks/backlash_load.h) and the diagnosis' effect backlash_load
+// (models/diagnosis/effects/backlash_load.cc), so the suggested block adds what the diagnosis fitted.
+// Header-only, allocation-free, throws nothing.
+
+#include <algorithm>
+#include <cmath>
+
+namespace mb {
+
+/// The play's dead zone: dz(δ) = sign(δ)·max(|δ| − half_gap, 0) [the unit of δ]; half_gap ≥ 0.
+inline double DeadZone(double delta, double half_gap) noexcept {
+  if (delta > half_gap) return delta - half_gap;
+  if (delta < -half_gap) return delta + half_gap;
+  return 0.0;
+}
+
+/// The shaft's force on the load per unit load mass [m/s² or rad/s²] for the twist δ = x_motor − x_load and its rate
+/// δ̇, the play of half width half_gap ≥ 0 (0: the plain two-mass model), ω = 2π f_r [rad/s] of the engaged shaft and
+/// its damping ratio ζ. The damper acts only while the play is taken up (no contact, no force).
+inline double PlayLoadAcceleration(double delta, double delta_rate, double half_gap, double omega,
+                                   double zeta) noexcept {
+  const double twist = DeadZone(delta, half_gap);
+  const bool engaged = std::abs(delta) > half_gap;
+  return omega * omega * twist + (engaged ? 2.0 * zeta * omega * delta_rate : 0.0);
+}
+
+/// The load's position and velocity [m, m/s or rad, rad/s].
+struct PlayLoad {
+  double x = 0.0, v = 0.0;
+};
+
+/// The motor's position and velocity at the fraction q ∈ [0, 1] of a step of dt [s] from (x0, v0) to (x1, v1): the
+/// cubic Hermite interpolant, which meets both ends' positions and velocities (a straight line between the positions
+/// lies inside the curve by a·dt²/8, and the load's twist, a/ω², is that small: at ω = 2π·50 Hz and 1 kHz it was 0.8 %
+/// of the force).
+inline void HermiteMotor(double x0, double v0, double x1, double v1, double dt, double q, double* x,
+                         double* v) noexcept {
+  const double q2 = q * q, q3 = q2 * q;
+  *x = (2.0 * q3 - 3.0 * q2 + 1.0) * x0 + (q3 - 2.0 * q2 + q) * dt * v0 + (3.0 * q2 - 2.0 * q3) * x1 +
+       (q3 - q2) * dt * v1;
+  *v = (6.0 * (q2 - q) * (x0 - x1)) / dt + (3.0 * q2 - 4.0 * q + 1.0) * v0 + (3.0 * q2 - 2.0 * q) * v1;
+}
+
+/// Advances the load over dt [s] while the motor moves from (x0, v0) to (x1, v1) (HermiteMotor between them): the
+/// classical Runge–Kutta method on n sub-steps with ω·dt/n ≤ 0.1, n at most 10 000 (semi-implicit Euler at ω·dt/n ≤
+/// 0.02 put the load behind the motor by v·dt/(2n), 100 % of a stiff shaft's force at the speed's peak in the block's
+/// test). β = load_damping [1/s] ≥ 0 the load's own viscous friction per unit mass. Returns the shaft's force on the
+/// load per unit load mass at the end (PlayLoadAcceleration at (x1, v1)): the force on the motor divided by m_L.
+inline double AdvancePlayLoad(double x0, double v0, double x1, double v1, double dt, double half_gap, double omega,
+                              double zeta, double load_damping, PlayLoad* load) noexcept {
+  constexpr double kMaxPhasePerStep = 0.1;
+  constexpr int kMaxSubSteps = 10000;
+  const double steps = std::clamp(std::ceil(omega * dt / kMaxPhasePerStep), 1.0, static_cast<double>(kMaxSubSteps));
+  const int n = static_cast<int>(steps);
+  const double h = dt / steps;
+  // ẍ_L at the fraction q of the step with the load at (xl, vl).
+  auto acceleration = [&](double q, double xl, double vl) {
+    double xm = 0.0, vm = 0.0;
+    HermiteMotor(x0, v0, x1, v1, dt, q, &xm, &vm);
+    return PlayLoadAcceleration(xm - xl, vm - vl, half_gap, omega, zeta) - load_damping * vl;
+  };
+  for (int j = 0; j < n; ++j) {
+    const double qa = j / steps, qb = (j + 0.5) / steps, qc = (j + 1.0) / steps;
+    const double x = load->x, v = load->v;
+    const double a1 = acceleration(qa, x, v);
+    const double a2 = acceleration(qb, x + 0.5 * h * v, v + 0.5 * h * a1);
+    const double a3 = acceleration(qb, x + 0.5 * h * (v + 0.5 * h * a1), v + 0.5 * h * a2);
+    const double a4 = acceleration(qc, x + h * (v + 0.5 * h * a2), v + h * a3);
+    load->x = x + h / 6.0 * (v + 2.0 * (v + 0.5 * h * a1) + 2.0 * (v + 0.5 * h * a2) + (v + h * a3));
+    load->v = v + h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
+  }
+  return PlayLoadAcceleration(x1 - load->x, v1 - load->v, half_gap, omega, zeta);
+}
+
+}  // namespace mb
