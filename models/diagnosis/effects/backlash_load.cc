@@ -38,7 +38,7 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 // The gap's grid, as backlash's (effects/backlash.cc): below 0.25 % of the travel a play is crossed within a few
 // samples of each reversal and the term is the plain mode.
 constexpr double kGapLow = 0.0025, kGapHigh = 0.05;
-constexpr int kGapGrid = 10, kFrequencyGrid = 16;
+constexpr int kGapGrid = 8, kFrequencyGrid = 12;
 constexpr double kGridDampingRatio = 0.3;    // ζ during the grid (see Propose)
 constexpr double kDefaultLoadDamping = 1.0;  // β [1/s] during the grid: a load coasting a second after a move
 constexpr double kDampingLow = 0.005, kDampingHigh = 0.7;           // ζ's bounds in the local searches
