@@ -306,7 +306,8 @@ JointFitResidual::JointFitResidual(const Eigen::MatrixXd& base, const Eigen::Mat
     : base_(base), r_(r), base_gram_(base_gram), base_moment_(base.transpose() * r), r_squared_(r.squaredNorm()),
       loop_(loop) {}
 
-double JointFitResidual::operator()(const Eigen::Ref<const Eigen::MatrixXd>& forces) const {
+double JointFitResidual::operator()(const Eigen::Ref<const Eigen::MatrixXd>& forces,
+                                     Eigen::VectorXd* extra_coefficients) const {
   // Simulation mode: the candidate forces as the compared output sees them through the closed loop.
   Eigen::MatrixXd through_loop;
   if (loop_ != nullptr) through_loop = loop_->Apply(forces);
@@ -326,6 +327,7 @@ double JointFitResidual::operator()(const Eigen::Ref<const Eigen::MatrixXd>& for
   Eigen::MatrixXd ridged = scaled;
   ridged.diagonal().array() += 1e-10;
   const Eigen::VectorXd beta = ridged.ldlt().solve(scaled_moment);
+  if (extra_coefficients != nullptr) *extra_coefficients = beta.tail(k).cwiseProduct(scale.tail(k));
   return std::max(0.0, r_squared_ - 2.0 * beta.dot(scaled_moment) + beta.dot(scaled * beta));
 }
 

@@ -123,7 +123,9 @@ class JointFitResidual {
   /// The same with BᵀB given (p × p, formed as base.transpose() * base): for a scan whose r changes but not B.
   JointFitResidual(const Eigen::MatrixXd& base, const Eigen::MatrixXd& base_gram, const Eigen::VectorXd& r,
                    const LoopResponse* loop = nullptr);
-  double operator()(const Eigen::Ref<const Eigen::MatrixXd>& extra) const;
+  /// The residual sum of squares of r on [base, extra]; extra_coefficients (optional): extra's coefficients in that
+  /// fit (k, in the unit of r per unit of each column).
+  double operator()(const Eigen::Ref<const Eigen::MatrixXd>& extra, Eigen::VectorXd* extra_coefficients = nullptr) const;
 
  private:
   const Eigen::MatrixXd& base_;

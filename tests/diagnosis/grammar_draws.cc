@@ -217,9 +217,23 @@ RunContext MakeContext(const GrammarDraw& d, Run run) {
   return c;
 }
 
+// What the effects with memory carry along the motion (Simulate and EffectForce): the hysteresis element's state
+// z ∈ [−1, 1], the load behind the play's position and velocity.
+struct Memory {
+  double z = 0.0, load_x = 0.0, load_v = 0.0;
+};
+
+// The shaft's force on the load behind the play per unit of the load's mass [m/s² or rad/s²] with the motor at (x, v):
+// nothing inside the play, a spring on the twist beyond it and a damper on its rate while in contact.
+double PlayShaft(const Shape& s, double x, double v, const Memory& m) {
+  const double twist = x - m.load_x, half = 0.5 * s.gap, w = kTwoPi * s.load_hz;
+  if (std::abs(twist) <= half) return 0.0;
+  return w * w * (twist - std::copysign(half, twist)) + 2.0 * s.load_zeta * w * (v - m.load_v);
+}
+
 // The modulator's value at (t, x) and its derivative in x (for a mass along the position's ½M′(x)·v²).
-// `memory`: the hysteresis element's state z ∈ [−1, 1] (Simulate and EffectForce carry it along the motion).
-std::pair<double, double> Modulator(const GrammarDraw& d, const RunContext& c, double t, double x, double memory = 0.0) {
+std::pair<double, double> Modulator(const GrammarDraw& d, const RunContext& c, double t, double x, double v = 0.0,
+                                    const Memory& memory = {}) {
   const Shape& s = d.shape;
   const std::string& m = d.modulator;
   if (m == "constant") return {1.0, 0.0};
@@ -252,7 +266,8 @@ std::pair<double, double> Modulator(const GrammarDraw& d, const RunContext& c, d
   if (m == "time_chirp") {
     return {std::sin(kTwoPi * (s.frequency_hz * t + 0.5 * s.drift_rate * t * t) + s.phase), 0.0};
   }
-  if (m == "hysteresis") return {memory, 0.0};
+  if (m == "hysteresis") return {memory.z, 0.0};
+  if (m == "play_load") return {PlayShaft(s, x, v, memory), 0.0};
   throw std::logic_error("grammar_draws: unknown modulator " + m);
 }
 
@@ -271,9 +286,9 @@ struct EffectTerms {
 };
 
 EffectTerms Effect(const GrammarDraw& d, const RunContext& c, double t, double x, double v, double u,
-                   double memory = 0.0) {
+                   const Memory& memory = {}) {
   if (d.noise_only || d.amplitude == 0.0) return {};
-  const auto [mod, slope] = Modulator(d, c, t, x, memory);
+  const auto [mod, slope] = Modulator(d, c, t, x, v, memory);
   const double gain = d.amplitude * ThirdFactor(d, c, t);
   const std::string& m = d.multiplier;
   const double slip = d.shape.slip_velocity > 0.0 ? std::tanh(v / d.shape.slip_velocity) : 0.0;
@@ -344,9 +359,15 @@ double DahlStep(const GrammarDraw& d, double z, double dx) {
   return target - (target - z) * std::exp(-std::abs(dx) * std::log(10.0) / d.shape.stroke);
 }
 
-// The body's acceleration at (t, x, v) under the held command u, the hysteresis element at `memory`.
+// The load behind the play's acceleration with the motor at (x, v) (0 for any other draw).
+double LoadAcceleration(const GrammarDraw& d, double x, double v, const Memory& m) {
+  if (d.modulator != "play_load") return 0.0;
+  return PlayShaft(d.shape, x, v, m) - d.shape.load_damping * m.load_v;
+}
+
+// The body's acceleration at (t, x, v) under the held command u, with the effects' memory.
 double Acceleration(const GrammarDraw& d, const RunContext& c, bool with_effect, double t, double x, double v,
-                    double u, double memory = 0.0) {
+                    double u, const Memory& memory = {}) {
   const Plant& p = d.plant;
   const double base = p.viscous * v + p.coulomb * std::tanh(v / p.coulomb_velocity) + p.offset;
   const EffectTerms e = with_effect ? Effect(d, c, t, x, v, u, memory) : EffectTerms{};
@@ -547,13 +568,28 @@ void DrawShape(Rng& rng, GrammarDraw* d) {
   if (IsColumn(m)) d->active_column = DrawActiveColumn(rng);
 }
 
-// An effect with memory: half the draws hysteresis over a stroke of 1–6 % of the travel (log-uniform), half a
-// multiplier (uniform) × a vibration whose frequency drifts by a factor 1.5–3 over the record, up or down, within the
-// band time_periodic draws from (away from the motion's harmonics).
+// An effect with memory, a third of the draws each: hysteresis over a stroke of 1–6 % of the travel (log-uniform); a
+// load behind a play of 0.5–3 % of the travel, its shaft's mode 5 Hz … a tenth of the sample rate (at most 60 Hz), ζ
+// 0.05–0.3, its bearing 0.5–20 /s; or a multiplier (uniform) × a vibration whose frequency drifts by a factor 1.5–3
+// over the record, up or down, within the band time_periodic draws from (away from the motion's harmonics).
 void DrawMemoryEffect(Rng& rng, GrammarDraw* d) {
   Shape& s = d->shape;
   s.slip_velocity = std::max(d->plant.coulomb_velocity, LogUniform(rng, 0.001, 0.01) * d->top_speed);
-  if (Chance(rng, 0.5)) {
+  const int kind = Index(rng, 3);
+  if (kind == 1) {
+    d->multiplier = "one";
+    d->modulator = "play_load";
+    d->effect = "backlash_load";
+    s.gap = LogUniform(rng, 0.005, 0.03) * d->travel();
+    s.load_hz = LogUniform(rng, 5.0, std::min(60.0, 0.1 * d->sample_rate));
+    s.load_zeta = Uniform(rng, 0.05, 0.3);
+    s.load_damping = LogUniform(rng, 0.5, 20.0);
+    d->key_parameter = "backlash";
+    d->key_value = s.gap;
+    d->key_tolerance = 0.25 * s.gap;
+    return;
+  }
+  if (kind == 0) {
     d->multiplier = "one";
     d->modulator = "hysteresis";
     d->effect = "hysteresis";
@@ -587,6 +623,7 @@ double DrawSign(Rng& rng, const GrammarDraw& d) {
                           (d.modulator == "position_smooth" && d.shape.smooth_kind != 0);
   if (dissipative && one_signed) return 1.0;
   if (d.modulator == "hysteresis") return 1.0;  // a Dahl element resists the motion
+  if (d.modulator == "play_load") return 1.0;   // a mass
   return Chance(rng, 0.5) ? 1.0 : -1.0;
 }
 
@@ -613,12 +650,14 @@ std::pair<double, double> LimitedAmplitude(GrammarDraw* d, double sign) {
   double peak = 0.0;    // of the unit effect's mass or force-constant share
   double lowest = 0.0;  // of the signed unit modulator: where a friction of the plant's own law is lowered most
   for (Eigen::Index i = 0; i < twin.time.size(); ++i) {
-    const double mod = Modulator(*d, c, twin.time(i), twin.true_position(i)).first * ThirdFactor(*d, c, twin.time(i));
+    const double mod = Modulator(*d, c, twin.time(i), twin.true_position(i), twin.velocity(i)).first *
+                       ThirdFactor(*d, c, twin.time(i));
     if (d->multiplier == "acceleration" || d->multiplier == "model_force") peak = std::max(peak, std::abs(mod));
     if (d->multiplier == "model_force_abs") peak = std::max(peak, std::abs(mod * twin.command(i)));
     lowest = std::min(lowest, sign * mod);
   }
   if (d->multiplier == "acceleration") amplitude = std::min(amplitude, 0.4 * d->plant.mass / peak);
+  if (d->modulator == "play_load") amplitude = std::min(amplitude, d->plant.mass);  // a load at most the motor's mass
   if (d->multiplier == "model_force" || d->multiplier == "model_force_abs") amplitude = std::min(amplitude, 0.3 / peak);
   // A Coulomb level or a viscous coefficient that changes keeps at least 10 % of the plant's own: a friction that turns
   // negative (pushing along the motion) is no machine, and the model's friction block, bounded at 0, cannot follow it
@@ -732,7 +771,7 @@ Record Simulate(const GrammarDraw& d, Run run, bool with_effect) {
   const bool effect = with_effect && !d.noise_only;
   const std::array<double, 3> start = reference.At(0.0);
   double x = start[0], v = start[1];
-  double z = 0.0;  // the hysteresis element's state (DahlStep)
+  Memory memory{0.0, x, v};  // the hysteresis element relaxed, the load centred in its play
   const auto quantise = [&](double q) { return std::floor(q / d.encoder_step) * d.encoder_step; };
   Controller controller(d);
   controller.Start(quantise(x), v);
@@ -748,26 +787,34 @@ Record Simulate(const GrammarDraw& d, Run run, bool with_effect) {
     r.true_position(k) = x;
     r.velocity(k) = v;
     r.reference(k) = ref[0];
-    const EffectTerms e = effect ? Effect(d, context, t, x, v, u, z) : EffectTerms{};
-    r.acceleration(k) = Acceleration(d, context, effect, t, x, v, u, z);
+    const EffectTerms e = effect ? Effect(d, context, t, x, v, u, memory) : EffectTerms{};
+    r.acceleration(k) = Acceleration(d, context, effect, t, x, v, u, memory);
     r.effect_force(k) = e.mass * r.acceleration(k) + e.force;
     std::size_t j = 0;
     for (const auto& [column, signal] : logged) {
       if (signal->present()) r.columns[j++](k) = signal->Value(t);
     }
-    for (int i = 0; i < sub; ++i) {  // RK4 on the sub-step, the command held
+    for (int i = 0; i < sub; ++i) {  // RK4 on the sub-step of the body and the load, the command held
       const double s = t + i * h;
-      const auto f = [&](double tt, double xx, double vv) {
-        return std::array<double, 2>{vv, Acceleration(d, context, effect, tt, xx, vv, u, z)};
+      using State = std::array<double, 4>;  // x, v, the load's x and v
+      const auto f = [&](double tt, const State& q) {
+        const Memory m{memory.z, q[2], q[3]};
+        return State{q[1], Acceleration(d, context, effect, tt, q[0], q[1], u, m), q[3],
+                     effect ? LoadAcceleration(d, q[0], q[1], m) : 0.0};
       };
-      const auto k1 = f(s, x, v);
-      const auto k2 = f(s + 0.5 * h, x + 0.5 * h * k1[0], v + 0.5 * h * k1[1]);
-      const auto k3 = f(s + 0.5 * h, x + 0.5 * h * k2[0], v + 0.5 * h * k2[1]);
-      const auto k4 = f(s + h, x + h * k3[0], v + h * k3[1]);
-      const double step = h / 6.0 * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0]);
-      x += step;
-      z = DahlStep(d, z, step);  // held over the sub-step, as the command is
-      v += h / 6.0 * (k1[1] + 2.0 * k2[1] + 2.0 * k3[1] + k4[1]);
+      const auto add = [](const State& a, const State& b, double w) {
+        return State{a[0] + w * b[0], a[1] + w * b[1], a[2] + w * b[2], a[3] + w * b[3]};
+      };
+      const State q{x, v, memory.load_x, memory.load_v};
+      const State k1 = f(s, q), k2 = f(s + 0.5 * h, add(q, k1, 0.5 * h)), k3 = f(s + 0.5 * h, add(q, k2, 0.5 * h));
+      const State k4 = f(s + h, add(q, k3, h));
+      State next = q;
+      for (std::size_t j = 0; j < next.size(); ++j) next[j] += h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
+      memory.z = DahlStep(d, memory.z, next[0] - x);  // held over the sub-step, as the command is
+      x = next[0];
+      v = next[1];
+      memory.load_x = next[2];
+      memory.load_v = next[3];
     }
   }
   return r;
@@ -778,10 +825,37 @@ Eigen::VectorXd EffectForce(const GrammarDraw& d, Run run, const Eigen::VectorXd
                             const Eigen::VectorXd& command) {
   const RunContext c = MakeContext(d, run);
   Eigen::VectorXd f(time.size());
-  double z = 0.0;  // the hysteresis element's state along the positions (DahlStep)
+  if (time.size() == 0) return f;
+  // The hysteresis element along the positions (DahlStep); the load behind the play from the motor's motion, RK4 on
+  // sub-steps of at most kSubStep with the motor between the samples on a straight line.
+  Memory memory{0.0, position(0), velocity(0)};
   for (Eigen::Index i = 0; i < time.size(); ++i) {
-    if (i > 0) z = DahlStep(d, z, position(i) - position(i - 1));
-    const EffectTerms e = Effect(d, c, time(i), position(i), velocity(i), command(i), z);
+    if (i > 0) {
+      memory.z = DahlStep(d, memory.z, position(i) - position(i - 1));
+      if (d.modulator == "play_load") {
+        const double dt = time(i) - time(i - 1);
+        const int sub = std::max(1, static_cast<int>(std::ceil(dt / kSubStep - 1e-9)));
+        const double h = dt / sub;
+        const auto motor = [&](double q) {
+          return std::pair{position(i - 1) + q * (position(i) - position(i - 1)),
+                           velocity(i - 1) + q * (velocity(i) - velocity(i - 1))};
+        };
+        const auto load = [&](double q, double lx, double lv) {
+          const auto [mx, mv] = motor(q);
+          return LoadAcceleration(d, mx, mv, Memory{0.0, lx, lv});
+        };
+        for (int j = 0; j < sub; ++j) {
+          const double qa = static_cast<double>(j) / sub, qb = (j + 0.5) / sub, qc = (j + 1.0) / sub;
+          const double lx = memory.load_x, lv = memory.load_v;
+          const double a1 = load(qa, lx, lv), a2 = load(qb, lx + 0.5 * h * lv, lv + 0.5 * h * a1);
+          const double a3 = load(qb, lx + 0.5 * h * (lv + 0.5 * h * a1), lv + 0.5 * h * a2);
+          const double a4 = load(qc, lx + h * (lv + 0.5 * h * a2), lv + h * a3);
+          memory.load_x += h / 6.0 * (lv + 2.0 * (lv + 0.5 * h * a1) + 2.0 * (lv + 0.5 * h * a2) + (lv + h * a3));
+          memory.load_v += h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
+        }
+      }
+    }
+    const EffectTerms e = Effect(d, c, time(i), position(i), velocity(i), command(i), memory);
     f(i) = e.mass * acceleration(i) + e.force;
   }
   return f;
@@ -842,6 +916,11 @@ std::string GrammarDraw::Describe() const {
                 rotary ? "rotary" : "linear", sample_rate, duration,
                 trajectory == Trajectory::kSweep ? "sweep" : "point to point", integral_action ? "PID" : "PD");
   text += numbers;
+  if (modulator == "play_load") {
+    std::snprintf(numbers, sizeof numbers, ", load %.3g at %.3g Hz, ζ %.2f, bearing %.2g /s", amplitude, shape.load_hz,
+                  shape.load_zeta, shape.load_damping);
+    text += numbers;
+  }
   if (noise_scale < 1.0) {
     std::snprintf(numbers, sizeof numbers, ", sensing ×%.2g", noise_scale);
     text += numbers;

@@ -49,8 +49,9 @@ namespace mb::grammar {
 
 /// Seeds from here on are noise-only draws (no effect).
 inline constexpr unsigned kNoiseOnlySeedBase = 1'000'000;
-/// Seeds from here draw an effect with memory (issue 47, item 5): hysteresis over a drawn stroke (1–6 % of the travel)
-/// or a vibration whose frequency drifts (by a factor 1.5–3 over the record, up or down), with their own physics.
+/// Seeds from here draw an effect with memory (issue 47, item 5): hysteresis over a drawn stroke (1–6 % of the travel),
+/// a load behind a play (0.5–3 % of the travel) or a vibration whose frequency drifts (by a factor 1.5–3 over the
+/// record, up or down), with their own physics.
 inline constexpr unsigned kMemorySeedBase = 2'000'000;
 
 /// The multiplier ids (what the effect's force is proportional to) and the modulator ids (what it varies with), as
@@ -123,6 +124,10 @@ struct Shape {
   // force makes 90 % of its swing over `stroke` [m or rad], whatever the speed (Dahl 1968; not the diagnosis' stop
   // operators)
   double stroke = 0.0;
+  // play_load: a load behind a play of full width `gap` [m or rad], joined when engaged by a shaft of mode load_hz [Hz]
+  // and damping ratio load_zeta, its bearing dragging load_damping [1/s] per unit of its mass (the amplitude is the
+  // load's mass); the generator's own two-mass model with a dead zone (Nordin & Gutman 2002)
+  double gap = 0.0, load_hz = 0.0, load_zeta = 0.0, load_damping = 0.0;
   // slip and load_slip multipliers: tanh(v/slip_velocity)
   double slip_velocity = 0.0;
 };
@@ -132,8 +137,9 @@ struct GrammarDraw {
   unsigned seed = 0;
   bool noise_only = false;
   std::string multiplier, modulator;  ///< ids (MultiplierIds, ModulatorIds); "" for a noise-only draw
-  /// A draw with memory (seeds from kMemorySeedBase): hysteresis ("one" × "hysteresis", judged by the effect's name
-  /// `effect`) or a vibration of drifting frequency (a multiplier × "time_chirp", a pair of the grammar).
+  /// A draw with memory (seeds from kMemorySeedBase): hysteresis ("one" × "hysteresis") or a load behind a play ("one" ×
+  /// "play_load"), each judged by the effect's name `effect`, or a vibration of drifting frequency (a multiplier ×
+  /// "time_chirp", a pair of the grammar).
   bool memory = false;
   std::string effect;
   Shape shape;

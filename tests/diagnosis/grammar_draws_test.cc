@@ -89,11 +89,39 @@ TEST(GrammarDraws, AHysteresisDrawMakesNinetyPercentOfItsSwingOverItsStroke) {
   EXPECT_GE(std::max(ratio, 1.0 / ratio), 1.5 - 1e-9) << "f₀ " << v.shape.frequency_hz << " Hz";
 }
 
-// Two draws with memory through compare: hysteresis named with its stroke, a damping vibrating at a drifting
-// frequency with its rate (`bench_grammar --memory=60` runs sixty).
-TEST(GrammarDraws, HysteresisAndADriftingVibrationAreNamedWithTheirParameters) {
+// A load behind a play: while the motor stays within half the play of where the load sits (centred at the start),
+// nothing touches it and the effect is 0; once the motor has crossed it, the shaft pushes the load (a positive force,
+// the load's mass times its acceleration; after the impact the load may bounce ahead into the play again).
+TEST(GrammarDraws, ALoadBehindAPlayIsTouchedOnlyOnceThePlayIsCrossed) {
+  unsigned seed = kMemorySeedBase + 1;
+  GrammarDraw d = Draw(seed);
+  while (d.effect != "backlash_load") d = Draw(++seed);
+  EXPECT_EQ(d.pair(), "backlash_load");
+  EXPECT_EQ(d.key_parameter, "backlash");
+  EXPECT_GT(d.amplitude, 0.0) << "a mass";
+  // The motor ramps at constant speed from rest: it reaches half the play at t = g/(2·speed).
+  const double speed = 0.1 * d.travel(), half = 0.5 * d.shape.gap, dt = 1e-4;
+  const Eigen::Index n = static_cast<Eigen::Index>(std::ceil(4.0 * half / speed / dt));
+  Eigen::VectorXd t(n), x(n), v(n), zero = Eigen::VectorXd::Zero(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    t(i) = static_cast<double>(i) * dt;
+    x(i) = speed * t(i);
+    v(i) = speed;
+  }
+  v(0) = 0.0;  // the load starts at rest with the motor, centred in the play
+  const Eigen::VectorXd f = EffectForce(d, Run::kTraining, t, x, v, zero, zero);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (x(i) < 0.99 * half) EXPECT_EQ(f(i), 0.0) << "t = " << t(i);
+  }
+  EXPECT_GT(f.maxCoeff(), 0.0) << "the play crossed: the shaft pushes the load";
+}
+
+// Four draws with memory through compare: hysteresis named with its stroke, a friction vibrating at a drifting
+// frequency with its rate, a load behind a play (linear and rotary) with its play (`bench_grammar --memory=60` runs
+// sixty).
+TEST(GrammarDraws, HysteresisADriftingVibrationAndALoadBehindAPlayAreNamedWithTheirParameters) {
   const std::filesystem::path folder = std::filesystem::temp_directory_path() / "mb_grammar_memory_test";
-  for (unsigned seed : {kMemorySeedBase + 5, kMemorySeedBase + 1}) {
+  for (unsigned seed : {kMemorySeedBase + 5, kMemorySeedBase + 10, kMemorySeedBase + 1, kMemorySeedBase + 12}) {
     const GrammarDraw draw = Draw(seed);
     const DrawResult r = RunDraw(draw, folder / std::to_string(seed), false);
     EXPECT_TRUE(r.named_right) << draw.Describe() << " -> " << r.named_pair;

@@ -38,9 +38,10 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 // The gap's grid, as backlash's (effects/backlash.cc): below 0.25 % of the travel a play is crossed within a few
 // samples of each reversal and the term is the plain mode.
 constexpr double kGapLow = 0.0025, kGapHigh = 0.05;
-constexpr int kGapGrid = 8, kFrequencyGrid = 12;
-constexpr double kGridDampingRatio = 0.3;    // ζ during the grid (see Propose)
-constexpr double kDefaultLoadDamping = 1.0;  // β [1/s] during the grid: a load coasting a second after a move
+constexpr int kGapGrid = 10, kLoadDampingGrid = 8, kFrequencyGrid = 8;
+constexpr double kGridDampingRatio = 0.2;                              // ζ during the grid (see Propose)
+constexpr double kLoadDampingGridLow = 0.1, kLoadDampingGridHigh = 30.0;  // β's grid [1/s]
+constexpr double kModeLow = 2.0, kModeHigh = 200.0;  // [Hz]: the mode's range (at most an eighth of the sample rate)
 constexpr double kDampingLow = 0.005, kDampingHigh = 0.7;           // ζ's bounds in the local searches
 constexpr double kLoadDampingLow = 0.01, kLoadDampingHigh = 100.0;  // β's [1/s]
 constexpr int kStarts = 3, kLocalEvaluations = 120;  // local searches from a stage's best points, each's budget
@@ -49,7 +50,7 @@ constexpr int kStarts = 3, kLocalEvaluations = 120;  // local searches from a st
 constexpr double kMinGridShare = 0.05;
 // The shape is searched on the record's first samples (its coefficient is fitted on the whole record): each trial
 // simulates the load through them, and the search runs ~1000 trials.
-constexpr Eigen::Index kScanSamples = 20000;
+constexpr Eigen::Index kScanSamples = 20000, kGridSamples = 5000;
 
 // ẍ_L at the first n samples [m/s²]: the load behind the play simulated from the logged motor motion, starting with
 // the motor's (AdvancePlayLoad; the backlash_load block steps the same way).
@@ -148,35 +149,46 @@ void Propose(ProposalContext& c) {
   if (!(c.max_speed() > 0.0) || !(c.position_span() > 0.0)) return;
   const DiagnosisSignals& s = c.signals();
   const double ts = c.sample_period();
-  const double bin = 1.0 / (static_cast<double>(std::min(c.options().welch_segment, c.size())) * ts);
-  const double f_lo = 4.0 * bin;
-  const double f_hi = c.options().band_limit_hz > 0.0 ? 0.5 * c.options().band_limit_hz : 0.125 / ts;
+  const double f_lo = kModeLow;
+  const double f_hi = std::min(kModeHigh, c.options().band_limit_hz > 0.0 ? 0.5 * c.options().band_limit_hz : 0.125 / ts);
   const double g_lo = kGapLow * c.position_span(), g_hi = kGapHigh * c.position_span();
   if (!(f_lo < f_hi)) return;
-  // In simulation mode the loop's response is of the whole record: the scan runs on all of it.
-  const Eigen::Index n = c.loop() != nullptr ? c.size() : std::min<Eigen::Index>(c.size(), kScanSamples);
-  const Eigen::MatrixXd base = c.BaseWithConstant().topRows(n);
-  const Eigen::VectorXd residual = c.residual().head(n);
-  const JointFitResidual joint_fit(base, residual, c.loop());
-  const ShapeCost cost = [&](const Shape& k) {
-    return joint_fit(Eigen::MatrixXd(LoadAcceleration(s, n, k.gap, k.frequency_hz, k.damping_ratio, k.load_damping)));
+  // The local searches' window, and the grid's shorter one. In simulation mode the loop's response is of the whole
+  // record: both run on all of it.
+  const bool whole = c.loop() != nullptr;
+  const Eigen::Index n = whole ? c.size() : std::min<Eigen::Index>(c.size(), kScanSamples);
+  const Eigen::Index n_grid = whole ? c.size() : std::min<Eigen::Index>(c.size(), kGridSamples);
+  const Eigen::MatrixXd base = c.BaseWithConstant().topRows(n), base_grid = base.topRows(n_grid);
+  const Eigen::VectorXd residual = c.residual().head(n), residual_grid = residual.head(n_grid);
+  const JointFitResidual joint_fit(base, residual, c.loop()), grid_fit(base_grid, residual_grid, c.loop());
+  // A shape's fit, worth nothing where the load's mass comes out negative (no load pulls the motor along).
+  const auto fit_of = [&](const JointFitResidual& fit, Eigen::Index rows, double sse_without, const Shape& k) {
+    Eigen::VectorXd mass;
+    const double sse =
+        fit(Eigen::MatrixXd(LoadAcceleration(s, rows, k.gap, k.frequency_hz, k.damping_ratio, k.load_damping)), &mass);
+    return mass(0) > 0.0 ? sse : sse_without;
   };
+  const double residual_sse = residual.squaredNorm(), grid_residual_sse = residual_grid.squaredNorm();
+  const ShapeCost cost = [&](const Shape& k) { return fit_of(joint_fit, n, residual_sse, k); };
+  const ShapeCost grid_cost = [&](const Shape& k) { return fit_of(grid_fit, n_grid, grid_residual_sse, k); };
   const Shape lo{0.5 * g_lo, f_lo, kDampingLow, kLoadDampingLow}, hi{g_hi, f_hi, kDampingHigh, kLoadDampingHigh};
-  // 1. The grid of g and f with a heavily damped shaft, and local searches from its best points. A lightly damped
-  //    ring puts each trial in or out of phase with the record's and the fit's surface is ragged; damped, it has a
-  //    valley along the diagonal of g and f, and the gap comes out within a few per cent of the play.
+  // 1. A grid of the play, the load's own damping and the mode, on the record's first kGridSamples, and local searches
+  //    of all four from its best points on kScanSamples. After each reversal the load coasts across its play, slowed
+  //    by its bearing: the gap and β set when it meets the other side, and 20 % off in either loses most of the fit
+  //    (on the grammar's draws with a load); the mode and its damping ratio are forgiving (20 % off in f keeps most).
   std::vector<Shape> grid;
   for (double gap : LogSpaced(g_lo, g_hi, kGapGrid)) {
-    for (double f : LogSpaced(f_lo, f_hi, kFrequencyGrid)) grid.push_back({gap, f, kGridDampingRatio, kDefaultLoadDamping});
+    for (double beta : LogSpaced(kLoadDampingGridLow, kLoadDampingGridHigh, kLoadDampingGrid)) {
+      for (double f : LogSpaced(f_lo, f_hi, kFrequencyGrid)) grid.push_back({gap, f, kGridDampingRatio, beta});
+    }
   }
-  const std::vector<Trial> on_grid = Evaluate(grid, cost);
+  const std::vector<Trial> on_grid = Evaluate(grid, grid_cost);
   const Trial grid_best =
       *std::min_element(on_grid.begin(), on_grid.end(), [](const Trial& a, const Trial& b) { return a.second < b.second; });
-  const double residual_sse = residual.squaredNorm();
-  if (!(grid_best.second < (1.0 - kMinGridShare) * residual_sse)) {
-    c.Note(fmt::format("{} not proposed: a load behind a play explains {:.1f} % of the residual (under {:.0f} %) on "
-                       "the grid of its play and mode", kName, 100.0 * (1.0 - grid_best.second / residual_sse),
-                       100.0 * kMinGridShare));
+  if (!(grid_best.second < (1.0 - kMinGridShare) * grid_residual_sse)) {
+    c.Note(fmt::format("{} not proposed: a load behind a play (of a positive mass) explains {:.1f} % of the residual "
+                       "(under {:.0f} %) on the grid of its play, its damping and its mode", kName,
+                       100.0 * (1.0 - grid_best.second / grid_residual_sse), 100.0 * kMinGridShare));
     return;
   }
   if (!IsAPlay(c, grid_best.first, g_lo, g_hi)) return;
