@@ -2,8 +2,9 @@
 // [--verbose]:
 // the grammar-draw benchmark (issue 45, item 6; tests/diagnosis/grammar_bench.h). Runs the draws of seeds first-seed …
 // first-seed + draws − 1 (or those of --seeds, to rerun one cluster of the confusion table) and the noise-only draws
-// kNoiseOnlySeedBase + 1 … + noise, then the draws with memory kMemorySeedBase + 1 … + memory (hysteresis, a drifting
-// vibration: issue 47, reported apart and written to memory.csv), prints each draw's progress on stderr and the report (Markdown) on stdout; writes
+// kNoiseOnlySeedBase + 1 … + noise, then the draws with memory kMemorySeedBase + 1 … + memory (hysteresis, a load
+// behind a play, a drifting vibration: issue 47, reported apart and written to memory.csv), prints each draw's
+// progress on stderr and the report (Markdown) on stdout; writes
 // results.csv and confusion.csv to DIR (out/bench-grammar). --verbose: each draw's named effects with their scores and
 // compare's notes on stderr. `make bench-grammar` builds it in Release and runs it.
 #include <algorithm>
@@ -125,7 +126,7 @@ int main(int argc, char** argv) {
     if (!results.empty() || !noise_results.empty()) std::cout << g::FormatReport(results, noise_results);
     if (!memory_results.empty()) {
       Write(std::filesystem::path(out) / "memory.csv", g::ResultsCsv(memory_results));
-      std::cout << "\n" << g::FormatReport(memory_results, {}, "Draws with memory (hysteresis, a drifting vibration)");
+      std::cout << "\n" << g::FormatReport(memory_results, {}, "Draws with memory (hysteresis, a load behind a play, a drifting vibration)");
     }
   } catch (const std::exception& e) {
     std::cerr << "bench_grammar: " << e.what() << "\n";

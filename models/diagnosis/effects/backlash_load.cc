@@ -38,7 +38,7 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 // The gap's grid, as backlash's (effects/backlash.cc): below 0.25 % of the travel a play is crossed within a few
 // samples of each reversal and the term is the plain mode.
 constexpr double kGapLow = 0.0025, kGapHigh = 0.05;
-constexpr int kGapGrid = 10, kLoadDampingGrid = 8, kFrequencyGrid = 8;
+constexpr int kGapGrid = 20, kLoadDampingGrid = 16, kFrequencyGrid = 6;
 constexpr double kGridDampingRatio = 0.2;                              // ζ during the grid (see Propose)
 constexpr double kLoadDampingGridLow = 0.1, kLoadDampingGridHigh = 30.0;  // β's grid [1/s]
 constexpr double kModeLow = 2.0, kModeHigh = 200.0;  // [Hz]: the mode's range (at most an eighth of the sample rate)
@@ -50,7 +50,7 @@ constexpr int kStarts = 3, kLocalEvaluations = 120;  // local searches from a st
 constexpr double kMinGridShare = 0.05;
 // The shape is searched on the record's first samples (its coefficient is fitted on the whole record): each trial
 // simulates the load through them, and the search runs ~1000 trials.
-constexpr Eigen::Index kScanSamples = 20000, kGridSamples = 5000;
+constexpr Eigen::Index kScanSamples = 20000, kGridSamples = 3000;
 
 // ẍ_L at the first n samples [m/s²]: the load behind the play simulated from the logged motor motion, starting with
 // the motor's (AdvancePlayLoad; the backlash_load block steps the same way).
