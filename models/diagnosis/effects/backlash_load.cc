@@ -177,9 +177,11 @@ void Propose(ProposalContext& c) {
   //    by its bearing: the gap and β set when it meets the other side, and 20 % off in either loses most of the fit
   //    (on the grammar's draws with a load); the mode and its damping ratio are forgiving (20 % off in f keeps most).
   std::vector<Shape> grid;
-  for (double gap : LogSpaced(g_lo, g_hi, kGapGrid)) {
-    for (double beta : LogSpaced(kLoadDampingGridLow, kLoadDampingGridHigh, kLoadDampingGrid)) {
-      for (double f : LogSpaced(f_lo, f_hi, kFrequencyGrid)) grid.push_back({gap, f, kGridDampingRatio, beta});
+  // In simulation mode each trial runs through the loop over the whole record: half the grid's points in each direction.
+  const int coarser = whole ? 2 : 1;
+  for (double gap : LogSpaced(g_lo, g_hi, kGapGrid / coarser)) {
+    for (double beta : LogSpaced(kLoadDampingGridLow, kLoadDampingGridHigh, kLoadDampingGrid / coarser)) {
+      for (double f : LogSpaced(f_lo, f_hi, kFrequencyGrid / coarser)) grid.push_back({gap, f, kGridDampingRatio, beta});
     }
   }
   const std::vector<Trial> on_grid = Evaluate(grid, grid_cost);
