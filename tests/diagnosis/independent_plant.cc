@@ -606,6 +606,21 @@ void WriteCsv(const Record& record, const std::string& path) {
 
 namespace {
 
+// Advances a load (xl, vl) joined to the carriage by `shaft` (its force on the load [N] with the carriage at (x, v))
+// from sample i to i + 1: semi-implicit Euler on `steps` sub-steps, the carriage interpolated linearly, the load's
+// bearing dragging `bearing` [N·s/m].
+template <class Shaft>
+void AdvanceLoad(const Shaft& shaft, double mass, double bearing, int steps, const Eigen::VectorXd& t,
+                 const Eigen::VectorXd& x, const Eigen::VectorXd& v, Eigen::Index i, double* xl, double* vl) {
+  const double h = (t(i + 1) - t(i)) / steps;
+  for (int s = 0; s < steps; ++s) {
+    const double q = static_cast<double>(s) / steps;
+    const double xs = x(i) + q * (x(i + 1) - x(i)), vs = v(i) + q * (v(i + 1) - v(i));
+    *vl += h * (shaft(xs, vs, *xl, *vl) - bearing * *vl) / mass;
+    *xl += h * *vl;
+  }
+}
+
 // TruthForce on the carriage's own coordinates (m, N).
 Eigen::VectorXd CarriageForce(Hidden hidden, const Eigen::VectorXd& t, const Eigen::VectorXd& x,
                               const Eigen::VectorXd& v, const Eigen::VectorXd& a, const Eigen::VectorXd* logged) {
@@ -628,29 +643,12 @@ Eigen::VectorXd CarriageForce(Hidden hidden, const Eigen::VectorXd& t, const Eig
     }
     if (Has(hidden, Hidden::kLoadBehindPlay)) {
       f(i) += GearShaftForce(x(i), v(i), xl, vl);
-      if (i + 1 < n) {  // semi-implicit Euler on sub-steps, the carriage interpolated
-        const int steps = 20;
-        const double h = (t(i + 1) - t(i)) / steps;
-        for (int s = 0; s < steps; ++s) {
-          const double q = static_cast<double>(s) / steps;
-          const double xs = x(i) + q * (x(i + 1) - x(i)), vs = v(i) + q * (v(i + 1) - v(i));
-          vl += h * (GearShaftForce(xs, vs, xl, vl) - kGearBearing * vl) / kGearLoadMass;
-          xl += h * vl;
-        }
-      }
+      if (i + 1 < n) AdvanceLoad(GearShaftForce, kGearLoadMass, kGearBearing, 20, t, x, v, i, &xl, &vl);
     }
     if (Has(hidden, Hidden::kResonance)) {
-      f(i) += load.Force(x(i), v(i), xl, vl);
-      if (i + 1 < n) {  // semi-implicit Euler on sub-steps, the carriage interpolated
-        const int steps = 10;
-        const double h = (t(i + 1) - t(i)) / steps;
-        for (int s = 0; s < steps; ++s) {
-          const double q = static_cast<double>(s) / steps;
-          const double xs = x(i) + q * (x(i + 1) - x(i)), vs = v(i) + q * (v(i + 1) - v(i));
-          vl += h * load.Force(xs, vs, xl, vl) / kLoadMass;
-          xl += h * vl;
-        }
-      }
+      const auto shaft = [&load](double xs, double vs, double l, double lv) { return load.Force(xs, vs, l, lv); };
+      f(i) += shaft(x(i), v(i), xl, vl);
+      if (i + 1 < n) AdvanceLoad(shaft, kLoadMass, 0.0, 10, t, x, v, i, &xl, &vl);
     }
   }
   if (Has(hidden, Hidden::kForceRipple)) {  // the log holds the command, the force that acted over 1 + δ(x)
