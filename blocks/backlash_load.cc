@@ -57,15 +57,15 @@ BacklashLoad::BacklashLoad(const BlockConfig& config)
 double BacklashLoad::Step(const BlockContext& c, double state_out[2]) const {
   const auto s = c.discrete_state();
   const double x = c.u(0), v = c.u(1);
-  if (s(BacklashLoadState::kStarted) == 0.0) {  // the first hit: the load at the motor's position and speed, centred in the play
+  // The first hit: the load at the motor's position and speed, centred in the play.
+  if (s(BacklashLoadState::kStarted) == 0.0) {
     state_out[0] = x;
     state_out[1] = v;
     return 0.0;
   }
   PlayLoad load{s(BacklashLoadState::kLoadX), s(BacklashLoadState::kLoadV)};
-  const double acceleration =
-      AdvancePlayLoad(s(BacklashLoadState::kMotorX), s(BacklashLoadState::kMotorV), x, v, period_, half_gap_, omega_,
-                                                zeta_, load_damping_, &load);
+  const double acceleration = AdvancePlayLoad(s(BacklashLoadState::kMotorX), s(BacklashLoadState::kMotorV), x, v,
+                                              period_, half_gap_, omega_, zeta_, load_damping_, &load);
   state_out[0] = load.x;
   state_out[1] = load.v;
   return acceleration;

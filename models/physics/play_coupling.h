@@ -53,10 +53,11 @@ inline void HermiteMotor(double x0, double v0, double x1, double v1, double dt, 
 }
 
 /// Advances the load over dt [s] while the motor moves from (x0, v0) to (x1, v1) (HermiteMotor between them): the
-/// classical Runge–Kutta method on n sub-steps with ω·dt/n ≤ 0.3 (a rigid follow within 10⁻⁴), n at most 10 000 (semi-implicit Euler at ω·dt/n ≤
-/// 0.02 put the load behind the motor by v·dt/(2n), 100 % of a stiff shaft's force at the speed's peak in the block's
-/// test). β = load_damping [1/s] ≥ 0 the load's own viscous friction per unit mass. Returns the shaft's force on the
-/// load per unit load mass at the end (PlayLoadAcceleration at (x1, v1)): the force on the motor divided by m_L.
+/// classical Runge–Kutta method on n sub-steps with ω·dt/n ≤ 0.3 (a rigid follow within 10⁻⁴), n at most 10 000.
+/// Semi-implicit Euler at ω·dt/n ≤ 0.02 put the load behind the motor by v·dt/(2n), 100 % of a stiff shaft's force at
+/// the speed's peak in the block's test. β = load_damping [1/s] ≥ 0 the load's own viscous friction per unit mass.
+/// Returns the shaft's force on the load per unit load mass at the end (PlayLoadAcceleration at (x1, v1)): the force on
+/// the motor divided by m_L.
 inline double AdvancePlayLoad(double x0, double v0, double x1, double v1, double dt, double half_gap, double omega,
                               double zeta, double load_damping, PlayLoad* load) noexcept {
   constexpr double kMaxPhasePerStep = 0.3;

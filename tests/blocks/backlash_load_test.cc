@@ -72,9 +72,10 @@ TEST(BacklashLoadTest, WithoutAPlayAndFarBelowItsModeTheLoadFollowsRigidly) {
 
 TEST(BacklashLoadTest, RefusesANonPositiveModeANegativePlayAndNoSampleTime) {
   auto error = [](const json& parameters, const json& sample_time) {
-    return BuildError(MakeDiagram({Element("x", "constant", {{"value", 0.1}}), Element("v", "constant", {{"value", 0.0}}),
-                                   Element("load", "backlash_load", parameters, sample_time)},
-                                  {Connect("x.y", "load.x"), Connect("v.y", "load.v")}, json::array(), 0.1, kTs));
+    return BuildError(MakeDiagram(
+        {Element("x", "constant", {{"value", 0.1}}), Element("v", "constant", {{"value", 0.0}}),
+         Element("load", "backlash_load", parameters, sample_time)},
+        {Connect("x.y", "load.x"), Connect("v.y", "load.v")}, json::array(), 0.1, kTs));
   };
   const json ts = json::array({kTs, 0.0});
   EXPECT_THAT(error({{"mass", 1.0}, {"frequency_hz", 0.0}, {"backlash", 1e-3}}, ts),

@@ -6,12 +6,13 @@
 // Regressor: the shaft's force per unit load mass, its coefficient the load mass m_L [kg, kg·m² on a rotary axis]
 // {backlash g [m], frequency_hz f [Hz], damping_ratio ζ, load_damping β [1/s]}.
 // Proposal (the joint fit's output error over the four shape parameters; Propose says why in three stages): a grid of
-// g and f with a heavily damped shaft, local searches from its best points, then a lattice of f, ζ and β around
-// that and local searches again. The fit's surface is ragged (each impact's time and strength follow from the whole
-// history of the load in its play), so the shape is searched on the first kScanSamples samples, its coefficient
-// fitted on the whole record by the selection. A best gap at either end of the grid is not a play (the smallest: the
-// plain mode, which resonance models; the widest: a force along the travel). Block: backlash_load on the position and
-// velocity, the same scheme.
+// the play, the load's own damping β and the mode on the record's first kGridSamples, local searches of all four from
+// its best points on the first kScanSamples, then a lattice of f, ζ and β around that and local searches again. The
+// fit's surface is ragged (each impact's time and strength follow from the whole history of the load in its play); the
+// coefficient is fitted on the whole record by the selection, and a negative one (no load pulls the motor along) is
+// worth nothing in the search. A best gap at either end of the grid is not a play (the smallest: the plain mode, which
+// resonance models; the widest: a force along the travel). Block: backlash_load on the position and velocity, the
+// same scheme.
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -98,7 +99,9 @@ Trial LocalSearch(const ShapeCost& cost, const Shape& start, const Shape& lo, co
   opt.set_xtol_abs(1e-4);
   opt.set_maxeval(kLocalEvaluations);
   opt.set_min_objective(
-      [](unsigned, const double* y, double*, void* data) { return (*static_cast<const ShapeCost*>(data))(ShapeOfLog(y)); },
+      [](unsigned, const double* y, double*, void* data) {
+        return (*static_cast<const ShapeCost*>(data))(ShapeOfLog(y));
+      },
       const_cast<ShapeCost*>(&cost));
   std::vector<double> y = LogOf(start);
   for (std::size_t k = 0; k < y.size(); ++k) y[k] = std::clamp(y[k], lower[k], upper[k]);
@@ -110,6 +113,8 @@ Trial LocalSearch(const ShapeCost& cost, const Shape& start, const Shape& lo, co
   return {ShapeOfLog(y.data()), cost(ShapeOfLog(y.data()))};
 }
 
+bool Cheaper(const Trial& a, const Trial& b) { return a.second < b.second; }
+
 // Each trial's cost, concurrently.
 std::vector<Trial> Evaluate(const std::vector<Shape>& trials, const ShapeCost& cost) {
   std::vector<Trial> out(trials.size());
@@ -120,11 +125,11 @@ std::vector<Trial> Evaluate(const std::vector<Shape>& trials, const ShapeCost& c
 // Local searches from the kStarts best trials, concurrently; the best point found.
 Trial SearchFrom(std::vector<Trial> trials, const ShapeCost& cost, const Shape& lo, const Shape& hi) {
   const std::size_t starts = std::min<std::size_t>(kStarts, trials.size());
-  std::partial_sort(trials.begin(), trials.begin() + static_cast<std::ptrdiff_t>(starts), trials.end(),
-                    [](const Trial& a, const Trial& b) { return a.second < b.second; });
+  std::partial_sort(trials.begin(), trials.begin() + static_cast<std::ptrdiff_t>(starts), trials.end(), Cheaper);
   std::vector<Trial> found(starts);
-  tbb::parallel_for(std::size_t{0}, starts, [&](std::size_t k) { found[k] = LocalSearch(cost, trials[k].first, lo, hi); });
-  return *std::min_element(found.begin(), found.end(), [](const Trial& a, const Trial& b) { return a.second < b.second; });
+  tbb::parallel_for(std::size_t{0}, starts,
+                    [&](std::size_t k) { found[k] = LocalSearch(cost, trials[k].first, lo, hi); });
+  return *std::min_element(found.begin(), found.end(), Cheaper);
 }
 
 // Whether the shape's gap is one of its own (true), or at an end of the grid [g_lo, g_hi]: the smallest is the plain
@@ -150,7 +155,8 @@ void Propose(ProposalContext& c) {
   const DiagnosisSignals& s = c.signals();
   const double ts = c.sample_period();
   const double f_lo = kModeLow;
-  const double f_hi = std::min(kModeHigh, c.options().band_limit_hz > 0.0 ? 0.5 * c.options().band_limit_hz : 0.125 / ts);
+  const double band = c.options().band_limit_hz > 0.0 ? 0.5 * c.options().band_limit_hz : 0.125 / ts;
+  const double f_hi = std::min(kModeHigh, band);
   const double g_lo = kGapLow * c.position_span(), g_hi = kGapHigh * c.position_span();
   if (!(f_lo < f_hi)) return;
   // The local searches' window, and the grid's shorter one. In simulation mode the loop's response is of the whole
@@ -177,16 +183,17 @@ void Propose(ProposalContext& c) {
   //    by its bearing: the gap and β set when it meets the other side, and 20 % off in either loses most of the fit
   //    (on the grammar's draws with a load); the mode and its damping ratio are forgiving (20 % off in f keeps most).
   std::vector<Shape> grid;
-  // In simulation mode each trial runs through the loop over the whole record: half the grid's points in each direction.
+  // In simulation mode each trial runs through the loop over the whole record: half the grid's points each way.
   const int coarser = whole ? 2 : 1;
   for (double gap : LogSpaced(g_lo, g_hi, kGapGrid / coarser)) {
     for (double beta : LogSpaced(kLoadDampingGridLow, kLoadDampingGridHigh, kLoadDampingGrid / coarser)) {
-      for (double f : LogSpaced(f_lo, f_hi, kFrequencyGrid / coarser)) grid.push_back({gap, f, kGridDampingRatio, beta});
+      for (double f : LogSpaced(f_lo, f_hi, kFrequencyGrid / coarser)) {
+        grid.push_back({gap, f, kGridDampingRatio, beta});
+      }
     }
   }
   const std::vector<Trial> on_grid = Evaluate(grid, grid_cost);
-  const Trial grid_best =
-      *std::min_element(on_grid.begin(), on_grid.end(), [](const Trial& a, const Trial& b) { return a.second < b.second; });
+  const Trial grid_best = *std::min_element(on_grid.begin(), on_grid.end(), Cheaper);
   if (!(grid_best.second < (1.0 - kMinGridShare) * grid_residual_sse)) {
     c.Note(fmt::format("{} not proposed: a load behind a play (of a positive mass) explains {:.1f} % of the residual "
                        "(under {:.0f} %) on the grid of its play, its damping and its mode", kName,
