@@ -769,6 +769,7 @@ Record Simulate(const GrammarDraw& d, Run run, bool with_effect) {
     }
   }
   const bool effect = with_effect && !d.noise_only;
+  const bool load = effect && d.modulator == "play_load";  // a load behind a play to carry along
   const std::array<double, 3> start = reference.At(0.0);
   double x = start[0], v = start[1];
   Memory memory{0.0, x, v};  // the hysteresis element relaxed, the load centred in its play
@@ -800,7 +801,7 @@ Record Simulate(const GrammarDraw& d, Run run, bool with_effect) {
       const auto f = [&](double tt, const State& q) {
         const Memory m{memory.z, q[2], q[3]};
         return State{q[1], Acceleration(d, context, effect, tt, q[0], q[1], u, m), q[3],
-                     effect ? LoadAcceleration(d, q[0], q[1], m) : 0.0};
+                     load ? LoadAcceleration(d, q[0], q[1], m) : 0.0};
       };
       const auto add = [](const State& a, const State& b, double w) {
         return State{a[0] + w * b[0], a[1] + w * b[1], a[2] + w * b[2], a[3] + w * b[3]};
