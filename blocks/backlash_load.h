@@ -17,7 +17,8 @@ namespace mb {
 /// position and velocity are the state, stepped from hit to hit by AdvancePlayLoad (the motor's motion a cubic Hermite
 /// between the hits, Runge–Kutta sub-steps); at the first hit the load starts at the motor's position and velocity,
 /// centred in the play, and f = 0. Then f = m_L × the shaft's force per unit load mass (AdvancePlayLoad's return).
-/// Direct feedthrough from x and v.
+/// Direct feedthrough from x and v: the output needs this hit's input, so CalcOutput and UpdateDiscrete each advance
+/// the load from the last hit (the same arithmetic, the state written by the second only).
 /// @throws std::invalid_argument (naming the parameter) for f ≤ 0, ζ ≤ 0, g < 0, β < 0, a non-finite value or no
 /// sampleTime.
 class BacklashLoad final : public Block {

@@ -141,6 +141,26 @@ TEST(EffectRegistry, RegressorsBuildFromTheDeclaredParameters) {
   }
 }
 
+// A load behind a play whose play is negative, or whose mode is not above 0, is refused naming the parameter.
+TEST(EffectRegistry, ALoadBehindAPlayRefusesANegativePlayAndNoMode) {
+  const DiagnosisSignals s = Motion();
+  const std::map<std::string, double> good = {
+      {"backlash", 1e-3}, {"frequency_hz", 20.0}, {"damping_ratio", 0.1}, {"load_damping", 1.0}};
+  EXPECT_EQ(BuildEffectRegressors({"backlash_load", good}, s).columns.cols(), 1);
+  auto error = [&](const std::string& key, double value) {
+    auto parameters = good;
+    parameters[key] = value;
+    try {
+      BuildEffectRegressors({"backlash_load", parameters}, s);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_THAT(error("backlash", -1e-3), HasSubstr("backlash = -0.001 must be >= 0"));
+  EXPECT_THAT(error("frequency_hz", 0.0), HasSubstr("frequency_hz"));
+}
+
 // The lag of the measurement behind ŷ keeps its sign: a measurement recorded late (a sensor delay, time_delay) is
 // +d, a log that leads the model built from the motion (a command that acts later: actuator_lag) is −d; the two
 // effects propose on either side.

@@ -170,8 +170,7 @@ void Propose(ProposalContext& c) {
   // A shape's fit, worth nothing where the load's mass comes out negative (no load pulls the motor along).
   const auto fit_of = [&](const JointFitResidual& fit, Eigen::Index rows, double sse_without, const Shape& k) {
     Eigen::VectorXd mass;
-    const double sse =
-        fit(Eigen::MatrixXd(LoadAcceleration(s, rows, k.gap, k.frequency_hz, k.damping_ratio, k.load_damping)), &mass);
+    const double sse = fit(LoadAcceleration(s, rows, k.gap, k.frequency_hz, k.damping_ratio, k.load_damping), &mass);
     return mass(0) > 0.0 ? sse : sse_without;
   };
   const double residual_sse = residual.squaredNorm(), grid_residual_sse = residual_grid.squaredNorm();
