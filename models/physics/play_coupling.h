@@ -65,19 +65,23 @@ inline double AdvancePlayLoad(double x0, double v0, double x1, double v1, double
   const double steps = std::clamp(std::ceil(omega * dt / kMaxPhasePerStep), 1.0, static_cast<double>(kMaxSubSteps));
   const int n = static_cast<int>(steps);
   const double h = dt / steps;
-  // ẍ_L at the fraction q of the step with the load at (xl, vl).
-  auto acceleration = [&](double q, double xl, double vl) {
-    double xm = 0.0, vm = 0.0;
-    HermiteMotor(x0, v0, x1, v1, dt, q, &xm, &vm);
+  // ẍ_L with the motor at (xm, vm) and the load at (xl, vl).
+  auto acceleration = [&](double xm, double vm, double xl, double vl) {
     return PlayLoadAcceleration(xm - xl, vm - vl, half_gap, omega, zeta) - load_damping * vl;
   };
+  // The motor at the sub-step's start, middle and end: the middle serves two stages, the end the next sub-step's start.
+  double xa = 0.0, va = 0.0, xb = 0.0, vb = 0.0, xc = 0.0, vc = 0.0;
+  HermiteMotor(x0, v0, x1, v1, dt, 0.0, &xa, &va);
   for (int j = 0; j < n; ++j) {
-    const double qa = j / steps, qb = (j + 0.5) / steps, qc = (j + 1.0) / steps;
+    HermiteMotor(x0, v0, x1, v1, dt, (j + 0.5) / steps, &xb, &vb);
+    HermiteMotor(x0, v0, x1, v1, dt, (j + 1.0) / steps, &xc, &vc);
     const double x = load->x, v = load->v;
-    const double a1 = acceleration(qa, x, v);
-    const double a2 = acceleration(qb, x + 0.5 * h * v, v + 0.5 * h * a1);
-    const double a3 = acceleration(qb, x + 0.5 * h * (v + 0.5 * h * a1), v + 0.5 * h * a2);
-    const double a4 = acceleration(qc, x + h * (v + 0.5 * h * a2), v + h * a3);
+    const double a1 = acceleration(xa, va, x, v);
+    const double a2 = acceleration(xb, vb, x + 0.5 * h * v, v + 0.5 * h * a1);
+    const double a3 = acceleration(xb, vb, x + 0.5 * h * (v + 0.5 * h * a1), v + 0.5 * h * a2);
+    const double a4 = acceleration(xc, vc, x + h * (v + 0.5 * h * a2), v + h * a3);
+    xa = xc;
+    va = vc;
     load->x = x + h / 6.0 * (v + 2.0 * (v + 0.5 * h * a1) + 2.0 * (v + 0.5 * h * a2) + (v + h * a3));
     load->v = v + h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
   }
