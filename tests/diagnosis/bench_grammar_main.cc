@@ -73,7 +73,6 @@ int main(int argc, char** argv) {
         std::cerr << "bench_grammar: " << e.what() << "\n";
         return 2;
       }
-      draws = static_cast<int>(seeds.size());
     } else {
       std::cerr << "bench_grammar: unknown argument '" << a
                 << "'; usage: bench_grammar [--draws=300] [--noise=50] [--first-seed=1] [--seeds=S1,S2,…] "
@@ -81,6 +80,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
+  if (!seeds.empty()) draws = static_cast<int>(seeds.size());  // the list's count, wherever --draws= stood
   try {
     std::vector<g::DrawResult> results, noise_results, memory_results;
     const int total = draws + noise + memory;
