@@ -125,7 +125,8 @@ class JointFitResidual {
                    const LoopResponse* loop = nullptr);
   /// The residual sum of squares of r on [base, extra]; extra_coefficients (optional): extra's coefficients in that
   /// fit (k, in the unit of r per unit of each column).
-  double operator()(const Eigen::Ref<const Eigen::MatrixXd>& extra, Eigen::VectorXd* extra_coefficients = nullptr) const;
+  double operator()(const Eigen::Ref<const Eigen::MatrixXd>& extra,
+                    Eigen::VectorXd* extra_coefficients = nullptr) const;
 
  private:
   const Eigen::MatrixXd& base_;

@@ -126,7 +126,9 @@ int main(int argc, char** argv) {
     if (!results.empty() || !noise_results.empty()) std::cout << g::FormatReport(results, noise_results);
     if (!memory_results.empty()) {
       Write(std::filesystem::path(out) / "memory.csv", g::ResultsCsv(memory_results));
-      std::cout << "\n" << g::FormatReport(memory_results, {}, "Draws with memory (hysteresis, a load behind a play, a drifting vibration)");
+      std::cout << "\n"
+                << g::FormatReport(memory_results, {},
+                                   "Draws with memory (hysteresis, a load behind a play, a drifting vibration)");
     }
   } catch (const std::exception& e) {
     std::cerr << "bench_grammar: " << e.what() << "\n";

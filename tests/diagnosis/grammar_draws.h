@@ -137,9 +137,9 @@ struct GrammarDraw {
   unsigned seed = 0;
   bool noise_only = false;
   std::string multiplier, modulator;  ///< ids (MultiplierIds, ModulatorIds); "" for a noise-only draw
-  /// A draw with memory (seeds from kMemorySeedBase): hysteresis ("one" × "hysteresis") or a load behind a play ("one" ×
-  /// "play_load"), each judged by the effect's name `effect`, or a vibration of drifting frequency (a multiplier ×
-  /// "time_chirp", a pair of the grammar).
+  /// A draw with memory (seeds from kMemorySeedBase): hysteresis ("one" × "hysteresis") or a load behind a play
+  /// ("one" × "play_load"), each judged by the effect's name `effect`, or a vibration of drifting frequency (a
+  /// multiplier × "time_chirp", a pair of the grammar).
   bool memory = false;
   std::string effect;
   Shape shape;
