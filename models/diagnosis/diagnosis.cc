@@ -28,6 +28,7 @@
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/forward_selection.h"
 #include "models/diagnosis/joint_refinement.h"
+#include "models/diagnosis/multiplier_reconsideration.h"
 #include "models/diagnosis/quantization_floor.h"
 #include "models/diagnosis/robust_weighting.h"
 
@@ -47,6 +48,7 @@ using diagnosis_detail::LawSearch;
 using diagnosis_detail::ModulateChosenEffects;
 using diagnosis_detail::NoteHysteresis;
 using diagnosis_detail::PruneChosenEffects;
+using diagnosis_detail::ReconsiderMultipliers;
 using diagnosis_detail::Ranking;
 using diagnosis_detail::RefineChosenEffects;
 using diagnosis_detail::RegressorMatrix;
@@ -208,6 +210,7 @@ Ranking RankEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base
   KeepChosenOnly(&out);
   RefineChosenEffects(signals, base_cols, options, law.effects.size(), &out, &result->notes);
   RetrySetAside(signals, base_cols, options, law.effects.size(), retry, &out, &result->notes);
+  ReconsiderMultipliers(signals, base_cols, options, law.effects.size(), &out, &result->notes);
   const std::size_t laws = PruneChosenEffects(signals, base_cols, options, law.effects.size(), &out, &result->notes);
   ModulateChosenEffects(signals, base_cols, options, laws, &out, &result->notes);
   const std::vector<EffectInstance> chosen = ChosenInstances(out);

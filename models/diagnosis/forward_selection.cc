@@ -154,8 +154,10 @@ Selection SelectInOrder(const RegressorMatrix& m, const BlockGrams& grams, Eigen
 
 double GainSignificance(const RegressorMatrix& m, const BlockGrams& grams, const std::vector<Eigen::Index>& selected,
                         const std::vector<Eigen::Index>& trial, Eigen::Index batches) {
-  const Eigen::VectorXd before = grams.HeldOutErrors(selected, m);
-  const Eigen::VectorXd after = grams.HeldOutErrors(trial, m);
+  return LossDifferenceT(grams.HeldOutErrors(selected, m), grams.HeldOutErrors(trial, m), batches);
+}
+
+double LossDifferenceT(const Eigen::VectorXd& before, const Eigen::VectorXd& after, Eigen::Index batches) {
   const Eigen::VectorXd delta = before.array().square() - after.array().square();
   const Eigen::Index n = delta.size();
   batches = std::clamp<Eigen::Index>(batches, 2, std::max<Eigen::Index>(2, n / 8));

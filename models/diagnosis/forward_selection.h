@@ -51,6 +51,9 @@ Selection SelectInOrder(const RegressorMatrix& m, const BlockGrams& grams, Eigen
 // their mean from contiguous batch means (batches ≈ the effective sample size). Returns the one-sided t.
 double GainSignificance(const RegressorMatrix& m, const BlockGrams& grams, const std::vector<Eigen::Index>& selected,
                         const std::vector<Eigen::Index>& trial, Eigen::Index batches);
+// The same test on two fits' held-out errors of the same weighted residual (N each; BlockGrams::HeldOutErrors), from
+// any two regressor sets: the one-sided t that `after` predicts better than `before`.
+double LossDifferenceT(const Eigen::VectorXd& before, const Eigen::VectorXd& after, Eigen::Index batches);
 
 // One round: adds the best candidate not `used` (near-ties to the lower BIC) whose gain reaches min_gain and is
 // significant (GainSignificance; an insignificant best is set aside with a note and the next one tried) and whose

@@ -810,7 +810,7 @@ Record Simulate(const GrammarDraw& d, Run run, bool with_effect) {
       const State k1 = f(s, q), k2 = f(s + 0.5 * h, add(q, k1, 0.5 * h)), k3 = f(s + 0.5 * h, add(q, k2, 0.5 * h));
       const State k4 = f(s + h, add(q, k3, h));
       State next = q;
-      for (std::size_t j = 0; j < next.size(); ++j) next[j] += h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
+      for (std::size_t c = 0; c < next.size(); ++c) next[c] += h / 6.0 * (k1[c] + 2.0 * k2[c] + 2.0 * k3[c] + k4[c]);
       memory.z = DahlStep(d, memory.z, next[0] - x);  // held over the sub-step, as the command is
       x = next[0];
       v = next[1];

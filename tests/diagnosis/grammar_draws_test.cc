@@ -179,6 +179,22 @@ TEST(GrammarDraws, TheFirstNamedRemovedMostOfTheBaseResidualAndAWindowMustBeatTh
   std::filesystem::remove_all(folder);
 }
 
+// The chosen products' multipliers chosen again with the friction laws and the other effects refit with each
+// (models/diagnosis/multiplier_reconsideration.h). Seed 103 hides a friction of the transmitted force vibrating at
+// 26.8 Hz: the greedy path named a viscous friction vibrating (held-out MSE 1.41), the load friction refit in its place
+// has 0.417 (t = 5.9). Seed 171 hides a force constant that changes smoothly along the travel: it was named the
+// friction of the transmitted force along the travel, which the force constant refit in its place beats (t = 3.3).
+TEST(GrammarDraws, AMultiplierIsChosenAgainWithTheLawsAndTheOtherEffectsRefit) {
+  const std::filesystem::path folder = std::filesystem::temp_directory_path() / "mb_grammar_reconsider_test";
+  for (unsigned seed : {103u, 171u}) {
+    const GrammarDraw draw = Draw(seed);
+    const DrawResult r = RunDraw(draw, folder / std::to_string(seed), false);
+    EXPECT_TRUE(r.named_right) << draw.Describe() << " -> " << r.named_pair;
+    EXPECT_TRUE(r.parameter_right) << draw.Describe() << " -> " << r.parameter;
+  }
+  std::filesystem::remove_all(folder);
+}
+
 // A third factor (models/diagnosis/amplitude_factor.h): the pair's amplitude follows time or a further logged column.
 // Seed 15 hides a drag vibrating at 9.5 Hz whose amplitude grows as 1 + β·(2t/T − 1): its relative slope is 2β/T per
 // second. Seed 80 hides a viscous friction along the travel whose amplitude follows the winding temperature. Each is
