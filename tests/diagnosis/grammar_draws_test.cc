@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <initializer_list>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -12,6 +13,21 @@
 
 namespace mb::grammar {
 namespace {
+
+// Each seed through compare, as a user runs it (a folder of its own, removed after): the drawn pair named first and,
+// where `with_parameter`, its key shape parameter within tolerance.
+void ExpectNamedRight(std::initializer_list<unsigned> seeds, const std::string& folder_name, bool with_parameter) {
+  const std::filesystem::path folder = std::filesystem::temp_directory_path() / folder_name;
+  for (unsigned seed : seeds) {
+    const GrammarDraw draw = Draw(seed);
+    const DrawResult r = RunDraw(draw, folder / std::to_string(seed), false);
+    EXPECT_TRUE(r.named_right) << draw.Describe() << " -> " << r.named_pair;
+    if (with_parameter) {
+      EXPECT_TRUE(r.parameter_right) << draw.Describe() << " -> " << r.parameter;
+    }
+  }
+  std::filesystem::remove_all(folder);
+}
 
 TEST(GrammarDraws, NinetyFourPairsAreDrawn) {
   int pairs = 0;
@@ -111,7 +127,9 @@ TEST(GrammarDraws, ALoadBehindAPlayIsTouchedOnlyOnceThePlayIsCrossed) {
   v(0) = 0.0;  // the load starts at rest with the motor, centred in the play
   const Eigen::VectorXd f = EffectForce(d, Run::kTraining, t, x, v, zero, zero);
   for (Eigen::Index i = 0; i < n; ++i) {
-    if (x(i) < 0.99 * half) EXPECT_EQ(f(i), 0.0) << "t = " << t(i);
+    if (x(i) < 0.99 * half) {
+      EXPECT_EQ(f(i), 0.0) << "t = " << t(i);
+    }
   }
   EXPECT_GT(f.maxCoeff(), 0.0) << "the play crossed: the shaft pushes the load";
 }
@@ -120,14 +138,7 @@ TEST(GrammarDraws, ALoadBehindAPlayIsTouchedOnlyOnceThePlayIsCrossed) {
 // frequency with its rate, a load behind a play (linear and rotary) with its play (`bench_grammar --memory=60` runs
 // sixty).
 TEST(GrammarDraws, HysteresisADriftingVibrationAndALoadBehindAPlayAreNamedWithTheirParameters) {
-  const std::filesystem::path folder = std::filesystem::temp_directory_path() / "mb_grammar_memory_test";
-  for (unsigned seed : {kMemorySeedBase + 5, kMemorySeedBase + 10, kMemorySeedBase + 1, kMemorySeedBase + 12}) {
-    const GrammarDraw draw = Draw(seed);
-    const DrawResult r = RunDraw(draw, folder / std::to_string(seed), false);
-    EXPECT_TRUE(r.named_right) << draw.Describe() << " -> " << r.named_pair;
-    EXPECT_TRUE(r.parameter_right) << draw.Describe() << ": " << r.parameter;
-  }
-  std::filesystem::remove_all(folder);
+  ExpectNamedRight({kMemorySeedBase + 5, kMemorySeedBase + 10, kMemorySeedBase + 1, kMemorySeedBase + 12}, "mb_grammar_memory_test", true);
 }
 
 // The first eight seeds and one noise-only draw through compare, as a user runs it. The benchmark names three quarters
@@ -154,13 +165,7 @@ TEST(GrammarDraws, AQuickSubsetIsNamedAndTheNoiseOnlyDrawNamesNothing) {
 // cannot fit it and the pair was named as the force constant's drift. Seed 2 hides a quadratic drag constant over the
 // record: with the level, a drag drifting by next to nothing fits the noise a little better and was named first.
 TEST(GrammarDraws, APairCarriesItsMultipliersConstantPartAndMustEarnItsModulation) {
-  const std::filesystem::path folder = std::filesystem::temp_directory_path() / "mb_grammar_level_test";
-  for (unsigned seed : {26u, 2u}) {
-    const GrammarDraw draw = Draw(seed);
-    const DrawResult r = RunDraw(draw, folder / std::to_string(seed), false);
-    EXPECT_TRUE(r.named_right) << draw.Describe() << " -> " << r.named_pair;
-  }
-  std::filesystem::remove_all(folder);
+  ExpectNamedRight({26u, 2u}, "mb_grammar_level_test", false);
 }
 
 // The ranking's order is what each effect removed of the base's residual (DiagnosedEffect::base_share), not its score:
@@ -169,14 +174,7 @@ TEST(GrammarDraws, APairCarriesItsMultipliersConstantPartAndMustEarnItsModulatio
 // best; the window holds a step and the step its multiplier × 1 (ModulatorRow::nests), and the larger is chosen only
 // where it beats the smaller significantly (here t = 0.62 and 0.63): the constant is named.
 TEST(GrammarDraws, TheFirstNamedRemovedMostOfTheBaseResidualAndAWindowMustBeatTheShapesItHolds) {
-  const std::filesystem::path folder = std::filesystem::temp_directory_path() / "mb_grammar_order_test";
-  for (unsigned seed : {258u, 296u}) {
-    const GrammarDraw draw = Draw(seed);
-    const DrawResult r = RunDraw(draw, folder / std::to_string(seed), false);
-    EXPECT_TRUE(r.named_right) << draw.Describe() << " -> " << r.named_pair;
-    EXPECT_TRUE(r.parameter_right) << draw.Describe() << " -> " << r.parameter;
-  }
-  std::filesystem::remove_all(folder);
+  ExpectNamedRight({258u, 296u}, "mb_grammar_order_test", true);
 }
 
 // The chosen products' multipliers chosen again with the friction laws and the other effects refit with each
@@ -185,14 +183,7 @@ TEST(GrammarDraws, TheFirstNamedRemovedMostOfTheBaseResidualAndAWindowMustBeatTh
 // has 0.417 (t = 5.9). Seed 171 hides a force constant that changes smoothly along the travel: it was named the
 // friction of the transmitted force along the travel, which the force constant refit in its place beats (t = 3.3).
 TEST(GrammarDraws, AMultiplierIsChosenAgainWithTheLawsAndTheOtherEffectsRefit) {
-  const std::filesystem::path folder = std::filesystem::temp_directory_path() / "mb_grammar_reconsider_test";
-  for (unsigned seed : {103u, 171u}) {
-    const GrammarDraw draw = Draw(seed);
-    const DrawResult r = RunDraw(draw, folder / std::to_string(seed), false);
-    EXPECT_TRUE(r.named_right) << draw.Describe() << " -> " << r.named_pair;
-    EXPECT_TRUE(r.parameter_right) << draw.Describe() << " -> " << r.parameter;
-  }
-  std::filesystem::remove_all(folder);
+  ExpectNamedRight({103u, 171u}, "mb_grammar_reconsider_test", true);
 }
 
 // A third factor (models/diagnosis/amplitude_factor.h): the pair's amplitude follows time or a further logged column.
