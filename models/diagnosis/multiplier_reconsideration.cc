@@ -42,8 +42,9 @@ EffectInstance AsProduct(const EffectInstance& chosen, const EffectType& type, d
   return alternative;
 }
 
-// The effects `trial` refit jointly (laws first; `sweeps` 0: at their parameters as they are) and their matrix under the
-// ranking's weights; nullopt when an effect has no columns on this record (ŷ in simulation mode) or the base spans one.
+// The effects `trial` refit jointly (laws first; `sweeps` 0: at their parameters as they are) and their matrix under
+// the ranking's weights; nullopt when an effect has no columns on this record (ŷ in simulation mode) or the base spans
+// one.
 struct RefitSet {
   std::vector<EffectInstance> effects;
   RegressorMatrix m;
@@ -94,7 +95,9 @@ void ReconsiderMultipliers(const DiagnosisSignals& signals, const Eigen::MatrixX
     std::vector<std::pair<double, std::vector<EffectInstance>>> screened;  // held-out MSE, the effects
     for (const std::string& name : EffectNames()) {
       const EffectType& other = LookupEffect(name);
-      if (other.modulator != type.modulator || other.multiplier.empty() || other.multiplier == type.multiplier) continue;
+      if (other.modulator != type.modulator || other.multiplier.empty() || other.multiplier == type.multiplier) {
+        continue;
+      }
       if (other.searched && !options.catalogue.every_pair) continue;  // proposed only with the whole grammar
       std::vector<EffectInstance> trial = chosen;
       trial[i] = AsProduct(chosen[i], other, dead_band);
@@ -123,12 +126,12 @@ void ReconsiderMultipliers(const DiagnosisSignals& signals, const Eigen::MatrixX
     const double t = LossDifferenceT(out->grams->HeldOutErrors(out->chosen.selected, out->m),
                                      grams.HeldOutErrors(best->all, best->m), options.significance_batches);
     const std::string evidence = fmt::format(
-        "{} refit jointly with the friction laws and the other effects in its place: held-out MSE {:.4g} against {:.4g} "
-        "(Diebold–Mariano t = {:.2f} of {:.2f} needed; {} products tried)", best->m.cands[i].effect.name,
-        best->held_out_mse, current, t, needed, tried);
+        "{} refit jointly with the friction laws and the other effects in its place: held-out MSE {:.4g} against "
+        "{:.4g} (Diebold–Mariano t = {:.2f} of {:.2f} needed; {} products tried)",
+        best->m.cands[i].effect.name, best->held_out_mse, current, t, needed, tried);
     if (!(t >= needed)) {
-      notes->push_back(fmt::format("{} kept: of the other products of its modulator, {}: not significant", chosen[i].name,
-                                   evidence));
+      notes->push_back(fmt::format("{} kept: of the other products of its modulator, {}: not significant",
+                                   chosen[i].name, evidence));
       continue;
     }
     notes->push_back(fmt::format("{} replaced by another product of its modulator, {}", chosen[i].name, evidence));

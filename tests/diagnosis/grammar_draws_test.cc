@@ -138,7 +138,8 @@ TEST(GrammarDraws, ALoadBehindAPlayIsTouchedOnlyOnceThePlayIsCrossed) {
 // frequency with its rate, a load behind a play (linear and rotary) with its play (`bench_grammar --memory=60` runs
 // sixty).
 TEST(GrammarDraws, HysteresisADriftingVibrationAndALoadBehindAPlayAreNamedWithTheirParameters) {
-  ExpectNamedRight({kMemorySeedBase + 5, kMemorySeedBase + 10, kMemorySeedBase + 1, kMemorySeedBase + 12}, "mb_grammar_memory_test", true);
+  ExpectNamedRight({kMemorySeedBase + 5, kMemorySeedBase + 10, kMemorySeedBase + 1, kMemorySeedBase + 12},
+                   "mb_grammar_memory_test", true);
 }
 
 // The first eight seeds and one noise-only draw through compare, as a user runs it. The benchmark names three quarters
