@@ -21,7 +21,8 @@ namespace mb::diagnosis_detail {
 // whole set, under the ranking's weights, is significant (Diebold–Mariano on the two sets' held-out errors,
 // DiagnosisOptions::significance_t); a note says which was tried and why it was kept or replaced. The forward
 // selection's criterion, on the set as a whole rather than greedily. `out` changes only where a product is replaced.
-// Equation-error mode only (not where CatalogueOptions::loop is set).
+// Equation-error mode only (not where CatalogueOptions::loop is set). Throws nothing of its own: a product with no
+// columns on this record (its regressors throw std::invalid_argument: ŷ in simulation mode) is not tried.
 void ReconsiderMultipliers(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols,
                            const DiagnosisOptions& options, std::size_t laws, Ranking* out,
                            std::vector<std::string>* notes);
