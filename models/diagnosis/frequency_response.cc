@@ -7,7 +7,8 @@
 #include <vector>
 
 #include <fmt/format.h>
-#include <unsupported/Eigen/FFT>
+
+#include "models/diagnosis/fft.h"
 
 namespace mb {
 
@@ -15,14 +16,14 @@ namespace {
 
 // The Hann-windowed spectrum of signal[start, start + m) with its mean removed.
 void WindowedSpectrum(const Eigen::Ref<const Eigen::VectorXd>& signal, Eigen::Index start,
-                      const std::vector<double>& window, Eigen::FFT<double>* fft, std::vector<double>* segment,
+                      const std::vector<double>& window, Fft* fft, std::vector<double>* segment,
                       std::vector<std::complex<double>>* spectrum) {
   const auto m = static_cast<Eigen::Index>(window.size());
   const double mean = signal.segment(start, m).mean();
   for (Eigen::Index i = 0; i < m; ++i) {
     (*segment)[static_cast<std::size_t>(i)] = (signal(start + i) - mean) * window[static_cast<std::size_t>(i)];
   }
-  fft->fwd(*spectrum, *segment);
+  fft->Forward(*segment, spectrum);
 }
 
 }  // namespace
@@ -47,7 +48,7 @@ FrequencyResponseEstimate EstimateFrequencyResponse(const Eigen::Ref<const Eigen
   const Eigen::Index bins = m / 2 + 1;
   Eigen::VectorXd puu = Eigen::VectorXd::Zero(bins), pyy = Eigen::VectorXd::Zero(bins);
   Eigen::VectorXcd puy = Eigen::VectorXcd::Zero(bins);
-  Eigen::FFT<double> fft;
+  Fft fft;
   std::vector<double> segment(static_cast<std::size_t>(m));
   std::vector<std::complex<double>> u_spectrum, y_spectrum;
   FrequencyResponseEstimate out;

@@ -7,7 +7,8 @@
 #include <utility>
 
 #include <fmt/format.h>
-#include <unsupported/Eigen/FFT>
+
+#include "models/diagnosis/fft.h"
 
 namespace mb {
 
@@ -24,8 +25,7 @@ LoopResponse::LoopResponse(Eigen::VectorXd impulse_response, Eigen::Index sample
   while (padded_ < samples_ + h_.size() - 1) padded_ *= 2;
   std::vector<double> padded(static_cast<std::size_t>(padded_), 0.0);
   for (Eigen::Index k = 0; k < h_.size(); ++k) padded[static_cast<std::size_t>(k)] = h_(k);
-  Eigen::FFT<double> fft;
-  fft.fwd(h_spectrum_, padded);
+  Fft().Forward(padded, &h_spectrum_);
 }
 
 Eigen::MatrixXd LoopResponse::Apply(const Eigen::Ref<const Eigen::MatrixXd>& columns) const {
@@ -34,15 +34,15 @@ Eigen::MatrixXd LoopResponse::Apply(const Eigen::Ref<const Eigen::MatrixXd>& col
         fmt::format("LoopResponse::Apply: columns of {} samples, the record has {}", columns.rows(), samples_));
   }
   Eigen::MatrixXd out(samples_, columns.cols());
-  Eigen::FFT<double> fft;
+  Fft fft;
   std::vector<double> padded(static_cast<std::size_t>(padded_));
   std::vector<std::complex<double>> spectrum;
   for (Eigen::Index j = 0; j < columns.cols(); ++j) {
     std::fill(padded.begin(), padded.end(), 0.0);
     for (Eigen::Index i = 0; i < samples_; ++i) padded[static_cast<std::size_t>(i)] = columns(i, j);
-    fft.fwd(spectrum, padded);
+    fft.Forward(padded, &spectrum);
     for (std::size_t k = 0; k < spectrum.size(); ++k) spectrum[k] *= h_spectrum_[k];
-    fft.inv(padded, spectrum);
+    fft.Inverse(spectrum, &padded);
     for (Eigen::Index i = 0; i < samples_; ++i) out(i, j) = padded[static_cast<std::size_t>(i)];
   }
   return out;
@@ -56,15 +56,15 @@ Eigen::VectorXd LoopResponse::ForceOf(const Eigen::Ref<const Eigen::VectorXd>& o
   double peak = 0.0;
   for (const auto& h : h_spectrum_) peak = std::max(peak, std::norm(h));
   const double lambda = regularisation * peak;
-  Eigen::FFT<double> fft;
+  Fft fft;
   std::vector<double> padded(static_cast<std::size_t>(padded_), 0.0);
   for (Eigen::Index i = 0; i < samples_; ++i) padded[static_cast<std::size_t>(i)] = output(i);
   std::vector<std::complex<double>> spectrum;
-  fft.fwd(spectrum, padded);
+  fft.Forward(padded, &spectrum);
   for (std::size_t k = 0; k < spectrum.size(); ++k) {
     spectrum[k] *= std::conj(h_spectrum_[k]) / (std::norm(h_spectrum_[k]) + lambda);
   }
-  fft.inv(padded, spectrum);
+  fft.Inverse(spectrum, &padded);
   Eigen::VectorXd out(samples_);
   for (Eigen::Index i = 0; i < samples_; ++i) out(i) = padded[static_cast<std::size_t>(i)];
   return out;

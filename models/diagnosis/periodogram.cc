@@ -9,7 +9,8 @@
 #include <Eigen/Dense>
 #include <fmt/format.h>
 #include <tbb/parallel_invoke.h>
-#include <unsupported/Eigen/FFT>
+
+#include "models/diagnosis/fft.h"
 
 namespace mb {
 namespace {
@@ -167,10 +168,10 @@ double BinnedExplained(const Bins& b, double f, Eigen::Vector3d* coef = nullptr)
 
 // The forward FFT of real v zero-padded to K, its half spectrum k = 0..K/2 (the rest is its conjugate mirror), into
 // `out`; `in` is the zero-padded input buffer, kept between calls (its tail beyond v stays zero).
-void HalfSpectrum(Eigen::FFT<double>& fft, const Eigen::VectorXd& v, std::vector<double>* in,
+void HalfSpectrum(Fft& fft, const Eigen::VectorXd& v, std::vector<double>* in,
                   std::vector<std::complex<double>>* out) {
   std::copy(v.data(), v.data() + v.size(), in->begin());
-  fft.fwd(*out, *in);
+  fft.Forward(*in, out);
 }
 
 }  // namespace
@@ -300,7 +301,7 @@ class FineGrid {
                             : weights_[static_cast<std::size_t>(k_size_ - k)];
   }
 
-  Eigen::FFT<double> fft_{Eigen::FFT<double>::impl_type(), Eigen::FFT<double>::HalfSpectrum};
+  Fft fft_{/*half_spectrum=*/true};
   Eigen::Index k_size_ = 1, k_lo_ = 0, k_hi_ = 0;
   double df_ = 0.0, w_total_ = 0.0;
   std::vector<double> in_;                     // the zero-padded input, reused by every transform

@@ -10,7 +10,8 @@
 
 #include <boost/math/distributions/chi_squared.hpp>
 #include <fmt/format.h>
-#include <unsupported/Eigen/FFT>
+
+#include "models/diagnosis/fft.h"
 
 namespace mb {
 namespace {
@@ -315,7 +316,7 @@ PowerSpectrum WelchPowerSpectrum(const Eigen::Ref<const Eigen::VectorXd>& signal
   PowerSpectrum out;
   out.density = Eigen::VectorXd::Zero(bins);
   out.frequency_hz = Eigen::VectorXd::LinSpaced(bins, 0.0, static_cast<double>(bins - 1) / (static_cast<double>(m) * sample_period));
-  Eigen::FFT<double> fft;
+  Fft fft;
   std::vector<double> segment(static_cast<std::size_t>(m));
   std::vector<std::complex<double>> spectrum;
   Eigen::Index segments = 0;
@@ -324,7 +325,7 @@ PowerSpectrum WelchPowerSpectrum(const Eigen::Ref<const Eigen::VectorXd>& signal
     for (Eigen::Index i = 0; i < m; ++i) {
       segment[static_cast<std::size_t>(i)] = (signal(start + i) - mean) * window[static_cast<std::size_t>(i)];
     }
-    fft.fwd(spectrum, segment);
+    fft.Forward(segment, &spectrum);
     for (Eigen::Index k = 0; k < bins; ++k) out.density(k) += std::norm(spectrum[static_cast<std::size_t>(k)]);
     ++segments;
   }

@@ -9,6 +9,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "models/diagnosis/fft.h"
 #include "models/diagnosis/frequency_response.h"
 
 namespace mb {
@@ -18,6 +19,51 @@ using ::testing::HasSubstr;
 constexpr double kPi = std::numbers::pi;
 
 Eigen::VectorXd Time(Eigen::Index n, double ts) { return Eigen::VectorXd::LinSpaced(n, 0.0, static_cast<double>(n - 1) * ts); }
+
+// The longest length ≤ n with prime factors 2, 3 and 5 only, against a search by trial division.
+TEST(FastFftLength, IsTheLongestLengthOfTwosThreesAndFivesUpToN) {
+  const auto smooth = [](std::ptrdiff_t m) {
+    for (std::ptrdiff_t p : {2, 3, 5}) {
+      while (m % p == 0) m /= p;
+    }
+    return m == 1;
+  };
+  for (std::ptrdiff_t n = 1; n <= 5000; ++n) {
+    std::ptrdiff_t expected = n;
+    while (!smooth(expected)) --expected;
+    ASSERT_EQ(FastFftLength(n), expected) << "n = " << n;
+  }
+  EXPECT_EQ(FastFftLength(4166), 4096);  // a sixth of 25 000 samples: 2 · 2083 is no fast length
+  EXPECT_EQ(FastFftLength(0), 1);
+}
+
+// Forward against the DFT's sum on a length with a prime factor (7) and on a fast one, the half spectrum, and the real
+// inverse of a full spectrum.
+TEST(Fft, IsTheDiscreteFourierTransformAndItsInverse) {
+  for (std::size_t n : {14u, 16u}) {
+    std::vector<double> x(n);
+    for (std::size_t j = 0; j < n; ++j) x[j] = std::sin(0.7 * static_cast<double>(j * j)) + 0.1 * static_cast<double>(j);
+    std::vector<std::complex<double>> full, half;
+    Fft().Forward(x, &full);
+    Fft(/*half_spectrum=*/true).Forward(x, &half);
+    ASSERT_EQ(full.size(), n);
+    ASSERT_EQ(half.size(), n / 2 + 1);
+    for (std::size_t k = 0; k < n; ++k) {
+      std::complex<double> sum = 0.0;
+      for (std::size_t j = 0; j < n; ++j) {
+        sum += x[j] * std::polar(1.0, -2.0 * kPi * static_cast<double>(j * k) / static_cast<double>(n));
+      }
+      EXPECT_NEAR(std::abs(full[k] - sum), 0.0, 1e-12) << "n = " << n << ", k = " << k;
+      if (k <= n / 2) {
+        EXPECT_NEAR(std::abs(half[k] - sum), 0.0, 1e-12) << "n = " << n << ", k = " << k;
+      }
+    }
+    std::vector<double> back;
+    Fft().Inverse(full, &back);
+    ASSERT_EQ(back.size(), n);
+    for (std::size_t j = 0; j < n; ++j) EXPECT_NEAR(back[j], x[j], 1e-13) << "n = " << n << ", j = " << j;
+  }
+}
 
 TEST(ZeroPhaseLowPass, PassesRampAndHasNoPhaseLag) {
   const double ts = 1e-3;
