@@ -49,6 +49,19 @@ MeasurementLog WriteAndRead(const Record& record, const fs::path& path, const js
 
 bool Within(double found, double truth, double tolerance) { return std::abs(found - truth) <= tolerance; }
 
+// A pair as the force law it is: a multiplier × 1 whose amplitude follows time (the generator's third factor
+// 1 + β·(2t/T − 1), the diagnosis' (t − t₀)/h: both linear in t) is that multiplier × time_ramp with its level, and one
+// whose amplitude follows a column is that multiplier × the column with its level — the same columns under two names.
+struct ForceLaw {
+  std::string multiplier, modulator, column;
+  bool operator==(const ForceLaw&) const = default;
+};
+ForceLaw LawOf(std::string multiplier, std::string modulator, std::string column, const std::string& third) {
+  if (modulator == "constant" && third == "time") return {std::move(multiplier), "time_ramp", ""};
+  if (modulator == "constant" && !third.empty()) return {std::move(multiplier), "column", third};
+  return {std::move(multiplier), std::move(modulator), std::move(column)};
+}
+
 // Names, parameters and the verdicts of compare's diagnosis.
 void Judge(const DiagnosisResult& diagnosis, DrawResult* r) {
   const GrammarDraw& d = r->draw;
@@ -80,7 +93,13 @@ void Judge(const DiagnosisResult& diagnosis, DrawResult* r) {
   }
   if (d.noise_only) return;
   const auto [multiplier, modulator] = FactorsOf(first->effect);
-  r->named_right = d.effect.empty() ? multiplier == d.multiplier && modulator == d.modulator : first->effect == d.effect;
+  const ForceLaw named = LawOf(multiplier, modulator, first->log_column, r->third_found);
+  const ForceLaw drawn =
+      LawOf(d.multiplier, d.modulator, d.active_column.name,
+            d.third_factor == "column" ? d.third_column.name : d.third_factor);
+  r->named_right = d.effect.empty() ? named.multiplier == drawn.multiplier && named.modulator == drawn.modulator
+                                    : first->effect == d.effect;
+  r->third_in_law = r->named_right && d.modulator == "constant" && !d.third_factor.empty();
   for (const std::string& alike : first->alike) {
     const auto [m, mod] = FactorsOf(alike);
     r->alike_right = r->alike_right || (!r->named_right && m == d.multiplier && mod == d.modulator);
@@ -95,7 +114,7 @@ void Judge(const DiagnosisResult& diagnosis, DrawResult* r) {
     const auto it = first->parameters.find(d.second_parameter);
     shape = shape && it != first->parameters.end() && Within(it->second, d.second_value, d.key_tolerance);
   }
-  if (!d.active_column.name.empty()) shape = shape && first->log_column == d.active_column.name;
+  if (!drawn.column.empty()) shape = shape && named.column == drawn.column;
   r->parameter_right = r->named_right && shape;
 }
 
@@ -237,7 +256,7 @@ std::string FormatReport(const std::vector<DrawResult>& draws, const std::vector
     const std::string truth = r.draw.third_factor == "column" ? r.draw.third_column.name : r.draw.third_factor;
     if (!truth.empty()) {
       ++carry;
-      found += r.third_found == truth ? 1 : 0;
+      found += r.third_found == truth || r.third_in_law ? 1 : 0;
     } else {
       ++spare;
       invented += r.third_found.empty() ? 0 : 1;

@@ -41,6 +41,9 @@ struct DrawResult {
   /// The third factor it carries (models/diagnosis/amplitude_factor.h): "time", its column's name, or "" for none.
   std::string third_found;
   double third_slope = 0.0;          ///< its amplitude's relative change per unit of its source (amplitude_slope)
+  /// The drawn third factor is part of the force law named: a multiplier × 1 whose amplitude follows time or a column
+  /// is that multiplier × time_ramp or × the column (grammar_bench.cc, LawOf), named either way.
+  bool third_in_law = false;
   bool named_right = false, parameter_right = false, floor_reached = false;
   /// Not named right, but the drawn pair is one the diagnosis said this record cannot tell from the one it named
   /// (DiagnosedEffect::alike): an honest "one of these two", counted apart.
