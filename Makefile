@@ -14,13 +14,14 @@ build: deps
 demo: build
 	./scripts/demo.sh build/release/tools/motionblocks
 
-## make test: every GoogleTest suite under ASan + UBSan, then the fuzzers of the file readers (clang, briefly).
+## make test: every GoogleTest suite under ASan + UBSan, then the fuzzers of the file readers (clang, briefly: only the
+## fuzz targets and the libraries they link are built there).
 test: deps
 	cmake --preset asan
 	cmake --build --preset asan -j $(JOBS)
 	ctest --preset asan
 	cmake --preset fuzz
-	cmake --build --preset fuzz -j $(JOBS)
+	cmake --build --preset fuzz -j $(JOBS) --target fuzzers
 	ctest --preset fuzz
 
 bench: build

@@ -85,6 +85,6 @@ int main(int argc, char** argv) {
     std::cerr << "missed: " << r.spec.name << "\n";
     ++missed;
   }
-  std::cerr << results.size() - missed << " of " << results.size() << " cases pass\n";
+  std::cerr << results.size() - static_cast<std::size_t>(missed) << " of " << results.size() << " cases pass\n";
   return missed == 0 ? 0 : 1;
 }

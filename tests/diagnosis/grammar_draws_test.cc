@@ -90,7 +90,7 @@ TEST(GrammarDraws, AHysteresisDrawMakesNinetyPercentOfItsSwingOverItsStroke) {
     const Eigen::Index n = up + down + 1;
     Eigen::VectorXd t(n), x(n), zero = Eigen::VectorXd::Zero(n);
     for (Eigen::Index i = 0; i < n; ++i) {
-      x(i) = i <= up ? i * h : (2 * up - i) * h;
+      x(i) = static_cast<double>(i <= up ? i : 2 * up - i) * h;
       t(i) = static_cast<double>(i) * h / speed;
     }
     const Eigen::VectorXd f = EffectForce(d, Run::kTraining, t, x, zero, zero, zero);

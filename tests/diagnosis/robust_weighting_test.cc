@@ -25,7 +25,7 @@ Regression MakeRegression(Eigen::Index n, Eigen::Index q, unsigned seed) {
   Regression g{Eigen::MatrixXd(n, q), Eigen::VectorXd(n)};
   for (Eigen::Index i = 0; i < n; ++i) {
     const double t = static_cast<double>(i) / static_cast<double>(n);
-    for (Eigen::Index j = 0; j < q; ++j) g.x(i, j) = j % 2 == 0 ? std::sin(3.0 * (j + 1) * t) : normal(rng);
+    for (Eigen::Index j = 0; j < q; ++j) g.x(i, j) = j % 2 == 0 ? std::sin(3.0 * static_cast<double>(j + 1) * t) : normal(rng);
     g.r(i) = 0.1 * normal(rng) + (i % 997 == 0 ? 25.0 : 0.0);
   }
   g.r += g.x * Eigen::VectorXd::LinSpaced(q, 1.0, 2.0);

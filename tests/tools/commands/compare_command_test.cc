@@ -92,7 +92,9 @@ TEST(CompareCommand, EveryPairProposesTheWholeGrammar) {
                                    out.string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const auto c = ReadJsonFile(out / "compare.json");
-    if (!every) EXPECT_EQ(c["diagnosis"][0]["effect"], "velocity_dependent_ripple") << c["summary"];
+    if (!every) {
+      EXPECT_EQ(c["diagnosis"][0]["effect"], "velocity_dependent_ripple") << c["summary"];
+    }
     EXPECT_EQ(c["notes"].dump().find("drag_drifting_vibration") != std::string::npos, every) << c["notes"].dump(1);
   }
   fs::remove_all(out);

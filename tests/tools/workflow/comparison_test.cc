@@ -212,8 +212,12 @@ TEST(SuggestTest, AGeneratedPairIsTheBlockOfItsModulatorTimesItsMultiplier) {
   const auto in_window = ForceOnEmps(windowed.json(), *log);
   for (Eigen::Index i = 0; i < t.size(); ++i) {
     const bool on = t(i) >= 2.0 + 1e-6 && t(i) < 5.0 - 1e-6, off = t(i) < 2.0 - 1e-6 || t(i) >= 5.0 + 1e-6;
-    if (on) EXPECT_NEAR(in_window.model(i) - before.model(i), 7.0, 1e-9) << "t = " << t(i);
-    if (off) EXPECT_NEAR(in_window.model(i) - before.model(i), 0.0, 1e-9) << "t = " << t(i);
+    if (on) {
+      EXPECT_NEAR(in_window.model(i) - before.model(i), 7.0, 1e-9) << "t = " << t(i);
+    }
+    if (off) {
+      EXPECT_NEAR(in_window.model(i) - before.model(i), 0.0, 1e-9) << "t = " << t(i);
+    }
   }
   EXPECT_TRUE(BlockFor(LookupEffect("damping_window")).has_value()) << "every multiplier × a window";
 
