@@ -229,7 +229,7 @@ void CheckDelayAgainstHysteresis(const DiagnosisSignals& signals, const Eigen::V
   all.rows = moving;
   for (Eigen::Index i : moving) (speed(i) <= median ? slow : fast).rows.push_back(i);
   for (Samples* h : {&all, &slow, &fast}) {
-    h->base = base(h->rows, Eigen::placeholders::all);
+    h->base = base(h->rows, Eigen::all);
     h->residual = residual(h->rows);
     h->total = (h->residual.array() - h->residual.mean()).matrix().squaredNorm();
     if (!(h->total > 0.0)) return;
@@ -244,7 +244,7 @@ void CheckDelayAgainstHysteresis(const DiagnosisSignals& signals, const Eigen::V
     }
   };
   const auto share = [](const Eigen::MatrixXd& columns, const Samples& h) {
-    return 1.0 - JointFitResidual(h.base, h.residual)(columns(h.rows, Eigen::placeholders::all)) / h.total;
+    return 1.0 - JointFitResidual(h.base, h.residual)(columns(h.rows, Eigen::all)) / h.total;
   };
   const double travel = signals.position.maxCoeff() - signals.position.minCoeff();
   const std::optional<Eigen::MatrixXd> own = columns_of({top->effect, top->parameters});

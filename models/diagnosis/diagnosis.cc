@@ -22,6 +22,7 @@
 #include "models/diagnosis/amplitude_selection.h"
 #include "models/diagnosis/backward_elimination.h"
 #include "models/diagnosis/candidate_matrix.h"
+#include "models/diagnosis/change_time_interval.h"
 #include "models/diagnosis/cross_validation.h"
 #include "models/diagnosis/diagnosis_text.h"
 #include "models/diagnosis/effect_proposal.h"
@@ -305,6 +306,18 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
   const JointFit fit = FitFinally(signals, p, options, &ranked, &result);
   const Eigen::VectorXd r_after = r - fit.fitted;
   DescribeChosenEffects(ranked, fit, signals, base_cols, base.names, options.position_unit, &result);
+  // 5′. Where the record places each change time: a change while the effect's multiplier is nearly zero (a drag that
+  // steps while the axis rests) fits as well anywhere in that stretch, and the user is told the stretch.
+  for (std::size_t i = 0; i < ranked.chosen.order.size(); ++i) {
+    for (const diagnosis_detail::TimeInterval& t : diagnosis_detail::ProfileChangeTimes(ranked, i, signals, options)) {
+      DiagnosedEffect& e = result.effects[i];
+      e.time_intervals[t.parameter] = {t.low, t.high};
+      e.description += fmt::format(" The record places the time it {} between {:.4g} and {:.4g} s.",
+                                   t.parameter == "on_time" ? "switches on" : t.parameter == "off_time" ? "switches off"
+                                                                                                      : "changes",
+                                   t.low, t.high);
+    }
+  }
 
   // What is missing first, then the friction-law replacements, each by the share of the base's held-out residual it
   // removed (DiagnosedEffect::base_share, not the score: of what was left): a replacement changes the model's law

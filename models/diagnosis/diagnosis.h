@@ -27,6 +27,7 @@
 // apart when the motion has essentially one speed: then position_time_indistinguishable is set.
 #pragma once
 
+#include <array>
 #include <map>
 #include <memory>
 #include <string>
@@ -135,6 +136,9 @@ struct DiagnosedEffect {
   // Products of the same modulator that the record cannot tell from this one (they fit within the ambiguity margin:
   // CheckMultiplierAmbiguity); empty when told apart or not checked.
   std::vector<std::string> alike;
+  // Where the record places each of its change times ("change_time", "on_time", "off_time") [s]: the profile interval
+  // of the final joint fit, low and high (change_time_interval.h); empty for an effect without one.
+  std::map<std::string, std::array<double, 2>> time_intervals;
   // `parameters` as JSON for compare.json and improve.json: a count (a parameter without a unit in the effect
   // registry, whole-valued: the harmonics) as an integer, not 2.0.
   nlohmann::json ParametersJson() const;

@@ -96,6 +96,7 @@ nlohmann::json DiagnosisResult::ToJson() const {
       effs.back()["modulator"] = e.modulator;
     }
     if (!e.alike.empty()) effs.back()["alike"] = e.alike;  // what the record cannot tell it from
+    if (!e.time_intervals.empty()) effs.back()["time_intervals"] = e.time_intervals;  // [low, high] s per change time
   }
   j["effects"] = effs;
   j["whiteness_before"] = WhitenessJson(whiteness_before);

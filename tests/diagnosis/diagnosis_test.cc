@@ -168,6 +168,66 @@ TEST(Diagnosis, TimeDelayAndItsValue) {
   EXPECT_NEAR(r.effects.front().parameters.at("delay"), delay, 0.03 * delay);
 }
 
+// An axis that strokes for 5 s (three cycles of 0.6 Hz, 0.1 m), rests for 2 s, then strokes again for 5 s (1 kHz);
+// the logged force carries a payload of 15 kg picked up at `pick_up`. While the axis rests its acceleration is zero, so
+// a pick-up anywhere in the rest fits the record as well: the interval the diagnosis gives spans the rest. Picked up
+// while the axis strokes, the record places it within a few hundredths of the record.
+DiagnosisResult PayloadPickedUpAt(double pick_up) {
+  const Eigen::Index n = 12000;
+  DiagnosisSignals s;
+  s.time = Eigen::VectorXd::LinSpaced(n, 0.0, 1e-3 * static_cast<double>(n - 1));
+  s.position.resize(n);
+  s.velocity.resize(n);
+  s.acceleration.resize(n);
+  const double w = kTwoPi * 0.6;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double t = s.time(i);
+    const bool rests = t >= 5.0 && t < 7.0;
+    const double tau = t < 5.0 ? t : t - 7.0;
+    s.position(i) = rests ? 0.0 : 0.05 * (1.0 - std::cos(w * tau));
+    s.velocity(i) = rests ? 0.0 : 0.05 * w * std::sin(w * tau);
+    s.acceleration(i) = rests ? 0.0 : 0.05 * w * w * std::cos(w * tau);
+  }
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 0.3);
+  s.residual.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    s.residual(i) = (s.time(i) >= pick_up ? 15.0 * s.acceleration(i) : 0.0) + noise(rng);
+  }
+  BaseRegressors base;
+  base.names = {"mass", "viscous", "coulomb", "offset"};
+  base.columns.resize(n, 4);
+  base.columns.col(0) = s.acceleration;
+  base.columns.col(1) = s.velocity;
+  base.columns.col(2) = s.velocity.unaryExpr([](double v) { return v > 0.0 ? 1.0 : (v < 0.0 ? -1.0 : 0.0); });
+  base.columns.col(3).setOnes();
+  return DiagnoseMissingEffects(s, base);
+}
+
+TEST(Diagnosis, AChangeTimeIsGivenAsTheStretchTheRecordPlacesItIn) {
+  for (const double pick_up : {6.0, 2.6}) {
+    const DiagnosisResult r = PayloadPickedUpAt(pick_up);
+    ASSERT_TRUE(r.missing_effect_found) << r.summary;
+    const DiagnosedEffect& e = r.effects.front();
+    ASSERT_EQ(e.effect, "mass_change") << Names(r);
+    ASSERT_TRUE(e.time_intervals.count("change_time")) << e.description;
+    const auto [low, high] = e.time_intervals.at("change_time");
+    EXPECT_LE(low, e.parameters.at("change_time"));
+    EXPECT_GE(high, e.parameters.at("change_time"));
+    EXPECT_LE(low, pick_up) << e.description;
+    EXPECT_GE(high, pick_up) << e.description;
+    if (pick_up == 6.0) {  // anywhere in the rest, and nowhere the axis strokes
+      EXPECT_LE(low, 5.2) << e.description;
+      EXPECT_GE(high, 6.8) << e.description;
+      EXPECT_GE(low, 4.8) << e.description;
+      EXPECT_LE(high, 7.2) << e.description;
+    } else {
+      EXPECT_LT(high - low, 0.3) << e.description;
+    }
+    EXPECT_THAT(e.description, HasSubstr("The record places the time it changes between")) << e.description;
+  }
+}
+
 // Only 30 % of the force lags by 6 ms (say, one phase of a drive): the residual is 0.3·(ŷ(t − d) − ŷ(t)), which a
 // transport delay on the whole output cannot produce. It must not be named time_delay, and the notes say why.
 TEST(Diagnosis, APartialLagIsNotCalledATimeDelay) {

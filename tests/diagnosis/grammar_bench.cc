@@ -116,6 +116,11 @@ void Judge(const DiagnosisResult& diagnosis, DrawResult* r) {
   }
   if (!drawn.column.empty()) shape = shape && named.column == drawn.column;
   r->parameter_right = r->named_right && shape;
+  if (const auto it = first->time_intervals.find(d.key_parameter); r->named_right && it != first->time_intervals.end()) {
+    r->interval_judged = true;
+    r->interval_holds = it->second[0] <= d.key_value && d.key_value <= it->second[1];
+    r->interval_width = (it->second[1] - it->second[0]) / d.duration;
+  }
 }
 
 }  // namespace
@@ -265,6 +270,20 @@ std::string FormatReport(const std::vector<DrawResult>& draws, const std::vector
   out += fmt::format("Third factor, on the draws named right: found with its source on {} that carry one; a third "
                      "factor named on {} that carry none.\n\n",
                      Rate(found, carry), Rate(invented, spare));
+  // The change times' intervals (DiagnosedEffect::time_intervals): how often they hold the drawn time, how wide.
+  int judged = 0, holds = 0, estimate_within = 0;
+  double width = 0.0;
+  for (const auto& r : draws) {
+    if (!r.interval_judged) continue;
+    ++judged;
+    holds += r.interval_holds ? 1 : 0;
+    estimate_within += r.parameter_right ? 1 : 0;
+    width += r.interval_width;
+  }
+  out += fmt::format("Change times, on the draws named right with one as their key parameter: the interval holds the "
+                     "drawn time on {} (the estimate within the tolerance on {}); its mean width {:.1f} % of the "
+                     "record.\n\n",
+                     Rate(holds, judged), Rate(estimate_within, judged), judged > 0 ? 100.0 * width / judged : 0.0);
   int clean = 0;
   std::map<std::string, int> noise_named;
   for (const auto& r : noise_only) {
@@ -307,16 +326,17 @@ std::string ResultsCsv(const std::vector<DrawResult>& draws) {
   std::string out =
       "seed,drawn,named_first,named_pair,score,key_parameter,found,truth,tolerance,named_right,parameter_right,"
       "ratio,generator_floor,floor,heldout_before,heldout_after,floor_reached,compare_s,improve_s,rotary,sample_rate_hz,"
-      "trajectory,third_factor\n";
+      "trajectory,third_factor,interval_holds,interval_width\n";
   for (const auto& r : draws) {
     const GrammarDraw& d = r.draw;
     out += fmt::format("{},{},{},{},{:.4f},{},{:.6g},{:.6g},{:.3g},{},{},{:.2f},{:.4g},{:.4g},{:.4g},{:.4g},{},{:.3f},"
-                       "{:.2f},{},{:.0f},{},{}\n",
+                       "{:.2f},{},{:.0f},{},{},{},{:.4f}\n",
                        d.seed, d.pair(), r.named_first, r.named_pair, r.named_score, d.key_parameter, r.parameter,
                        d.key_value, d.key_tolerance, r.named_right, r.parameter_right, d.target_ratio, d.noise_floor,
                        r.noise_floor, r.heldout_before, r.heldout_after, r.floor_reached, r.compare_seconds,
                        r.improve_seconds, d.rotary, d.sample_rate,
-                       d.trajectory == Trajectory::kSweep ? "sweep" : "point_to_point", d.third_factor);
+                       d.trajectory == Trajectory::kSweep ? "sweep" : "point_to_point", d.third_factor,
+                       r.interval_judged ? (r.interval_holds ? "true" : "false") : "", r.interval_width);
   }
   return out;
 }

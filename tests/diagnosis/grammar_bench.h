@@ -45,6 +45,11 @@ struct DrawResult {
   /// is that multiplier × time_ramp or × the column (grammar_bench.cc, LawOf), named either way.
   bool third_in_law = false;
   bool named_right = false, parameter_right = false, floor_reached = false;
+  /// Named right with a change time as its key parameter (a step's, a window's on time): whether the interval the
+  /// diagnosis gives for it (DiagnosedEffect::time_intervals) holds the drawn time, and its width as a share of the
+  /// record.
+  bool interval_judged = false, interval_holds = false;
+  double interval_width = 0.0;
   /// Not named right, but the drawn pair is one the diagnosis said this record cannot tell from the one it named
   /// (DiagnosedEffect::alike): an honest "one of these two", counted apart.
   bool alike_right = false;

@@ -1,0 +1,167 @@
+// The profile interval of a chosen effect's change time (change_time_interval.h). Source: Hinkley (1970), Biometrika
+// 57(1); Siegmund (1988), International Statistical Review 56(1) — the likelihood-ratio interval for a change point.
+#include "models/diagnosis/change_time_interval.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <string_view>
+
+#include <Eigen/Cholesky>
+#include <tbb/parallel_for.h>
+
+#include "models/diagnosis/candidate_matrix.h"
+#include "models/diagnosis/effect_registry.h"
+
+namespace mb::diagnosis_detail {
+namespace {
+
+constexpr int kProfileGrid = 100;                   // points across the record: 1 % of its duration apart
+constexpr int kEdgeBisections = 8;                  // each end of the interval to 1/256 of a grid step
+constexpr double kChiSquare95 = 3.841458820694124;  // χ²₁'s 95 % quantile
+constexpr const char* kChangeTimes[] = {"change_time", "on_time", "off_time"};
+
+// The weighted sum of squares of m.wr on the other columns (their Gram `goo`, moment `bo`, weighted columns `xo`)
+// and the effect's columns `raw` (N × k, own units) weighted by √w, every coefficient refit; its residual when asked.
+double ProfileSse(const RegressorMatrix& m, const Eigen::MatrixXd& xo, const Eigen::MatrixXd& goo,
+                  const Eigen::VectorXd& bo, const Eigen::MatrixXd& raw, Eigen::VectorXd* residual = nullptr) {
+  const Eigen::Index q = xo.cols(), k = raw.cols();
+  Eigen::MatrixXd xe = (raw.array().colwise() * m.sw.array()).matrix();
+  for (Eigen::Index j = 0; j < k; ++j) {  // unit RMS, for the conditioning; a column of zeros stays
+    const double rms = xe.col(j).norm() / std::sqrt(static_cast<double>(xe.rows()));
+    if (rms > 0.0) xe.col(j) /= rms;
+  }
+  Eigen::MatrixXd g(q + k, q + k);
+  g.topLeftCorner(q, q) = goo;
+  g.topRightCorner(q, k) = xo.transpose() * xe;
+  g.bottomLeftCorner(k, q) = g.topRightCorner(q, k).transpose();
+  g.bottomRightCorner(k, k) = xe.transpose() * xe;
+  Eigen::VectorXd b(q + k);
+  b << bo, xe.transpose() * m.wr;
+  g.diagonal().array() += 1e-10 * std::max(1.0, g.trace() / static_cast<double>(q + k));  // a column of zeros
+  const Eigen::VectorXd theta = g.ldlt().solve(b);
+  if (residual != nullptr) *residual = m.wr - xo * theta.head(q) - xe * theta.tail(k);
+  return std::max(0.0, m.wr.squaredNorm() - b.dot(theta));
+}
+
+// The long-run variance of `e` (N): the variance of its mean over `batches` contiguous batches, times the batch length.
+double LongRunVariance(const Eigen::VectorXd& e, Eigen::Index batches) {
+  const Eigen::Index n = e.size();
+  batches = std::clamp<Eigen::Index>(batches, 2, std::max<Eigen::Index>(2, n / 8));
+  Eigen::VectorXd means(batches);
+  for (Eigen::Index b = 0; b < batches; ++b) {
+    const Eigen::Index lo = b * n / batches, hi = (b + 1) * n / batches;
+    means(b) = e.segment(lo, hi - lo).mean();
+  }
+  const double var = (means.array() - means.mean()).square().sum() / static_cast<double>(batches - 1);
+  return var * static_cast<double>(n) / static_cast<double>(batches);
+}
+
+}  // namespace
+
+std::vector<TimeInterval> ProfileChangeTimes(const Ranking& ranked, std::size_t position,
+                                             const DiagnosisSignals& signals, const DiagnosisOptions& options) {
+  const RegressorMatrix& m = ranked.m;
+  const Candidate& c = m.cands[ranked.chosen.order[position]];
+  const EffectType& type = *c.type;
+  std::vector<TimeInterval> out;
+  const Eigen::Index n = m.rows();
+  if (n < 16 || m.sw.size() != n || signals.time.size() != n) return out;
+
+  // The other chosen columns, weighted and scaled as the ranking holds them.
+  std::vector<Eigen::Index> others;
+  for (const Eigen::Index j : ranked.chosen.selected) {
+    if (std::find(c.idx.begin(), c.idx.end(), j) == c.idx.end()) others.push_back(j);
+  }
+  Eigen::MatrixXd xo(n, static_cast<Eigen::Index>(others.size()));
+  for (std::size_t j = 0; j < others.size(); ++j) {
+    xo.col(static_cast<Eigen::Index>(j)) = m.sw.cwiseProduct(m.Col(others[j]));
+  }
+  const Eigen::MatrixXd goo = xo.transpose() * xo;
+  const Eigen::VectorXd bo = xo.transpose() * m.wr;
+  const auto columns_at = [&](const EffectInstance& instance) {
+    Eigen::MatrixXd columns = type.regressors(instance, signals).columns;
+    FilterCandidateColumns(type, signals, options, &columns);
+    return columns;
+  };
+
+  const double t0 = signals.time(0), duration = signals.time(n - 1) - t0;
+  for (const char* name : kChangeTimes) {
+    const auto at = c.effect.parameters.find(name);
+    if (at == c.effect.parameters.end() || !(duration > 0.0)) continue;
+    // The estimate's own fit: its residual's long-run variance sets the threshold.
+    Eigen::VectorXd residual;
+    double estimate_sse = 0.0;
+    try {
+      estimate_sse = ProfileSse(m, xo, goo, bo, columns_at(c.effect), &residual);
+    } catch (const std::invalid_argument&) {
+      continue;
+    }
+    const double threshold = kChiSquare95 * LongRunVariance(residual, options.significance_batches);
+    // A window's edge stays on its side of the other edge.
+    double lo = t0, hi = t0 + duration;
+    if (std::string_view(name) == "on_time" && c.effect.parameters.count("off_time")) {
+      hi = c.effect.parameters.at("off_time");
+    }
+    if (std::string_view(name) == "off_time" && c.effect.parameters.count("on_time")) {
+      lo = c.effect.parameters.at("on_time");
+    }
+    std::vector<double> grid(kProfileGrid), sse(kProfileGrid, std::numeric_limits<double>::infinity());
+    for (int i = 0; i < kProfileGrid; ++i) grid[static_cast<std::size_t>(i)] = lo + (i + 0.5) * (hi - lo) / kProfileGrid;
+    tbb::parallel_for(std::size_t{0}, grid.size(), [&](std::size_t i) {
+      EffectInstance trial = c.effect;
+      trial.parameters[name] = grid[i];
+      try {
+        sse[i] = ProfileSse(m, xo, goo, bo, columns_at(trial));
+      } catch (const std::invalid_argument&) {
+      }
+    });
+    const double lowest = std::min(estimate_sse, *std::min_element(sse.begin(), sse.end()));
+    const double level = lowest + threshold;
+    const auto inside = [&](std::size_t i) { return sse[i] <= level; };
+    // Every grid point within the level, and the estimate: its hull — a profile with two minima the record cannot
+    // choose between spans both — each end then bisected between its outermost point inside and the next one out
+    // (kEdgeBisections halvings of a grid step); an end that reaches the scan's stays there.
+    const double estimate = at->second;
+    const auto edge = [&](double in, double out_of) {
+      for (int b = 0; b < kEdgeBisections; ++b) {
+        const double mid = 0.5 * (in + out_of);
+        EffectInstance trial = c.effect;
+        trial.parameters[name] = mid;
+        double e = std::numeric_limits<double>::infinity();
+        try {
+          e = ProfileSse(m, xo, goo, bo, columns_at(trial));
+        } catch (const std::invalid_argument&) {
+        }
+        (e <= level ? in : out_of) = mid;
+      }
+      return in;
+    };
+    double up_in = estimate, down_in = estimate;
+    std::optional<double> up_out, down_out;
+    for (std::size_t i = 0; i < grid.size(); ++i) {
+      if (!inside(i)) continue;
+      up_in = std::max(up_in, grid[i]);
+      down_in = std::min(down_in, grid[i]);
+    }
+    for (std::size_t i = 0; i < grid.size(); ++i) {
+      if (grid[i] > up_in && !up_out) up_out = grid[i];
+      if (grid[i] < down_in) down_out = grid[i];
+    }
+    TimeInterval interval{name, down_out ? edge(down_in, *down_out) : lo, up_out ? edge(up_in, *up_out) : hi};
+    // The columns change only where the time crosses a sample (1(t ≥ t_c), 1(t < t_off)): every time between the two
+    // samples around an end fits alike, so the ends are the samples on either side.
+    const double* first = signals.time.data();
+    const double* last = first + n;
+    const double* above = std::lower_bound(first, last, interval.high);
+    if (above != last) interval.high = *above;
+    const double* below = std::lower_bound(first, last, interval.low);
+    if (below != first) interval.low = *(below - 1);
+    out.push_back(interval);
+  }
+  return out;
+}
+
+}  // namespace mb::diagnosis_detail
