@@ -14,6 +14,7 @@
 
 #include "models/diagnosis/candidate_matrix.h"
 #include "models/diagnosis/effect_registry.h"
+#include "models/diagnosis/forward_selection.h"
 
 namespace mb::diagnosis_detail {
 namespace {
@@ -46,17 +47,11 @@ double ProfileSse(const RegressorMatrix& m, const Eigen::MatrixXd& xo, const Eig
   return std::max(0.0, m.wr.squaredNorm() - b.dot(theta));
 }
 
-// The long-run variance of `e` (N): the variance of its mean over `batches` contiguous batches, times the batch length.
+// The long-run variance of `e` (N): the variance of its batch means times the batch length.
 double LongRunVariance(const Eigen::VectorXd& e, Eigen::Index batches) {
-  const Eigen::Index n = e.size();
-  batches = std::clamp<Eigen::Index>(batches, 2, std::max<Eigen::Index>(2, n / 8));
-  Eigen::VectorXd means(batches);
-  for (Eigen::Index b = 0; b < batches; ++b) {
-    const Eigen::Index lo = b * n / batches, hi = (b + 1) * n / batches;
-    means(b) = e.segment(lo, hi - lo).mean();
-  }
-  const double var = (means.array() - means.mean()).square().sum() / static_cast<double>(batches - 1);
-  return var * static_cast<double>(n) / static_cast<double>(batches);
+  const Eigen::VectorXd means = BatchMeans(e, batches);
+  const double b = static_cast<double>(means.size());
+  return (means.array() - means.mean()).square().sum() / (b - 1.0) * static_cast<double>(e.size()) / b;
 }
 
 }  // namespace
@@ -110,14 +105,16 @@ std::vector<TimeInterval> ProfileChangeTimes(const Ranking& ranked, std::size_t 
     }
     std::vector<double> grid(kProfileGrid), sse(kProfileGrid, std::numeric_limits<double>::infinity());
     for (int i = 0; i < kProfileGrid; ++i) grid[static_cast<std::size_t>(i)] = lo + (i + 0.5) * (hi - lo) / kProfileGrid;
-    tbb::parallel_for(std::size_t{0}, grid.size(), [&](std::size_t i) {
+    const auto sse_at = [&](double t) {
       EffectInstance trial = c.effect;
-      trial.parameters[name] = grid[i];
+      trial.parameters[name] = t;
       try {
-        sse[i] = ProfileSse(m, xo, goo, bo, columns_at(trial));
+        return ProfileSse(m, xo, goo, bo, columns_at(trial));
       } catch (const std::invalid_argument&) {
+        return std::numeric_limits<double>::infinity();
       }
-    });
+    };
+    tbb::parallel_for(std::size_t{0}, grid.size(), [&](std::size_t i) { sse[i] = sse_at(grid[i]); });
     const double lowest = std::min(estimate_sse, *std::min_element(sse.begin(), sse.end()));
     const double level = lowest + threshold;
     const auto inside = [&](std::size_t i) { return sse[i] <= level; };
@@ -128,14 +125,7 @@ std::vector<TimeInterval> ProfileChangeTimes(const Ranking& ranked, std::size_t 
     const auto edge = [&](double in, double out_of) {
       for (int b = 0; b < kEdgeBisections; ++b) {
         const double mid = 0.5 * (in + out_of);
-        EffectInstance trial = c.effect;
-        trial.parameters[name] = mid;
-        double e = std::numeric_limits<double>::infinity();
-        try {
-          e = ProfileSse(m, xo, goo, bo, columns_at(trial));
-        } catch (const std::invalid_argument&) {
-        }
-        (e <= level ? in : out_of) = mid;
+        (sse_at(mid) <= level ? in : out_of) = mid;
       }
       return in;
     };

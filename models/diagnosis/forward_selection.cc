@@ -157,18 +157,22 @@ double GainSignificance(const RegressorMatrix& m, const BlockGrams& grams, const
   return LossDifferenceT(grams.HeldOutErrors(selected, m), grams.HeldOutErrors(trial, m), batches);
 }
 
-double LossDifferenceT(const Eigen::VectorXd& before, const Eigen::VectorXd& after, Eigen::Index batches) {
-  const Eigen::VectorXd delta = before.array().square() - after.array().square();
-  const Eigen::Index n = delta.size();
+Eigen::VectorXd BatchMeans(const Eigen::VectorXd& x, Eigen::Index batches) {
+  const Eigen::Index n = x.size();
   batches = std::clamp<Eigen::Index>(batches, 2, std::max<Eigen::Index>(2, n / 8));
   Eigen::VectorXd means(batches);
   for (Eigen::Index b = 0; b < batches; ++b) {
     const Eigen::Index lo = b * n / batches, hi = (b + 1) * n / batches;
-    means(b) = delta.segment(lo, hi - lo).mean();
+    means(b) = x.segment(lo, hi - lo).mean();
   }
+  return means;
+}
+
+double LossDifferenceT(const Eigen::VectorXd& before, const Eigen::VectorXd& after, Eigen::Index batches) {
+  const Eigen::VectorXd means = BatchMeans(before.array().square() - after.array().square(), batches);
   const double mean = means.mean();
-  const double var = (means.array() - mean).square().sum() / static_cast<double>(batches - 1);
-  const double se = std::sqrt(var / static_cast<double>(batches));
+  const double var = (means.array() - mean).square().sum() / static_cast<double>(means.size() - 1);
+  const double se = std::sqrt(var / static_cast<double>(means.size()));
   return se > 0.0 ? mean / se : (mean > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
 }
 

@@ -54,6 +54,9 @@ double GainSignificance(const RegressorMatrix& m, const BlockGrams& grams, const
 // The same test on two fits' held-out errors of the same weighted residual (N each; BlockGrams::HeldOutErrors), from
 // any two regressor sets: the one-sided t that `after` predicts better than `before`.
 double LossDifferenceT(const Eigen::VectorXd& before, const Eigen::VectorXd& after, Eigen::Index batches);
+// The means of `x` (N) over `batches` contiguous batches, their count clamped to [2, max(2, N/8)]: the batch-means
+// estimate of a serially correlated series' long-run variance is their variance times the batch length.
+Eigen::VectorXd BatchMeans(const Eigen::VectorXd& x, Eigen::Index batches);
 
 // One round: adds the best candidate not `used` (near-ties to the lower BIC) whose gain reaches min_gain and is
 // significant (GainSignificance; an insignificant best is set aside with a note and the next one tried) and whose
