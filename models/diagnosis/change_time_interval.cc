@@ -9,10 +9,11 @@
 #include <stdexcept>
 #include <string_view>
 
-#include <Eigen/Cholesky>
+#include <Eigen/QR>
 #include <tbb/parallel_for.h>
 
 #include "models/diagnosis/candidate_matrix.h"
+#include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/forward_selection.h"
 
@@ -23,29 +24,6 @@ constexpr int kProfileGrid = 100;                   // points across the record:
 constexpr int kEdgeBisections = 8;                  // each end of the interval to 1/256 of a grid step
 constexpr double kChiSquare95 = 3.841458820694124;  // χ²₁'s 95 % quantile
 constexpr const char* kChangeTimes[] = {"change_time", "on_time", "off_time"};
-
-// The weighted sum of squares of m.wr on the other columns (their Gram `goo`, moment `bo`, weighted columns `xo`)
-// and the effect's columns `raw` (N × k, own units) weighted by √w, every coefficient refit; its residual when asked.
-double ProfileSse(const RegressorMatrix& m, const Eigen::MatrixXd& xo, const Eigen::MatrixXd& goo,
-                  const Eigen::VectorXd& bo, const Eigen::MatrixXd& raw, Eigen::VectorXd* residual = nullptr) {
-  const Eigen::Index q = xo.cols(), k = raw.cols();
-  Eigen::MatrixXd xe = (raw.array().colwise() * m.sw.array()).matrix();
-  for (Eigen::Index j = 0; j < k; ++j) {  // unit RMS, for the conditioning; a column of zeros stays
-    const double rms = xe.col(j).norm() / std::sqrt(static_cast<double>(xe.rows()));
-    if (rms > 0.0) xe.col(j) /= rms;
-  }
-  Eigen::MatrixXd g(q + k, q + k);
-  g.topLeftCorner(q, q) = goo;
-  g.topRightCorner(q, k) = xo.transpose() * xe;
-  g.bottomLeftCorner(k, q) = g.topRightCorner(q, k).transpose();
-  g.bottomRightCorner(k, k) = xe.transpose() * xe;
-  Eigen::VectorXd b(q + k);
-  b << bo, xe.transpose() * m.wr;
-  g.diagonal().array() += 1e-10 * std::max(1.0, g.trace() / static_cast<double>(q + k));  // a column of zeros
-  const Eigen::VectorXd theta = g.ldlt().solve(b);
-  if (residual != nullptr) *residual = m.wr - xo * theta.head(q) - xe * theta.tail(k);
-  return std::max(0.0, m.wr.squaredNorm() - b.dot(theta));
-}
 
 // The long-run variance of `e` (N): the variance of its batch means times the batch length.
 double LongRunVariance(const Eigen::VectorXd& e, Eigen::Index batches) {
@@ -74,12 +52,12 @@ std::vector<TimeInterval> ProfileChangeTimes(const Ranking& ranked, std::size_t 
   for (std::size_t j = 0; j < others.size(); ++j) {
     xo.col(static_cast<Eigen::Index>(j)) = m.sw.cwiseProduct(m.Col(others[j]));
   }
-  const Eigen::MatrixXd goo = xo.transpose() * xo;
-  const Eigen::VectorXd bo = xo.transpose() * m.wr;
+  const JointFitResidual profile(xo, m.wr);  // the weighted sum of squares with the effect's columns beside them
+  // The effect's columns at `instance`, filtered like a candidate's (in simulation mode: through the loop), weighted.
   const auto columns_at = [&](const EffectInstance& instance) {
     Eigen::MatrixXd columns = type.regressors(instance, signals).columns;
     FilterCandidateColumns(type, signals, options, &columns);
-    return columns;
+    return (columns.array().colwise() * m.sw.array()).matrix().eval();
   };
 
   const double t0 = signals.time(0), duration = signals.time(n - 1) - t0;
@@ -87,13 +65,16 @@ std::vector<TimeInterval> ProfileChangeTimes(const Ranking& ranked, std::size_t 
     const auto at = c.effect.parameters.find(name);
     if (at == c.effect.parameters.end() || !(duration > 0.0)) continue;
     // The estimate's own fit: its residual's long-run variance sets the threshold.
-    Eigen::VectorXd residual;
-    double estimate_sse = 0.0;
+    Eigen::MatrixXd x(n, xo.cols());
     try {
-      estimate_sse = ProfileSse(m, xo, goo, bo, columns_at(c.effect), &residual);
+      const Eigen::MatrixXd xe = columns_at(c.effect);
+      x.resize(n, xo.cols() + xe.cols());
+      x << xo, xe;
     } catch (const std::invalid_argument&) {
       continue;
     }
+    const Eigen::VectorXd residual = m.wr - x * x.colPivHouseholderQr().solve(m.wr);
+    const double estimate_sse = residual.squaredNorm();
     const double threshold = kChiSquare95 * LongRunVariance(residual, options.significance_batches);
     // A window's edge stays on its side of the other edge.
     double lo = t0, hi = t0 + duration;
@@ -109,7 +90,7 @@ std::vector<TimeInterval> ProfileChangeTimes(const Ranking& ranked, std::size_t 
       EffectInstance trial = c.effect;
       trial.parameters[name] = t;
       try {
-        return ProfileSse(m, xo, goo, bo, columns_at(trial));
+        return profile(columns_at(trial));
       } catch (const std::invalid_argument&) {
         return std::numeric_limits<double>::infinity();
       }
