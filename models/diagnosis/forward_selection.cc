@@ -111,7 +111,12 @@ std::size_t NestedUnlessSignificant(const RegressorMatrix& m, const BlockGrams& 
   smaller.insert(smaller.end(), m.cands[best].idx.begin(), m.cands[best].idx.end());
   larger.insert(larger.end(), m.cands[pick].idx.begin(), m.cands[pick].idx.end());
   const double t = GainSignificance(m, grams, smaller, larger, options.significance_batches);
-  if (t >= options.significance_t) return pick;
+  if (t >= options.significance_t) {
+    notes->push_back(fmt::format("{} chosen over {}, whose shape it holds: its held-out gain over it is significant "
+                                 "(Diebold–Mariano t = {:.2f} ≥ {:.2f})",
+                                 m.cands[pick].effect.name, m.cands[best].effect.name, t, options.significance_t));
+    return pick;
+  }
   notes->push_back(fmt::format("{} not chosen over {}, whose shape it holds: its held-out gain over it is not "
                                "significant (Diebold–Mariano t = {:.2f} < {:.2f})",
                                m.cands[pick].effect.name, m.cands[best].effect.name, t, options.significance_t));
