@@ -221,6 +221,40 @@ std::pair<double, double> Golden(const std::function<double(double)>& f, double 
   return e <= fallback_value ? std::pair{x, e} : std::pair{fallback, fallback_value};
 }
 
+// The joint fit of a time scan (a step's time, a window's edges, a settling time) without the samples at the record's
+// two ends where the derived motion is still its derivative filter's edge transient (equation-error mode: two periods of
+// the band limit, at most 5 % of the record at each end). Those samples are not the physics: at a sweep's start the
+// controller's first kick there, a hundred times the noise, drew every time scan to the start.
+class TimeScanFit {
+ public:
+  explicit TimeScanFit(const ProposalContext& c)
+      : edge_(Edge(c)), base_(Trimmed(c.BaseWithConstant())), r_(Trimmed(c.residual())), fit_(base_, r_, c.loop()) {}
+  TimeScanFit(const TimeScanFit&) = delete;
+  TimeScanFit& operator=(const TimeScanFit&) = delete;
+  // The residual sum of squares of the trimmed residual on [base, 1, column] (column: N).
+  double operator()(Eigen::VectorXd column) const { return fit_(Trimmed(std::move(column))); }
+
+ private:
+  static Eigen::Index Edge(const ProposalContext& c) {
+    const double band = c.options().band_limit_hz;
+    if (c.loop() != nullptr || !(band > 0.0) || !(c.sample_period() > 0.0)) return 0;
+    const double samples = std::ceil(2.0 / (band * c.sample_period()));
+    return static_cast<Eigen::Index>(std::min(samples, 0.05 * static_cast<double>(c.size())));
+  }
+  template <typename M>
+  M Trimmed(M x) const {
+    if (edge_ > 0) {
+      x.topRows(edge_).setZero();
+      x.bottomRows(edge_).setZero();
+    }
+    return x;
+  }
+  Eigen::Index edge_;
+  Eigen::MatrixXd base_;
+  Eigen::VectorXd r_;
+  JointFitResidual fit_;
+};
+
 Eigen::VectorXd StepColumn(const DiagnosisSignals& s, const Eigen::VectorXd& m, double change_time) {
   return (s.time.array() >= change_time).select(m, 0.0);
 }
@@ -237,8 +271,7 @@ std::vector<FactorParameters> ScanStep(ProposalContext& c,
   const DiagnosisSignals& s = c.signals();
   const auto [t0, duration] = Span(s);
   if (!(duration > 0.0) || !(m.cwiseAbs().maxCoeff() > 0.0)) return {};
-  const Eigen::MatrixXd base = c.BaseWithConstant();
-  const JointFitResidual fit(base, c.residual(), c.loop());
+  const TimeScanFit fit(c);
   const auto sse = [&](double t) { return fit(StepColumn(s, m, t)); };
   const double lo = t0 + kTimeTrim * duration, step = (1.0 - 2.0 * kTimeTrim) * duration / (kBreakGrid - 1);
   int best = 0;
@@ -266,8 +299,7 @@ std::vector<FactorParameters> ScanWindow(ProposalContext& c,
   const DiagnosisSignals& s = c.signals();
   const auto [t0, duration] = Span(s);
   if (!(duration > 0.0) || !(m.cwiseAbs().maxCoeff() > 0.0)) return {};
-  const Eigen::MatrixXd base = c.BaseWithConstant();
-  const JointFitResidual fit(base, c.residual(), c.loop());
+  const TimeScanFit fit(c);
   const double lo = t0 + 0.5 * kTimeTrim * duration, step = (1.0 - kTimeTrim) * duration / (kWindowGrid - 1);
   int best_on = 0, best_off = 0;
   double best_sse = std::numeric_limits<double>::infinity();
@@ -304,8 +336,7 @@ std::vector<FactorParameters> ScanWarmUp(ProposalContext& c,
   const auto [start, duration] = Span(s);
   const double t0 = start;  // a plain copy: clang 14 does not capture a structured binding in a lambda
   if (!(duration > 0.0) || !(m.cwiseAbs().maxCoeff() > 0.0)) return {};
-  const Eigen::MatrixXd base = c.BaseWithConstant();
-  const JointFitResidual fit(base, c.residual(), c.loop());
+  const TimeScanFit fit(c);
   const double lo = duration / 100.0, hi = duration;
   const double time_constant = MinimiseOnLogGrid(
       lo, hi, kGrid, 20, [&](double T) { return fit(m.cwiseProduct(WarmUp(s.time, t0, T))); }, true);

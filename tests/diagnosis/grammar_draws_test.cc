@@ -209,6 +209,14 @@ TEST(GrammarDraws, TheFirstNamedRemovedMostOfTheBaseResidualAndAWindowMustBeatTh
                               "is not significant"}), "");
 }
 
+// The scans that place a change in time leave out the samples at the record's ends where the derived motion is still
+// its derivative filter's edge transient (TimeScanFit, factor_tables.cc). Seed 261 hides an inertia settling with
+// T = 3.36 s on a 10.8 s sweep that starts with the controller's first kick: with those samples the settling time's
+// scan ended at its long end (10.8 s) and the inertia was named drifting over the record.
+TEST(GrammarDraws, ATimeScanLeavesOutTheDerivativeFiltersEdges) {
+  ExpectNamedRight({261u}, "mb_grammar_edge_test", true);
+}
+
 // The chosen products' multipliers chosen again with the friction laws and the other effects refit with each
 // (models/diagnosis/multiplier_reconsideration.h). Seed 103 hides a friction of the transmitted force vibrating at
 // 26.8 Hz: the greedy path named a viscous friction vibrating (held-out MSE 1.41), the load friction refit in its place
