@@ -223,8 +223,8 @@ std::pair<double, double> Golden(const std::function<double(double)>& f, double 
 
 // The joint fit of a time scan (a step's time, a window's edges, a settling time) without the samples at the record's
 // two ends where the derived motion is still its derivative filter's edge transient (equation-error mode: two periods of
-// the band limit, at most 5 % of the record at each end). Those samples are not the physics: at a sweep's start the
-// controller's first kick there, a hundred times the noise, drew every time scan to the start.
+// the band limit, at most 5 % of the record at each end). Those samples are not the physics: a sweep's first kick of the
+// controller there, a hundred times the noise, drew the time scans to the record's ends (grammar seeds 201, 261).
 class TimeScanFit {
  public:
   explicit TimeScanFit(const ProposalContext& c)

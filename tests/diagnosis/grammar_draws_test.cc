@@ -17,8 +17,7 @@ namespace mb::grammar {
 namespace {
 
 // Each seed through compare, as a user runs it (a folder of its own, removed after): the drawn pair named first and,
-// where `with_parameter`, its key shape parameter within tolerance.
-// Each seed's draw through compare, expected named right (and with its parameter); the results in the seeds' order.
+// where `with_parameter`, its key shape parameter within tolerance. Returns the results in the seeds' order.
 std::vector<DrawResult> ExpectNamedRight(std::initializer_list<unsigned> seeds, const std::string& folder_name,
                                          bool with_parameter) {
   const std::filesystem::path folder = std::filesystem::temp_directory_path() / folder_name;
