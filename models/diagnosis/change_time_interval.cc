@@ -65,7 +65,7 @@ std::vector<TimeInterval> ProfileChangeTimes(const Ranking& ranked, std::size_t 
     const auto at = c.effect.parameters.find(name);
     if (at == c.effect.parameters.end() || !(duration > 0.0)) continue;
     // The estimate's own fit: its residual's long-run variance sets the threshold.
-    Eigen::MatrixXd x(n, xo.cols());
+    Eigen::MatrixXd x;  // [the other columns, the effect's] (N × (q + k))
     try {
       const Eigen::MatrixXd xe = columns_at(c.effect);
       x.resize(n, xo.cols() + xe.cols());
