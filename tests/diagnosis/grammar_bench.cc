@@ -65,7 +65,7 @@ ForceLaw LawOf(std::string multiplier, std::string modulator, std::string column
 // Names, parameters and the verdicts of compare's diagnosis.
 void Judge(const DiagnosisResult& diagnosis, DrawResult* r) {
   const GrammarDraw& d = r->draw;
-  r->parameter = std::numeric_limits<double>::quiet_NaN();
+  r->parameter = r->second_parameter = std::numeric_limits<double>::quiet_NaN();
   const DiagnosedEffect* first = nullptr;
   double largest = 0.0;
   for (const auto& e : diagnosis.effects) {
@@ -112,7 +112,8 @@ void Judge(const DiagnosisResult& diagnosis, DrawResult* r) {
   }
   if (!d.second_parameter.empty()) {
     const auto it = first->parameters.find(d.second_parameter);
-    shape = shape && it != first->parameters.end() && Within(it->second, d.second_value, d.key_tolerance);
+    if (it != first->parameters.end()) r->second_parameter = it->second;
+    shape = shape && Within(r->second_parameter, d.second_value, d.key_tolerance);
   }
   if (!drawn.column.empty()) shape = shape && named.column == drawn.column;
   r->parameter_right = r->named_right && shape;

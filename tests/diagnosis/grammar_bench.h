@@ -37,6 +37,7 @@ struct DrawResult {
   double named_score = 0.0;          ///< its share
   std::string named_pair;            ///< its multiplier×modulator, its name when not a product, "nothing"
   double parameter = 0.0;            ///< its key parameter (NaN when not named or absent)
+  double second_parameter = 0.0;     ///< its second shape parameter where the draw has one (a window's off time), or NaN
   std::string log_column;            ///< its column (DiagnosedEffect::log_column)
   /// The third factor it carries (models/diagnosis/amplitude_factor.h): "time", its column's name, or "" for none.
   std::string third_found;
