@@ -2,13 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <stdexcept>
 #include <utility>
 
 #include <fmt/format.h>
-
-#include "models/diagnosis/effect_block.h"
 
 namespace mb {
 
@@ -81,73 +78,5 @@ MB_REGISTER_BLOCK(LookupTable1d, BlockType{
      Optional("extrapolation", "clip", "", "\"clip\" (end values hold) or \"linear\"", ParamType::kString)},
     SampleTimeRule::kNone,
     [](const BlockConfig& c) { return std::make_unique<LookupTable1d>(c); }})
-
-// The diagnosis' suggestions made with this block (MB_REGISTER_EFFECT_BLOCK, models/diagnosis/effect_registry.h).
-namespace {
-
-// The table spans [c − 1.5w, c + 1.5w] with 12 breakpoints per half-width w (37 in all): the refit may widen the
-// stretch the scan found and give it edges as sharp as w/12 (a friction that sets in at one place: with 9 breakpoints
-// over [c − w, c + w] the independent case's 10 mm stretch held out 1.34 × the noise floor, its edges smeared over 2 mm).
-constexpr int kBreakpointsPerHalfWidth = 12;
-constexpr double kSpan = 1.5;  // half-widths either side of the centre
-
-// A local effect (effects/factor_products.cc: a bump over [c − w, c + w]) as a table of the position: the bump's shape
-// scaled by the joint fit's coefficient, 0 beyond [c − w, c + w] and past the table's ends (clipped); the table free, so
-// the refit shapes the stretch.
-EffectBlockTemplate LocalTableBlock(const char* element_name) {
-  EffectBlockTemplate block;
-  block.block_type = "lookup_table_1d";
-  block.element_name = element_name;
-  block.inputs = {{MotionInput::kPosition, "u"}};
-  block.parameters = [](const DiagnosedEffect& d) {
-    return LocalBumpTable(d, kBreakpointsPerHalfWidth, kSpan);
-  };
-  block.free = {"table"};
-  return block;
-}
-
-// local_friction: the table times the direction of slip tanh(v/v_s) (a friction at one place). A force of one place alone is not proposed: at
-// the ends of the travel a bump is confounded with the reversals, and inside it position_dependent_force's smooth
-// basis covers it.
-EffectBlockTemplate LocalFrictionEffectBlock() {
-  EffectBlockTemplate block = LocalTableBlock("local_friction");
-  block.multiplier = SlipOfVelocity();
-  return block;
-}
-
-}  // namespace
-
-MB_REGISTER_EFFECT_BLOCK(local_friction, LocalFrictionEffectBlock())
-
-// The grammar's local_force (one × position_local): the table alone, a force at one place. It is also the block every
-// other multiplier × position_local pair without its own is made from (BlockFor, models/diagnosis/effect_block.h).
-MB_REGISTER_EFFECT_BLOCK(local_force, LocalTableBlock("local_force"))
-
-namespace {
-
-// local_damping: the table times the measured velocity (viscous drag at one place).
-EffectBlockTemplate LocalDampingEffectBlock() {
-  EffectBlockTemplate block = LocalTableBlock("local_damping");
-  block.multiplier = MeasuredMotion(MotionInput::kVelocity);
-  return block;
-}
-
-}  // namespace
-
-MB_REGISTER_EFFECT_BLOCK(local_damping, LocalDampingEffectBlock())
-
-namespace {
-
-// local_force_constant: the table times the model's force (a force constant that changes over one stretch: a chipped
-// or demagnetised magnet).
-EffectBlockTemplate LocalForceConstantEffectBlock() {
-  EffectBlockTemplate block = LocalTableBlock("local_force_constant");
-  block.multiplier = ModelForce();
-  return block;
-}
-
-}  // namespace
-
-MB_REGISTER_EFFECT_BLOCK(local_force_constant, LocalForceConstantEffectBlock())
 
 }  // namespace mb

@@ -1,4 +1,4 @@
-// Static and linear blocks: product, sign, abs, lookup_table_1d and _2d, discrete_derivative, saturation, quantizer, zero_order_hold, logger, transfer_function,
+// Static and linear blocks: product, sign, abs, lookup_table_1d and _2d, bump, discrete_derivative, saturation, quantizer, zero_order_hold, logger, transfer_function,
 // discrete_transfer_function, state_space — against closed forms, difference equations, sample-time
 // boundaries, feedthrough (algebraic loops) and their error messages.
 
@@ -84,6 +84,28 @@ TEST(LookupTable1dTest, InterpolatesLinearlyAndClipsOrExtrapolatesAtTheEnds) {
   EXPECT_DOUBLE_EQ(at(7.0, json::object()), 0.0);
   EXPECT_DOUBLE_EQ(at(-1.0, {{"extrapolation", "linear"}}), 0.0);    // 10 − 1·10
   EXPECT_DOUBLE_EQ(at(4.0, {{"extrapolation", "linear"}}), -10.0);   // 0 − 1·10
+}
+
+// The Tukey window over one stretch: the gain on the flat top |z| ≤ f, cos² flanks to 0 at |z| = 1, nothing beyond;
+// f = 0 is the diagnosis' cos²(π(x − c)/(2w)). A half-width of 0 or a flat top of the whole stretch is refused on load.
+TEST(BumpTest, IsAFlatTopWithCosineSquaredFlanks) {
+  const auto at = [](double u, double flat) {
+    const json p = {{"center", 0.1}, {"half_width", 0.02}, {"flat", flat}, {"gain", 40.0}};
+    return Evaluate({Constant("u", u), Element("b", "bump", p)}, {Connect("u.y", "b.u")}, "b.y");
+  };
+  EXPECT_DOUBLE_EQ(at(0.1, 0.0), 40.0);
+  EXPECT_NEAR(at(0.11, 0.0), 20.0, 1e-9);                          // cos²(π/4) at half the half-width
+  EXPECT_NEAR(at(0.09, 0.0), 20.0, 1e-9);                          // symmetric
+  EXPECT_DOUBLE_EQ(at(0.125, 0.0), 0.0);                           // beyond c + w
+  EXPECT_DOUBLE_EQ(at(0.109, 0.5), 40.0);                          // on the flat top, |z| = 0.45 ≤ 0.5
+  EXPECT_NEAR(at(0.115, 0.5), 20.0, 1e-9);                         // the flank's middle, |z| = 0.75
+  EXPECT_NEAR(at(0.085, 0.5), 20.0, 1e-9);
+  const auto error = [](const json& p) {
+    return BuildError(MakeDiagram({Element("b", "bump", p)}, json::array(), json::array(), 1, 1));
+  };
+  EXPECT_THAT(error({{"center", 0.1}, {"half_width", 0.0}}), HasSubstr("half_width"));
+  EXPECT_THAT(error({{"center", 0.1}, {"half_width", 0.02}, {"flat", 1.0}}), HasSubstr("flat"));
+  EXPECT_THAT(error({{"half_width", 0.02}}), HasSubstr("center"));
 }
 
 TEST(AbsTest, IsSimulinksAbs) {

@@ -157,7 +157,7 @@ TEST(SuggestTest, ASmoothCoulombLawTakesOverTheModelsCoulombLevel) {
 }
 
 // A pair of the grammar without a block of its own (issue 45, item 5) is added as the block of one × its modulator times
-// its multiplier: a force over one stretch growing with |v| is the stretch's table times an abs block of the velocity,
+// its multiplier: a force over one stretch growing with |v| is the stretch's bump times an abs block of the velocity,
 // multiplied in a product element. The amended diagram runs.
 TEST(SuggestTest, AGeneratedPairIsTheBlockOfItsModulatorTimesItsMultiplier) {
   const auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
@@ -166,10 +166,10 @@ TEST(SuggestTest, AGeneratedPairIsTheBlockOfItsModulatorTimesItsMultiplier) {
   ASSERT_TRUE(amended.Has("local_speed_force"));
   EXPECT_TRUE(amended.Has("local_speed_force_abs"));
   EXPECT_TRUE(amended.Has("local_speed_force_times_abs"));
-  EXPECT_THAT(amended.FreeParameters(), ::testing::Contains("local_speed_force.table"));
+  EXPECT_THAT(amended.FreeParameters(), ::testing::Contains("local_speed_force.gain"));
   const auto log = EmpsLog(diagram);
   const auto before = ForceOnEmps(diagram, *log), after = ForceOnEmps(amended.json(), *log);
-  // The table peaks at 40 N·s/m at 0.1 m: where the axis passes there, the model's force differs by 40·|v|.
+  // The bump peaks at 40 N·s/m at 0.1 m: where the axis passes there, the model's force differs by 40·|v|.
   const Eigen::VectorXd x = log->column("position_m"), v = log->column("velocity_m_s");
   Eigen::Index k = 0;  // the fastest pass within 1 mm of the peak
   (((x.array() - 0.1).abs() < 1e-3).cast<double>() * v.array().abs()).maxCoeff(&k);
@@ -193,7 +193,7 @@ TEST(SuggestTest, AGeneratedPairIsTheBlockOfItsModulatorTimesItsMultiplier) {
   ((t.array() < 1.5).cast<double>() * v.array().abs()).maxCoeff(&early);
   EXPECT_NEAR(drifted.model(early) - before.model(early), 0.0, 1e-9) << "before the ramp starts";
 
-  // A two-factor multiplier: a drag over one stretch is the table times v, times |v| (a product of the two factors).
+  // A two-factor multiplier: a drag over one stretch is the bump times v, times |v| (a product of the two factors).
   DiagnosedEffect drag = local;
   drag.effect = "local_drag";
   drag.column_names = {"local_drag"};
@@ -269,7 +269,7 @@ TEST(SuggestTest, AThirdFactorOfTimeIsThePairPlusItsPartTimesAClock) {
   ASSERT_TRUE(amended.Has("local_speed_force"));
   ASSERT_TRUE(amended.Has("local_speed_force_2"));
   EXPECT_TRUE(amended.Has("local_speed_force_2_clock"));
-  EXPECT_THAT(amended.FreeParameters(), ::testing::Contains("local_speed_force_2.table"));
+  EXPECT_THAT(amended.FreeParameters(), ::testing::Contains("local_speed_force_2.gain"));
   const auto before = ForceOnEmps(diagram, *log), after = ForceOnEmps(amended.json(), *log);
   for (const bool late : {false, true}) {  // the fastest pass within 1 mm of the peak in each half of the record
     Eigen::Index k = 0;
