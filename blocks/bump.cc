@@ -1,7 +1,6 @@
 #include "blocks/bump.h"
 
 #include <cmath>
-#include <limits>
 #include <numbers>
 #include <stdexcept>
 
@@ -39,11 +38,10 @@ void Bump::CalcOutput(const BlockContext& c) const {
 }
 
 namespace {
-constexpr double kInf = std::numeric_limits<double>::infinity();
-ParamSpec RequiredWithin(const char* name, const char* description, double min, double max) {
+// A parameter without a default that must be positive (its bound checked on load and kept by the refit).
+ParamSpec RequiredPositive(const char* name, const char* description) {
   ParamSpec spec = Required(name, "", description);
-  spec.min = min;
-  spec.max = max;
+  spec.min = 1e-12;
   return spec;
 }
 }  // namespace
@@ -52,8 +50,8 @@ MB_REGISTER_BLOCK(Bump, BlockType{
     "bump",
     "y = gain · b((u − c)/w): over one stretch [c − w, c + w] of u, a flat top of f·w with cos² flanks (a Tukey window; "
     "f = 0 a cos² bump, f → 1 a box). Inherits its sample time.",
-    {RequiredWithin("center", "c: the middle of the stretch (unit of u)", -kInf, kInf),
-     RequiredWithin("half_width", "w > 0: it acts over [c − w, c + w] (unit of u)", 1e-12, kInf),
+    {Required("center", "", "c: the middle of the stretch (unit of u)"),
+     RequiredPositive("half_width", "w > 0: it acts over [c − w, c + w] (unit of u)"),
      Bounded("flat", 0.0, "", "f: the flat top's share of w, 0 ≤ f ≤ 0.99", 0.0, 0.99),
      Optional("gain", 1.0, "", "the value on the flat top (unit of y)")},
     SampleTimeRule::kNone,
