@@ -223,7 +223,9 @@ TEST(GrammarDraws, ATimeScanLeavesOutTheDerivativeFiltersEdges) {
 TEST(GrammarDraws, AWindowsEdgeIsNotDrawnIntoTheDwellBeforeItsMove) {
   const GrammarDraw draw = Draw(20);
   ASSERT_EQ(draw.modulator, "time_window");
-  const DrawResult r = RunDraw(draw, std::filesystem::temp_directory_path() / "mb_grammar_window_edge_test", false);
+  const std::filesystem::path folder = std::filesystem::temp_directory_path() / "mb_grammar_window_edge_test";
+  const DrawResult r = RunDraw(draw, folder, false);
+  std::filesystem::remove_all(folder);
   EXPECT_TRUE(r.named_right) << draw.Describe() << " -> " << r.named_pair;
   EXPECT_NEAR(r.parameter, draw.shape.on_time, 0.01 * draw.duration);
   EXPECT_NEAR(r.second_parameter, draw.shape.off_time, 0.01 * draw.duration);
