@@ -115,6 +115,16 @@ TEST(AbsTest, IsSimulinksAbs) {
   }
 }
 
+TEST(SqrtTest, IsSimulinksSqrtHeldAtZeroBelowZero) {
+  const auto at = [](double u) {
+    return Evaluate({Constant("u", u), Element("r", "sqrt", json::object())}, {Connect("u.y", "r.u")}, "r.y");
+  };
+  EXPECT_DOUBLE_EQ(at(6.25), 2.5);
+  EXPECT_EQ(at(0.0), 0.0);
+  EXPECT_EQ(at(-1e-17), 0.0);  // a hair below 0 by rounding: 0, not NaN
+  EXPECT_EQ(at(-4.0), 0.0);
+}
+
 // Simulink's 2-D Lookup Table: bilinear inside, the edge values beyond (clip) or the edge cells extended (linear).
 TEST(LookupTable2dTest, InterpolatesBilinearlyAndClipsOrExtrapolatesAtTheEdges) {
   // y = 1 + 2 u1 + 3 u2 + u1·u2 at the grid points: bilinear interpolation reproduces it exactly inside.

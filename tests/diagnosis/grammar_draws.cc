@@ -917,6 +917,10 @@ std::string GrammarDraw::Describe() const {
                 rotary ? "rotary" : "linear", sample_rate, duration,
                 trajectory == Trajectory::kSweep ? "sweep" : "point to point", integral_action ? "PID" : "PD");
   text += numbers;
+  if (multiplier == "slip" || multiplier == "load_slip") {
+    std::snprintf(numbers, sizeof numbers, ", slip velocity %.3g", shape.slip_velocity);
+    text += numbers;
+  }
   if (modulator == "play_load") {
     std::snprintf(numbers, sizeof numbers, ", load %.3g at %.3g Hz, ζ %.2f, bearing %.2g /s", amplitude, shape.load_hz,
                   shape.load_zeta, shape.load_damping);

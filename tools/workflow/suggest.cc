@@ -336,14 +336,45 @@ bool ScalesTheDriveForce(const DiagramDocument& out, const MotionMultiplier& mul
   return out.Mode() == ExperimentMode::kEquationError && multiplier.of_model_force && multiplier.block_type.empty();
 }
 
+// How many times `multiplier` reads the model's force's size: ŷ and |ŷ| count 1, sign(ŷ) 0 (|ŷ|·tanh(v/v_s) as
+// ŷ × sign(ŷ)·tanh(v/v_s) is ŷ times a factor of degree 0).
+int ForceDegree(const MotionMultiplier& multiplier) {
+  return (multiplier.of_model_force && multiplier.block_type != "sign" ? 1 : 0) +
+         (multiplier.times ? ForceDegree(*multiplier.times) : 0);
+}
+
+// The share r of the drive's force u where it grows with the force's size, r = ρ·|u| (the iron saturating), from the
+// share read on the model's force, r̂ = ρ·|ŷ|: u·(1 − ρ·|u|) = ŷ is a quadratic in |u| whose root gives
+// r = (1 − √(1 − 4r̂))/2 exactly (the Catalan series r̂ + r̂² + 2r̂³ + …). Read on ŷ as it is, r̂ leaves O(r̂²) of ŷ, which
+// kept grammar seeds 27 and 29 at 2.4 and 1.3 × their floor. Beyond r̂ = 1/4 the quadratic has no root: ŷ = 1/(4ρ) is
+// the most force such a motor gives, and r stays at its 1/2 (blocks/sqrt.h holds √ at 0 there).
+Endpoint ShareAtTheDriveForce(DiagramDocument* out, const Endpoint& share_on_model_force, const std::string& unity,
+                              const std::string& name) {
+  const std::string four = out->Add({name + "_share_times_4", "gain", {{"gain", 4.0}}, std::nullopt,
+                                     fmt::format("4 × the share of the model's force that '{}' is", name)});
+  out->Connect(share_on_model_force, {four, "u"});
+  const std::string discriminant =
+      out->AddDifference(out->OutputOf(unity), out->OutputOf(four), name + "_share_discriminant");
+  const std::string root = out->Add({name + "_share_root", "sqrt", json::object(), std::nullopt,
+                                     fmt::format("√(1 − 4 r̂), r̂ the share of the model's force that '{}' is", name)});
+  out->Connect(out->OutputOf(discriminant), {root, "u"});
+  const std::string twice =
+      out->AddDifference(out->OutputOf(unity), out->OutputOf(root), name + "_twice_share_at_drive_force");
+  const std::string half = out->Add({name + "_share_at_drive_force", "gain", {{"gain", 0.5}}, std::nullopt,
+                                     fmt::format("the share of the drive's force that '{}' is: (1 − √(1 − 4 r̂))/2",
+                                                 name)});
+  out->Connect(out->OutputOf(twice), {half, "u"});
+  return out->OutputOf(half);
+}
+
 // Adds `element` as a share r of the drive's force (ScalesTheDriveForce): r is the element's output (fed 1 on
 // `factor_port`, a gain scheduled in time) times the multiplier's other factors, read on ŷ. The drive's force u moves
 // the body by u·(1 − r) = ŷ, so the log holds u = ŷ/(1 − r): ŷ·r/(1 − r) is summed into the output through a product
 // "<element>_of_drive_force" (ops "**/"). The diagnosis' regressor ŷ·r is its first order; summed in as it is, a force
-// constant 30 % off leaves 0.3² = 9 % of ŷ, many times a record's noise floor. Where r reads the force itself (the iron
-// saturating, r = k·|u|), reading it on ŷ leaves O(r²) of ŷ, half the sum's; a second fixed-point step (r read on
-// ŷ/(1 − r(ŷ))) let a joint refit run into 1 − r = 0 on grammar seed 40. r is limited to ±90 %. Returns the element's
-// name.
+// constant 30 % off leaves 0.3² = 9 % of ŷ, many times a record's noise floor. Where r reads the force's size (the iron
+// saturating, r = ρ·|u|), r̂ read on ŷ is taken to the share at u in closed form (ShareAtTheDriveForce; a second
+// fixed-point step, r read on ŷ/(1 − r̂), had let a joint refit run into 1 − r = 0 on grammar seed 40). r is limited to
+// ±90 %. Returns the element's name.
 std::string AddDriveForceShare(DiagramDocument* out, const ElementSpec& element, const MotionMultiplier& multiplier,
                                const DiagnosedEffect& effect, const std::string& output, const std::string& port,
                                const std::string& factor_port, const Endpoint& force) {
@@ -360,6 +391,9 @@ std::string AddDriveForceShare(DiagramDocument* out, const ElementSpec& element,
     out->Connect(rest, {product, "u2"});
     share = out->OutputOf(product);
   }
+  const std::string unity = out->Add({name + "_unity", "constant", {{"value", 1.0}}, std::nullopt,
+                                      fmt::format("1, less the share of the drive's force that '{}' is", name)});
+  if (multiplier.times && ForceDegree(*multiplier.times) == 1) share = ShareAtTheDriveForce(out, share, unity, name);
   // A force constant 90 % below or above its nominal is no motor's. The limit keeps a refit, or a record on which the
   // model's force or a column goes further than on the training record, away from 1 − r = 0 (grammar seed 4, named
   // ŷ·|ŷ| × a temperature: held-out RMSE 8.3 → 882 N without it). At ±50 % it cut a warm-up of ŷ·|ŷ| that a ramp was
@@ -371,8 +405,6 @@ std::string AddDriveForceShare(DiagramDocument* out, const ElementSpec& element,
                                                   100.0 * kLargestShare)});
   out->Connect(share, {limit, "u"});
   share = out->OutputOf(limit);
-  const std::string unity = out->Add({name + "_unity", "constant", {{"value", 1.0}}, std::nullopt,
-                                      fmt::format("1, less the share of the drive's force that '{}' is", name)});
   const Endpoint rest_of_force =
       out->OutputOf(out->AddDifference(out->OutputOf(unity), share, name + "_rest_of_force"));
   const std::string addend = AddToOutput(

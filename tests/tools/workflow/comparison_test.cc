@@ -361,7 +361,7 @@ double ForceAt(const nlohmann::json& diagram, const std::map<std::string, double
 // A force constant that ripples (the grammar's ŷ × periodic(x)) is a share r = a cos(2πx/P) + b sin(2πx/P) of the
 // drive's force: the drive's force u moves the body by u·(1 − r) = ŷ, so the amended diagram's force is ŷ/(1 − r), the
 // diagnosis' ŷ·(1 + r) to first order. A friction growing with the transmitted force (|ŷ|·tanh(v/v_s), the pair
-// load_friction) is one too, its share sign(ŷ)·k·tanh(v/v_s). Simulation mode, whose output is the motion, is refused
+// load_friction) is one too, its share sign(ŷ)·k·tanh(v/v_s); so is the iron saturating. Simulation mode, whose output is the motion, is refused
 // with what to do when the drive's force is not known.
 TEST(SuggestTest, AForceConstantRippleIsAShareOfTheDriveForce) {
   auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
@@ -398,6 +398,25 @@ TEST(SuggestTest, AForceConstantRippleIsAShareOfTheDriveForce) {
     EXPECT_NEAR(ForceAt(SuggestAmendedDiagram(diagram, load, "force"), moving), y / (1.0 - r), 1e-9 * std::abs(y))
         << "v = " << v;
   }
+
+  // The iron saturating (ŷ·|ŷ|, force_constant_saturation) is a share that grows with the force itself, r = ρ·|u|:
+  // the amended diagram's force solves u·(1 − ρ·|u|) = ŷ exactly, not ŷ/(1 − ρ·|ŷ|), the share read on ŷ; beyond
+  // ρ·|ŷ| = 1/4, the most force such a motor gives, r stays at 1/2.
+  const std::map<std::string, double> pushing = {{"position_m", 0.005}, {"velocity_m_s", 0.1},
+                                                 {"acceleration_m_s2", 2.0}};
+  const double y = ForceAt(diagram, pushing);
+  for (const double read_on_y : {0.2, -0.3}) {  // ρ·|ŷ|: the force constant falling, then rising with the force
+    const double rho = read_on_y / std::abs(y);
+    const double u = ForceAt(SuggestAmendedDiagram(diagram, OneColumnEffect("force_constant_saturation", {}, rho),
+                                                   "force"),
+                             pushing);
+    EXPECT_NEAR(u * (1.0 - rho * std::abs(u)), y, 1e-9 * std::abs(y)) << "ρ·|ŷ| = " << read_on_y;
+    EXPECT_GT(std::abs(u - y / (1.0 - read_on_y)), 1e-3 * std::abs(y)) << "ρ·|ŷ| = " << read_on_y;
+  }
+  const double beyond = ForceAt(
+      SuggestAmendedDiagram(diagram, OneColumnEffect("force_constant_saturation", {}, 0.3 / std::abs(y)), "force"),
+      pushing);
+  EXPECT_NEAR(beyond, 2.0 * y, 1e-9 * std::abs(y));
 
   diagram["experiment"]["mode"] = "simulation";
   try {
