@@ -330,6 +330,8 @@ void BindOutcomeParts(py::module_& m) {
       .def_readonly("base_share", &DiagnosedEffect::base_share,
                     "Share of the base's held-out residual energy this effect removed where it was added, 0..1: what "
                     "the ranking sorts by.")
+      .def_readonly("selection_order", &DiagnosedEffect::selection_order,
+                    "Where the forward selection chose it, 0 first: the order a diagram is amended in.")
       .def_readonly("parameters", &DiagnosedEffect::parameters, "dict of the effect's parameters, SI (period [m], …).")
       .def_readonly("description", &DiagnosedEffect::description, "In words, with the figures.")
       .def("__repr__", [](const DiagnosedEffect& e) {

@@ -266,6 +266,7 @@ void DescribeChosenEffects(const Ranking& ranked, const JointFit& fit, const Dia
                                              fit.coef_std.segment(offset, kc), signals, position_unit,
                                              i < result->friction_law.size()));
     result->effects.back().base_share = chosen.cumulative[i] - (i > 0 ? chosen.cumulative[i - 1] : 0.0);
+    result->effects.back().selection_order = static_cast<int>(i);
     if (c.type->traits.replaces_coulomb_law && coulomb_column >= 0) {
       result->effects.back().replaced_parameter = base_names[static_cast<std::size_t>(coulomb_column)];
     }

@@ -82,7 +82,7 @@ nlohmann::json DiagnosisResult::ToJson() const {
       coefs.push_back({{"column", e.column_names[i]}, {"value", e.coefficients(ii)}, {"std", e.coefficient_std(ii)}});
     }
     effs.push_back({{"effect", e.effect}, {"score", e.score}, {"cumulative_share", e.cumulative_share},
-                    {"base_share", e.base_share},
+                    {"base_share", e.base_share}, {"selection_order", e.selection_order},
                     {"parameters", e.ParametersJson()}, {"coefficients", coefs},
                     {"contribution_rms", e.contribution_rms},
                     {"time_range", {e.time_range[0], e.time_range[1]}},

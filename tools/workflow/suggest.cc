@@ -47,7 +47,7 @@ std::vector<const DiagnosedEffect*> EffectsInApplicationOrder(const DiagnosisRes
   }
   std::stable_sort(order.begin() + static_cast<std::ptrdiff_t>(laws), order.end(),
                    [](const DiagnosedEffect* a, const DiagnosedEffect* b) {
-                     return a->cumulative_share < b->cumulative_share;
+                     return a->selection_order < b->selection_order;
                    });
   return order;
 }

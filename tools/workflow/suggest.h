@@ -22,8 +22,8 @@ bool HasEffectBlock(const std::string& effect);
 /// The ranked effects of `diagnosis` in the order they are applied to a diagram, the one order `compare` reports,
 /// `compare --suggest` applies and `improve` tries: the friction-law replacements first (DiagnosisResult::friction_law,
 /// in its order: the model's friction law near zero velocity is wrong, and the diagnosis searched the other effects in
-/// what the replacements leave), then the missing effects in the order the forward selection chose them, each adding
-/// the largest held-out share to those before it: DiagnosedEffect::cumulative_share rises along the list. Pointers
+/// what the replacements leave), then the missing effects in the order the forward selection chose them
+/// (DiagnosedEffect::selection_order; cumulative_share rises along it while each lowers the held-out error). Pointers
 /// into `diagnosis.effects` (valid while it lives); every effect once.
 std::vector<const DiagnosedEffect*> EffectsInApplicationOrder(const DiagnosisResult& diagnosis);
 

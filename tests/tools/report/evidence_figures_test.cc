@@ -172,6 +172,7 @@ DiagnosedComparison ThreeEffects() {
     e.coefficient_std = std::move(sd);
     e.score = score;
     e.cumulative_share = (d.effects.empty() ? 0.0 : d.effects.back().cumulative_share) + score;
+    e.selection_order = static_cast<int>(d.effects.size());
     e.description = "a test effect";
     d.effects.push_back(e);
   };
@@ -247,7 +248,7 @@ TEST(EffectShareAndConfidence, GivesTheShareAndEachCoefficientsIntervalAndWhethe
             "joint fit, 95 % intervals: cos1 = 0.3 ± 0.02, sin1 = 0 ± 0.039 (holds 0); 1 of 2 significant.");
 }
 
-// The evidence follows compare's table (EffectsInApplicationOrder: cumulative shares rising), not the order of
+// The evidence follows compare's table (EffectsInApplicationOrder: the order the selection chose them), not the order of
 // DiagnosisResult::effects, and each chart is of its own effect.
 TEST(AddEffectEvidence, FollowsTheTablesOrderNotTheResultsOrder) {
   const fs::path dir = Folder("mb_effect_evidence_order");
