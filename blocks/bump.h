@@ -15,7 +15,8 @@ namespace mb {
 /// y = gain · b((u − center)/half_width; flat). Ports: in "u" (the position: m, or rad on a rotary axis), out "y"
 /// (gain's unit). Parameters: center c (u's unit), half_width w > 0 (u's unit: it acts over [c − w, c + w]), flat
 /// f ∈ [0, 0.99] (the flat top's share of w, default 0), gain (default 1).
-/// @throws std::invalid_argument (constructor) when a parameter is not finite (the bounds are checked on load).
+/// Throws nothing: the loader (ValidateParameters, engine/parameters.h) refuses a parameter that is missing, not
+/// finite or out of its bounds, naming the element, before the block is built.
 class Bump final : public Block {
  public:
   explicit Bump(const BlockConfig& config);
