@@ -1,0 +1,120 @@
+// load_scheme_probe [--out=DIR]: how far the force of a load behind a play, simulated from the logged motor motion,
+// depends on how the load is stepped between the samples (issue 47). On the independent gearbox's validation record
+// (the case "load behind a play" of tests/diagnosis/independent_plant.h: 25 kg behind ±0.6 mm, 18 Hz, ζ = 0.15, its
+// bearing 0.6 /s) the load is simulated with the generator's own parameters from the logged position and the derived
+// velocity, by three ways of reading the motor between two samples — positions and velocities each on a straight line;
+// the cubic Hermite interpolant (models/physics/play_coupling.h, what the backlash_load block does); positions on a
+// straight line, the velocity its chord — times two integrators (semi-implicit Euler, the classical Runge–Kutta
+// method) times 1, 5, 20 and 100 sub-steps a sample. Prints, for each, the RMS of the logged force less the truth
+// without the load less the simulated load's force [N], and per 0.25 s window for the converged (100 sub-step)
+// Runge–Kutta runs. The generator's own re-simulation (the bench's floor, TruthForce) is the last line.
+// What it shows (docs/diagnosis.md, "A load behind a play"): the load's state is not measured and its impacts follow
+// from the whole history, so the same physics from the same log leaves anything from 1.7 to 15 N, in episodes of a
+// few seconds where the load sits against the other side of its play.
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <string>
+
+#include "models/physics/play_coupling.h"
+#include "tests/diagnosis/independent_bench.h"
+
+namespace {
+
+using namespace mb;
+using namespace mb::independent;
+
+double Rms(const Eigen::VectorXd& e) { return std::sqrt(e.squaredNorm() / static_cast<double>(e.size())); }
+
+enum class Motor { kLinearBoth, kHermite, kChord };
+enum class Integrator { kSemiImplicitEuler, kRungeKutta4 };
+
+// The load's force on the motor [N] at each sample, the load stepped by `integrator` on `sub` sub-steps a sample with
+// the motor read between the samples as `motor` says.
+Eigen::VectorXd LoadForce(const Eigen::VectorXd& t, const Eigen::VectorXd& x, const Eigen::VectorXd& v, Motor motor,
+                          Integrator integrator, int sub) {
+  constexpr double kMass = 25.0, kHalfGap = 6e-4, kZeta = 0.15, kBearing = 0.6;  // the generator's gearbox
+  const double omega = 2.0 * std::numbers::pi * 18.0;
+  double xl = x(0), vl = v(0);
+  Eigen::VectorXd f(t.size());
+  const auto acceleration = [&](double xm, double vm, double l, double lv) {
+    return PlayLoadAcceleration(xm - l, vm - lv, kHalfGap, omega, kZeta) - kBearing * lv;
+  };
+  for (Eigen::Index i = 0; i < t.size(); ++i) {
+    f(i) = kMass * PlayLoadAcceleration(x(i) - xl, v(i) - vl, kHalfGap, omega, kZeta);
+    if (i + 1 == t.size()) break;
+    const double dt = t(i + 1) - t(i), h = dt / sub;
+    const auto at = [&](double q, double* xm, double* vm) {
+      if (motor == Motor::kHermite) return HermiteMotor(x(i), v(i), x(i + 1), v(i + 1), dt, q, xm, vm);
+      *xm = x(i) + q * (x(i + 1) - x(i));
+      *vm = motor == Motor::kLinearBoth ? v(i) + q * (v(i + 1) - v(i)) : (x(i + 1) - x(i)) / dt;
+    };
+    for (int s = 0; s < sub; ++s) {
+      double xa = 0.0, va = 0.0, xb = 0.0, vb = 0.0, xc = 0.0, vc = 0.0;
+      at(s / static_cast<double>(sub), &xa, &va);
+      at((s + 0.5) / sub, &xb, &vb);
+      at((s + 1.0) / sub, &xc, &vc);
+      if (integrator == Integrator::kSemiImplicitEuler) {
+        vl += h * acceleration(xa, va, xl, vl);
+        xl += h * vl;
+        continue;
+      }
+      const double a1 = acceleration(xa, va, xl, vl);
+      const double a2 = acceleration(xb, vb, xl + 0.5 * h * vl, vl + 0.5 * h * a1);
+      const double a3 = acceleration(xb, vb, xl + 0.5 * h * (vl + 0.5 * h * a1), vl + 0.5 * h * a2);
+      const double a4 = acceleration(xc, vc, xl + h * (vl + 0.5 * h * a2), vl + h * a3);
+      xl += h / 6.0 * (vl + 2.0 * (vl + 0.5 * h * a1) + 2.0 * (vl + 0.5 * h * a2) + (vl + h * a3));
+      vl += h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
+    }
+  }
+  return f;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string out = "out/load-scheme-probe";
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a.rfind("--out=", 0) != 0) {
+      std::fprintf(stderr, "load_scheme_probe: unknown argument '%s'; usage: load_scheme_probe [--out=DIR]\n", argv[i]);
+      return 2;
+    }
+    out = a.substr(6);
+  }
+  CaseSpec spec;
+  for (const auto& c : Cases()) {
+    if (c.name == "load behind a play") spec = c;
+  }
+  const PreparedCase prepared = PrepareCase(spec, out);
+  const MeasurementLog& log = prepared.validation;
+  const std::string column = prepared.settings.measurement.position_column;
+  const Eigen::VectorXd t = log.time(), x = log.column(column), v = log.column(DerivedVelocityColumn(column)),
+                        a = log.column(DerivedAccelerationColumn(column)), u = log.column("force_N");
+  const Eigen::VectorXd without = TruthForce(Hidden::kNone, t, x, v, a, &u);
+  std::printf("| motor between samples | integrator | sub-steps | RMS left [N] |\n|---|---|---|---|\n");
+  const char* motors[] = {"x and v on straight lines", "cubic Hermite (the block's)", "x on a straight line, v its chord"};
+  const char* integrators[] = {"semi-implicit Euler", "Runge–Kutta 4"};
+  std::string windows;
+  for (const Motor motor : {Motor::kLinearBoth, Motor::kHermite, Motor::kChord}) {
+    for (const Integrator integrator : {Integrator::kSemiImplicitEuler, Integrator::kRungeKutta4}) {
+      for (const int sub : {1, 5, 20, 100}) {
+        const Eigen::VectorXd left = u - without - LoadForce(t, x, v, motor, integrator, sub);
+        std::printf("| %s | %s | %d | %.3f |\n", motors[static_cast<int>(motor)],
+                    integrators[static_cast<int>(integrator)], sub, Rms(left));
+        if (sub != 100 || integrator != Integrator::kRungeKutta4) continue;
+        windows += std::string(motors[static_cast<int>(motor)]) + ":";
+        constexpr Eigen::Index kWindow = 250;
+        for (Eigen::Index k = 0; k + kWindow <= left.size(); k += kWindow) {
+          windows += " " + std::to_string(static_cast<int>(std::lround(Rms(left.segment(k, kWindow)))));
+        }
+        windows += "\n";
+      }
+    }
+  }
+  const Eigen::VectorXd with = TruthForce(Hidden::kLoadBehindPlay, t, x, v, a, &u);
+  std::printf("| the generator's re-simulation (TruthForce, the bench's floor before filtering) | | | %.3f |\n",
+              Rms(u - with));
+  std::printf("\nRMS left per 0.25 s window [N], Runge–Kutta 4 on 100 sub-steps:\n%s", windows.c_str());
+  return 0;
+}
