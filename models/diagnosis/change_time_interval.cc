@@ -1,5 +1,6 @@
-// The profile interval of a chosen effect's change time (change_time_interval.h). Source: Hinkley (1970), Biometrika
-// 57(1); Siegmund (1988), International Statistical Review 56(1) — the likelihood-ratio interval for a change point.
+// The profile interval of a chosen effect's change time and its posterior median (change_time_interval.h). Sources:
+// Hinkley (1970), Biometrika 57(1); Siegmund (1988), International Statistical Review 56(1) — the likelihood-ratio
+// interval for a change point; Smith (1975), Biometrika 62(2) — its posterior.
 #include "models/diagnosis/change_time_interval.h"
 
 #include <algorithm>
@@ -24,6 +25,7 @@ constexpr int kProfileGrid = 100;                   // points across the record:
 constexpr int kEdgeBisections = 8;                  // each end of the interval to 1/256 of a grid step
 constexpr double kChiSquare95 = 3.841458820694124;  // χ²₁'s 95 % quantile
 constexpr const char* kChangeTimes[] = {"change_time", "on_time", "off_time"};
+constexpr double kResolvedCells = 3.0;              // an interval narrower than this many grid steps keeps the best fit
 
 // The long-run variance of `e` (N): the variance of its batch means times the batch length.
 double LongRunVariance(const Eigen::VectorXd& e, Eigen::Index batches) {
@@ -32,12 +34,30 @@ double LongRunVariance(const Eigen::VectorXd& e, Eigen::Index batches) {
   return (means.array() - means.mean()).square().sum() / (b - 1.0) * static_cast<double>(e.size()) / b;
 }
 
+// The median of the posterior ∝ exp(−(sse − lowest)/(2σ²)) over cells of equal width centred on `grid` (a flat
+// prior), the density constant within each cell.
+double PosteriorMedian(const std::vector<double>& grid, const std::vector<double>& sse, double lowest, double variance,
+                       double cell) {
+  std::vector<double> p(grid.size());
+  double total = 0.0;
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    p[i] = std::isfinite(sse[i]) ? std::exp(-(sse[i] - lowest) / (2.0 * variance)) : 0.0;
+    total += p[i];
+  }
+  double below = 0.0;
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    if (p[i] > 0.0 && below + p[i] >= 0.5 * total) return grid[i] - 0.5 * cell + cell * (0.5 * total - below) / p[i];
+    below += p[i];
+  }
+  return grid.back();
+}
+
 }  // namespace
 
-std::vector<TimeInterval> ProfileChangeTimes(const Ranking& ranked, std::size_t position,
-                                             const DiagnosisSignals& signals, const DiagnosisOptions& options) {
-  const RegressorMatrix& m = ranked.m;
-  const Candidate& c = m.cands[ranked.chosen.order[position]];
+std::vector<TimeInterval> PlaceChangeTimes(Ranking* ranked, std::size_t position, const DiagnosisSignals& signals,
+                                           const DiagnosisOptions& options) {
+  RegressorMatrix& m = ranked->m;
+  Candidate& c = m.cands[ranked->chosen.order[position]];
   const EffectType& type = *c.type;
   std::vector<TimeInterval> out;
   const Eigen::Index n = m.rows();
@@ -45,7 +65,7 @@ std::vector<TimeInterval> ProfileChangeTimes(const Ranking& ranked, std::size_t 
 
   // The other chosen columns, weighted and scaled as the ranking holds them.
   std::vector<Eigen::Index> others;
-  for (const Eigen::Index j : ranked.chosen.selected) {
+  for (const Eigen::Index j : ranked->chosen.selected) {
     if (std::find(c.idx.begin(), c.idx.end(), j) == c.idx.end()) others.push_back(j);
   }
   Eigen::MatrixXd xo(n, static_cast<Eigen::Index>(others.size()));
@@ -54,10 +74,13 @@ std::vector<TimeInterval> ProfileChangeTimes(const Ranking& ranked, std::size_t 
   }
   const JointFitResidual profile(xo, m.wr);  // the weighted sum of squares with the effect's columns beside them
   // The effect's columns at `instance`, filtered like a candidate's (in simulation mode: through the loop), weighted.
-  const auto columns_at = [&](const EffectInstance& instance) {
+  const auto unweighted_columns_at = [&](const EffectInstance& instance) {
     Eigen::MatrixXd columns = type.regressors(instance, signals).columns;
     FilterCandidateColumns(type, signals, options, &columns);
-    return (columns.array().colwise() * m.sw.array()).matrix().eval();
+    return columns;
+  };
+  const auto columns_at = [&](const EffectInstance& instance) {
+    return (unweighted_columns_at(instance).array().colwise() * m.sw.array()).matrix().eval();
   };
 
   const double t0 = signals.time(0), duration = signals.time(n - 1) - t0;
@@ -75,7 +98,8 @@ std::vector<TimeInterval> ProfileChangeTimes(const Ranking& ranked, std::size_t 
     }
     const Eigen::VectorXd residual = m.wr - x * x.colPivHouseholderQr().solve(m.wr);
     const double estimate_sse = residual.squaredNorm();
-    const double threshold = kChiSquare95 * LongRunVariance(residual, options.significance_batches);
+    const double variance = LongRunVariance(residual, options.significance_batches);
+    const double threshold = kChiSquare95 * variance;
     // A window's edge stays on its side of the other edge.
     double lo = t0, hi = t0 + duration;
     if (std::string_view(name) == "on_time" && c.effect.parameters.count("off_time")) {
@@ -121,7 +145,18 @@ std::vector<TimeInterval> ProfileChangeTimes(const Ranking& ranked, std::size_t 
       if (grid[i] > up_in && !up_out) up_out = grid[i];
       if (grid[i] < down_in) down_out = grid[i];
     }
-    TimeInterval interval{name, down_out ? edge(down_in, *down_out) : lo, up_out ? edge(up_in, *up_out) : hi};
+    TimeInterval interval{name, down_out ? edge(down_in, *down_out) : lo, up_out ? edge(up_in, *up_out) : hi,
+                          estimate, estimate};
+    // A nearly flat stretch: its posterior median, where it fits within the level.
+    const double cell = (hi - lo) / kProfileGrid;
+    if (interval.high - interval.low >= kResolvedCells * cell) {
+      const double median =
+          std::clamp(PosteriorMedian(grid, sse, lowest, variance, cell), interval.low, interval.high);
+      if (sse_at(median) <= level) {
+        interval.estimate = median;
+        c.effect.parameters[name] = median;
+      }
+    }
     // The columns change only where the time crosses a sample (1(t ≥ t_c), 1(t < t_off)): every time between the two
     // samples around an end fits alike, so the ends are the samples on either side.
     const double* first = signals.time.data();
@@ -131,6 +166,14 @@ std::vector<TimeInterval> ProfileChangeTimes(const Ranking& ranked, std::size_t 
     const double* below = std::lower_bound(first, last, interval.low);
     if (below != first) interval.low = *(below - 1);
     out.push_back(interval);
+  }
+  // The candidate's columns and their scale at the times it now holds.
+  if (std::any_of(out.begin(), out.end(), [](const TimeInterval& t) { return t.estimate != t.best_fit; })) {
+    c.reg.columns = unweighted_columns_at(c.effect);
+    for (Eigen::Index j = 0; j < c.reg.columns.cols(); ++j) {
+      const double rms = c.reg.columns.col(j).norm() / std::sqrt(static_cast<double>(n));
+      m.scale(c.idx[static_cast<std::size_t>(j)]) = rms > 0.0 ? rms : 1.0;
+    }
   }
   return out;
 }

@@ -303,20 +303,28 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
   result.heldout_rmse_after = std::sqrt(chosen.mse_last);
   result.explained_share = chosen.mse_base > 0.0 ? 1.0 - chosen.mse_last / chosen.mse_base : 0.0;
 
+  // 4′. Where the record places each change time: a change while the effect's multiplier is nearly zero (a drag that
+  // steps while the axis rests) fits as well anywhere in that stretch; the user is told the stretch, and the time is
+  // placed at its posterior median rather than at whichever end the noise favoured.
+  std::vector<std::vector<diagnosis_detail::TimeInterval>> times(ranked.chosen.order.size());
+  for (std::size_t i = 0; i < times.size(); ++i) times[i] = diagnosis_detail::PlaceChangeTimes(&ranked, i, signals, options);
+
   // 4.–5. The final joint fit on all data, and each chosen effect described.
   const JointFit fit = FitFinally(signals, p, options, &ranked, &result);
   const Eigen::VectorXd r_after = r - fit.fitted;
   DescribeChosenEffects(ranked, fit, signals, base_cols, base.names, options.position_unit, &result);
-  // 5′. Where the record places each change time: a change while the effect's multiplier is nearly zero (a drag that
-  // steps while the axis rests) fits as well anywhere in that stretch, and the user is told the stretch.
-  for (std::size_t i = 0; i < ranked.chosen.order.size(); ++i) {
-    for (const diagnosis_detail::TimeInterval& t : diagnosis_detail::ProfileChangeTimes(ranked, i, signals, options)) {
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    for (const diagnosis_detail::TimeInterval& t : times[i]) {
       DiagnosedEffect& e = result.effects[i];
       e.time_intervals[t.parameter] = {t.low, t.high};
-      e.description += fmt::format(" The record places the time it {} between {:.4g} and {:.4g} s.",
+      e.description += fmt::format(" The record places the time it {} between {:.4g} and {:.4g} s",
                                    t.parameter == "on_time" ? "switches on" : t.parameter == "off_time" ? "switches off"
                                                                                                       : "changes",
                                    t.low, t.high);
+      e.description += std::abs(t.estimate - t.best_fit) > 0.0
+                           ? fmt::format(" (given at its posterior median; the best single fit, {:.4g} s, is one point "
+                                         "of a nearly flat stretch).", t.best_fit)
+                           : ".";
     }
   }
 
