@@ -120,6 +120,9 @@ class JointFitResidual {
   /// `loop` (simulation mode, ProposalContext::loop; must outlive it): each `extra` is a force, passed through the
   /// closed loop (LoopResponse::Apply) before the fit, whose base and r are then in the compared output's unit.
   JointFitResidual(const Eigen::MatrixXd& base, const Eigen::VectorXd& r, const LoopResponse* loop = nullptr);
+  /// A temporary base would dangle (the references above): name it first.
+  JointFitResidual(Eigen::MatrixXd&& base, const Eigen::VectorXd& r, const LoopResponse* loop = nullptr) = delete;
+  JointFitResidual(const Eigen::MatrixXd& base, Eigen::VectorXd&& r, const LoopResponse* loop = nullptr) = delete;
   /// The same with BᵀB given (p × p, formed as base.transpose() * base): for a scan whose r changes but not B.
   JointFitResidual(const Eigen::MatrixXd& base, const Eigen::MatrixXd& base_gram, const Eigen::VectorXd& r,
                    const LoopResponse* loop = nullptr);
