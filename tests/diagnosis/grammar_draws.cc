@@ -649,12 +649,22 @@ std::pair<double, double> LimitedAmplitude(GrammarDraw* d, double sign) {
   const RunContext c = MakeContext(*d, Run::kTraining);
   double peak = 0.0;    // of the unit effect's mass or force-constant share
   double lowest = 0.0;  // of the signed unit modulator: where a friction of the plant's own law is lowered most
+  double pushing = 0.0;  // of the unit effect's slope along the motion, ∂f/∂v where it pushes (negative damping)
   for (Eigen::Index i = 0; i < twin.time.size(); ++i) {
     const double mod = Modulator(*d, c, twin.time(i), twin.true_position(i), twin.velocity(i)).first *
                        ThirdFactor(*d, c, twin.time(i));
     if (d->multiplier == "acceleration" || d->multiplier == "model_force") peak = std::max(peak, std::abs(mod));
     if (d->multiplier == "model_force_abs") peak = std::max(peak, std::abs(mod * twin.command(i)));
     lowest = std::min(lowest, sign * mod);
+    if (d->multiplier == "speed") pushing = std::max(pushing, std::abs(mod));  // ±|v|: one direction always pushes
+    if (d->multiplier == "velocity_speed") pushing = std::max(pushing, -sign * mod * 2.0 * std::abs(twin.velocity(i)));
+  }
+  // A force of the speed, or a quadratic drag that turns negative, pushes along the motion: a negative damping, which
+  // the loop's own (the plant's viscous friction and the controller's derivative gain) must outweigh twice over, or the
+  // loop runs away (seed 214: |v| times a ramp, the arm at 1.8e11 rad by the record's end).
+  if (pushing > 0.0) {
+    const double own = d->plant.viscous + 2.0 * 0.7 * kTwoPi * d->bandwidth_hz * d->plant.mass * d->feedforward_error[0];
+    amplitude = std::min(amplitude, 0.5 * own / pushing);
   }
   if (d->multiplier == "acceleration") amplitude = std::min(amplitude, 0.4 * d->plant.mass / peak);
   if (d->modulator == "play_load") amplitude = std::min(amplitude, d->plant.mass);  // a load at most the motor's mass
