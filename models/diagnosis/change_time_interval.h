@@ -35,12 +35,12 @@ struct TimeInterval {
 ///
 /// Where the interval spans kResolvedCells grid steps or more, the profile is nearly flat over it and its lowest point
 /// is an accident of the noise, at either end as likely as inside (a drag switched on while the axis rests was placed
-/// where the previous move ended, 0.9 s before the next one it acts in). The change time is then moved to the profile's
-/// posterior median — the likelihood exp(−Δ/(2σ²)) with σ² the long-run variance, a flat prior over the grid — which
-/// minimises the expected absolute error (Smith, "A Bayesian approach to inference about a change-point in a sequence of
-/// random variables", Biometrika 62(2), 1975), provided the median's own sum of squares lies within the interval's
-/// level (between two minima it may not: the best fit stays). The candidate's instance, columns and scale are
-/// updated in `ranked->m`; call before the final joint fit.
+/// where the previous move ended, 0.9 s before the next one it acts in). The change time is then moved to the
+/// profile's posterior median — the likelihood exp(−Δ/(2σ²)) with σ² the long-run variance, a flat prior over the
+/// grid — which minimises the expected absolute error (Smith, "A Bayesian approach to inference about a change-point
+/// in a sequence of random variables", Biometrika 62(2), 1975), provided the median's own sum of squares lies within
+/// the interval's level (between two minima it may not: the best fit stays). The candidate's instance, columns and
+/// scale are updated in `ranked->m`; call before the final joint fit.
 /// Source: the likelihood-ratio interval for a change point (Hinkley, "Inference about the change-point in a sequence
 /// of random variables", Biometrika 57(1), 1970; Siegmund, "Confidence sets in change-point problems", International
 /// Statistical Review 56(1), 1988), χ²₁ its usual approximation. Empty when the effect has no change time. Throws

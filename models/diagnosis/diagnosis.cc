@@ -307,7 +307,9 @@ DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const Ba
   // steps while the axis rests) fits as well anywhere in that stretch; the user is told the stretch, and the time is
   // placed at its posterior median rather than at whichever end the noise favoured.
   std::vector<std::vector<diagnosis_detail::TimeInterval>> times(ranked.chosen.order.size());
-  for (std::size_t i = 0; i < times.size(); ++i) times[i] = diagnosis_detail::PlaceChangeTimes(&ranked, i, signals, options);
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    times[i] = diagnosis_detail::PlaceChangeTimes(&ranked, i, signals, options);
+  }
 
   // 4.–5. The final joint fit on all data, and each chosen effect described.
   const JointFit fit = FitFinally(signals, p, options, &ranked, &result);

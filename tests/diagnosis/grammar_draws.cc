@@ -663,7 +663,8 @@ std::pair<double, double> LimitedAmplitude(GrammarDraw* d, double sign) {
   // the loop's own (the plant's viscous friction and the controller's derivative gain) must outweigh twice over, or the
   // loop runs away (seed 214: |v| times a ramp, the arm at 1.8e11 rad by the record's end).
   if (pushing > 0.0) {
-    const double own = d->plant.viscous + 2.0 * 0.7 * kTwoPi * d->bandwidth_hz * d->plant.mass * d->feedforward_error[0];
+    const double derivative_gain = 2.0 * 0.7 * kTwoPi * d->bandwidth_hz * d->plant.mass * d->feedforward_error[0];
+    const double own = d->plant.viscous + derivative_gain;  // as Controller sets its kd
     amplitude = std::min(amplitude, 0.5 * own / pushing);
   }
   if (d->multiplier == "acceleration") amplitude = std::min(amplitude, 0.4 * d->plant.mass / peak);

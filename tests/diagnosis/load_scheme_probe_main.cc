@@ -4,13 +4,13 @@
 // bearing 0.6 /s) the load is simulated with the generator's own parameters from the logged position and the derived
 // velocity, by three ways of reading the motor between two samples — positions and velocities each on a straight line;
 // the cubic Hermite interpolant (models/physics/play_coupling.h, what the backlash_load block does); positions on a
-// straight line, the velocity its chord — times two integrators (semi-implicit Euler, the classical Runge–Kutta
-// method) times 1, 5, 20 and 100 sub-steps a sample. Prints, for each, the RMS of the logged force less the truth
-// without the load less the simulated load's force [N], and per 0.25 s window for the converged (100 sub-step)
-// Runge–Kutta runs. The generator's own re-simulation (the bench's floor, TruthForce) is the last line.
+// straight line, the velocity its chord — times two integrators (semi-implicit Euler, the classical Runge–Kutta method)
+// times 1, 5, 20 and 100 sub-steps a sample. Prints, for each, the RMS of the logged force less the truth without the
+// load less the simulated load's force [N], and per 0.25 s window for the converged (100 sub-step) Runge–Kutta runs.
+// The generator's own re-simulation (the bench's floor, TruthForce) is the last line.
 // What it shows (docs/diagnosis.md, "A load behind a play"): the load's state is not measured and its impacts follow
-// from the whole history, so the same physics from the same log leaves anything from 1.7 to 15 N, in episodes of a
-// few seconds where the load sits against the other side of its play.
+// from the whole history, so the same physics from the same log leaves anything from 1.7 to 15 N, in episodes of a few
+// seconds where the load sits against the other side of its play.
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -93,7 +93,8 @@ int main(int argc, char** argv) {
                         a = log.column(DerivedAccelerationColumn(column)), u = log.column("force_N");
   const Eigen::VectorXd without = TruthForce(Hidden::kNone, t, x, v, a, &u);
   std::printf("| motor between samples | integrator | sub-steps | RMS left [N] |\n|---|---|---|---|\n");
-  const char* motors[] = {"x and v on straight lines", "cubic Hermite (the block's)", "x on a straight line, v its chord"};
+  const char* motors[] = {"x and v on straight lines", "cubic Hermite (the block's)",
+                          "x on a straight line, v its chord"};
   const char* integrators[] = {"semi-implicit Euler", "Runge–Kutta 4"};
   std::string windows;
   for (const Motor motor : {Motor::kLinearBoth, Motor::kHermite, Motor::kChord}) {
