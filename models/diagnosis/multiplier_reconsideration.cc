@@ -113,15 +113,12 @@ void ReconsiderMultipliers(const DiagnosisSignals& signals, const Eigen::MatrixX
         Refit(signals, base_cols, options, laws, out->weights, std::move(lowest->second), options.refinement_sweeps);
     if (best && !(best->held_out_mse < current)) best.reset();
     if (!best) continue;
-    // Its errors and the chosen set's are of the same weighted residual: Diebold–Mariano on their difference, at the
-    // forward selection's t. Not family-wise over the products of the modulator: the chosen one was the best of the
-    // same products too (in the greedy order), with no test between them; the two stand on an equal footing.
-    // A pair no one named before is one hypothesis of the grammar's search, as in the forward selection: its t is
-    // family-wise over the searched candidates (Selection::family).
-    const bool searched = best->m.cands[i].type->searched;
-    const double needed =
-        searched ? FamilyWiseT(options.significance_t, std::max(out->chosen.family, SearchedCount(out->m)))
-                 : options.significance_t;
+    // Its errors and the chosen set's are of the same weighted residual: Diebold–Mariano on their difference at the
+    // forward selection's t, family-wise (Bonferroni) over the products tried here: the best of them is what is
+    // tested, so its t is the largest of `tried` and is held to the bar of that many. The same bar for every product,
+    // named before or searched: the effect's presence was settled by the forward selection; what is asked here is only
+    // which multiplier it carries, among the products of its modulator.
+    const double needed = FamilyWiseT(options.significance_t, tried);
     const BlockGrams grams(best->m, options.folds);
     const double t = LossDifferenceT(out->grams->HeldOutErrors(out->chosen.selected, out->m),
                                      grams.HeldOutErrors(best->all, best->m), options.significance_batches);

@@ -18,8 +18,9 @@ namespace mb::diagnosis_detail {
 // ŷ·|ŷ| then fits what is left better than v·|v| does. For each chosen product (in the order chosen), every other
 // product of the same modulator at its shape is screened with the laws and the other effects as they are; the best of
 // them is refit jointly with them (JointRefinement) and takes the chosen one's place where its held-out gain over the
-// whole set, under the ranking's weights, is significant (Diebold–Mariano on the two sets' held-out errors,
-// DiagnosisOptions::significance_t); a note says which was tried and why it was kept or replaced. The forward
+// whole set, under the ranking's weights, is significant (Diebold–Mariano on the two sets' held-out errors at
+// DiagnosisOptions::significance_t, family-wise — Bonferroni — over the products screened, named or searched alike);
+// a note says which was tried and why it was kept or replaced. The forward
 // selection's criterion, on the set as a whole rather than greedily. `out` changes only where a product is replaced.
 // Equation-error mode only (not where CatalogueOptions::loop is set). Throws nothing of its own: a product with no
 // columns on this record (its regressors throw std::invalid_argument: ŷ in simulation mode) is not tried.
