@@ -32,6 +32,7 @@
 #include "models/diagnosis/multiplier_reconsideration.h"
 #include "models/diagnosis/quantization_floor.h"
 #include "models/diagnosis/robust_weighting.h"
+#include "models/diagnosis/simulated_refit.h"
 
 namespace mb {
 
@@ -49,6 +50,7 @@ using diagnosis_detail::LawSearch;
 using diagnosis_detail::ModulateChosenEffects;
 using diagnosis_detail::NoteHysteresis;
 using diagnosis_detail::PruneChosenEffects;
+using diagnosis_detail::RefitThroughTheDiagram;
 using diagnosis_detail::Ranking;
 using diagnosis_detail::ReconsiderMultipliers;
 using diagnosis_detail::RefineChosenEffects;
@@ -214,8 +216,9 @@ Ranking RankEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base
   ReconsiderMultipliers(signals, base_cols, options, law.effects.size(), &out, &result->notes);
   const std::size_t laws = PruneChosenEffects(signals, base_cols, options, law.effects.size(), &out, &result->notes);
   ModulateChosenEffects(signals, base_cols, options, laws, &out, &result->notes);
+  const std::size_t kept = RefitThroughTheDiagram(signals, base_cols, options, laws, &out, &result->notes);
   const std::vector<EffectInstance> chosen = ChosenInstances(out);
-  for (std::size_t i = 0; i < laws; ++i) result->friction_law.push_back(chosen[i].name);
+  for (std::size_t i = 0; i < kept; ++i) result->friction_law.push_back(chosen[i].name);
   return out;
 }
 

@@ -65,6 +65,10 @@ struct DiagnosisOptions {
   // their energy (least squares) is already in the model and is not ranked (a note says so): e.g.
   // coulomb_friction when F_c is free, which would otherwise score on its dead band alone.
   double redundant_with_base = 0.98;
+  // Simulation mode: the candidates' columns through the loop's simulator (LoopResponse::Simulate, the full diagram)
+  // rather than its linearisation (Apply). Set by the diagnosis itself for the chosen effects' last refit (step 3g);
+  // a caller leaves it false.
+  bool simulate_loop_columns = false;
   // The position's unit ("m", or "rad", "rev", "deg" on a rotary axis; engine/units.h), for the reports: periods in
   // mm for metres, else in the unit (and per revolution for angles). Velocities are in position_unit/s.
   std::string position_unit = "m";

@@ -28,6 +28,15 @@ LoopResponse::LoopResponse(Eigen::VectorXd impulse_response, Eigen::Index sample
   Fft().Forward(padded, &h_spectrum_);
 }
 
+Eigen::MatrixXd LoopResponse::Simulate(const Eigen::Ref<const Eigen::MatrixXd>& columns) const {
+  if (!simulator_) return Apply(columns);
+  if (columns.rows() != samples_) {
+    throw std::invalid_argument(
+        fmt::format("LoopResponse::Simulate: columns of {} samples, the record has {}", columns.rows(), samples_));
+  }
+  return simulator_(columns);
+}
+
 Eigen::MatrixXd LoopResponse::Apply(const Eigen::Ref<const Eigen::MatrixXd>& columns) const {
   if (columns.rows() != samples_) {
     throw std::invalid_argument(

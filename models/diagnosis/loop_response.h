@@ -10,6 +10,7 @@
 // position shows it.
 
 #include <complex>
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -30,6 +31,18 @@ class LoopResponse {
   /// the columns do not have N rows.
   Eigen::MatrixXd Apply(const Eigen::Ref<const Eigen::MatrixXd>& columns) const;
 
+  /// The compared output's exact response to loads: each column of an N × k matrix of load forces simulated through
+  /// the full, nonlinear diagram along the record (its tangent, by a small perturbation), N × k [output unit per
+  /// force unit] — the output-error model's sensitivity itself (Ljung, §7.3), where Apply is its convolution with
+  /// the loop linearised at one stretch. Costs one simulation per column; may throw what the simulation throws.
+  using Simulator = std::function<Eigen::MatrixXd(const Eigen::MatrixXd& loads)>;
+  /// Attaches the simulator (the caller that holds the diagram: tools/workflow/loop_probe.h). Throws nothing.
+  void set_simulator(Simulator simulator) { simulator_ = std::move(simulator); }
+  bool can_simulate() const { return static_cast<bool>(simulator_); }
+  /// `columns` through the attached simulator; through Apply without one. @throws std::invalid_argument when the
+  /// columns do not have N rows, and what the simulation throws.
+  Eigen::MatrixXd Simulate(const Eigen::Ref<const Eigen::MatrixXd>& columns) const;
+
   const Eigen::VectorXd& impulse_response() const { return h_; }
   /// |H(f)|: the loop's gain from a sinusoidal load at `frequency_hz` to the output, the DTFT of h at the record's
   /// `sample_period` [s] (output unit per force unit). Throws nothing.
@@ -48,6 +61,7 @@ class LoopResponse {
   Eigen::Index samples_ = 0;
   Eigen::Index padded_ = 0;
   std::vector<std::complex<double>> h_spectrum_;  // FFT of h zero-padded to padded_
+  Simulator simulator_;
 };
 
 }  // namespace mb

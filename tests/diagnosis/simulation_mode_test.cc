@@ -132,6 +132,35 @@ TEST(SimulationMode, NothingIsNamedWhenNothingIsMissing) {
   }
 }
 
+// The share of `column`'s energy that the base's columns reproduce by least squares.
+double ShareSpanned(const Eigen::VectorXd& column, const Eigen::MatrixXd& base) {
+  const Eigen::VectorXd fitted = base * base.colPivHouseholderQr().solve(column);
+  return fitted.squaredNorm() / column.squaredNorm();
+}
+
+// A force of the base's own (the plant's mass: a load M·a) simulated through the full diagram is the base's
+// sensitivity to the mass itself; through the loop linearised at one stretch it is not, because the axis sticks at
+// every reversal, where the loop is another. So the chosen effects are refit on simulated columns, and a mass mismatch
+// beside the free plant mass (−21 kg on the Stribeck record, fitting the linearisation's error) is no longer named.
+TEST(SimulationMode, TheChosenEffectsAreRefitThroughTheFullDiagram) {
+  const SimulationCase c = CompareInSimulation(independent::Hidden::kStribeck, "stribeck");
+  ASSERT_TRUE(c.compared.diagnosis);
+  ASSERT_TRUE(c.compared.diagnosis->loop);
+  const LoopResponse& loop = *c.compared.diagnosis->loop;
+  ASSERT_TRUE(loop.can_simulate());
+  const Eigen::VectorXd& a = c.compared.signals.acceleration;
+  const double simulated = ShareSpanned(loop.Simulate(a), c.compared.base.columns);
+  const double linearised = ShareSpanned(loop.Apply(a), c.compared.base.columns);
+  RecordProperty("mass_share_simulated", fmt::format("{:.4f}", simulated));
+  RecordProperty("mass_share_linearised", fmt::format("{:.4f}", linearised));
+  EXPECT_GT(simulated, 0.98);
+  EXPECT_LT(linearised, simulated);
+  EXPECT_THAT(c.notes, HasSubstr("simulated through the full diagram"));
+  for (const DiagnosedEffect& e : c.compared.diagnosis->effects) {
+    EXPECT_NE(e.effect, "mass_mismatch") << c.compared.diagnosis->summary;
+  }
+}
+
 TEST(SimulationMode, APayloadStepIsNamedAtItsTime) {
   const SimulationCase c = CompareInSimulation(independent::Hidden::kPayloadStep, "payload");
   ASSERT_TRUE(c.compared.diagnosis);

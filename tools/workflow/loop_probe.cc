@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <vector>
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include "engine/block_roles.h"
 #include "engine/diagram_document.h"
@@ -35,6 +37,33 @@ std::pair<Eigen::Index, Eigen::Index> LongestMovingStretch(const Eigen::VectorXd
     }
   }
   return best;
+}
+
+// The compared output's exact response to loads at `port` (LoopResponse::Simulator): per column, the diagram with
+// the column, scaled to a small force, subtracted at the port (a load: a force the drive must supply), simulated
+// along the record, minus the nominal run, over the scale. The columns run in parallel, each on its own copy.
+LoopResponse::Simulator LoadSimulator(const ModelComparison& comparison, const ComparedOutput& nominal,
+                                      const Endpoint& port, double delta) {
+  DiagramDocument d(comparison.diagram_json(), comparison.base_directory(), comparison.source());
+  const std::string column = "diagnosis_load";
+  d.AddConnector({column, "input", "", column, ""});
+  d.SubtractInto(port, Endpoint{"", column}, "diagnosis_load_sum");
+  std::map<std::string, std::string> columns = comparison.ColumnMap();
+  columns[column] = column;
+  return [json = d.json(), base = comparison.base_directory(), source = comparison.source(), log = comparison.log(),
+          columns, column, model = nominal.model, delta](const Eigen::MatrixXd& loads) {
+    Eigen::MatrixXd out = Eigen::MatrixXd::Zero(loads.rows(), loads.cols());
+    tbb::parallel_for(Eigen::Index{0}, loads.cols(), [&](Eigen::Index j) {
+      const double rms = std::sqrt(loads.col(j).squaredNorm() / static_cast<double>(loads.rows()));
+      if (!(rms > 0.0) || !std::isfinite(rms)) return;
+      const double scale = delta / rms;
+      MeasurementLog with = log;
+      with.AddColumn(column, scale * loads.col(j));
+      const ModelComparison run(json, base, source, with, columns);
+      out.col(j) = (run.Simulate().front().model - model) / scale;
+    });
+    return out;
+  };
 }
 
 }  // namespace
@@ -120,8 +149,11 @@ LoopProbe ProbeLoop(const ModelComparison& comparison, const ComparedOutput& nom
     for (; length < h.size() && kept < kEnergyKept * energy; ++length) kept += h(length) * h(length);
     return std::make_shared<const LoopResponse>(h.head(length).eval(), n);
   };
-  out.loop = impulse_response(s);
-  if (!out.loop) return not_probed("the output does not respond to a force at the plant");
+  const std::shared_ptr<const LoopResponse> linearised = impulse_response(s);
+  if (!linearised) return not_probed("the output does not respond to a force at the plant");
+  auto loop = std::make_shared<LoopResponse>(*linearised);
+  loop->set_simulator(LoadSimulator(comparison, nominal, *port, delta));
+  out.loop = std::move(loop);
   const Eigen::Index length = out.loop->impulse_response().size();
   if (drive_force) {  // the controller's reaction to the same load, read on the probe's own signals
     const std::string name = drive_force->ToString();
