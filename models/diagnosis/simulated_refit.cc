@@ -23,35 +23,62 @@ std::size_t RefitThroughTheDiagram(const DiagnosisSignals& signals, const Eigen:
                                    std::vector<std::string>* notes) {
   const LoopResponse* loop = options.catalogue.loop.get();
   if (loop == nullptr || !loop->can_simulate() || out->chosen.order.empty()) return laws;
-  const std::vector<EffectInstance> chosen = ChosenInstances(*out);
   DiagnosisOptions simulated = options;
   simulated.simulate_loop_columns = true;
-  const JointRefinement refinement(signals, base_cols, out->weights, options, chosen, laws);
-  std::vector<std::string> build_notes;
-  RegressorMatrix m = BuildCandidateMatrix(refinement.corrected(), base_cols, chosen, simulated, &build_notes);
-  // BuildCandidateMatrix keeps the order and leaves out only what the base spans (or what cannot be computed).
-  std::size_t left = 0;
-  std::vector<std::string> dropped;
-  for (std::size_t i = 0, j = 0; i < chosen.size(); ++i) {
-    if (j < m.cands.size() && m.cands[j].effect.name == chosen[i].name &&
-        m.cands[j].effect.parameters == chosen[i].parameters) {
-      left += i < laws ? 1 : 0;
-      ++j;
-      continue;
+  const JointRefinement refinement(signals, base_cols, out->weights, options, ChosenInstances(*out), laws);
+  std::vector<EffectInstance> kept = ChosenInstances(*out);
+  std::size_t left = laws;
+  std::vector<std::string> spanned, weak, build_notes;
+  for (;;) {
+    RegressorMatrix m = BuildCandidateMatrix(refinement.corrected(), base_cols, kept, simulated, &build_notes);
+    // BuildCandidateMatrix keeps the order and leaves out only what the base spans (or what cannot be computed).
+    std::vector<EffectInstance> built;
+    std::size_t built_laws = 0;
+    for (std::size_t i = 0, j = 0; i < kept.size(); ++i) {
+      if (j < m.cands.size() && m.cands[j].effect.name == kept[i].name &&
+          m.cands[j].effect.parameters == kept[i].parameters) {
+        built.push_back(kept[i]);
+        built_laws += i < left ? 1 : 0;
+        ++j;
+      } else {
+        spanned.push_back(kept[i].name);
+      }
     }
-    dropped.push_back(chosen[i].name);
+    kept = std::move(built);
+    left = built_laws;
+    m.Weigh(signals.residual, out->weights);
+    const BlockGrams grams(m, options.folds);
+    Selection s = SelectInOrder(m, grams, base_cols.cols(), m.cands.size());
+    // An effect that, simulated, lowers the held-out error by less than the selection's least gain was chosen on the
+    // linearisation's error: dropped, as the selection would not have taken it.
+    std::vector<EffectInstance> strong;
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+      if (i >= left && s.scores[i] < options.min_gain) {
+        weak.push_back(fmt::format("{} ({:.2f} %)", kept[i].name, 100.0 * s.scores[i]));
+      } else {
+        strong.push_back(kept[i]);
+      }
+    }
+    if (strong.size() == kept.size()) {
+      InstallRefined(signals, base_cols, options, left, out->weights, std::move(m), std::move(s), out);
+      break;
+    }
+    kept = std::move(strong);
+  }
+  std::string dropped;
+  if (!spanned.empty()) {
+    dropped += fmt::format("; {} dropped: the base's own parameters reproduce what {} left of the output",
+                           fmt::join(spanned, ", "), spanned.size() > 1 ? "they" : "it");
+  }
+  if (!weak.empty()) {
+    dropped += fmt::format("; {} dropped: simulated, {} the held-out error by less than {:.0f} %",
+                           fmt::join(weak, ", "), weak.size() > 1 ? "they lower" : "it lowers", 100.0 * options.min_gain);
   }
   notes->push_back(fmt::format(
       "simulation mode: the chosen effects' forces were simulated through the full diagram for the final fit (the "
       "output's exact response to each, where the search used the loop linearised at one stretch){}",
-      dropped.empty() ? std::string()
-                      : fmt::format("; {} dropped: the base's own parameters reproduce what {} left of the output",
-                                    fmt::join(dropped, ", "), dropped.size() > 1 ? "they" : "it")));
+      dropped));
   notes->insert(notes->end(), build_notes.begin(), build_notes.end());
-  m.Weigh(signals.residual, out->weights);
-  const BlockGrams grams(m, options.folds);
-  Selection s = SelectInOrder(m, grams, base_cols.cols(), m.cands.size());
-  InstallRefined(signals, base_cols, options, left, out->weights, std::move(m), std::move(s), out);
   return left;
 }
 
