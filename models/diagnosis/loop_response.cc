@@ -34,7 +34,11 @@ Eigen::MatrixXd LoopResponse::Simulate(const Eigen::Ref<const Eigen::MatrixXd>& 
     throw std::invalid_argument(
         fmt::format("LoopResponse::Simulate: columns of {} samples, the record has {}", columns.rows(), samples_));
   }
-  return simulator_(columns);
+  Eigen::MatrixXd out = simulator_(columns);
+  for (Eigen::Index j = 0; j < out.cols(); ++j) {  // a response the simulation could not give: the linearised one
+    if (!out.col(j).allFinite()) out.col(j) = Apply(columns.col(j));
+  }
+  return out;
 }
 
 Eigen::MatrixXd LoopResponse::Apply(const Eigen::Ref<const Eigen::MatrixXd>& columns) const {

@@ -34,12 +34,14 @@ class LoopResponse {
   /// The compared output's exact response to loads: each column of an N × k matrix of load forces simulated through
   /// the full, nonlinear diagram along the record (its tangent, by a small perturbation), N × k [output unit per
   /// force unit] — the output-error model's sensitivity itself (Ljung, §7.3), where Apply is its convolution with
-  /// the loop linearised at one stretch. Costs one simulation per column; may throw what the simulation throws.
+  /// the loop linearised at one stretch. A column the diagram gives no tangent for (it switches within the push: a
+  /// stick–slip law) is NaN. Costs a few simulations per column; may throw what the simulation throws.
   using Simulator = std::function<Eigen::MatrixXd(const Eigen::MatrixXd& loads)>;
   /// Attaches the simulator (the caller that holds the diagram: tools/workflow/loop_probe.h). Throws nothing.
   void set_simulator(Simulator simulator) { simulator_ = std::move(simulator); }
   bool can_simulate() const { return static_cast<bool>(simulator_); }
-  /// `columns` through the attached simulator; through Apply without one. @throws std::invalid_argument when the
+  /// `columns` through the attached simulator, a column it gives no tangent for (NaN) and every column without one
+  /// through Apply. @throws std::invalid_argument when the
   /// columns do not have N rows, and what the simulation throws.
   Eigen::MatrixXd Simulate(const Eigen::Ref<const Eigen::MatrixXd>& columns) const;
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -22,6 +23,9 @@ namespace {
 constexpr double kProbeShare = 1e-4;        // δ as a share of the RMS force driving the plant
 constexpr double kMovingShare = 0.1;        // moving: |v| above this share of its maximum
 constexpr double kEnergyKept = 1.0 - 1e-6;  // of the impulse response's energy
+// A load's responses to a push either way agree within this share when the diagram is smooth there (central
+// differences: they differ by O(δ) relative); a switching law makes them differ by O(1).
+constexpr double kTangentTolerance = 0.05;
 
 // [first, last) of the longest stretch where |v| ≥ share × max |v|.
 std::pair<Eigen::Index, Eigen::Index> LongestMovingStretch(const Eigen::VectorXd& velocity, double share) {
@@ -53,15 +57,27 @@ LoopResponse::Simulator LoadSimulator(const ModelComparison& comparison, const C
   return [json = d.json(), base = comparison.base_directory(), source = comparison.source(), log = comparison.log(),
           columns, column, model = nominal.model, delta](const Eigen::MatrixXd& loads) {
     Eigen::MatrixXd out = Eigen::MatrixXd::Zero(loads.rows(), loads.cols());
-    tbb::parallel_for(Eigen::Index{0}, loads.cols(), [&](Eigen::Index j) {
+    std::vector<Eigen::VectorXd> pushed(static_cast<std::size_t>(2 * loads.cols()));
+    // Each column pushed both ways (central differences); a response that is not odd in the push is no tangent: the
+    // diagram switches (a stick–slip law's stick band, a saturation reached) within the push, and the column is NaN.
+    tbb::parallel_for(Eigen::Index{0}, 2 * loads.cols(), [&](Eigen::Index k) {
+      const Eigen::Index j = k / 2;
       const double rms = std::sqrt(loads.col(j).squaredNorm() / static_cast<double>(loads.rows()));
       if (!(rms > 0.0) || !std::isfinite(rms)) return;
-      const double scale = delta / rms;
+      const double scale = (k % 2 == 0 ? 1.0 : -1.0) * delta / rms;
       MeasurementLog with = log;
       with.AddColumn(column, scale * loads.col(j));
       const ModelComparison run(json, base, source, with, columns);
-      out.col(j) = (run.Simulate().front().model - model) / scale;
+      pushed[static_cast<std::size_t>(k)] = (run.Simulate().front().model - model) / scale;
     });
+    for (Eigen::Index j = 0; j < loads.cols(); ++j) {
+      const Eigen::VectorXd& up = pushed[static_cast<std::size_t>(2 * j)];
+      const Eigen::VectorXd& down = pushed[static_cast<std::size_t>(2 * j + 1)];
+      if (up.size() != loads.rows() || down.size() != loads.rows()) continue;
+      const bool odd = (up - down).norm() <= kTangentTolerance * (up + down).norm();
+      out.col(j) = odd ? (0.5 * (up + down)).eval()
+                       : Eigen::VectorXd::Constant(loads.rows(), std::numeric_limits<double>::quiet_NaN());
+    }
     return out;
   };
 }
