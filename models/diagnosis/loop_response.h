@@ -40,9 +40,9 @@ class LoopResponse {
   /// Attaches the simulator (the caller that holds the diagram: tools/workflow/loop_probe.h). Throws nothing.
   void set_simulator(Simulator simulator) { simulator_ = std::move(simulator); }
   bool can_simulate() const { return static_cast<bool>(simulator_); }
-  /// `columns` through the attached simulator, a column it gives no tangent for (NaN) and every column without one
-  /// through Apply. @throws std::invalid_argument when the
-  /// columns do not have N rows, and what the simulation throws.
+  /// `columns` through the attached simulator; a column it gives no tangent for (NaN), and every column without a
+  /// simulator, through Apply. @throws std::invalid_argument when the columns do not have N rows, and what the
+  /// simulation throws.
   Eigen::MatrixXd Simulate(const Eigen::Ref<const Eigen::MatrixXd>& columns) const;
 
   const Eigen::VectorXd& impulse_response() const { return h_; }

@@ -1,7 +1,7 @@
 // The chosen effects refit through the full diagram in simulation mode: the output-error model's sensitivities
 // simulated rather than linearised (Ljung, System Identification, 2nd ed., §7.3: the prediction error's gradient is
 // the model's own response to each parameter). The search needs the linearised loop (thousands of columns and
-// shape trials, each a convolution); the few columns chosen can afford one simulation each. Where the loop is far
+// shape trials, each a convolution); the few columns chosen can afford two simulations each. Where the loop is far
 // from linear along the record — an axis that sticks at each reversal, where the regularised Coulomb friction is a
 // damper two hundred times stiffer than the viscous one — the linearised columns of the base's own forces (a mass, an
 // offset) differ from the base's simulated sensitivities by up to 40 % of their energy, and that difference fitted

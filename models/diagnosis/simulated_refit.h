@@ -18,8 +18,9 @@ namespace mb::diagnosis_detail {
 // linearised at one stretch — and the ranking is rebuilt on them (their shares recomputed in the order chosen). An
 // effect whose simulated columns the base's own parameters reproduce (DiagnosisOptions::redundant_with_base) is the
 // base's and is dropped with a note: through the linearised loop it differed from the base's sensitivity by the
-// linearisation's error alone, which it then fitted. Returns the number of law replacements left. Throws what the
-// simulation throws.
+// linearisation's error alone, which it then fitted; so is one that, simulated, lowers the held-out error by less than
+// DiagnosisOptions::min_gain (the selection's least gain). Returns the number of law replacements left. Throws what
+// the simulation throws.
 std::size_t RefitThroughTheDiagram(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols,
                                    const DiagnosisOptions& options, std::size_t laws, Ranking* out,
                                    std::vector<std::string>* notes);
