@@ -35,8 +35,11 @@ Eigen::MatrixXd LoopResponse::Simulate(const Eigen::Ref<const Eigen::MatrixXd>& 
         fmt::format("LoopResponse::Simulate: columns of {} samples, the record has {}", columns.rows(), samples_));
   }
   Eigen::MatrixXd out = simulator_(columns);
+  simulated_->columns += out.cols();
   for (Eigen::Index j = 0; j < out.cols(); ++j) {  // a response the simulation could not give: the linearised one
-    if (!out.col(j).allFinite()) out.col(j) = Apply(columns.col(j));
+    if (out.col(j).allFinite()) continue;
+    out.col(j) = Apply(columns.col(j));
+    ++simulated_->linearised;
   }
   return out;
 }

@@ -9,8 +9,10 @@
 // are then in the force's own unit, and a force the loop rejects (above its bandwidth) is weighed as little as the
 // position shows it.
 
+#include <atomic>
 #include <complex>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
@@ -44,6 +46,14 @@ class LoopResponse {
   /// simulator, through Apply. @throws std::invalid_argument when the columns do not have N rows, and what the
   /// simulation throws.
   Eigen::MatrixXd Simulate(const Eigen::Ref<const Eigen::MatrixXd>& columns) const;
+  /// How many columns Simulate has given so far, and how many of them through Apply because the diagram gave no
+  /// tangent (shared by the copies of this loop; thread-safe). For the notes.
+  struct SimulatedCount {
+    Eigen::Index columns = 0, linearised = 0;
+  };
+  SimulatedCount simulated_count() const {
+    return {simulated_->columns.load(), simulated_->linearised.load()};
+  }
 
   const Eigen::VectorXd& impulse_response() const { return h_; }
   /// |H(f)|: the loop's gain from a sinusoidal load at `frequency_hz` to the output, the DTFT of h at the record's
@@ -64,6 +74,10 @@ class LoopResponse {
   Eigen::Index padded_ = 0;
   std::vector<std::complex<double>> h_spectrum_;  // FFT of h zero-padded to padded_
   Simulator simulator_;
+  struct Counters {
+    std::atomic<Eigen::Index> columns{0}, linearised{0};
+  };
+  std::shared_ptr<Counters> simulated_ = std::make_shared<Counters>();
 };
 
 }  // namespace mb

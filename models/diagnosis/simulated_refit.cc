@@ -23,6 +23,7 @@ std::size_t RefitThroughTheDiagram(const DiagnosisSignals& signals, const Eigen:
                                    std::vector<std::string>* notes) {
   const LoopResponse* loop = options.catalogue.loop.get();
   if (loop == nullptr || !loop->can_simulate() || out->chosen.order.empty()) return laws;
+  const LoopResponse::SimulatedCount before = loop->simulated_count();
   DiagnosisOptions simulated = options;
   simulated.simulate_loop_columns = true;
   const JointRefinement refinement(signals, base_cols, out->weights, options, ChosenInstances(*out), laws);
@@ -74,9 +75,15 @@ std::size_t RefitThroughTheDiagram(const DiagnosisSignals& signals, const Eigen:
     dropped += fmt::format("; {} dropped: simulated, {} the held-out error by less than {:.0f} %",
                            fmt::join(weak, ", "), weak.size() > 1 ? "they lower" : "it lowers", 100.0 * options.min_gain);
   }
+  const LoopResponse::SimulatedCount after = loop->simulated_count();
+  const Eigen::Index columns = after.columns - before.columns, linearised = after.linearised - before.linearised;
   notes->push_back(fmt::format(
       "simulation mode: the chosen effects' forces were simulated through the full diagram for the final fit (the "
-      "output's exact response to each, where the search used the loop linearised at one stretch){}",
+      "output's exact response to each, where the search used the loop linearised at one stretch){}{}",
+      linearised == 0 ? std::string()
+                      : fmt::format("; {} of their {} columns kept the linearised response: pushed either way, the "
+                                    "diagram answered differently (it switches within the push: a stick–slip law, a "
+                                    "limit)", linearised, columns),
       dropped));
   notes->insert(notes->end(), build_notes.begin(), build_notes.end());
   return left;

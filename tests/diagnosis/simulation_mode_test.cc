@@ -10,6 +10,7 @@
 // becomes a candidate.
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <filesystem>
 #include <optional>
@@ -285,6 +286,32 @@ TEST(LoopResponse, FiltersCausallyAsTheDirectSumDoes) {
   EXPECT_DOUBLE_EQ(loop.static_gain(), 0.6875);
   EXPECT_THROW(loop.Apply(Eigen::MatrixXd::Zero(8, 1)), std::invalid_argument);
   EXPECT_THROW(LoopResponse(Eigen::VectorXd::Zero(3), 9), std::invalid_argument);
+}
+
+// Simulate gives what the attached simulator gives; a column it has no tangent for (NaN) the linearised loop's, and the
+// count says how many; without a simulator every column is Apply's.
+TEST(LoopResponse, ASimulatedColumnWithoutATangentKeepsTheLinearisedResponse) {
+  Eigen::VectorXd h(3);
+  h << 0.5, 0.25, 0.125;
+  LoopResponse loop(h, 6);
+  Eigen::MatrixXd in(6, 2);
+  in.col(0) << 1, 2, 3, 4, 5, 6;
+  in.col(1) << 0, 1, 0, -1, 0, 1;
+  EXPECT_TRUE(loop.Simulate(in).isApprox(loop.Apply(in)));  // no simulator yet
+  EXPECT_FALSE(loop.can_simulate());
+  loop.set_simulator([](const Eigen::MatrixXd& loads) {
+    Eigen::MatrixXd out = 2.0 * loads;
+    out.col(1).setConstant(std::numeric_limits<double>::quiet_NaN());
+    return out;
+  });
+  ASSERT_TRUE(loop.can_simulate());
+  const LoopResponse copy = loop;  // copies share the count
+  const Eigen::MatrixXd out = copy.Simulate(in);
+  EXPECT_TRUE(out.col(0).isApprox(2.0 * in.col(0)));
+  EXPECT_TRUE(out.col(1).isApprox(loop.Apply(in.col(1))));
+  EXPECT_EQ(loop.simulated_count().columns, 2);
+  EXPECT_EQ(loop.simulated_count().linearised, 1);
+  EXPECT_THROW(loop.Simulate(Eigen::MatrixXd::Zero(5, 1)), std::invalid_argument);
 }
 
 TEST(LoopResponse, ItsGainIsTheMagnitudeOfItsFourierTransform) {
