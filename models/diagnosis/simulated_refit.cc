@@ -26,6 +26,7 @@ std::size_t RefitThroughTheDiagram(const DiagnosisSignals& signals, const Eigen:
   const LoopResponse::SimulatedCount before = loop->simulated_count();
   DiagnosisOptions simulated = options;
   simulated.simulate_loop_columns = true;
+  // Only for ŷ corrected by the base and the laws, as every step after the selection builds the columns on it.
   const JointRefinement refinement(signals, base_cols, out->weights, options, ChosenInstances(*out), laws);
   std::vector<EffectInstance> kept = ChosenInstances(*out);
   std::size_t left = laws;

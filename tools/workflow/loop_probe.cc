@@ -59,7 +59,8 @@ LoopResponse::Simulator LoadSimulator(const ModelComparison& comparison, const C
     Eigen::MatrixXd out = Eigen::MatrixXd::Zero(loads.rows(), loads.cols());
     std::vector<Eigen::VectorXd> pushed(static_cast<std::size_t>(2 * loads.cols()));
     // Each column pushed both ways (central differences); a response that is not odd in the push is no tangent: the
-    // diagram switches (a stick–slip law's stick band, a saturation reached) within the push, and the column is NaN.
+    // diagram switches (a stick–slip law's stick band, a saturation reached) within the push, and the column is NaN —
+    // as it is when a pushed run fails, so that the diagnosis keeps the linearised column rather than being lost.
     tbb::parallel_for(Eigen::Index{0}, 2 * loads.cols(), [&](Eigen::Index k) {
       const Eigen::Index j = k / 2;
       const double rms = std::sqrt(loads.col(j).squaredNorm() / static_cast<double>(loads.rows()));
@@ -67,8 +68,13 @@ LoopResponse::Simulator LoadSimulator(const ModelComparison& comparison, const C
       const double scale = (k % 2 == 0 ? 1.0 : -1.0) * delta / rms;
       MeasurementLog with = log;
       with.AddColumn(column, scale * loads.col(j));
-      const ModelComparison run(json, base, source, with, columns);
-      pushed[static_cast<std::size_t>(k)] = (run.Simulate().front().model - model) / scale;
+      try {
+        const ModelComparison run(json, base, source, with, columns);
+        pushed[static_cast<std::size_t>(k)] = (run.Simulate().front().model - model) / scale;
+      } catch (const std::exception&) {  // the pushed diagram failed to simulate: no tangent, the linearised response
+        pushed[static_cast<std::size_t>(k)] =
+            Eigen::VectorXd::Constant(loads.rows(), std::numeric_limits<double>::quiet_NaN());
+      }
     });
     for (Eigen::Index j = 0; j < loads.cols(); ++j) {
       const Eigen::VectorXd& up = pushed[static_cast<std::size_t>(2 * j)];
