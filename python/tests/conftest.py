@@ -1,6 +1,6 @@
 """Shared fixtures of the Python module's tests: where the sources, data and the command line are.
 
-ctest sets MB_SOURCE_DIR, MB_SHARED_DATA_DIR and MB_COMMAND (python/CMakeLists.txt); the command line is run
+ctest sets MB_SOURCE_DIR and MB_COMMAND (python/CMakeLists.txt); the command line is run
 as the reference the module must agree with (an argument list, no shell)."""
 
 import json

@@ -116,10 +116,18 @@ def test_compare_gives_the_fitted_parameters_with_intervals(emps_compare):
     assert len(expected["parameters"]) == 4
 
 
-def test_the_measurement_as_a_dict_or_a_structured_array_is_the_csv():
+def first_rows(tmp_path, rows=4000):
+    """The record's first `rows` samples (4 s) as a CSV file: enough to compare, a sixth of the record's diagnosis."""
+    path = tmp_path / "first_rows.csv"
+    path.write_text("\n".join(DATA.read_text().splitlines()[:rows + 1]) + "\n")
+    return path
+
+
+def test_the_measurement_as_a_dict_or_a_structured_array_is_the_csv(tmp_path):
     diagram = mb.Diagram.load(RIGID_BODY)
-    columns = read_columns(DATA)
-    from_csv = mb.compare(diagram, DATA, no_fit=True, gpr_fallback=False)
+    data = first_rows(tmp_path)
+    columns = read_columns(data)
+    from_csv = mb.compare(diagram, data, no_fit=True, gpr_fallback=False)
     from_dict = mb.compare(diagram, columns, no_fit=True, gpr_fallback=False)
     table = np.zeros(len(columns["time_s"]), dtype=[(name, "f8") for name in columns])
     for name, values in columns.items():
@@ -127,11 +135,12 @@ def test_the_measurement_as_a_dict_or_a_structured_array_is_the_csv():
     from_table = mb.compare(diagram, table, no_fit=True, gpr_fallback=False)
     assert from_dict.rmse_before == pytest.approx(from_csv.rmse_before, rel=1e-12)
     assert from_table.rmse_before == pytest.approx(from_csv.rmse_before, rel=1e-12)
-    assert from_dict.measured.shape == from_csv.time.shape
+    assert from_dict.measured.shape == from_csv.time.shape == (4000,)
+    np.testing.assert_array_equal(from_table.measured, from_csv.measured)
 
 
-def test_map_reads_a_connector_from_another_column():
-    columns = read_columns(DATA)
+def test_map_reads_a_connector_from_another_column(tmp_path):
+    columns = read_columns(first_rows(tmp_path))
     columns["f_measured"] = columns.pop("force_N")
     with pytest.raises(ValueError) as e:
         mb.compare(mb.Diagram.load(RIGID_BODY), columns, no_fit=True, gpr_fallback=False)

@@ -7,6 +7,8 @@
 // BM_CompareSimulation25k: the same case's 25 s compared in simulation mode (issue 46) — the independent closed loop
 // (tests/diagnosis/data/independent_closed_loop.json) driven by the logged reference, the position compared, every
 // candidate fitted through the loop the diagram is probed for — goal under 5 s.
+// BM_ReadEmpsRecord: reading the real EMPS record (diagrams/emps/data/DATA_EMPS.csv, 24,841 rows × 5 columns) —
+// goal under 50 ms.
 // Release. Numbers in docs/benchmarks.md ("Diagnosis") and docs/diagnosis.md.
 
 #include <sys/resource.h>
@@ -86,6 +88,17 @@ void BM_CompareSimulation25k(benchmark::State& state) {
 }
 void BM_Compare1M(benchmark::State& state) { Compare(state, 1000.0); }
 
+void BM_ReadEmpsRecord(benchmark::State& state) {
+  const std::string path = std::string(MB_SOURCE_DIR) + "/diagrams/emps/data/DATA_EMPS.csv";
+  Eigen::Index rows = 0;
+  for (auto _ : state) {
+    const mb::MeasurementLog log = mb::ReadMeasurementLog(path, {.required_columns = {"position_m", "force_N"}});
+    rows = log.rows();
+    benchmark::DoNotOptimize(rows);
+  }
+  state.counters["rows"] = static_cast<double>(rows);
+}
+
 void BM_Improve25k(benchmark::State& state) {
   const PreparedCase& c = Prepared(25.0);
   double rmse = 0.0;
@@ -100,6 +113,7 @@ void BM_Improve25k(benchmark::State& state) {
   state.counters["heldout_rmse_N"] = rmse;
 }
 
+BENCHMARK(BM_ReadEmpsRecord)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Compare25k)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CompareSimulation25k)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Improve25k)->Unit(benchmark::kSecond)->Iterations(1);

@@ -490,10 +490,8 @@ TEST(Diagnosis, ASmoothFrictionLawAtRestIsReplacedAndTheRippleBehindItNamed) {
 // force by least squares. The screw-lead ripple (position-periodic, 2.5 mm) must be found; the printed
 // figures go to the report (see docs/diagnosis.md).
 TEST(Diagnosis, EmpsScrewLeadRipple) {
-  const std::string dir = std::string(MB_SHARED_DATA_DIR) + "/emps/";
-  if (!std::filesystem::exists(dir + "DATA_EMPS.csv")) {
-    GTEST_SKIP() << "EMPS data not found in " << dir << " (MB_SHARED_DATA_DIR); skipping the real-data test";
-  }
+  const std::string dir = std::string(MB_SOURCE_DIR) + "/diagrams/emps/data/";
+  ASSERT_TRUE(std::filesystem::exists(dir + "DATA_EMPS.csv")) << "the repository's EMPS record is missing in " << dir;
   constexpr double kCutoffHz = 50.0;
   struct Prepared {
     DiagnosisSignals s;

@@ -158,9 +158,11 @@ TEST(GrammarDraws, HysteresisADriftingVibrationAndALoadBehindAPlayAreNamedWithTh
                    "mb_grammar_memory_test", true);
 }
 
-// The first eight seeds and one noise-only draw through compare, as a user runs it. The benchmark names three quarters
-// of the draws right (docs/diagnosis.md, "Random draws from the grammar"; seven of these eight); this fails when the
-// quick subset falls below five of eight, or when the noise-only draw names anything with a share of 2 % or more. A
+// Six of the first eight seeds and one noise-only draw through compare, as a user runs it; seeds 2 and 8, at 4.5 and
+// 4.2 kHz, are left to the benchmark (under the sanitizers they took half of this test's 200 s). The benchmark names
+// five in six of the draws right (docs/diagnosis.md, "Random draws from the grammar"; five of these six: seed 4 is
+// named a force constant × its column); this fails when the quick subset falls below four of six, or when the
+// noise-only draw names anything with a share of 2 % or more. A
 // change time named right comes with the stretch the record places it in (DiagnosedEffect::time_intervals), which holds
 // the drawn time: seed 3's window opens at 3.191 s, placed within a sample; seed 6's drag steps at 3.489 s while the
 // axis decelerates into a dwell, placed in a stretch of about a tenth of the record and named at its posterior median,
@@ -169,7 +171,7 @@ TEST(GrammarDraws, AQuickSubsetIsNamedAndTheNoiseOnlyDrawNamesNothing) {
   const std::filesystem::path folder = std::filesystem::temp_directory_path() / "mb_grammar_draws_test";
   int named = 0, intervals = 0;
   std::string misses;
-  for (unsigned seed = 1; seed <= 8; ++seed) {
+  for (const unsigned seed : {1u, 3u, 4u, 5u, 6u, 7u}) {
     const DrawResult r = RunDraw(Draw(seed), folder / std::to_string(seed), false);
     named += r.named_right ? 1 : 0;
     if (!r.named_right) misses += " " + r.draw.Describe() + " -> " + r.named_pair + ";";
@@ -178,7 +180,7 @@ TEST(GrammarDraws, AQuickSubsetIsNamedAndTheNoiseOnlyDrawNamesNothing) {
       EXPECT_TRUE(r.interval_holds) << r.draw.Describe() << " -> " << r.parameter;
     }
   }
-  EXPECT_GE(named, 5) << "missed:" << misses;
+  EXPECT_GE(named, 4) << "missed:" << misses;
   EXPECT_GE(intervals, 1);  // seeds 3 and 6 named right: the check ran
   const DrawResult noise = RunDraw(Draw(kNoiseOnlySeedBase + 1), folder / "noise", false);
   EXPECT_TRUE(noise.clean) << noise.named_first << " named at " << noise.named_score;

@@ -58,7 +58,7 @@ DiagnosisSignals SignalsOf(const MeasurementLog& log, const ComparedOutput& out)
   return s;
 }
 
-// The benchmark's IDIM-LS figures (EMPS_Description.pdf; shared/data/README.md): M ≈ 94 kg, Fv ≈ 195 N·s/m,
+// The benchmark's IDIM-LS figures (EMPS_Description.pdf; diagrams/emps/data/CITATION.md): M ≈ 94 kg, Fv ≈ 195 N·s/m,
 // Fc ≈ 21 N. The ripple at the screw lead (2.5 mm) must come out as a ranked effect (its amplitude grows with
 // speed, so the catalogue names it velocity_dependent_ripple or position_periodic); adding a position-periodic
 // block at that period, harmonics refit jointly with the base, makes the held-out error fall once the ripple's

@@ -1,5 +1,5 @@
 // A real record the project did not generate (issue 13): a BLDC motor on an ODrive turned once, slowly, its
-// timestamps jittered by USB logging (../shared/data/odrive_cogging, README there). The rigid-rotor model of
+// timestamps jittered by USB logging (diagrams/odrive/data, README there). The rigid-rotor model of
 // diagrams/odrive leaves the cogging out; compare must name it — 7 cycles per revolution — and its fitted ripple
 // must agree with the author's quasi-static cogging map, measured by another method.
 #include <cmath>
@@ -23,7 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-const fs::path kData = fs::path(MB_SHARED_DATA_DIR) / "odrive_cogging";
+const fs::path kData = fs::path(MB_SOURCE_DIR) / "diagrams" / "odrive" / "data";
 const fs::path kDiagram = fs::path(MB_SOURCE_DIR) / "diagrams" / "odrive" / "rigid_rotor.json";
 
 const MeasurementSettings kSettings{{}, "angle_rev", 100.0};
@@ -50,9 +50,9 @@ Eigen::VectorXd RippleAt(const DiagnosisResult& d, const MeasurementLog& map) {
 }
 
 TEST(OdriveRecord, CompareNamesTheCoggingFirstAndItAgreesWithTheQuasiStaticMap) {
-  const fs::path record = kData / "slow2_slower" / "nocomp_0.csv";
-  const fs::path map_path = kData / "coggingmap_0" / "cogging_measure_final_a_16.csv";
-  if (!fs::exists(record) || !fs::exists(map_path)) GTEST_SKIP() << "shared data not found at " << kData;
+  const fs::path record = kData / "slow2_slower_nocomp_0.csv";
+  const fs::path map_path = kData / "coggingmap_0_a_16.csv";
+  ASSERT_TRUE(fs::exists(record) && fs::exists(map_path)) << "the repository's ODrive records are missing in " << kData;
   const nlohmann::json diagram = ReadDiagramJson(kDiagram);
   const MeasurementLog log = ReadMeasurementFor(diagram, record.string(), kSettings);
   const DiagnosedComparison c = CompareAndDiagnose(diagram, kDiagram.parent_path(), kDiagram.string(), log, kSettings,
@@ -86,8 +86,8 @@ TEST(OdriveRecord, CompareNamesTheCoggingFirstAndItAgreesWithTheQuasiStaticMap) 
 }
 
 TEST(OdriveRecord, ImproveAddsTheCoggingAndTheHeldOutErrorFalls) {
-  const fs::path record = kData / "slow2_slower" / "nocomp_0.csv";
-  if (!fs::exists(record)) GTEST_SKIP() << "shared data not found at " << kData;
+  const fs::path record = kData / "slow2_slower_nocomp_0.csv";
+  ASSERT_TRUE(fs::exists(record)) << "the repository's ODrive record is missing in " << kData;
   const nlohmann::json diagram = ReadDiagramJson(kDiagram);
   const MeasurementLog log = ReadMeasurementFor(diagram, record.string(), kSettings);
   ImproveSettings settings;
