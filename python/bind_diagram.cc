@@ -159,7 +159,9 @@ void RequireDiagramJsonSyntax(const std::string& path) {
   const std::string text = ReadInputFile(path, "diagram file");
   try {
     RefuseNulBytes(text);  // as ReadDiagramJson: no comments, no NUL byte (issue 41)
-    (void)nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/false);
+    // Parsed only to be checked (GCC ignores a cast to void of a [[nodiscard]] result: a named, unused value).
+    [[maybe_unused]] const nlohmann::json parsed =
+        nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/false);
   } catch (const nlohmann::json::parse_error& e) {
     throw DiagramError(path, {fmt::format("not valid JSON: {}{}", JsonErrorText(e), JsonCommentHint(text, e.byte))});
   }

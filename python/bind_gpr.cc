@@ -56,7 +56,8 @@ void RequireGprModelJsonSyntax(const std::string& path) {
   if (!std::filesystem::is_regular_file(path)) return;  // LoadGprModel says why (missing, a folder, a device)
   std::istringstream in(ReadInputFile(path, "GP model file"));
   try {
-    (void)nlohmann::json::parse(in);
+    // Parsed only to be checked (GCC ignores a cast to void of a [[nodiscard]] result: a named, unused value).
+    [[maybe_unused]] const nlohmann::json parsed = nlohmann::json::parse(in);
   } catch (const nlohmann::json::parse_error& e) {
     throw std::invalid_argument(fmt::format("{}: not valid JSON (corrupt or truncated?): {}", path, JsonErrorText(e)));
   }

@@ -73,64 +73,60 @@ std::vector<MultiplierRow> MakeMultipliers() {
                   false, false, false, false,
                   [](const DiagnosisSignals& s, const Eigen::VectorXd&, const std::string&) {
                     return Eigen::VectorXd::Ones(s.size()).eval();
-                  }});
-  rows.back().factor = One();
+                  },
+                  One(), false});
   rows.push_back({"slip", "coulomb", "the Coulomb friction level", "tanh(v/v_s)",
                   "a friction: preload, magnetic attraction, a seal, the lubrication, the guide's straightness", "",
                   true, false, true, false,
-                  [](const DiagnosisSignals&, const Eigen::VectorXd& slip, const std::string&) { return slip; }});
-  rows.back().factor = SlipOfVelocity();
+                  [](const DiagnosisSignals&, const Eigen::VectorXd& slip, const std::string&) { return slip; },
+                  SlipOfVelocity(), false});
   rows.push_back({"velocity", "damping", "the viscous friction", "v",
                   "a damping: the lubricant's viscosity, eddy currents, the back-EMF", "/(m/s)", false, false, true,
                   false,
-                  [](const DiagnosisSignals& s, const Eigen::VectorXd&, const std::string&) { return s.velocity; }});
-  rows.back().factor = MeasuredMotion(MotionInput::kVelocity);
+                  [](const DiagnosisSignals& s, const Eigen::VectorXd&, const std::string&) { return s.velocity; },
+                  MeasuredMotion(MotionInput::kVelocity), false});
   rows.push_back({"speed", "speed_force", "a force growing with the speed", "|v|",
                   "a force of the speed in either direction (the magnetic drag of a passing slot, a fan's load)",
                   "/(m/s)", false, false, false, false,
                   [](const DiagnosisSignals& s, const Eigen::VectorXd&, const std::string&) {
                     return s.velocity.cwiseAbs().eval();
-                  }});
-  rows.back().factor = AbsOf(MeasuredMotion(MotionInput::kVelocity));
-  rows.back().own_level = true;
+                  },
+                  AbsOf(MeasuredMotion(MotionInput::kVelocity)), true});
   rows.push_back({"velocity_speed", "drag", "the quadratic drag", "v·|v|",
                   "a drag of a fluid at high Reynolds number (an orifice, air, a seal's pumping)", "/(m/s)²", false,
                   false, true, false,
                   [](const DiagnosisSignals& s, const Eigen::VectorXd&, const std::string&) {
                     return s.velocity.cwiseProduct(s.velocity.cwiseAbs()).eval();
-                  }});
-  rows.back().factor = Times(MeasuredMotion(MotionInput::kVelocity), AbsOf(MeasuredMotion(MotionInput::kVelocity)));
-  rows.back().own_level = true;
+                  },
+                  Times(MeasuredMotion(MotionInput::kVelocity), AbsOf(MeasuredMotion(MotionInput::kVelocity))), true});
   rows.push_back({"acceleration", "inertia", "the moving mass", "a (with a factor M(x) of the position: M(x)·a + ½M′(x)·v²)",
                   "a mass: a payload, a tool, a linkage or an arm whose reflected inertia changes", "/(m/s²)", false,
                   false, false, true,
-                  [](const DiagnosisSignals& s, const Eigen::VectorXd&, const std::string&) { return s.acceleration; }});
-  rows.back().factor = MeasuredMotion(MotionInput::kAcceleration);
+                  [](const DiagnosisSignals& s, const Eigen::VectorXd&, const std::string&) { return s.acceleration; },
+                  MeasuredMotion(MotionInput::kAcceleration), false});
   rows.push_back({"model_force", "force_constant", "the force constant", "ŷ (the model's force from the measured motion)",
                   "the motor's force constant: the magnets' flux, the air gap, the coil's temperature", "", false,
                   true, false, false,
                   [](const DiagnosisSignals& s, const Eigen::VectorXd&, const std::string& effect) {
                     return ModelForce(s, effect);
-                  }});
-  rows.back().factor = mb::ModelForce();
+                  },
+                  mb::ModelForce(), false});
   rows.push_back({"model_force_abs", "force_constant_saturation", "the force constant at high force", "ŷ·|ŷ|",
                   "the iron saturating at high current: the force constant falls with the force", "/N", false, true,
                   false, false,
                   [](const DiagnosisSignals& s, const Eigen::VectorXd&, const std::string& effect) {
                     const Eigen::VectorXd& y = ModelForce(s, effect);
                     return y.cwiseProduct(y.cwiseAbs()).eval();
-                  }});
-  rows.back().factor = Times(mb::ModelForce(), AbsOf(mb::ModelForce()));
-  rows.back().own_level = true;
+                  },
+                  Times(mb::ModelForce(), AbsOf(mb::ModelForce())), true});
   rows.push_back({"load_slip", "load_friction", "the friction growing with the transmitted force", "|ŷ|·tanh(v/v_s)",
                   "a load-dependent friction: a screw's or a gear's flanks, a preloaded guide under the drive's force",
                   "/N", true, true, true, false,
                   [](const DiagnosisSignals& s, const Eigen::VectorXd& slip, const std::string& effect) {
                     return ModelForce(s, effect).cwiseAbs().cwiseProduct(slip).eval();
-                  }});
-  // |ŷ|·tanh(v/v_s) as ŷ × sign(ŷ)·tanh(v/v_s): a share of the drive's force, as the force constant's.
-  rows.back().factor = Times(mb::ModelForce(), Times(SignOf(mb::ModelForce()), SlipOfVelocity()));
-  rows.back().own_level = true;
+                  },
+                  // |ŷ|·tanh(v/v_s) as ŷ × sign(ŷ)·tanh(v/v_s): a share of the drive's force, as the force constant's.
+                  Times(mb::ModelForce(), Times(SignOf(mb::ModelForce()), SlipOfVelocity())), true});
   return rows;
 }
 
@@ -428,7 +424,7 @@ std::vector<ModulatorRow> MakeModulators() {
   rows.push_back({"constant", "{}", "", "1", "", {}, false, Periodicity::kNone, nullptr,
                   [](const FactorParameters&, const DiagnosisSignals& s, const std::string& name,
                      const Eigen::VectorXd* scale) { return Scaled(name, Eigen::VectorXd::Ones(s.size()), scale); },
-                  nullptr, ScanNothing, {}});
+                  nullptr, ScanNothing, {}, {}});
   rows.back().words = [](const FactorParameters&, double k, const std::string& u, const std::string&, const std::string&) {
     return fmt::format("is missing: {:+.4g}{}", k, u);
   };
@@ -436,7 +432,7 @@ std::vector<ModulatorRow> MakeModulators() {
                   "a pitch of the machine: the magnets, the slots, a screw's lead, a gear's tooth",
                   {{"period", "m", "P: the pitch"}, {"harmonics", "", "K, 1 when absent"}}, true,
                   Periodicity::kPosition, RefinePositionPeriod, PeriodicShape, PeriodicDerivative,
-                  ScanPositionPeriod, {}});
+                  ScanPositionPeriod, {}, {}});
   rows.back().words = [](const FactorParameters& p, double, const std::string&, const std::string&, const std::string& unit) {
     return fmt::format("ripples along the travel with period {}", FormatParameterValue(Value(p, "period"), "m", unit));
   };
@@ -450,7 +446,7 @@ std::vector<ModulatorRow> MakeModulators() {
                     return Scaled(name, Bump(s.position, Need(p, "center", name), NeedPositive(p, "half_width", name)),
                                   scale);
                   },
-                  BumpDerivative, ScanPositionBump, {}});
+                  BumpDerivative, ScanPositionBump, {}, {}});
   rows.back().words = [](const FactorParameters& p, double, const std::string&, const std::string&, const std::string& unit) {
     return fmt::format("changes over the stretch {} ± {}", FormatParameterValue(Value(p, "center"), "m", unit),
                        FormatParameterValue(Value(p, "half_width"), "m", unit));
@@ -465,7 +461,7 @@ std::vector<ModulatorRow> MakeModulators() {
                     return PowerColumns(s.position, Need(p, "center", name), NeedPositive(p, "half_range", name),
                                         kSmoothDegree, name, scale);
                   },
-                  SmoothDerivative, ScanPositionSmooth, {}});
+                  SmoothDerivative, ScanPositionSmooth, {}, {}});
   rows.back().words = [](const FactorParameters& p, double, const std::string&, const std::string&, const std::string& unit) {
     return fmt::format("changes smoothly along the travel, over {} ± {}", FormatParameterValue(Value(p, "center"), "m", unit),
                        FormatParameterValue(Value(p, "half_range"), "m", unit));
@@ -476,7 +472,7 @@ std::vector<ModulatorRow> MakeModulators() {
                   false, Periodicity::kNone, nullptr,
                   [](const FactorParameters& p, const DiagnosisSignals& s, const std::string& name,
                      const Eigen::VectorXd* scale) { return Scaled(name, Centered(Column(p, s, name)), scale); },
-                  nullptr, ScanColumns, {}});
+                  nullptr, ScanColumns, {}, {}});
   rows.back().words = [](const FactorParameters&, double k, const std::string& u, const std::string& column, const std::string&) {
     return fmt::format("follows '{}': {:+.4g}{} per unit of it", column, k, u);
   };
@@ -488,7 +484,7 @@ std::vector<ModulatorRow> MakeModulators() {
                      const Eigen::VectorXd* scale) {
                     return Scaled(name, CentralDifference(s.time, Column(p, s, name)), scale);
                   },
-                  nullptr, ScanColumns, {}});
+                  nullptr, ScanColumns, {}, {}});
   rows.back().words = [](const FactorParameters&, double k, const std::string& u, const std::string& column, const std::string&) {
     return fmt::format("follows the rate of '{}': {:+.4g}{} per unit of it per second", column, k, u);
   };
@@ -502,7 +498,7 @@ std::vector<ModulatorRow> MakeModulators() {
                     if (!(end > start)) throw std::invalid_argument(fmt::format("effect '{}': end_time must lie after start_time", name));
                     return Scaled(name, ((s.time.array() - start) / (end - start)).cwiseMin(1.0).cwiseMax(0.0).matrix(), scale);
                   },
-                  nullptr, ScanRamp, {}});
+                  nullptr, ScanRamp, {}, {}});
   rows.back().words = [](const FactorParameters&, double k, const std::string& u, const std::string&, const std::string&) {
     return fmt::format("drifts over the record: {:+.4g}{} from its start to its end", k, u);
   };
@@ -513,7 +509,7 @@ std::vector<ModulatorRow> MakeModulators() {
                      const Eigen::VectorXd* scale) {
                     return Scaled(name, (s.time.array() >= Need(p, "change_time", name)).cast<double>().matrix(), scale);
                   },
-                  nullptr, ScanStep, {}});
+                  nullptr, ScanStep, {}, {}});
   rows.back().words = [](const FactorParameters& p, double k, const std::string& u, const std::string&, const std::string&) {
     return fmt::format("changes at {:.4g} s by {:+.4g}{}", Value(p, "change_time"), k, u);
   };
@@ -526,7 +522,7 @@ std::vector<ModulatorRow> MakeModulators() {
                     const double on = Need(p, "on_time", name), off = Need(p, "off_time", name);
                     return Scaled(name, (s.time.array() >= on && s.time.array() < off).cast<double>().matrix(), scale);
                   },
-                  nullptr, ScanWindow, {}});
+                  nullptr, ScanWindow, {}, {}});
   rows.back().words = [](const FactorParameters& p, double k, const std::string& u, const std::string&, const std::string&) {
     return fmt::format("changes between {:.4g} s and {:.4g} s by {:+.4g}{}", Value(p, "on_time"), Value(p, "off_time"),
                        k, u);
@@ -543,7 +539,7 @@ std::vector<ModulatorRow> MakeModulators() {
                     return Scaled(name, WarmUp(s.time, Need(p, "start_time", name), NeedPositive(p, "time_constant", name)),
                                   scale);
                   },
-                  nullptr, ScanWarmUp, {}});
+                  nullptr, ScanWarmUp, {}, {}});
   rows.back().words = [](const FactorParameters& p, double k, const std::string& u, const std::string&, const std::string&) {
     return fmt::format("settles with T = {:.3g} s by {:+.4g}{}", Value(p, "time_constant"), k, u);
   };
@@ -558,7 +554,7 @@ std::vector<ModulatorRow> MakeModulators() {
                                            harmonics == p.end() ? 1 : std::max(1, static_cast<int>(harmonics->second)),
                                            name, scale);
                   },
-                  nullptr, ScanTimePeriod, {}});
+                  nullptr, ScanTimePeriod, {}, {}});
   rows.back().words = [](const FactorParameters& p, double, const std::string&, const std::string&, const std::string&) {
     return fmt::format("vibrates in time at {:.4g} Hz", Value(p, "frequency_hz"));
   };
@@ -580,7 +576,7 @@ std::vector<ModulatorRow> MakeModulators() {
                   [](ProposalContext& c, const Eigen::VectorXd& m, const Eigen::VectorXd*, const std::string& pair) {
                     return ScanTimeChirp(c, m, pair);
                   },
-                  {}});
+                  {}, {}});
   rows.back().words = [](const FactorParameters& p, double, const std::string&, const std::string&, const std::string&) {
     return fmt::format("vibrates in time at {:.4g} Hz {:+.4g} Hz/s·t", Value(p, "frequency_hz"), Value(p, "drift_rate"));
   };
