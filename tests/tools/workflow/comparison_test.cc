@@ -661,7 +661,8 @@ TEST(ComparisonTest, FreeParameterErrorsNameTheProblem) {
 // output, computed from the very error being explained — the diagram's own signal under another name — so no
 // candidate is built from it and a note says so; an exogenous column (here a made-up ambient temperature, a slow
 // drift with a daily-like wobble, independent of the loop) stays a candidate column. The position's fit is read
-// against the reference's tracking error, not the position itself.
+// against the reference's tracking error, not the position itself. On the record's first 8 s (what is checked does
+// not need the whole record; under ASan the whole took 45 s).
 TEST(ComparisonTest, SimulationModeLeavesTheControllersOutputOutAndKeepsAnExogenousColumn) {
   const fs::path dir = fs::temp_directory_path() / "mb_reaction_column";
   fs::create_directories(dir);
@@ -671,7 +672,7 @@ TEST(ComparisonTest, SimulationModeLeavesTheControllersOutputOutAndKeepsAnExogen
     std::string line;
     std::getline(in, line);
     out << line << ",ambient_C\n";
-    for (int i = 0; std::getline(in, line); ++i) {
+    for (int i = 0; i < 8000 && std::getline(in, line); ++i) {
       const double t = 0.001 * i;
       out << line << "," << 21.0 + 0.05 * t + 0.3 * std::sin(0.7 * t) << "\n";
     }
@@ -694,7 +695,7 @@ TEST(ComparisonTest, SimulationModeLeavesTheControllersOutputOutAndKeepsAnExogen
   EXPECT_EQ(position.tracking_input, "reference");
   EXPECT_GT(position.fit_percent, 99.9);  // the reference dominates: says nothing
   // Read against the tracking error r − y (mm at speed, where the position spans 0.25 m) the same residual weighs
-  // a hundred times more: measured 99.30 % → 99.52 % where the position's fit reads 99.995 % → 99.997 %.
+  // a hundred times more: measured 99.24 % → 99.46 % where the position's fit reads 99.996 %.
   EXPECT_LT(100.0 - position.fit_percent, 0.1 * (100.0 - position.tracking_fit_percent));
   EXPECT_GT(position.tracking_fit_percent, c.before.front().tracking_fit_percent - 1e-9);  // the refit helps
   EXPECT_TRUE(c.after.back().tracking_input.empty());  // the force has no input in newtons
