@@ -556,9 +556,9 @@ DiagramFit FitDiagram(const json& diagram, const fs::path& base_directory, const
 
 namespace {
 
-// The diagram's own signal that `column` matches (name, squared correlation of the centred records) when the match
-// reaches kReactionSquaredCorrelation, else none. Constant signals match nothing.
-std::optional<std::pair<std::string, double>> OwnSignalMatch(
+// The diagram's own signal that `column` follows best (name, squared correlation of the centred records); none when
+// no signal varies. Constant signals match nothing.
+std::optional<std::pair<std::string, double>> ClosestOwnSignal(
     const Eigen::VectorXd& column, const std::vector<std::pair<std::string, Eigen::VectorXd>>& own) {
   const Eigen::VectorXd c = column.array() - column.mean();
   const double cc = c.squaredNorm();
@@ -571,7 +571,7 @@ std::optional<std::pair<std::string, double>> OwnSignalMatch(
     if (!(ss > 0.0)) continue;
     const double cs = c.dot(s);
     const double r2 = cs * cs / (cc * ss);
-    if (r2 >= kReactionSquaredCorrelation && (!best || r2 > best->second)) best = {name, r2};
+    if (!best || r2 > best->second) best = {name, r2};
   }
   return best;
 }
@@ -639,13 +639,24 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
   std::vector<std::pair<std::string, std::string>> reactions;  // log column → the diagram's signal it is
   for (const std::string& name : unread) {
     const Eigen::VectorXd& column = log.column(name);
-    if (const auto match = OwnSignalMatch(column, own)) {
+    const auto match = ClosestOwnSignal(column, own);
+    if (match && match->second >= kReactionSquaredCorrelation) {
       reactions.emplace_back(name, match->first);
       out.notes.push_back(fmt::format(
           "log column '{}' is the diagram's own signal '{}' under another name (r² = {:.3f}): the closed loop "
           "computes it from the error being explained, a reaction and not a cause, so no candidate is built from it",
           name, match->first, match->second));
       continue;
+    }
+    // A force the log holds that no signal of the loop follows: the drive's command of a controller the diagram does
+    // not reproduce (a clip, an anti-windup, another integrator), or a force from outside the loop. Kept, and said.
+    if (match && QuantityOfUnit(ColumnUnit(name)) == MotionQuantity::kForce) {
+      out.notes.push_back(fmt::format(
+          "log column '{}' is a force that no signal of the diagram follows (closest: '{}', r² = {:.2f} < {}): if it is "
+          "the drive's command, the diagram's controller is not the one that ran (a clip, an anti-windup, an "
+          "integrator or a filter that differs), which this record's position error holds too; it is kept as a "
+          "column from outside the loop",
+          name, match->first, match->second, kReactionSquaredCorrelation));
     }
     signals.extra_names.push_back(name);
     signals.extra_columns.push_back(column);

@@ -660,7 +660,9 @@ TEST(ComparisonTest, FreeParameterErrorsNameTheProblem) {
 // Simulation mode on the real EMPS closed loop (issue 46, items 2 and 3): the log's input_V is the controller's
 // output, computed from the very error being explained — the diagram's own signal under another name — so no
 // candidate is built from it and a note says so; an exogenous column (here a made-up ambient temperature, a slow
-// drift with a daily-like wobble, independent of the loop) stays a candidate column. The position's fit is read
+// drift with a daily-like wobble, independent of the loop) stays a candidate column, and so does a force no signal of
+// the loop follows (a made-up cutting force), with a note saying so: were it the drive's command, the diagram's
+// controller would not be the one that ran. The position's fit is read
 // against the reference's tracking error, not the position itself. On the record's first 8 s (what is checked does
 // not need the whole record; under ASan the whole took 45 s).
 TEST(ComparisonTest, SimulationModeLeavesTheControllersOutputOutAndKeepsAnExogenousColumn) {
@@ -671,10 +673,11 @@ TEST(ComparisonTest, SimulationModeLeavesTheControllersOutputOutAndKeepsAnExogen
     std::ofstream out(dir / "log.csv");
     std::string line;
     std::getline(in, line);
-    out << line << ",ambient_C\n";
+    out << line << ",ambient_C,cutting_force_N\n";
     for (int i = 0; i < 8000 && std::getline(in, line); ++i) {
       const double t = 0.001 * i;
-      out << line << "," << 21.0 + 0.05 * t + 0.3 * std::sin(0.7 * t) << "\n";
+      out << line << "," << 21.0 + 0.05 * t + 0.3 * std::sin(0.7 * t) << "," << 4.0 * std::sin(2.3 * t) * std::cos(0.4 * t)
+          << "\n";
     }
   }
   const auto diagram = ReadDiagramJson(kEmps / "closed_loop.json");
@@ -683,10 +686,17 @@ TEST(ComparisonTest, SimulationModeLeavesTheControllersOutputOutAndKeepsAnExogen
   const DiagnosedComparison c = CompareAndDiagnose(diagram, kEmps, "closed_loop.json", log, settings,
                                                    diagram["free"].get<std::vector<std::string>>(), true);
   ASSERT_EQ(c.mode, ExperimentMode::kSimulation);
-  EXPECT_THAT(c.signals.extra_names, ::testing::ElementsAre("ambient_C"));
-  bool noted = false;
-  for (const auto& n : c.notes) noted = noted || (n.find("log column 'input_V' is the diagram's own signal") == 0);
+  EXPECT_THAT(c.signals.extra_names, ::testing::ElementsAre("ambient_C", "cutting_force_N"));
+  bool noted = false, force_noted = false, ambient_noted = false;
+  for (const auto& n : c.notes) {
+    noted = noted || (n.find("log column 'input_V' is the diagram's own signal") == 0);
+    force_noted = force_noted || (n.find("log column 'cutting_force_N' is a force that no signal of the diagram "
+                                         "follows (closest: ") == 0);
+    ambient_noted = ambient_noted || (n.find("log column 'ambient_C'") == 0);
+  }
   EXPECT_TRUE(noted);
+  EXPECT_TRUE(force_noted);
+  EXPECT_FALSE(ambient_noted);  // not a force: nothing to say
   ASSERT_TRUE(c.diagnosis.has_value());
   for (const auto& e : c.diagnosis->effects) EXPECT_NE(e.log_column, "input_V") << e.effect;
 
