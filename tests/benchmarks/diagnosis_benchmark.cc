@@ -89,7 +89,8 @@ void BM_CompareSimulation25k(benchmark::State& state) {
 void BM_Compare1M(benchmark::State& state) { Compare(state, 1000.0); }
 
 void BM_ReadEmpsRecord(benchmark::State& state) {
-  const std::string path = (std::filesystem::path(MB_SOURCE_DIR) / "diagrams" / "emps" / "data" / "DATA_EMPS.csv").string();
+  const std::string path =
+      (std::filesystem::path(MB_SOURCE_DIR) / "diagrams" / "emps" / "data" / "DATA_EMPS.csv").string();
   Eigen::Index rows = 0;
   for (auto _ : state) {
     const mb::MeasurementLog log = mb::ReadMeasurementLog(path, {.required_columns = {"position_m", "force_N"}});

@@ -662,9 +662,9 @@ TEST(ComparisonTest, FreeParameterErrorsNameTheProblem) {
 // candidate is built from it and a note says so; an exogenous column (here a made-up ambient temperature, a slow
 // drift with a daily-like wobble, independent of the loop) stays a candidate column, and so does a force no signal of
 // the loop follows (a made-up cutting force), with a note saying so: were it the drive's command, the diagram's
-// controller would not be the one that ran. The position's fit is read
-// against the reference's tracking error, not the position itself. On the record's first 8 s (what is checked does
-// not need the whole record; under ASan the whole took 45 s).
+// controller would not be the one that ran. The position's fit is read against the reference's tracking error, not the
+// position itself. On the record's first 8 s (what is checked does not need the whole record; under ASan the whole
+// took 45 s).
 TEST(ComparisonTest, SimulationModeLeavesTheControllersOutputOutAndKeepsAnExogenousColumn) {
   const fs::path dir = fs::temp_directory_path() / "mb_reaction_column";
   fs::create_directories(dir);
@@ -676,8 +676,8 @@ TEST(ComparisonTest, SimulationModeLeavesTheControllersOutputOutAndKeepsAnExogen
     out << line << ",ambient_C,cutting_force_N\n";
     for (int i = 0; i < 8000 && std::getline(in, line); ++i) {
       const double t = 0.001 * i;
-      out << line << "," << 21.0 + 0.05 * t + 0.3 * std::sin(0.7 * t) << "," << 4.0 * std::sin(2.3 * t) * std::cos(0.4 * t)
-          << "\n";
+      out << line << "," << 21.0 + 0.05 * t + 0.3 * std::sin(0.7 * t) << ","
+          << 4.0 * std::sin(2.3 * t) * std::cos(0.4 * t) << "\n";
     }
   }
   const auto diagram = ReadDiagramJson(kEmps / "closed_loop.json");
