@@ -37,7 +37,8 @@ class LoopResponse {
   /// the full, nonlinear diagram along the record (its tangent, by a small perturbation), N × k [output unit per
   /// force unit] — the output-error model's sensitivity itself (Ljung, §7.3), where Apply is its convolution with
   /// the loop linearised at one stretch. A column the diagram gives no tangent for (it switches within the push: a
-  /// stick–slip law) is NaN. Costs a few simulations per column; may throw what the simulation throws.
+  /// stick–slip law), or whose pushed run fails to simulate, is NaN (LoadSimulator, tools/workflow/loop_probe.cc).
+  /// Costs a few simulations per column; may throw what building the simulation throws.
   using Simulator = std::function<Eigen::MatrixXd(const Eigen::MatrixXd& loads)>;
   /// Attaches the simulator (the caller that holds the diagram: tools/workflow/loop_probe.h). Throws nothing.
   void set_simulator(Simulator simulator) { simulator_ = std::move(simulator); }

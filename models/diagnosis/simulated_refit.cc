@@ -84,7 +84,7 @@ std::size_t RefitThroughTheDiagram(const DiagnosisSignals& signals, const Eigen:
       linearised == 0 ? std::string()
                       : fmt::format("; {} of their {} columns kept the linearised response: pushed either way, the "
                                     "diagram answered differently (it switches within the push: a stick–slip law, a "
-                                    "limit)", linearised, columns),
+                                    "limit) or a pushed run failed to simulate", linearised, columns),
       dropped));
   notes->insert(notes->end(), build_notes.begin(), build_notes.end());
   return left;
