@@ -70,6 +70,23 @@ TEST(SignTest, IsSimulinksSignWithAnOptionalDeadBand) {
               HasSubstr("give a dead_band or a regularization_velocity, not both"));
 }
 
+TEST(SwitchTest, PassesTheFirstInputWhereTheControlPassesSimulinksCriteria) {
+  const auto at = [](double control, const json& parameters) {
+    return Evaluate({Constant("a", 7.0), Constant("c", control), Constant("b", -2.0),
+                     Element("s", "switch", parameters)},
+                    {Connect("a.y", "s.u1"), Connect("c.y", "s.u2"), Connect("b.y", "s.u3")}, "s.y");
+  };
+  EXPECT_EQ(at(0.5, {{"threshold", 0.5}}), 7.0);  // the default: u2 >= threshold
+  EXPECT_EQ(at(0.4999, {{"threshold", 0.5}}), -2.0);
+  EXPECT_EQ(at(0.5, {{"criteria", "u2 > threshold"}, {"threshold", 0.5}}), -2.0);
+  EXPECT_EQ(at(0.5001, {{"criteria", "u2 > threshold"}, {"threshold", 0.5}}), 7.0);
+  EXPECT_EQ(at(0.0, {{"criteria", "u2 ~= 0"}, {"threshold", 3.0}}), -2.0);  // the threshold plays no part
+  EXPECT_EQ(at(-1e-12, {{"criteria", "u2 ~= 0"}}), 7.0);
+  EXPECT_THAT(BuildError(MakeDiagram({Element("s", "switch", {{"criteria", "u2 < threshold"}})}, json::array(),
+                                     json::array(), 1, 1)),
+              HasSubstr("criteria must be \"u2 >= threshold\", \"u2 > threshold\" or \"u2 ~= 0\""));
+}
+
 TEST(LookupTable1dTest, InterpolatesLinearlyAndClipsOrExtrapolatesAtTheEnds) {
   const json table = {{"breakpoints", {0.0, 1.0, 3.0}}, {"table", {10.0, 20.0, 0.0}}};
   const auto at = [&](double u, const json& extra) {
