@@ -385,6 +385,16 @@ void DiagramDocument::InsertAfter(const Endpoint& start, const std::string& elem
   json_["connections"].push_back(ConnectionJson(start, {element, input}));
 }
 
+std::size_t DiagramDocument::ReadInstead(const Endpoint& start, const Endpoint& replacement) {
+  std::size_t moved = 0;
+  for (auto& c : json_["connections"]) {
+    if (Start(c) != start || End(c).is_connector()) continue;
+    c = ConnectionJson(replacement, End(c));
+    ++moved;
+  }
+  return moved;
+}
+
 std::vector<DocumentConnector> DiagramDocument::Connectors(const std::string& kind) const {
   std::vector<DocumentConnector> out;
   for (const auto& c : json_.value("connectors", Json::array())) {

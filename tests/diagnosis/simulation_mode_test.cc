@@ -48,9 +48,10 @@ struct SimulationCase {
   std::string notes;  // every note, one per line
 };
 
-SimulationCase CompareInSimulation(independent::Hidden hidden, const std::string& name, unsigned seed = 11) {
+SimulationCase CompareInSimulation(independent::Hidden hidden, const std::string& name, unsigned seed = 11,
+                                   double duration = 12.0) {
   independent::GeneratorSettings settings;
-  settings.duration = 12.0;
+  settings.duration = duration;
   settings.log_reference = true;
   settings.seed = seed;
   const fs::path directory = fs::temp_directory_path() / fmt::format("mb_simulation_mode_{}_{}", name, ::getpid());
@@ -122,6 +123,23 @@ TEST(SimulationMode, TheSuggestedBlockActsOnThePlantAndBringsThePositionCloser) 
   EXPECT_TRUE(loads_plant) << amended.dump(1);
   const auto [rmse_before, rmse_after] = PositionRmse(c, amended);
   EXPECT_LT(rmse_after, 0.95 * rmse_before) << "position RMSE " << rmse_before << " m -> " << rmse_after << " m";
+}
+
+// A drive that saturates (at 120 N and −135 N, below the controller's ±400 N clip) slows the axis, and the controller
+// commands more than the model's loop, which lacks the limit, ever does: the logged command follows no signal of the
+// closed loop. Opened at the compared position (the diagram's controller fed the measured position), the diagram
+// computes what the controller that ran computed, so the logged command is recognised as a reaction — the
+// controller's output, which must not explain the error — and the model's drive force is known. Before, it was kept
+// as a force "from outside the loop", and the viscous friction following it was tried as a candidate. The first 4 s.
+TEST(SimulationMode, TheCommandOfASaturatingDriveIsAReactionOfTheLoopOpenedAtThePosition) {
+  const SimulationCase c = CompareInSimulation(independent::Hidden::kSaturation, "saturation", 11, 4.0);
+  ASSERT_TRUE(c.compared.diagnosis);
+  EXPECT_THAT(c.notes, HasSubstr("log column 'force_N' is the diagram's own signal 'clip.y' computed from the "
+                                 "measured 'position_m' (the loop opened there"));
+  EXPECT_THAT(c.notes, HasSubstr("the model's drive force ŷ, which a force constant multiplies, is 'clip.y'"));
+  EXPECT_THAT(c.compared.signals.extra_names, ::testing::IsEmpty());
+  ASSERT_TRUE(c.compared.drive_force_source);
+  EXPECT_EQ(c.compared.drive_force_source->ToString(), "clip.y");
 }
 
 TEST(SimulationMode, NothingIsNamedWhenNothingIsMissing) {

@@ -176,6 +176,18 @@ TEST(DiagramDocumentTest, InsertAfterPutsAnElementAfterASignalForEveryBlockThatR
               ThrowsMessage<std::invalid_argument>(HasSubstr("'source.x' drives no element's input")));
 }
 
+TEST(DiagramDocumentTest, ReadInsteadOpensALoopAtASignalForEveryBlockThatReadIt) {
+  DiagramDocument d = Document();
+  const std::string other = d.Add({"other", "constant", {{"value", 5.0}}, std::nullopt, ""});
+  EXPECT_EQ(d.ReadInstead({"k", "y"}, d.OutputOf(other)), 1u);
+  EXPECT_EQ(d.DriverOf({"body", "f"}), (Endpoint{"other", "y"}));  // the block reads the replacement
+  EXPECT_EQ(d.DriverOf({"", "force"}), (Endpoint{"k", "y"}));      // the output connector keeps the signal
+  EXPECT_DOUBLE_EQ(FinalForce(d), 3.0);                             // and it still is k's 2 × 1.5
+  EXPECT_EQ(d.ReadInstead({"k", "y"}, d.OutputOf(other)), 0u);      // k drives no element now: nothing changes
+  EXPECT_EQ(d.ReadInstead({"other", "y"}, {"", "x"}), 1u);          // an input connector as the replacement
+  EXPECT_EQ(d.DriverOf({"body", "f"}), (Endpoint{"", "x"}));  // (a position into a force: BuildDiagram would refuse)
+}
+
 TEST(DiagramDocumentTest, ParametersAreCheckedAgainstTheBlockType) {
   DiagramDocument d = Document();
   EXPECT_EQ(d.Parameter("k", "gain"), json(2.0));      // unit wrapper stripped

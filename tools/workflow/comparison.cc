@@ -576,6 +576,38 @@ std::optional<std::pair<std::string, double>> ClosestOwnSignal(
   return best;
 }
 
+// Simulation mode: the diagram's own signals with its loop opened at the compared output — every element input that
+// the output's driver feeds (the plant's position into the controller) reads the measured column instead
+// (DiagramDocument::ReadInstead, through an added input connector). The controller then computes what the one that
+// ran computed from the same motion, whatever the plant model lacks: the logged command of a drive that saturates
+// follows the opened loop's command, not the closed loop's, whose motion differs by the very effect missing. Empty
+// when the output's driver feeds no element (nothing to open) or the opened diagram cannot be compared.
+std::vector<std::pair<std::string, Eigen::VectorXd>> OpenedLoopSignals(const ModelComparison& comparison,
+                                                                       const ComparedOutput& output) {
+  DiagramDocument document(comparison.diagram_json(), comparison.base_directory(), comparison.source());
+  const std::optional<Endpoint> driver = document.DriverOf({"", output.connector});
+  if (!driver || driver->is_connector()) return {};
+  std::string name = output.connector + "_measured";
+  const auto taken = [&](const std::string& n) {
+    for (const char* kind : {"input", "output"}) {
+      for (const DocumentConnector& c : document.Connectors(kind)) {
+        if (c.name == n) return true;
+      }
+    }
+    return false;
+  };
+  for (int k = 2; taken(name); ++k) name = fmt::format("{}_measured_{}", output.connector, k);
+  document.AddConnector({name, "input", output.unit, output.column, ""});
+  if (document.ReadInstead(*driver, {"", name}) == 0) return {};
+  try {
+    const ModelComparison opened(document.json(), comparison.base_directory(), comparison.source(), comparison.log(),
+                                 comparison.ColumnMap());
+    return opened.SimulateBlockOutputs();
+  } catch (const std::exception&) {  // an opened loop that cannot run (a signal that diverges): no reaction seen there
+    return {};
+  }
+}
+
 }  // namespace
 
 DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base_directory, const std::string& source,
@@ -637,9 +669,10 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
   std::vector<std::pair<std::string, Eigen::VectorXd>> own;
   if (!equation_error) own = comparison.SimulateBlockOutputs();
   std::vector<std::pair<std::string, std::string>> reactions;  // log column → the diagram's signal it is
+  std::optional<std::vector<std::pair<std::string, Eigen::VectorXd>>> opened;  // computed when first needed
   for (const std::string& name : unread) {
     const Eigen::VectorXd& column = log.column(name);
-    const auto match = ClosestOwnSignal(column, own);
+    auto match = ClosestOwnSignal(column, own);
     if (match && match->second >= kReactionSquaredCorrelation) {
       reactions.emplace_back(name, match->first);
       out.notes.push_back(fmt::format(
@@ -647,6 +680,19 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
           "computes it from the error being explained, a reaction and not a cause, so no candidate is built from it",
           name, match->first, match->second));
       continue;
+    }
+    if (!equation_error) {
+      if (!opened) opened = OpenedLoopSignals(comparison, primary);
+      const auto opened_match = ClosestOwnSignal(column, *opened);
+      if (opened_match && opened_match->second >= kReactionSquaredCorrelation) {
+        reactions.emplace_back(name, opened_match->first);
+        out.notes.push_back(fmt::format(
+            "log column '{}' is the diagram's own signal '{}' computed from the measured '{}' (the loop opened there; "
+            "r² = {:.3f}, {:.2f} in the closed loop, whose motion lacks what is missing): the controller computes it "
+            "from the error being explained, a reaction and not a cause, so no candidate is built from it",
+            name, opened_match->first, primary.column, opened_match->second, match ? match->second : 0.0));
+        continue;
+      }
     }
     // A force the log holds that no signal of the loop follows: the drive's command of a controller the diagram does
     // not reproduce (a clip, an anti-windup, another integrator), or a force from outside the loop. Kept, and said.
@@ -683,6 +729,7 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
     if (options.catalogue.loop) {  // the drive force's effects reach the output through the loop, or not at all
       signals.drive_force = std::move(drive.force);
       signals.drive_force_response = std::move(probe.drive_force);
+
       out.drive_force_source = drive.source;
       out.notes.push_back(std::move(drive.note));
     }
