@@ -665,14 +665,15 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
   }
   // Simulation mode: a column the loop computes from the very error being explained (a controller's output, a
   // current reference, a following error) is a reaction, not a cause; built into a candidate it would explain the
-  // error by itself (issue 46). It is the diagram's own signal under another name: left out, with a note.
+  // error by itself (issue 46). It is the diagram's own signal under another name — in the closed loop, or in the loop
+  // opened at the measured position (OpenedLoopSignals), where the motion lacks nothing: left out, with a note.
   std::vector<std::pair<std::string, Eigen::VectorXd>> own;
   if (!equation_error) own = comparison.SimulateBlockOutputs();
   std::vector<std::pair<std::string, std::string>> reactions;  // log column → the diagram's signal it is
   std::optional<std::vector<std::pair<std::string, Eigen::VectorXd>>> opened;  // computed when first needed
   for (const std::string& name : unread) {
     const Eigen::VectorXd& column = log.column(name);
-    auto match = ClosestOwnSignal(column, own);
+    const auto match = ClosestOwnSignal(column, own);
     if (match && match->second >= kReactionSquaredCorrelation) {
       reactions.emplace_back(name, match->first);
       out.notes.push_back(fmt::format(
@@ -681,28 +682,33 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
           name, match->first, match->second));
       continue;
     }
+    std::optional<std::pair<std::string, double>> opened_match;
     if (!equation_error) {
       if (!opened) opened = OpenedLoopSignals(comparison, primary);
-      const auto opened_match = ClosestOwnSignal(column, *opened);
-      if (opened_match && opened_match->second >= kReactionSquaredCorrelation) {
-        reactions.emplace_back(name, opened_match->first);
-        out.notes.push_back(fmt::format(
-            "log column '{}' is the diagram's own signal '{}' computed from the measured '{}' (the loop opened there; "
-            "r² = {:.3f}, {:.2f} in the closed loop, whose motion lacks what is missing): the controller computes it "
-            "from the error being explained, a reaction and not a cause, so no candidate is built from it",
-            name, opened_match->first, primary.column, opened_match->second, match ? match->second : 0.0));
-        continue;
-      }
+      opened_match = ClosestOwnSignal(column, *opened);
     }
-    // A force the log holds that no signal of the loop follows: the drive's command of a controller the diagram does
-    // not reproduce (a clip, an anti-windup, another integrator), or a force from outside the loop. Kept, and said.
+    if (opened_match && opened_match->second >= kReactionSquaredCorrelation) {
+      reactions.emplace_back(name, opened_match->first);
+      out.notes.push_back(fmt::format(
+          "log column '{}' is the diagram's own signal '{}' computed from the measured '{}' (the loop opened there; "
+          "r² = {:.3f}, {:.2f} in the closed loop, whose motion lacks what is missing): the controller computes it "
+          "from the error being explained, a reaction and not a cause, so no candidate is built from it",
+          name, opened_match->first, primary.column, opened_match->second, match ? match->second : 0.0));
+      continue;
+    }
+    // A force the log holds that no signal of the loop follows, closed or opened at the measured position: the drive's
+    // command of a controller the diagram does not reproduce (a clip, an anti-windup, another integrator), or a force
+    // from outside the loop. Kept, and said.
     if (match && QuantityOfUnit(ColumnUnit(name)) == MotionQuantity::kForce) {
       out.notes.push_back(fmt::format(
-          "log column '{}' is a force that no signal of the diagram follows (closest: '{}', r² = {:.2f} < {}): if it is "
-          "the drive's command, the diagram's controller is not the one that ran (a clip, an anti-windup, an "
+          "log column '{}' is a force that no signal of the diagram follows (closest: '{}', r² = {:.2f} < {}{}): if it "
+          "is the drive's command, the diagram's controller is not the one that ran (a clip, an anti-windup, an "
           "integrator or a filter that differs), which this record's position error holds too; it is kept as a "
           "column from outside the loop",
-          name, match->first, match->second, kReactionSquaredCorrelation));
+          name, match->first, match->second, kReactionSquaredCorrelation,
+          opened_match ? fmt::format("; with the loop opened at the measured '{}': '{}', r² = {:.2f}", primary.column,
+                                     opened_match->first, opened_match->second)
+                       : std::string()));
     }
     signals.extra_names.push_back(name);
     signals.extra_columns.push_back(column);
