@@ -283,6 +283,13 @@ ProposalContext ProposalContext::WithBase(const Eigen::MatrixXd& base_columns) c
   return copy;
 }
 
+Eigen::Index ProposalContext::edge_samples() const {
+  const double band = options().band_limit_hz;
+  if (loop() != nullptr || !(band > 0.0) || !(sample_period() > 0.0)) return 0;
+  const double samples = std::ceil(2.0 / (band * sample_period()));
+  return static_cast<Eigen::Index>(std::min(samples, 0.05 * static_cast<double>(size())));
+}
+
 double ProposalContext::model_output_delay() const {
   OutputDelayOnce& once = *model_output_delay_;
   tbb::collaborative_call_once(once.flag, [&] { once.delay = EstimateModelOutputDelay(*this); });

@@ -229,25 +229,20 @@ std::pair<double, double> RefineTime(const std::function<double(double)>& f, dou
 }
 
 // The joint fit of a time scan (a step's time, a window's edges, a settling time) without the samples at the record's
-// two ends where the derived motion is still its derivative filter's edge transient (equation-error mode: two periods of
-// the band limit, at most 5 % of the record at each end). Those samples are not the physics: a sweep's first kick of the
-// controller there, a hundred times the noise, drew the time scans to the record's ends (grammar seeds 201, 261).
+// two ends where the derived motion is still its derivative filter's edge transient (ProposalContext::edge_samples):
+// a sweep's first kick of the controller there, a hundred times the noise, drew the time scans to the record's ends
+// (grammar seeds 201, 261).
 class TimeScanFit {
  public:
   explicit TimeScanFit(const ProposalContext& c)
-      : edge_(Edge(c)), base_(Trimmed(c.BaseWithConstant())), r_(Trimmed(c.residual())), fit_(base_, r_, c.loop()) {}
+      : edge_(c.edge_samples()), base_(Trimmed(c.BaseWithConstant())), r_(Trimmed(c.residual())),
+        fit_(base_, r_, c.loop()) {}
   TimeScanFit(const TimeScanFit&) = delete;
   TimeScanFit& operator=(const TimeScanFit&) = delete;
   // The residual sum of squares of the trimmed residual on [base, 1, column] (column: N).
   double operator()(Eigen::VectorXd column) const { return fit_(Trimmed(std::move(column))); }
 
  private:
-  static Eigen::Index Edge(const ProposalContext& c) {
-    const double band = c.options().band_limit_hz;
-    if (c.loop() != nullptr || !(band > 0.0) || !(c.sample_period() > 0.0)) return 0;
-    const double samples = std::ceil(2.0 / (band * c.sample_period()));
-    return static_cast<Eigen::Index>(std::min(samples, 0.05 * static_cast<double>(c.size())));
-  }
   template <typename M>
   M Trimmed(M x) const {
     if (edge_ > 0) {
