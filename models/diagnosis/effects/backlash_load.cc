@@ -277,4 +277,3 @@ EffectType BacklashLoad() {
 }  // namespace mb
 
 MB_REGISTER_EFFECT(backlash_load, mb::BacklashLoad())
-
