@@ -126,6 +126,7 @@ class DiagramDocument {
   /// Every element input that `start` drives reads `replacement` (an element output or an input connector) instead;
   /// output connectors keep reading `start`: the loop opened at `start` (a controller fed the measured position in
   /// place of the plant's). Returns how many inputs now read `replacement` (0: `start` drove none, nothing changed).
+  /// Nothing is checked here and nothing thrown: BuildDiagram checks the ports and units of the result.
   std::size_t ReadInstead(const Endpoint& start, const Endpoint& replacement);
   /// Adds a two-input difference (the type declaring BlockType::difference_of_two, named UniqueName(name)) of
   /// `minuend` − `subtrahend` (element outputs or input connectors). Returns its name; OutputOf gives its output.

@@ -5,6 +5,7 @@
 // proposing. ProposeCandidateEffects (effect_catalogue.h) builds one context and calls every registered effect's
 // rule in catalogue order; the rules add candidates and notes to it.
 
+#include <algorithm>
 #include <functional>
 #include <map>
 #include <memory>
@@ -181,5 +182,16 @@ double ScanJointFit(const ProposalContext& context, double lo, double hi, int gr
 /// [base, 1, ŷ(t − d) − ŷ(t)]. 0 when the signals carry no model output, the guess is not finite, or |d| stays
 /// below CatalogueOptions::min_delay_samples sample periods (what the data do not resolve). Throws nothing.
 double EstimateModelOutputDelay(const ProposalContext& context);
+
+/// `x` (the record's first x.rows() rows, x.rows() × k) with the derived motion's edge transients zeroed — its first
+/// `edge` rows (ProposalContext::edge_samples), and its last `edge` where it reaches the record's end (`record_size`
+/// rows) — so that a least-squares fit leaves them out. Throws nothing.
+template <typename M>
+M WithoutEdges(M x, Eigen::Index edge, Eigen::Index record_size) {
+  const Eigen::Index cut = std::min(edge, static_cast<Eigen::Index>(x.rows()));
+  x.topRows(cut).setZero();
+  if (x.rows() == record_size) x.bottomRows(cut).setZero();
+  return x;
+}
 
 }  // namespace mb

@@ -245,11 +245,8 @@ class TimeScanFit {
  private:
   template <typename M>
   M Trimmed(M x) const {
-    if (edge_ > 0) {
-      x.topRows(edge_).setZero();
-      x.bottomRows(edge_).setZero();
-    }
-    return x;
+    const Eigen::Index rows = x.rows();
+    return WithoutEdges(std::move(x), edge_, rows);
   }
   Eigen::Index edge_;
   Eigen::MatrixXd base_;

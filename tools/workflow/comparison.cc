@@ -581,9 +581,11 @@ std::optional<std::pair<std::string, double>> ClosestOwnSignal(
 // (DiagramDocument::ReadInstead, through an added input connector). The controller then computes what the one that
 // ran computed from the same motion, whatever the plant model lacks: the logged command of a drive that saturates
 // follows the opened loop's command, not the closed loop's, whose motion differs by the very effect missing. Empty
-// when the output's driver feeds no element (nothing to open) or the opened diagram cannot be compared.
+// when the output's driver feeds no element (nothing to open) or the opened diagram cannot be compared (a note to
+// `notes` says why).
 std::vector<std::pair<std::string, Eigen::VectorXd>> OpenedLoopSignals(const ModelComparison& comparison,
-                                                                       const ComparedOutput& output) {
+                                                                       const ComparedOutput& output,
+                                                                       std::vector<std::string>* notes) {
   DiagramDocument document(comparison.diagram_json(), comparison.base_directory(), comparison.source());
   const std::optional<Endpoint> driver = document.DriverOf({"", output.connector});
   if (!driver || driver->is_connector()) return {};
@@ -603,7 +605,10 @@ std::vector<std::pair<std::string, Eigen::VectorXd>> OpenedLoopSignals(const Mod
     const ModelComparison opened(document.json(), comparison.base_directory(), comparison.source(), comparison.log(),
                                  comparison.ColumnMap());
     return opened.SimulateBlockOutputs();
-  } catch (const std::exception&) {  // an opened loop that cannot run (a signal that diverges): no reaction seen there
+  } catch (const std::exception& e) {  // an opened loop that cannot run: no reaction is seen there, and it is said
+    notes->push_back(fmt::format("simulation mode: the diagram opened at the measured '{}' could not be simulated "
+                                 "({}); a log column is matched against the closed loop's signals only",
+                                 output.column, e.what()));
     return {};
   }
 }
@@ -684,7 +689,7 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
     }
     std::optional<std::pair<std::string, double>> opened_match;
     if (!equation_error) {
-      if (!opened) opened = OpenedLoopSignals(comparison, primary);
+      if (!opened) opened = OpenedLoopSignals(comparison, primary, &out.notes);
       opened_match = ClosestOwnSignal(column, *opened);
     }
     if (opened_match && opened_match->second >= kReactionSquaredCorrelation) {

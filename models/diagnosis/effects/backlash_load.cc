@@ -117,16 +117,6 @@ Trial LocalSearch(const ShapeCost& cost, const Shape& start, const Shape& lo, co
 
 bool Cheaper(const Trial& a, const Trial& b) { return a.second < b.second; }
 
-// `x` (the record's first rows) with its first `edge` rows zeroed, and its last `edge` too where it reaches the
-// record's end (`record_size` rows): out of a least-squares fit.
-template <typename M>
-M WithoutEdges(M x, Eigen::Index edge, Eigen::Index record_size) {
-  const Eigen::Index rows = x.rows(), cut = std::min(edge, rows);
-  x.topRows(cut).setZero();
-  if (rows == record_size) x.bottomRows(cut).setZero();
-  return x;
-}
-
 // Each trial's cost, concurrently.
 std::vector<Trial> Evaluate(const std::vector<Shape>& trials, const ShapeCost& cost) {
   std::vector<Trial> out(trials.size());
