@@ -116,11 +116,13 @@ Eigen::VectorXd BlockGrams::SubVector(const Eigen::VectorXd& v, const std::vecto
 }
 
 Eigen::VectorXd BlockGrams::SolveHeldOut(const std::vector<Eigen::Index>& idx, std::size_t b) const {
-  Eigen::MatrixXd g = SubMatrix(total_gram_ - gram_[b], idx);
+  // The submatrices subtracted, not the whole q × q Grams: the same entries, without forming a q × q temporary at
+  // every call (q is every candidate's columns, this runs per candidate and block).
+  Eigen::MatrixXd g = SubMatrix(total_gram_, idx) - SubMatrix(gram_[b], idx);
   for (std::size_t j = 0; j < idx.size(); ++j) {
     g(static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(j)) += kHeldOutRidge * total_gram_(idx[j], idx[j]);
   }
-  return Solve(std::move(g), SubVector(total_xty_ - xty_[b], idx));
+  return Solve(std::move(g), SubVector(total_xty_, idx) - SubVector(xty_[b], idx));
 }
 
 Eigen::VectorXd BlockGrams::Solve(Eigen::MatrixXd g, const Eigen::VectorXd& h) {
