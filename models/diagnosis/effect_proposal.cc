@@ -284,10 +284,8 @@ ProposalContext ProposalContext::WithBase(const Eigen::MatrixXd& base_columns) c
 }
 
 Eigen::Index ProposalContext::edge_samples() const {
-  const double band = options().band_limit_hz;
-  if (loop() != nullptr || !(band > 0.0) || !(sample_period() > 0.0)) return 0;
-  const double samples = std::ceil(2.0 / (band * sample_period()));
-  return static_cast<Eigen::Index>(std::min(samples, 0.05 * static_cast<double>(size())));
+  if (loop() != nullptr) return 0;
+  return FilterEdgeSamples(size(), sample_period(), options().band_limit_hz);
 }
 
 double ProposalContext::model_output_delay() const {

@@ -208,6 +208,27 @@ double Rmse(const Eigen::Ref<const Eigen::VectorXd>& measured, const Eigen::Ref<
   return std::sqrt((measured - model).squaredNorm() / static_cast<double>(measured.size()));
 }
 
+Eigen::Index FilterEdgeSamples(Eigen::Index n, double sample_period, double cutoff_hz) noexcept {
+  if (!(cutoff_hz > 0.0) || !(sample_period > 0.0) || n <= 0) return 0;
+  const double samples = std::ceil(2.0 / (cutoff_hz * sample_period));
+  return static_cast<Eigen::Index>(std::min(samples, 0.05 * static_cast<double>(n)));
+}
+
+double InteriorRmse(const Eigen::Ref<const Eigen::VectorXd>& measured, const Eigen::Ref<const Eigen::VectorXd>& model,
+                    const std::vector<Eigen::Index>& starts, double sample_period, double cutoff_hz) {
+  RequireSameSize(measured, model, "InteriorRmse");
+  double sum = 0.0;
+  Eigen::Index count = 0;
+  for (const auto& [b, e] : Segments(starts, measured.size())) {
+    const Eigen::Index length = e - b;
+    const Eigen::Index edge = FilterEdgeSamples(length, sample_period, cutoff_hz), inner = length - 2 * edge;
+    if (inner <= 0) continue;
+    sum += (measured.segment(b + edge, inner) - model.segment(b + edge, inner)).squaredNorm();
+    count += inner;
+  }
+  return count > 0 ? std::sqrt(sum / static_cast<double>(count)) : Rmse(measured, model);
+}
+
 double FitPercent(const Eigen::Ref<const Eigen::VectorXd>& measured,
                   const Eigen::Ref<const Eigen::VectorXd>& model) {
   RequireSameSize(measured, model, "FitPercent");

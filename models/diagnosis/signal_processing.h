@@ -69,6 +69,19 @@ Eigen::VectorXd HeldSignalAtSampleInstants(const Eigen::Ref<const Eigen::VectorX
 double Rmse(const Eigen::Ref<const Eigen::VectorXd>& measured,
             const Eigen::Ref<const Eigen::VectorXd>& model);
 
+// How many samples at each end of a record of n samples a zero-phase low-pass at cutoff_hz, and the motion derived
+// through it, still hold the filter's edge transient, where it reads its own padding (ZeroPhaseLowPass's odd
+// reflection mirrors the signal, not the physics: a record that opens with a controller's kick leaves there a spike a
+// hundred times the noise): two periods of the cut-off, at most 5 % of n. 0 when sample_period or cutoff_hz is not
+// positive. Throws nothing.
+Eigen::Index FilterEdgeSamples(Eigen::Index n, double sample_period, double cutoff_hz) noexcept;
+
+// Rmse over the interior of every segment [starts[k], starts[k+1]) (the last to N; empty starts: one segment), its
+// first and last FilterEdgeSamples(segment length, sample_period, cutoff_hz) samples left out. Throws as Rmse, or
+// std::invalid_argument on bad starts.
+double InteriorRmse(const Eigen::Ref<const Eigen::VectorXd>& measured, const Eigen::Ref<const Eigen::VectorXd>& model,
+                    const std::vector<Eigen::Index>& starts, double sample_period, double cutoff_hz);
+
 // Fit [%] = 100·(1 − ‖y − ŷ‖/‖y − mean(y)‖) (NRMSE; MATLAB `compare`): 100 is perfect, 0 is no better
 // than the mean, negative is worse. Throws std::invalid_argument on a size mismatch, N = 0 or a
 // constant measurement (the normaliser is zero).

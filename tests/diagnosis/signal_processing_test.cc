@@ -157,6 +157,33 @@ TEST(FitMetrics, RmseAndFitPercentFollowMatlabDefinitions) {
   EXPECT_THROW(FitPercent(Eigen::VectorXd::Ones(4), yh), std::invalid_argument);
 }
 
+TEST(InteriorRmse, LeavesOutTheFiltersEdgeTransientAtBothEndsOfEverySegment) {
+  const double ts = 1e-3, cutoff = 100.0;  // two periods of 100 Hz: 20 samples at 1 kHz
+  EXPECT_EQ(FilterEdgeSamples(2000, ts, cutoff), 20);
+  EXPECT_EQ(FilterEdgeSamples(100, ts, cutoff), 5);  // at most 5 % of the record
+  EXPECT_EQ(FilterEdgeSamples(2000, ts, 0.0), 0);
+  // What the edge is for: a controller's kick in the first sample, low-passed, has died out there.
+  Eigen::VectorXd kick = Eigen::VectorXd::Zero(2000);
+  kick(0) = 1000.0;
+  const Eigen::VectorXd filtered = ZeroPhaseLowPass(kick, ts, cutoff);
+  EXPECT_GT(filtered.head(20).cwiseAbs().maxCoeff(), 10.0);
+  EXPECT_LT(filtered.segment(20, 1980).cwiseAbs().maxCoeff(), 1.0);  // 10⁻³ of the kick
+
+  const Eigen::VectorXd measured = (2.0 * kPi * 3.0 * Time(2000, ts).array()).sin();
+  Eigen::VectorXd model = measured;
+  model.head(20).array() += 10.0;
+  model.tail(20).array() -= 10.0;
+  EXPECT_GT(Rmse(measured, model), 1.0);
+  EXPECT_EQ(InteriorRmse(measured, model, {}, ts, cutoff), 0.0);
+  model(20) += 1.0;  // the first sample scored
+  EXPECT_DOUBLE_EQ(InteriorRmse(measured, model, {0}, ts, cutoff), std::sqrt(1.0 / 1960.0));
+  // Two segments (a gap in the log at sample 1000): each has its own two edges, 20 samples of its 1000.
+  model.segment(990, 30).array() += 5.0;  // the first segment's end and the second's start
+  EXPECT_GT(InteriorRmse(measured, model, {0}, ts, cutoff), 0.5);
+  EXPECT_DOUBLE_EQ(InteriorRmse(measured, model, {0, 1000}, ts, cutoff), std::sqrt(1.0 / 1920.0));
+  EXPECT_THROW(InteriorRmse(measured, model, {5}, ts, cutoff), std::invalid_argument);
+}
+
 TEST(ResidualAutocorrelation, WhiteNoisePassesColouredFails) {
   std::mt19937 rng(7);
   std::normal_distribution<double> n01;

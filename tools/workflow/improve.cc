@@ -12,6 +12,8 @@
 #include "engine/numerical_error.h"
 #include "models/diagnosis/effect_block.h"
 #include "models/diagnosis/effect_registry.h"
+#include "models/diagnosis/signal_processing.h"
+#include "tools/workflow/measurement.h"
 #include "tools/workflow/suggest.h"
 
 namespace mb {
@@ -41,11 +43,19 @@ HeldOutScore ScoreHeldOut(const json& diagram, const fs::path& base_directory, c
   HeldOutScore score;
   if (names.empty()) {
     score.outputs = comparison.Simulate();
-    return score;
+  } else {
+    const auto params = ResolveFreeParameters(comparison.diagram_json(), names);
+    score.fit = FitParameters(comparison, params);
+    score.outputs = comparison.Simulate(params, score.fit->estimate);
   }
-  const auto params = ResolveFreeParameters(comparison.diagram_json(), names);
-  score.fit = FitParameters(comparison, params);
-  score.outputs = comparison.Simulate(params, score.fit->estimate);
+  const ComparedOutput& primary = score.outputs.front();
+  score.primary_rmse = primary.rmse;
+  if (comparison.output_filter_hz() > 0.0) {
+    const double dt = MedianTimeStep(validation.time());
+    const double cutoff = DerivativeCutoffHz(settings.measurement, validation);
+    score.edge_samples = FilterEdgeSamples(validation.rows(), dt, cutoff);
+    score.primary_rmse = InteriorRmse(primary.measured, primary.model, validation.segment_starts(), dt, cutoff);
+  }
   return score;
 }
 
@@ -174,6 +184,7 @@ json ImproveStep::ToJson() const {
     j["fit"] = all;
   }
   if (validation && validation->fit) j["validation_fit"] = validation->fit->ToJson();
+  if (validation) j["rmse"]["heldout_edge_samples"] = validation->edge_samples;
   if (training.diagnosis) {
     j["diagnosis_after"] = {{"missing_effect_found", training.diagnosis->missing_effect_found},
                             {"summary", training.diagnosis->summary},

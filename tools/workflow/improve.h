@@ -15,7 +15,8 @@
 //   stop     when the diagnosis finds no missing effect, when no ranked effect lowers the held-out error, or
 //            after max_effects accepted effects.
 //
-// Held-out error. With a validation record: the RMSE of the primary output on that record, where only the
+// Held-out error. With a validation record: the RMSE of the primary output on that record (in equation-error mode
+// without the derivative filter's edge transient at its ends, HeldOutScore::edge_samples), where only the
 // parameters that belong to the record are refit — the position_offset x₀ of every position_periodic /
 // velocity_dependent_ripple element (an incremental encoder is zeroed anew at each power-up; the ripple's shape
 // belongs to the machine, its phase to the record) — everything else keeps its value from the measurement.
@@ -78,7 +79,14 @@ std::string NotSignificantReason(const FitResult& fit, const std::string& elemen
 struct HeldOutScore {
   std::vector<ComparedOutput> outputs;  ///< the first is the primary
   std::optional<FitResult> fit;         ///< of the record's parameters (none: nothing refit)
-  double rmse() const { return outputs.front().rmse; }
+  /// Equation-error mode: samples left out of the score at each end of the record — the output filter's and the
+  /// derived motion's edge transient (FilterEdgeSamples at the derivative cut-off), where the zero-phase low-pass
+  /// reads its own padding, not the physics; per segment as the filter runs. 0 in simulation mode (the position as
+  /// logged) or without the filter.
+  Eigen::Index edge_samples = 0;
+  /// The primary output's RMSE over the samples scored (all but edge_samples at each end) [its unit].
+  double primary_rmse = 0.0;
+  double rmse() const { return primary_rmse; }
 };
 
 /// One diagram of the loop: step 0 (the input) or an amended one, accepted or rejected.
