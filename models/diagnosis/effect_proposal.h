@@ -61,8 +61,9 @@ class ProposalContext {
   Eigen::MatrixXd BaseWithConstant() const;
   /// Equation-error mode: how many samples at each end of the record the derived motion is still its derivative
   /// filter's edge transient — FilterEdgeSamples (signal_processing.h) at the band limit (CatalogueOptions::
-  /// band_limit_hz): two periods of it, at most 5 % of the record. Not the physics: a sweep's first kick of the controller there is a hundred times the noise, and a search
-  /// that weighs it is drawn to it. 0 in simulation mode (the position is compared as logged) or without a band limit.
+  /// band_limit_hz): two periods of it, at most 5 % of the record. Not the physics: a sweep's first kick of the
+  /// controller there is a hundred times the noise, and a search that weighs it is drawn to it. 0 in simulation mode
+  /// (the position is compared as logged) or without a band limit.
   Eigen::Index edge_samples() const;
   /// Up to CatalogueOptions::max_position_periods periods from the position periodogram, strongest first
   /// (empty when the position does not move), and the few-cycle periods (CatalogueOptions::
