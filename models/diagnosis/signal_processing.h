@@ -72,12 +72,15 @@ double Rmse(const Eigen::Ref<const Eigen::VectorXd>& measured,
 // How many samples at each end of a record of n samples a zero-phase low-pass at cutoff_hz, and the motion derived
 // through it, still hold the filter's edge transient, where it reads its own padding (ZeroPhaseLowPass's odd
 // reflection mirrors the signal, not the physics: a record that opens with a controller's kick leaves there a spike a
-// hundred times the noise): two periods of the cut-off, at most 5 % of n. 0 when sample_period or cutoff_hz is not
-// positive. Throws nothing.
+// hundred times the noise): two periods of the cut-off, at most 5 % of n. n in samples, sample_period [s], cutoff_hz
+// [Hz]. 0 when sample_period or cutoff_hz is not positive. Throws nothing. Source: Gustafsson, "Determining the
+// initial states in forward-backward filtering", IEEE Trans. Signal Processing 44(4), 1996 (filtfilt's edge
+// transients).
 Eigen::Index FilterEdgeSamples(Eigen::Index n, double sample_period, double cutoff_hz) noexcept;
 
 // Rmse over the interior of every segment [starts[k], starts[k+1]) (the last to N; empty starts: one segment), its
-// first and last FilterEdgeSamples(segment length, sample_period, cutoff_hz) samples left out. Throws as Rmse, or
+// first and last FilterEdgeSamples(segment length, sample_period, cutoff_hz) samples left out; measured, model: N each,
+// the result in their unit (the whole record's Rmse when no segment has an interior). Throws as Rmse, or
 // std::invalid_argument on bad starts.
 double InteriorRmse(const Eigen::Ref<const Eigen::VectorXd>& measured, const Eigen::Ref<const Eigen::VectorXd>& model,
                     const std::vector<Eigen::Index>& starts, double sample_period, double cutoff_hz);
