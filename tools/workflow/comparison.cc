@@ -219,6 +219,23 @@ std::vector<std::pair<std::string, Eigen::VectorXd>> ModelComparison::SimulateBl
   return out;
 }
 
+Eigen::VectorXd ModelComparison::FitWeights() const {
+  const Eigen::Index n = log_.rows();
+  Eigen::VectorXd weight = Eigen::VectorXd::Ones(n);
+  if (output_filter_hz_ <= 0.0 || n < 2) return weight;
+  const double dt = MedianTimeStep(log_.time());
+  const double cutoff = DerivativeCutoffHz(output_filter_hz_, dt, log_.source());
+  std::vector<Eigen::Index> starts = log_.segment_starts();
+  if (starts.empty()) starts.push_back(0);
+  for (std::size_t s = 0; s < starts.size(); ++s) {
+    const Eigen::Index begin = starts[s], end = s + 1 < starts.size() ? starts[s + 1] : n;
+    const Eigen::Index edge = FilterEdgeSamples(end - begin, dt, cutoff);
+    weight.segment(begin, edge).setZero();
+    weight.segment(end - edge, edge).setZero();
+  }
+  return weight;
+}
+
 std::vector<ComparedOutput> ModelComparison::Simulate() const {
   const Diagram d = BuildDiagram(diagram_, base_, source_, SchemaCheck::kSkipRevalidation);
   const SignalLog log = Run(d);
@@ -298,7 +315,8 @@ struct ResidualFunctor {
 
   const ModelComparison* comparison;
   const std::vector<FreeParameter>* params;
-  Eigen::VectorXd scale;  // per output
+  Eigen::VectorXd scale;   // per output
+  Eigen::VectorXd weight;  // per sample (ModelComparison::FitWeights), the same for every output
   Eigen::Index n_values;
 
   int inputs() const { return static_cast<int>(params->size()); }
@@ -314,7 +332,7 @@ struct ResidualFunctor {
     Eigen::Index k = 0;
     for (std::size_t o = 0; o < outs.size(); ++o) {
       const Eigen::Index n = outs[o].measured.size();
-      f.segment(k, n) = (outs[o].measured - outs[o].model) / scale(static_cast<Eigen::Index>(o));
+      f.segment(k, n) = weight.cwiseProduct(outs[o].measured - outs[o].model) / scale(static_cast<Eigen::Index>(o));
       k += n;
     }
     return 0;
@@ -480,7 +498,8 @@ FitResult FitParameters(const ModelComparison& comparison, const std::vector<Fre
   result.parameters = params;
   result.initial = GetParameterValues(comparison.diagram_json(), params);
   const auto outs = comparison.Simulate();
-  ResidualFunctor functor{&comparison, &params, Eigen::VectorXd(static_cast<Eigen::Index>(outs.size())), 0};
+  ResidualFunctor functor{&comparison, &params, Eigen::VectorXd(static_cast<Eigen::Index>(outs.size())),
+                          comparison.FitWeights(), 0};
   for (std::size_t o = 0; o < outs.size(); ++o) {
     const Eigen::VectorXd& y = outs[o].measured;
     const double sd = std::sqrt((y.array() - y.mean()).square().mean());
@@ -504,13 +523,16 @@ FitResult FitParameters(const ModelComparison& comparison, const std::vector<Fre
     default: result.status = fmt::format("stopped (Levenberg–Marquardt status {})", static_cast<int>(status));
   }
   // Standard errors from the primary output's Jacobian at the estimate (unscaled units).
+  // Over the samples the fit weighed (ModelComparison::FitWeights).
   result.jacobian = OutputJacobian(comparison, params, x);
   const auto at = comparison.Simulate(params, x).front();
-  const auto n = static_cast<double>(at.measured.size());
-  const double sigma2 = (at.measured - at.model).squaredNorm() / std::max(1.0, n - static_cast<double>(x.size()));
-  const Eigen::MatrixXd jtj = result.jacobian.transpose() * result.jacobian;
-  const Eigen::VectorXd col_norm = result.jacobian.colwise().norm().transpose().cwiseMax(1e-300);
-  const Eigen::MatrixXd scaled = result.jacobian * col_norm.cwiseInverse().asDiagonal();
+  const Eigen::MatrixXd weighed = functor.weight.asDiagonal() * result.jacobian;
+  const double n = functor.weight.sum();
+  const double sigma2 = functor.weight.cwiseProduct(at.measured - at.model).squaredNorm() /
+                        std::max(1.0, n - static_cast<double>(x.size()));
+  const Eigen::MatrixXd jtj = weighed.transpose() * weighed;
+  const Eigen::VectorXd col_norm = weighed.colwise().norm().transpose().cwiseMax(1e-300);
+  const Eigen::MatrixXd scaled = weighed * col_norm.cwiseInverse().asDiagonal();
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(scaled);
   const auto& sv = svd.singularValues();
   result.condition_number = sv(sv.size() - 1) > 0.0 ? sv(0) / sv(sv.size() - 1) : INFINITY;

@@ -18,6 +18,7 @@
 #include "models/diagnosis/diagnosis.h"
 #include "models/diagnosis/effect_block.h"
 #include "models/diagnosis/effect_registry.h"
+#include "models/diagnosis/signal_processing.h"
 #include "tools/workflow/comparison.h"
 #include "tools/workflow/measurement.h"
 #include "tools/workflow/suggest.h"
@@ -606,6 +607,45 @@ TEST(ComparisonTest, FitRecoversParametersOfSyntheticLinearModel) {
   EXPECT_NEAR(fit.estimate(3), 1.5, 0.1);
   EXPECT_LT(fit.standard_error.maxCoeff(), 1.0);
   fs::remove(log_path);
+}
+
+// Equation-error mode: the refit leaves out each segment's first and last FilterEdgeSamples (ModelComparison::
+// FitWeights), where the zero-phase filter reads its own reflection. A record that opens with the controller's kick
+// (here 400 N over its first 3 samples, low-passed with the force like every measured output) leaves a spike there;
+// weighed (all weights 1, checked), it moved the viscous friction 120 → 146 N·s/m, the Coulomb level 8 → 6.7 N and
+// the offset 1.5 → 2.1 N.
+TEST(ComparisonTest, AnEquationErrorRefitLeavesTheFiltersEdgeTransientOut) {
+  const fs::path log_path = fs::temp_directory_path() / "mb_compare_kick_at_the_edge.csv";
+  {
+    std::ofstream out(log_path);
+    out.precision(12);
+    out << "time_s,position_m,force_N\n";
+    for (int i = 0; i < 3000; ++i) {
+      const double t = i * 0.001;
+      const double x = 0.05 * std::sin(2.0 * t) + 0.01 * std::sin(7.0 * t);
+      const double v = 0.1 * std::cos(2.0 * t) + 0.07 * std::cos(7.0 * t);
+      const double a = -0.2 * std::sin(2.0 * t) - 0.49 * std::sin(7.0 * t);
+      const double kick = i < 3 ? 400.0 : 0.0;
+      out << t << "," << x << "," << 50.0 * a + 120.0 * v + 8.0 * (v > 0 ? 1 : -1) + 1.5 + kick << "\n";
+    }
+  }
+  const MeasurementLog log = ReadMeasurementWithDerivatives(log_path.string(), "position_m", 30.0, {"force_N"});
+  fs::remove(log_path);
+  const auto diagram = ReadDiagramJson(kEmps / "rigid_body.json");
+  ModelComparison c(diagram, kEmps, "rigid_body.json", log, {});
+  c.set_output_filter(30.0);
+  const Eigen::VectorXd weight = c.FitWeights();
+  const Eigen::Index edge = FilterEdgeSamples(log.rows(), 0.001, 30.0);
+  ASSERT_GT(edge, 3);
+  EXPECT_EQ(weight.head(edge).sum(), 0.0);
+  EXPECT_EQ(weight.tail(edge).sum(), 0.0);
+  EXPECT_EQ(weight.sum(), static_cast<double>(log.rows() - 2 * edge));
+  const auto params = ResolveFreeParameters(diagram, diagram["free"].get<std::vector<std::string>>());
+  const FitResult fit = FitParameters(c, params);
+  EXPECT_NEAR(fit.estimate(0), 50.0, 1.0);
+  EXPECT_NEAR(fit.estimate(1), 120.0, 2.0);
+  EXPECT_NEAR(fit.estimate(2), 8.0, 0.3);
+  EXPECT_NEAR(fit.estimate(3), 1.5, 0.1);
 }
 
 // A parameter whose best value lies beyond the bound its block declares (a Coulomb level ≥ 0, where the force holds
