@@ -78,8 +78,9 @@ double BestSlipVelocity(const ProposalContext& c,
       best = k;
     }
   }
-  // Then between the grid points beside the best (Brent's minimiser in log v_s, to ≈ 3 %): `improve` keeps the slip
-  // velocity it is given, and the grid's factor of 2 left grammar draw 88's drifting Coulomb level 1.36 × its floor.
+  // Then between the grid points beside the best (Brent's minimiser in log₂ v_s; 6 bits: it stops within ≈ 3 % of
+  // the octave index, ≤ 0.16 octave, or after 8 fits): `improve` keeps the slip velocity it is given, and the grid's
+  // factor of 2 left grammar draw 88's drifting Coulomb level 1.36 × its floor.
   constexpr int kBits = 6;
   std::uintmax_t iterations = 8;
   const auto [k, sse] = boost::math::tools::brent_find_minima(sse_at, std::max(0.0, best - 1.0),

@@ -214,19 +214,24 @@ Eigen::Index FilterEdgeSamples(Eigen::Index n, double sample_period, double cuto
   return static_cast<Eigen::Index>(std::min(samples, 0.05 * static_cast<double>(n)));
 }
 
+Eigen::VectorXd InteriorWeights(Eigen::Index n, const std::vector<Eigen::Index>& starts, double sample_period,
+                                double cutoff_hz) {
+  Eigen::VectorXd weight = Eigen::VectorXd::Ones(n);
+  for (const auto& [b, e] : Segments(starts, n)) {
+    const Eigen::Index edge = FilterEdgeSamples(e - b, sample_period, cutoff_hz);
+    weight.segment(b, edge).setZero();
+    weight.segment(e - edge, edge).setZero();
+  }
+  return weight;
+}
+
 double InteriorRmse(const Eigen::Ref<const Eigen::VectorXd>& measured, const Eigen::Ref<const Eigen::VectorXd>& model,
                     const std::vector<Eigen::Index>& starts, double sample_period, double cutoff_hz) {
   RequireSameSize(measured, model, "InteriorRmse");
-  double sum = 0.0;
-  Eigen::Index count = 0;
-  for (const auto& [b, e] : Segments(starts, measured.size())) {
-    const Eigen::Index length = e - b;
-    const Eigen::Index edge = FilterEdgeSamples(length, sample_period, cutoff_hz), inner = length - 2 * edge;
-    if (inner <= 0) continue;
-    sum += (measured.segment(b + edge, inner) - model.segment(b + edge, inner)).squaredNorm();
-    count += inner;
-  }
-  return count > 0 ? std::sqrt(sum / static_cast<double>(count)) : Rmse(measured, model);
+  const Eigen::VectorXd weight = InteriorWeights(measured.size(), starts, sample_period, cutoff_hz);
+  const double count = weight.sum();
+  if (!(count > 0.0)) return Rmse(measured, model);
+  return std::sqrt(weight.cwiseProduct(measured - model).squaredNorm() / count);
 }
 
 double FitPercent(const Eigen::Ref<const Eigen::VectorXd>& measured,

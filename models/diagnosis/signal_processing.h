@@ -85,6 +85,13 @@ Eigen::Index FilterEdgeSamples(Eigen::Index n, double sample_period, double cuto
 double InteriorRmse(const Eigen::Ref<const Eigen::VectorXd>& measured, const Eigen::Ref<const Eigen::VectorXd>& model,
                     const std::vector<Eigen::Index>& starts, double sample_period, double cutoff_hz);
 
+// The interior of every segment as weights (n): 1, but 0 over each segment's first and last FilterEdgeSamples(segment
+// length, sample_period, cutoff_hz) samples — what InteriorRmse scores and an equation-error refit weighs
+// (tools/workflow/comparison.h, ModelComparison::FitWeights). sample_period [s], cutoff_hz [Hz]; all ones when either
+// is not positive. Throws std::invalid_argument on bad starts (as InteriorRmse). Source: as FilterEdgeSamples.
+Eigen::VectorXd InteriorWeights(Eigen::Index n, const std::vector<Eigen::Index>& starts, double sample_period,
+                                double cutoff_hz);
+
 // Fit [%] = 100·(1 − ‖y − ŷ‖/‖y − mean(y)‖) (NRMSE; MATLAB `compare`): 100 is perfect, 0 is no better
 // than the mean, negative is worse. Throws std::invalid_argument on a size mismatch, N = 0 or a
 // constant measurement (the normaliser is zero).

@@ -221,19 +221,9 @@ std::vector<std::pair<std::string, Eigen::VectorXd>> ModelComparison::SimulateBl
 
 Eigen::VectorXd ModelComparison::FitWeights() const {
   const Eigen::Index n = log_.rows();
-  Eigen::VectorXd weight = Eigen::VectorXd::Ones(n);
-  if (output_filter_hz_ <= 0.0 || n < 2) return weight;
+  if (output_filter_hz_ <= 0.0 || n < 2) return Eigen::VectorXd::Ones(n);
   const double dt = MedianTimeStep(log_.time());
-  const double cutoff = DerivativeCutoffHz(output_filter_hz_, dt, log_.source());
-  std::vector<Eigen::Index> starts = log_.segment_starts();
-  if (starts.empty()) starts.push_back(0);
-  for (std::size_t s = 0; s < starts.size(); ++s) {
-    const Eigen::Index begin = starts[s], end = s + 1 < starts.size() ? starts[s + 1] : n;
-    const Eigen::Index edge = FilterEdgeSamples(end - begin, dt, cutoff);
-    weight.segment(begin, edge).setZero();
-    weight.segment(end - edge, edge).setZero();
-  }
-  return weight;
+  return InteriorWeights(n, log_.segment_starts(), dt, DerivativeCutoffHz(output_filter_hz_, dt, log_.source()));
 }
 
 std::vector<ComparedOutput> ModelComparison::Simulate() const {

@@ -105,12 +105,12 @@ class ModelComparison {
   /// leaving a spike at every reversal. cutoff_hz <= 0: off (the default).
   void set_output_filter(double cutoff_hz) { output_filter_hz_ = cutoff_hz; }
   double output_filter_hz() const { return output_filter_hz_; }
-  /// The weight a refit gives each sample (N, the log's rows): 1, but 0 over each segment's first and last
-  /// FilterEdgeSamples (models/diagnosis/signal_processing.h) at the output filter's cut-off when it is on — where the
-  /// derived motion is still the filter's edge transient (it reads its own reflection; a record that opens with a
-  /// controller's kick leaves there a spike a hundred times the noise, which a refit would otherwise bend the model
-  /// to: a third factor of time, largest at the record's ends, fitted the kick, not the drift). All ones when the
-  /// filter is off.
+  /// The weight a refit gives each sample (N, the log's rows): InteriorWeights (models/diagnosis/signal_processing.h)
+  /// at the output filter's cut-off when it is on — 0 where the derived motion is still the filter's edge transient
+  /// (it reads its own reflection; a record that opens with a controller's kick leaves there a spike a hundred times
+  /// the noise, which a refit would otherwise bend the model to: a third factor of time, largest at the record's ends,
+  /// fitted the kick, not the drift), else 1. All ones when the filter is off. @throws std::invalid_argument as
+  /// DerivativeCutoffHz (a cut-off at or above the log's Nyquist frequency). Source: Gustafsson 1996 (FilterEdgeSamples).
   Eigen::VectorXd FitWeights() const;
 
   const nlohmann::json& diagram_json() const { return diagram_; }
