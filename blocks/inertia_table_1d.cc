@@ -8,27 +8,35 @@ InertiaTable1d::InertiaTable1d(const BlockConfig& config)
     : Block(config.name),
       mass_(config.parameters.Vector("breakpoints"), config.parameters.Vector("table"),
             config.parameters.String("extrapolation")),
-      gain_(config.parameters.Number("gain")) {
+      gain_(config.parameters.Number("gain")),
+      acceleration_input_(config.parameters.Bool("acceleration_input")) {
   DeclareInputPort("x", 1, "m");
   DeclareInputPort("v", 1, "m/s");
-  DeclareInputPort("a", 1, "m/s^2");
+  if (acceleration_input_) DeclareInputPort("a", 1, "m/s^2");
   DeclareOutputPort("y", 1, "N");
+  DeclareOutputPort("mass", 1, "kg");
 }
 
 void InertiaTable1d::CalcOutput(const BlockContext& c) const {
-  const double x = c.u(0), v = c.u(1), a = c.u(2);
-  c.y(0) = gain_ * (mass_.Interpolate(x) * a + 0.5 * mass_.Slope(x) * v * v);
+  const double x = c.u(0), v = c.u(1), a = acceleration_input_ ? c.u(2) : 0.0;
+  const double m = gain_ * mass_.Interpolate(x);
+  c.y(0) = m * a + gain_ * 0.5 * mass_.Slope(x) * v * v;
+  c.y(1) = m;
 }
 
 MB_REGISTER_BLOCK(InertiaTable1d, BlockType{
     "inertia_table_1d",
     "y = g·(M(x)·a + ½M′(x)·v²), M(x) interpolated linearly in a table of the position: the force of a moving mass "
-    "that varies with position (Lagrange's equation). In: x [m], v [m/s], a [m/s²].",
+    "that varies with position (Lagrange's equation). In: x [m], v [m/s], a [m/s²] (not with acceleration_input "
+    "false: y = g·½M′(x)·v², g·M(x)·a left to a plant whose mass input reads \"mass\"). Out: y [N], mass g·M(x) "
+    "[kg].",
     {Required("breakpoints", "m", "x_1 < … < x_n, n ≥ 2", ParamType::kVector),
      Required("table", "kg", "M_1 … M_n, the mass's variation at each breakpoint", ParamType::kVector),
      Optional("extrapolation", "clip", "", "\"clip\" (end values hold, M′ = 0 beyond) or \"linear\"",
               ParamType::kString),
-     Optional("gain", 1.0, "", "g: scales the table (a fit of the mass's size alone, its shape kept)")},
+     Optional("gain", 1.0, "", "g: scales the table (a fit of the mass's size alone, its shape kept)"),
+     Optional("acceleration_input", true, "", "false: no input a, y = g·½M′(x)·v² (the plant takes g·M(x) as its mass)",
+              ParamType::kBool)},
     SampleTimeRule::kNone,
     [](const BlockConfig& c) { return std::make_unique<InertiaTable1d>(c); }})
 

@@ -15,9 +15,11 @@
 
 namespace mb {
 
-/// Ports: in "x" [m], in "v" [m/s], in "a" [m/s²]; out "y" [N]. Parameters: breakpoints x_1 < … < x_n [m] (n ≥ 2),
-/// table M_1 … M_n [kg] (the mass's variation; the constant part is the model's mass), extrapolation "clip" (default:
-/// M holds its end values and M′ is 0 beyond the breakpoints) or "linear", gain g (default 1) scaling the output.
+/// Ports: in "x" [m], in "v" [m/s], in "a" [m/s²]; out "y" [N], out "mass" g·M(x) [kg]. Parameters: breakpoints
+/// x_1 < … < x_n [m] (n ≥ 2), table M_1 … M_n [kg] (the mass's variation; the constant part is the model's mass),
+/// extrapolation "clip" (default: M holds its end values and M′ is 0 beyond the breakpoints) or "linear", gain g
+/// (default 1) scaling both outputs, acceleration_input (default true; false: no input "a" and y = g·½M′(x)·v² — in a
+/// simulated loop the plant takes g·M(x) from "mass" on its mass input, blocks/rigid_body.h).
 /// Inherited sample time; x, v and a feed through.
 /// @throws std::invalid_argument as lookup_table_1d (LinearTable), each message saying how to fix it.
 class InertiaTable1d final : public Block {
@@ -28,6 +30,7 @@ class InertiaTable1d final : public Block {
  private:
   LinearTable mass_;  ///< M(x) [kg]
   double gain_ = 1.0;  ///< g
+  bool acceleration_input_ = true;
 };
 
 }  // namespace mb

@@ -14,9 +14,12 @@
 
 namespace mb {
 
-/// Ports: in "x" [m], in "v" [m/s], in "a" [m/s²]; out "y" [N] (coefficients in kg). Parameters: period P [m] > 0,
-/// harmonics H ≥ 1, cos_coefficients a_1…a_H and sin_coefficients b_1…b_H [kg] (empty = zeros), position_offset x₀
-/// [m] (default 0). Inherited sample time; x, v and a feed through.
+/// Ports: in "x" [m], in "v" [m/s], in "a" [m/s²]; out "y" [N] (coefficients in kg), out "mass" M(x) [kg].
+/// Parameters: period P [m] > 0, harmonics H ≥ 1, cos_coefficients a_1…a_H and sin_coefficients b_1…b_H [kg] (empty
+/// = zeros), position_offset x₀ [m] (default 0), acceleration_input (default true; false: no input "a" and
+/// y = ½M′(x)·v² — in a simulated loop the plant takes M(x) from "mass" on its mass input, blocks/rigid_body.h, since
+/// a block of the plant's own acceleration would close an algebraic loop). Inherited sample time; x, v and a feed
+/// through.
 /// @throws std::invalid_argument if a coefficient vector is neither empty nor of length H.
 class PositionDependentInertia final : public Block {
  public:
@@ -25,6 +28,7 @@ class PositionDependentInertia final : public Block {
 
  private:
   PositionFourierSeries mass_;  ///< M(x) [kg]
+  bool acceleration_input_;
 };
 
 }  // namespace mb

@@ -50,6 +50,47 @@ TEST(RigidBodyTest, ConstantForceWithDampingReachesTerminalVelocity) {
   }
 }
 
+// With mass_input, (M + ΔM)·ẍ = f: a constant force on a body whose added mass steps from 0 to 3 kg at 0.5 s.
+TEST(RigidBodyTest, AnAddedMassDividesTheForce) {
+  const double M = 2.0, dm = 3.0, f = 3.0, t_c = 0.5;
+  const json j = MakeDiagram({Element("f", "constant", {{"value", f}}),
+                              Element("dm", "step", {{"time", t_c}, {"initial", 0.0}, {"final", dm}}),
+                              Element("body", "rigid_body", {{"mass", M}, {"mass_input", true}})},
+                             {Connect("f.y", "body.f"), Connect("dm.y", "body.added_mass")}, {"body.v"}, 1.0, 0.1,
+                             kCvode);
+  const auto r = Simulator(Build(j)).Run();
+  for (std::size_t i = 0; i < r.log.time.size(); ++i) {
+    const double t = r.log.time[i];
+    const double v = t <= t_c ? f / M * t : f / M * t_c + f / (M + dm) * (t - t_c);
+    EXPECT_NEAR(r.log.Column("body.v")[i], v, 1e-8) << "t = " << t;
+  }
+}
+
+// A mass that varies along the travel, the plant taking M(x) on its mass input and position_dependent_inertia without
+// its acceleration input giving −½M′(x)·v² as the force: no force from outside, so the kinetic energy ½(M + M(x))·v²
+// stays (Lagrange). Either part alone, or a wrong sign or ½, breaks it where the mass changes.
+TEST(RigidBodyTest, AScheduledMassWithItsKineticForceKeepsTheEnergy) {
+  const double M = 5.0, v0 = 0.5, period = 0.1;
+  const json j = MakeDiagram({Element("body", "rigid_body", {{"mass", M}, {"mass_input", true}, {"v0", v0}}),
+                              Element("m", "position_dependent_inertia",
+                                      {{"period", period}, {"harmonics", 2}, {"cos_coefficients", {3.0, 0.5}},
+                                       {"sin_coefficients", {-1.0, 0.0}}, {"acceleration_input", false}}),
+                              Element("load", "gain", {{"gain", -1.0}})},
+                             {Connect("body.x", "m.x"), Connect("body.v", "m.v"), Connect("m.mass", "body.added_mass"),
+                              Connect("m.y", "load.u"), Connect("load.y", "body.f")},
+                             {"body.x", "body.v", "m.mass"}, 1.0, 1e-3, kCvode);
+  const auto r = Simulator(Build(j)).Run();
+  const double energy = 0.5 * (M + 3.5) * v0 * v0;  // M(0) = 3 + 0.5
+  double fastest = v0;
+  for (std::size_t i = 0; i < r.log.time.size(); ++i) {
+    const double v = r.log.Column("body.v")[i];
+    EXPECT_NEAR(0.5 * (M + r.log.Column("m.mass")[i]) * v * v, energy, 1e-6 * energy) << "t = " << r.log.time[i];
+    fastest = std::max(fastest, v);
+  }
+  EXPECT_GT(r.log.Column("body.x").back(), 2.0 * period);  // the body crossed the mass's variation twice
+  EXPECT_GT(fastest, 1.5 * v0);  // and the mass changed its speed: the check had power
+}
+
 TEST(RigidBodyTest, RejectsNonPositiveMassAndNegativeDamping) {
   auto body = [](const json& parameters) {
     return BuildError(MakeDiagram({Element("body", "rigid_body", parameters)}, json::array(), json::array(), 1, 0.1));

@@ -515,6 +515,95 @@ bool PlantMassTakesIt(DiagramDocument* out, const DiagnosedEffect& effect) {
   return true;
 }
 
+// The plant's input that schedules its mass (blocks/rigid_body.h: "added_mass", with mass_input true), set up; throws
+// naming what to do when the plant's type has none.
+Endpoint PlantMassInput(DiagramDocument* out, const std::string& effect) {
+  std::string why;
+  const std::optional<std::string> plant = PlantElement(*out, &why);
+  if (!plant) throw std::invalid_argument(fmt::format("effect '{}' in simulation mode: {}", effect, why));
+  const BlockType* type = BlockRegistry::Global().Find(out->TypeOf(*plant));
+  const bool schedulable = type != nullptr && std::any_of(type->parameters.begin(), type->parameters.end(),
+                                                          [](const ParamSpec& p) { return p.name == "mass_input"; });
+  if (!schedulable) {
+    throw std::invalid_argument(fmt::format(
+        "effect '{}' is a mass that varies, which in simulation mode is the plant's own, but plant '{}' ({}) has no "
+        "mass input: use a rigid_body plant (its mass_input) or change the mass by hand",
+        effect, *plant, out->TypeOf(*plant)));
+  }
+  out->SetParameter(*plant, "mass_input", true);
+  return {*plant, "added_mass"};
+}
+
+// A mass that varies (a payload picked up, a mass along the travel or following a column) in simulation mode: a block
+// of the plant's acceleration would feed the force that sets it (an algebraic loop), so the mass goes where it acts,
+// on the plant's mass input (PlantMassInput): (M + ΔM)·ẍ = f is M·ẍ = f − ΔM·ẍ, the diagnosis' regressor. The block
+// reads the acceleration as 1 — a switched gain's output is then its mass — or, a block with a "mass" output and an
+// acceleration_input switch (blocks/inertia_table_1d.h, blocks/position_dependent_inertia.h), gives its M(x) there and
+// adds its ½M′(x)·v² to the plant's force. A third factor `extra` multiplies the mass. Returns the element's name.
+std::string AddToPlantMass(DiagramDocument* out, const EffectBlockTemplate& block, ElementSpec element,
+                           const DiagnosedEffect& effect, const std::optional<MotionMultiplier>& extra) {
+  const Endpoint mass_input = PlantMassInput(out, effect.effect);
+  const BlockType* type = BlockRegistry::Global().Find(block.block_type);
+  const auto declares = [&](const char* parameter) {
+    return type != nullptr && std::any_of(type->parameters.begin(), type->parameters.end(),
+                                          [&](const ParamSpec& p) { return p.name == parameter; });
+  };
+  const bool kinetic = declares("acceleration_input");
+  if (kinetic) element.parameters["acceleration_input"] = false;
+  const std::string name = out->Add(element);
+  std::string unused;
+  const auto one = [&] { return Factor(out, One(), effect, name, std::nullopt, &unused); };
+  for (const auto& [input, port] : block.inputs) {
+    if (input != MotionInput::kAcceleration) {
+      out->Connect(MotionSource(*out, input, effect.effect), {name, port});
+    } else if (!kinetic) {
+      out->Connect(one(), {name, port});
+    }
+  }
+  Endpoint mass{name, kinetic ? "mass" : block.output_port};
+  // The multiplier is the acceleration, read as 1: what is left of it is the third factor.
+  std::optional<MotionMultiplier> factor = extra;
+  if (block.multiplier) {
+    const MotionMultiplier& m = *block.multiplier;
+    if (!(m.input == MotionInput::kAcceleration && m.block_type.empty() && !m.of_model_force && !m.one && !m.clock &&
+          !m.amplitude_column && !m.times)) {
+      throw std::invalid_argument(fmt::format("effect '{}': a mass whose factor is not the acceleration alone has no "
+                                              "block in simulation mode yet; add it by hand",
+                                              effect.effect));
+    }
+    if (!block.multiplier_port.empty()) {
+      out->Connect(extra ? Factor(out, *extra, effect, name, std::nullopt, &unused) : one(),
+                   {name, block.multiplier_port});
+      factor.reset();
+    }
+  }
+  if (factor) {
+    std::string factor_name;
+    const Endpoint source = Factor(out, *factor, effect, name, std::nullopt, &factor_name);
+    const std::string product = out->Add({name + "_times_" + factor_name, "product", json::object(), std::nullopt,
+                                          fmt::format("the mass of '{}' × '{}' ({})", name, factor_name,
+                                                      effect.effect)});
+    out->Connect(mass, {product, "u1"});
+    out->Connect(source, {product, "u2"});
+    mass = out->OutputOf(product);
+  }
+  if (out->DriverOf(mass_input)) {
+    out->SumInto(mass_input, mass, "with_" + name);
+  } else {
+    out->Connect(mass, mass_input);
+  }
+  if (kinetic) {  // ½M′(x)·v², a load on the plant's force
+    std::string why;
+    const std::optional<Endpoint> force = PlantForcePort(*out, &why);
+    if (!force) throw std::invalid_argument(fmt::format("in simulation mode an effect's force acts on the plant, but {}", why));
+    out->SubtractInto(*force, {name, "y"}, "with_" + name);
+  }
+  out->AppendNote(fmt::format(" Amended by motionblocks compare --suggest: {} is a mass, the plant's: '{}' schedules "
+                              "{}.",
+                              effect.effect, name, mass_input.ToString()));
+  return name;
+}
+
 // Adds `effect`'s block to `out` (its template, or the grammar's composed one: BlockFor), and its level (LevelOf); with
 // `extra`, the block's output is multiplied by it too (the part of a pair proportional to its third factor's source).
 void AddEffectBlock(DiagramDocument* out, const DiagnosedEffect& effect, const std::string& output,
@@ -535,10 +624,17 @@ void AddEffectBlock(DiagramDocument* out, const DiagnosedEffect& effect, const s
   if (extra) multiplier = multiplier ? TimesAtEnd(*multiplier, *extra) : *extra;
   std::optional<Endpoint> force;  // taken before the element is summed in
   if (multiplier && multiplier->NeedsModelForce()) force = ModelForceEnd(*out, output, effect, drive_force);
-  std::vector<Endpoint> inputs;
-  for (const auto& [input, port] : block.inputs) inputs.push_back(MotionSource(*out, input, effect.effect));
   ElementSpec element{block.element_name, block.block_type, block.parameters(effect), std::nullopt, effect.description};
   if (block.discrete) element.sample_time = std::make_pair(DiagramStep(*out, effect.effect, block.element_name), 0.0);
+  if (out->Mode() != ExperimentMode::kEquationError && LookupEffect(effect.effect).multiplier == "acceleration") {
+    AddToPlantMass(out, block, element, effect, extra);
+    if (const std::optional<DiagnosedEffect> level = LevelOf(effect)) {
+      AddEffectBlock(out, *level, output, extra, drive_force);
+    }
+    return;
+  }
+  std::vector<Endpoint> inputs;
+  for (const auto& [input, port] : block.inputs) inputs.push_back(MotionSource(*out, input, effect.effect));
   std::string name;
   switch (block.placement) {
     case BlockPlacement::kInsertBeforeOutput: name = InsertBeforeOutput(out, element, output); break;
