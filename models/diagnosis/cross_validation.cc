@@ -86,6 +86,16 @@ Eigen::VectorXd BlockGrams::Fit(const std::vector<Eigen::Index>& idx, double* ss
   return theta;
 }
 
+Eigen::VectorXd BlockGrams::InSampleErrors(const std::vector<Eigen::Index>& idx, const RegressorMatrix& m) const {
+  Eigen::VectorXd e = m.wr;
+  double sse = 0.0;
+  const Eigen::VectorXd theta = Fit(idx, &sse);
+  for (std::size_t j = 0; j < idx.size(); ++j) {
+    e -= theta(static_cast<Eigen::Index>(j)) * m.sw.cwiseProduct(m.Col(idx[j]));
+  }
+  return e;
+}
+
 BlockGrams BlockGrams::Restrict(const std::vector<Eigen::Index>& idx) const {
   BlockGrams out;
   for (std::size_t b = 0; b < gram_.size(); ++b) {

@@ -28,6 +28,10 @@ class BlockGrams {
   // In-sample fit on all data: coefficients (scaled columns) and the residual sum of squares.
   Eigen::VectorXd Fit(const std::vector<Eigen::Index>& idx, double* sse) const;
 
+  // The in-sample residuals √w⊙r − √w⊙X(idx)·θ of that fit (N), for the rows of `m` (the one the Grams were built
+  // from): what a comparison of two equally large fits by their likelihood reads (Vuong's test).
+  Eigen::VectorXd InSampleErrors(const std::vector<Eigen::Index>& idx, const RegressorMatrix& m) const;
+
   // The Grams of the columns `idx` alone, column k of the result being idx[k]: the same entries, exactly.
   BlockGrams Restrict(const std::vector<Eigen::Index>& idx) const;
 
