@@ -90,7 +90,7 @@ Endpoint MotionSource(const DiagramDocument& diagram, MotionInput input, const s
   }
   throw std::invalid_argument(fmt::format(
       "effect '{}' multiplies the acceleration: in simulation mode a block of the plant's acceleration would feed the "
-      "force that sets it (an algebraic loop); change the plant's mass instead (a mass of the position or of time)",
+      "force that sets it (an algebraic loop); a mass goes to the plant's mass input (rigid_body's mass_input)",
       effect));
 }
 
@@ -539,9 +539,10 @@ Endpoint PlantMassInput(DiagramDocument* out, const std::string& effect) {
 // on the plant's mass input (PlantMassInput): (M + ΔM)·ẍ = f is M·ẍ = f − ΔM·ẍ, the diagnosis' regressor. The block
 // reads the acceleration as 1 — a switched gain's output is then its mass — or, a block with a "mass" output and an
 // acceleration_input switch (blocks/inertia_table_1d.h, blocks/position_dependent_inertia.h), gives its M(x) there and
-// adds its ½M′(x)·v² to the plant's force. A third factor `extra` multiplies the mass. Returns the element's name.
-std::string AddToPlantMass(DiagramDocument* out, const EffectBlockTemplate& block, ElementSpec element,
-                           const DiagnosedEffect& effect, const std::optional<MotionMultiplier>& extra) {
+// adds its ½M′(x)·v² to the plant's force (ForceEnd of `output`). A third factor `extra` multiplies the mass.
+void AddToPlantMass(DiagramDocument* out, const EffectBlockTemplate& block, ElementSpec element,
+                    const DiagnosedEffect& effect, const std::string& output,
+                    const std::optional<MotionMultiplier>& extra) {
   const Endpoint mass_input = PlantMassInput(out, effect.effect);
   const BlockType* type = BlockRegistry::Global().Find(block.block_type);
   const auto declares = [&](const char* parameter) {
@@ -592,16 +593,10 @@ std::string AddToPlantMass(DiagramDocument* out, const EffectBlockTemplate& bloc
   } else {
     out->Connect(mass, mass_input);
   }
-  if (kinetic) {  // ½M′(x)·v², a load on the plant's force
-    std::string why;
-    const std::optional<Endpoint> force = PlantForcePort(*out, &why);
-    if (!force) throw std::invalid_argument(fmt::format("in simulation mode an effect's force acts on the plant, but {}", why));
-    out->SubtractInto(*force, {name, "y"}, "with_" + name);
-  }
+  if (kinetic) out->SubtractInto(ForceEnd(*out, output), {name, "y"}, "with_" + name);  // ½M′(x)·v², a load
   out->AppendNote(fmt::format(" Amended by motionblocks compare --suggest: {} is a mass, the plant's: '{}' schedules "
                               "{}.",
                               effect.effect, name, mass_input.ToString()));
-  return name;
 }
 
 // Adds `effect`'s block to `out` (its template, or the grammar's composed one: BlockFor), and its level (LevelOf); with
@@ -627,7 +622,7 @@ void AddEffectBlock(DiagramDocument* out, const DiagnosedEffect& effect, const s
   ElementSpec element{block.element_name, block.block_type, block.parameters(effect), std::nullopt, effect.description};
   if (block.discrete) element.sample_time = std::make_pair(DiagramStep(*out, effect.effect, block.element_name), 0.0);
   if (out->Mode() != ExperimentMode::kEquationError && LookupEffect(effect.effect).multiplier == "acceleration") {
-    AddToPlantMass(out, block, element, effect, extra);
+    AddToPlantMass(out, block, element, effect, output, extra);
     if (const std::optional<DiagnosedEffect> level = LevelOf(effect)) {
       AddEffectBlock(out, *level, output, extra, drive_force);
     }
