@@ -83,8 +83,8 @@ double BestSlipVelocity(const ProposalContext& c,
   // factor of 2 left grammar draw 88's drifting Coulomb level 1.36 × its floor.
   constexpr int kBits = 6;
   std::uintmax_t iterations = 8;
-  const auto [k, sse] = boost::math::tools::brent_find_minima(sse_at, std::max(0.0, best - 1.0),
-                                                              std::min<double>(kOctaves, best + 1.0), kBits, iterations);
+  const auto [k, sse] = boost::math::tools::brent_find_minima(
+      sse_at, std::max(0.0, best - 1.0), std::min<double>(kOctaves, best + 1.0), kBits, iterations);
   return c.dead_band() * std::exp2(-(sse < best_sse ? k : static_cast<double>(best)));
 }
 

@@ -119,9 +119,9 @@ std::string GrammarMarkdown();
 
 /// The slip velocity v_s of a friction factor tanh(v/v_s): of the log grid dead_band·2^−k, k = 0..5 (the context's dead
 /// band, 1 % of the top speed, down to 1/32 of it), the one whose `columns(tanh(v/v_s))` (N × k) leave the least of the
-/// residual in a joint fit with the base, then refined between its neighbours (Brent's minimiser in log₂ v_s, Boost.Math
-/// brent_find_minima with 6 bits, at most 8 fits more). A friction of the generator's or the machine's own law near
-/// zero velocity: a sign with a dead band leaves the approach to rest (0.5–2 mm/s) and the dwell wrong.
+/// residual in a joint fit with the base, then refined between its neighbours (Brent's minimiser in log₂ v_s,
+/// Boost.Math brent_find_minima with 6 bits, at most 8 fits more). A friction of the generator's or the machine's own
+/// law near zero velocity: a sign with a dead band leaves the approach to rest (0.5–2 mm/s) and the dwell wrong.
 double BestSlipVelocity(const ProposalContext& context,
                         const std::function<Eigen::MatrixXd(const Eigen::VectorXd& slip)>& columns);
 

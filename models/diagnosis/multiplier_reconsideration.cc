@@ -129,9 +129,9 @@ void ReconsiderMultipliers(const DiagnosisSignals& signals, const Eigen::MatrixX
     if (!best) continue;
     // Its errors and the chosen set's are of the same weighted residual: Vuong's test on their in-sample loss
     // difference at the forward selection's t, family-wise (Bonferroni) over the products tried here: the best of them
-    // is what is tested, so its t is the largest of `tried` and is held to the bar of that many. The same bar for every product,
-    // named before or searched: the effect's presence was settled by the forward selection; what is asked here is only
-    // which multiplier it carries, among the products of its modulator.
+    // is what is tested, so its t is the largest of `tried` and is held to the bar of that many. The same bar for every
+    // product, named before or searched: the effect's presence was settled by the forward selection; what is asked
+    // here is only which multiplier it carries, among the products of its modulator.
     const double needed = FamilyWiseT(options.significance_t, tried);
     const BlockGrams grams(best->m, options.folds);
     const double t = LossDifferenceT(out->grams->InSampleErrors(out->chosen.selected, out->m),

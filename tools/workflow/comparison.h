@@ -110,7 +110,8 @@ class ModelComparison {
   /// (it reads its own reflection; a record that opens with a controller's kick leaves there a spike a hundred times
   /// the noise, which a refit would otherwise bend the model to: a third factor of time, largest at the record's ends,
   /// fitted the kick, not the drift), else 1. All ones when the filter is off. @throws std::invalid_argument as
-  /// DerivativeCutoffHz (a cut-off at or above the log's Nyquist frequency). Source: Gustafsson 1996 (FilterEdgeSamples).
+  /// DerivativeCutoffHz (a cut-off at or above the log's Nyquist frequency). Source: Gustafsson 1996
+  /// (FilterEdgeSamples).
   Eigen::VectorXd FitWeights() const;
 
   const nlohmann::json& diagram_json() const { return diagram_; }

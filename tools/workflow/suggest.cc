@@ -515,16 +515,20 @@ bool PlantMassTakesIt(DiagramDocument* out, const DiagnosedEffect& effect) {
   return true;
 }
 
+// Whether blocks of `type` declare the parameter `parameter` (a plant's mass_input, an inertia's acceleration_input).
+bool Declares(const std::string& type, const std::string& parameter) {
+  const BlockType* block = BlockRegistry::Global().Find(type);
+  return block != nullptr && std::any_of(block->parameters.begin(), block->parameters.end(),
+                                         [&](const ParamSpec& p) { return p.name == parameter; });
+}
+
 // The plant's input that schedules its mass (blocks/rigid_body.h: "added_mass", with mass_input true), set up; throws
 // naming what to do when the plant's type has none.
 Endpoint PlantMassInput(DiagramDocument* out, const std::string& effect) {
   std::string why;
   const std::optional<std::string> plant = PlantElement(*out, &why);
   if (!plant) throw std::invalid_argument(fmt::format("effect '{}' in simulation mode: {}", effect, why));
-  const BlockType* type = BlockRegistry::Global().Find(out->TypeOf(*plant));
-  const bool schedulable = type != nullptr && std::any_of(type->parameters.begin(), type->parameters.end(),
-                                                          [](const ParamSpec& p) { return p.name == "mass_input"; });
-  if (!schedulable) {
+  if (!Declares(out->TypeOf(*plant), "mass_input")) {
     throw std::invalid_argument(fmt::format(
         "effect '{}' is a mass that varies, which in simulation mode is the plant's own, but plant '{}' ({}) has no "
         "mass input: use a rigid_body plant (its mass_input) or change the mass by hand",
@@ -544,12 +548,7 @@ void AddToPlantMass(DiagramDocument* out, const EffectBlockTemplate& block, Elem
                     const DiagnosedEffect& effect, const std::string& output,
                     const std::optional<MotionMultiplier>& extra) {
   const Endpoint mass_input = PlantMassInput(out, effect.effect);
-  const BlockType* type = BlockRegistry::Global().Find(block.block_type);
-  const auto declares = [&](const char* parameter) {
-    return type != nullptr && std::any_of(type->parameters.begin(), type->parameters.end(),
-                                          [&](const ParamSpec& p) { return p.name == parameter; });
-  };
-  const bool kinetic = declares("acceleration_input");
+  const bool kinetic = Declares(block.block_type, "acceleration_input");
   if (kinetic) element.parameters["acceleration_input"] = false;
   const std::string name = out->Add(element);
   std::string unused;
