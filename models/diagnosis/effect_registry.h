@@ -83,8 +83,9 @@ struct EffectTraits {
   std::string coefficient_parameter;
   /// The effect's columns hold those of its multiplier × 1 (a pair with its own level, MultiplierRow::own_level): the
   /// forward selection chooses it over that smaller pair only where its held-out gain over it is significant
-  /// (Diebold–Mariano, as any gain), else the smaller pair — a drag constant over the record is no drag drifting by
-  /// nothing, though the ramp's column always fits a little of the noise.
+  /// (Diebold–Mariano, as any gain, at the family-wise bar of the search when the pair is one it proposed: its shape
+  /// was scanned by it), else the smaller pair — a drag constant over the record is no drag drifting by nothing, though
+  /// the ramp's column always fits a little of the noise.
   bool nests_constant_pair = false;
   /// The modulators of the grammar whose pairs with the same multiplier this pair holds as a limit of its shape
   /// (ModulatorRow::nests: a window holds a step): chosen over such a pair, as over its multiplier × 1, only where its

@@ -89,9 +89,10 @@ std::vector<double> TrialErrors(const RegressorMatrix& m, const BlockGrams& gram
 // candidates, not used, worth choosing itself (its held-out gain over `mse_last` reaches min_gain), and `pick`'s gain
 // over it is not significant; else `pick`.
 std::size_t NestedUnlessSignificant(const RegressorMatrix& m, const BlockGrams& grams, const DiagnosisOptions& options,
-                                    const std::vector<Eigen::Index>& selected, const std::vector<bool>& used,
-                                    const std::vector<double>& mse, double mse_last, std::size_t pick,
-                                    std::vector<std::string>* notes) {
+                                    const Selection& s, const std::vector<bool>& used, const std::vector<double>& mse,
+                                    std::size_t pick, std::vector<std::string>* notes) {
+  const std::vector<Eigen::Index>& selected = s.selected;
+  const double mse_last = s.mse_last;
   const EffectType& type = *m.cands[pick].type;
   if (!(options.significance_t > 0.0) || type.multiplier.empty()) return pick;
   std::vector<std::string> modulators = type.traits.nested_modulators;
@@ -110,16 +111,22 @@ std::size_t NestedUnlessSignificant(const RegressorMatrix& m, const BlockGrams& 
   std::vector<Eigen::Index> smaller = selected, larger = selected;
   smaller.insert(smaller.end(), m.cands[best].idx.begin(), m.cands[best].idx.end());
   larger.insert(larger.end(), m.cands[pick].idx.begin(), m.cands[pick].idx.end());
+  // The modulation a searched pair adds to the one it holds was found by the same search (its shape scanned on the
+  // record), so it must pass the same family-wise bar as a searched pair added on its own: with the nested pair in
+  // the model first, the larger one would be a new candidate of that search.
+  const std::size_t family = type.searched ? std::max(s.family, SearchedCount(m)) : 1;
+  const double needed = FamilyWiseT(options.significance_t, family);
+  const std::string among = type.searched ? fmt::format(", its shape one of {} pairs searched", family) : "";
   const double t = GainSignificance(m, grams, smaller, larger, options.significance_batches);
-  if (t >= options.significance_t) {
+  if (t >= needed) {
     notes->push_back(fmt::format("{} chosen over {}, whose shape it holds: its held-out gain over it is significant "
-                                 "(Diebold–Mariano t = {:.2f} ≥ {:.2f})",
-                                 m.cands[pick].effect.name, m.cands[best].effect.name, t, options.significance_t));
+                                 "(Diebold–Mariano t = {:.2f} ≥ {:.2f}{})",
+                                 m.cands[pick].effect.name, m.cands[best].effect.name, t, needed, among));
     return pick;
   }
   notes->push_back(fmt::format("{} not chosen over {}, whose shape it holds: its held-out gain over it is not "
-                               "significant (Diebold–Mariano t = {:.2f} < {:.2f})",
-                               m.cands[pick].effect.name, m.cands[best].effect.name, t, options.significance_t));
+                               "significant (Diebold–Mariano t = {:.2f} < {:.2f}{})",
+                               m.cands[pick].effect.name, m.cands[best].effect.name, t, needed, among));
   return best;
 }
 
@@ -195,7 +202,7 @@ bool AddBestEffect(const RegressorMatrix& m, const BlockGrams& grams, const Diag
     std::size_t pick = PickByBic(m, grams, s->selected, mse, *used, best_mse);
     for (std::size_t larger = m.cands.size(); pick != larger;) {
       larger = pick;
-      pick = NestedUnlessSignificant(m, grams, options, s->selected, *used, mse, s->mse_last, larger, notes);
+      pick = NestedUnlessSignificant(m, grams, options, *s, *used, mse, larger, notes);
     }
     const double gain = s->mse_last > 0.0 ? 1.0 - mse[pick] / s->mse_last : 0.0;
     if (!(gain >= options.min_gain) || gain <= 0.0) return false;
