@@ -84,10 +84,16 @@ std::vector<double> TrialErrors(const RegressorMatrix& m, const BlockGrams& gram
   return mse;
 }
 
+// The family a candidate's significance is family-wise over: the search's candidates for a pair the grammar's search
+// proposed (EffectType::searched; at least Selection::family, the search's size before any retry), else 1.
+std::size_t FamilyOf(const RegressorMatrix& m, const Selection& s, const EffectType& type) {
+  return type.searched ? std::max(s.family, SearchedCount(m)) : 1;
+}
+
 // The candidate that `pick` nests (EffectTraits::nests_constant_pair: its multiplier × 1; ::nested_modulators: its
 // multiplier × a modulator whose shape is a limit of its own) with the lowest held-out error, when it is among the
-// candidates, not used, worth choosing itself (its held-out gain over `mse_last` reaches min_gain), and `pick`'s gain
-// over it is not significant; else `pick`.
+// candidates, not used, worth choosing itself (its held-out gain over `s.mse_last` reaches min_gain), and `pick`'s gain
+// over it is not significant at `pick`'s own bar (FamilyOf); else `pick`.
 std::size_t NestedUnlessSignificant(const RegressorMatrix& m, const BlockGrams& grams, const DiagnosisOptions& options,
                                     const Selection& s, const std::vector<bool>& used, const std::vector<double>& mse,
                                     std::size_t pick, std::vector<std::string>* notes) {
@@ -114,7 +120,7 @@ std::size_t NestedUnlessSignificant(const RegressorMatrix& m, const BlockGrams& 
   // The modulation a searched pair adds to the one it holds was found by the same search (its shape scanned on the
   // record), so it must pass the same family-wise bar as a searched pair added on its own: with the nested pair in
   // the model first, the larger one would be a new candidate of that search.
-  const std::size_t family = type.searched ? std::max(s.family, SearchedCount(m)) : 1;
+  const std::size_t family = FamilyOf(m, s, type);
   const double needed = FamilyWiseT(options.significance_t, family);
   const std::string among = type.searched ? fmt::format(", its shape one of {} pairs searched", family) : "";
   const double t = GainSignificance(m, grams, smaller, larger, options.significance_batches);
@@ -221,7 +227,7 @@ bool AddBestEffect(const RegressorMatrix& m, const BlockGrams& grams, const Diag
     if (options.significance_t > 0.0 && gain < options.significance_exempt_gain) {
       const double t = GainSignificance(m, grams, s->selected, trial, options.significance_batches);
       const bool searched = m.cands[pick].type->searched;
-      const std::size_t family = searched ? std::max(s->family, SearchedCount(m)) : 1;
+      const std::size_t family = FamilyOf(m, *s, *m.cands[pick].type);
       const double needed = FamilyWiseT(options.significance_t, family);
       if (t < needed) {
         notes->push_back(fmt::format(
