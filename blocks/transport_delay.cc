@@ -112,6 +112,10 @@ EffectBlockTemplate ActuatorLagEffectBlock() {
     }
     return nlohmann::json{{"delay", WithUnit(lag, "s")}};
   };
+  // The lag as the diagnosis found it is the start of the diagram's own fit: in simulation mode it was scanned through
+  // the loop linearised along the record, which the full closed-loop diagram refines (the output-error model's last
+  // step: Ljung, System Identification, 2nd ed., §7.3).
+  block.refinable = {"delay"};
   return block;
 }
 

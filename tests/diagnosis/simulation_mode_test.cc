@@ -29,6 +29,7 @@
 #include "models/diagnosis/loop_response.h"
 #include "tests/diagnosis/independent_plant.h"
 #include "tools/workflow/comparison.h"
+#include "tools/workflow/improve.h"
 #include "tools/workflow/loop_probe.h"
 #include "tools/workflow/measurement.h"
 #include "tools/workflow/suggest.h"
@@ -237,34 +238,56 @@ TEST(SimulationMode, AForceConstantRippleIsNamedWithItsPeriod) {
   }
 }
 
-TEST(SimulationMode, AnActuatorLagIsNamedAlongTheCommandTheLoopGivesWithIt) {
+TEST(SimulationMode, AnActuatorLagIsNamedAlongTheCommandTheLoopGivesWithItAndRefitInTheDiagram) {
   // The drive applies the command 4 ms late. The force the plant lacks is u(t) − u(t − d) along the command the loop
   // gives with the lag (the controller reacts to it), fitted through the loop; along the model's own command alone the
-  // lag came out 6.1 ms on the bench's record.
-  const SimulationCase c = CompareInSimulation(independent::Hidden::kActuatorLag, "actuator_lag");
-  ASSERT_TRUE(c.compared.diagnosis);
-  const DiagnosedEffect* first = FirstNamed(*c.compared.diagnosis);
-  ASSERT_NE(first, nullptr) << c.compared.diagnosis->summary;
-  EXPECT_EQ(first->effect, "actuator_lag") << c.compared.diagnosis->summary;
-  EXPECT_NEAR(first->parameters.at("lag"), 0.004, 0.2 * 0.004) << c.compared.diagnosis->summary;
-  EXPECT_NEAR(BlockCoefficient(*first, ""), 1.0, 0.2) << c.compared.diagnosis->summary;
-  // Its block, a transport delay, goes after the drive's force: every block that read it reads the delayed force, and
-  // the simulated position comes closer to the measured one.
-  ASSERT_TRUE(c.compared.drive_force_source);
-  const nlohmann::json amended =
-      SuggestAmendedDiagram(c.compared.fitted_diagram, *first, "position", c.compared.drive_force_source);
-  const DiagramDocument document(amended);
-  const std::string drive_force = c.compared.drive_force_source->ToString();
+  // lag came out 6.1 ms on the bench's record. Through the loop linearised along the record the lag comes out short
+  // (3.35 ms on the bench's record); improve's refit of the amended closed-loop diagram refines it (the block's delay
+  // is refinable: EffectBlockTemplate::refinable).
+  independent::GeneratorSettings generator;
+  generator.duration = 12.0;
+  generator.log_reference = true;
+  generator.seed = 11;
+  const fs::path directory = fs::temp_directory_path() / fmt::format("mb_simulation_mode_lag_{}", ::getpid());
+  fs::create_directories(directory);
+  const fs::path csv = directory / "record.csv";
+  independent::WriteCsv(independent::Generate(independent::Hidden::kActuatorLag, generator), csv.string());
+  const nlohmann::json diagram = ReadDiagramJson(kData / kDiagram);
+  ImproveSettings settings;
+  settings.max_effects = 1;
+  settings.max_trials_per_round = 1;
+  settings.fallback = false;
+  const MeasurementLog log = ReadMeasurementFor(diagram, csv.string(), settings.measurement);
+  fs::remove_all(directory);
+  const ImproveResult improved = ImproveModel(DiagramDocument(diagram, kData, kDiagram), log, nullptr, settings);
+  const DiagnosedComparison& compared = improved.first().training;
+  ASSERT_TRUE(compared.diagnosis);
+  const DiagnosedEffect* first = FirstNamed(*compared.diagnosis);
+  ASSERT_NE(first, nullptr) << compared.diagnosis->summary;
+  EXPECT_EQ(first->effect, "actuator_lag") << compared.diagnosis->summary;
+  EXPECT_NEAR(first->parameters.at("lag"), 0.004, 0.2 * 0.004) << compared.diagnosis->summary;
+  EXPECT_NEAR(BlockCoefficient(*first, ""), 1.0, 0.2) << compared.diagnosis->summary;
+  // Its block, a transport delay, goes after the drive's force: every block that read it reads the delayed force; the
+  // refit sets its delay, and the held-out position error falls.
+  ASSERT_EQ(improved.steps.size(), 2U) << improved.stop_reason;
+  const ImproveStep& step = improved.steps[1];
+  ASSERT_TRUE(step.accepted) << step.verdict;
+  ASSERT_TRUE(compared.drive_force_source);
+  const DiagramDocument document(step.training.fitted_diagram);
+  const std::string drive_force = compared.drive_force_source->ToString();
   int reads_drive_force = 0;
   for (const Connection& k : document.Connections()) {
     if (k.start.ToString() == drive_force && !k.end.is_connector()) {
       ++reads_drive_force;
-      EXPECT_EQ(document.TypeOf(k.end.element), "transport_delay") << amended.dump(1);
+      EXPECT_EQ(document.TypeOf(k.end.element), "transport_delay") << document.json().dump(1);
     }
   }
-  EXPECT_EQ(reads_drive_force, 1) << amended.dump(1);
-  const auto [rmse_before, rmse_after] = PositionRmse(c, amended);
-  EXPECT_LT(rmse_after, 0.9 * rmse_before) << "position RMSE " << rmse_before << " m -> " << rmse_after << " m";
+  EXPECT_EQ(reads_drive_force, 1) << document.json().dump(1);
+  const double delay = document.Parameter(step.element, "delay").get<double>();
+  ::testing::Test::RecordProperty("lag_diagnosed_s", fmt::format("{:.5g}", first->parameters.at("lag")));
+  ::testing::Test::RecordProperty("lag_refit_s", fmt::format("{:.5g}", delay));
+  EXPECT_NEAR(delay, 0.004, 0.05 * 0.004) << step.verdict;
+  EXPECT_LT(step.rmse_heldout, 0.5 * step.rmse_heldout_before) << step.verdict;
 }
 
 TEST(SimulationMode, AMassAlongTheTravelIsThePlantsAndItsKineticForceALoad) {

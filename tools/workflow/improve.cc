@@ -93,8 +93,14 @@ json Amend(const ImproveStep& current, const DiagnosedEffect& effect, bool refin
       break;
     }
   }
+  const std::optional<EffectBlockTemplate> block = BlockFor(LookupEffect(effect.effect));  // held: the loop reads it
+  if (element->empty()) {  // a block whose gain is its physics (an actuator lag's 1): the element it added
+    const DiagramDocument was(current.training.fitted_diagram);
+    for (const auto& name : amended.ElementsOfType(block->block_type)) {
+      if (!was.Has(name)) *element = name;
+    }
+  }
   if (refine_periods && !element->empty()) {
-    const std::optional<EffectBlockTemplate> block = BlockFor(LookupEffect(effect.effect));  // held: the loop reads it
     for (const auto& parameter : block->refinable) {
       amended.AddFreeParameter(*element + "." + parameter);
     }
