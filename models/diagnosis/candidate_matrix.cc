@@ -61,7 +61,7 @@ void RegressorMatrix::IndexColumns() {
 void FilterCandidateColumns(const EffectType& type, const DiagnosisSignals& signals, const DiagnosisOptions& options,
                             Eigen::MatrixXd* columns) {
   if (const LoopResponse* loop = options.catalogue.loop.get()) {  // simulation mode: the force through the loop
-    if (ThroughTheLoop(type.traits)) {
+    if (ThroughTheLoop(type.traits) && !EffectSimulatedInTheDiagram(type.traits, signals)) {
       *columns = options.simulate_loop_columns ? loop->Simulate(*columns) : loop->Apply(*columns);
     }
     return;

@@ -382,7 +382,8 @@ Eigen::VectorXd EffectContribution(const DiagnosisResult& result, const Diagnose
                                    const DiagnosisSignals& signals) {
   const EffectRegressors reg = BuildEffectRegressors({effect.effect, effect.parameters}, signals);
   const Eigen::VectorXd force = reg.columns * effect.coefficients;
-  if (!result.loop || !ThroughTheLoop(LookupEffect(effect.effect).traits)) return force;
+  const EffectTraits& traits = LookupEffect(effect.effect).traits;
+  if (!result.loop || !ThroughTheLoop(traits) || EffectSimulatedInTheDiagram(traits, signals)) return force;
   return result.loop->Apply(force);
 }
 

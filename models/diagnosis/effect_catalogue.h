@@ -9,6 +9,7 @@
 // Units: SI (period [m], frequency_hz [Hz], delay [s], velocities [m/s], step [unit of the output]).
 #pragma once
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -21,6 +22,8 @@
 #include "models/diagnosis/periodogram.h"
 
 namespace mb {
+
+struct EffectInstance;
 
 // The measured signals the diagnosis works on; all of length N (optional ones: length 0 = absent).
 struct DiagnosisSignals {
@@ -40,6 +43,13 @@ struct DiagnosisSignals {
   // Simulation mode: the drive force's response to a load at the plant (the controller's reaction, per unit of load;
   // loop_response.h), through which a command-path effect's load is iterated (CommandPathLoad); optional.
   std::shared_ptr<const LoopResponse> drive_force_response;
+  // Simulation mode: the compared output's change, N samples [its unit], when the effect's block goes into the diagram
+  // as `improve` adds it, with the effect's parameters and its physical coefficient — the output-error model itself,
+  // where a command-path effect's load through the linearised loop (CommandPathLoad) is a first-order approximation
+  // (Ljung, System Identification, 2nd ed., §7.3). Used for command-path effects (EffectSimulatedInTheDiagram);
+  // empty: not available (equation-error mode, another record). May throw what building or simulating the amended
+  // diagram throws (std::invalid_argument, std::runtime_error); costs one simulation of the diagram per call.
+  std::function<Eigen::VectorXd(const EffectInstance&)> simulate_effect;
   // The log's columns that the diagram does not read (another axis, a temperature, a bus voltage, a second sensor),
   // each of length N, with their names in extra_names (optional: both empty). The logged_column factor reads them by
   // index, so a record carried to another (PredictCorrection) must list the same columns in the same order.

@@ -99,6 +99,12 @@ inline bool ThroughTheLoop(const EffectTraits& traits) {
   return !traits.regressor_in_output_band || traits.command_path;
 }
 
+/// Simulation mode: a command-path effect whose block the diagram itself simulates (DiagnosisSignals::simulate_effect):
+/// its column is already the compared output's change, not a force for the loop.
+inline bool EffectSimulatedInTheDiagram(const EffectTraits& traits, const DiagnosisSignals& signals) {
+  return traits.command_path && static_cast<bool>(signals.simulate_effect);
+}
+
 /// One parameter of an effect instance (EffectInstance::parameters), SI units.
 struct EffectParameter {
   std::string name;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <vector>
@@ -16,6 +17,7 @@
 #include "engine/units.h"
 #include "models/diagnosis/measurement_log.h"
 #include "models/diagnosis/signal_processing.h"
+#include "tools/workflow/suggest.h"
 
 namespace mb {
 namespace {
@@ -118,6 +120,33 @@ std::optional<Endpoint> PlantForcePort(const DiagramDocument& d, std::string* wh
   *why = fmt::format("plant '{}' has {} driven inputs and none named f or u: which one is its force is not known",
                      *plant, driven.size());
   return std::nullopt;
+}
+
+std::function<Eigen::VectorXd(const EffectInstance&)> EffectSimulator(const ModelComparison& comparison,
+                                                                      const ComparedOutput& nominal,
+                                                                      const std::optional<Endpoint>& drive_force) {
+  // What every call reads, shared by the callable's copies (the diagnosis copies its signals).
+  struct Fixed {
+    nlohmann::json diagram;
+    std::filesystem::path base;
+    std::string source;
+    MeasurementLog log;
+    std::map<std::string, std::string> columns;
+    std::string output;
+    Eigen::VectorXd model;
+    std::optional<Endpoint> drive_force;
+  };
+  auto fixed = std::make_shared<const Fixed>(Fixed{comparison.diagram_json(), comparison.base_directory(),
+                                                   comparison.source(), comparison.log(), comparison.ColumnMap(),
+                                                   nominal.connector, nominal.model, drive_force});
+  return [fixed](const EffectInstance& effect) -> Eigen::VectorXd {
+    DiagnosedEffect diagnosed;
+    diagnosed.effect = effect.name;
+    diagnosed.parameters = effect.parameters;
+    const nlohmann::json amended = SuggestAmendedDiagram(fixed->diagram, diagnosed, fixed->output, fixed->drive_force);
+    const ModelComparison run(amended, fixed->base, fixed->source, fixed->log, fixed->columns);
+    return run.Simulate().front().model - fixed->model;
+  };
 }
 
 LoopProbe ProbeLoop(const ModelComparison& comparison, const ComparedOutput& nominal,

@@ -6,6 +6,7 @@
 // controller (which `linmod` would hold open): a step of δ into the plant's input while the axis moves, simulated, minus
 // the same simulation without it, over δ.
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -13,6 +14,7 @@
 #include <Eigen/Core>
 
 #include "engine/diagram_document.h"
+#include "models/diagnosis/effect_catalogue.h"
 #include "models/diagnosis/loop_response.h"
 #include "tools/workflow/comparison.h"
 
@@ -46,6 +48,16 @@ struct LoopProbe {
 LoopProbe ProbeLoop(const ModelComparison& comparison, const ComparedOutput& nominal,
                     const std::vector<std::pair<std::string, Eigen::VectorXd>>& own, const Eigen::VectorXd& velocity,
                     const std::optional<Endpoint>& drive_force = std::nullopt);
+
+/// The compared output's change when an effect's block goes into `comparison`'s diagram (simulation mode; its
+/// parameters as they are now) as `improve` adds it — SuggestAmendedDiagram after the drive force `drive_force`, with
+/// the effect's parameters and no coefficients (its physical one) — simulated along the record, minus `nominal`: N
+/// samples [the output's unit] (DiagnosisSignals::simulate_effect). Each call builds and simulates its own copy of the
+/// diagram (callable from several threads at once). The callable throws what SuggestAmendedDiagram and the simulation
+/// throw (std::invalid_argument, std::runtime_error).
+std::function<Eigen::VectorXd(const EffectInstance&)> EffectSimulator(const ModelComparison& comparison,
+                                                                      const ComparedOutput& nominal,
+                                                                      const std::optional<Endpoint>& drive_force);
 
 /// The model's drive force in simulation mode — what a force constant multiplies (DiagnosisSignals::drive_force) —
 /// and a sentence for the notes saying where it was read; an empty force, with the reason, when the diagram shows none.
