@@ -54,7 +54,8 @@ struct EffectTraits {
   /// the drive's saturation or voltage limit). Its regressor is built from the command (CommandOf): in equation-error
   /// mode the logged one, or ŷ, in the output's band; in simulation mode the model's drive force
   /// (DiagnosisSignals::drive_force), and the force it gives reaches the output through the closed loop
-  /// (ThroughTheLoop).
+  /// (ThroughTheLoop) — or, where the diagram is at hand (DiagnosisSignals::simulate_effect), its regressor is that
+  /// simulation's output change itself (EffectSimulatedInTheDiagram), which every such effect must then return.
   bool command_path = false;
   /// A friction-law replacement: the effect replaces the model's friction law near zero velocity (regularised
   /// Coulomb, pre-sliding, Stribeck) rather than adding a force the model lacks. The diagnosis tries these first,

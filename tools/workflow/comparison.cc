@@ -752,7 +752,7 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
     if (options.catalogue.loop) {  // the drive force's effects reach the output through the loop, or not at all
       signals.drive_force = std::move(drive.force);
       signals.drive_force_response = std::move(probe.drive_force);
-      signals.simulate_effect = EffectSimulator(comparison, primary, drive.source);
+      if (drive.source) signals.simulate_effect = EffectSimulator(comparison, primary, drive.source);
 
       out.drive_force_source = drive.source;
       out.notes.push_back(std::move(drive.note));
