@@ -49,8 +49,10 @@ struct SimulationCase {
   std::string notes;  // every note, one per line
 };
 
-SimulationCase CompareInSimulation(independent::Hidden hidden, const std::string& name, unsigned seed = 11,
-                                   double duration = 12.0) {
+// The independent generator's closed-loop record hiding `hidden` (its reference logged), read as the user's diagram
+// reads it.
+MeasurementLog IndependentRecord(const nlohmann::json& diagram, independent::Hidden hidden, const std::string& name,
+                                 const MeasurementSettings& measurement, unsigned seed = 11, double duration = 12.0) {
   independent::GeneratorSettings settings;
   settings.duration = duration;
   settings.log_reference = true;
@@ -59,12 +61,18 @@ SimulationCase CompareInSimulation(independent::Hidden hidden, const std::string
   fs::create_directories(directory);
   const fs::path csv = directory / "record.csv";
   independent::WriteCsv(independent::Generate(hidden, settings), csv.string());
+  MeasurementLog log = ReadMeasurementFor(diagram, csv.string(), measurement);
+  fs::remove_all(directory);
+  return log;
+}
+
+SimulationCase CompareInSimulation(independent::Hidden hidden, const std::string& name, unsigned seed = 11,
+                                   double duration = 12.0) {
   const nlohmann::json diagram = ReadDiagramJson(kData / kDiagram);
   MeasurementSettings measurement;
-  SimulationCase out{ReadMeasurementFor(diagram, csv.string(), measurement), {}, {}};
+  SimulationCase out{IndependentRecord(diagram, hidden, name, measurement, seed, duration), {}, {}};
   out.compared = CompareAndDiagnose(diagram, kData, kDiagram, out.log, measurement, diagram["free"]);
   for (const std::string& note : out.compared.notes) out.notes += note + "\n";
-  fs::remove_all(directory);
   return out;
 }
 
@@ -244,21 +252,13 @@ TEST(SimulationMode, AnActuatorLagIsNamedAlongTheCommandTheLoopGivesWithItAndRef
   // lag came out 6.1 ms on the bench's record. Through the loop linearised along the record the lag comes out short
   // (3.35 ms on the bench's record); simulated in the diagram (DiagnosisSignals::simulate_effect) it is refined, and
   // improve's refit of the amended closed-loop diagram keeps it (the block's delay is refinable).
-  independent::GeneratorSettings generator;
-  generator.duration = 12.0;
-  generator.log_reference = true;
-  generator.seed = 11;
-  const fs::path directory = fs::temp_directory_path() / fmt::format("mb_simulation_mode_lag_{}", ::getpid());
-  fs::create_directories(directory);
-  const fs::path csv = directory / "record.csv";
-  independent::WriteCsv(independent::Generate(independent::Hidden::kActuatorLag, generator), csv.string());
   const nlohmann::json diagram = ReadDiagramJson(kData / kDiagram);
   ImproveSettings settings;
   settings.max_effects = 1;
   settings.max_trials_per_round = 1;
   settings.fallback = false;
-  const MeasurementLog log = ReadMeasurementFor(diagram, csv.string(), settings.measurement);
-  fs::remove_all(directory);
+  const MeasurementLog log =
+      IndependentRecord(diagram, independent::Hidden::kActuatorLag, "actuator_lag", settings.measurement);
   const ImproveResult improved = ImproveModel(DiagramDocument(diagram, kData, kDiagram), log, nullptr, settings);
   const DiagnosedComparison& compared = improved.first().training;
   ASSERT_TRUE(compared.diagnosis);
