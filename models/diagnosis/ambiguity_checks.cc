@@ -13,9 +13,11 @@
 #include <optional>
 #include <vector>
 
+#include <Eigen/QR>
 #include <fmt/format.h>
 
 #include "models/diagnosis/candidate_matrix.h"
+#include "models/diagnosis/diagnosis_text.h"
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/effect_regressors.h"
@@ -131,6 +133,44 @@ std::string CheckPositionTimeAmbiguity(const DiagnosisSignals& signals, const Ei
   return note;
 }
 
+namespace {
+
+// `top` as the product `name` of its modulator, its shape as found (a friction's slip velocity as found, else the dead
+// band's), its columns fitted beside the base on `residual` (least squares: the coefficients `improve` starts from);
+// nullopt where it has no columns on this record.
+std::optional<DiagnosedEffect> AlikeEffect(const DiagnosedEffect& top, const std::string& name, double dead_band,
+                                           const DiagnosisSignals& signals, const Eigen::VectorXd& residual,
+                                           const Eigen::MatrixXd& base, const DiagnosisOptions& options) {
+  Candidate c;
+  c.type = &LookupEffect(name);
+  c.effect = {name, top.parameters};
+  for (const auto& p : c.type->parameters) {
+    if (p.name == "slip_velocity" && !c.effect.parameters.count("slip_velocity")) {
+      c.effect.parameters["slip_velocity"] = std::max(dead_band, 1e-12);
+    }
+  }
+  try {
+    c.reg = c.type->regressors(c.effect, signals);
+  } catch (const std::invalid_argument&) {  // not on this record (ŷ in simulation mode)
+    return std::nullopt;
+  }
+  FilterCandidateColumns(*c.type, signals, options, &c.reg.columns);
+  const Eigen::Index p = base.cols(), k = c.reg.columns.cols();
+  if (k == 0) return std::nullopt;
+  Eigen::MatrixXd x(residual.size(), p + k);
+  x << base, c.reg.columns;
+  const Eigen::VectorXd coefficients = x.colPivHouseholderQr().solve(residual).tail(k);
+  if (!coefficients.allFinite()) return std::nullopt;
+  DiagnosedEffect alike = DescribeEffect(c, top.score, top.cumulative_share, coefficients, Eigen::VectorXd::Zero(k),
+                                         signals, options.position_unit, false);
+  alike.base_share = top.base_share;
+  alike.selection_order = top.selection_order;
+  alike.alike = {top.effect};
+  return alike;
+}
+
+}  // namespace
+
 void CheckMultiplierAmbiguity(const DiagnosisSignals& signals, const Eigen::VectorXd& residual,
                               const Eigen::MatrixXd& base, const DiagnosisOptions& options, DiagnosisResult* result) {
   DiagnosedEffect* top = FirstOutsideTheLaws(result);
@@ -181,6 +221,9 @@ void CheckMultiplierAmbiguity(const DiagnosisSignals& signals, const Eigen::Vect
     return;
   }
   top->alike.push_back(best);
+  if (std::optional<DiagnosedEffect> alike = AlikeEffect(*top, best, dead_band, signals, residual, base, options)) {
+    top->alike_effects.push_back(std::move(*alike));
+  }
   const auto formula = [](const std::string& multiplier) {
     const MultiplierRow* row = FindMultiplier(multiplier);
     return row != nullptr ? std::string(row->formula) : multiplier;

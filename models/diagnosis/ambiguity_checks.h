@@ -26,7 +26,9 @@ std::string CheckPositionTimeAmbiguity(const DiagnosisSignals& signals, const Ei
 // modulator with the same shape (its slip velocity, where it has one, as found or the dead band's); when the best of
 // them explains within options.position_time_margin (relative) as much, the record cannot tell the two multipliers
 // apart (ŷ and |ŷ|·tanh(v/v_s) where the drive never brakes): a note says so and why, the effect's description names
-// the other, and DiagnosedEffect::alike holds it. Otherwise a note says it was told apart. Source: issue 45, item 4.
+// the other, DiagnosedEffect::alike holds its name and ::alike_effects the product itself (its columns fitted beside
+// the base on `residual`), which `improve` tries in the named one's place on the held-out record. Otherwise a note
+// says it was told apart. Source: issue 45, item 4.
 void CheckMultiplierAmbiguity(const DiagnosisSignals& signals, const Eigen::VectorXd& residual,
                               const Eigen::MatrixXd& base, const DiagnosisOptions& options, DiagnosisResult* result);
 

@@ -145,6 +145,9 @@ struct DiagnosedEffect {
   // Products of the same modulator that the record cannot tell from this one (they fit within the ambiguity margin:
   // CheckMultiplierAmbiguity); empty when told apart or not checked.
   std::vector<std::string> alike;
+  // The same products as diagnosed effects (their shape as found, their columns fitted beside the base), for `improve`
+  // to try in this one's place: a record other than this one (its validation record) may tell them apart.
+  std::vector<DiagnosedEffect> alike_effects;
   // Where the record places each of its change times ("change_time", "on_time", "off_time") [s]: the profile interval
   // of the final joint fit, low and high (change_time_interval.h); empty for an effect without one.
   std::map<std::string, std::array<double, 2>> time_intervals;

@@ -434,8 +434,30 @@ ImproveResult ImproveModel(const DiagramDocument& document, const MeasurementLog
           TryEffect(current, *effect, round, base_directory, source, training, validation, settings, leak_floor);
       say(fmt::format("round {}: {} {}; train RMSE {:.4g} → {:.4g} {}", round, effect->effect, step.verdict,
                       step.rmse_train_before, step.rmse_train, step.unit()));
-      accepted_this_round = step.accepted;
       if (step.block_added) ++tried;
+      // A product the training record could not tell from this one (DiagnosedEffect::alike_effects: the multipliers
+      // differ too little over it) is tried in its place, and the held-out record decides — a record where they
+      // differ tells them apart, as the diagnosis' note says. The one set aside is kept in the steps, not accepted.
+      for (const DiagnosedEffect& alike : effect->alike_effects) {
+        ImproveStep other =
+            TryEffect(current, alike, round, base_directory, source, training, validation, settings, leak_floor);
+        const bool better = other.accepted && (!step.accepted || other.rmse_heldout < step.rmse_heldout);
+        ImproveStep& aside = better ? step : other;
+        const ImproveStep& kept = better ? other : step;
+        if (aside.block_added && kept.block_added && kept.accepted) {
+          aside.verdict += fmt::format("; the training record could not tell {} from {}, the held-out one prefers {} "
+                                       "(held-out RMSE {:.4g} against {:.4g} {})",
+                                       effect->effect, alike.effect, kept.effect, kept.rmse_heldout,
+                                       aside.rmse_heldout, kept.unit());
+        }
+        if (aside.accepted && aside.verdict.starts_with("accepted")) aside.verdict.replace(0, 8, "set aside");
+        aside.accepted = false;
+        say(fmt::format("round {}: {} tried in the place of {}: {}", round, alike.effect, effect->effect,
+                        other.verdict));
+        if (better) std::swap(step, other);
+        finish(std::move(other));  // the one set aside, before the one kept
+      }
+      accepted_this_round = step.accepted;
       finish(std::move(step));
       if (accepted_this_round) break;
     }
