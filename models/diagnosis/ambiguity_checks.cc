@@ -135,20 +135,26 @@ std::string CheckPositionTimeAmbiguity(const DiagnosisSignals& signals, const Ei
 
 namespace {
 
-// `top` as the product `name` of its modulator, its shape as found (a friction's slip velocity as found, else the dead
-// band's), its columns fitted beside the base on `residual` (least squares: the coefficients `improve` starts from);
-// nullopt where it has no columns on this record.
+// `top` as the product `name` of its modulator: its shape as found; a friction's slip velocity as found, else the dead
+// band's.
+EffectInstance AsProduct(const DiagnosedEffect& top, const std::string& name, double dead_band) {
+  EffectInstance out{name, top.parameters};
+  for (const auto& p : LookupEffect(name).parameters) {
+    if (p.name == "slip_velocity" && !out.parameters.count("slip_velocity")) {
+      out.parameters["slip_velocity"] = std::max(dead_band, 1e-12);
+    }
+  }
+  return out;
+}
+
+// AsProduct(top, name, dead_band) as a diagnosed effect, its columns fitted beside the base on `residual` (least
+// squares: the coefficients `improve` starts from); nullopt where it has no columns on this record.
 std::optional<DiagnosedEffect> AlikeEffect(const DiagnosedEffect& top, const std::string& name, double dead_band,
                                            const DiagnosisSignals& signals, const Eigen::VectorXd& residual,
                                            const Eigen::MatrixXd& base, const DiagnosisOptions& options) {
   Candidate c;
   c.type = &LookupEffect(name);
-  c.effect = {name, top.parameters};
-  for (const auto& p : c.type->parameters) {
-    if (p.name == "slip_velocity" && !c.effect.parameters.count("slip_velocity")) {
-      c.effect.parameters["slip_velocity"] = std::max(dead_band, 1e-12);
-    }
-  }
+  c.effect = AsProduct(top, name, dead_band);
   try {
     c.reg = c.type->regressors(c.effect, signals);
   } catch (const std::invalid_argument&) {  // not on this record (ŷ in simulation mode)
@@ -189,8 +195,7 @@ void CheckMultiplierAmbiguity(const DiagnosisSignals& signals, const Eigen::Vect
   };
   const double own = share({top->effect, top->parameters});
   if (!(own > 0.0)) return;
-  // Every other product of the same modulator, its shape as found; a friction's slip velocity as found, else the
-  // dead band's.
+  // Every other product of the same modulator (AsProduct).
   const double dead_band = options.catalogue.dead_band_fraction * signals.velocity.cwiseAbs().maxCoeff();
   std::string best;
   double best_share = -1.0;
@@ -200,13 +205,7 @@ void CheckMultiplierAmbiguity(const DiagnosisSignals& signals, const Eigen::Vect
         type.multiplier == top->multiplier) {
       continue;
     }
-    EffectInstance alternative{name, top->parameters};
-    for (const auto& p : type.parameters) {
-      if (p.name == "slip_velocity" && !alternative.parameters.count("slip_velocity")) {
-        alternative.parameters["slip_velocity"] = std::max(dead_band, 1e-12);
-      }
-    }
-    const double s = share(alternative);
+    const double s = share(AsProduct(*top, name, dead_band));
     if (s > best_share) {
       best_share = s;
       best = name;
