@@ -220,8 +220,12 @@ void CheckMultiplierAmbiguity(const DiagnosisSignals& signals, const Eigen::Vect
     return;
   }
   top->alike.push_back(best);
-  if (std::optional<DiagnosedEffect> alike = AlikeEffect(*top, best, dead_band, signals, residual, base, options)) {
-    top->alike_effects.push_back(std::move(*alike));
+  // Equation-error mode only: the shares above and AlikeEffect's fit take each column as it is, not through the
+  // closed loop, so in simulation mode they are of a force against a position residual.
+  if (!options.catalogue.loop) {
+    if (std::optional<DiagnosedEffect> alike = AlikeEffect(*top, best, dead_band, signals, residual, base, options)) {
+      top->alike_effects.push_back(std::move(*alike));
+    }
   }
   const auto formula = [](const std::string& multiplier) {
     const MultiplierRow* row = FindMultiplier(multiplier);
