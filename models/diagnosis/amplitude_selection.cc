@@ -64,6 +64,20 @@ struct Trial {
   double t = 0.0;
 };
 
+// A modulated effect i that takes over what another chosen effect j explained: a force following a temperature that
+// rises over the record is also a force settling in time, and the ranking chose that pair before the modulation was
+// tried, so that beside it the modulation gains nothing. Found on the trial's own matrix (effect i modulated, all the
+// chosen effects in it) by leaving j's columns out: the modulation must be significant where j is absent, j must no
+// longer earn its place beside it (backward elimination's test), and the two together must beat the ranking as it
+// stands by options.min_gain, as any term must.
+struct Takeover {
+  double with = 0.0;
+  std::size_t dropped = 0;  // j, in the ranking's chosen order
+  double mse = std::numeric_limits<double>::infinity();
+  double t = 0.0;       // the modulation's Diebold–Mariano t, j left out
+  double t_back = 0.0;  // j's t beside the modulated effect
+};
+
 // The ranking rebuilt on `trial` (the chosen effects, one of them changed): its matrix, Grams and selection in order;
 // nullopt when an effect's columns cannot be built on this record.
 struct Rebuilt {
@@ -82,6 +96,34 @@ std::optional<Rebuilt> Rebuild(const DiagnosisSignals& signals, const Eigen::Mat
   BlockGrams grams(m, options.folds);
   Selection s = SelectInOrder(m, grams, base_cols.cols(), m.cands.size());
   return Rebuilt{std::move(m), std::move(grams), std::move(s)};
+}
+
+// Effect i's modulation (the last column of its candidate in `r`, the trial rebuilt with it) taking over each other
+// chosen effect j ≥ laws in turn (Takeover); `best` keeps the passing one with the lowest held-out MSE. `needed` is the
+// family-wise t the modulation must reach, `mse_now` the held-out MSE of the ranking as it stands.
+void FindTakeover(const Rebuilt& r, std::size_t i, std::size_t laws, double with, const DiagnosisOptions& options,
+                  double needed, double mse_now, Takeover* best) {
+  const Eigen::Index modulated = r.m.cands[i].idx.back();
+  for (std::size_t j = laws; j < r.m.cands.size(); ++j) {
+    if (j == i) continue;
+    const std::vector<Eigen::Index>& own = r.m.cands[j].idx;
+    std::vector<Eigen::Index> without_j;
+    std::vector<Eigen::Index> without_both;
+    for (const Eigen::Index c : r.s.selected) {
+      if (std::find(own.begin(), own.end(), c) != own.end()) continue;
+      without_j.push_back(c);
+      if (c != modulated) without_both.push_back(c);
+    }
+    const double mse = r.grams.HeldOutMse(without_j);
+    if (!(mse_now > 0.0) || 1.0 - mse / mse_now < options.min_gain || !(mse < best->mse)) continue;
+    const double mse_both = r.grams.HeldOutMse(without_both);
+    if (!(mse_both > 0.0) || 1.0 - mse / mse_both < options.min_gain) continue;
+    const double t = GainSignificance(r.m, r.grams, without_both, without_j, options.significance_batches);
+    if (options.significance_t > 0.0 && t < needed) continue;
+    const double t_back = GainSignificance(r.m, r.grams, without_j, r.s.selected, options.significance_batches);
+    if (options.significance_t > 0.0 && t_back >= options.significance_t) continue;
+    *best = Takeover{with, j, mse, t, t_back};
+  }
 }
 
 // X × 1 and X × a column, both chosen, are one pair: X whose amplitude follows the column (their columns span the same
@@ -119,6 +161,31 @@ void MergeColumnPartners(const DiagnosisSignals& signals, const Eigen::MatrixXd&
   }
 }
 
+// The ranking rebuilt with effect i modulated by the takeover's source and the effect it takes over left out, and a
+// note; false (nothing changed) when the rebuilt ranking cannot be built or would fall below the leak floor.
+bool TakeOver(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols, const DiagnosisOptions& options,
+              std::size_t laws, const std::vector<EffectInstance>& chosen, std::size_t i,
+              const Eigen::VectorXd& weights, const Takeover& takeover, Ranking* out, std::vector<std::string>* notes) {
+  const std::optional<EffectInstance> modulated = WithAmplitudeSource(chosen[i], takeover.with, weights, signals);
+  if (!modulated) return false;
+  std::vector<EffectInstance> trial = chosen;
+  trial[i] = *modulated;
+  trial.erase(trial.begin() + static_cast<std::ptrdiff_t>(takeover.dropped));
+  std::optional<Rebuilt> rebuilt = Rebuild(signals, base_cols, options, laws, *out, trial);
+  if (!rebuilt || rebuilt->s.mse_last < out->chosen.leak_mse) return false;
+  const double gain = out->chosen.mse_last > 0.0 ? 1.0 - rebuilt->s.mse_last / out->chosen.mse_last : 0.0;
+  const std::string& dropped = chosen[takeover.dropped].name;
+  notes->push_back(fmt::format("{}'s amplitude following {} takes over what {} explained: kept, {} left out (the "
+                               "factor's Diebold–Mariano t = {:.2f} without it, its own beside the factor {:.2f} < "
+                               "{:.2f}; held-out gain {:.1f} %)",
+                               chosen[i].name, SourceName(takeover.with, signals), dropped, dropped, takeover.t,
+                               takeover.t_back, options.significance_t, 100.0 * gain));
+  rebuilt->s.leak_mse = out->chosen.leak_mse;
+  const Eigen::VectorXd huber = out->weights;
+  InstallRefined(signals, base_cols, options, laws, huber, std::move(rebuilt->m), std::move(rebuilt->s), out);
+  return true;
+}
+
 }  // namespace
 
 void ModulateChosenEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols,
@@ -131,15 +198,19 @@ void ModulateChosenEffects(const DiagnosisSignals& signals, const Eigen::MatrixX
     const EffectType& type = LookupEffect(effect.name);
     if (type.multiplier.empty() || effect.parameters.count(kAmplitudeWith) > 0) continue;
     const std::vector<double> sources = SourcesFor(effect, signals);
+    const double needed = FamilyWiseT(options.significance_t, sources.size());
     const Eigen::VectorXd weights = FittedCoefficients(*out, i);
     Trial best;
+    Takeover takeover;
     for (const double with : sources) {
       const std::optional<EffectInstance> modulated = WithAmplitudeSource(effect, with, weights, signals);
       if (!modulated) continue;
       std::vector<EffectInstance> trial = chosen;
       trial[i] = *modulated;
       std::optional<Rebuilt> rebuilt = Rebuild(signals, base_cols, options, laws, *out, trial);
-      if (!rebuilt || !(rebuilt->s.mse_last < best.mse)) continue;
+      if (!rebuilt) continue;
+      FindTakeover(*rebuilt, i, laws, with, options, needed, out->chosen.mse_last, &takeover);
+      if (!(rebuilt->s.mse_last < best.mse)) continue;
       RegressorMatrix& m = rebuilt->m;
       Selection& s = rebuilt->s;
       // The same ranking without the modulated column (effect i's last): the gain is the factor's alone.
@@ -154,9 +225,13 @@ void ModulateChosenEffects(const DiagnosisSignals& signals, const Eigen::MatrixX
       best.s = std::move(s);
       best.m = std::move(m);
     }
+    if (std::isfinite(takeover.mse) && TakeOver(signals, base_cols, options, laws, chosen, i, weights, takeover,
+                                                out, notes)) {
+      if (takeover.dropped < i) --i;
+      continue;
+    }
     if (!best.m) continue;
     const double gain = out->chosen.mse_last > 0.0 ? 1.0 - best.mse / out->chosen.mse_last : 0.0;
-    const double needed = FamilyWiseT(options.significance_t, sources.size());
     const std::string tried = fmt::format("{}'s amplitude following {} (held-out gain {:.1f} %, Diebold–Mariano t = "
                                           "{:.2f} against {:.2f} over {} source(s))",
                                           effect.name, SourceName(best.with, signals), 100.0 * gain, best.t, needed,

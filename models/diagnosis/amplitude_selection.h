@@ -20,7 +20,10 @@ namespace mb::diagnosis_detail {
 // signal (but the column the pair follows already). The best source is kept when the held-out
 // gain over the ranking as it stands reaches options.min_gain, stays above the leak floor, and is significant
 // (Diebold–Mariano, GainSignificance) at the family-wise t over the sources tried (FamilyWiseT); the ranking is then
-// rebuilt with it (InstallRefined). A note says what was kept, or the best that was not and why. First, a chosen pair
+// rebuilt with it (InstallRefined). Before that test, the factor may take over another chosen effect j that imitated
+// it (a force settling in time where the amplitude drifts): with j left out the factor is significant, j beside it is
+// not (backward elimination) and the two together beat the ranking by options.min_gain; then j is left out. A note
+// says what was kept, or the best that was not and why. First, a chosen pair
 // X × 1 and a chosen X × a column are merged into X whose amplitude follows that column (the same span; improve then
 // adds them as one effect).
 void ModulateChosenEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base_cols,

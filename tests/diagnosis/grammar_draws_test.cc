@@ -273,6 +273,28 @@ TEST(GrammarDraws, AnAmplitudeThatFollowsTimeOrAColumnIsTheThirdFactor) {
   std::filesystem::remove_all(folder);
 }
 
+// A third factor that another pair imitated before it was tried. Seed 158 hides a force that steps at 3.79 s and whose
+// amplitude drifts with time (1 × a step × (1 + β·(2t/T − 1))): the ranking chose the step and beside it a force
+// settling in time, which took the drift's share, so that the step's amplitude following time gained nothing beside
+// it. Left out, the modulation is significant and the settling force no longer earns its place beside it: the step
+// with its amplitude following time is named, the settling force left out with the note that says why.
+TEST(GrammarDraws, AnAmplitudeFactorTakesOverWhatAnotherPairImitated) {
+  const std::filesystem::path folder = std::filesystem::temp_directory_path() / "mb_grammar_takeover_test";
+  const GrammarDraw draw = Draw(158);
+  ASSERT_EQ(draw.multiplier + "×" + draw.modulator, "one×time_step");
+  ASSERT_EQ(draw.third_factor, "time");
+  const DrawResult r = RunDraw(draw, folder, false);
+  EXPECT_TRUE(r.named_right) << draw.Describe() << " -> " << r.named_pair;
+  EXPECT_EQ(r.third_found, "time") << fmt::format("{}", fmt::join(r.details, "\n"));
+  EXPECT_FALSE(DetailWith(r, {"force_step's amplitude following time takes over what force_warm_up explained",
+                              "force_warm_up left out"})
+                   .empty())
+      << fmt::format("{}", fmt::join(r.details, "\n"));
+  const double truth = 2.0 * draw.third_depth / draw.duration;
+  EXPECT_NEAR(r.third_slope, truth, 0.25 * std::abs(truth));
+  std::filesystem::remove_all(folder);
+}
+
 // Where the training record cannot tell two products of one modulator apart (DiagnosedEffect::alike_effects), improve
 // tries both and the held-out record decides. Seed 76 hides a force of time alone that settles (1 × a warm-up of
 // T = 0.89 s) on a sweep: over its training record the drive's force ŷ follows the motion's sign and size closely
