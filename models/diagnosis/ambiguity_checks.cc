@@ -148,7 +148,9 @@ EffectInstance AsProduct(const DiagnosedEffect& top, const std::string& name, do
 }
 
 // AsProduct(top, name, dead_band) as a diagnosed effect, its columns fitted beside the base on `residual` (least
-// squares: the coefficients `improve` starts from); nullopt where it has no columns on this record.
+// squares: the coefficients `improve` starts from; in simulation mode the columns are forces passed through the closed
+// loop first, options.catalogue.loop, so that the coefficients are the force's); nullopt where it has no columns on
+// this record.
 std::optional<DiagnosedEffect> AlikeEffect(const DiagnosedEffect& top, const std::string& name, double dead_band,
                                            const DiagnosisSignals& signals, const Eigen::VectorXd& residual,
                                            const Eigen::MatrixXd& base, const DiagnosisOptions& options) {
@@ -164,7 +166,7 @@ std::optional<DiagnosedEffect> AlikeEffect(const DiagnosedEffect& top, const std
   const Eigen::Index p = base.cols(), k = c.reg.columns.cols();
   if (k == 0) return std::nullopt;
   Eigen::MatrixXd x(residual.size(), p + k);
-  x << base, c.reg.columns;
+  x << base, (options.catalogue.loop ? options.catalogue.loop->Apply(c.reg.columns) : c.reg.columns);
   const Eigen::VectorXd coefficients = x.colPivHouseholderQr().solve(residual).tail(k);
   if (!coefficients.allFinite()) return std::nullopt;
   DiagnosedEffect alike = DescribeEffect(c, top.score, top.cumulative_share, coefficients, Eigen::VectorXd::Zero(k),
@@ -188,7 +190,7 @@ void CheckMultiplierAmbiguity(const DiagnosisSignals& signals, const Eigen::Vect
       const EffectType& type = LookupEffect(e.name);
       Eigen::MatrixXd columns = type.regressors(e, signals).columns;
       FilterCandidateColumns(type, signals, options, &columns);
-      return 1.0 - JointFitResidual(base, residual)(columns) / total;
+      return 1.0 - JointFitResidual(base, residual, options.catalogue.loop.get())(columns) / total;
     } catch (const std::invalid_argument&) {  // not on this record (ŷ in simulation mode, a missing parameter)
       return -1.0;
     }
@@ -220,12 +222,8 @@ void CheckMultiplierAmbiguity(const DiagnosisSignals& signals, const Eigen::Vect
     return;
   }
   top->alike.push_back(best);
-  // Equation-error mode only: the shares above and AlikeEffect's fit take each column as it is, not through the
-  // closed loop, so in simulation mode they are of a force against a position residual.
-  if (!options.catalogue.loop) {
-    if (std::optional<DiagnosedEffect> alike = AlikeEffect(*top, best, dead_band, signals, residual, base, options)) {
-      top->alike_effects.push_back(std::move(*alike));
-    }
+  if (std::optional<DiagnosedEffect> alike = AlikeEffect(*top, best, dead_band, signals, residual, base, options)) {
+    top->alike_effects.push_back(std::move(*alike));
   }
   const auto formula = [](const std::string& multiplier) {
     const MultiplierRow* row = FindMultiplier(multiplier);

@@ -27,9 +27,9 @@ std::string CheckPositionTimeAmbiguity(const DiagnosisSignals& signals, const Ei
 // them explains within options.position_time_margin (relative) as much, the record cannot tell the two multipliers
 // apart (ŷ and |ŷ|·tanh(v/v_s) where the drive never brakes): a note says so and why, the effect's description names
 // the other, DiagnosedEffect::alike holds its name and ::alike_effects the product itself (its columns fitted beside
-// the base on `residual`; equation-error mode only), which `improve` tries in the named one's place on the held-out
-// record. Otherwise a note
-// says it was told apart. Source: issue 45, item 4.
+// the base on `residual`), which `improve` tries in the named one's place on the held-out record. Otherwise a note
+// says it was told apart. In simulation mode (options.catalogue.loop) every fit passes the products' forces through the
+// closed loop first, as the ranking does. Source: issue 45, item 4.
 void CheckMultiplierAmbiguity(const DiagnosisSignals& signals, const Eigen::VectorXd& residual,
                               const Eigen::MatrixXd& base, const DiagnosisOptions& options, DiagnosisResult* result);
 
