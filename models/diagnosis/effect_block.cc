@@ -109,14 +109,19 @@ EffectBlockTemplate PositionRippleBlock(const std::string& block_type, int defau
 }
 
 MotionMultiplier SlipOfVelocity() {
-  return {"sign", MotionInput::kVelocity, [](const DiagnosedEffect& d) {
-            const double v_s = BlockParameter(d, "slip_velocity");
-            if (!(v_s > 0.0)) {
-              throw std::invalid_argument(
-                  fmt::format("{} with slip_velocity {}: must be > 0 to suggest its block", d.effect, v_s));
-            }
-            return json{{"regularization_velocity", v_s}};
-          }};
+  MotionMultiplier m;
+  m.block_type = "sign";
+  m.input = MotionInput::kVelocity;
+  m.parameters = [](const DiagnosedEffect& d) {
+    const double v_s = BlockParameter(d, "slip_velocity");
+    if (!(v_s > 0.0)) {
+      throw std::invalid_argument(
+          fmt::format("{} with slip_velocity {}: must be > 0 to suggest its block", d.effect, v_s));
+    }
+    return json{{"regularization_velocity", v_s}};
+  };
+  m.free = {"regularization_velocity"};
+  return m;
 }
 
 MotionMultiplier MeasuredMotion(MotionInput input) { return {"", input, nullptr}; }

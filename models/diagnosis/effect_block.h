@@ -59,7 +59,8 @@ nlohmann::json LocalBumpTable(const DiagnosedEffect& effect, int per_half_width,
 nlohmann::json SmoothCubicTable(const DiagnosedEffect& effect, int breakpoints);
 
 /// The direction of slip of a friction as a multiplier: a sign block (blocks/sign.h) on the velocity input, regularised
-/// tanh(v/v_s) with the diagnosed "slip_velocity" v_s (std::invalid_argument when it is absent or not > 0).
+/// tanh(v/v_s) with the diagnosed "slip_velocity" v_s (std::invalid_argument when it is absent or not > 0), v_s free
+/// in the amended diagram's refit (MotionMultiplier::free).
 MotionMultiplier SlipOfVelocity();
 
 /// The measured motion `input` itself as a multiplier (the velocity of a damping, the acceleration of an inertia).

@@ -138,6 +138,9 @@ struct MotionMultiplier {
   std::string block_type;  ///< empty: the input connector itself (or, with of_model_force, the force) is the factor
   MotionInput input = MotionInput::kVelocity;
   std::function<nlohmann::json(const DiagnosedEffect&)> parameters;  ///< the multiplier element's parameters
+  /// The multiplier element's parameters refit jointly with the effect's own (EffectBlockTemplate::free): a friction
+  /// factor's slip velocity, which the diagnosis found on a grid, placed by the refit of the amended diagram.
+  std::vector<std::string> free;
   /// The factor is the force the model computes from the measured motion — the signal summed into the output before
   /// the effect is (ŷ × a ripple of the position: a force constant that ripples). Equation-error mode only: in
   /// simulation mode the output is the motion, not the force.

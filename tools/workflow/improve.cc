@@ -86,14 +86,18 @@ json Amend(const ImproveStep& current, const DiagnosedEffect& effect, bool refin
       SuggestAmendedDiagram(current.training.compared_diagram, effect, current.training.after.front().connector,
                             current.training.drive_force_source));
   amended.CopyExperimentFrom(DiagramDocument(current.training.fitted_diagram));
+  const std::optional<EffectBlockTemplate> block = BlockFor(LookupEffect(effect.effect));  // held: the loop reads it
+  // The element added: the block of the first new free parameter of the template's type (a factor's element, a
+  // friction factor's sign with its slip velocity free, may come first), else of the first new free parameter.
   const auto before = FreeList(current.training.fitted_diagram);
   for (const auto& name : amended.FreeParameters()) {
-    if (std::find(before.begin(), before.end(), name) == before.end()) {
+    if (std::find(before.begin(), before.end(), name) != before.end()) continue;
+    if (element->empty()) *element = BlockOf(name);
+    if (amended.TypeOf(BlockOf(name)) == block->block_type) {
       *element = BlockOf(name);
       break;
     }
   }
-  const std::optional<EffectBlockTemplate> block = BlockFor(LookupEffect(effect.effect));  // held: the loop reads it
   if (element->empty()) {  // a block whose gain is its physics (an actuator lag's 1): the element it added
     const DiagramDocument was(current.training.fitted_diagram);
     for (const auto& name : amended.ElementsOfType(block->block_type)) {

@@ -293,6 +293,7 @@ Endpoint Factor(DiagramDocument* out, const MotionMultiplier& multiplier, const 
                                           multiplier.parameters(effect), std::nullopt,
                                           fmt::format("a factor of the motion that multiplies '{}'", name)});
     out->Connect(source, {element, "u"});
+    for (const std::string& parameter : multiplier.free) out->AddFreeParameter(element + "." + parameter);
     *factor_name = multiplier.block_type;
     factor = out->OutputOf(element);
   }
