@@ -185,6 +185,12 @@ TEST(SuggestTest, AGeneratedPairIsTheBlockOfItsModulatorTimesItsMultiplier) {
   ASSERT_TRUE(drifting.Has("coulomb_drift"));
   EXPECT_TRUE(drifting.Has("coulomb_drift_sign"));
   EXPECT_FALSE(drifting.Has("coulomb_drift_times_sign"));
+  // The slip velocity is refit with the level (MotionMultiplier::free).
+  const std::vector<std::string> free = drifting.FreeParameters();
+  const auto gain = std::find(free.begin(), free.end(), "coulomb_drift.gain");
+  const auto slip = std::find(free.begin(), free.end(), "coulomb_drift_sign.regularization_velocity");
+  ASSERT_NE(gain, free.end());
+  ASSERT_NE(slip, free.end());
   const auto drifted = ForceOnEmps(drifting.json(), *log);
   const Eigen::VectorXd t = log->time();
   Eigen::Index late = 0;  // after the ramp, moving fast: the full 5 N against the motion
