@@ -61,7 +61,8 @@ EffectBlockTemplate QuadraticDragEffectBlock() {
   EffectBlockTemplate block = GainEffectBlock("quadratic_drag", MotionInput::kVelocity);
   block.multiplier = MotionMultiplier{"abs", MotionInput::kVelocity, [](const DiagnosedEffect&) {
                                         return nlohmann::json::object();
-                                      }};
+                                      },
+                                      {}};
   block.physical_range = {{"gain", {0.0, std::numeric_limits<double>::infinity()}}};  // a drag dissipates: c ≥ 0
   return block;
 }

@@ -124,7 +124,7 @@ MotionMultiplier SlipOfVelocity() {
   return m;
 }
 
-MotionMultiplier MeasuredMotion(MotionInput input) { return {"", input, nullptr}; }
+MotionMultiplier MeasuredMotion(MotionInput input) { return {"", input, nullptr, {}}; }
 
 MotionMultiplier ModelForce() {
   MotionMultiplier m;
