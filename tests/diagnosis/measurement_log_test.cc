@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/error_message.h"
+#include "tests/process_temp_dir.h"
 
 namespace mb {
 namespace {
@@ -25,9 +26,7 @@ using ::testing::HasSubstr;
 class MeasurementLogTest : public ::testing::Test {
  protected:
   std::string Write(const std::string& name, const std::string& text) {
-    const auto dir = std::filesystem::temp_directory_path() /
-                     ("mb_log_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
-    std::filesystem::create_directories(dir);
+    const auto dir = mb::testing::ProcessTempDir("mb_log_test");
     const std::string path = (dir / name).string();
     std::ofstream(path) << text;
     return path;

@@ -11,6 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tests/process_temp_dir.h"
+
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -26,37 +28,6 @@ struct CommandResult {
   int exit_code = -1;
   std::string output;  // stdout and stderr
 };
-
-/// The folders ProcessTempDir made, removed with what they hold when the test process ends (each test case is a
-/// process of its own under ctest): a run of the suite leaves nothing in the temporary directory.
-class ProcessTempDirs {
- public:
-  ProcessTempDirs() = default;
-  ProcessTempDirs(const ProcessTempDirs&) = delete;
-  ProcessTempDirs& operator=(const ProcessTempDirs&) = delete;
-  ~ProcessTempDirs() {
-    for (const auto& dir : made_) {
-      std::error_code ignored;  // a folder a test removed itself, or one still open elsewhere: nothing to report
-      std::filesystem::remove_all(dir, ignored);
-    }
-  }
-  void Add(const std::filesystem::path& dir) {
-    if (std::find(made_.begin(), made_.end(), dir) == made_.end()) made_.push_back(dir);
-  }
-
- private:
-  std::vector<std::filesystem::path> made_;
-};
-
-/// A folder of this test process's own under the temporary directory (ctest runs test cases as parallel
-/// processes: fixed names would collide), removed when the process ends.
-inline std::filesystem::path ProcessTempDir(const std::string& name) {
-  static ProcessTempDirs made;
-  const auto dir = std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  made.Add(dir);
-  return dir;
-}
 
 /// `motionblocks ARGUMENTS` through the shell; the output is captured in a file of this process.
 inline CommandResult RunMotionblocks(const std::string& arguments) {

@@ -23,6 +23,7 @@
 #include "engine/registry.h"
 #include "tools/report/report.h"
 #include "tools/report/run_program.h"
+#include "tests/process_temp_dir.h"
 
 namespace mb {
 namespace {
@@ -73,7 +74,7 @@ std::string Dot(const json& diagram, const DrawingMarks& marks = {}) {
 
 // A folder of this process's own (ctest runs tests in parallel).
 fs::path TempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
+  const fs::path dir = mb::testing::ProcessTempDir(name);
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
