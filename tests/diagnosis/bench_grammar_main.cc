@@ -83,6 +83,7 @@ int main(int argc, char** argv) {
   if (!seeds.empty()) draws = static_cast<int>(seeds.size());  // the list's count, wherever --draws= stood
   try {
     std::vector<g::DrawResult> results, noise_results, memory_results;
+    std::vector<std::string> not_drawn;  // seeds the generator cannot make a record of, with its reason
     const int total = draws + noise + memory;
     for (int i = 0; i < total; ++i) {
       const bool noise_only = i >= draws && i < draws + noise, with_memory = i >= draws + noise;
@@ -91,7 +92,15 @@ int main(int argc, char** argv) {
                             : seeds.empty() ? first + static_cast<unsigned>(i)
                                             : seeds[static_cast<std::size_t>(i)];
       const auto t0 = std::chrono::steady_clock::now();
-      const g::GrammarDraw draw = g::Draw(seed);
+      g::GrammarDraw draw;
+      try {
+        draw = g::Draw(seed);
+      } catch (const std::logic_error& e) {  // the generator's own refusal (an effect that vanishes on its record)
+        not_drawn.push_back(fmt::format("seed {}: {}", seed, e.what()));
+        std::cerr << fmt::format("[{}/{}] seed {}: not drawn, left out of the counts: {}\n", i + 1, total, seed,
+                                 e.what());
+        continue;
+      }
       g::DrawResult r;
       try {
         r = g::RunDraw(draw, std::filesystem::path(out) / fmt::format("seed_{}", seed), improve);
@@ -124,6 +133,11 @@ int main(int argc, char** argv) {
     Write(std::filesystem::path(out) / "noise_only.csv", g::ResultsCsv(noise_results));
     Write(std::filesystem::path(out) / "confusion.csv", g::ConfusionCsv(results));
     if (!results.empty() || !noise_results.empty()) std::cout << g::FormatReport(results, noise_results);
+    if (!not_drawn.empty()) {
+      std::cout << fmt::format("\n{} seed(s) not drawn (the generator refused them; left out of every count):\n",
+                               not_drawn.size());
+      for (const std::string& line : not_drawn) std::cout << "- " << line << "\n";
+    }
     if (!memory_results.empty()) {
       Write(std::filesystem::path(out) / "memory.csv", g::ResultsCsv(memory_results));
       std::cout << "\n"
