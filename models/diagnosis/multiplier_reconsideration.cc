@@ -125,7 +125,13 @@ void ReconsiderMultipliers(const DiagnosisSignals& signals, const Eigen::MatrixX
     if (lowest == screened.end()) continue;
     std::optional<RefitSet> best =
         Refit(signals, base_cols, options, laws, out->weights, std::move(lowest->second), options.refinement_sweeps);
-    if (best && !(best->bic < current)) best.reset();
+    if (best && !(best->bic < current)) {
+      notes->push_back(fmt::format("{} kept: of the other products of its modulator, the best, {}, refit jointly with "
+                                   "the friction laws and the other effects in its place, has a BIC {:.1f} higher ({} "
+                                   "products tried)",
+                                   chosen[i].name, best->m.cands[i].effect.name, best->bic - current, tried));
+      best.reset();
+    }
     if (!best) continue;
     // Its errors and the chosen set's are of the same weighted residual: Vuong's test on their in-sample loss
     // difference at the forward selection's t, family-wise (Bonferroni) over the products tried here: the best of them

@@ -193,8 +193,13 @@ TEST(GrammarDraws, AQuickSubsetIsNamedAndTheNoiseOnlyDrawNamesNothing) {
 // friction of the transmitted force drifting from −a to +a over the record: without the level the ramp from 0 to 1
 // cannot fit it and the pair was named as the force constant's drift. Seed 2 hides a quadratic drag constant over the
 // record: with the level, a drag drifting by next to nothing fits the noise a little better and was named first.
+// Every chosen product's multiplier is reconsidered, and a note says how, also where no other product fits better
+// (multiplier_reconsideration.h): on seed 26 the force constant drifting is the best other and its BIC is higher.
 TEST(GrammarDraws, APairCarriesItsMultipliersConstantPartAndMustEarnItsModulation) {
-  ExpectNamedRight({26u, 2u}, "mb_grammar_level_test", false);
+  const std::vector<DrawResult> r = ExpectNamedRight({26u, 2u}, "mb_grammar_level_test", false);
+  ASSERT_EQ(r.size(), 2u);
+  EXPECT_NE(DetailWith(r[0], {"load_friction_drift kept: of the other products of its modulator, the best, "
+                              "force_constant_drift,", "has a BIC", "higher"}), "");
 }
 
 // The ranking's order is what each effect removed of the base's residual (DiagnosedEffect::base_share), not its score:
