@@ -91,6 +91,20 @@ TEST(GrammarDraws, AnEffectStandsAtItsDrawnRatioWithinThePhysicalLimits) {
   EXPECT_LE(share, 0.3 + 1e-9) << "a force constant within ±30 % on the training twin's motion";
 }
 
+// A shape the record cannot show is drawn again, the rest of the draw kept: seed 752's first bump (one × a stretch of the
+// travel around 0.149 m) left the point-to-point moves' force in the base's span, and Draw threw. Its second stands
+// on the record at the drawn ratio.
+TEST(GrammarDraws, AShapeTheRecordCannotShowIsDrawnAgain) {
+  const GrammarDraw d = Draw(752);
+  ASSERT_EQ(d.pair(), "one×position_local");
+  EXPECT_GT(std::abs(d.shape.center - 0.14892), 1e-3) << "the first centre, which vanishes on the record";
+  EXPECT_GE(d.target_ratio, 0.95 * 4.0);
+  const Record twin = Simulate(d, Run::kTraining, false);
+  EXPECT_GT(RmsBeyondBase(d, twin, EffectForce(d, Run::kTraining, twin.time, twin.true_position, twin.velocity,
+                                               twin.acceleration, twin.command)),
+            0.0);
+}
+
 // Draws with memory (issue 47, item 5): a Dahl element makes 90 % of its swing over the drawn stroke after a
 // reversal, whatever the speed — checked on a synthetic stroke, slow and fast — and a vibration's frequency drifts.
 TEST(GrammarDraws, AHysteresisDrawMakesNinetyPercentOfItsSwingOverItsStroke) {
