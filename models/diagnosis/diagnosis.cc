@@ -31,6 +31,7 @@
 #include "models/diagnosis/joint_refinement.h"
 #include "models/diagnosis/multiplier_reconsideration.h"
 #include "models/diagnosis/quantization_floor.h"
+#include "models/diagnosis/rival_reconsideration.h"
 #include "models/diagnosis/robust_weighting.h"
 #include "models/diagnosis/simulated_refit.h"
 
@@ -52,6 +53,7 @@ using diagnosis_detail::NoteHysteresis;
 using diagnosis_detail::PruneChosenEffects;
 using diagnosis_detail::Ranking;
 using diagnosis_detail::ReconsiderMultipliers;
+using diagnosis_detail::ReconsiderRivals;
 using diagnosis_detail::RefineChosenEffects;
 using diagnosis_detail::RefitThroughTheDiagram;
 using diagnosis_detail::RegressorMatrix;
@@ -210,8 +212,10 @@ Ranking RankEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base
   SelectEffects(out.m, *out.grams, used, options, &out.chosen, &result->notes);
   out.chosen.family = SearchedCount(out.m);  // the retries and refits below keep the search's family-wise significance
   const std::vector<EffectInstance> retry = SetAsideForRetry(out);
+  const std::vector<std::pair<std::size_t, EffectInstance>> rivals = out.chosen.rivals;  // before the refinement's rebuild
   KeepChosenOnly(&out);
   RefineChosenEffects(signals, base_cols, options, law.effects.size(), &out, &result->notes);
+  ReconsiderRivals(signals, base_cols, options, law.effects.size(), rivals, &out, &result->notes);
   RetrySetAside(signals, base_cols, options, law.effects.size(), retry, &out, &result->notes);
   ReconsiderMultipliers(signals, base_cols, options, law.effects.size(), &out, &result->notes);
   const std::size_t laws = PruneChosenEffects(signals, base_cols, options, law.effects.size(), &out, &result->notes);

@@ -15,7 +15,8 @@
 //     its score = 1 − MSE(S ∪ {c})/MSE(S), the share of the held-out residual energy left by the previous
 //     round that it explains. Stop when the best score < min_gain (default 1 %).
 //  5. Final coefficients: one joint least-squares fit of base + chosen effects on all data, after the chosen effects'
-//     nonlinear parameters are re-estimated in it (DiagnosisOptions::refinement_sweeps) and each chosen product's
+//     nonlinear parameters are re-estimated in it (DiagnosisOptions::refinement_sweeps), each chosen effect is compared
+//     with its rivals of the same round refined in its place (rival_reconsideration.h) and each chosen product's
 //     multiplier is chosen again with them refit (multiplier_reconsideration.h).
 // Robust to a wrong base model (DIAGNOSIS.md, "When the base model is wrong elsewhere"): every fit is weighted by
 // Huber weights (IRLS, DiagnosisOptions::huber_k); when the base has a Coulomb law, the friction-law replacements

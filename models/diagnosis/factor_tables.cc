@@ -538,7 +538,13 @@ std::vector<ModulatorRow> MakeModulators() {
   rows.push_back({"time_periodic", "{}_vibration", "vibrating in time", "cos(2πkft), sin(2πkft), k = 1..K",
                   "a vibration of its own frequency: a pump, a fan, a neighbouring machine, a supply's ripple",
                   {{"frequency_hz", "Hz", "f: the vibration's fundamental"}, {"harmonics", "", "K, 1 when absent"}},
-                  false, Periodicity::kTime, nullptr,
+                  false, Periodicity::kTime,
+                  // Within ±1 %: the periodogram's peak is that close, and the joint fit's error ripples in f with a
+                  // period of 1/T (the record's length), so a wider scan would land on a side lobe.
+                  [](EffectTraits* t) {
+                    t->refined_parameter = "frequency_hz";
+                    t->refinement_range = 1.01;
+                  },
                   [](const FactorParameters& p, const DiagnosisSignals& s, const std::string& name,
                      const Eigen::VectorXd* scale) {
                     const auto harmonics = p.find("harmonics");

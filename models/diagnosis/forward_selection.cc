@@ -66,6 +66,36 @@ std::size_t PickByBic(const RegressorMatrix& m, const BlockGrams& grams, const s
   return pick;
 }
 
+// Does pair `a` hold pair `b` (the same multiplier, b's modulator 1 or one of a's nested modulators)?
+bool Holds(const EffectType& a, const EffectType& b) {
+  if (a.multiplier.empty() || a.multiplier != b.multiplier) return false;
+  if (b.modulator == "constant") return a.traits.nests_constant_pair;
+  return std::find(a.traits.nested_modulators.begin(), a.traits.nested_modulators.end(), b.modulator) !=
+         a.traits.nested_modulators.end();
+}
+
+// The rivals of `pick` in this round (Selection::rivals): the candidates not `used` (chosen, set aside or implausible)
+// whose held-out MSE is within kRivalMargin above its own and which have a shape parameter to refine; not for a law,
+// and not a pair that holds the pick or that the pick holds (NestedUnlessSignificant settled those by significance).
+void RecordRivals(const RegressorMatrix& m, const std::vector<double>& mse, const std::vector<bool>& used,
+                  std::size_t pick, Selection* s) {
+  const EffectType& chosen = *m.cands[pick].type;
+  if (chosen.traits.friction_law_replacement) return;
+  std::vector<std::size_t> near;
+  for (std::size_t c = 0; c < m.cands.size(); ++c) {
+    const EffectType& type = *m.cands[c].type;
+    if (c == pick || used[c] || !std::isfinite(mse[c]) || type.traits.refined_parameter.empty() ||
+        type.traits.friction_law_replacement || m.cands[c].effect.name == m.cands[pick].effect.name ||
+        Holds(type, chosen) || Holds(chosen, type)) {
+      continue;
+    }
+    if (mse[c] <= (1.0 + kRivalMargin) * mse[pick]) near.push_back(c);
+  }
+  std::sort(near.begin(), near.end(), [&](std::size_t a, std::size_t b) { return mse[a] < mse[b]; });
+  if (near.size() > kMaxRivals) near.resize(kMaxRivals);
+  for (std::size_t c : near) s->rivals.emplace_back(s->order.size(), m.cands[c].effect);
+}
+
 // The held-out MSE of every candidate not `used` added to `selected` (infinity for the used ones; a candidate whose
 // coefficient is implausible is marked used).
 std::vector<double> TrialErrors(const RegressorMatrix& m, const BlockGrams& grams, const std::vector<Eigen::Index>& selected,
@@ -239,6 +269,7 @@ bool AddBestEffect(const RegressorMatrix& m, const BlockGrams& grams, const Diag
         continue;
       }
     }
+    RecordRivals(m, mse, *used, pick, s);
     s->order.push_back(pick);
     s->selected = std::move(trial);
     s->scores.push_back(gain);

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -14,6 +15,10 @@
 
 namespace mb::diagnosis_detail {
 
+// A candidate whose held-out MSE is within this share above the chosen one's is its rival (Selection::rivals).
+inline constexpr double kRivalMargin = 0.25;
+inline constexpr std::size_t kMaxRivals = 3;
+
 // What the forward selection chose.
 struct Selection {
   std::vector<Eigen::Index> selected;  // columns of the regressor matrix: the base's, then the chosen effects'
@@ -22,6 +27,10 @@ struct Selection {
   double mse_base = 0.0;  // held-out MSE of the base alone
   double mse_last = 0.0;  // held-out MSE after the last chosen effect
   std::vector<std::size_t> set_aside;  // candidates whose gain was not significant (AddBestEffect)
+  // The chosen ones' rivals (AddBestEffect): candidates of their round with a shape parameter to refine
+  // (EffectTraits::refined_parameter) whose held-out MSE came within kRivalMargin of theirs, at most kMaxRivals each,
+  // closest first, as (the chosen one's position in `order`, the rival). ReconsiderRivals compares them refined.
+  std::vector<std::pair<std::size_t, EffectInstance>> rivals;
   // Held-out MSE below which a candidate fits the noise (DiagnosisOptions::leak_floor_ratio × the noise floor, squared);
   // 0 = no check.
   double leak_mse = 0.0;
