@@ -60,11 +60,12 @@ void ReconsiderRivals(const DiagnosisSignals& signals, const Eigen::MatrixXd& ba
                                     ? fmt::format(" ({} {:.5g} → {:.5g})", parameter, rival.parameters.at(parameter),
                                                   refit.parameters.at(parameter))
                                     : "";
-      const bool lower = b.mse < (1.0 - kTie) * current && out->chosen.leak_mse <= b.mse;
+      const bool below_floor = b.mse < out->chosen.leak_mse;  // it would fit the noise (AddBestEffect's leak check)
+      const bool lower = b.mse < (1.0 - kTie) * current && !below_floor;
       notes->push_back(fmt::format("{}'s rival {}{}, refit in its place with the chosen effects: held-out MSE {:.4g} "
                                    "against {:.4g}{}",
                                    chosen[position].name, rival.name, shape, b.mse, current,
-                                   lower ? ": lower" : ": not lower, kept"));
+                                   lower ? ": lower" : below_floor ? ": below the noise floor, kept" : ": not lower, kept"));
       if (lower && (!best || b.mse < best->mse)) best = std::move(b);
     }
     first = last;
