@@ -55,7 +55,7 @@ std::size_t PickByBic(const RegressorMatrix& m, const BlockGrams& grams, const s
   std::size_t pick = m.cands.size();
   double best_bic = std::numeric_limits<double>::infinity();
   for (std::size_t c = 0; c < m.cands.size(); ++c) {
-    if (used[c] || mse[c] > best_mse * (1.0 + 1e-3)) continue;
+    if (used[c] || mse[c] > best_mse * (1.0 + kHeldOutTie)) continue;
     std::vector<Eigen::Index> trial = selected;
     trial.insert(trial.end(), m.cands[c].idx.begin(), m.cands[c].idx.end());
     double sse = 0.0;

@@ -15,6 +15,9 @@
 
 namespace mb::diagnosis_detail {
 
+// Held-out MSEs within this share of each other are a tie: the forward selection takes the lower BIC among them, and
+// a rival (ReconsiderRivals) must beat the chosen one by more.
+inline constexpr double kHeldOutTie = 1e-3;
 // A candidate whose held-out MSE is within this share above the chosen one's is its rival (Selection::rivals).
 inline constexpr double kRivalMargin = 0.25;
 inline constexpr std::size_t kMaxRivals = 3;

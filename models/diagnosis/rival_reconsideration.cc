@@ -18,7 +18,6 @@ void ReconsiderRivals(const DiagnosisSignals& signals, const Eigen::MatrixXd& ba
                       std::size_t laws, const std::vector<std::pair<std::size_t, EffectInstance>>& rivals, Ranking* out,
                       std::vector<std::string>* notes) {
   if (options.refinement_sweeps <= 0 || !out->grams) return;
-  constexpr double kTie = 1e-3;  // as PickByBic: within 0.1 %, the one chosen stays
   for (std::size_t first = 0; first < rivals.size();) {
     const std::size_t position = rivals[first].first;
     std::size_t last = first;
@@ -61,7 +60,7 @@ void ReconsiderRivals(const DiagnosisSignals& signals, const Eigen::MatrixXd& ba
                                                   refit.parameters.at(parameter))
                                     : "";
       const bool below_floor = b.mse < out->chosen.leak_mse;  // it would fit the noise (AddBestEffect's leak check)
-      const bool lower = b.mse < (1.0 - kTie) * current && !below_floor;
+      const bool lower = b.mse < (1.0 - kHeldOutTie) * current && !below_floor;
       notes->push_back(fmt::format("{}'s rival {}{}, refit in its place with the chosen effects: held-out MSE {:.4g} "
                                    "against {:.4g}{}",
                                    chosen[position].name, rival.name, shape, b.mse, current,

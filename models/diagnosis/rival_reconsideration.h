@@ -19,8 +19,9 @@ namespace mb::diagnosis_detail {
 // the others (RefineChosenEffects), its rivals' never were. Each rival (a candidate of the chosen one's round whose
 // held-out MSE came within kRivalMargin of its own) is refit in its place, its shape parameter re-estimated jointly
 // with the chosen effects (JointRefinement), and takes the place where the whole set's held-out MSE, under the
-// ranking's weights, is lower by more than 0.1 % (PickByBic's ties): the selection's own criterion, each candidate at
-// its best. Grammar draw 878, a quadratic drag vibrating at 34.9 Hz: a 1.3 ms actuator lag, scanned finely, was chosen
+// ranking's weights, is lower by more than kHeldOutTie (the forward selection's ties): the selection's own criterion,
+// each candidate at its best — a sequential replacement (Miller, Subset Selection in Regression, 2nd ed., 2002, ch. 3)
+// among the round's near-equals. Grammar draw 878, a quadratic drag vibrating at 34.9 Hz: a 1.3 ms actuator lag, scanned finely, was chosen
 // over the vibration at the periodogram's frequency; refit in its place, the vibration leaves a held-out MSE of 0.971
 // against the lag's 1.174. A note says what each rival reached.
 // Equation-error mode and simulation mode alike. Throws nothing of its own.

@@ -187,7 +187,9 @@ struct GrammarDraw {
 };
 
 /// The draw of `seed` (a noise-only draw from kNoiseOnlySeedBase on). Deterministic. Simulates the training record's
-/// effect-free twin once to set the amplitude (4–30 × its NoiseFloor).
+/// effect-free twin once to set the amplitude (4–30 × its NoiseFloor); a shape the record cannot show (its effect all
+/// in the base's span) is drawn again, at most 8 times. Throws std::logic_error naming the draw when it still vanishes,
+/// or when a draw with memory does.
 GrammarDraw Draw(unsigned seed);
 
 enum class Run { kTraining, kValidation };
