@@ -61,7 +61,9 @@ double Value(const FactorParameters& p, const char* key) {
 }
 
 const Eigen::VectorXd& ModelForce(const DiagnosisSignals& s, const std::string& effect) {
-  return s.drive_force.size() > 0 ? s.drive_force : NeedModelOutput({effect, {}}, s);
+  if (s.drive_force.size() > 0) return s.drive_force;
+  const auto own = s.command_with.find(effect);
+  return own != s.command_with.end() ? own->second : NeedModelOutput({effect, {}}, s);
 }
 
 // ---- The multipliers ----

@@ -20,6 +20,7 @@
 
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
+#include "models/diagnosis/factors.h"
 #include "models/diagnosis/robust_weighting.h"
 
 namespace mb::diagnosis_detail {
@@ -33,6 +34,31 @@ JointRefinement::JointRefinement(const DiagnosisSignals& signals, const Eigen::M
   Weigh();
   columns_.resize(effects_.size());
   Rebuild(kAll);
+}
+
+DiagnosisSignals JointRefinement::corrected() const {
+  DiagnosisSignals out = corrected_;
+  out.command_with.clear();
+  return out;
+}
+
+bool JointRefinement::MultipliesTheCommand(std::size_t i) const {
+  const EffectType& type = LookupEffect(effects_[i].name);
+  const MultiplierRow* row = FindMultiplier(type.multiplier);
+  return row != nullptr && row->model_force && type.modulator != "constant";
+}
+
+Eigen::MatrixXd JointRefinement::Design() const {
+  Eigen::Index k = base_.cols();
+  for (const auto& c : columns_) k += c.cols();
+  Eigen::MatrixXd x(signals_.size(), k);
+  x.leftCols(base_.cols()) = base_;
+  Eigen::Index col = base_.cols();
+  for (const auto& c : columns_) {
+    x.middleCols(col, c.cols()) = c;
+    col += c.cols();
+  }
+  return x;
 }
 
 void JointRefinement::Run(int sweeps) {
@@ -106,19 +132,37 @@ void JointRefinement::Weigh() {
 }
 
 void JointRefinement::Reweigh() {
-  Eigen::Index k = base_.cols();
-  for (const auto& c : columns_) k += c.cols();
-  Eigen::MatrixXd x(signals_.size(), k);
-  x.leftCols(base_.cols()) = base_;
-  Eigen::Index col = base_.cols();
-  for (const auto& c : columns_) {
-    x.middleCols(col, c.cols()) = c;
-    col += c.cols();
-  }
   Eigen::VectorXd rest;
-  weights_ = RobustWeights(x, signals_.residual, options_.huber_k, &rest);
+  weights_ = RobustWeights(Design(), signals_.residual, options_.huber_k, &rest);
   Weigh();
   Rebuild(kAll);
+  PredictCommands();  // a fixed point over the passes
+}
+
+void JointRefinement::PredictCommands() {
+  std::vector<std::size_t> of_command;
+  for (std::size_t i = laws_; i < effects_.size(); ++i) {
+    if (MultipliesTheCommand(i)) of_command.push_back(i);
+  }
+  if (of_command.empty() || signals_.drive_force.size() != 0 || signals_.model_output.size() != signals_.size()) return;
+  // The weighted least-squares fit of the residual on [base, every effect's columns] (scaled to unit norm, a ridge of
+  // 1e-10), and each pair's own part of it on ŷ as the base's refit and the laws correct it.
+  const Eigen::MatrixXd x = Design();
+  const Eigen::MatrixXd wx = sw_.asDiagonal() * x;
+  const Eigen::VectorXd scale = (wx.colwise().norm().transpose().array() + 1e-300).inverse();
+  Eigen::MatrixXd g = scale.asDiagonal() * (wx.transpose() * wx) * scale.asDiagonal();
+  g.diagonal().array() += 1e-10;
+  const Eigen::VectorXd coef = scale.cwiseProduct(g.ldlt().solve(scale.cwiseProduct(wx.transpose() * wr_)));
+  std::vector<Eigen::Index> first(effects_.size());
+  Eigen::Index col = base_.cols();
+  for (std::size_t i = 0; i < effects_.size(); col += columns_[i].cols(), ++i) first[i] = col;
+  corrected_.command_with.clear();
+  for (std::size_t i : of_command) {
+    const Eigen::VectorXd own = columns_[i] * coef.segment(first[i], columns_[i].cols());
+    auto [it, inserted] = corrected_.command_with.try_emplace(effects_[i].name, corrected_.model_output + own);
+    if (!inserted) it->second += own;  // two of the same pair: both act on the drive's force
+  }
+  for (std::size_t i : of_command) columns_[i] = Columns(i);
 }
 
 bool JointRefinement::Varies(std::size_t i, std::size_t j) const {

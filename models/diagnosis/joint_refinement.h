@@ -32,8 +32,9 @@ class JointRefinement {
 
   const std::vector<EffectInstance>& effects() const { return effects_; }
   const Eigen::VectorXd& weights() const { return weights_; }
-  // The signals with ŷ corrected by the base and the (refined) law replacements.
-  const DiagnosisSignals& corrected() const { return corrected_; }
+  // The signals with ŷ corrected by the base and the (refined) law replacements: the pairs of ŷ multiply ŷ there, as
+  // their blocks do; only their shapes were scanned on the predicted command (PredictCommands).
+  DiagnosisSignals corrected() const;
 
  private:
   static constexpr std::size_t kAll = static_cast<std::size_t>(-1);
@@ -46,7 +47,17 @@ class JointRefinement {
   void Rebuild(std::size_t j);
   // ŷ + the weighted least-squares fit of the residual on [base, laws' columns], as RankEffects' passes correct it.
   void Correct();
-  // The Huber weights of the joint fit with the current columns (RobustWeights), and ŷ corrected with them.
+  // Equation-error mode (no drive_force, a model output): while the passes scan the shapes, each pair of ŷ multiplies
+  // the command predicted with it in (DiagnosisSignals::command_with: ŷ corrected + its own part of the weighted joint
+  // fit), set at every Reweigh; its columns rebuilt from it.
+  void PredictCommands();
+  // Is effect i a pair of ŷ (MultiplierRow::model_force) with a shape, whose columns the predicted command changes?
+  // Not ŷ × 1: it has no shape that 1/(1 + δ) distorts, and its level is the base's or its multiplier's own.
+  bool MultipliesTheCommand(std::size_t i) const;
+  // [base, every effect's current columns] (N × k).
+  Eigen::MatrixXd Design() const;
+  // The Huber weights of the joint fit with the current columns (RobustWeights), ŷ corrected with them, and the
+  // commands the pairs of ŷ multiply (PredictCommands).
   void Reweigh();
   // √w, the weighted base and residual, the base's weighted Gram and moment, from weights_.
   void Weigh();

@@ -278,6 +278,21 @@ TEST(GrammarDraws, AChosenEffectIsComparedWithItsRivalsEachRefined) {
   EXPECT_NE(DetailWith(r[0], {"actuator_lag replaced by its rival drag_vibration, refined"}), "");
 }
 
+// A force constant's effect acts on the force the drive gives: the generator's machine is u·(1 + δ(t)) = ŷ, so the
+// residual is −δ·u, linear in the command u and not in ŷ, and beside ŷ a warm-up fitted to −δ·ŷ/(1 + δ) comes out
+// distorted. The shapes of ŷ's pairs are scanned on the command the model predicts with each in
+// (DiagnosisSignals::command_with). Seed 84 hides a force constant settling with T = 1.719 s: 2.05 s beside ŷ (19 %
+// off), 1.749 s now. Seed 201 hides a friction of the transmitted force, |u|·tanh(v/v_s), settling with T = 2.887 s:
+// 3.90 s beside ŷ (35 % off), 3.24 s now.
+TEST(GrammarDraws, AForceConstantsShapeIsScannedOnTheCommandTheModelPredicts) {
+  const std::vector<DrawResult> r = ExpectNamedRight({84u, 201u}, "mb_grammar_command_test", true);
+  ASSERT_EQ(r.size(), 2u);
+  ASSERT_EQ(r[0].draw.multiplier + "×" + r[0].draw.modulator, "model_force×time_warm_up");
+  EXPECT_NEAR(r[0].parameter, r[0].draw.shape.time_constant, 0.05 * r[0].draw.shape.time_constant);
+  ASSERT_EQ(r[1].draw.multiplier + "×" + r[1].draw.modulator, "load_slip×time_warm_up");
+  EXPECT_NEAR(r[1].parameter, r[1].draw.shape.time_constant, 0.2 * r[1].draw.shape.time_constant);
+}
+
 // A third factor (models/diagnosis/amplitude_factor.h): the pair's amplitude follows time or a further logged column.
 // Seed 15 hides a drag vibrating at 9.5 Hz whose amplitude grows as 1 + β·(2t/T − 1): its relative slope is 2β/T per
 // second. Seed 80 hides a viscous friction along the travel whose amplitude follows the winding temperature. Each is
