@@ -40,13 +40,13 @@ struct DiagnosisSignals {
   // mode: the force the simulated controller gives the plant, since the compared output is then the position.
   // Optional: absent, ŷ is model_output (equation-error mode, where the compared output is the force).
   Eigen::VectorXd drive_force;
-  // Equation-error mode, once effects are fitted (JointRefinement): per pair of ŷ by its effect name, the command the
+  // Equation-error mode, while JointRefinement scans the shapes: per pair of ŷ by its effect name, the command the
   // model predicts with that effect in, ŷ (corrected by the base's refit) + its own fitted part [the output's unit]. A
   // force constant, its saturation and a friction of the transmitted force act on the force the drive gives: the
   // machine is K(t)·u = ŷ, the residual u − ŷ = −δ(t)·u is linear in u and not in ŷ, and beside ŷ a warm-up or a ramp
-  // fitted to it comes out distorted by 1/(1 + δ). The measured command cannot stand in for u, it holds the residual
-  // (u × 1 beside the base would explain all of it), nor can the command predicted with every effect in (ŷ × 1 would
-  // copy the others). Absent for an effect: ŷ is drive_force or model_output.
+  // fitted to it comes out distorted by 1/(1 + δ). The measured command cannot stand in for u: it holds the residual
+  // (u × 1 beside the base would explain all of it). Only the shape scans read it (the term stays ŷ times its shape, as
+  // its block computes it). Absent for an effect: ŷ is drive_force or model_output.
   std::map<std::string, Eigen::VectorXd> command_with;
   // Simulation mode: the drive force's response to a load at the plant (the controller's reaction, per unit of load;
   // loop_response.h), through which a command-path effect's load is iterated (CommandPathLoad); optional.
