@@ -68,10 +68,14 @@ void FilterCandidateColumns(const EffectType& type, const DiagnosisSignals& sign
   }
   if (type.traits.regressor_in_output_band) return;
   if (!(options.regressor_filter_hz > 0.0)) return;
-  const double ts = MedianTimeStep(signals.time);
-  // The columns are filtered independently: in parallel (a refinement's serial golden section waits on them).
-  tbb::parallel_for(Eigen::Index{0}, columns->cols(), [&](Eigen::Index j) {
-    columns->col(j) = ZeroPhaseLowPass(columns->col(j), ts, options.regressor_filter_hz);
+  const double ts = options.sample_period > 0.0 ? options.sample_period : MedianTimeStep(signals.time);
+  // The columns are filtered independently, four at a time (ZeroPhaseLowPassColumns), the groups in parallel (a
+  // refinement's serial golden section waits on them).
+  constexpr Eigen::Index kGroup = 4;
+  tbb::parallel_for(Eigen::Index{0}, (columns->cols() + kGroup - 1) / kGroup, [&](Eigen::Index g) {
+    const Eigen::Index j = g * kGroup;
+    ZeroPhaseLowPassColumns(columns->middleCols(j, std::min(kGroup, columns->cols() - j)), ts,
+                            options.regressor_filter_hz);
   });
 }
 

@@ -290,8 +290,10 @@ std::vector<EffectInstance> DiagnosisResult::chosen() const {
 }
 
 DiagnosisResult DiagnoseMissingEffects(const DiagnosisSignals& signals, const BaseRegressors& base,
-                                       const DiagnosisOptions& options) {
-  CheckDiagnosisInput(signals, base, options);
+                                       const DiagnosisOptions& given) {
+  CheckDiagnosisInput(signals, base, given);
+  DiagnosisOptions options = given;
+  options.sample_period = MedianTimeStep(signals.time);
   const Eigen::Index n = signals.size();
   const Eigen::Index p = base.columns.cols();
   const Eigen::MatrixXd base_cols = p > 0 ? base.columns : Eigen::MatrixXd(n, 0);

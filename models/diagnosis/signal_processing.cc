@@ -26,28 +26,43 @@ void RequireSameSize(const Eigen::Ref<const Eigen::VectorXd>& a, const Eigen::Re
   if (a.size() == 0) throw std::invalid_argument(fmt::format("{}: the signals are empty", what));
 }
 
-// Direct-form II transposed biquad, run in place from the given steady-state level.
+// Direct-form II transposed biquad.
 struct Biquad {
   double b0, b1, b2, a1, a2;
-  void Run(std::vector<double>* x) const {
-    const double c = x->front();
-    double z2 = (b2 - a2) * c;
-    double z1 = (b1 - a1) * c + z2;
-    for (double& s : *x) {
-      const double in = s;
-      const double out = b0 * in + z1;
-      z1 = b1 * in - a1 * out + z2;
-      z2 = b2 * in - a2 * out;
-      s = out;
-    }
-  }
 };
 
-}  // namespace
+// The biquad run over L signals interleaved in x (sample i of signal l at x[i·L + l], `length` samples each), each
+// from the steady state of its own first sample: forward (i = 0, 1, …) or backward (i = length − 1, …, 0), in place.
+// The L recursions are independent, so they overlap in the processor's pipeline (one recursion waits on its own
+// previous output every sample); each signal's arithmetic is the single-signal recursion's, operation for operation.
+template <int L>
+void RunInterleaved(const Biquad& f, double* x, Eigen::Index length, bool backward) {
+  const Eigen::Index first = backward ? length - 1 : 0, step = backward ? -1 : 1;
+  double z1[static_cast<std::size_t>(L)], z2[static_cast<std::size_t>(L)];
+  for (int l = 0; l < L; ++l) {
+    const double c = x[first * L + l];
+    z2[l] = (f.b2 - f.a2) * c;
+    z1[l] = (f.b1 - f.a1) * c + z2[l];
+  }
+  for (Eigen::Index k = 0, i = first; k < length; ++k, i += step) {
+    double* s = x + i * L;
+    for (int l = 0; l < L; ++l) {
+      const double in = s[l];
+      const double out = f.b0 * in + z1[l];
+      z1[l] = f.b1 * in - f.a1 * out + z2[l];
+      z2[l] = f.b2 * in - f.a2 * out;
+      s[l] = out;
+    }
+  }
+}
 
-Eigen::VectorXd ZeroPhaseLowPass(const Eigen::Ref<const Eigen::VectorXd>& signal, double sample_period,
-                                 double cutoff_hz) {
-  const Eigen::Index n = signal.size();
+// The Butterworth section and the padding of ZeroPhaseLowPass for n samples, its arguments checked.
+struct ZeroPhaseDesign {
+  Biquad filter;
+  Eigen::Index pad;
+};
+
+ZeroPhaseDesign DesignZeroPhase(Eigen::Index n, double sample_period, double cutoff_hz) {
   if (n < 3) throw std::invalid_argument("ZeroPhaseLowPass: the signal needs at least 3 samples");
   if (!(sample_period > 0.0)) {
     throw std::invalid_argument(
@@ -62,23 +77,60 @@ Eigen::VectorXd ZeroPhaseLowPass(const Eigen::Ref<const Eigen::VectorXd>& signal
   const double k = std::tan(std::numbers::pi * cutoff_hz * sample_period);
   const double sqrt2 = std::numbers::sqrt2;
   const double norm = 1.0 / (1.0 + sqrt2 * k + k * k);
-  Biquad f{k * k * norm, 2.0 * k * k * norm, k * k * norm, 2.0 * (k * k - 1.0) * norm,
-           (1.0 - sqrt2 * k + k * k) * norm};
-
+  const Biquad f{k * k * norm, 2.0 * k * k * norm, k * k * norm, 2.0 * (k * k - 1.0) * norm,
+                 (1.0 - sqrt2 * k + k * k) * norm};
   const Eigen::Index pad = std::min<Eigen::Index>(
       n - 1, std::max<Eigen::Index>(9, static_cast<Eigen::Index>(std::ceil(3.0 / (cutoff_hz * sample_period)))));
-  std::vector<double> x(static_cast<std::size_t>(n + 2 * pad));
-  const double first = signal(0), last = signal(n - 1);
-  for (Eigen::Index i = 0; i < pad; ++i) {
-    x[static_cast<std::size_t>(i)] = 2.0 * first - signal(pad - i);
-    x[static_cast<std::size_t>(pad + n + i)] = 2.0 * last - signal(n - 2 - i);
+  return {f, pad};
+}
+
+// Columns [j, j + L) of `columns` filtered in place, zero phase (ZeroPhaseLowPass on each), through `buffer`.
+template <int L>
+void ZeroPhaseLanes(const ZeroPhaseDesign& d, Eigen::Ref<Eigen::MatrixXd> columns, Eigen::Index j,
+                    std::vector<double>* buffer) {
+  const Eigen::Index n = columns.rows(), pad = d.pad, length = n + 2 * pad;
+  buffer->resize(static_cast<std::size_t>(length * L));
+  double* x = buffer->data();
+  for (int l = 0; l < L; ++l) {
+    const auto signal = columns.col(j + l);
+    const double first = signal(0), last = signal(n - 1);
+    for (Eigen::Index i = 0; i < pad; ++i) {
+      x[i * L + l] = 2.0 * first - signal(pad - i);
+      x[(pad + n + i) * L + l] = 2.0 * last - signal(n - 2 - i);
+    }
+    for (Eigen::Index i = 0; i < n; ++i) x[(pad + i) * L + l] = signal(i);
   }
-  for (Eigen::Index i = 0; i < n; ++i) x[static_cast<std::size_t>(pad + i)] = signal(i);
-  f.Run(&x);
-  std::reverse(x.begin(), x.end());
-  f.Run(&x);
-  std::reverse(x.begin(), x.end());
-  return Eigen::Map<const Eigen::VectorXd>(x.data() + pad, n);
+  RunInterleaved<L>(d.filter, x, length, false);
+  RunInterleaved<L>(d.filter, x, length, true);
+  for (int l = 0; l < L; ++l) {
+    auto signal = columns.col(j + l);
+    for (Eigen::Index i = 0; i < n; ++i) signal(i) = x[(pad + i) * L + l];
+  }
+}
+
+}  // namespace
+
+Eigen::VectorXd ZeroPhaseLowPass(const Eigen::Ref<const Eigen::VectorXd>& signal, double sample_period,
+                                 double cutoff_hz) {
+  const ZeroPhaseDesign d = DesignZeroPhase(signal.size(), sample_period, cutoff_hz);
+  Eigen::MatrixXd out = signal;
+  std::vector<double> buffer;
+  ZeroPhaseLanes<1>(d, out, 0, &buffer);
+  return out.col(0);
+}
+
+void ZeroPhaseLowPassColumns(Eigen::Ref<Eigen::MatrixXd> columns, double sample_period, double cutoff_hz) {
+  if (columns.cols() == 0) return;
+  const ZeroPhaseDesign d = DesignZeroPhase(columns.rows(), sample_period, cutoff_hz);
+  std::vector<double> buffer;
+  Eigen::Index j = 0;
+  for (; j + 4 <= columns.cols(); j += 4) ZeroPhaseLanes<4>(d, columns, j, &buffer);
+  switch (columns.cols() - j) {
+    case 3: ZeroPhaseLanes<3>(d, columns, j, &buffer); break;
+    case 2: ZeroPhaseLanes<2>(d, columns, j, &buffer); break;
+    case 1: ZeroPhaseLanes<1>(d, columns, j, &buffer); break;
+    default: break;
+  }
 }
 
 Eigen::VectorXd ShiftedInTime(const Eigen::Ref<const Eigen::VectorXd>& time,

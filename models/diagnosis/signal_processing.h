@@ -20,6 +20,12 @@ namespace mb {
 Eigen::VectorXd ZeroPhaseLowPass(const Eigen::Ref<const Eigen::VectorXd>& signal, double sample_period,
                                  double cutoff_hz);
 
+// ZeroPhaseLowPass on every column of `columns` (N × k, N >= 3), in place: the same values, bit for bit, four columns
+// at a time (their recursions interleaved, which the processor overlaps: 8 columns of 25,000 samples in 0.76 ms
+// against 1.54 ms one after another, tests/benchmarks BM_ZeroPhaseLowPassColumns).
+// Throws as ZeroPhaseLowPass, before any column is changed.
+void ZeroPhaseLowPassColumns(Eigen::Ref<Eigen::MatrixXd> columns, double sample_period, double cutoff_hz);
+
 // Derivative dy/dt by central differences, second-order accurate also on a non-uniform time grid
 // (three-point Lagrange formula); one-sided second-order formulas at both ends.
 // time, values: N >= 3 samples, time strictly increasing. Throws std::invalid_argument otherwise.

@@ -7,12 +7,15 @@
 // BM_CompareSimulation25k: the same case's 25 s compared in simulation mode (issue 46) — the independent closed loop
 // (tests/diagnosis/data/independent_closed_loop.json) driven by the logged reference, the position compared, every
 // candidate fitted through the loop the diagram is probed for — goal under 5 s.
+// BM_ZeroPhaseLowPassColumns / BM_ZeroPhaseLowPassColumnByColumn: the regressor filter on 8 columns of 25,000 samples
+// (a candidate's columns, filtered for every trial of a shape scan), four at a time against one after another.
 // BM_ReadEmpsRecord: reading the real EMPS record (diagrams/emps/data/DATA_EMPS.csv, 24,841 rows × 5 columns) —
 // goal under 50 ms.
 // Release. Numbers in docs/benchmarks.md ("Diagnosis") and docs/diagnosis.md.
 
 #include <sys/resource.h>
 
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -20,6 +23,7 @@
 #include <benchmark/benchmark.h>
 
 #include "engine/diagram_loader.h"
+#include "models/diagnosis/signal_processing.h"
 #include "tests/diagnosis/independent_bench.h"
 #include "tools/workflow/comparison.h"
 #include "tools/workflow/improve.h"
@@ -100,6 +104,38 @@ void BM_ReadEmpsRecord(benchmark::State& state) {
   state.counters["rows"] = static_cast<double>(rows);
 }
 
+// 8 columns × 25,000 samples of a 1 kHz record, each a different sum of sines and a ramp.
+Eigen::MatrixXd FilterColumns() {
+  Eigen::MatrixXd columns(25000, 8);
+  for (Eigen::Index j = 0; j < columns.cols(); ++j) {
+    for (Eigen::Index i = 0; i < columns.rows(); ++i) {
+      const double t = 1e-3 * static_cast<double>(i);
+      columns(i, j) = std::sin(2.0 * (j + 1) * t) + 0.3 * std::sin(300.0 * t + j) + 0.01 * t;
+    }
+  }
+  return columns;
+}
+
+void BM_ZeroPhaseLowPassColumns(benchmark::State& state) {
+  const Eigen::MatrixXd columns = FilterColumns();
+  Eigen::MatrixXd work;
+  for (auto _ : state) {
+    work = columns;
+    mb::ZeroPhaseLowPassColumns(work, 1e-3, 30.0);
+    benchmark::ClobberMemory();
+  }
+}
+
+void BM_ZeroPhaseLowPassColumnByColumn(benchmark::State& state) {
+  const Eigen::MatrixXd columns = FilterColumns();
+  Eigen::MatrixXd work;
+  for (auto _ : state) {
+    work = columns;
+    for (Eigen::Index j = 0; j < work.cols(); ++j) work.col(j) = mb::ZeroPhaseLowPass(work.col(j), 1e-3, 30.0);
+    benchmark::ClobberMemory();
+  }
+}
+
 void BM_Improve25k(benchmark::State& state) {
   const PreparedCase& c = Prepared(25.0);
   double rmse = 0.0;
@@ -116,6 +152,8 @@ void BM_Improve25k(benchmark::State& state) {
 
 BENCHMARK(BM_ReadEmpsRecord)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Compare25k)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ZeroPhaseLowPassColumns)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ZeroPhaseLowPassColumnByColumn)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CompareSimulation25k)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Improve25k)->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK(BM_Compare1M)->Unit(benchmark::kSecond)->Iterations(1);  // last: its peak memory is the process's
