@@ -8,9 +8,11 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <stdexcept>
 #include <utility>
 
 #include <Eigen/Dense>
+#include <fmt/format.h>
 
 namespace mb::diagnosis_detail {
 
@@ -44,7 +46,90 @@ BlockGrams::BlockGrams(const RegressorMatrix& m, Eigen::Index folds) {
   folds_ = folds;
 }
 
+BlockGrams::BlockGrams(const RegressorMatrix& m, Eigen::Index folds, Lazy)
+    : source_(&m) {
+  const Eigen::Index n = m.rows(), q = m.cols(), p = m.base.cols();
+  n_ = static_cast<double>(n);
+  folds_ = folds;
+  filled_.assign(static_cast<std::size_t>(q), 0);
+  group_.assign(static_cast<std::size_t>(q), 0);
+  for (std::size_t c = 0; c < m.cands.size(); ++c) {
+    for (Eigen::Index j : m.cands[c].idx) group_[static_cast<std::size_t>(j)] = static_cast<Eigen::Index>(c) + 1;
+  }
+  // The moments: X_bᵀ(√w ⊙ r)_b of the weighted columns √w ⊙ x_j, i.e. x_j · (w ⊙ r) over the block.
+  const Eigen::VectorXd sw_wr = m.sw.cwiseProduct(m.wr);
+  total_gram_ = Eigen::MatrixXd::Zero(q, q);
+  total_xty_ = Eigen::VectorXd::Zero(q);
+  for (Eigen::Index b = 0; b < folds; ++b) {
+    const Eigen::Index start = b * n / folds, end = (b + 1) * n / folds;
+    Eigen::VectorXd xty(q);
+    for (Eigen::Index j = 0; j < q; ++j) xty(j) = m.Col(j).segment(start, end - start).dot(sw_wr.segment(start, end - start));
+    gram_.push_back(Eigen::MatrixXd::Zero(q, q));
+    yty_.push_back(m.wr.segment(start, end - start).squaredNorm());
+    total_xty_ += xty;
+    total_yty_ += yty_.back();
+    xty_.push_back(std::move(xty));
+  }
+  // Each group's own block: the base's, and each candidate's.
+  std::vector<std::vector<Eigen::Index>> groups(m.cands.size() + 1);
+  for (Eigen::Index j = 0; j < q; ++j) groups[static_cast<std::size_t>(group_[static_cast<std::size_t>(j)])].push_back(j);
+  for (const std::vector<Eigen::Index>& g : groups) {
+    const auto k = static_cast<Eigen::Index>(g.size());
+    if (k == 0) continue;
+    Eigen::MatrixXd w(n, k);
+    for (Eigen::Index i = 0; i < k; ++i) w.col(i) = m.sw.cwiseProduct(m.Col(g[static_cast<std::size_t>(i)]));
+    for (Eigen::Index b = 0; b < folds; ++b) {
+      const Eigen::Index start = b * n / folds, end = (b + 1) * n / folds;
+      const Eigen::MatrixXd block = w.middleRows(start, end - start).transpose() * w.middleRows(start, end - start);
+      for (Eigen::Index i = 0; i < k; ++i) {
+        for (Eigen::Index j = 0; j < k; ++j) {
+          const Eigen::Index gi = g[static_cast<std::size_t>(i)], gj = g[static_cast<std::size_t>(j)];
+          gram_[static_cast<std::size_t>(b)](gi, gj) = block(i, j);
+          total_gram_(gi, gj) += block(i, j);
+        }
+      }
+    }
+  }
+  // The base is in every fit the ranking makes.
+  for (Eigen::Index j = 0; j < p; ++j) FillColumn(j);
+}
+
+void BlockGrams::FillColumn(Eigen::Index k) const {
+  const RegressorMatrix& m = *source_;
+  const Eigen::Index n = m.rows(), q = m.cols();
+  const Eigen::VectorXd u = m.sw.cwiseAbs2().cwiseProduct(m.Col(k));  // w ⊙ x_k: (√w x_j)·(√w x_k) = x_j·(w x_k)
+  for (Eigen::Index j = 0; j < q; ++j) {
+    if (Known(j, k)) continue;
+    const auto col = m.Col(j);
+    double total = 0.0;
+    for (Eigen::Index b = 0; b < folds_; ++b) {
+      const Eigen::Index start = b * n / folds_, end = (b + 1) * n / folds_;
+      const double g = col.segment(start, end - start).dot(u.segment(start, end - start));
+      gram_[static_cast<std::size_t>(b)](j, k) = gram_[static_cast<std::size_t>(b)](k, j) = g;
+      total += g;
+    }
+    total_gram_(j, k) = total_gram_(k, j) = total;
+  }
+  filled_[static_cast<std::size_t>(k)] = 1;
+}
+
+void BlockGrams::Ensure(const std::vector<Eigen::Index>& idx) const {
+  if (filled_.empty()) return;
+  for (std::size_t a = 0; a < idx.size(); ++a) {
+    for (std::size_t b = a + 1; b < idx.size(); ++b) {
+      if (Known(idx[a], idx[b])) continue;
+      if (source_ == nullptr) {
+        throw std::logic_error(fmt::format("BlockGrams: the entry ({}, {}) was never computed and the Grams no longer "
+                                           "read their matrix (Detach)", idx[a], idx[b]));
+      }
+      FillColumn(idx[a]);
+      break;
+    }
+  }
+}
+
 Eigen::VectorXd BlockGrams::HeldOutErrors(const std::vector<Eigen::Index>& idx, const RegressorMatrix& m) const {
+  Ensure(idx);
   Eigen::VectorXd e = m.wr;
   if (idx.empty()) return e;
   const Eigen::Index n = m.rows();
@@ -62,6 +147,7 @@ Eigen::VectorXd BlockGrams::HeldOutErrors(const std::vector<Eigen::Index>& idx, 
 }
 
 double BlockGrams::HeldOutMse(const std::vector<Eigen::Index>& idx) const {
+  Ensure(idx);
   double sse = 0.0;
   for (std::size_t b = 0; b < gram_.size(); ++b) {
     if (idx.empty()) {
@@ -75,6 +161,7 @@ double BlockGrams::HeldOutMse(const std::vector<Eigen::Index>& idx) const {
 }
 
 Eigen::VectorXd BlockGrams::Fit(const std::vector<Eigen::Index>& idx, double* sse) const {
+  Ensure(idx);
   if (idx.empty()) {
     *sse = total_yty_;
     return {};
@@ -97,6 +184,7 @@ Eigen::VectorXd BlockGrams::InSampleErrors(const std::vector<Eigen::Index>& idx,
 }
 
 BlockGrams BlockGrams::Restrict(const std::vector<Eigen::Index>& idx) const {
+  Ensure(idx);
   BlockGrams out;
   for (std::size_t b = 0; b < gram_.size(); ++b) {
     out.gram_.push_back(SubMatrix(gram_[b], idx));

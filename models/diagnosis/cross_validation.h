@@ -18,6 +18,21 @@ class BlockGrams {
   // (RegressorMatrix::WeightedRows), so no N × q matrix is formed. m must have been weighed (RegressorMatrix::Weigh).
   BlockGrams(const RegressorMatrix& m, Eigen::Index folds);
 
+  // The same Grams, their entries computed when a query first needs them (the ranking's matrix of the whole grammar:
+  // q of several hundred columns, whose N·q²/2 products took a fifth of compare on the grammar's draws, of which the
+  // forward selection reads the columns of the effects chosen against all, and each candidate's own block). Now: the
+  // moments, each candidate's (and the base's) own block, and the base's columns against all; a query holding two
+  // columns of different candidates, neither computed yet, computes the first one's against all (O(N·q)). `m` must
+  // stay where it is and unchanged while the Grams read it: until Detach (KeepChosenOnly restricts them first). The
+  // entries are the eager constructor's up to rounding (another order of summation). Queries fill entries in const
+  // calls: not for use from two threads at once.
+  struct Lazy {};
+  BlockGrams(const RegressorMatrix& m, Eigen::Index folds, Lazy);
+
+  // Forgets the matrix the lazy Grams read; a query that needs an entry not yet computed throws std::logic_error from
+  // then on. No effect on eager Grams.
+  void Detach() { source_ = nullptr; }
+
   // The held-out residuals √w⊙r_b − √w⊙X_b(idx)·θ_{−b} of every block (N), for the rows of `m` (the one the Grams
   // were built from).
   Eigen::VectorXd HeldOutErrors(const std::vector<Eigen::Index>& idx, const RegressorMatrix& m) const;
@@ -35,7 +50,10 @@ class BlockGrams {
   // The Grams of the columns `idx` alone, column k of the result being idx[k]: the same entries, exactly.
   BlockGrams Restrict(const std::vector<Eigen::Index>& idx) const;
 
-  Eigen::MatrixXd TotalGram(const std::vector<Eigen::Index>& idx) const { return SubMatrix(total_gram_, idx); }
+  Eigen::MatrixXd TotalGram(const std::vector<Eigen::Index>& idx) const {
+    Ensure(idx);
+    return SubMatrix(total_gram_, idx);
+  }
   double n() const { return n_; }
 
  private:
@@ -52,10 +70,24 @@ class BlockGrams {
   Eigen::VectorXd SolveHeldOut(const std::vector<Eigen::Index>& idx, std::size_t b) const;
   static constexpr double kHeldOutRidge = 1e-4;
 
-  std::vector<Eigen::MatrixXd> gram_;
+  // Lazy Grams: computes every entry (i, j), i and j in idx, not yet computed (the columns' against all, one at a time).
+  void Ensure(const std::vector<Eigen::Index>& idx) const;
+  bool Known(Eigen::Index i, Eigen::Index j) const {
+    const auto ui = static_cast<std::size_t>(i), uj = static_cast<std::size_t>(j);
+    return filled_.empty() || filled_[ui] || filled_[uj] || group_[ui] == group_[uj];
+  }
+  void FillColumn(Eigen::Index k) const;
+
+  // Lazy Grams fill these in const queries (Ensure).
+  mutable std::vector<Eigen::MatrixXd> gram_;
   std::vector<Eigen::VectorXd> xty_;
   std::vector<double> yty_;
-  Eigen::MatrixXd total_gram_;
+  mutable Eigen::MatrixXd total_gram_;
+  // Lazy Grams: per column, whether its entries against every column are computed (empty: eager, all are), and its
+  // group (0 the base, c + 1 candidate c: a group's own block is computed at construction); the matrix read.
+  mutable std::vector<char> filled_;
+  std::vector<Eigen::Index> group_;
+  const RegressorMatrix* source_ = nullptr;
   Eigen::VectorXd total_xty_;
   double total_yty_ = 0.0;
   double n_ = 0.0;

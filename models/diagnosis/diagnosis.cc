@@ -188,7 +188,7 @@ Ranking RankEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base
     matrix_notes.clear();
     out.m = BuildCandidateMatrix(corrected, base_cols, list, options, &matrix_notes);
     out.m.Weigh(r, out.weights);
-    out.grams.emplace(out.m, options.folds);
+    out.grams.emplace(out.m, options.folds, BlockGrams::Lazy{});
     out.chosen = StartSelection(*out.grams, p);
     // The white part only: the quantization part is of the unweighted residual, and the held-out errors compared are
     // of the Huber-weighted one, which clips the sparse spikes a count's toggling makes at low speed.
@@ -214,6 +214,7 @@ Ranking RankEffects(const DiagnosisSignals& signals, const Eigen::MatrixXd& base
   const std::vector<EffectInstance> retry = SetAsideForRetry(out);
   const std::vector<std::pair<std::size_t, EffectInstance>> rivals = out.chosen.rivals;  // before the refinement's rebuild
   KeepChosenOnly(&out);
+  out.grams->Detach();  // restricted (complete) when kept; else what the selection computed is all they hold
   RefineChosenEffects(signals, base_cols, options, law.effects.size(), &out, &result->notes);
   ReconsiderRivals(signals, base_cols, options, law.effects.size(), rivals, &out, &result->notes);
   RetrySetAside(signals, base_cols, options, law.effects.size(), retry, &out, &result->notes);

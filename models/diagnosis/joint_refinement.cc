@@ -297,6 +297,7 @@ void KeepChosenOnly(Ranking* ranking) {
   for (Eigen::Index j = 0; j < m.base.cols(); ++j) columns.push_back(j);
   for (std::size_t c : s.order) columns.insert(columns.end(), m.cands[c].idx.begin(), m.cands[c].idx.end());
   if (columns != s.selected || !ranking->grams) return;  // not the selection's layout: keep everything
+  ranking->grams = ranking->grams->Restrict(s.selected);  // first: lazy Grams read m's columns
   RegressorMatrix kept;
   kept.base = std::move(m.base);
   kept.sw = std::move(m.sw);
@@ -310,7 +311,6 @@ void KeepChosenOnly(Ranking* ranking) {
   kept.scale.resize(col);
   for (Eigen::Index j = 0; j < col; ++j) kept.scale(j) = m.scale(s.selected[static_cast<std::size_t>(j)]);
   kept.IndexColumns();
-  ranking->grams = ranking->grams->Restrict(s.selected);
   for (Eigen::Index j = 0; j < col; ++j) s.selected[static_cast<std::size_t>(j)] = j;
   for (std::size_t i = 0; i < s.order.size(); ++i) s.order[i] = i;
   s.set_aside.clear();
