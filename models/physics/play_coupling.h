@@ -52,39 +52,65 @@ inline void HermiteMotor(double x0, double v0, double x1, double v1, double dt, 
   *v = (6.0 * (q2 - q) * (x0 - x1)) / dt + (3.0 * q2 - 4.0 * q + 1.0) * v0 + (3.0 * q2 - 2.0 * q) * v1;
 }
 
-/// Advances the load over dt [s] while the motor moves from (x0, v0) to (x1, v1) (HermiteMotor between them): the
-/// classical Runge–Kutta method on n sub-steps with ω·dt/n ≤ 0.3 (a rigid follow within 10⁻⁴), n at most 10 000.
-/// Semi-implicit Euler at ω·dt/n ≤ 0.02 put the load behind the motor by v·dt/(2n), 100 % of a stiff shaft's force at
-/// the speed's peak in the block's test. β = load_damping [1/s] ≥ 0 the load's own viscous friction per unit mass.
-/// Returns the shaft's force on the load per unit load mass at the end (PlayLoadAcceleration at (x1, v1)): the force on
-/// the motor divided by m_L.
-inline double AdvancePlayLoad(double x0, double v0, double x1, double v1, double dt, double half_gap, double omega,
-                              double zeta, double load_damping, PlayLoad* load) noexcept {
+/// The number of Runge–Kutta sub-steps AdvancePlayLoad takes over a step of dt [s] at ω [rad/s]: ω·dt/n ≤ 0.3 (a rigid
+/// follow within 10⁻⁴), 1 ≤ n ≤ 10 000.
+inline int PlaySubSteps(double omega, double dt) noexcept {
   constexpr double kMaxPhasePerStep = 0.3;
   constexpr int kMaxSubSteps = 10000;
-  const double steps = std::clamp(std::ceil(omega * dt / kMaxPhasePerStep), 1.0, static_cast<double>(kMaxSubSteps));
-  const int n = static_cast<int>(steps);
-  const double h = dt / steps;
+  return static_cast<int>(
+      std::clamp(std::ceil(omega * dt / kMaxPhasePerStep), 1.0, static_cast<double>(kMaxSubSteps)));
+}
+
+/// The motor at the middle and at the end of sub-step j of n over a step of dt (HermiteMotor at q = (j + ½)/n and
+/// (j + 1)/n): what AdvancePlayLoad reads, in its order. `mid` and `end` hold a position and a velocity each.
+inline void PlayMotorAtSubStep(double x0, double v0, double x1, double v1, double dt, int n, int j, double* mid,
+                               double* end) noexcept {
+  const double steps = n;
+  HermiteMotor(x0, v0, x1, v1, dt, (j + 0.5) / steps, &mid[0], &mid[1]);
+  HermiteMotor(x0, v0, x1, v1, dt, (j + 1.0) / steps, &end[0], &end[1]);
+}
+
+/// The classical Runge–Kutta method on n sub-steps of h [s], the motor starting a step at (xa, va) and read at each
+/// sub-step's middle and end from motor_at(j, mid, end) (PlayMotorAtSubStep, or the same values stored once for many
+/// loads on one motor path: the diagnosis' grid). AdvancePlayLoad's stepper; parameters as there.
+template <typename MotorAt>
+inline void StepPlayLoad(int n, double h, double xa, double va, const MotorAt& motor_at, double half_gap, double omega,
+                         double zeta, double load_damping, PlayLoad* load) noexcept {
   // ẍ_L with the motor at (xm, vm) and the load at (xl, vl).
   auto acceleration = [&](double xm, double vm, double xl, double vl) {
     return PlayLoadAcceleration(xm - xl, vm - vl, half_gap, omega, zeta) - load_damping * vl;
   };
   // The motor at the sub-step's start, middle and end: the middle serves two stages, the end the next sub-step's start.
-  double xa = 0.0, va = 0.0, xb = 0.0, vb = 0.0, xc = 0.0, vc = 0.0;
-  HermiteMotor(x0, v0, x1, v1, dt, 0.0, &xa, &va);
+  double mid[2] = {0.0, 0.0}, end[2] = {0.0, 0.0};
   for (int j = 0; j < n; ++j) {
-    HermiteMotor(x0, v0, x1, v1, dt, (j + 0.5) / steps, &xb, &vb);
-    HermiteMotor(x0, v0, x1, v1, dt, (j + 1.0) / steps, &xc, &vc);
+    motor_at(j, mid, end);
     const double x = load->x, v = load->v;
     const double a1 = acceleration(xa, va, x, v);
-    const double a2 = acceleration(xb, vb, x + 0.5 * h * v, v + 0.5 * h * a1);
-    const double a3 = acceleration(xb, vb, x + 0.5 * h * (v + 0.5 * h * a1), v + 0.5 * h * a2);
-    const double a4 = acceleration(xc, vc, x + h * (v + 0.5 * h * a2), v + h * a3);
-    xa = xc;
-    va = vc;
+    const double a2 = acceleration(mid[0], mid[1], x + 0.5 * h * v, v + 0.5 * h * a1);
+    const double a3 = acceleration(mid[0], mid[1], x + 0.5 * h * (v + 0.5 * h * a1), v + 0.5 * h * a2);
+    const double a4 = acceleration(end[0], end[1], x + h * (v + 0.5 * h * a2), v + h * a3);
+    xa = end[0];
+    va = end[1];
     load->x = x + h / 6.0 * (v + 2.0 * (v + 0.5 * h * a1) + 2.0 * (v + 0.5 * h * a2) + (v + h * a3));
     load->v = v + h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
   }
+}
+
+/// Advances the load over dt [s] while the motor moves from (x0, v0) to (x1, v1) (HermiteMotor between them): the
+/// classical Runge–Kutta method on PlaySubSteps(ω, dt) sub-steps (StepPlayLoad). Semi-implicit Euler at ω·dt/n ≤ 0.02
+/// put the load behind the motor by v·dt/(2n), 100 % of a stiff shaft's force at the speed's peak in the block's test.
+/// β = load_damping [1/s] ≥ 0 the load's own viscous friction per unit mass.
+/// Returns the shaft's force on the load per unit load mass at the end (PlayLoadAcceleration at (x1, v1)): the force on
+/// the motor divided by m_L.
+inline double AdvancePlayLoad(double x0, double v0, double x1, double v1, double dt, double half_gap, double omega,
+                              double zeta, double load_damping, PlayLoad* load) noexcept {
+  const int n = PlaySubSteps(omega, dt);
+  double xa = 0.0, va = 0.0;
+  HermiteMotor(x0, v0, x1, v1, dt, 0.0, &xa, &va);
+  StepPlayLoad(
+      n, dt / n, xa, va,
+      [&](int j, double* mid, double* end) { PlayMotorAtSubStep(x0, v0, x1, v1, dt, n, j, mid, end); }, half_gap,
+      omega, zeta, load_damping, load);
   return PlayLoadAcceleration(x1 - load->x, v1 - load->v, half_gap, omega, zeta);
 }
 

@@ -73,6 +73,65 @@ Eigen::VectorXd LoadAcceleration(const DiagnosisSignals& s, Eigen::Index n, doub
   return out;
 }
 
+// The motor's path through the first n samples as the load's Runge–Kutta steps read it at the mode ω: each step's start
+// and each sub-step's middle and end (PlayMotorAtSubStep). The grid tries 320 plays and bearings at each of its modes;
+// stored once per mode, the path spares every trial the interpolant's arithmetic, and each trial's load is the one
+// LoadAcceleration simulates, to the last bit.
+class MotorPath {
+ public:
+  MotorPath(const DiagnosisSignals& s, Eigen::Index n, double f_hz) : omega_(kTwoPi * f_hz), n_(n) {
+    const Eigen::VectorXd& x = s.position;
+    const Eigen::VectorXd& v = s.velocity;
+    steps_.assign(static_cast<std::size_t>(std::max<Eigen::Index>(n, 1)), 0);
+    first_.assign(steps_.size(), 0);
+    start_.assign(2 * steps_.size(), 0.0);
+    for (Eigen::Index i = 1; i < n; ++i) {
+      const std::size_t k = static_cast<std::size_t>(i);
+      const double dt = s.time(i) - s.time(i - 1);
+      steps_[k] = PlaySubSteps(omega_, dt);
+      first_[k] = points_.size();
+      HermiteMotor(x(i - 1), v(i - 1), x(i), v(i), dt, 0.0, &start_[2 * k], &start_[2 * k + 1]);
+      for (int j = 0; j < steps_[k]; ++j) {
+        double mid[2], end[2];
+        PlayMotorAtSubStep(x(i - 1), v(i - 1), x(i), v(i), dt, steps_[k], j, mid, end);
+        points_.insert(points_.end(), {mid[0], mid[1], end[0], end[1]});
+      }
+    }
+  }
+
+  // ẍ_L at the path's samples [m/s²], as LoadAcceleration(s, n, gap, f, ζ, β) gives it.
+  Eigen::VectorXd LoadAcceleration(const DiagnosisSignals& s, double gap, double zeta, double beta) const {
+    const double half = 0.5 * gap;
+    Eigen::VectorXd out(n_);
+    if (n_ == 0) return out;
+    PlayLoad load{s.position(0), s.velocity(0)};
+    out(0) = 0.0;
+    for (Eigen::Index i = 1; i < n_; ++i) {
+      const std::size_t k = static_cast<std::size_t>(i);
+      const double* p = points_.data() + first_[k];
+      StepPlayLoad(
+          steps_[k], (s.time(i) - s.time(i - 1)) / steps_[k], start_[2 * k], start_[2 * k + 1],
+          [p](int j, double* mid, double* end) {
+            mid[0] = p[4 * j];
+            mid[1] = p[4 * j + 1];
+            end[0] = p[4 * j + 2];
+            end[1] = p[4 * j + 3];
+          },
+          half, omega_, zeta, beta, &load);
+      out(i) = PlayLoadAcceleration(s.position(i) - load.x, s.velocity(i) - load.v, half, omega_, zeta);
+    }
+    return out;
+  }
+
+ private:
+  double omega_;
+  Eigen::Index n_;
+  std::vector<int> steps_;           // per sample i ≥ 1: the sub-steps from sample i − 1 to i
+  std::vector<std::size_t> first_;   // per sample: where its sub-steps' points begin in points_
+  std::vector<double> start_;        // per sample: the motor at the step's start (position, velocity)
+  std::vector<double> points_;       // per sub-step: the middle's position and velocity, the end's
+};
+
 // The shape of the load behind the play: everything but its mass.
 struct Shape {
   double gap, frequency_hz, damping_ratio, load_damping;  // [m], [Hz], [-], [1/s]
@@ -175,17 +234,16 @@ void Propose(ProposalContext& c) {
   const Eigen::VectorXd residual_grid = WithoutEdges<Eigen::VectorXd>(residual.head(n_grid), edge, size);
   const JointFitResidual joint_fit(base, residual, c.loop()), grid_fit(base_grid, residual_grid, c.loop());
   // A shape's fit, worth nothing where the load's mass comes out negative (no load pulls the motor along).
-  const auto fit_of = [&](const JointFitResidual& fit, Eigen::Index rows, double sse_without, const Shape& k) {
+  const auto fit_of = [&](const JointFitResidual& fit, double sse_without, const Eigen::VectorXd& load) {
     Eigen::VectorXd mass;
-    const double sse = fit(WithoutEdges<Eigen::VectorXd>(
-                               LoadAcceleration(s, rows, k.gap, k.frequency_hz, k.damping_ratio, k.load_damping),
-                               edge, size),
-                           &mass);
+    const double sse = fit(WithoutEdges<Eigen::VectorXd>(load, edge, size), &mass);
     return mass(0) > 0.0 ? sse : sse_without;
   };
   const double residual_sse = residual.squaredNorm(), grid_residual_sse = residual_grid.squaredNorm();
-  const ShapeCost cost = [&](const Shape& k) { return fit_of(joint_fit, n, residual_sse, k); };
-  const ShapeCost grid_cost = [&](const Shape& k) { return fit_of(grid_fit, n_grid, grid_residual_sse, k); };
+  const ShapeCost cost = [&](const Shape& k) {
+    return fit_of(joint_fit, residual_sse,
+                  LoadAcceleration(s, n, k.gap, k.frequency_hz, k.damping_ratio, k.load_damping));
+  };
   const Shape lo{0.5 * g_lo, f_lo, kDampingLow, kLoadDampingLow}, hi{g_hi, f_hi, kDampingHigh, kLoadDampingHigh};
   // 1. A grid of the play, the load's own damping and the mode, on the record's first kGridSamples, and local searches
   //    of all four from its best points on kScanSamples. After each reversal the load coasts across its play, slowed
@@ -194,13 +252,23 @@ void Propose(ProposalContext& c) {
   std::vector<Shape> grid;
   // In simulation mode each trial runs through the loop over the whole record: half the grid's points each way.
   const int coarser = whole ? 2 : 1;
+  const std::vector<double> modes = LogSpaced(f_lo, f_hi, kFrequencyGrid / coarser);
   for (double gap : LogSpaced(g_lo, g_hi, kGapGrid / coarser)) {
     for (double beta : LogSpaced(kLoadDampingGridLow, kLoadDampingGridHigh, kLoadDampingGrid / coarser)) {
-      for (double f : LogSpaced(f_lo, f_hi, kFrequencyGrid / coarser)) {
-        grid.push_back({gap, f, kGridDampingRatio, beta});
-      }
+      for (double f : modes) grid.push_back({gap, f, kGridDampingRatio, beta});
     }
   }
+  std::vector<MotorPath> paths;  // the motor's path at each of the grid's modes, in the order of `modes`
+  for (double f : modes) paths.emplace_back(s, n_grid, f);
+  const ShapeCost grid_cost = [&](const Shape& k) {
+    const auto mode = std::find(modes.begin(), modes.end(), k.frequency_hz);
+    const Eigen::VectorXd load =
+        mode != modes.end()
+            ? paths[static_cast<std::size_t>(mode - modes.begin())].LoadAcceleration(s, k.gap, k.damping_ratio,
+                                                                                     k.load_damping)
+            : LoadAcceleration(s, n_grid, k.gap, k.frequency_hz, k.damping_ratio, k.load_damping);
+    return fit_of(grid_fit, grid_residual_sse, load);
+  };
   const std::vector<Trial> on_grid = Evaluate(grid, grid_cost);
   const Trial grid_best = *std::min_element(on_grid.begin(), on_grid.end(), Cheaper);
   if (!(grid_best.second < (1.0 - kMinGridShare) * grid_residual_sse)) {
