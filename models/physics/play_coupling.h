@@ -70,34 +70,53 @@ inline void PlayMotorAtSubStep(double x0, double v0, double x1, double v1, doubl
   HermiteMotor(x0, v0, x1, v1, dt, (j + 1.0) / steps, &end[0], &end[1]);
 }
 
-/// The classical Runge–Kutta method on n sub-steps of h [s], the motor starting a step at (xa, va) and read at each
-/// sub-step's middle and end from motor_at(j, mid, end) (PlayMotorAtSubStep, or the same values stored once for many
-/// loads on one motor path: the diagnosis' grid). AdvancePlayLoad's stepper; parameters as there.
-template <typename MotorAt>
-inline void StepPlayLoad(int n, double h, double xa, double va, const MotorAt& motor_at, double half_gap, double omega,
-                         double zeta, double load_damping, PlayLoad* load) noexcept {
-  // ẍ_L with the motor at (xm, vm) and the load at (xl, vl).
-  auto acceleration = [&](double xm, double vm, double xl, double vl) {
-    return PlayLoadAcceleration(xm - xl, vm - vl, half_gap, omega, zeta) - load_damping * vl;
+/// The shape of one load behind the play: its half gap [m or rad], the engaged shaft's damping ratio ζ and the load's
+/// own viscous friction per unit mass β [1/s] (the mode ω is the stepper's, shared).
+struct PlayLoadShape {
+  double half_gap = 0.0, zeta = 0.0, load_damping = 0.0;
+};
+
+/// The classical Runge–Kutta method on n sub-steps of h [s] for K loads behind plays on one motor at the mode ω, the
+/// motor starting the step at (xa, va) and read at each sub-step's middle and end from motor_at(j, mid, end)
+/// (PlayMotorAtSubStep, or the same values stored once for many loads on one motor path: the diagnosis' grid). Each
+/// load's arithmetic is K = 1's: K loads step as K separate calls would, to the last bit, their stages computed side by
+/// side (one load's stages are a chain the processor must wait along; K of them it overlaps). AdvancePlayLoad's stepper.
+template <int K, typename MotorAt>
+inline void StepPlayLoads(int n, double h, double xa, double va, const MotorAt& motor_at, double omega,
+                          const PlayLoadShape (&shape)[K], PlayLoad (&load)[K]) noexcept {
+  // ẍ_L of load k with the motor at (xm, vm) and the load at (xl, vl).
+  auto acceleration = [&](int k, double xm, double vm, double xl, double vl) {
+    return PlayLoadAcceleration(xm - xl, vm - vl, shape[k].half_gap, omega, shape[k].zeta) - shape[k].load_damping * vl;
   };
   // The motor at the sub-step's start, middle and end: the middle serves two stages, the end the next sub-step's start.
   double mid[2] = {0.0, 0.0}, end[2] = {0.0, 0.0};
+  double x[K], v[K], a1[K], a2[K], a3[K], a4[K];
   for (int j = 0; j < n; ++j) {
     motor_at(j, mid, end);
-    const double x = load->x, v = load->v;
-    const double a1 = acceleration(xa, va, x, v);
-    const double a2 = acceleration(mid[0], mid[1], x + 0.5 * h * v, v + 0.5 * h * a1);
-    const double a3 = acceleration(mid[0], mid[1], x + 0.5 * h * (v + 0.5 * h * a1), v + 0.5 * h * a2);
-    const double a4 = acceleration(end[0], end[1], x + h * (v + 0.5 * h * a2), v + h * a3);
+    for (int k = 0; k < K; ++k) {
+      x[k] = load[k].x;
+      v[k] = load[k].v;
+      a1[k] = acceleration(k, xa, va, x[k], v[k]);
+    }
+    for (int k = 0; k < K; ++k) a2[k] = acceleration(k, mid[0], mid[1], x[k] + 0.5 * h * v[k], v[k] + 0.5 * h * a1[k]);
+    for (int k = 0; k < K; ++k) {
+      a3[k] = acceleration(k, mid[0], mid[1], x[k] + 0.5 * h * (v[k] + 0.5 * h * a1[k]), v[k] + 0.5 * h * a2[k]);
+    }
+    for (int k = 0; k < K; ++k) {
+      a4[k] = acceleration(k, end[0], end[1], x[k] + h * (v[k] + 0.5 * h * a2[k]), v[k] + h * a3[k]);
+    }
     xa = end[0];
     va = end[1];
-    load->x = x + h / 6.0 * (v + 2.0 * (v + 0.5 * h * a1) + 2.0 * (v + 0.5 * h * a2) + (v + h * a3));
-    load->v = v + h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
+    for (int k = 0; k < K; ++k) {
+      load[k].x = x[k] + h / 6.0 * (v[k] + 2.0 * (v[k] + 0.5 * h * a1[k]) + 2.0 * (v[k] + 0.5 * h * a2[k]) +
+                                    (v[k] + h * a3[k]));
+      load[k].v = v[k] + h / 6.0 * (a1[k] + 2.0 * a2[k] + 2.0 * a3[k] + a4[k]);
+    }
   }
 }
 
 /// Advances the load over dt [s] while the motor moves from (x0, v0) to (x1, v1) (HermiteMotor between them): the
-/// classical Runge–Kutta method on PlaySubSteps(ω, dt) sub-steps (StepPlayLoad). Semi-implicit Euler at ω·dt/n ≤ 0.02
+/// classical Runge–Kutta method on PlaySubSteps(ω, dt) sub-steps (StepPlayLoads). Semi-implicit Euler at ω·dt/n ≤ 0.02
 /// put the load behind the motor by v·dt/(2n), 100 % of a stiff shaft's force at the speed's peak in the block's test.
 /// β = load_damping [1/s] ≥ 0 the load's own viscous friction per unit mass.
 /// Returns the shaft's force on the load per unit load mass at the end (PlayLoadAcceleration at (x1, v1)): the force on
@@ -107,10 +126,13 @@ inline double AdvancePlayLoad(double x0, double v0, double x1, double v1, double
   const int n = PlaySubSteps(omega, dt);
   double xa = 0.0, va = 0.0;
   HermiteMotor(x0, v0, x1, v1, dt, 0.0, &xa, &va);
-  StepPlayLoad(
+  const PlayLoadShape shape[1] = {{half_gap, zeta, load_damping}};
+  PlayLoad loads[1] = {*load};
+  StepPlayLoads(
       n, dt / n, xa, va,
-      [&](int j, double* mid, double* end) { PlayMotorAtSubStep(x0, v0, x1, v1, dt, n, j, mid, end); }, half_gap,
-      omega, zeta, load_damping, load);
+      [&](int j, double* mid, double* end) { PlayMotorAtSubStep(x0, v0, x1, v1, dt, n, j, mid, end); }, omega, shape,
+      loads);
+  *load = loads[0];
   return PlayLoadAcceleration(x1 - load->x, v1 - load->v, half_gap, omega, zeta);
 }
 

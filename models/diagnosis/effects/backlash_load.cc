@@ -54,6 +54,8 @@ constexpr double kMinGridShare = 0.05;
 // The shape is searched on the record's first samples (its coefficient is fitted on the whole record): each trial
 // simulates the load through them, and the search runs ~1000 trials.
 constexpr Eigen::Index kScanSamples = 20000, kGridSamples = 3000;
+// The grid's loads stepped side by side at one mode (MotorPath::LoadAccelerations).
+constexpr std::size_t kLanes = 4;
 
 // ẍ_L at the first n samples [m/s²]: the load behind the play simulated from the logged motor motion, starting with
 // the motor's (AdvancePlayLoad; the backlash_load block steps the same way).
@@ -75,10 +77,11 @@ Eigen::VectorXd LoadAcceleration(const DiagnosisSignals& s, Eigen::Index n, doub
 
 // The motor's path through the first n samples as the load's Runge–Kutta steps read it at the mode ω: each step's start
 // and each sub-step's middle and end (PlayMotorAtSubStep). The grid tries 320 plays and bearings at each of its modes;
-// stored once per mode, the path spares every trial the interpolant's arithmetic, and each trial's load is the one
-// LoadAcceleration simulates, to the last bit.
+// stored once per mode, the path spares every trial the interpolant's arithmetic, and its loads are stepped kLanes at a
+// time, each the one LoadAcceleration simulates, to the last bit.
 class MotorPath {
  public:
+  MotorPath() = default;
   MotorPath(const DiagnosisSignals& s, Eigen::Index n, double f_hz) : omega_(kTwoPi * f_hz), n_(n) {
     const Eigen::VectorXd& x = s.position;
     const Eigen::VectorXd& v = s.velocity;
@@ -99,33 +102,38 @@ class MotorPath {
     }
   }
 
-  // ẍ_L at the path's samples [m/s²], as LoadAcceleration(s, n, gap, f, ζ, β) gives it.
-  Eigen::VectorXd LoadAcceleration(const DiagnosisSignals& s, double gap, double zeta, double beta) const {
-    const double half = 0.5 * gap;
-    Eigen::VectorXd out(n_);
+  // ẍ_L at the path's samples [m/s²] for K loads at its mode (column k: shape k's, as LoadAcceleration(s, n, g, f, ζ, β)
+  // gives it, to the last bit), stepped side by side (StepPlayLoads).
+  template <int K>
+  Eigen::MatrixXd LoadAccelerations(const DiagnosisSignals& s, const PlayLoadShape (&shape)[K]) const {
+    Eigen::MatrixXd out(n_, K);
     if (n_ == 0) return out;
-    PlayLoad load{s.position(0), s.velocity(0)};
-    out(0) = 0.0;
+    PlayLoad load[K];
+    for (int k = 0; k < K; ++k) load[k] = {s.position(0), s.velocity(0)};
+    out.row(0).setZero();
     for (Eigen::Index i = 1; i < n_; ++i) {
-      const std::size_t k = static_cast<std::size_t>(i);
-      const double* p = points_.data() + first_[k];
-      StepPlayLoad(
-          steps_[k], (s.time(i) - s.time(i - 1)) / steps_[k], start_[2 * k], start_[2 * k + 1],
+      const std::size_t at = static_cast<std::size_t>(i);
+      const double* p = points_.data() + first_[at];
+      StepPlayLoads(
+          steps_[at], (s.time(i) - s.time(i - 1)) / steps_[at], start_[2 * at], start_[2 * at + 1],
           [p](int j, double* mid, double* end) {
             mid[0] = p[4 * j];
             mid[1] = p[4 * j + 1];
             end[0] = p[4 * j + 2];
             end[1] = p[4 * j + 3];
           },
-          half, omega_, zeta, beta, &load);
-      out(i) = PlayLoadAcceleration(s.position(i) - load.x, s.velocity(i) - load.v, half, omega_, zeta);
+          omega_, shape, load);
+      for (int k = 0; k < K; ++k) {
+        out(i, k) = PlayLoadAcceleration(s.position(i) - load[k].x, s.velocity(i) - load[k].v, shape[k].half_gap,
+                                         omega_, shape[k].zeta);
+      }
     }
     return out;
   }
 
  private:
-  double omega_;
-  Eigen::Index n_;
+  double omega_ = 0.0;
+  Eigen::Index n_ = 0;
   std::vector<int> steps_;           // per sample i ≥ 1: the sub-steps from sample i − 1 to i
   std::vector<std::size_t> first_;   // per sample: where its sub-steps' points begin in points_
   std::vector<double> start_;        // per sample: the motor at the step's start (position, velocity)
@@ -258,18 +266,36 @@ void Propose(ProposalContext& c) {
       for (double f : modes) grid.push_back({gap, f, kGridDampingRatio, beta});
     }
   }
-  std::vector<MotorPath> paths;  // the motor's path at each of the grid's modes, in the order of `modes`
-  for (double f : modes) paths.emplace_back(s, n_grid, f);
-  const ShapeCost grid_cost = [&](const Shape& k) {
-    const auto mode = std::find(modes.begin(), modes.end(), k.frequency_hz);
-    const Eigen::VectorXd load =
-        mode != modes.end()
-            ? paths[static_cast<std::size_t>(mode - modes.begin())].LoadAcceleration(s, k.gap, k.damping_ratio,
-                                                                                     k.load_damping)
-            : LoadAcceleration(s, n_grid, k.gap, k.frequency_hz, k.damping_ratio, k.load_damping);
-    return fit_of(grid_fit, grid_residual_sse, load);
-  };
-  const std::vector<Trial> on_grid = Evaluate(grid, grid_cost);
+  // The grid's trials at each mode in groups of kLanes (a group's last short one padded with its last trial), each
+  // group's loads simulated together on the mode's motor path; the costs in the grid's order.
+  std::vector<std::vector<std::size_t>> groups;
+  for (double f : modes) {
+    std::vector<std::size_t> at_mode;
+    for (std::size_t t = 0; t < grid.size(); ++t) {
+      if (grid[t].frequency_hz == f) at_mode.push_back(t);
+    }
+    for (std::size_t first = 0; first < at_mode.size(); first += kLanes) {
+      groups.emplace_back(at_mode.begin() + static_cast<std::ptrdiff_t>(first),
+                          at_mode.begin() + static_cast<std::ptrdiff_t>(std::min(first + kLanes, at_mode.size())));
+    }
+  }
+  std::vector<MotorPath> paths(modes.size());  // the motor's path at each of the grid's modes, in the order of `modes`
+  tbb::parallel_for(std::size_t{0}, modes.size(), [&](std::size_t m) { paths[m] = MotorPath(s, n_grid, modes[m]); });
+  std::vector<Trial> on_grid(grid.size());
+  tbb::parallel_for(std::size_t{0}, groups.size(), [&](std::size_t g) {
+    const std::vector<std::size_t>& group = groups[g];
+    PlayLoadShape shapes[kLanes];
+    for (std::size_t k = 0; k < kLanes; ++k) {
+      const Shape& trial = grid[group[std::min(k, group.size() - 1)]];
+      shapes[k] = {0.5 * trial.gap, trial.damping_ratio, trial.load_damping};
+    }
+    const std::size_t mode = static_cast<std::size_t>(
+        std::find(modes.begin(), modes.end(), grid[group.front()].frequency_hz) - modes.begin());
+    const Eigen::MatrixXd loads = paths[mode].LoadAccelerations(s, shapes);
+    for (std::size_t k = 0; k < group.size(); ++k) {
+      on_grid[group[k]] = {grid[group[k]], fit_of(grid_fit, grid_residual_sse, loads.col(static_cast<Eigen::Index>(k)))};
+    }
+  });
   const Trial grid_best = *std::min_element(on_grid.begin(), on_grid.end(), Cheaper);
   if (!(grid_best.second < (1.0 - kMinGridShare) * grid_residual_sse)) {
     c.Note(fmt::format("{} not proposed: a load behind a play (of a positive mass) explains {:.1f} % of the residual "
