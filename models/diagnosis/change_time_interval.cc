@@ -9,6 +9,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string_view>
+#include <tuple>
 
 #include <Eigen/QR>
 #include <tbb/parallel_for.h>
@@ -16,12 +17,13 @@
 #include "models/diagnosis/candidate_matrix.h"
 #include "models/diagnosis/effect_proposal.h"
 #include "models/diagnosis/effect_registry.h"
+#include "models/diagnosis/factors.h"
 #include "models/diagnosis/forward_selection.h"
 
 namespace mb::diagnosis_detail {
 namespace {
 
-constexpr int kProfileGrid = 100;                   // points across the record: 1 % of its duration apart
+constexpr int kProfileGrid = 100;                   // points across the record, 1 % of it apart
 constexpr int kEdgeBisections = 8;                  // each end of the interval to 1/256 of a grid step
 constexpr double kChiSquare95 = 3.841458820694124;  // χ²₁'s 95 % quantile
 constexpr const char* kChangeTimes[] = {"change_time", "on_time", "off_time"};
@@ -100,7 +102,8 @@ std::vector<TimeInterval> PlaceChangeTimes(Ranking* ranked, std::size_t position
     const double estimate_sse = residual.squaredNorm();
     const double variance = LongRunVariance(residual, options.significance_batches);
     const double threshold = kChiSquare95 * variance;
-    // A window's edge stays on its side of the other edge.
+    // A window's edge stays on its side of the other edge. The profile's grid, 1 % of that span apart, keeps to the
+    // stretch the scan searched (TimeScanRange: a change nearer the record's ends is one with a constant).
     double lo = t0, hi = t0 + duration;
     if (std::string_view(name) == "on_time" && c.effect.parameters.count("off_time")) {
       hi = c.effect.parameters.at("off_time");
@@ -108,8 +111,18 @@ std::vector<TimeInterval> PlaceChangeTimes(Ranking* ranked, std::size_t position
     if (std::string_view(name) == "off_time" && c.effect.parameters.count("on_time")) {
       lo = c.effect.parameters.at("on_time");
     }
-    std::vector<double> grid(kProfileGrid), sse(kProfileGrid, std::numeric_limits<double>::infinity());
-    for (int i = 0; i < kProfileGrid; ++i) grid[static_cast<std::size_t>(i)] = lo + (i + 0.5) * (hi - lo) / kProfileGrid;
+    const double cell = (hi - lo) / kProfileGrid;
+    double scan_lo = 0.0, scan_hi = 0.0;
+    std::tie(scan_lo, scan_hi) = TimeScanRange(name, signals.time);
+    std::vector<double> grid;
+    for (int i = 0; i < kProfileGrid; ++i) {
+      const double t = lo + (i + 0.5) * (hi - lo) / kProfileGrid;
+      if (t >= scan_lo && t <= scan_hi) grid.push_back(t);
+    }
+    if (grid.empty()) continue;
+    lo = std::max(lo, scan_lo);
+    hi = std::min(hi, scan_hi);
+    std::vector<double> sse(grid.size(), std::numeric_limits<double>::infinity());
     const auto sse_at = [&](double t) {
       EffectInstance trial = c.effect;
       trial.parameters[name] = t;
@@ -148,7 +161,6 @@ std::vector<TimeInterval> PlaceChangeTimes(Ranking* ranked, std::size_t position
     TimeInterval interval{name, down_out ? edge(down_in, *down_out) : lo, up_out ? edge(up_in, *up_out) : hi,
                           estimate, estimate};
     // A nearly flat stretch: its posterior median, where it fits within the level.
-    const double cell = (hi - lo) / kProfileGrid;
     if (interval.high - interval.low >= kResolvedCells * cell) {
       const double median =
           std::clamp(PosteriorMedian(grid, sse, lowest, variance, cell), interval.low, interval.high);

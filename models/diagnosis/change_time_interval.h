@@ -22,7 +22,8 @@ struct TimeInterval {
 
 /// Each change time of the chosen effect `ranked->chosen.order[position]` (the parameters change_time, on_time,
 /// off_time its instance holds), as an interval: the profile of the joint fit over that time. The time is moved over a
-/// grid of kProfileGrid points across the record (a window's other edge kept on its side), the effect's columns rebuilt
+/// grid of kProfileGrid points across the record (a window's other edge kept on its side), those outside the stretch its
+/// scan searched left out (TimeScanRange: a step's middle 80 % of the record, a window's middle 90 %), the effect's columns rebuilt
 /// there (EffectType::regressors on `signals`, filtered like a candidate's: FilterCandidateColumns) and every
 /// coefficient refit with them beside the other chosen columns, under the ranking's robust weights; the interval is the
 /// hull of the estimate and every grid point whose weighted sum of squares stays within χ²₁(0.95) = 3.84 long-run

@@ -270,11 +270,11 @@ Eigen::VectorXd WindowColumn(const DiagnosisSignals& s, const Eigen::VectorXd& m
 std::vector<FactorParameters> ScanStep(ProposalContext& c,
                                        const Eigen::VectorXd& m, const Eigen::VectorXd*, const std::string& pair) {
   const DiagnosisSignals& s = c.signals();
-  const auto [t0, duration] = Span(s);
-  if (!(duration > 0.0) || !(m.cwiseAbs().maxCoeff() > 0.0)) return {};
+  if (!(Span(s).second > 0.0) || !(m.cwiseAbs().maxCoeff() > 0.0)) return {};
   const TimeScanFit fit(c);
   const auto sse = [&](double t) { return fit(StepColumn(s, m, t)); };
-  const double lo = t0 + kTimeTrim * duration, step = (1.0 - 2.0 * kTimeTrim) * duration / (kBreakGrid - 1);
+  const auto [lo, hi] = TimeScanRange("change_time", s.time);
+  const double step = (hi - lo) / (kBreakGrid - 1);
   int best = 0;
   double best_sse = std::numeric_limits<double>::infinity();
   for (int i = 0; i < kBreakGrid; ++i) {
@@ -298,10 +298,10 @@ std::vector<FactorParameters> ScanStep(ProposalContext& c,
 std::vector<FactorParameters> ScanWindow(ProposalContext& c,
                                          const Eigen::VectorXd& m, const Eigen::VectorXd*, const std::string& pair) {
   const DiagnosisSignals& s = c.signals();
-  const auto [t0, duration] = Span(s);
-  if (!(duration > 0.0) || !(m.cwiseAbs().maxCoeff() > 0.0)) return {};
+  if (!(Span(s).second > 0.0) || !(m.cwiseAbs().maxCoeff() > 0.0)) return {};
   const TimeScanFit fit(c);
-  const double lo = t0 + 0.5 * kTimeTrim * duration, step = (1.0 - kTimeTrim) * duration / (kWindowGrid - 1);
+  const auto [lo, hi] = TimeScanRange("on_time", s.time);
+  const double step = (hi - lo) / (kWindowGrid - 1);
   int best_on = 0, best_off = 0;
   double best_sse = std::numeric_limits<double>::infinity();
   for (int i = 0; i < kWindowGrid; ++i) {
@@ -584,6 +584,13 @@ std::vector<ModulatorRow> MakeModulators() {
 }
 
 }  // namespace
+
+std::pair<double, double> TimeScanRange(std::string_view parameter, const Eigen::VectorXd& time) {
+  if (time.size() < 2) return {0.0, 0.0};
+  const double t0 = time(0), duration = time(time.size() - 1) - t0;
+  const double trim = parameter == "change_time" ? kTimeTrim : 0.5 * kTimeTrim;
+  return {t0 + trim * duration, t0 + (1.0 - trim) * duration};
+}
 
 const std::vector<MultiplierRow>& Multipliers() {
   static const std::vector<MultiplierRow> rows = MakeMultipliers();

@@ -14,6 +14,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -182,6 +183,14 @@ struct BumpPlace {
 /// (Lagrange: M(x)·a + ½M′(x)·v²; on a pass through the stretch at constant speed that term is all there is), else
 /// null. Throws nothing; explained 0 when the position does not move.
 BumpPlace ScanBump(const ProposalContext& context, const Eigen::VectorXd& m, const Eigen::VectorXd* kinetic = nullptr);
+
+/// The stretch of the record's time [s] (`time`: N, increasing) that a time scan searches for `parameter`: a step's
+/// "change_time" in the middle 80 % (Andrews' trimming of a break at an unknown time: a break nearer an end is one
+/// with a constant), a window's "on_time" and "off_time" in the middle 90 % (ScanStep, ScanWindow). A change time
+/// outside it is no change inside the record; the profile of a chosen effect's change time keeps to it
+/// (PlaceChangeTimes). {0, 0} for fewer than two samples. Source: Andrews, "Tests for parameter instability and
+/// structural change with unknown change point", Econometrica 61(4), 1993.
+std::pair<double, double> TimeScanRange(std::string_view parameter, const Eigen::VectorXd& time);
 
 /// A proposed position period of at least 16 cycles in the travel that holds at least 2 % of the residual's variance: a
 /// ripple that a smooth function of the position (position_dependent_force, friction_along_travel) would only blur, so

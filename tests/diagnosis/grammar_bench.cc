@@ -70,9 +70,13 @@ void Judge(const DiagnosisResult& diagnosis, DrawResult* r) {
   double largest = 0.0;
   for (const auto& e : diagnosis.effects) {
     const bool law = IsLaw(e.effect);
-    r->details.push_back(fmt::format("{}{}: score {:.4f}, {}{}", e.effect, law ? " (law)" : "", e.score,
+    std::string placed;  // where the record places each change time (DiagnosedEffect::time_intervals)
+    for (const auto& [name, interval] : e.time_intervals) {
+      placed += fmt::format(", {} placed in [{:.4g}, {:.4g}] s", name, interval[0], interval[1]);
+    }
+    r->details.push_back(fmt::format("{}{}: score {:.4f}, {}{}{}", e.effect, law ? " (law)" : "", e.score,
                                      fmt::join(e.parameters, ", "),
-                                     e.log_column.empty() ? "" : ", column " + e.log_column));
+                                     e.log_column.empty() ? "" : ", column " + e.log_column, placed));
     if (law) continue;
     if (first == nullptr) first = &e;
     largest = std::max(largest, e.score);

@@ -942,6 +942,10 @@ std::string GrammarDraw::Describe() const {
                 rotary ? "rotary" : "linear", sample_rate, duration,
                 trajectory == Trajectory::kSweep ? "sweep" : "point to point", integral_action ? "PID" : "PD");
   text += numbers;
+  if (!second_parameter.empty()) {
+    std::snprintf(numbers, sizeof numbers, ", %s = %.5g", second_parameter.c_str(), second_value);
+    text += numbers;
+  }
   if (multiplier == "slip" || multiplier == "load_slip") {
     std::snprintf(numbers, sizeof numbers, ", slip velocity %.3g", shape.slip_velocity);
     text += numbers;

@@ -4,13 +4,16 @@
 #include <cmath>
 #include <filesystem>
 #include <initializer_list>
+#include <regex>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include <Eigen/Core>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "models/diagnosis/factors.h"
 #include "tests/diagnosis/grammar_bench.h"
 #include "tests/diagnosis/grammar_draws.h"
 
@@ -257,6 +260,39 @@ TEST(GrammarDraws, AWindowsEdgeIsNotDrawnIntoTheDwellBeforeItsMove) {
   EXPECT_TRUE(r.named_right) << draw.Describe() << " -> " << r.named_pair;
   EXPECT_NEAR(r.parameter, draw.shape.on_time, 0.01 * draw.duration);
   EXPECT_NEAR(r.second_parameter, draw.shape.off_time, 0.01 * draw.duration);
+}
+
+// A chosen change time is placed, and given with its stretch, only where its scan searched (TimeScanRange: a step's
+// middle 80 % of the record, a window's middle 90 %; PlaceChangeTimes). Seed 14 hides a quadratic drag that steps on
+// at 7.876 s. Beside the two windows chosen with it the drag step's profile is nearly flat, and its posterior median
+// over the whole record put it at 0.804 s, before the scan's start (0.943 s), where a step is a constant: the scan
+// had found 7.876 s. Every change time named now lies inside its scan's stretch, and the drag step at its drawn time.
+TEST(GrammarDraws, AChangeTimeIsPlacedOnlyWhereItsScanSearched) {
+  const GrammarDraw draw = Draw(14);
+  ASSERT_EQ(draw.modulator, "time_step");
+  ASSERT_EQ(draw.multiplier, "velocity_speed");
+  const std::filesystem::path folder = std::filesystem::temp_directory_path() / "mb_grammar_scan_stretch_test";
+  const DrawResult r = RunDraw(draw, folder, false);
+  std::filesystem::remove_all(folder);
+  const Eigen::Vector2d record(0.0, draw.duration);
+  const std::regex time_parameter(R"re(\("(change_time|on_time|off_time)", ([-+0-9.eE]+)\))re");
+  int times = 0;
+  for (const std::string& d : r.details) {
+    if (d.find(": score ") == std::string::npos) continue;
+    for (auto it = std::sregex_iterator(d.begin(), d.end(), time_parameter); it != std::sregex_iterator(); ++it) {
+      const auto [low, high] = TimeScanRange((*it)[1].str(), record);
+      const double t = std::stod((*it)[2].str());
+      EXPECT_GE(t, low - 0.01) << d;  // a sample's leeway: the record ends within one of draw.duration
+      EXPECT_LE(t, high + 0.01) << d;
+      ++times;
+    }
+  }
+  EXPECT_GE(times, 1) << "no change time named";
+  const std::string step = DetailWith(r, {"drag_step: score", "change_time"});
+  ASSERT_FALSE(step.empty()) << "the drag step is not among the named";
+  std::smatch at;
+  ASSERT_TRUE(std::regex_search(step, at, time_parameter)) << step;
+  EXPECT_NEAR(std::stod(at[2].str()), draw.key_value, 0.01 * draw.duration) << step;
 }
 
 // The chosen products' multipliers chosen again with the friction laws and the other effects refit with each
