@@ -22,17 +22,17 @@ struct TimeInterval {
 
 /// Each change time of the chosen effect `ranked->chosen.order[position]` (the parameters change_time, on_time,
 /// off_time its instance holds), as an interval: the profile of the joint fit over that time. The time is moved over a
-/// grid of kProfileGrid points across the record (a window's other edge kept on its side), those outside the stretch its
-/// scan searched left out (TimeScanRange: a step's middle 80 % of the record, a window's middle 90 %), the effect's columns rebuilt
-/// there (EffectType::regressors on `signals`, filtered like a candidate's: FilterCandidateColumns) and every
-/// coefficient refit with them beside the other chosen columns, under the ranking's robust weights; the interval is the
-/// hull of the estimate and every grid point whose weighted sum of squares stays within χ²₁(0.95) = 3.84 long-run
-/// variances of the lowest (a profile with two minima the record cannot choose between spans both), its ends bisected
-/// to 1/256 of a grid step and then widened to the samples on either side (the columns change only where the time
-/// crosses a sample). The long-run variance is the final weighted residual's, from
-/// `options.significance_batches` contiguous batch means (its autocorrelation counted, as the significance test
-/// counts it), so that a change inside a stretch where the effect's multiplier is nearly zero — a drag that steps
-/// while the axis rests — is said to lie anywhere in that stretch rather than at the scan's minimum.
+/// grid of kProfileGrid points across the record (a window's other edge kept on its side), those outside the stretch
+/// its scan searched left out (TimeScanRange: a step's middle 80 % of the record, a window's middle 90 %), the effect's
+/// columns rebuilt there (EffectType::regressors on `signals`, filtered like a candidate's: FilterCandidateColumns) and
+/// every coefficient refit with them beside the other chosen columns, under the ranking's robust weights; the interval
+/// is the hull of the estimate and every grid point whose weighted sum of squares stays within χ²₁(0.95) = 3.84
+/// long-run variances of the lowest (a profile with two minima the record cannot choose between spans both), its ends
+/// bisected to 1/256 of a grid step and then widened to the samples on either side (the columns change only where the
+/// time crosses a sample). The long-run variance is the final weighted residual's, from `options.significance_batches`
+/// contiguous batch means (its autocorrelation counted, as the significance test counts it), so that a change inside a
+/// stretch where the effect's multiplier is nearly zero — a drag that steps while the axis rests — is said to lie
+/// anywhere in that stretch rather than at the scan's minimum.
 ///
 /// Where the interval spans kResolvedCells grid steps or more, the profile is nearly flat over it and its lowest point
 /// is an accident of the noise, at either end as likely as inside (a drag switched on while the axis rests was placed
