@@ -188,7 +188,7 @@ BumpPlace ScanBump(const ProposalContext& context, const Eigen::VectorXd& m, con
 /// "change_time" in the middle 80 % (Andrews' trimming of a break at an unknown time: a break nearer an end is one
 /// with a constant), a window's "on_time" and "off_time" in the middle 90 % (ScanStep, ScanWindow). A change time
 /// outside it is no change inside the record; the profile of a chosen effect's change time keeps to it
-/// (PlaceChangeTimes). {0, 0} for fewer than two samples. Source: Andrews, "Tests for parameter instability and
+/// (PlaceChangeTimes). {0, 0} for fewer than two samples; throws nothing. Source: Andrews, "Tests for parameter instability and
 /// structural change with unknown change point", Econometrica 61(4), 1993.
 std::pair<double, double> TimeScanRange(std::string_view parameter, const Eigen::VectorXd& time);
 
