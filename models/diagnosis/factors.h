@@ -188,8 +188,8 @@ BumpPlace ScanBump(const ProposalContext& context, const Eigen::VectorXd& m, con
 /// "change_time" in the middle 80 % (Andrews' trimming of a break at an unknown time: a break nearer an end is one
 /// with a constant), a window's "on_time" and "off_time" in the middle 90 % (ScanStep, ScanWindow). A change time
 /// outside it is no change inside the record; the profile of a chosen effect's change time keeps to it
-/// (PlaceChangeTimes). {0, 0} for fewer than two samples; throws nothing. Source: Andrews, "Tests for parameter instability and
-/// structural change with unknown change point", Econometrica 61(4), 1993.
+/// (PlaceChangeTimes). {0, 0} for fewer than two samples; throws nothing. Source: Andrews, "Tests for parameter
+/// instability and structural change with unknown change point", Econometrica 61(4), 1993.
 std::pair<double, double> TimeScanRange(std::string_view parameter, const Eigen::VectorXd& time);
 
 /// A proposed position period of at least 16 cycles in the travel that holds at least 2 % of the residual's variance: a
