@@ -84,26 +84,41 @@ inline double FourierSeries(const Eigen::Ref<const Eigen::VectorXd>& a, const Ei
 }
 
 /// The phase 2πh·z/period [rad] of harmonic h at abscissa z (position [m] with period [m], or time [s] with
-/// period [s]), evaluated directly (no recurrence): the regressors' exact angle.
+/// period [s]), evaluated directly.
 inline double FourierPhase(int h, double z, double period) noexcept {
   constexpr double kTwoPi = 2.0 * std::numbers::pi;
   return kTwoPi * static_cast<double>(h) * z / period;
 }
 
 /// The design matrix of the series in z: columns g·cos(2πh·z/P), g·sin(2πh·z/P) for h = 1…H
-/// (N × 2H, column 2(h−1) the cosine), evaluated directly per harmonic; g = scale (N) when given, else 1.
-/// A least-squares fit of y on it gives the a_h, b_h that FourierSeries(a, b, 2π(z/P)) evaluates.
+/// (N × 2H, column 2(h−1) the cosine); g = scale (N) when given, else 1. One std::cos/std::sin pair per sample (of
+/// FourierPhase(1, z, P)), the higher harmonics by the rotation recurrence of ForEachHarmonic, run column by column
+/// over all samples at once (rounding error ≈ h·eps, as the blocks' FourierSeries). A least-squares fit of y on it
+/// gives the a_h, b_h that FourierSeries(a, b, 2π(z/P)) evaluates. Throws nothing but std::bad_alloc.
 inline Eigen::MatrixXd FourierDesignMatrix(const Eigen::Ref<const Eigen::VectorXd>& z, double period, int harmonics,
                                            const Eigen::VectorXd* scale = nullptr) {
   const Eigen::Index n = z.size();
   Eigen::MatrixXd columns(n, 2 * harmonics);
+  if (harmonics <= 0) return columns;
+  Eigen::ArrayXd c1(n), s1(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double th = FourierPhase(1, z(i), period);
+    c1(i) = std::cos(th);
+    s1(i) = std::sin(th);
+  }
+  Eigen::ArrayXd c = c1, s = s1;  // cos(hθ), sin(hθ)
   for (int h = 1; h <= harmonics; ++h) {
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const double th = FourierPhase(h, z(i), period);
-      const double g = scale ? (*scale)(i) : 1.0;
-      columns(i, 2 * (h - 1)) = g * std::cos(th);
-      columns(i, 2 * (h - 1) + 1) = g * std::sin(th);
+    if (scale) {
+      columns.col(2 * (h - 1)).array() = scale->array() * c;
+      columns.col(2 * (h - 1) + 1).array() = scale->array() * s;
+    } else {
+      columns.col(2 * (h - 1)).array() = c;
+      columns.col(2 * (h - 1) + 1).array() = s;
     }
+    if (h == harmonics) break;
+    const Eigen::ArrayXd c_next = c * c1 - s * s1;
+    s = s * c1 + c * s1;
+    c = c_next;
   }
   return columns;
 }

@@ -208,6 +208,19 @@ TEST(FourierSeries, OneHelperForBlocksCoggingAndTheGp) {
   Eigen::VectorXd ab(6);
   ab << a(0), b(0), a(1), b(1), a(2), b(2);
   EXPECT_NEAR((m * ab)(1), FourierSeries(a, b, 2.0 * std::numbers::pi * z(1) / 0.0225), 1e-13);
+  // Its recurrence over the harmonics stays on the directly evaluated angle far from z = 0 (a time-periodic regressor
+  // over 2,000 cycles) and at the tenth harmonic, scaled or not.
+  const Eigen::VectorXd t = Eigen::VectorXd::LinSpaced(501, 0.0, 100.0);
+  const Eigen::VectorXd g = Eigen::VectorXd::LinSpaced(501, -2.0, 3.0);
+  const Eigen::MatrixXd plain = FourierDesignMatrix(t, 0.0497, 10), scaled = FourierDesignMatrix(t, 0.0497, 10, &g);
+  for (Eigen::Index i = 0; i < t.size(); ++i) {
+    for (int h = 1; h <= 10; ++h) {
+      const double th = 2.0 * std::numbers::pi * h * t(i) / 0.0497;
+      ASSERT_NEAR(plain(i, 2 * (h - 1)), std::cos(th), 1e-10) << "t = " << t(i) << ", h = " << h;
+      ASSERT_NEAR(plain(i, 2 * (h - 1) + 1), std::sin(th), 1e-10) << "t = " << t(i) << ", h = " << h;
+      ASSERT_NEAR(scaled(i, 2 * (h - 1) + 1), g(i) * std::sin(th), 3e-10) << "t = " << t(i) << ", h = " << h;
+    }
+  }
   EXPECT_EQ(ErrorOf([] { FourierCoefficients(Eigen::VectorXd::Ones(2), "cos_coefficients", 3); }),
             "cos_coefficients has 2 entries; give one per harmonic (3) or []");
 }
