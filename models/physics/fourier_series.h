@@ -5,7 +5,8 @@
 // position_dependent_inertia with the slope), the cogging force (models/physics/cogging.cc), the diagnosis regressors
 // (models/diagnosis/effect_regressors.cc) and the weight-space GP's periodic and Hilbert features (models/gpr/basis.cc,
 // with four lanes).
-// Header-only, no dependency beyond Eigen: blocks and every models/ library may include it.
+// Header-only, no dependency beyond Eigen (and models/gpr/sincos.h, itself header-only): blocks and every models/
+// library may include it.
 
 #include <cmath>
 #include <cstddef>
@@ -14,6 +15,8 @@
 #include <string>
 
 #include <Eigen/Core>
+
+#include "models/gpr/sincos.h"  // header-only, no dependency on mb_gpr
 
 namespace mb {
 
@@ -91,20 +94,25 @@ inline double FourierPhase(int h, double z, double period) noexcept {
 }
 
 /// The design matrix of the series in z: columns g·cos(2πh·z/P), g·sin(2πh·z/P) for h = 1…H
-/// (N × 2H, column 2(h−1) the cosine); g = scale (N) when given, else 1. One std::cos/std::sin pair per sample (of
-/// FourierPhase(1, z, P)), the higher harmonics by the rotation recurrence of ForEachHarmonic, run column by column
-/// over all samples at once (rounding error ≈ h·eps, as the blocks' FourierSeries). A least-squares fit of y on it
-/// gives the a_h, b_h that FourierSeries(a, b, 2π(z/P)) evaluates. Throws nothing but std::bad_alloc.
+/// (N × 2H, column 2(h−1) the cosine); g = scale (N) when given, else 1. One sin/cos pair per sample, of the phase
+/// z/P reduced to [−½, ½] cycle (SinCosBounded), the higher harmonics by the rotation recurrence of ForEachHarmonic,
+/// run column by column over all samples at once (rounding error ≈ h·eps, as the blocks' FourierSeries). A
+/// least-squares fit of y on it gives the a_h, b_h that FourierSeries(a, b, 2π(z/P)) evaluates. Throws nothing but
+/// std::bad_alloc.
 inline Eigen::MatrixXd FourierDesignMatrix(const Eigen::Ref<const Eigen::VectorXd>& z, double period, int harmonics,
                                            const Eigen::VectorXd* scale = nullptr) {
   const Eigen::Index n = z.size();
   Eigen::MatrixXd columns(n, 2 * harmonics);
   if (harmonics <= 0) return columns;
   Eigen::ArrayXd c1(n), s1(n);
+  constexpr double kTwoPi = 2.0 * std::numbers::pi;
+  constexpr double kRoundShift = 0x1.8p52;  // adding and subtracting it rounds to nearest (|u| < 2⁵¹)
   for (Eigen::Index i = 0; i < n; ++i) {
-    const double th = FourierPhase(1, z(i), period);
-    c1(i) = std::cos(th);
-    s1(i) = std::sin(th);
+    // The phase in cycles reduced to [−½, ½] first, which loses nothing (u minus the nearest integer is exact), so
+    // that one bounded sin/cos pair serves: SinCosBounded, within 2·eps of std::sin/std::cos on [−π, π].
+    const double u = z(i) / period;
+    const double cycles = std::abs(u) < 0x1p51 ? u - ((u + kRoundShift) - kRoundShift) : std::remainder(u, 1.0);
+    SinCosBounded(kTwoPi * cycles, &s1(i), &c1(i));
   }
   Eigen::ArrayXd c = c1, s = s1;  // cos(hθ), sin(hθ)
   for (int h = 1; h <= harmonics; ++h) {
