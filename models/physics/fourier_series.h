@@ -86,13 +86,6 @@ inline double FourierSeries(const Eigen::Ref<const Eigen::VectorXd>& a, const Ei
   return y;
 }
 
-/// The phase 2πh·z/period [rad] of harmonic h at abscissa z (position [m] with period [m], or time [s] with
-/// period [s]), evaluated directly.
-inline double FourierPhase(int h, double z, double period) noexcept {
-  constexpr double kTwoPi = 2.0 * std::numbers::pi;
-  return kTwoPi * static_cast<double>(h) * z / period;
-}
-
 /// The design matrix of the series in z: columns g·cos(2πh·z/P), g·sin(2πh·z/P) for h = 1…H
 /// (N × 2H, column 2(h−1) the cosine); g = scale (N) when given, else 1. One sin/cos pair per sample, of the phase
 /// z/P reduced to [−½, ½] cycle (SinCosBounded), the higher harmonics by the rotation recurrence of ForEachHarmonic,
@@ -109,10 +102,16 @@ inline Eigen::MatrixXd FourierDesignMatrix(const Eigen::Ref<const Eigen::VectorX
   constexpr double kRoundShift = 0x1.8p52;  // adding and subtracting it rounds to nearest (|u| < 2⁵¹)
   for (Eigen::Index i = 0; i < n; ++i) {
     // The phase in cycles reduced to [−½, ½] first, which loses nothing (u minus the nearest integer is exact), so
-    // that one bounded sin/cos pair serves: SinCosBounded, within 2·eps of std::sin/std::cos on [−π, π].
+    // that one bounded sin/cos pair serves: SinCosBounded, within 2·eps of std::sin/std::cos on [−π, π]. A phase of
+    // 2⁵¹ cycles or more has no fraction left, and one that is not finite (a period of 0) gives NaN, as std::sin does.
     const double u = z(i) / period;
-    const double cycles = std::abs(u) < 0x1p51 ? u - ((u + kRoundShift) - kRoundShift) : std::remainder(u, 1.0);
-    SinCosBounded(kTwoPi * cycles, &s1(i), &c1(i));
+    if (std::abs(u) < 0x1p51) {
+      SinCosBounded(kTwoPi * (u - ((u + kRoundShift) - kRoundShift)), &s1(i), &c1(i));
+    } else {
+      const double th = kTwoPi * std::remainder(u, 1.0);
+      s1(i) = std::sin(th);
+      c1(i) = std::cos(th);
+    }
   }
   Eigen::ArrayXd c = c1, s = s1;  // cos(hθ), sin(hθ)
   for (int h = 1; h <= harmonics; ++h) {

@@ -221,6 +221,8 @@ TEST(FourierSeries, OneHelperForBlocksCoggingAndTheGp) {
       ASSERT_NEAR(scaled(i, 2 * (h - 1) + 1), g(i) * std::sin(th), 3e-10) << "t = " << t(i) << ", h = " << h;
     }
   }
+  // A period of 0 has no finite phase: NaN columns, as std::sin gives, never a NaN cast to an integer.
+  EXPECT_TRUE(FourierDesignMatrix(z, 0.0, 2).array().isNaN().all());
   EXPECT_EQ(ErrorOf([] { FourierCoefficients(Eigen::VectorXd::Ones(2), "cos_coefficients", 3); }),
             "cos_coefficients has 2 entries; give one per harmonic (3) or []");
 }
