@@ -113,7 +113,7 @@ inline Eigen::MatrixXd FourierDesignMatrix(const Eigen::Ref<const Eigen::VectorX
       c1(i) = std::cos(th);
     }
   }
-  Eigen::ArrayXd c = c1, s = s1;  // cos(hθ), sin(hθ)
+  Eigen::ArrayXd c = c1, s = s1, c_next(n);  // cos(hθ), sin(hθ); the next cosine, allocated once
   for (int h = 1; h <= harmonics; ++h) {
     if (scale) {
       columns.col(2 * (h - 1)).array() = scale->array() * c;
@@ -123,9 +123,9 @@ inline Eigen::MatrixXd FourierDesignMatrix(const Eigen::Ref<const Eigen::VectorX
       columns.col(2 * (h - 1) + 1).array() = s;
     }
     if (h == harmonics) break;
-    const Eigen::ArrayXd c_next = c * c1 - s * s1;
+    c_next = c * c1 - s * s1;
     s = s * c1 + c * s1;
-    c = c_next;
+    c.swap(c_next);
   }
   return columns;
 }
