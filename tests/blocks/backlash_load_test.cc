@@ -24,17 +24,18 @@ using testing::kTwoPi;
 
 constexpr double kTs = 1e-3, kMotorHz = 1.0, kLoadMass = 5.0;
 
-// The block's force over 1 s with the motor at x = 0.1 + A·(1 − cos 2πf_m·t) (starting at rest), v its derivative.
-std::vector<double> Force(double amplitude, const json& load) {
+// The block's force over 1 s with the motor at x = 0.1 + A·(1 − cos 2πf_m·t) (starting at rest), v its derivative, the
+// block's sample time (and the diagram's step) ts [s].
+std::vector<double> Force(double amplitude, const json& load, double ts = kTs, double motor_hz = kMotorHz) {
   json parameters = load;
   parameters["mass"] = kLoadMass;
   const json j = MakeDiagram(
       {Element("x", "sine",
-               {{"amplitude", -amplitude}, {"bias", 0.1 + amplitude}, {"frequency_hz", kMotorHz},
+               {{"amplitude", -amplitude}, {"bias", 0.1 + amplitude}, {"frequency_hz", motor_hz},
                 {"phase", 0.5 * std::numbers::pi}}),
-       Element("v", "sine", {{"amplitude", amplitude * kTwoPi * kMotorHz}, {"frequency_hz", kMotorHz}}),
-       Element("load", "backlash_load", parameters, {kTs, 0.0})},
-      {Connect("x.y", "load.x"), Connect("v.y", "load.v")}, {"load.f"}, 1.0, kTs);
+       Element("v", "sine", {{"amplitude", amplitude * kTwoPi * motor_hz}, {"frequency_hz", motor_hz}}),
+       Element("load", "backlash_load", parameters, {ts, 0.0})},
+      {Connect("x.y", "load.x"), Connect("v.y", "load.v")}, {"load.f"}, 1.0, ts);
   return Simulator(Build(j)).Run().log.Column("load.f");
 }
 
@@ -68,6 +69,24 @@ TEST(BacklashLoadTest, WithoutAPlayAndFarBelowItsModeTheLoadFollowsRigidly) {
   for (std::size_t i = 100; i < f.size(); ++i) {
     EXPECT_NEAR(f[i], peak * std::cos(w * Time(i)), 0.02 * peak) << "t = " << Time(i);
   }
+}
+
+TEST(BacklashLoadTest, ItsImpactsAtAMillisecondAgreeWithAHundredTimesFinerStep) {
+  // The motor 20 mm forth and back three times a second (up to 0.19 m/s) across a 1.2 mm play to an 18 Hz shaft
+  // (ζ = 0.1, β = 0.6 /s): after each reversal the load crosses the play and meets the other side with an impact. At
+  // 1 ms the block takes one Runge–Kutta sub-step a sample (ω·Ts = 0.11) and redoes finer the steps in which the load
+  // meets or leaves a side (kPlayContactMicroSteps): 0.07 % of the force's RMS from the 10 µs run. Without that: 3.5 %.
+  const json load = {{"frequency_hz", 18.0}, {"damping_ratio", 0.1}, {"backlash", 1.2e-3}, {"load_damping", 0.6}};
+  constexpr int kFiner = 100;
+  constexpr double kAmplitude = 10e-3, kHz = 3.0;
+  const std::vector<double> f = Force(kAmplitude, load, kTs, kHz), fine = Force(kAmplitude, load, kTs / kFiner, kHz);
+  double error = 0.0, power = 0.0;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    error += std::pow(f[i] - fine[i * kFiner], 2);
+    power += std::pow(fine[i * kFiner], 2);
+  }
+  ASSERT_GT(power, 0.0);
+  EXPECT_LT(std::sqrt(error / power), 0.005) << "the force's RMS error against the 10 µs run, relative to its RMS";
 }
 
 TEST(BacklashLoadTest, RefusesANonPositiveModeANegativePlayAndNoSampleTime) {
