@@ -61,30 +61,14 @@ inline int PlaySubSteps(double omega, double dt) noexcept {
       std::clamp(std::ceil(omega * dt / kMaxPhasePerStep), 1.0, static_cast<double>(kMaxSubSteps)));
 }
 
-/// The motor at the fraction q ∈ [0, 1] of sub-step j of n over a step of dt (HermiteMotor at q' = (j + q)/n); `at`
-/// holds a position and a velocity. What AdvancePlayLoad reads: each sub-step's middle and end, and the micro-steps'
-/// points of a sub-step redone around a contact (StepPlayLoads).
-inline void PlayMotorInSubStep(double x0, double v0, double x1, double v1, double dt, int n, int j, double q,
-                               double* at) noexcept {
-  HermiteMotor(x0, v0, x1, v1, dt, (j + q) / n, &at[0], &at[1]);
-}
-
-/// The motor at the middle and at the end of sub-step j of n over a step of dt (PlayMotorInSubStep at q = ½ and 1):
-/// what AdvancePlayLoad reads, in its order. `mid` and `end` hold a position and a velocity each.
+/// The motor at the middle and at the end of sub-step j of n over a step of dt (HermiteMotor at q = (j + ½)/n and
+/// (j + 1)/n): what AdvancePlayLoad reads, in its order. `mid` and `end` hold a position and a velocity each.
 inline void PlayMotorAtSubStep(double x0, double v0, double x1, double v1, double dt, int n, int j, double* mid,
                                double* end) noexcept {
-  PlayMotorInSubStep(x0, v0, x1, v1, dt, n, j, 0.5, mid);
-  PlayMotorInSubStep(x0, v0, x1, v1, dt, n, j, 1.0, end);
+  const double steps = n;
+  HermiteMotor(x0, v0, x1, v1, dt, (j + 0.5) / steps, &mid[0], &mid[1]);
+  HermiteMotor(x0, v0, x1, v1, dt, (j + 1.0) / steps, &end[0], &end[1]);
 }
-
-/// The micro-steps a sub-step is redone in where a load's contact changes inside it (StepPlayLoads). At the instant
-/// the load meets a side of the play, or leaves it, the shaft's force changes slope and its damper's force jumps by
-/// 2ζω·δ̇ per unit load mass: one Runge–Kutta step across that instant is first order. At one sub-step a millisecond
-/// (ω·h = 0.11 for an 18 Hz shaft) the force was 3.5 % (RMS) off its converged run, 0.07 % with the contact's steps
-/// redone (the block's test ItsImpactsAtAMillisecondAgreeWithAHundredTimesFinerStep); on the independent gearbox's
-/// training record the generator's load replayed from the logged motion leaves 1.92 N of the force where it left 7.96 N
-/// (load_scheme_probe). About 1 % of a point-to-point record's sub-steps are redone.
-inline constexpr int kPlayContactMicroSteps = 8;
 
 /// The shape of one load behind the play: its half gap [m or rad], the engaged shaft's damping ratio ζ and the load's
 /// own viscous friction per unit mass β [1/s] (the mode ω is the stepper's, shared).
@@ -94,25 +78,19 @@ struct PlayLoadShape {
 
 /// The classical Runge–Kutta method on n sub-steps of h [s] for K loads behind plays on one motor at the mode ω, the
 /// motor starting the step at (xa, va) and read at each sub-step's middle and end from motor_at(j, mid, end)
-/// (PlayMotorAtSubStep, or the same values stored once for many loads on one motor path: the diagnosis' grid). A
-/// sub-step in which a load's contact changes (engaged at one of its stages' points and not at another) is redone for
-/// that load in kPlayContactMicroSteps micro-steps, the motor read at their points from motor_in(j, q, at)
-/// (PlayMotorInSubStep). Each load's arithmetic is K = 1's: K loads step as K separate calls would, to the last bit,
-/// their stages computed side by side (one load's stages are a chain the processor must wait along; K of them it
-/// overlaps). AdvancePlayLoad's stepper. kRefineContacts = false: no sub-step redone (the micro-steps' own stepper).
-template <int K, bool kRefineContacts = true, typename MotorAt, typename MotorIn>
-inline void StepPlayLoads(int n, double h, double xa, double va, const MotorAt& motor_at, const MotorIn& motor_in,
-                          double omega, const PlayLoadShape (&shape)[K], PlayLoad (&load)[K]) noexcept {
+/// (PlayMotorAtSubStep, or the same values stored once for many loads on one motor path: the diagnosis' grid). Each
+/// load's arithmetic is K = 1's: K loads step as K separate calls would, to the last bit, their stages computed side by
+/// side (one load's stages are a chain the processor must wait along; K of them it overlaps). AdvancePlayLoad's stepper.
+template <int K, typename MotorAt>
+inline void StepPlayLoads(int n, double h, double xa, double va, const MotorAt& motor_at, double omega,
+                          const PlayLoadShape (&shape)[K], PlayLoad (&load)[K]) noexcept {
   // ẍ_L of load k with the motor at (xm, vm) and the load at (xl, vl).
   auto acceleration = [&](int k, double xm, double vm, double xl, double vl) {
     return PlayLoadAcceleration(xm - xl, vm - vl, shape[k].half_gap, omega, shape[k].zeta) - shape[k].load_damping * vl;
   };
-  // Is load k engaged (the play taken up) with the motor at xm and the load at xl?
-  auto engaged = [&](int k, double xm, double xl) { return std::abs(xm - xl) > shape[k].half_gap; };
   // The motor at the sub-step's start, middle and end: the middle serves two stages, the end the next sub-step's start.
   double mid[2] = {0.0, 0.0}, end[2] = {0.0, 0.0};
   double x[K], v[K], a1[K], a2[K], a3[K], a4[K];
-  bool contact_changes[K];
   for (int j = 0; j < n; ++j) {
     motor_at(j, mid, end);
     for (int k = 0; k < K; ++k) {
@@ -127,39 +105,13 @@ inline void StepPlayLoads(int n, double h, double xa, double va, const MotorAt& 
     for (int k = 0; k < K; ++k) {
       a4[k] = acceleration(k, end[0], end[1], x[k] + h * (v[k] + 0.5 * h * a2[k]), v[k] + h * a3[k]);
     }
+    xa = end[0];
+    va = end[1];
     for (int k = 0; k < K; ++k) {
       load[k].x = x[k] + h / 6.0 * (v[k] + 2.0 * (v[k] + 0.5 * h * a1[k]) + 2.0 * (v[k] + 0.5 * h * a2[k]) +
                                     (v[k] + h * a3[k]));
       load[k].v = v[k] + h / 6.0 * (a1[k] + 2.0 * a2[k] + 2.0 * a3[k] + a4[k]);
     }
-    if constexpr (kRefineContacts) {
-      // The contact at the stages' points: the start, the middle twice, the end's trial and the end.
-      for (int k = 0; k < K; ++k) {
-        const bool at_start = engaged(k, xa, x[k]);
-        contact_changes[k] = engaged(k, mid[0], x[k] + 0.5 * h * v[k]) != at_start ||
-                             engaged(k, mid[0], x[k] + 0.5 * h * (v[k] + 0.5 * h * a1[k])) != at_start ||
-                             engaged(k, end[0], x[k] + h * (v[k] + 0.5 * h * a2[k])) != at_start ||
-                             engaged(k, end[0], load[k].x) != at_start;
-      }
-      for (int k = 0; k < K; ++k) {
-        if (!contact_changes[k]) continue;
-        constexpr int m = kPlayContactMicroSteps;
-        const PlayLoadShape one[1] = {shape[k]};
-        PlayLoad redone[1] = {{x[k], v[k]}};
-        double start[2];
-        motor_in(j, 0.0, start);
-        StepPlayLoads<1, false>(
-            m, h / m, start[0], start[1],
-            [&](int u, double* micro_mid, double* micro_end) {
-              motor_in(j, (u + 0.5) / m, micro_mid);
-              motor_in(j, (u + 1.0) / m, micro_end);
-            },
-            motor_in, omega, one, redone);
-        load[k] = redone[0];
-      }
-    }
-    xa = end[0];
-    va = end[1];
   }
 }
 
@@ -178,8 +130,8 @@ inline double AdvancePlayLoad(double x0, double v0, double x1, double v1, double
   PlayLoad loads[1] = {*load};
   StepPlayLoads(
       n, dt / n, xa, va,
-      [&](int j, double* mid, double* end) { PlayMotorAtSubStep(x0, v0, x1, v1, dt, n, j, mid, end); },
-      [&](int j, double q, double* at) { PlayMotorInSubStep(x0, v0, x1, v1, dt, n, j, q, at); }, omega, shape, loads);
+      [&](int j, double* mid, double* end) { PlayMotorAtSubStep(x0, v0, x1, v1, dt, n, j, mid, end); }, omega, shape,
+      loads);
   *load = loads[0];
   return PlayLoadAcceleration(x1 - load->x, v1 - load->v, half_gap, omega, zeta);
 }

@@ -74,8 +74,10 @@ TEST(BacklashLoadTest, WithoutAPlayAndFarBelowItsModeTheLoadFollowsRigidly) {
 TEST(BacklashLoadTest, ItsImpactsAtAMillisecondAgreeWithAHundredTimesFinerStep) {
   // The motor 20 mm forth and back three times a second (up to 0.19 m/s) across a 1.2 mm play to an 18 Hz shaft
   // (ζ = 0.1, β = 0.6 /s): after each reversal the load crosses the play and meets the other side with an impact. At
-  // 1 ms the block takes one Runge–Kutta sub-step a sample (ω·Ts = 0.11) and redoes finer the steps in which the load
-  // meets or leaves a side (kPlayContactMicroSteps): 0.07 % of the force's RMS from the 10 µs run. Without that: 3.5 %.
+  // 1 ms the block takes one Runge–Kutta sub-step a sample (ω·Ts = 0.11), and a step across the instant the load meets
+  // or leaves a side is first order there (the damper's force jumps): 3.5 % of the force's RMS from the 10 µs run.
+  // Redoing those steps in 8 micro-steps gave 0.07 % (commit ab0534d; tried and left out, docs/diagnosis.md "A load
+  // behind a play"). The bound keeps the block from drifting further.
   const json load = {{"frequency_hz", 18.0}, {"damping_ratio", 0.1}, {"backlash", 1.2e-3}, {"load_damping", 0.6}};
   constexpr int kFiner = 100;
   constexpr double kAmplitude = 10e-3, kHz = 3.0;
@@ -86,7 +88,7 @@ TEST(BacklashLoadTest, ItsImpactsAtAMillisecondAgreeWithAHundredTimesFinerStep) 
     power += std::pow(fine[i * kFiner], 2);
   }
   ASSERT_GT(power, 0.0);
-  EXPECT_LT(std::sqrt(error / power), 0.005) << "the force's RMS error against the 10 µs run, relative to its RMS";
+  EXPECT_LT(std::sqrt(error / power), 0.05) << "the force's RMS error against the 10 µs run, relative to its RMS";
 }
 
 TEST(BacklashLoadTest, RefusesANonPositiveModeANegativePlayAndNoSampleTime) {

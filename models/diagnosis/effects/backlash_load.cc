@@ -114,18 +114,13 @@ class MotorPath {
     for (Eigen::Index i = 1; i < n_; ++i) {
       const std::size_t at = static_cast<std::size_t>(i);
       const double* p = points_.data() + first_[at];
-      const double dt = s.time(i) - s.time(i - 1);
       StepPlayLoads(
-          steps_[at], dt / steps_[at], start_[2 * at], start_[2 * at + 1],
+          steps_[at], (s.time(i) - s.time(i - 1)) / steps_[at], start_[2 * at], start_[2 * at + 1],
           [p](int j, double* mid, double* end) {
             mid[0] = p[4 * j];
             mid[1] = p[4 * j + 1];
             end[0] = p[4 * j + 2];
             end[1] = p[4 * j + 3];
-          },
-          [&](int j, double q, double* motor) {
-            PlayMotorInSubStep(s.position(i - 1), s.velocity(i - 1), s.position(i), s.velocity(i), dt, steps_[at], j,
-                               q, motor);
           },
           omega_, shape, load);
       for (int k = 0; k < K; ++k) {
