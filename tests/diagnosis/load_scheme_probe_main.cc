@@ -26,6 +26,8 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "models/physics/play_coupling.h"
 #include "tests/diagnosis/independent_bench.h"
 
@@ -101,7 +103,9 @@ Eigen::VectorXd BlockLoadForce(const Eigen::VectorXd& t, const Eigen::VectorXd& 
       f(i) = kMass * AdvancePlayLoad(x(i - 1), v(i - 1), x(i), v(i), dt, half_gap, omega, kZeta, kBearing, &load);
       continue;
     }
-    const auto motor = [&](double q, double* xm, double* vm) { HermiteMotor(x(i - 1), v(i - 1), x(i), v(i), dt, q, xm, vm); };
+    const auto motor = [&](double q, double* xm, double* vm) {
+      HermiteMotor(x(i - 1), v(i - 1), x(i), v(i), dt, q, xm, vm);
+    };
     // One Runge–Kutta step over [q0, q1] of the sample step; true when the contact changes at its stages' points.
     const auto step = [&](double q0, double q1, PlayLoad* l) {
       const double h = (q1 - q0) * dt;
@@ -193,31 +197,32 @@ int main(int argc, char** argv) {
               Rms(u - with));
   std::printf("\nRMS left per 0.25 s window [N], Runge–Kutta 4 on 100 sub-steps:\n%s", windows.c_str());
 
-  // The block's own scheme on both records, with and without the contacts' finer steps; then on the validation record
-  // replayed from positions that differ from the logged ones by less than the log's resolution (uniform within half a
-  // count): what the same physics leaves when the load's rattle in its play is decided by what the log cannot hold.
-  std::printf("\n| record | the block's scheme | RMS left [N] |\n|---|---|---|\n");
+  // The block's own scheme on both records, with and without the contacts' finer steps; the training record's RMS left
+  // along the play's width, the other parameters the truth's (the fit's surface a local search of the shape meets);
+  // then the validation record replayed from positions that differ from the logged ones by less than the log's
+  // resolution (uniform within half a count): what the same physics leaves when the load's rattle in its play is
+  // decided by what the log cannot hold.
+  std::printf("\n| record | the load stepped | RMS left [N] |\n|---|---|---|\n");
+  std::string surfaces;
   for (const auto* record : {&prepared.training, &log}) {
+    const bool training = record == &prepared.training;
     const Eigen::VectorXd rt = record->time(), rx = record->column(column),
                           rv = record->column(DerivedVelocityColumn(column)),
                           ra = record->column(DerivedAccelerationColumn(column)), ru = record->column("force_N");
     const Eigen::VectorXd rest = ru - TruthForce(Hidden::kNone, rt, rx, rv, ra, &ru);
     for (const bool refine : {false, true}) {
-      std::printf("| %s | %s | %.3f |\n", record == &log ? "validation" : "training",
+      std::printf("| %s | %s | %.3f |\n", training ? "training" : "validation",
                   refine ? "contact steps redone in 8 micro-steps (tried)" : "the block's: one sub-step a sample",
                   Rms(rest - BlockLoadForce(rt, rx, rv, refine)));
-    }
-    if (record == &log) continue;
-    // The fit's surface along the play, the other parameters the truth's: what a local search of the shape meets.
-    for (const bool refine : {false, true}) {
-      std::printf("\nTraining record, %s, the play's full width [mm] against the RMS left [N]:",
-                  refine ? "contact steps redone" : "the block's scheme");
+      if (!training) continue;
+      surfaces += refine ? "contact steps redone:" : "the block's scheme:";
       for (const double gap : {1.14, 1.16, 1.18, 1.19, 1.20, 1.21, 1.22, 1.24, 1.26}) {
-        std::printf(" %.2f: %.2f;", gap, Rms(rest - BlockLoadForce(rt, rx, rv, refine, 0.5e-3 * gap)));
+        surfaces += fmt::format(" {:.2f}: {:.2f};", gap, Rms(rest - BlockLoadForce(rt, rx, rv, refine, 0.5e-3 * gap)));
       }
+      surfaces += "\n";
     }
-    std::printf("\n\n| record | the block's scheme | RMS left [N] |\n|---|---|---|\n");
   }
+  std::printf("\nTraining record, the play's full width [mm] against the RMS left [N]:\n%s", surfaces.c_str());
   const double count = PositionStep(x);
   std::mt19937 rng(1);
   std::uniform_real_distribution<double> dither(-0.5 * count, 0.5 * count);
