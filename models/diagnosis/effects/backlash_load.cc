@@ -13,8 +13,9 @@
 // fit's surface is ragged (each impact's time and strength follow from the whole history of the load in its play); the
 // coefficient is fitted on the whole record by the selection, and a negative one (no load pulls the motor along) is
 // worth nothing in the search. A best gap at either end of the grid is not a play (the smallest: the plain mode, which
-// resonance models; the widest: a force along the travel). Block: backlash_load on the position and velocity, the
-// same scheme.
+// resonance models; the widest: a force along the travel). A load that rattles in its play while the motor rests (it
+// bounces off a side at least once a dwell with the shape found) is said to: its held-out error is then a draw
+// (docs/diagnosis.md, "A load behind a play"). Block: backlash_load on the position and velocity, the same scheme.
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -184,6 +185,34 @@ Trial LocalSearch(const ShapeCost& cost, const Shape& start, const Shape& lo, co
 
 bool Cheaper(const Trial& a, const Trial& b) { return a.second < b.second; }
 
+// A load that rattles in its play while the motor rests: its contacts per dwell (the stretches of at least
+// kMinDwellSamples samples with |v| under the dead band) with the shape found, when they average kRattleContacts or more
+// (it bounces off a side at least once a dwell), else 0. The load is simulated with the shape from
+// the record's start; a contact is a sample where the shaft carries a force (PlayLoadAcceleration ≠ 0).
+constexpr Eigen::Index kMinDwellSamples = 20;
+constexpr double kRattleContacts = 2.0;
+double RattleContactsPerDwell(const ProposalContext& c, const Shape& shape) {
+  const DiagnosisSignals& s = c.signals();
+  const Eigen::VectorXd load =
+      LoadAcceleration(s, s.size(), shape.gap, shape.frequency_hz, shape.damping_ratio, shape.load_damping);
+  Eigen::Index dwells = 0, contacts = 0, run = 0, run_contacts = 0;
+  for (Eigen::Index i = 1; i < s.size(); ++i) {
+    if (std::abs(s.velocity(i)) < c.dead_band()) {
+      ++run;
+      run_contacts += (load(i) != 0.0) != (load(i - 1) != 0.0) ? 1 : 0;
+      continue;
+    }
+    if (run >= kMinDwellSamples) {
+      ++dwells;
+      contacts += run_contacts;
+    }
+    run = run_contacts = 0;
+  }
+  if (dwells == 0) return 0.0;
+  const double per_dwell = static_cast<double>(contacts) / static_cast<double>(dwells);
+  return per_dwell >= kRattleContacts ? per_dwell : 0.0;
+}
+
 // Each trial's cost, concurrently.
 std::vector<Trial> Evaluate(const std::vector<Shape>& trials, const ShapeCost& cost) {
   std::vector<Trial> out(trials.size());
@@ -319,6 +348,14 @@ void Propose(ProposalContext& c) {
   const Trial ring = SearchFrom(Evaluate(lattice, cost), cost, lo, hi);
   const Shape best = ring.second < coarse.second ? ring.first : coarse.first;
   if (!IsAPlay(c, best, g_lo, g_hi)) return;
+  if (const double rattle = RattleContactsPerDwell(c, best); rattle > 0.0) {
+    c.Note(fmt::format("{}: the load rattles in its play while the motor rests ({:.1f} changes of contact per dwell "
+                       "with the shape found): where it comes to rest, and when the next move meets it, turns on "
+                       "sub-micrometre detail of the motion, so any simulation of it, the block's too, meets some "
+                       "impacts early or late on another record, and its held-out error varies from record to record "
+                       "(gear rattle; following it needs the load's state, which the log does not hold)",
+                       kName, rattle));
+  }
   c.Propose(kName, {{"backlash", best.gap},
                     {"frequency_hz", best.frequency_hz},
                     {"damping_ratio", best.damping_ratio},
