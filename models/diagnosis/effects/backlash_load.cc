@@ -196,18 +196,22 @@ double RattleContactsPerDwell(const ProposalContext& c, const Shape& shape) {
   const Eigen::VectorXd load =
       LoadAcceleration(s, s.size(), shape.gap, shape.frequency_hz, shape.damping_ratio, shape.load_damping);
   Eigen::Index dwells = 0, contacts = 0, run = 0, run_contacts = 0;
-  for (Eigen::Index i = 1; i < s.size(); ++i) {
-    if (std::abs(s.velocity(i)) < c.dead_band()) {
-      ++run;
-      run_contacts += (load(i) != 0.0) != (load(i - 1) != 0.0) ? 1 : 0;
-      continue;
-    }
+  const auto end_of_run = [&] {
     if (run >= kMinDwellSamples) {
       ++dwells;
       contacts += run_contacts;
     }
     run = run_contacts = 0;
+  };
+  for (Eigen::Index i = 1; i < s.size(); ++i) {
+    if (std::abs(s.velocity(i)) < c.dead_band()) {
+      ++run;
+      run_contacts += (load(i) != 0.0) != (load(i - 1) != 0.0) ? 1 : 0;
+    } else {
+      end_of_run();
+    }
   }
+  end_of_run();  // a record that ends at rest: its last dwell counts too
   if (dwells == 0) return 0.0;
   const double per_dwell = static_cast<double>(contacts) / static_cast<double>(dwells);
   return per_dwell >= kRattleContacts ? per_dwell : 0.0;
