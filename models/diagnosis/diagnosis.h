@@ -111,6 +111,15 @@ struct DiagnosisOptions {
   // measurement's own noise — a regressor built from the compared output, a leak — and is refused with a note.
   // 0 = off.
   double leak_floor_ratio = 0.7;
+  // Nor is an effect named that matters less than the noise: a candidate that lowers the held-out error by an RMS
+  // (the square root of the fall in mean square) under this fraction of the white noise floor is left out with a
+  // note. √(1.3² − 1) ≈ 0.83 says: without it the model stays within 1.3 × the floor, the band a model is judged to
+  // have reached the floor in (improve's acceptance). It needs held-out errors of the residual itself, commensurate
+  // with the floor: compare sets it in simulation mode, where the fit is plain least squares (huber_k 0). Off (0) by
+  // default: Huber-weighted errors are smaller than the residual's, and on the independent equation-error cases it
+  // refused a quadratic drag of 0.77 × the white floor. Measured against the floor the leak check uses (off too when
+  // leak_floor_ratio is 0).
+  double relevance_floor_ratio = 0.0;
 };
 
 // One effect the ranking chose.

@@ -254,6 +254,21 @@ bool AddBestEffect(const RegressorMatrix& m, const BlockGrams& grams, const Diag
           std::sqrt(s->leak_mse) / options.leak_floor_ratio));
       continue;
     }
+    // The floor's mean square, from the leak check's threshold (leak_floor_ratio × the floor, squared).
+    const double floor_mse =
+        options.leak_floor_ratio > 0.0 ? s->leak_mse / (options.leak_floor_ratio * options.leak_floor_ratio) : 0.0;
+    const double relevant_mse = floor_mse * options.relevance_floor_ratio * options.relevance_floor_ratio;
+    if (s->mse_last - mse[pick] < relevant_mse) {
+      notes->push_back(fmt::format(
+          "{} not named: it lowers the held-out error by an RMS of {:.3g}, {:.2f} × the record's white noise floor "
+          "({:.3g}), under {:g} ×: without it the model stays within 1.3 × the floor, and the record cannot show it "
+          "above its noise",
+          m.cands[pick].effect.name, std::sqrt(std::max(0.0, s->mse_last - mse[pick])),
+          std::sqrt(std::max(0.0, s->mse_last - mse[pick]) / floor_mse), std::sqrt(floor_mse),
+          options.relevance_floor_ratio));
+      s->set_aside.push_back(pick);
+      continue;
+    }
     if (options.significance_t > 0.0 && gain < options.significance_exempt_gain) {
       const double t = GainSignificance(m, grams, s->selected, trial, options.significance_batches);
       const bool searched = m.cands[pick].type->searched;

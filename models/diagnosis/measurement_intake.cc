@@ -146,6 +146,63 @@ bool NoisyStampsOnARegularClock(const ClockFit& fit, const MeasurementIntakeOpti
   return fit.step > 0.0 && fit.max_residual <= options.stamp_noise_bound * fit.step && fit.von_neumann >= 1.0;
 }
 
+// Σ of the squared second divided differences of `y` on the times `t` (both of one segment): a signal's roughness on
+// a time base. A smooth signal sampled at times other than `t` has its slope times each time error in it, divided by
+// the step squared.
+double Roughness(const Eigen::VectorXd& t, const Eigen::VectorXd& y) {
+  double sum = 0.0;
+  for (Eigen::Index k = 1; k + 1 < t.size(); ++k) {
+    const double d2 = 2.0 * ((y(k + 1) - y(k)) / (t(k + 1) - t(k)) - (y(k) - y(k - 1)) / (t(k) - t(k - 1))) /
+                      (t(k + 1) - t(k - 1));
+    sum += d2 * d2;
+  }
+  return sum;
+}
+
+// Which time base the samples of rows [b, e) were taken on, when their stamps scatter boundedly about the fitted clock:
+// the stamps themselves (a sampling loop with scheduling jitter that stamps each sample when it takes it) or the
+// fitted clock (a logger stamping on arrival). Each column's roughness on the stamps over its roughness on the
+// fitted clock: about 1 for a column of noise, below 1 for a smooth column sampled when stamped, above 1 for one
+// sampled on the clock. The column farthest from 1 decides; the stamps are taken as accurate when it is smoother on
+// them by more than `factor`. Returns that column's index (0 when the fitted clock is kept) and its ratio.
+std::pair<std::size_t, double> StampsMakeTheColumnsSmoother(const Columns& in, Eigen::Index b, Eigen::Index e,
+                                                            const ClockFit& fit, double factor) {
+  const Eigen::Index n = e - b;
+  const Eigen::VectorXd stamps = in[0].segment(b, n);
+  const Eigen::VectorXd clock =
+      Eigen::VectorXd::LinSpaced(n, fit.t0, fit.t0 + static_cast<double>(n - 1) * fit.step);
+  std::size_t decisive = 0;
+  double ratio = 1.0;
+  for (std::size_t c = 1; c < in.size(); ++c) {
+    const Eigen::VectorXd y = in[c].segment(b, n);
+    const double on_stamps = Roughness(stamps, y), on_clock = Roughness(clock, y);
+    if (!(on_stamps > 0.0) || !(on_clock > 0.0) || !std::isfinite(on_stamps) || !std::isfinite(on_clock)) continue;
+    const double r = on_stamps / on_clock;
+    if (std::abs(std::log(r)) > std::abs(std::log(ratio))) {
+      decisive = c;
+      ratio = r;
+    }
+  }
+  return ratio < 1.0 / factor ? std::pair{decisive, ratio} : std::pair{std::size_t{0}, ratio};
+}
+
+// Linear interpolation of every column of rows [b, e), sampled at its (accurate) stamps, onto the fitted clock
+// t0 + k·step, k = 0 … e − b − 1: each instant lies within the jitter of its own sample. An instant outside the
+// stamps takes the nearest sample's value.
+Columns InterpolatedOntoFittedClock(const Columns& in, Eigen::Index b, Eigen::Index e, const ClockFit& fit) {
+  const Eigen::VectorXd& t = in.front();
+  Columns out(in.size(), Eigen::VectorXd(e - b));
+  Eigen::Index j = b;
+  for (Eigen::Index k = 0; k < e - b; ++k) {
+    const double tk = fit.t0 + static_cast<double>(k) * fit.step;
+    while (j + 2 < e && t(j + 1) <= tk) ++j;
+    const double w = std::clamp((tk - t(j)) / (t(j + 1) - t(j)), 0.0, 1.0);
+    out[0](k) = tk;
+    for (std::size_t c = 1; c < in.size(); ++c) out[c](k) = in[c](j) + w * (in[c](j + 1) - in[c](j));
+  }
+  return out;
+}
+
 // Every column of rows [b, e) as logged, the time replaced by the fitted clock t0 + k·step.
 Columns OnFittedClock(const Columns& in, Eigen::Index b, Eigen::Index e, const ClockFit& fit) {
   Columns out(in.size());
@@ -175,6 +232,31 @@ std::string NoisyStampsNote(const std::vector<ClockFit>& fits) {
       "(interpolating them at the noisy stamps would add noise in proportion to each signal's slope)",
       fits.size() > 1 ? fmt::format(" in {} segments, each fitted on its own", fits.size()) : "", worst,
       100.0 * worst_share, rms, step);
+}
+
+// A segment sampled at its stamps, which scatter about a regular clock; the column that showed it and its roughness
+// on the stamps over that on the fitted clock.
+struct JitteredClock {
+  ClockFit fit;
+  std::string column;
+  double ratio = 1.0;
+};
+
+std::string JitteredClockNote(const std::vector<JitteredClock>& clocks) {
+  const JitteredClock* worst = &clocks.front();
+  for (const auto& c : clocks) {
+    if (c.fit.max_residual / c.fit.step > worst->fit.max_residual / worst->fit.step) worst = &c;
+  }
+  return fmt::format(
+      "the samples were taken at their time stamps, which jitter about a regular clock{} (a sampling loop with "
+      "scheduling jitter that stamps each sample when it takes it): stamp − fitted line t0 + k·T stays within ±{:.3g} "
+      "s ({:.0f} % of the step T = {:.6g} s), and '{}' is {:.3g} × smoother against the stamps than against the "
+      "fitted clock (its squared second differences), where a logger stamping on arrival would make it rougher; every "
+      "column was interpolated (linearly) onto the fitted clock t_k = t0 + k·T, each instant within the jitter of its "
+      "own sample",
+      clocks.size() > 1 ? fmt::format(" in {} segments, each fitted on its own", clocks.size()) : "",
+      worst->fit.max_residual, 100.0 * worst->fit.max_residual / worst->fit.step, worst->fit.step, worst->column,
+      1.0 / worst->ratio);
 }
 
 std::string JitterNote(const Eigen::VectorXd& t, double median, Eigen::Index rows_before, Eigen::Index rows_after,
@@ -225,6 +307,7 @@ MeasurementLog IntakeMeasurementLog(const MeasurementLog& given, const Measureme
   Columns out(columns.size());
   std::vector<Eigen::Index> starts;
   std::vector<ClockFit> fitted_clocks;
+  std::vector<JitteredClock> jittered_clocks;
   Eigen::Index dropped = 0, rows = 0, resampled = 0;
   double drift_steps = 0.0;
   for (const auto& [b, e] : segments) {
@@ -236,8 +319,14 @@ MeasurementLog IntakeMeasurementLog(const MeasurementLog& given, const Measureme
     if (!Jittered(t, b, e, median, options.jitter_tolerance)) {
       for (std::size_t c = 0; c < columns.size(); ++c) part[c] = columns[c].segment(b, e - b);
     } else if (const ClockFit fit = FitClock(t, b, e); NoisyStampsOnARegularClock(fit, options)) {
-      part = OnFittedClock(columns, b, e, fit);
-      fitted_clocks.push_back(fit);
+      const auto [column, ratio] = StampsMakeTheColumnsSmoother(columns, b, e, fit, options.smoother_on_stamps);
+      if (column > 0) {
+        part = InterpolatedOntoFittedClock(columns, b, e, fit);
+        jittered_clocks.push_back({fit, raw.names()[column], ratio});
+      } else {
+        part = OnFittedClock(columns, b, e, fit);
+        fitted_clocks.push_back(fit);
+      }
     } else {
       part = ResampleSegment(columns, b, e, median);
       ++resampled;
@@ -261,6 +350,7 @@ MeasurementLog IntakeMeasurementLog(const MeasurementLog& given, const Measureme
                                 options.min_segment_rows));
   }
   if (!fitted_clocks.empty()) notes.push_back(NoisyStampsNote(fitted_clocks));
+  if (!jittered_clocks.empty()) notes.push_back(JitteredClockNote(jittered_clocks));
   if (resampled > 0) notes.push_back(JitterNote(t, median, t.size(), rows, drift_steps, options));
   MeasurementLog log(raw.names(), std::move(out), raw.source());
   for (const auto& n : raw.notes()) log.AddNote(n);  // as read: the time converted to seconds

@@ -57,6 +57,9 @@ struct MeasurementIntakeOptions {
   // Noisy stamps on a regular clock: the stamps minus a straight line fitted against the sample index stay within
   // ±stamp_noise_bound × the fitted step and do not drift. 0 = never (every non-uniform segment is resampled).
   double stamp_noise_bound = 0.5;
+  // Such bounded stamps are accurate (the samples taken when stamped) when some column is rougher on the fitted clock
+  // than on the stamps by more than this factor (its squared second differences); else the stamps are noisy.
+  double smoother_on_stamps = 2.0;
   // A step above gap_ratio × the median step is a gap: the log is split there into segments.
   double gap_ratio = 5.0;
   // Segments with fewer rows than this are dropped (a note says so): too short to filter or differentiate.
@@ -74,7 +77,12 @@ struct MeasurementIntakeOptions {
 //       ±stamp_noise_bound × T and does not drift (von Neumann's ratio Σ(Δr)²/Σr² at least 1; about 2 for
 //       independent stamp noise). The fitted clock t_k = t0 + k·T replaces the stamps and the samples are kept as
 //       logged (Lab Streaming Layer's dejitter): interpolating at noisy stamps adds noise in proportion to the
-//       signal's slope;
+//       signal's slope. Unless the samples were taken at their stamps (a sampling loop with scheduling jitter
+//       that stamps each sample when it takes it): bounded stamps fit both stories, the signals tell them apart —
+//       a smooth column sampled at its stamps is smoother against them than against the fitted clock, where its
+//       slope times each time error enters its second differences. When some column is smoother on the stamps by
+//       more than smoother_on_stamps (the column farthest from 1 decides), every column is interpolated
+//       (linearly) onto the fitted clock, each instant within the jitter of its own sample;
 //     - irregular sampling with accurate stamps (a polled sensor: the residual wanders, each step's error stays in
 //       the stamps that follow): every column is resampled onto the uniform grid t_0 + k·Δt, Δt = the median step,
 //       by linear interpolation.

@@ -40,7 +40,9 @@ int main(int argc, char** argv) {
     for (const auto& spec : mb::independent::Cases()) {
       if (spec.hidden != mb::independent::Hidden::kNone) continue;
       for (unsigned seed = 1; seed <= clean_seeds; ++seed) {
-        const std::string folder = out + "/clean_seed_" + std::to_string(seed);
+        std::string name = spec.name;  // one folder per rate and seed
+        for (char& c : name) if (c == ' ' || c == ',') c = '_';
+        const std::string folder = out + "/" + name + "_seed_" + std::to_string(seed);
         std::optional<mb::independent::CaseResult> r = mb::independent::RunCaseInSimulation(spec, folder, seed);
         r->spec.name += ", seed " + std::to_string(seed);
         results.push_back(std::move(*r));

@@ -239,12 +239,28 @@ double GearShaftForce(double x, double v, double xl, double vl) {
   return k * (twist - std::copysign(kGearHalfGap, twist)) + c * (v - vl);
 }
 
-// A jerk-limited point-to-point reference on the fine grid kSubStep, with dwell between moves.
+// A jerk-limited point-to-point reference on the fine grid kSubStep, with dwell between moves. The equation-error
+// records' controller reads it held from the grid point below, and t/kSubStep at a controller instant k·1 ms rounds
+// down on one in six of them (29.999… → 29): it then reads the reference 0.1 ms stale, a kick of kp·v·0.1 ms (up to
+// 12 N) at random steps, which their logged force carries and so any model of the force sees. A record with its
+// reference logged (simulation mode) is compared with a diagram whose controller reads the logged reference between
+// its samples, which holds no such kick: there the reference is `continuous`, read between its grid points by linear
+// interpolation, the same whenever the controller or the logger reads it.
 struct Reference {
   std::vector<double> x, v, a;
+  bool continuous = false;
   void At(double t, double* xr, double* vr, double* ar) const {
-    const auto i = std::min(x.size() - 1, static_cast<std::size_t>(std::max(0.0, t / kSubStep)));
-    *xr = x[i]; *vr = v[i]; *ar = a[i];
+    if (!continuous) {
+      const auto i = std::min(x.size() - 1, static_cast<std::size_t>(std::max(0.0, t / kSubStep)));
+      *xr = x[i]; *vr = v[i]; *ar = a[i];
+      return;
+    }
+    const double q = std::clamp(t / kSubStep, 0.0, static_cast<double>(x.size() - 1));
+    const auto i = std::min(x.size() - 2, static_cast<std::size_t>(q));
+    const double w = q - static_cast<double>(i);
+    *xr = x[i] + w * (x[i + 1] - x[i]);
+    *vr = v[i] + w * (v[i + 1] - v[i]);
+    *ar = a[i] + w * (a[i + 1] - a[i]);
   }
 };
 
@@ -521,7 +537,8 @@ double VelocityEstimateCutoffHz(double control_period) {
 
 Record Generate(Hidden hidden, const GeneratorSettings& settings) {
   std::mt19937 rng(settings.seed);
-  const Reference ref = MakeReference(settings.duration + 0.1, &rng);
+  Reference ref = MakeReference(settings.duration + 0.1, &rng);
+  ref.continuous = settings.log_reference;
   std::uniform_real_distribution<double> jitter(-settings.jitter, settings.jitter);
   std::uniform_real_distribution<double> stamp_noise(-settings.stamp_noise, settings.stamp_noise);
   std::normal_distribution<double> noise(0.0, settings.force_noise);
@@ -540,58 +557,81 @@ Record Generate(Hidden hidden, const GeneratorSettings& settings) {
   std::vector<double> command_time, command;  // for the delayed log
   State st;
   Controller pid;
-  double t = 0.0;
-  const auto steps = static_cast<Eigen::Index>(n) * per_sample;
-  for (Eigen::Index step = 0; step < steps; ++step) {
-    const Eigen::Index k = step / per_sample;
-    const bool logged_now = step % per_sample == 0;
-    const double next = per_sample == 1 ? (static_cast<double>(step) + 1.0 + jitter(rng)) * control_period
-                                        : static_cast<double>(step + 1) * control_period;
-    const double x_measured = std::floor(st.x / settings.encoder_step) * settings.encoder_step;
-    const double u = pid.Update(t, x_measured, ref);
-    command_time.push_back(t);
-    command.push_back(u);
-    // What the drive makes of a command it applies at time `at`.
-    const auto drive = [&](double command_value, double at) {
-      double applied = command_value;
-      if (Has(hidden, Hidden::kSaturation)) applied = std::clamp(applied, kLowerLimit, kUpperLimit);
-      if (Has(hidden, Hidden::kForceRipple)) applied *= 1.0 + ForceConstantRipple(st.x);
-      return applied * ForceConstantScale(hidden, at, st.x);
-    };
-    double logged = u;
-    if (Has(hidden, Hidden::kDelay)) {  // the amplifier reports the force it applied kDelay ago (ZOH)
-      const auto it = std::upper_bound(command_time.begin(), command_time.end(), t - kDelay);
-      logged = it == command_time.begin() ? command.front() : command[static_cast<std::size_t>(it - command_time.begin() - 1)];
-    }
-    if (Has(hidden, Hidden::kMainsHum)) logged += kHumAmplitude * std::sin(kTwoPi * kHumHz * t + 0.2);
-    const double scale = IsRotary(hidden) ? 1.0 / kRadPerMetre : 1.0;  // N → N·m on the rotary axis
-    if (logged_now) {
-      r.time(k) = t + stamp_noise(rng) * settings.sample_period;
-      r.position(k) = IsRotary(hidden) ? kRadPerMetre * (x_measured - 0.1) : x_measured;
-      r.true_force(k) = scale * logged;
-      r.force(k) = scale * (logged + noise(rng));
-      if (settings.log_reference) ref.At(t, &r.reference(k), &r.reference_velocity(k), &r.reference_acceleration(k));
-      if (Has(hidden, Hidden::kCoupledAxis)) r.extra(k) = OtherAxisAcceleration(t);
-      if (Has(hidden, Hidden::kCoupledAxisVelocity)) r.extra(k) = OtherAxisVelocity(t);
-      if (Has(hidden, Hidden::kIdleColumn)) r.extra(k) = HallTemperature(t);
-      if (Has(hidden, Hidden::kOilTemperature)) r.extra(k) = OilTemperature(t);
-      if (Has(hidden, Hidden::kMagnetTemperature)) r.extra(k) = MagnetTemperature(t);
-    }
+  double now = 0.0;  // the plant's time [s]
+  // What the drive makes of a command it applies at time `at`.
+  const auto drive = [&](double command_value, double at) {
+    double applied = command_value;
+    if (Has(hidden, Hidden::kSaturation)) applied = std::clamp(applied, kLowerLimit, kUpperLimit);
+    if (Has(hidden, Hidden::kForceRipple)) applied *= 1.0 + ForceConstantRipple(st.x);
+    return applied * ForceConstantScale(hidden, at, st.x);
+  };
+  // The plant advanced to `until` under the commands sent so far.
+  const auto advance_to = [&](double until) {
+    if (!(until > now)) return;
     if (Has(hidden, Hidden::kActuatorLag)) {
       // Each command acts from kActuatorLag after it was sent until kActuatorLag after the next one: the step is split
       // where the applied command changes. (Taking the command active at the step's start made the lag 4 or 5 control
       // periods at random on a jittered clock, 4.5 on average, not the 4 ms this case hides.)
-      for (double from = t; from < next;) {
+      for (double from = now; from < until;) {
         const auto it = std::upper_bound(command_time.begin(), command_time.end(), from - kActuatorLag + 1e-12);
         const std::size_t j = it == command_time.begin() ? 0 : static_cast<std::size_t>(it - command_time.begin()) - 1;
-        const double until = it == command_time.end() ? next : std::min(next, *it + kActuatorLag);
-        Advance(hidden, from, until - from, drive(command[j], from), &st);
-        from = until;
+        const double to = it == command_time.end() ? until : std::min(until, *it + kActuatorLag);
+        Advance(hidden, from, to - from, drive(command[j], from), &st);
+        from = to;
       }
     } else {
-      Advance(hidden, t, next - t, drive(u, t), &st);
+      Advance(hidden, now, until - now, drive(command.back(), now), &st);
     }
-    t = next;
+    now = until;
+  };
+  const double scale = IsRotary(hidden) ? 1.0 / kRadPerMetre : 1.0;  // N → N·m on the rotary axis
+  // Sample k of the log, taken at `at` (its time stamp's truth): the encoder's count, the command then in effect as the
+  // amplifier reports it, the reference and the extra column.
+  const auto record = [&](Eigen::Index k, double at) {
+    const double x_measured = std::floor(st.x / settings.encoder_step) * settings.encoder_step;
+    double logged = command.back();
+    if (Has(hidden, Hidden::kDelay)) {  // the amplifier reports the force it applied kDelay ago (ZOH)
+      const auto it = std::upper_bound(command_time.begin(), command_time.end(), at - kDelay);
+      logged = it == command_time.begin() ? command.front() : command[static_cast<std::size_t>(it - command_time.begin() - 1)];
+    }
+    if (Has(hidden, Hidden::kMainsHum)) logged += kHumAmplitude * std::sin(kTwoPi * kHumHz * at + 0.2);
+    r.time(k) = at + stamp_noise(rng) * settings.sample_period;
+    r.position(k) = IsRotary(hidden) ? kRadPerMetre * (x_measured - 0.1) : x_measured;
+    r.true_force(k) = scale * logged;
+    r.force(k) = scale * (logged + noise(rng));
+    if (settings.log_reference) ref.At(at, &r.reference(k), &r.reference_velocity(k), &r.reference_acceleration(k));
+    if (Has(hidden, Hidden::kCoupledAxis)) r.extra(k) = OtherAxisAcceleration(at);
+    if (Has(hidden, Hidden::kCoupledAxisVelocity)) r.extra(k) = OtherAxisVelocity(at);
+    if (Has(hidden, Hidden::kIdleColumn)) r.extra(k) = HallTemperature(at);
+    if (Has(hidden, Hidden::kOilTemperature)) r.extra(k) = OilTemperature(at);
+    if (Has(hidden, Hidden::kMagnetTemperature)) r.extra(k) = MagnetTemperature(at);
+  };
+  // The controller runs on its own regular clock; a log at its rate is taken by a logger whose sampling instants
+  // jitter about the same clock (±settings.jitter of the period, each stamped when taken): sample k at
+  // k·T + offset(k), the first at 0. A slower log takes every per_sample-th control instant as it is.
+  const auto steps = static_cast<Eigen::Index>(n) * per_sample;
+  double offset_next = 0.0;  // of the next sample, drawn one step ahead: it may fall before that step's instant
+  for (Eigen::Index step = 0; step < steps; ++step) {
+    const double t = static_cast<double>(step) * control_period, next = t + control_period;
+    const double offset = offset_next;
+    offset_next = per_sample == 1 ? jitter(rng) * control_period : 0.0;
+    const Eigen::Index k = step / per_sample;
+    const bool logged_now = step % per_sample == 0;
+    advance_to(t);
+    const double x_measured = std::floor(st.x / settings.encoder_step) * settings.encoder_step;
+    command.push_back(pid.Update(t, x_measured, ref));
+    command_time.push_back(t);
+    // A sample due at t and taken at or after it (one taken before it was recorded in the step before).
+    if (logged_now && offset >= 0.0) {
+      advance_to(t + offset);
+      record(k, t + offset);
+    }
+    const Eigen::Index k_next = (step + 1) / per_sample;
+    if (per_sample == 1 && offset_next < 0.0 && k_next < n) {
+      advance_to(next + offset_next);
+      record(k_next, next + offset_next);
+    }
+    advance_to(next);
   }
   return r;
 }

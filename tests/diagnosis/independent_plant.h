@@ -164,7 +164,9 @@ struct GeneratorSettings {
   /// [s], nominal, of the log. The controller runs at the log's rate up to 1 kHz; a slower log keeps every k-th of
   /// its 1 ms steps (the command logged as sampled, not held over the log's period).
   double sample_period = 1e-3;
-  double jitter = 0.05;               ///< uniform ± this fraction of the sample period on every instant
+  /// Uniform ± this fraction of the sample period on every sampling instant of a log at the controller's rate, each
+  /// stamped when taken (a logger whose sampling jitters; the controller keeps its regular clock).
+  double jitter = 0.05;
   /// Uniform ± this fraction of the sample period on every time stamp while the samples are taken on the regular
   /// clock (a logger stamping on arrival); < 0.5 keeps the stamps increasing.
   double stamp_noise = 0.0;

@@ -241,6 +241,40 @@ TEST_F(MeasurementLogTest, IntakeKeepsTheFittedClockOfNoisyStampsOnARegularClock
   std::cout << log.notes()[1] << "\n";
 }
 
+// The same bounded scatter about a regular clock, but the stamps accurate: a sampling loop with scheduling jitter (±5 %
+// of the step) that stamps each sample when it takes it. The stamps alone cannot tell it from the case above; the
+// signal can: the sine is smooth against the stamps and rough against the fitted clock. Its samples are interpolated
+// onto the fitted clock, far closer to the truth there than the samples as logged (the fitted clock's reading).
+TEST_F(MeasurementLogTest, IntakeInterpolatesOntoTheFittedClockWhenTheSamplesWereTakenAtTheirStamps) {
+  constexpr double kStep = 1e-3, kHz = 5.0;
+  constexpr Eigen::Index kRows = 2000;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> jitter(-0.05 * kStep, 0.05 * kStep);
+  std::normal_distribution<double> noise(0.0, 0.1);
+  Eigen::VectorXd stamps(kRows), y(kRows), force(kRows);
+  for (Eigen::Index i = 0; i < kRows; ++i) {
+    stamps(i) = 0.5 + static_cast<double>(i) * kStep + jitter(rng);  // when the sample was taken and stamped
+    y(i) = std::sin(2.0 * std::numbers::pi * kHz * stamps(i));
+    force(i) = noise(rng);  // a column of noise alone: as rough on either time base
+  }
+  const MeasurementLog log = IntakeMeasurementLog(MeasurementLog({"time_s", "y_V", "force_N"}, {stamps, y, force},
+                                                                 "sampled_when_stamped.csv"));
+  ASSERT_EQ(log.rows(), kRows);
+  ASSERT_EQ(log.notes().size(), 1u);
+  EXPECT_THAT(log.notes()[0], AllOf(HasSubstr("sampled_when_stamped.csv: the samples were taken at their time stamps"),
+                                    HasSubstr("'y_V' is"), HasSubstr("smoother against the stamps"),
+                                    HasSubstr("interpolated (linearly) onto the fitted clock")));
+  for (Eigen::Index i = 1; i < log.rows(); ++i) ASSERT_NEAR(log.time()(i) - log.time()(i - 1), kStep, 1e-3 * kStep);
+  const auto rms_error = [&](const Eigen::VectorXd& v) {
+    return std::sqrt((v.array() - (2.0 * std::numbers::pi * kHz * log.time().array()).sin()).square().mean());
+  };
+  const double interpolated = rms_error(log.column("y_V")), as_logged = rms_error(y);
+  std::cout << fmt::format("sampled when stamped, ±5 %: RMS error of the values on the fitted clock, interpolated "
+                           "{:.3g}, as logged {:.3g} (amplitude 1)\n", interpolated, as_logged);
+  EXPECT_LT(interpolated, 0.1 * as_logged);
+  std::cout << log.notes()[0] << "\n";
+}
+
 // A regular clock with exact stamps that drops a sample now and then is irregular sampling: the residual against the
 // fitted line steps at each drop (it drifts), so the rows are resampled, not put on a fitted clock.
 TEST_F(MeasurementLogTest, IntakeResamplesARegularClockThatDropsSamples) {

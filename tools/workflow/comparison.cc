@@ -744,6 +744,13 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
   options.position_unit = PositionUnitToken(settings.position_column);
   options.catalogue.every_pair = settings.every_pair;
   if (!equation_error) {  // a candidate force reaches the compared output through the closed loop
+    // Plain least squares: the Huber weights are for the spikes a derived motion puts into an equation-error residual
+    // (the model's sign(v) flipping while the machine dwells). A position error has none, and where the record dwells
+    // it sits at the floor, so its robust scale is the floor's and every sample while the axis moves would be an
+    // outlier: a payload picked up halfway, all in the moves, was weighted out (mean weight 0.85) and not named.
+    // With the residual's own held-out errors an effect is named only above the floor (relevance_floor_ratio).
+    options.huber_k = 0.0;
+    options.relevance_floor_ratio = 0.83;
     const DiagramDocument document(comparison.diagram_json(), comparison.base_directory(), comparison.source());
     DriveForce drive = ModelDriveForce(document, out.after, own, reactions);
     LoopProbe probe = ProbeLoop(comparison, primary, own, signals.velocity, drive.source);
