@@ -261,11 +261,12 @@ bool AddBestEffect(const RegressorMatrix& m, const BlockGrams& grams, const Diag
     if (s->mse_last - mse[pick] < relevant_mse) {
       notes->push_back(fmt::format(
           "{} not named: it lowers the held-out error by an RMS of {:.3g}, {:.2f} × the record's white noise floor "
-          "({:.3g}), under {:g} ×: without it the model stays within 1.3 × the floor, and the record cannot show it "
+          "({:.3g}), under {:g} ×: without it the model stays within {:.2g} × the floor, and the record cannot show it "
           "above its noise",
           m.cands[pick].effect.name, std::sqrt(std::max(0.0, s->mse_last - mse[pick])),
           std::sqrt(std::max(0.0, s->mse_last - mse[pick]) / floor_mse), std::sqrt(floor_mse),
-          options.relevance_floor_ratio));
+          options.relevance_floor_ratio,
+          std::sqrt(1.0 + options.relevance_floor_ratio * options.relevance_floor_ratio)));
       s->set_aside.push_back(pick);
       continue;
     }

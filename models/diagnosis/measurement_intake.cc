@@ -79,14 +79,14 @@ std::vector<std::pair<Eigen::Index, Eigen::Index>> SplitAtGaps(const Eigen::Vect
   return segments;
 }
 
-// 3. Linear interpolation of every column of rows [b, e) onto t(b) + k·step.
-Columns ResampleSegment(const Columns& in, Eigen::Index b, Eigen::Index e, double step) {
+// Linear interpolation of every column of rows [b, e) onto the clock origin + k·step, k = 0 … rows − 1. An instant
+// outside the stamps takes the nearest sample's value; a single row is held.
+Columns Interpolated(const Columns& in, Eigen::Index b, Eigen::Index e, double origin, double step, Eigen::Index rows) {
   const Eigen::VectorXd& t = in.front();
-  const auto m = static_cast<Eigen::Index>(std::floor((t(e - 1) - t(b)) / step * (1.0 + 1e-12))) + 1;
-  Columns out(in.size(), Eigen::VectorXd(m));
+  Columns out(in.size(), Eigen::VectorXd(rows));
   Eigen::Index j = b;
-  for (Eigen::Index k = 0; k < m; ++k) {
-    const double tk = t(b) + static_cast<double>(k) * step;
+  for (Eigen::Index k = 0; k < rows; ++k) {
+    const double tk = origin + static_cast<double>(k) * step;
     while (j + 2 < e && t(j + 1) <= tk) ++j;
     const double w = e - b < 2 ? 0.0 : std::clamp((tk - t(j)) / (t(j + 1) - t(j)), 0.0, 1.0);
     out[0](k) = tk;
@@ -95,6 +95,13 @@ Columns ResampleSegment(const Columns& in, Eigen::Index b, Eigen::Index e, doubl
     }
   }
   return out;
+}
+
+// 3. Every column of rows [b, e) onto t(b) + k·step (irregular sampling).
+Columns ResampleSegment(const Columns& in, Eigen::Index b, Eigen::Index e, double step) {
+  const Eigen::VectorXd& t = in.front();
+  const auto m = static_cast<Eigen::Index>(std::floor((t(e - 1) - t(b)) / step * (1.0 + 1e-12))) + 1;
+  return Interpolated(in, b, e, t(b), step, m);
 }
 
 bool Jittered(const Eigen::VectorXd& t, Eigen::Index b, Eigen::Index e, double median, double tolerance) {
@@ -186,21 +193,10 @@ std::pair<std::size_t, double> StampsMakeTheColumnsSmoother(const Columns& in, E
   return ratio < 1.0 / factor ? std::pair{decisive, ratio} : std::pair{std::size_t{0}, ratio};
 }
 
-// Linear interpolation of every column of rows [b, e), sampled at its (accurate) stamps, onto the fitted clock
-// t0 + k·step, k = 0 … e − b − 1: each instant lies within the jitter of its own sample. An instant outside the
-// stamps takes the nearest sample's value.
+// Every column of rows [b, e), sampled at its (accurate) stamps, onto the fitted clock t0 + k·step,
+// k = 0 … e − b − 1: each instant lies within the jitter of its own sample.
 Columns InterpolatedOntoFittedClock(const Columns& in, Eigen::Index b, Eigen::Index e, const ClockFit& fit) {
-  const Eigen::VectorXd& t = in.front();
-  Columns out(in.size(), Eigen::VectorXd(e - b));
-  Eigen::Index j = b;
-  for (Eigen::Index k = 0; k < e - b; ++k) {
-    const double tk = fit.t0 + static_cast<double>(k) * fit.step;
-    while (j + 2 < e && t(j + 1) <= tk) ++j;
-    const double w = std::clamp((tk - t(j)) / (t(j + 1) - t(j)), 0.0, 1.0);
-    out[0](k) = tk;
-    for (std::size_t c = 1; c < in.size(); ++c) out[c](k) = in[c](j) + w * (in[c](j + 1) - in[c](j));
-  }
-  return out;
+  return Interpolated(in, b, e, fit.t0, fit.step, e - b);
 }
 
 // Every column of rows [b, e) as logged, the time replaced by the fitted clock t0 + k·step.
