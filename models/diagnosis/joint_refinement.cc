@@ -211,7 +211,10 @@ double JointRefinement::Sse(const FixedPart& f, std::size_t j, const Eigen::Matr
       response = &own;
     }
   }
-  Eigen::MatrixXd xv(wbase_.rows(), kv);
+  // The varying columns, weighted: one scratch per thread, kept between the trials of a scan (the same shape each time)
+  // rather than an N-row block mapped anew for each trial under AddressSanitizer (ZeroPhaseLowPassColumns, alike).
+  thread_local Eigen::MatrixXd xv;
+  xv.resize(wbase_.rows(), kv);
   Eigen::Index col = 0;
   for (std::size_t i = 0; i < columns_.size(); ++i) {
     if (!Varies(i, j)) continue;
