@@ -187,7 +187,11 @@ TEST(HilRunnerTest, OverrunStreakTriggersTheSafeStop) {
   EXPECT_FALSE(r.completed);
   EXPECT_THAT(r.stop_reason, HasSubstr("overrun streak"));
   EXPECT_EQ(r.statistics.ticks, 55);
-  EXPECT_EQ(r.statistics.overruns, 5);
+  // The five forced overruns end the run. The test board's other ticks are scheduled at their wake time on the
+  // machine's own clock, so a tick the OS preempted for over a period (a loaded CI machine) counts as well: the
+  // streak, not the total, is deterministic.
+  EXPECT_GE(r.statistics.overruns, 5);
+  EXPECT_LE(r.statistics.overruns, 50);
   EXPECT_EQ(r.statistics.max_overrun_streak, 5);
   EXPECT_EQ(board.safe_stops(), 1);
 }
