@@ -425,6 +425,22 @@ void DiagramDocument::AddConnector(const DocumentConnector& connector) {
   json_["connectors"].push_back(std::move(c));
 }
 
+bool DiagramDocument::RemoveConnector(const std::string& name) {
+  Json& connectors = json_["connectors"];
+  if (!connectors.is_array()) return false;
+  const auto named = std::find_if(connectors.begin(), connectors.end(),
+                                  [&](const Json& c) { return c.value("name", "") == name; });
+  if (named == connectors.end()) return false;
+  connectors.erase(named);
+  const Endpoint connector{"", name};
+  Json kept = Json::array();
+  for (const auto& c : json_["connections"]) {
+    if (Start(c) != connector && End(c) != connector) kept.push_back(c);
+  }
+  json_["connections"] = std::move(kept);
+  return true;
+}
+
 // ---- Parameters ----------------------------------------------------------------------------------------
 
 Json DiagramDocument::Parameter(const std::string& element, const std::string& parameter) const {

@@ -141,6 +141,9 @@ class DiagramDocument {
   /// Appends a connector (name, kind "input" or "output", unit, measured column; the column is left out when it is the
   /// name). @throws std::invalid_argument for an empty name, another kind, or a name a connector already has.
   void AddConnector(const DocumentConnector& connector);
+  /// Removes the connector named `name` and every connection at it (an output connector's driver keeps its other
+  /// readers). Returns whether there was one.
+  bool RemoveConnector(const std::string& name);
 
   // ---- Parameters --------------------------------------------------------------------------------------
   /// The value of `element.parameter` in its SI unit (a quantity {"value", "unit"} converted:

@@ -88,5 +88,14 @@ int main(int argc, char** argv) {
     ++missed;
   }
   std::cerr << results.size() - static_cast<std::size_t>(missed) << " of " << results.size() << " cases pass\n";
+  if (simulation) {  // the equation-error view beside the position's: named right with its parameter, and agreeing
+    int view_right = 0, agree = 0;
+    for (const auto& r : results) {
+      view_right += r.equation_error_named_right && r.equation_error_parameter_right ? 1 : 0;
+      agree += r.equation_error_run && r.equation_error_skipped.empty() && r.equation_error_first == r.named_first;
+    }
+    std::cerr << "equation-error view: " << view_right << " of " << results.size()
+              << " named right with the parameter; its first is the position view's on " << agree << "\n";
+  }
   return missed == 0 ? 0 : 1;
 }

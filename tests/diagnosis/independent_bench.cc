@@ -12,6 +12,7 @@
 #include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/signal_processing.h"
 #include "tools/workflow/comparison.h"
+#include "tools/workflow/equation_error_view.h"
 #include "tools/workflow/improve.h"
 #include "tools/workflow/measurement.h"
 
@@ -195,6 +196,21 @@ std::optional<CaseResult> RunCaseInSimulation(const CaseSpec& given, const fs::p
   const DiagnosedComparison compared = CompareAndDiagnose(diagram, folder, file, log, settings, diagram["free"]);
   r.compare_seconds = Seconds(t0);
   Judge(*compared.diagnosis, &r);
+  const auto t_view = std::chrono::steady_clock::now();
+  const EquationErrorView view = DiagnoseEquationErrorView(compared, folder, file, log, settings);
+  r.equation_error_seconds = Seconds(t_view);
+  r.equation_error_run = true;
+  r.equation_error_skipped = view.skipped;
+  if (view.diagnosis) {
+    CaseResult eq;  // judged as equation-error mode is: a force only the logged one holds is there to be named
+    eq.spec = given;
+    Judge(*view.diagnosis, &eq);
+    r.equation_error_first = eq.named_first;
+    r.equation_error_named_right = eq.named_right;
+    r.equation_error_parameter_right = eq.parameter_right;
+    r.details.push_back(view.note);
+    for (const std::string& line : eq.details) r.details.push_back("equation-error view: " + line);
+  }
   if (!run_improve) return r;
   r.improve_run = true;
   constexpr unsigned kValidationSeed = 1000;
@@ -231,11 +247,13 @@ std::string Verdict(const CaseResult& r) {
 }  // namespace
 
 std::string FormatTable(const std::vector<CaseResult>& results) {
-  std::string out =
+  const bool view = std::any_of(results.begin(), results.end(), [](const CaseResult& r) { return r.equation_error_run; });
+  std::string out = fmt::format(
       "| case | named (ranking; (law) = friction-law replacement) | first outside the law | key parameter found "
       "(truth) | held-out RMSE before → after improve (noise floor) [N; m in simulation mode] | compare / improve "
-      "[s] | pass |\n"
-      "|---|---|---|---|---|---|---|\n";
+      "[s] | pass |{}\n"
+      "|---|---|---|---|---|---|---|{}\n",
+      view ? " equation-error view: first (named right, parameter right; its time) |" : "", view ? "---|" : "");
   for (const auto& r : results) {
     std::string named;
     for (const auto& n : r.named) named += (named.empty() ? "" : ", ") + n;
@@ -248,10 +266,19 @@ std::string FormatTable(const std::vector<CaseResult>& results) {
                       : fmt::format("not run ({:.3f})", r.noise_floor);
     const std::string seconds = r.improve_run ? fmt::format("{:.2f} / {:.1f}", r.compare_seconds, r.improve_seconds)
                                               : fmt::format("{:.2f} / —", r.compare_seconds);
-    out += fmt::format("| {} | {} | {} | {} | {} | {} | {} |\n", r.spec.name,
+    std::string view_cell;
+    if (view) {
+      view_cell = !r.equation_error_skipped.empty()
+                      ? fmt::format(" none: {} |", r.equation_error_skipped)
+                      : fmt::format(" {} ({}, {}; {:.2f} s) |",
+                                    r.equation_error_first.empty() ? "—" : r.equation_error_first,
+                                    r.equation_error_named_right ? "yes" : "no",
+                                    r.equation_error_parameter_right ? "yes" : "no", r.equation_error_seconds);
+    }
+    out += fmt::format("| {} | {} | {} | {} | {} | {} | {} |{}\n", r.spec.name,
                        named.empty() ? "nothing" : named, r.named_first.empty() ? "—" : r.named_first, parameter,
                        heldout, seconds,
-                       Verdict(r));
+                       Verdict(r), view_cell);
   }
   return out;
 }

@@ -35,6 +35,12 @@ struct CaseResult {
   bool improve_run = false;  ///< false: compare only (heldout_*, improve_seconds and floor_reached not measured)
   /// floor_reached: the held-out RMSE after improve within [0.7, 1.3] × the noise floor (below it: a leak).
   bool named_right = false, parameter_right = false, floor_reached = false;
+  /// Simulation mode: the equation-error view (tools/workflow/equation_error_view.h) judged as the position's.
+  bool equation_error_run = false;
+  std::string equation_error_first;  ///< its first outside the friction-law replacements ("" = none)
+  bool equation_error_named_right = false, equation_error_parameter_right = false;
+  std::string equation_error_skipped;  ///< why there was no view
+  double equation_error_seconds = 0.0;  ///< DiagnoseEquationErrorView's time, beside compare_seconds
   bool pass() const { return named_right && parameter_right && floor_reached; }
 };
 

@@ -29,6 +29,7 @@
 #include "models/diagnosis/loop_response.h"
 #include "tests/diagnosis/independent_plant.h"
 #include "tools/workflow/comparison.h"
+#include "tools/workflow/equation_error_view.h"
 #include "tools/workflow/improve.h"
 #include "tools/workflow/loop_probe.h"
 #include "tools/workflow/measurement.h"
@@ -149,6 +150,18 @@ TEST(SimulationMode, TheCommandOfASaturatingDriveIsAReactionOfTheLoopOpenedAtThe
   EXPECT_THAT(c.compared.signals.extra_names, ::testing::IsEmpty());
   ASSERT_TRUE(c.compared.drive_force_source);
   EXPECT_EQ(c.compared.drive_force_source->ToString(), "clip.y");
+  // The equation-error view: the logged command against the plant's inverse on the measured motion names the
+  // saturation the position view cannot tell from the loop's own clip.
+  const EquationErrorView view = DiagnoseEquationErrorView(c.compared, kData, kDiagram, c.log, MeasurementSettings{});
+  ASSERT_TRUE(view.diagnosis) << view.skipped;
+  EXPECT_EQ(view.command_column, "force_N");
+  EXPECT_EQ(view.force_signal, "net_force.y");
+  // The plant's inverse, identified from the plant's own run: the mass the position fit left in it.
+  const double fitted_mass =
+      GetParameterValues(c.compared.compared_diagram, ResolveFreeParameters(c.compared.compared_diagram, {"plant.mass"}))(0);
+  EXPECT_NEAR(view.mass, fitted_mass, 1e-3 * fitted_mass) << view.note;
+  EXPECT_NEAR(view.damping, 0.0, 0.01) << view.note;  // the diagram's rigid body has none
+  EXPECT_EQ(view.first_named, "drive_saturation") << view.diagnosis->summary;
 }
 
 TEST(SimulationMode, NothingIsNamedWhenNothingIsMissing) {
@@ -157,6 +170,12 @@ TEST(SimulationMode, NothingIsNamedWhenNothingIsMissing) {
   for (const DiagnosedEffect& e : c.compared.diagnosis->effects) {
     EXPECT_LT(e.score, 0.02) << e.effect << " named on a record with nothing missing: "
                              << c.compared.diagnosis->summary;
+  }
+  const EquationErrorView view = DiagnoseEquationErrorView(c.compared, kData, kDiagram, c.log, MeasurementSettings{});
+  ASSERT_TRUE(view.diagnosis) << view.skipped;
+  for (const DiagnosedEffect& e : view.diagnosis->effects) {
+    EXPECT_LT(e.score, 0.02) << e.effect << " named in the equation-error view of a record with nothing missing: "
+                             << view.diagnosis->summary;
   }
 }
 

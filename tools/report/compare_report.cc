@@ -105,6 +105,18 @@ void AddDiagnosisSection(const CompareOutcome& outcome, const std::string& posit
   // Each effect's description beside its evidence (the residual on the effect's own axis, the fit drawn over it), its
   // share and confidence; then the position periodogram with the chosen periods marked.
   AddEffectEvidence(report, out, outcome.compared, outcome.primary_after().unit, PositionUnitToken(position_column));
+  if (outcome.equation_error_view && outcome.equation_error_view->diagnosis) {
+    // Simulation mode: the same catalogue on the force the controller commanded against the plant's inverse.
+    const EquationErrorView& view = *outcome.equation_error_view;
+    report->Heading("Equation-error view: the commanded force against the plant's inverse");
+    report->Paragraph(view.note);
+    std::vector<std::vector<std::string>> view_rows;
+    for (const DiagnosedEffect* e : EffectsInApplicationOrder(*view.diagnosis)) {
+      view_rows.push_back({e->effect, fmt::format("{:.1f} %", 100.0 * e->score),
+                           ParametersWithUnits(*e, position_unit, view.force_unit)});
+    }
+    report->Table({"effect", "share of remaining held-out force residual explained", "parameters"}, view_rows);
+  }
   if (outcome.fallback.gpr) {
     report->Heading("What no catalogue effect explains (non-parametric fallback)");
     report->Paragraph(outcome.fallback.gpr->description);
@@ -208,6 +220,13 @@ void PrintCompareSummary(const CompareOutcome& outcome, const json& written, con
   if (const auto& diagnosis = outcome.compared.diagnosis) {
     out << diagnosis->summary << "\n";
     for (const DiagnosedEffect* e : EffectsInApplicationOrder(*diagnosis)) {  // the order --suggest applies them
+      out << fmt::format("  {:<28} {:5.1f} %  {}\n", e->effect, 100.0 * e->score, e->description);
+    }
+  }
+  if (outcome.equation_error_view && outcome.equation_error_view->diagnosis) {
+    const DiagnosisResult& view = *outcome.equation_error_view->diagnosis;
+    out << "equation-error view (the commanded force against the plant's inverse on the measured motion):\n";
+    for (const DiagnosedEffect* e : EffectsInApplicationOrder(view)) {
       out << fmt::format("  {:<28} {:5.1f} %  {}\n", e->effect, 100.0 * e->score, e->description);
     }
   }

@@ -129,6 +129,7 @@ json CompareOutcome::ToJson(const std::string& diagram, const std::string& measu
                  {"outputs", ComparedOutputsJson(compared.before, compared.after)}};
   if (compared.fit) result["fit"] = compared.fit->ToJson();
   AddDiagnosisJson(compared, &result);
+  if (equation_error_view) result["equation_error_view"] = equation_error_view->ToJson();
   AddFallbackJson(fallback, &result);
   return result;
 }
@@ -147,6 +148,18 @@ CompareOutcome Compare(const DiagramDocument& document, const MeasurementLog& lo
                             fit_names.size()));
   outcome.compared = CompareAndDiagnose(diagram, document.base_directory(), document.source(), log,
                                         settings.measurement, fit_names);
+  if (outcome.mode == ExperimentMode::kSimulation && outcome.compared.diagnosis) {
+    Say(progress, "the equation-error view: the commanded force against the plant's inverse …");
+    try {
+      outcome.equation_error_view = DiagnoseEquationErrorView(outcome.compared, document.base_directory(),
+                                                              document.source(), log, settings.measurement);
+    } catch (const std::exception& e) {  // an opened diagram that cannot run: the position view stands, and it is said
+      outcome.equation_error_view = EquationErrorView{};
+      outcome.equation_error_view->skipped = fmt::format("the diagram opened at the plant could not run: {}", e.what());
+    }
+    const EquationErrorView& view = *outcome.equation_error_view;
+    outcome.compared.notes.push_back(view.diagnosis ? view.note : "no equation-error view: " + view.skipped);
+  }
   if (settings.gpr_fallback) outcome.fallback = FitCompareFallback(outcome.compared, progress);
   if (settings.suggest && outcome.compared.diagnosis) {
     outcome.suggestion = SuggestFromComparison(diagram, outcome.compared, outcome.fallback, settings, progress);

@@ -15,6 +15,7 @@
 #include "engine/diagram_document.h"
 #include "models/diagnosis/measurement_log.h"
 #include "tools/workflow/comparison.h"
+#include "tools/workflow/equation_error_view.h"
 #include "tools/workflow/fallback.h"
 
 namespace mb {
@@ -52,6 +53,9 @@ struct CompareOutcome {
   DiagnosedComparison compared;                 ///< the fit and the diagnosis (comparison.h)
   FallbackOutcome fallback;                     ///< the TISO-GPR fallback (set when diagnosed and asked)
   std::optional<CompareSuggestion> suggestion;  ///< set when asked and diagnosed
+  /// Simulation mode, diagnosed: the commanded force against the plant's inverse (equation_error_view.h); its
+  /// `skipped` says why there is none.
+  std::optional<EquationErrorView> equation_error_view;
   Eigen::Index samples = 0;                     ///< the log's rows
   const ComparedOutput& primary_before() const { return compared.before.front(); }
   const ComparedOutput& primary_after() const { return compared.after.front(); }

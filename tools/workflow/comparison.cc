@@ -568,22 +568,46 @@ DiagramFit FitDiagram(const json& diagram, const fs::path& base_directory, const
 
 namespace {
 
+// The squared correlation of the centred records (0 when either is constant or not finite, or their lengths differ).
+double SquaredCorrelation(const Eigen::VectorXd& column, const Eigen::VectorXd& signal) {
+  if (signal.size() != column.size() || !signal.allFinite()) return 0.0;
+  const Eigen::VectorXd c = column.array() - column.mean();
+  const Eigen::VectorXd s = signal.array() - signal.mean();
+  const double cc = c.squaredNorm(), ss = s.squaredNorm();
+  if (!(cc > 0.0) || !(ss > 0.0)) return 0.0;
+  const double cs = c.dot(s);
+  return cs * cs / (cc * ss);
+}
+
 // The diagram's own signal that `column` follows best (name, squared correlation of the centred records); none when
 // no signal varies. Constant signals match nothing.
 std::optional<std::pair<std::string, double>> ClosestOwnSignal(
     const Eigen::VectorXd& column, const std::vector<std::pair<std::string, Eigen::VectorXd>>& own) {
-  const Eigen::VectorXd c = column.array() - column.mean();
-  const double cc = c.squaredNorm();
   std::optional<std::pair<std::string, double>> best;
-  if (!(cc > 0.0)) return best;
+  if (!((column.array() - column.mean()).matrix().squaredNorm() > 0.0)) return best;
   for (const auto& [name, signal] : own) {
-    if (signal.size() != c.size() || !signal.allFinite()) continue;
-    const Eigen::VectorXd s = signal.array() - signal.mean();
-    const double ss = s.squaredNorm();
-    if (!(ss > 0.0)) continue;
-    const double cs = c.dot(s);
-    const double r2 = cs * cs / (cc * ss);
+    const double r2 = SquaredCorrelation(column, signal);
+    if (!(r2 > 0.0)) continue;
     if (!best || r2 > best->second) best = {name, r2};
+  }
+  return best;
+}
+
+// Of the diagram's own signals that `column` follows (squared correlation of the centred records ≥ `min_r2`), the one it
+// equals best, ‖column − signal‖ least: the controller's output in volts is kv·(velocity error), which it follows as
+// closely as the velocity error itself. None when no signal follows it.
+std::optional<std::string> SameScaleOwnSignal(const Eigen::VectorXd& column,
+                                              const std::vector<std::pair<std::string, Eigen::VectorXd>>& own,
+                                              double min_r2) {
+  std::optional<std::string> best;
+  double least = std::numeric_limits<double>::infinity();
+  for (const auto& [name, signal] : own) {
+    if (SquaredCorrelation(column, signal) < min_r2) continue;
+    const double distance = (column - signal).squaredNorm();
+    if (distance < least) {
+      least = distance;
+      best = name;
+    }
   }
   return best;
 }
@@ -693,6 +717,7 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
     const auto match = ClosestOwnSignal(column, own);
     if (match && match->second >= kReactionSquaredCorrelation) {
       reactions.emplace_back(name, match->first);
+      out.reactions.emplace_back(name, SameScaleOwnSignal(column, own, kReactionSquaredCorrelation).value_or(match->first));
       out.notes.push_back(fmt::format(
           "log column '{}' is the diagram's own signal '{}' under another name (r² = {:.3f}): the closed loop "
           "computes it from the error being explained, a reaction and not a cause, so no candidate is built from it",
@@ -706,6 +731,8 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
     }
     if (opened_match && opened_match->second >= kReactionSquaredCorrelation) {
       reactions.emplace_back(name, opened_match->first);
+      out.reactions.emplace_back(
+          name, SameScaleOwnSignal(column, *opened, kReactionSquaredCorrelation).value_or(opened_match->first));
       out.notes.push_back(fmt::format(
           "log column '{}' is the diagram's own signal '{}' computed from the measured '{}' (the loop opened there; "
           "r² = {:.3f}, {:.2f} in the closed loop, whose motion lacks what is missing): the controller computes it "
@@ -753,6 +780,7 @@ DiagnosedComparison CompareAndDiagnose(const json& diagram, const fs::path& base
     options.relevance_floor_ratio = 0.83;
     const DiagramDocument document(comparison.diagram_json(), comparison.base_directory(), comparison.source());
     DriveForce drive = ModelDriveForce(document, out.after, own, reactions);
+    out.drive_force_signal = drive.source;
     LoopProbe probe = ProbeLoop(comparison, primary, own, signals.velocity, drive.source);
     options.catalogue.loop = std::move(probe.loop);
     out.notes.push_back(std::move(probe.note));

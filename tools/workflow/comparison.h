@@ -226,6 +226,12 @@ struct DiagnosedComparison {
   /// Simulation mode: the diagram's signal holding the model's drive force (ModelDriveForce, loop_probe.h), which the
   /// blocks of the force constant's effects multiply (SuggestAmendedDiagram); none in equation-error mode.
   std::optional<Endpoint> drive_force_source;
+  /// Simulation mode: ModelDriveForce's signal whether or not the loop could be probed (the equation-error view's
+  /// drive force, equation_error_view.h).
+  std::optional<Endpoint> drive_force_signal;
+  /// Simulation mode: each log column recognised as the loop's own signal (a reaction, kept out of the candidates),
+  /// with the signal it equals ("element.port"; of those it follows, the closest in scale), in the log's order.
+  std::vector<std::pair<std::string, std::string>> reactions;
   BaseRegressors base;                     ///< the fitted parameters' sensitivities (N × p; p = 0 if nothing fit)
 };
 
