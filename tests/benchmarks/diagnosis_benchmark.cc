@@ -26,6 +26,7 @@
 #include "models/diagnosis/signal_processing.h"
 #include "tests/diagnosis/independent_bench.h"
 #include "tools/workflow/comparison.h"
+#include "tools/workflow/equation_error_view.h"
 #include "tools/workflow/improve.h"
 #include "tools/workflow/measurement.h"
 
@@ -81,14 +82,18 @@ void BM_CompareSimulation25k(benchmark::State& state) {
   const nlohmann::json diagram = mb::ReadDiagramJson(folder / file);
   const mb::MeasurementSettings settings;
   const mb::MeasurementLog log = mb::ReadMeasurementFor(diagram, csv.string(), settings);
-  std::size_t effects = 0;
+  std::size_t effects = 0, view_effects = 0;
   for (auto _ : state) {
+    // What `compare` runs in simulation mode: the position's diagnosis, then the equation-error view.
     const mb::DiagnosedComparison d = mb::CompareAndDiagnose(diagram, folder, file, log, settings, diagram["free"]);
+    const mb::EquationErrorView view = mb::DiagnoseEquationErrorView(d, folder, file, log, settings);
     effects = d.diagnosis->effects.size();
+    view_effects = view.diagnosis ? view.diagnosis->effects.size() : 0;
     benchmark::DoNotOptimize(effects);
   }
   state.counters["samples"] = static_cast<double>(log.time().size());
   state.counters["effects"] = static_cast<double>(effects);
+  state.counters["view_effects"] = static_cast<double>(view_effects);
 }
 void BM_Compare1M(benchmark::State& state) { Compare(state, 1000.0); }
 
