@@ -425,6 +425,17 @@ void DiagramDocument::AddConnector(const DocumentConnector& connector) {
   json_["connectors"].push_back(std::move(c));
 }
 
+std::string DiagramDocument::UniqueConnectorName(const std::string& base) const {
+  const auto taken = [&](const std::string& name) {
+    const Json& connectors = json_.value("connectors", Json::array());
+    return std::any_of(connectors.begin(), connectors.end(),
+                       [&](const Json& c) { return c.value("name", "") == name; });
+  };
+  std::string name = base;
+  for (int k = 2; taken(name); ++k) name = fmt::format("{}_{}", base, k);
+  return name;
+}
+
 bool DiagramDocument::RemoveConnector(const std::string& name) {
   Json& connectors = json_["connectors"];
   if (!connectors.is_array()) return false;

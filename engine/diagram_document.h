@@ -141,6 +141,8 @@ class DiagramDocument {
   /// Appends a connector (name, kind "input" or "output", unit, measured column; the column is left out when it is the
   /// name). @throws std::invalid_argument for an empty name, another kind, or a name a connector already has.
   void AddConnector(const DocumentConnector& connector);
+  /// `base` if no connector has that name, else the first free of base_2, base_3, … (UniqueName's rule).
+  std::string UniqueConnectorName(const std::string& base) const;
   /// Removes the connector named `name` and every connection at it (an output connector's driver keeps its other
   /// readers). Returns whether there was one.
   bool RemoveConnector(const std::string& name);

@@ -188,6 +188,20 @@ TEST(DiagramDocumentTest, ReadInsteadOpensALoopAtASignalForEveryBlockThatReadIt)
   EXPECT_EQ(d.DriverOf({"body", "f"}), (Endpoint{"", "x"}));  // (a position into a force: BuildDiagram would refuse)
 }
 
+TEST(DiagramDocumentTest, ConnectorsGetFreeNamesAndAreRemovedWithTheirConnections) {
+  DiagramDocument d = Document();
+  EXPECT_EQ(d.UniqueConnectorName("v"), "v");
+  EXPECT_EQ(d.UniqueConnectorName("force"), "force_2");  // an output's name is taken for inputs too
+  d.AddConnector({"force_2", "input", "N", "", ""});
+  EXPECT_EQ(d.UniqueConnectorName("force"), "force_3");
+  EXPECT_TRUE(d.RemoveConnector("force"));
+  EXPECT_FALSE(d.RemoveConnector("force"));
+  EXPECT_EQ(d.DriverOf({"", "force"}), std::nullopt);               // its connection is gone
+  EXPECT_EQ(d.DriverOf({"body", "f"}), (Endpoint{"k", "y"}));        // k's other reader keeps it
+  EXPECT_EQ(d.Connectors("output").size(), 0u);
+  EXPECT_EQ(d.UniqueConnectorName("force"), "force");
+}
+
 TEST(DiagramDocumentTest, ParametersAreCheckedAgainstTheBlockType) {
   DiagramDocument d = Document();
   EXPECT_EQ(d.Parameter("k", "gain"), json(2.0));      // unit wrapper stripped

@@ -625,16 +625,7 @@ std::vector<std::pair<std::string, Eigen::VectorXd>> OpenedLoopSignals(const Mod
   DiagramDocument document(comparison.diagram_json(), comparison.base_directory(), comparison.source());
   const std::optional<Endpoint> driver = document.DriverOf({"", output.connector});
   if (!driver || driver->is_connector()) return {};
-  std::string name = output.connector + "_measured";
-  const auto taken = [&](const std::string& n) {
-    for (const char* kind : {"input", "output"}) {
-      for (const DocumentConnector& c : document.Connectors(kind)) {
-        if (c.name == n) return true;
-      }
-    }
-    return false;
-  };
-  for (int k = 2; taken(name); ++k) name = fmt::format("{}_measured_{}", output.connector, k);
+  const std::string name = document.UniqueConnectorName(output.connector + "_measured");
   document.AddConnector({name, "input", output.unit, output.column, ""});
   if (document.ReadInstead(*driver, {"", name}) == 0) return {};
   try {

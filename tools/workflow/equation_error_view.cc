@@ -43,21 +43,6 @@ std::string UnitOfOutput(const Diagram& d, const Endpoint& signal) {
   return "";
 }
 
-// A name for a connector the document does not have yet.
-std::string FreeConnectorName(const DiagramDocument& document, const std::string& base) {
-  const auto taken = [&](const std::string& n) {
-    for (const char* kind : {"input", "output"}) {
-      for (const DocumentConnector& c : document.Connectors(kind)) {
-        if (c.name == n) return true;
-      }
-    }
-    return false;
-  };
-  std::string name = base;
-  for (int k = 2; taken(name); ++k) name = fmt::format("{}_{}", base, k);
-  return name;
-}
-
 // Central differences on the record's own time stamps (one-sided at the ends).
 Eigen::VectorXd TimeDerivative(const Eigen::VectorXd& y, const Eigen::VectorXd& t) {
   const Eigen::Index n = y.size();
@@ -145,7 +130,7 @@ EquationErrorView DiagnoseEquationErrorView(const DiagnosedComparison& compared,
     const MotionQuantity quantity = QuantityOfUnit(port.unit);
     const bool is_position = quantity == MotionQuantity::kPosition;
     if (!is_position && quantity != MotionQuantity::kVelocity) continue;
-    const std::string name = FreeConnectorName(document, fmt::format("{}_{}_measured", plant, port.name));
+    const std::string name = document.UniqueConnectorName(fmt::format("{}_{}_measured", plant, port.name));
     document.AddConnector({name, "input", port.unit, is_position ? primary.column : velocity_column, ""});
     document.ReadInstead({plant, port.name}, {"", name});
   }
@@ -155,9 +140,12 @@ EquationErrorView DiagnoseEquationErrorView(const DiagnosedComparison& compared,
   view.command_signal = command_signal;
   const auto dot = command_signal.find('.');
   const Endpoint command{command_signal.substr(0, dot), command_signal.substr(dot + 1)};
-  const std::string command_input = FreeConnectorName(document, command_column + "_logged");
+  const std::string command_input = document.UniqueConnectorName(command_column + "_logged");
   document.AddConnector({command_input, "input", UnitOfOutput(closed, command), command_column, ""});
-  document.ReadInstead(command, {"", command_input});
+  if (document.ReadInstead(command, {"", command_input}) == 0) {
+    return skip(fmt::format("'{}' (log column '{}') feeds no element of the diagram's top level", command_signal,
+                            command_column));
+  }
   // Outputs: the plant's force, the drive's force, the plant's own velocity (each bound to the position column; only
   // the model side is read).
   for (const DocumentConnector& c : document.Connectors("output")) document.RemoveConnector(c.name);

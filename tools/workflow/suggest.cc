@@ -151,21 +151,6 @@ std::string InsertBeforeOutput(DiagramDocument* out, const ElementSpec& element,
   return name;
 }
 
-// `wish`, or "<wish>_2", "<wish>_3", …: the first name no connector of the diagram has.
-std::string FreeConnectorName(const DiagramDocument& d, const std::string& wish) {
-  const auto taken = [&](const std::string& name) {
-    for (const char* kind : {"input", "output"}) {
-      for (const auto& c : d.Connectors(kind)) {
-        if (c.name == name) return true;
-      }
-    }
-    return false;
-  };
-  std::string name = wish;
-  for (int k = 2; taken(name); ++k) name = fmt::format("{}_{}", wish, k);
-  return name;
-}
-
 // The input connector that reads the logged command compared at output connector `output` (the same measured column),
 // added as "logged_<output>" when the diagram has none.
 std::string CommandInput(DiagramDocument* out, const std::string& output) {
@@ -177,7 +162,7 @@ std::string CommandInput(DiagramDocument* out, const std::string& output) {
   for (const auto& c : out->Connectors("input")) {
     if (c.measurement == compared->measurement) return c.name;
   }
-  const DocumentConnector command{FreeConnectorName(*out, "logged_" + output), "input", compared->unit,
+  const DocumentConnector command{out->UniqueConnectorName("logged_" + output), "input", compared->unit,
                                   compared->measurement, compared->quantity};
   out->AddConnector(command);
   return command.name;
@@ -196,7 +181,7 @@ std::string ColumnInput(DiagramDocument* out, const std::string& column, const s
   for (char& ch : wish) {
     if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '_') ch = '_';
   }
-  const DocumentConnector connector{FreeConnectorName(*out, wish), "input", "", column, ""};
+  const DocumentConnector connector{out->UniqueConnectorName(wish), "input", "", column, ""};
   out->AddConnector(connector);
   return connector.name;
 }
