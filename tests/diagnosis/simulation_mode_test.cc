@@ -177,6 +177,14 @@ TEST(SimulationMode, NothingIsNamedWhenNothingIsMissing) {
     EXPECT_LT(e.score, 0.02) << e.effect << " named in the equation-error view of a record with nothing missing: "
                              << view.diagnosis->summary;
   }
+  // Without the controller's output in the log there is no commanded force to set against the plant: said, not run.
+  DiagnosedComparison without = c.compared;
+  without.reactions.clear();
+  EXPECT_THAT(DiagnoseEquationErrorView(without, kData, kDiagram, c.log, MeasurementSettings{}).skipped,
+              HasSubstr("no log column is the controller's output"));
+  without.mode = ExperimentMode::kEquationError;
+  EXPECT_THAT(DiagnoseEquationErrorView(without, kData, kDiagram, c.log, MeasurementSettings{}).skipped,
+              HasSubstr("equation-error mode"));
 }
 
 // The share of `column`'s energy that the base's columns reproduce by least squares.

@@ -43,17 +43,6 @@ std::string UnitOfOutput(const Diagram& d, const Endpoint& signal) {
   return "";
 }
 
-// Central differences on the record's own time stamps (one-sided at the ends).
-Eigen::VectorXd TimeDerivative(const Eigen::VectorXd& y, const Eigen::VectorXd& t) {
-  const Eigen::Index n = y.size();
-  Eigen::VectorXd d = Eigen::VectorXd::Zero(n);
-  if (n < 2) return d;
-  d(0) = (y(1) - y(0)) / (t(1) - t(0));
-  d(n - 1) = (y(n - 1) - y(n - 2)) / (t(n - 1) - t(n - 2));
-  for (Eigen::Index i = 1; i + 1 < n; ++i) d(i) = (y(i + 1) - y(i - 1)) / (t(i + 1) - t(i - 1));
-  return d;
-}
-
 }  // namespace
 
 std::string FirstNamedEffect(const DiagnosisResult& d) {
@@ -174,7 +163,7 @@ EquationErrorView DiagnoseEquationErrorView(const DiagnosedComparison& compared,
   // The plant's inverse from its own run: f = M·dv/dt + B·v, weighted away from the filter's edges.
   const Eigen::VectorXd weights = opened.FitWeights();
   Eigen::MatrixXd own(f.size(), 2);
-  own.col(0) = TimeDerivative(runs[2].model, t);
+  own.col(0) = CentralDifference(t, runs[2].model);
   own.col(1) = runs[2].model;
   const Eigen::VectorXd w = weights.cwiseSqrt();
   const Eigen::MatrixXd weighted = own.array().colwise() * w.array();
