@@ -9,8 +9,8 @@
 // How the view is built from the closed-loop diagram, naming no block type:
 //   - the plant is the element whose output the compared position is; its outputs read the measured position and
 //     the derived velocity instead (DiagramDocument::ReadInstead), classified by their ports' units;
-//   - each log column recognised as the loop's own signal (DiagnosedComparison::reactions) replaces that signal:
-//     the controller's output as it ran;
+//   - the first log column recognised as the loop's own signal (DiagnosedComparison::reactions) replaces the signal
+//     it equals: the controller's output as it ran;
 //   - the plant's force input (its one input in a force unit) is then the net force the machine received by the
 //     model, f(t); the plant's inverse is identified from the plant's own response to f in the same run,
 //     f = M·dv/dt + B·v (least squares; a plant whose run this law does not reproduce to 1 % has no view);
@@ -46,9 +46,9 @@ struct EquationErrorView {
   std::string first_named;
   std::string position_first_named;
   std::string note;                          ///< one sentence: how the view was built and whether both agree
-  /// {"skipped"} or {"command_column", "command_signal", "force_signal", "mass", "damping", "first_named",
-  /// "position_first_named", "agrees", "note", "diagnosis": DiagnosisResult::ToJson, "ranked": [{effect, score,
-  /// parameters}]}.
+  /// {"skipped"} or {"command_column", "command_signal", "force_signal", "mass", "damping", "force_unit",
+  /// "first_named", "position_first_named", "agrees", "note", "diagnosis": DiagnosisResult::ToJson, "ranked":
+  /// [{effect, score, parameters}]}.
   nlohmann::json ToJson() const;
 };
 
