@@ -1,7 +1,7 @@
 # The two commands of the README. Both install what they need (Debian packages) and build from scratch.
 JOBS ?= $(shell nproc)
 
-.PHONY: deps build demo test bench bench-diagnosis bench-diagnosis-simulation bench-grammar clean
+.PHONY: deps build demo test test-asan bench bench-diagnosis bench-diagnosis-simulation bench-grammar clean
 
 deps:
 	./scripts/install-deps.sh
@@ -14,18 +14,25 @@ build: deps
 demo: build
 	./scripts/demo.sh build/release/tools/motionblocks
 
-## make test: every GoogleTest suite under ASan + UBSan, then the fuzzers of the file readers (clang, briefly: only the
-## fuzz targets and the libraries they link are built there, at -O1 with line tables only, as libFuzzer's documentation
-## builds them: 3 min 17 s from scratch without ccache, against 4 min 52 s at -O2 -g1 with another job beside it for
-## a minute; 19,000-62,000 inputs per fuzzer
-## in its 20 s).
+## make test: every GoogleTest suite, the Python module's, the README's commands and figures, the reports in a browser and
+## the hostile inputs, built optimised (-O2) under UndefinedBehaviorSanitizer and libstdc++'s assertions (the test
+## preset); then the fuzzers of the file readers under ASan + UBSan (clang, briefly: only the fuzz targets and the
+## libraries they link are built there, at -O1 with line tables only, as libFuzzer's documentation builds them;
+## 19,000-62,000 inputs per fuzzer in its 20 s). The whole suite under AddressSanitizer is `make test-asan`: an hour and
+## more on 2 cores, over CI's limit (docs/benchmarks.md, "Build and test time").
 test: deps
-	cmake --preset asan
-	cmake --build --preset asan -j $(JOBS)
-	ctest --preset asan
+	cmake --preset test
+	cmake --build --preset test -j $(JOBS)
+	ctest --preset test
 	cmake --preset fuzz
 	cmake --build --preset fuzz -j $(JOBS) --target fuzzers
 	ctest --preset fuzz
+
+## make test-asan: the same suites under AddressSanitizer + UBSan (the asan preset).
+test-asan: deps
+	cmake --preset asan
+	cmake --build --preset asan -j $(JOBS)
+	ctest --preset asan
 
 bench: build
 	./scripts/bench.sh

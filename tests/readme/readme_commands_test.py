@@ -11,9 +11,10 @@ What is skipped, and why (each is said in the output):
     README's other commands stand for them, and CI runs `make test` itself;
   - `apt`, `apt-get`, `sudo`, `pip` lines: they change the machine, not the checkout;
   - `hil` with a board other than `udp` (a Quanser board is hardware); the `udp` board talks to the virtual stage
-    started by the line before, which needs no hardware, so it runs, except in a sanitizer build (--sanitizers):
-    there the 1 kHz loop misses its deadlines (ASan: 10 overruns in a row within 0.13 s) and safe-stops with exit 1,
-    as it is meant to; MB_README_REALTIME=1 runs the pair anyway;
+    started by the line before, which needs no hardware, so it runs, except in a sanitizer build (--sanitizers; the
+    asan preset and make test's UBSan build): there the 1 kHz loop misses its deadlines (ASan: 10 overruns in a row
+    within 0.13 s; under ctest both processes share the test's one core) and safe-stops with exit 1, as it is meant
+    to; MB_README_REALTIME=1 runs the pair anyway;
   - an inline command with a placeholder (an upper-case word such as COMMAND, FILE, N, or "..."/"…");
   - the Python lines when no module folder is given (--python-path), i.e. a build without MB_PYTHON;
   - the slowest commands (SLOW below) unless MB_README_SLOW=1: `reproduce` takes ~10 s in a Release build and
