@@ -89,13 +89,16 @@ int main(int argc, char** argv) {
   }
   std::cerr << results.size() - static_cast<std::size_t>(missed) << " of " << results.size() << " cases pass\n";
   if (simulation) {  // the equation-error view beside the position's: named right with its parameter, and agreeing
-    int view_right = 0, agree = 0;
+    int view_right = 0, agree = 0, verdict_right = 0;
     for (const auto& r : results) {
       view_right += r.equation_error_named_right && r.equation_error_parameter_right ? 1 : 0;
+      verdict_right += r.verdict_named_right && r.verdict_parameter_right ? 1 : 0;
       agree += r.equation_error_run && r.equation_error_skipped.empty() && r.equation_error_first == r.named_first;
     }
     std::cerr << "equation-error view: " << view_right << " of " << results.size()
-              << " named right with the parameter; its first is the position view's on " << agree << "\n";
+              << " named right with the parameter; its first is the position view's on " << agree << "\n"
+              << "verdict of both views: " << verdict_right << " of " << results.size()
+              << " named right with the parameter, judged as equation-error mode is\n";
   }
   return missed == 0 ? 0 : 1;
 }

@@ -210,6 +210,15 @@ std::optional<CaseResult> RunCaseInSimulation(const CaseSpec& given, const fs::p
     r.equation_error_parameter_right = eq.parameter_right;
     r.details.push_back(view.note);
     for (const std::string& line : eq.details) r.details.push_back("equation-error view: " + line);
+    DiagnosisResult verdict;  // judged as the view: the same truth as equation-error mode's
+    verdict.effects = view.verdict;
+    CaseResult v;
+    v.spec = given;
+    Judge(verdict, &v);
+    r.verdict_first = v.named_first;
+    r.verdict_from = view.verdict_from;
+    r.verdict_named_right = v.named_right;
+    r.verdict_parameter_right = v.parameter_right;
   }
   if (!run_improve) return r;
   r.improve_run = true;
@@ -253,7 +262,10 @@ std::string FormatTable(const std::vector<CaseResult>& results) {
       "(truth) | held-out RMSE before → after improve (noise floor) [N; m in simulation mode] | compare / improve "
       "[s] | pass |{}\n"
       "|---|---|---|---|---|---|---|{}\n",
-      view ? " equation-error view: first (named right, parameter right; its time) |" : "", view ? "---|" : "");
+      view ? " equation-error view: first (named right, parameter right; its time) | verdict of both views: first "
+             "(from; named right, parameter right) |"
+           : "",
+      view ? "---|---|" : "");
   for (const auto& r : results) {
     std::string named;
     for (const auto& n : r.named) named += (named.empty() ? "" : ", ") + n;
@@ -274,6 +286,11 @@ std::string FormatTable(const std::vector<CaseResult>& results) {
                                     r.equation_error_first.empty() ? "—" : r.equation_error_first,
                                     r.equation_error_named_right ? "yes" : "no",
                                     r.equation_error_parameter_right ? "yes" : "no", r.equation_error_seconds);
+      view_cell += !r.equation_error_skipped.empty()
+                       ? " — |"
+                       : fmt::format(" {} ({}; {}, {}) |", r.verdict_first.empty() ? "—" : r.verdict_first,
+                                     r.verdict_from.empty() ? "neither" : r.verdict_from,
+                                     r.verdict_named_right ? "yes" : "no", r.verdict_parameter_right ? "yes" : "no");
     }
     out += fmt::format("| {} | {} | {} | {} | {} | {} | {} |{}\n", r.spec.name,
                        named.empty() ? "nothing" : named, r.named_first.empty() ? "—" : r.named_first, parameter,

@@ -41,6 +41,9 @@ struct CaseResult {
   bool equation_error_named_right = false, equation_error_parameter_right = false;
   std::string equation_error_skipped;  ///< why there was no view
   double equation_error_seconds = 0.0;  ///< DiagnoseEquationErrorView's time, beside compare_seconds
+  /// Simulation mode's verdict from both views (CombineViews), judged as equation-error mode is; which view it rests on.
+  std::string verdict_first, verdict_from;
+  bool verdict_named_right = false, verdict_parameter_right = false;
   bool pass() const { return named_right && parameter_right && floor_reached; }
 };
 

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <utility>
 
 #include <unistd.h>
@@ -162,6 +163,8 @@ TEST(SimulationMode, TheCommandOfASaturatingDriveIsAReactionOfTheLoopOpenedAtThe
   EXPECT_NEAR(view.mass, fitted_mass, 1e-3 * fitted_mass) << view.note;
   EXPECT_NEAR(view.damping, 0.0, 0.01) << view.note;  // the diagram's rigid body has none
   EXPECT_EQ(view.first_named, "drive_saturation") << view.diagnosis->summary;
+  ASSERT_FALSE(view.verdict.empty()) << view.note;
+  EXPECT_EQ(view.verdict.front().effect, "drive_saturation") << view.note;
 }
 
 TEST(SimulationMode, NothingIsNamedWhenNothingIsMissing) {
@@ -185,6 +188,54 @@ TEST(SimulationMode, NothingIsNamedWhenNothingIsMissing) {
   without.mode = ExperimentMode::kEquationError;
   EXPECT_THAT(DiagnoseEquationErrorView(without, kData, kDiagram, c.log, MeasurementSettings{}).skipped,
               HasSubstr("equation-error mode"));
+}
+
+// A ranked effect for CombineViews: its name, score and one parameter.
+DiagnosedEffect Named(const std::string& effect, double score, double parameter) {
+  DiagnosedEffect e;
+  e.effect = effect;
+  e.score = score;
+  e.parameters["p"] = parameter;
+  return e;
+}
+
+// Two instruments on one machine: what both name is the verdict, with the force's parameters — but a delay of the
+// measured output, an effect of the measurement chain, keeps the position's; what one view names alone is left out.
+TEST(CombineViews, WhatBothViewsNameIsTheVerdictWithTheParametersOfTheViewThatMeasuresIt) {
+  DiagnosisResult position, force;
+  position.effects = {Named("backlash_load", 0.7, 1.0), Named("time_delay", 0.4, 2.0), Named("backlash", 0.3, 3.0)};
+  force.effects = {Named("backlash", 0.4, 30.0), Named("hysteresis", 0.08, 40.0), Named("time_delay", 0.05, 20.0),
+                   Named("backlash", 0.01, 31.0)};
+  const auto [verdict, from] = CombineViews(position, force);
+  EXPECT_EQ(from, "both");
+  ASSERT_EQ(verdict.size(), 2U);
+  EXPECT_EQ(verdict[0].effect, "backlash");
+  EXPECT_EQ(verdict[0].parameters.at("p"), 30.0);  // the force view's, its first entry
+  EXPECT_EQ(verdict[1].effect, "time_delay");
+  EXPECT_EQ(verdict[1].parameters.at("p"), 2.0);  // the position view's: it acts on the measured output
+}
+
+TEST(CombineViews, WithNothingInCommonTheViewWhoseFirstEffectExplainsMoreOfItsResidualStands) {
+  DiagnosisResult position, force;
+  position.effects = {Named("viscous_friction", 0.93, 1.0), Named("hysteresis", 0.85, 2.0)};
+  force.effects = {Named("drive_saturation", 0.999, 400.0)};
+  auto [verdict, from] = CombineViews(position, force);
+  EXPECT_EQ(from, "equation-error view");
+  ASSERT_EQ(verdict.size(), 1U);
+  EXPECT_EQ(verdict[0].effect, "drive_saturation");
+  force.effects = {Named("local_force_constant", 0.18, 0.5)};
+  position.effects = {Named("force_constant_along_travel", 0.997, 0.1)};
+  std::tie(verdict, from) = CombineViews(position, force);
+  EXPECT_EQ(from, "position view");
+  ASSERT_EQ(verdict.size(), 1U);
+  EXPECT_EQ(verdict[0].effect, "force_constant_along_travel");
+  force.effects.clear();  // one view names nothing: the other's stands
+  std::tie(verdict, from) = CombineViews(position, force);
+  EXPECT_EQ(from, "position view");
+  position.effects.clear();
+  std::tie(verdict, from) = CombineViews(position, force);
+  EXPECT_EQ(from, "");
+  EXPECT_TRUE(verdict.empty());
 }
 
 // The share of `column`'s energy that the base's columns reproduce by least squares.

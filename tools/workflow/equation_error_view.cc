@@ -4,16 +4,19 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <tuple>
 #include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "engine/diagram.h"
 #include "engine/diagram_document.h"
 #include "engine/diagram_loader.h"
 #include "engine/units.h"
+#include "models/diagnosis/effect_registry.h"
 #include "models/diagnosis/signal_processing.h"
 
 namespace mb {
@@ -52,12 +55,42 @@ std::string FirstNamedEffect(const DiagnosisResult& d) {
   return "";
 }
 
-json EquationErrorView::ToJson() const {
-  if (!diagnosis) return {{"skipped", skipped}};
+std::pair<std::vector<DiagnosedEffect>, std::string> CombineViews(const DiagnosisResult& position,
+                                                                  const DiagnosisResult& force) {
+  const auto find = [](const std::vector<DiagnosedEffect>& effects, const std::string& name) {
+    return std::find_if(effects.begin(), effects.end(), [&](const DiagnosedEffect& e) { return e.effect == name; });
+  };
+  std::vector<DiagnosedEffect> both;
+  for (const DiagnosedEffect& e : force.effects) {
+    const auto in_position = find(position.effects, e.effect);
+    // Named by one view only, or named twice (two periods): the first entry stands.
+    if (in_position == position.effects.end() || find(both, e.effect) != both.end()) continue;
+    const EffectTraits& traits = LookupEffect(e.effect).traits;
+    both.push_back(traits.regressor_in_output_band && !traits.command_path ? *in_position : e);
+  }
+  if (!both.empty()) return {both, "both"};
+  const double p = position.effects.empty() ? -1.0 : position.effects.front().score;
+  const double f = force.effects.empty() ? -1.0 : force.effects.front().score;
+  if (p < 0.0 && f < 0.0) return {{}, ""};
+  return f >= p ? std::pair{force.effects, std::string("equation-error view")}
+                : std::pair{position.effects, std::string("position view")};
+}
+
+namespace {
+
+json RankedJson(const std::vector<DiagnosedEffect>& effects) {
   json ranked = json::array();
-  for (const auto& e : diagnosis->effects) {
+  for (const auto& e : effects) {
     ranked.push_back({{"effect", e.effect}, {"score", e.score}, {"parameters", e.ParametersJson()}});
   }
+  return ranked;
+}
+
+}  // namespace
+
+json EquationErrorView::ToJson() const {
+  if (!diagnosis) return {{"skipped", skipped}};
+  const json ranked = RankedJson(diagnosis->effects);
   return {{"command_column", command_column},
           {"command_signal", command_signal},
           {"force_signal", force_signal},
@@ -69,6 +102,7 @@ json EquationErrorView::ToJson() const {
           {"agrees", first_named == position_first_named},
           {"note", note},
           {"ranked", ranked},
+          {"verdict", {{"from", verdict_from}, {"ranked", RankedJson(verdict)}}},
           {"diagnosis", diagnosis->ToJson()}};
 }
 
@@ -219,6 +253,7 @@ EquationErrorView DiagnoseEquationErrorView(const DiagnosedComparison& compared,
   view.diagnosis = DiagnoseMissingEffects(signals, base, options);
   view.first_named = FirstNamedEffect(*view.diagnosis);
   view.position_first_named = FirstNamedEffect(*compared.diagnosis);
+  std::tie(view.verdict, view.verdict_from) = CombineViews(*compared.diagnosis, *view.diagnosis);
   const auto said = [](const std::string& e) { return e.empty() ? std::string("nothing") : "'" + e + "'"; };
   view.note = fmt::format(
       "equation-error view: the force the controller commanded (log column '{}' in place of '{}') against the plant "
@@ -226,6 +261,15 @@ EquationErrorView DiagnoseEquationErrorView(const DiagnosedComparison& compared,
       "view names {}{}",
       view.command_column, view.command_signal, plant, view.mass, view.damping, said(view.first_named),
       said(view.position_first_named), view.first_named == view.position_first_named ? ": both agree" : "");
+  std::vector<std::string> verdict;
+  for (const DiagnosedEffect& e : view.verdict) verdict.push_back(e.effect);
+  view.note += view.verdict.empty() ? "; neither names an effect"
+               : view.verdict_from == "both"
+                   ? fmt::format("; both name {} (the verdict, each with the parameters of the view that measures it)",
+                                 fmt::join(verdict, ", "))
+                   : fmt::format("; they name nothing in common, and the {}'s first effect explains the larger share "
+                                 "of its residual: the verdict is its {}",
+                                 view.verdict_from, fmt::join(verdict, ", "));
   return view;
 }
 

@@ -23,6 +23,8 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -46,11 +48,28 @@ struct EquationErrorView {
   std::string first_named;
   std::string position_first_named;
   std::string note;                          ///< one sentence: how the view was built and whether both agree
+  /// Simulation mode's verdict from both views (CombineViews): the effects it names, in order, each with the
+  /// parameters of the view that measures it; and which view it rests on ("both", "equation-error view",
+  /// "position view", "" = neither names anything).
+  std::vector<DiagnosedEffect> verdict;
+  std::string verdict_from;
   /// {"skipped"} or {"command_column", "command_signal", "force_signal", "mass", "damping", "force_unit",
   /// "first_named", "position_first_named", "agrees", "note", "diagnosis": DiagnosisResult::ToJson, "ranked":
-  /// [{effect, score, parameters}]}.
+  /// [{effect, score, parameters}], "verdict": {"from", "ranked": [{effect, score, parameters}]}}.
   nlohmann::json ToJson() const;
 };
+
+/// Simulation mode's verdict from its two views of one record (issue 46): the position view (the closed loop's
+/// simulated position against the measured) and the equation-error view (the commanded force against the plant's
+/// inverse), two instruments on the same machine. An effect both name is confirmed: the verdict is those effects, in
+/// the force's order, each with the equation-error view's parameters (the force is measured there; the loop filters
+/// it on its way to the position), but an effect of the measurement chain (EffectTraits::regressor_in_output_band
+/// and not on the command path: it acts on the measured output) with the position view's. An effect only one names is
+/// left out of it. When they name nothing in common, the verdict is the view whose first effect explains the larger
+/// share of its own held-out residual (DiagnosedEffect::score), whole: the other has not found what that one has.
+/// Returns the effects and "both", "equation-error view", "position view" or "" (neither names anything).
+std::pair<std::vector<DiagnosedEffect>, std::string> CombineViews(const DiagnosisResult& position,
+                                                                  const DiagnosisResult& force);
 
 /// The first effect of `d` outside its friction-law replacements ("" when none).
 std::string FirstNamedEffect(const DiagnosisResult& d);
