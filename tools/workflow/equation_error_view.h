@@ -67,7 +67,10 @@ struct EquationErrorView {
 /// and not on the command path: it acts on the measured output) with the position view's. An effect only one names is
 /// left out of it. When they name nothing in common, the verdict is the view whose first effect explains the larger
 /// share of its own held-out residual (DiagnosedEffect::score), whole: the other has not found what that one has.
-/// Returns the effects and "both", "equation-error view", "position view" or "" (neither names anything).
+/// Returns the effects and "both", "equation-error view", "position view" or "" (neither names anything). Throws
+/// nothing for effects of the catalogue (LookupEffect throws std::invalid_argument for a name outside it). Source:
+/// Ljung, System Identification (1999), §7.3 — the equation-error and output-error criteria of one model, here read
+/// as two tests whose agreement confirms a structure.
 std::pair<std::vector<DiagnosedEffect>, std::string> CombineViews(const DiagnosisResult& position,
                                                                   const DiagnosisResult& force);
 
